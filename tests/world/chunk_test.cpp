@@ -1,0 +1,144 @@
+#include <map>
+#include <random>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "world/chunk.h"
+#include "world/world.h"
+
+using namespace vx::world;
+
+TEST(PackedArray, RoundTripsEveryWidthAcrossWordBoundaries) {
+    std::mt19937 rng(1);
+    for (uint32_t bits = 1; bits <= 16; ++bits) {
+        PackedArray a(1000, bits);
+        std::vector<uint32_t> ref(1000);
+        for (int pass = 0; pass < 3; ++pass)
+            for (uint32_t i = 0; i < 1000; ++i) {
+                ref[i] = rng() & ((1u << bits) - 1);
+                a.set(i, ref[i]);
+            }
+        for (uint32_t i = 0; i < 1000; ++i)
+            ASSERT_EQ(a.get(i), ref[i]) << "bits " << bits << " index " << i;
+        PackedArray wider = a.resized(bits == 16 ? 16 : bits + 1);
+        for (uint32_t i = 0; i < 1000; ++i)
+            ASSERT_EQ(wider.get(i), ref[i]);
+    }
+}
+
+TEST(Chunk, UniformChunkIsSmall) {
+    Chunk c(7);
+    EXPECT_TRUE(c.is_uniform());
+    EXPECT_EQ(c.get(5, 6, 7), 7);
+    EXPECT_LE(c.memory_bytes(), 16u);
+    EXPECT_EQ(c.distinct_ids(), 1u);
+}
+
+TEST(Chunk, SetGrowsPaletteAndMatchesDense) {
+    std::mt19937 rng(2);
+    Chunk c;
+    std::vector<BlockId> ref(kChunkVolume, kAir);
+    for (int i = 0; i < 20000; ++i) {
+        const int idx = int(rng() % kChunkVolume);
+        const BlockId id = BlockId(rng() % 300); // Forces widths up to 9 bits.
+        EXPECT_EQ(c.set(idx, id), ref[idx]);
+        ref[idx] = id;
+    }
+    std::vector<BlockId> dense(kChunkVolume);
+    c.to_dense(dense);
+    EXPECT_EQ(dense, ref);
+    Chunk d = Chunk::from_dense(ref);
+    EXPECT_TRUE(c == d);
+    c.compact();
+    c.to_dense(dense);
+    EXPECT_EQ(dense, ref);
+}
+
+TEST(Chunk, BecomesUniformWhenFilledBlockByBlock) {
+    Chunk c;
+    c.set(0, 0, 0, 3);
+    EXPECT_FALSE(c.is_uniform());
+    c.set(0, 0, 0, kAir);
+    EXPECT_TRUE(c.is_uniform()); // Every block air again.
+    EXPECT_EQ(c.uniform_id(), kAir);
+    for (int i = 0; i < kChunkVolume; ++i)
+        c.set(i, 5);
+    EXPECT_TRUE(c.is_uniform());
+    EXPECT_EQ(c.uniform_id(), 5);
+}
+
+TEST(Chunk, CompactDropsUnusedEntriesAndNarrows) {
+    Chunk c;
+    for (int i = 0; i < 16; ++i)
+        c.set(i, BlockId(i + 1)); // 17 ids: 5 bits.
+    ASSERT_EQ(c.palette()->indices.bits(), 5u);
+    for (int i = 2; i < 16; ++i)
+        c.set(i, kAir);
+    c.compact();
+    EXPECT_EQ(c.distinct_ids(), 3u);
+    EXPECT_EQ(c.palette()->indices.bits(), 2u);
+    EXPECT_EQ(c.get(0), 1);
+    EXPECT_EQ(c.get(1), 2);
+    EXPECT_EQ(c.get(2), kAir);
+}
+
+TEST(Chunk, TerrainLikeChunkCostsTwelveKiB) {
+    // Five block types need 3 bits per block: 32768 * 3 / 8 = 12 KiB of indices.
+    std::vector<BlockId> ids(kChunkVolume);
+    for (int i = 0; i < kChunkVolume; ++i)
+        ids[i] = BlockId(i % 5);
+    Chunk c = Chunk::from_dense(ids);
+    EXPECT_EQ(c.palette()->indices.bits(), 3u);
+    EXPECT_LT(c.memory_bytes(), 12 * 1024 + 256);
+}
+
+TEST(Coords, FloorDivisionForNegativeBlocks) {
+    EXPECT_EQ(chunk_of(BlockPos(-1, 0, 31)), ChunkCoord(-1, 0, 0));
+    EXPECT_EQ(local_of(BlockPos(-1, 0, 31)), LocalPos(31, 0, 31));
+    EXPECT_EQ(chunk_of(BlockPos(-32, -33, 32)), ChunkCoord(-1, -2, 1));
+    const int64_t far = int64_t(1) << 40;
+    EXPECT_EQ(chunk_of(BlockPos(far, -far, 0)), ChunkCoord(int32_t(far >> 5), int32_t(-far >> 5), 0));
+    EXPECT_EQ(chunk_origin(ChunkCoord(-2, 3, 0)), BlockPos(-64, 96, 0));
+}
+
+TEST(World, BlocksAcrossChunkBorders) {
+    World w;
+    std::mt19937 rng(3);
+    std::vector<std::pair<BlockPos, BlockId>> edits;
+    for (int i = 0; i < 5000; ++i) {
+        BlockPos p(int64_t(rng() % 97) - 48, int64_t(rng() % 97) - 48, int64_t(rng() % 97) - 48);
+        p += BlockPos(int64_t(1) << 33, -(int64_t(1) << 30), 7); // Far from the origin too.
+        const BlockId id = BlockId(rng() % 6);
+        w.set_block(p, id);
+        edits.emplace_back(p, id);
+    }
+    std::map<std::tuple<int64_t, int64_t, int64_t>, BlockId> last;
+    for (auto& [p, id] : edits)
+        last[{p.x, p.y, p.z}] = id;
+    for (auto& [k, id] : last)
+        ASSERT_EQ(w.get_block(BlockPos(std::get<0>(k), std::get<1>(k), std::get<2>(k))), id);
+    EXPECT_EQ(w.get_block(BlockPos(0, 0, 0)), kAir); // Absent chunk reads as air.
+    ChunkCoord lo, hi;
+    ASSERT_TRUE(w.chunk_bounds(lo, hi));
+    EXPECT_LE(hi.x - lo.x, 4);
+}
+
+TEST(BlockRegistry, RejectsDuplicatesAndGivesFallbacks) {
+    BlockRegistry r;
+    BlockInfo b;
+    b.name = "stone";
+    ASSERT_TRUE(r.add(b).ok());
+    EXPECT_FALSE(r.add(b).ok());
+    b.name = "";
+    EXPECT_FALSE(r.add(b).ok());
+    EXPECT_FALSE(r.set(kAir, BlockInfo{"x"}).ok());
+    EXPECT_TRUE(r.is_opaque(999)); // Unknown ids mesh as opaque.
+    EXPECT_FALSE(r.is_opaque(kAir));
+    EXPECT_EQ(r.info(999).name, "block_999");
+    EXPECT_NE(fallback_albedo(3), fallback_albedo(4));
+    const BlockRegistry& d = BlockRegistry::default_registry();
+    ASSERT_TRUE(d.find("water").has_value());
+    EXPECT_FALSE(d.is_opaque(*d.find("water")));
+    EXPECT_GT(d.info(*d.find("mirror")).reflectivity, 0.5f);
+}

@@ -1,0 +1,221 @@
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+#include "world/edit_mesher.h"
+
+using namespace vx::world;
+using namespace vx::world::test;
+
+namespace {
+
+glm::ivec3 icross(glm::ivec3 a, glm::ivec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// The classic per-slice greedy mesher (thesis listing 3.1, generalised to block ids and
+// aprons), scalar and obviously correct: the reference the bitmask mesher must match quad for quad.
+void classic_greedy(const MesherInput& in, ChunkMesh& out) {
+    ChunkMesh culled;
+    mesh_culled(in, culled);
+    out.begin(0);
+    for (int s = 0; s < kSliceCount; ++s) {
+        out.begin_slice(s);
+        for (int pass = 0; pass < 2; ++pass) {
+            BlockId grid[kChunkSize][kChunkSize] = {}; // [v][u]; 0 = no face.
+            int axis = s / kPlanesPerAxis, plane = s % kPlanesPerAxis;
+            for (const Quad& q : culled.slice(s))
+                if (q.positive() == (pass == 1))
+                    grid[q.v0()][q.u0()] = q.block;
+            for (int v = 0; v < kChunkSize; ++v)
+                for (int u = 0; u < kChunkSize; ++u) {
+                    const BlockId id = grid[v][u];
+                    if (!id)
+                        continue;
+                    int w = 1;
+                    while (u + w < kChunkSize && grid[v][u + w] == id)
+                        ++w;
+                    int h = 1;
+                    for (; v + h < kChunkSize; ++h) {
+                        bool row = true;
+                        for (int k = 0; k < w && row; ++k)
+                            row = grid[v + h][u + k] == id;
+                        if (!row)
+                            break;
+                    }
+                    for (int dv = 0; dv < h; ++dv)
+                        for (int k = 0; k < w; ++k)
+                            grid[v + dv][u + k] = 0;
+                    out.push(Quad::make(axis, plane, pass == 1, u, v, w, h, id));
+                }
+        }
+    }
+    out.end();
+}
+
+struct Case {
+    double fill;
+    int types;
+    int transparent;
+};
+
+} // namespace
+
+TEST(GreedyMesher, RandomChunksMatchOracleAndClassicGreedy) {
+    std::mt19937 rng(42);
+    GreedyMesher mesher;
+    const Case cases[] = {{0.02, 1, 0}, {0.1, 1, 0}, {0.1, 3, 0}, {0.3, 2, 1}, {0.5, 3, 0},
+                          {0.5, 5, 2},  {0.8, 1, 0}, {0.9, 40, 0}, {0.97, 2, 1}, {0.6, 300, 20}};
+    for (const Case& c : cases) {
+        const BlockRegistry reg = make_registry(c.types - c.transparent, c.transparent);
+        for (int rep = 0; rep < 6; ++rep) {
+            const Chunk chunk = random_chunk(rng, c.fill, c.types);
+            const Apron apron = rep % 3 == 0 ? Apron::air() : random_apron(rng, rep % 3 == 1 ? 0.5 : 1.0, c.types, reg);
+            const MesherInput in{chunk, apron, reg};
+            ChunkMesh greedy, classic, culled;
+            mesher.mesh(in, greedy);
+            classic_greedy(in, classic);
+            mesh_culled(in, culled);
+            ASSERT_TRUE(covers_exactly(in, greedy)) << "fill " << c.fill << " types " << c.types;
+            ASSERT_TRUE(covers_exactly(in, culled));
+            ASSERT_TRUE(greedy == classic) << "fill " << c.fill << " types " << c.types << ": "
+                                           << greedy.quad_count() << " vs classic " << classic.quad_count();
+            int area = 0;
+            greedy.for_each_quad([&](const Quad& q) { area += q.area(); });
+            EXPECT_EQ(uint32_t(area), culled.quad_count());
+        }
+    }
+}
+
+namespace {
+
+Chunk chunk_from(auto&& fn) {
+    std::vector<BlockId> ids(kChunkVolume);
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int y = 0; y < kChunkSize; ++y)
+            for (int x = 0; x < kChunkSize; ++x)
+                ids[local_index(x, y, z)] = fn(x, y, z);
+    return Chunk::from_dense(ids);
+}
+
+ChunkMesh greedy_of(const Chunk& c, const Apron& a, const BlockRegistry& r) {
+    GreedyMesher m;
+    ChunkMesh mesh;
+    m.mesh({c, a, r}, mesh);
+    EXPECT_TRUE(covers_exactly({c, a, r}, mesh));
+    return mesh;
+}
+
+} // namespace
+
+TEST(GreedyMesher, HandMadeCases) {
+    const BlockRegistry reg = make_registry(3, 1);
+    const Apron air = Apron::air();
+    // Empty: nothing.
+    EXPECT_EQ(greedy_of(Chunk(), air, reg).quad_count(), 0u);
+    // Full, isolated: one 32×32 quad per side (12 triangles, as the thesis says).
+    EXPECT_EQ(greedy_of(Chunk(1), air, reg).quad_count(), 6u);
+    // Full, embedded in opaque neighbours: nothing visible.
+    EXPECT_EQ(greedy_of(Chunk(1), Apron::filled(2, reg), reg).quad_count(), 0u);
+    // Full, embedded in its own transparent type (water in water): nothing; in another: 6.
+    EXPECT_EQ(greedy_of(Chunk(4), Apron::filled(4, reg), reg).quad_count(), 0u);
+    // 3D checkerboard: no face can merge; 16384 blocks × 6 faces.
+    const Chunk checker = chunk_from([](int x, int y, int z) { return BlockId((x + y + z) & 1); });
+    EXPECT_EQ(greedy_of(checker, air, reg).quad_count(), 16384u * 6);
+    // Single block in a corner and in the middle.
+    EXPECT_EQ(greedy_of(chunk_from([](int x, int y, int z) { return BlockId(x + y + z == 0); }), air, reg).quad_count(), 6u);
+    EXPECT_EQ(greedy_of(chunk_from([](int x, int y, int z) { return BlockId(x == 9 && y == 17 && z == 4); }), air, reg).quad_count(), 6u);
+    // Blocks on every border and corner (a hollow shell): 6 outer + 6 inner sides.
+    const Chunk shell = chunk_from([](int x, int y, int z) {
+        auto b = [](int c) { return c == 0 || c == 31; };
+        return BlockId(b(x) || b(y) || b(z));
+    });
+    EXPECT_EQ(greedy_of(shell, air, reg).quad_count(), 12u);
+    // Long thin runs: a 32-long rod along each axis through the middle.
+    const Chunk rods = chunk_from([](int x, int y, int z) {
+        return BlockId((y == 5 && z == 5) || (x == 20 && z == 20) || (x == 9 && y == 27));
+    });
+    greedy_of(rods, air, reg);
+    // Two types side by side never merge: a half-and-half chunk has 6 + 6 sides plus none between.
+    const Chunk halves = chunk_from([](int x, int, int) { return BlockId(x < 16 ? 1 : 2); });
+    EXPECT_EQ(greedy_of(halves, air, reg).quad_count(), 10u);
+    // Stripes of alternating types along x: every x column is its own quad on ±Y and ±Z.
+    const Chunk stripes = chunk_from([](int x, int, int) { return BlockId(1 + (x & 1)); });
+    EXPECT_EQ(greedy_of(stripes, air, reg).quad_count(), 2u + 4u * 32u);
+}
+
+TEST(SimpleMeshers, NaiveEmitsEveryFaceCulledOnlyVisible) {
+    const BlockRegistry reg = make_registry(1, 0);
+    const Apron air = Apron::air();
+    ChunkMesh naive, culled;
+    mesh_naive({Chunk(1), air, reg}, naive);
+    mesh_culled({Chunk(1), air, reg}, culled);
+    EXPECT_EQ(naive.triangle_count(), 393216u); // 32768 blocks × 12 (thesis 3.1).
+    EXPECT_EQ(culled.triangle_count(), 12288u); // 6 × 32 × 32 × 2 (thesis 3.2).
+    glm::ivec3 c[4];
+    for (const Quad& q : culled.slice(1, 32)) { // +Y faces at the top plane.
+        quad_corners(q, c);
+        const glm::ivec3 n = icross(c[1] - c[0], c[3] - c[0]);
+        EXPECT_EQ(n, glm::ivec3(0, 1, 0));
+    }
+}
+
+TEST(QuadCorners, CounterClockwiseFromTheAirSide) {
+    for (int axis = 0; axis < 3; ++axis)
+        for (int pos = 0; pos < 2; ++pos) {
+            glm::ivec3 c[4];
+            quad_corners(Quad::make(axis, 3, pos == 1, 1, 2, 4, 5, 1), c);
+            const glm::ivec3 n = icross(c[1] - c[0], c[3] - c[0]);
+            EXPECT_EQ(n, face_normal(make_face(axis, pos == 1)) * 20) << axis << pos;
+            for (auto& p : c)
+                EXPECT_EQ(p[axis], 3);
+        }
+}
+
+// Thousands of random edits, inside chunks and on borders, in a 3×3×3 world: after every edit
+// the incrementally updated meshes equal full remeshes of every affected chunk.
+TEST(EditMesher, IncrementalEqualsFullRemesh) {
+    std::mt19937 rng(7);
+    World world(make_registry(4, 2));
+    for (int i = 0; i < 20000; ++i) {
+        const BlockPos p(rng() % 96, rng() % 96, rng() % 96);
+        world.set_block(p - BlockPos(32), BlockId(1 + rng() % 6));
+    }
+    EditMesher em;
+    MeshMap meshes;
+    for (int z = -1; z <= 1; ++z)
+        for (int y = -1; y <= 1; ++y)
+            for (int x = -1; x <= 1; ++x)
+                em.mesh_chunk(world, ChunkCoord(x, y, z), meshes);
+    GreedyMesher full;
+    auto pick = [&](bool border) -> int64_t {
+        const int64_t base = int64_t(rng() % 3) * 32 - 32;
+        if (!border)
+            return base + int64_t(rng() % 32);
+        return base + (rng() % 2 ? 31 : 0);
+    };
+    for (int i = 0; i < 4000; ++i) {
+        const bool border = (i % 3) != 0;
+        const BlockPos p(pick(border && rng() % 2), pick(border && rng() % 2), pick(border));
+        const BlockId id = (rng() % 3 == 0) ? kAir : BlockId(1 + rng() % 6);
+        const EditResult r = em.apply(world, p, id, meshes);
+        for (const ChunkCoord& c : r.touched) {
+            const Apron fresh = make_apron(world, c);
+            ChunkMesh expect;
+            const Chunk* chunk = world.find_chunk(c);
+            const Chunk empty;
+            full.mesh({chunk ? *chunk : empty, fresh, world.registry()}, expect);
+            ASSERT_TRUE(meshes.at(c).mesh == expect) << "edit " << i << " chunk " << c.x << "," << c.y << "," << c.z;
+        }
+    }
+    // Finally every chunk, not just the touched ones.
+    for (auto& [c, mc] : meshes) {
+        ChunkMesh expect;
+        const Chunk* chunk = world.find_chunk(c);
+        const Chunk empty;
+        full.mesh({chunk ? *chunk : empty, make_apron(world, c), world.registry()}, expect);
+        ASSERT_TRUE(mc.mesh == expect);
+    }
+}

@@ -1,0 +1,98 @@
+#include "world/block_registry.h"
+
+#include <cmath>
+
+namespace vx::world {
+
+BlockRegistry::BlockRegistry() {
+    BlockInfo air;
+    air.name = "air";
+    air.albedo = glm::vec3(0.f);
+    air.opaque = false;
+    m_blocks.push_back(air);
+    m_opaque.push_back(0);
+}
+
+const BlockRegistry& BlockRegistry::default_registry() {
+    static const BlockRegistry registry = [] {
+        BlockRegistry r;
+        auto add = [&r](const char* name, glm::vec3 albedo, float refl, glm::vec3 emit, bool opaque) {
+            BlockInfo b;
+            b.name = name;
+            b.albedo = albedo;
+            b.reflectivity = refl;
+            b.emission = emit;
+            b.opaque = opaque;
+            VX_ASSERT(r.add(b).ok());
+        };
+        add("stone", {0.45f, 0.45f, 0.47f}, 0.f, glm::vec3(0.f), true);
+        add("dirt", {0.42f, 0.29f, 0.18f}, 0.f, glm::vec3(0.f), true);
+        add("grass", {0.30f, 0.55f, 0.20f}, 0.f, glm::vec3(0.f), true);
+        add("sand", {0.86f, 0.80f, 0.58f}, 0.f, glm::vec3(0.f), true);
+        add("water", {0.15f, 0.35f, 0.65f}, 0.3f, glm::vec3(0.f), false);
+        add("glass", {0.85f, 0.90f, 0.95f}, 0.1f, glm::vec3(0.f), false);
+        add("mirror", {0.90f, 0.90f, 0.90f}, 0.9f, glm::vec3(0.f), true);
+        add("lamp", {1.0f, 0.9f, 0.7f}, 0.f, glm::vec3(4.f, 3.6f, 2.8f), true);
+        add("snow", {0.95f, 0.95f, 0.97f}, 0.f, glm::vec3(0.f), true);
+        add("wood", {0.50f, 0.36f, 0.20f}, 0.f, glm::vec3(0.f), true);
+        add("leaves", {0.20f, 0.45f, 0.15f}, 0.f, glm::vec3(0.f), true);
+        return r;
+    }();
+    return registry;
+}
+
+Result<BlockId> BlockRegistry::add(BlockInfo info) {
+    if (m_blocks.size() > 0xFFFF)
+        return Error{"block registry is full (65536 ids)"};
+    const BlockId id = BlockId(m_blocks.size());
+    Status s = set(id, std::move(info));
+    if (!s)
+        return Error{s.error()};
+    return id;
+}
+
+Status BlockRegistry::set(BlockId id, BlockInfo info) {
+    if (id == kAir)
+        return Error{"block id 0 is reserved for air"};
+    if (info.name.empty())
+        return Error{"block name is empty"};
+    if (auto existing = find(info.name); existing && *existing != id)
+        return Error{"duplicate block name '" + info.name + "'"};
+    if (id >= m_blocks.size()) {
+        m_blocks.resize(size_t(id) + 1);
+        m_opaque.resize(size_t(id) + 1, 1);
+    }
+    m_opaque[id] = info.opaque ? 1 : 0;
+    m_blocks[id] = std::move(info);
+    return {};
+}
+
+BlockInfo BlockRegistry::info(BlockId id) const {
+    if (contains(id))
+        return m_blocks[id];
+    BlockInfo b;
+    b.name = "block_" + std::to_string(id);
+    b.albedo = fallback_albedo(id);
+    return b;
+}
+
+std::optional<BlockId> BlockRegistry::find(std::string_view name) const {
+    for (size_t i = 0; i < m_blocks.size(); ++i)
+        if (m_blocks[i].name == name)
+            return BlockId(i);
+    return std::nullopt;
+}
+
+glm::vec3 fallback_albedo(BlockId id) {
+    const float h = std::fmod(float(id) * 0.61803398875f, 1.f) * 6.f;
+    const float x = 1.f - std::fabs(std::fmod(h, 2.f) - 1.f);
+    glm::vec3 c = h < 1 ? glm::vec3(1, x, 0)
+                : h < 2 ? glm::vec3(x, 1, 0)
+                : h < 3 ? glm::vec3(0, 1, x)
+                : h < 4 ? glm::vec3(0, x, 1)
+                : h < 5 ? glm::vec3(x, 0, 1)
+                        : glm::vec3(1, 0, x);
+    return 0.25f + 0.6f * c;
+}
+
+} // namespace vx::world

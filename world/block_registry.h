@@ -1,0 +1,60 @@
+#pragma once
+// Block types: ids and their materials. Id 0 is always air.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "world/base/result.h"
+
+namespace vx::world {
+
+using BlockId = uint16_t;
+inline constexpr BlockId kAir = 0;
+
+struct BlockInfo {
+    std::string name;
+    glm::vec3 albedo{0.8f};   // Linear RGB, 0..1.
+    float reflectivity = 0.f; // Fraction of light mirrored, 0..1.
+    glm::vec3 emission{0.f};  // Linear RGB radiance, >= 0.
+    bool opaque = true;       // Opaque blocks hide the faces of blocks behind them.
+};
+
+// Maps block ids to materials. Ids not registered mesh like opaque blocks and render with a
+// colour derived from the id, so worlds made elsewhere (raw volumes, VDB) always work.
+// Not thread-safe for writes; concurrent reads are safe.
+class BlockRegistry {
+public:
+    BlockRegistry(); // Registers air (id 0).
+
+    // The default palette: air, stone, dirt, grass, sand, water (transparent), glass
+    // (transparent), mirror (reflective), lamp (emissive), snow, wood, leaves.
+    static const BlockRegistry& default_registry();
+
+    // Adds a block with the next free id. Fails on an empty or duplicate name or when full.
+    Result<BlockId> add(BlockInfo info);
+    // Sets the info of a given id (extending the table), for loading registries from files.
+    Status set(BlockId id, BlockInfo info);
+
+    size_t size() const { return m_blocks.size(); }
+    bool contains(BlockId id) const { return id < m_blocks.size() && !m_blocks[id].name.empty(); }
+    // The info of `id`; an unregistered id gets a generated opaque material.
+    BlockInfo info(BlockId id) const;
+    std::optional<BlockId> find(std::string_view name) const;
+
+    // Opacity for meshing; air is not opaque, unknown ids are.
+    bool is_opaque(BlockId id) const { return id == kAir ? false : (id < m_opaque.size() ? m_opaque[id] : true); }
+
+private:
+    std::vector<BlockInfo> m_blocks;
+    std::vector<uint8_t> m_opaque;
+};
+
+// A stable, distinct colour for ids without a registered material (golden-ratio hue walk).
+glm::vec3 fallback_albedo(BlockId id);
+
+} // namespace vx::world

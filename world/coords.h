@@ -1,0 +1,63 @@
+#pragma once
+// Coordinate spaces of vx.
+//   World block coordinates: 64-bit signed integers (glm::i64vec3), one unit per block; y is up.
+//   Chunk coordinates: 32-bit signed integers (glm::ivec3); chunk c holds blocks [32c, 32c + 32).
+//   Local coordinates: 0..31 inside one chunk.
+// All helpers here are pure functions. Thread-safe.
+
+#include <cstdint>
+#include <functional>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
+
+namespace vx::world {
+
+using BlockPos = glm::i64vec3;  // World block coordinates.
+using ChunkCoord = glm::ivec3;  // Chunk coordinates.
+using LocalPos = glm::ivec3;    // 0..31 per component.
+
+inline constexpr int kChunkBits = 5;
+inline constexpr int kChunkSize = 1 << kChunkBits;                 // 32 blocks per edge.
+inline constexpr int kChunkVolume = kChunkSize * kChunkSize * kChunkSize; // 32768 blocks.
+inline constexpr int kPlanesPerAxis = kChunkSize + 1;             // 33 boundary planes per axis.
+inline constexpr int kSliceCount = 3 * kPlanesPerAxis;            // 99 slices per chunk.
+
+// Linear index of a local position: x fastest, then y, then z.
+inline constexpr int local_index(int x, int y, int z) { return x | (y << kChunkBits) | (z << (2 * kChunkBits)); }
+inline constexpr int local_index(LocalPos p) { return local_index(p.x, p.y, p.z); }
+
+// Chunk holding a world block. Arithmetic shift floors negative coordinates (C++20 defines it).
+inline ChunkCoord chunk_of(BlockPos p) {
+    return ChunkCoord(int32_t(p.x >> kChunkBits), int32_t(p.y >> kChunkBits), int32_t(p.z >> kChunkBits));
+}
+inline LocalPos local_of(BlockPos p) {
+    return LocalPos(int(p.x & (kChunkSize - 1)), int(p.y & (kChunkSize - 1)), int(p.z & (kChunkSize - 1)));
+}
+// World position of a chunk's block (0,0,0).
+inline BlockPos chunk_origin(ChunkCoord c) {
+    return BlockPos(int64_t(c.x) * kChunkSize, int64_t(c.y) * kChunkSize, int64_t(c.z) * kChunkSize);
+}
+
+struct ChunkCoordHash {
+    size_t operator()(const ChunkCoord& c) const noexcept {
+        // Large odd multipliers spread neighbouring coordinates (Teschner et al. 2003 style).
+        uint64_t h = uint64_t(uint32_t(c.x)) * 0x9E3779B185EBCA87ull;
+        h ^= uint64_t(uint32_t(c.y)) * 0xC2B2AE3D27D4EB4Full;
+        h ^= uint64_t(uint32_t(c.z)) * 0x165667B19E3779F9ull;
+        return size_t(h ^ (h >> 29));
+    }
+};
+
+// The six face directions. Axis = dir / 2; negative directions are even.
+enum class Face : uint8_t { NegX = 0, PosX, NegY, PosY, NegZ, PosZ };
+inline constexpr int face_axis(Face f) { return int(f) >> 1; }
+inline constexpr bool face_positive(Face f) { return (int(f) & 1) != 0; }
+inline constexpr Face make_face(int axis, bool positive) { return Face(axis * 2 + (positive ? 1 : 0)); }
+inline glm::ivec3 face_normal(Face f) {
+    glm::ivec3 n(0);
+    n[face_axis(f)] = face_positive(f) ? 1 : -1;
+    return n;
+}
+
+} // namespace vx::world

@@ -1,0 +1,370 @@
+#include "world/mesher.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+namespace vx::world {
+namespace {
+
+enum : uint8_t { kNonAir = 1, kOpaque = 2, kTransparent = 4 };
+
+// Face masks of one layer of blocks (perpendicular to some axis), row v, bit u.
+struct LayerBits {
+    uint32_t n[kChunkSize]; // Non-air.
+    uint32_t o[kChunkSize]; // Opaque.
+    uint32_t t[kChunkSize]; // Non-air and not opaque.
+};
+
+// What the mesher needs to know about the chunk, computed once per call.
+struct ChunkView {
+    const Chunk* chunk = nullptr;
+    const ChunkPalette* pal = nullptr; // Null for a uniform chunk.
+    const Apron* apron = nullptr;
+    const uint8_t* flags = nullptr;    // Per palette entry.
+    uint8_t uniform_flags = 0;
+    bool multi = false;       // More than one non-air id present: merging must compare ids.
+    bool transparent = false; // Some non-opaque, non-air block present.
+    BlockId single = kAir;    // The only non-air id when !multi.
+};
+
+// Local index steps for (layer, u, v) on planes perpendicular to each axis.
+constexpr uint32_t kLayerStep[3] = {1, kChunkSize, kChunkSize * kChunkSize};
+constexpr uint32_t kUStep[3] = {kChunkSize, 1, 1};
+constexpr uint32_t kVStep[3] = {kChunkSize * kChunkSize, kChunkSize * kChunkSize, kChunkSize};
+
+uint8_t block_flags(BlockId id, const BlockRegistry& r) {
+    if (id == kAir)
+        return 0;
+    return r.is_opaque(id) ? uint8_t(kNonAir | kOpaque) : uint8_t(kNonAir | kTransparent);
+}
+
+// 32×32 bit-matrix transpose, bit j of row i moves to bit i of row j (LSB-first variant of
+// Hacker's Delight 7-3: swap ever smaller off-diagonal blocks).
+void transpose32(uint32_t a[32]) {
+    uint32_t m = 0x0000FFFFu;
+    for (int j = 16; j != 0; j >>= 1, m ^= m << j) {
+        for (int k = 0; k < 32; k = (k + j + 1) & ~j) {
+            const uint32_t t = ((a[k] >> j) ^ a[k + j]) & m;
+            a[k] ^= t << j;
+            a[k + j] ^= t;
+        }
+    }
+}
+
+// Bits of 32 consecutive entries (along x) starting at local index i0.
+inline void row_bits_x(const ChunkView& cv, uint32_t i0, uint32_t& n, uint32_t& o, uint32_t& t) {
+    const PackedArray& idx = cv.pal->indices;
+    if (idx.bits() == 1) {
+        // One bit per block: the 32 indices are the row itself.
+        const uint32_t row = uint32_t(idx.words()[i0 >> 6] >> (i0 & 63));
+        const uint8_t f0 = cv.flags[0], f1 = cv.flags[1];
+        auto sel = [&](uint8_t bit) {
+            return ((f0 & bit) ? ~row : 0u) | ((f1 & bit) ? row : 0u);
+        };
+        n = sel(kNonAir), o = sel(kOpaque), t = sel(kTransparent);
+        return;
+    }
+    // Stream the packed bits through a 64-bit window.
+    const uint32_t bits = idx.bits();
+    const uint64_t mask = (uint64_t(1) << bits) - 1;
+    const uint64_t* w = idx.words();
+    uint64_t pos = uint64_t(i0) * bits;
+    uint32_t rn = 0, ro = 0, rt = 0;
+    for (uint32_t x = 0; x < uint32_t(kChunkSize); ++x, pos += bits) {
+        const uint64_t* p = w + (pos >> 6);
+        const uint32_t off = uint32_t(pos & 63);
+        const uint32_t e = uint32_t(((p[0] >> off) | ((p[1] << 1) << (63 - off))) & mask);
+        const uint32_t f = cv.flags[e];
+        rn |= (f & 1u) << x;
+        ro |= ((f >> 1) & 1u) << x;
+        rt |= ((f >> 2) & 1u) << x;
+    }
+    n = rn, o = ro, t = rt;
+}
+
+// One layer's bits read straight from the chunk (for incremental remeshing).
+void extract_layer(const ChunkView& cv, int axis, int layer, LayerBits& out) {
+    if (!cv.pal) {
+        const uint8_t f = cv.uniform_flags;
+        std::fill_n(out.n, kChunkSize, (f & kNonAir) ? ~0u : 0u);
+        std::fill_n(out.o, kChunkSize, (f & kOpaque) ? ~0u : 0u);
+        std::fill_n(out.t, kChunkSize, (f & kTransparent) ? ~0u : 0u);
+        return;
+    }
+    if (axis != 0) {
+        // Rows run along x (u = x): contiguous indices.
+        for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v)
+            row_bits_x(cv, uint32_t(layer) * kLayerStep[axis] + v * kVStep[axis], out.n[v], out.o[v], out.t[v]);
+        return;
+    }
+    const PackedArray& idx = cv.pal->indices;
+    for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v) {
+        uint32_t rn = 0, ro = 0, rt = 0;
+        uint32_t i = uint32_t(layer) + v * kVStep[0];
+        for (uint32_t u = 0; u < uint32_t(kChunkSize); ++u, i += kUStep[0]) {
+            const uint32_t f = cv.flags[idx.get(i)];
+            rn |= (f & 1u) << u;
+            ro |= ((f >> 1) & 1u) << u;
+            rt |= ((f >> 2) & 1u) << u;
+        }
+        out.n[v] = rn, out.o[v] = ro, out.t[v] = rt;
+    }
+}
+
+// All 3×32 layers at once: rows along x are read once, the X layers come from transposes.
+void extract_all_layers(const ChunkView& cv, LayerBits (*layers)[kChunkSize]) {
+    LayerBits* lz = layers[2];
+    if (!cv.pal) {
+        for (int l = 0; l < kChunkSize; ++l)
+            extract_layer(cv, 2, l, lz[l]);
+    } else {
+        for (uint32_t z = 0; z < uint32_t(kChunkSize); ++z)
+            for (uint32_t y = 0; y < uint32_t(kChunkSize); ++y)
+                row_bits_x(cv, z * kVStep[1] + y * kChunkSize, lz[z].n[y], lz[z].o[y], lz[z].t[y]);
+    }
+    // Y layer y, row z = Z layer z, row y (both have u = x).
+    for (int y = 0; y < kChunkSize; ++y)
+        for (int z = 0; z < kChunkSize; ++z) {
+            layers[1][y].n[z] = lz[z].n[y];
+            layers[1][y].o[z] = lz[z].o[y];
+            layers[1][y].t[z] = lz[z].t[y];
+        }
+    // X layer x, row z, bit y = Z layer z, row y, bit x: a bit transpose per z.
+    uint32_t tn[kChunkSize], to[kChunkSize], tt[kChunkSize];
+    for (int z = 0; z < kChunkSize; ++z) {
+        std::memcpy(tn, lz[z].n, sizeof tn);
+        std::memcpy(to, lz[z].o, sizeof to);
+        transpose32(tn);
+        transpose32(to);
+        if (cv.transparent) {
+            std::memcpy(tt, lz[z].t, sizeof tt);
+            transpose32(tt);
+        }
+        for (int x = 0; x < kChunkSize; ++x) {
+            layers[0][x].n[z] = tn[x];
+            layers[0][x].o[z] = to[x];
+            layers[0][x].t[z] = cv.transparent ? tt[x] : 0u;
+        }
+    }
+}
+
+// Removes from `mask` the faces between two blocks of one transparent id.
+void hide_same_transparent(const ChunkView& cv, int axis, int block_layer, const LayerBits* neighbour,
+                           Face apron_face, uint32_t mask[kChunkSize]) {
+    const uint32_t base = uint32_t(block_layer) * kLayerStep[axis];
+    const int nl = block_layer + (face_positive(apron_face) ? 1 : -1);
+    for (int v = 0; v < kChunkSize; ++v) {
+        uint32_t cand = neighbour ? (mask[v] & neighbour->t[v])
+                                  : (cv.apron->any_transparent[int(apron_face)] ? mask[v] : 0u);
+        while (cand) {
+            const int u = std::countr_zero(cand);
+            cand &= cand - 1;
+            const BlockId a = cv.chunk->get(int(base + u * kUStep[axis] + v * kVStep[axis]));
+            const BlockId b = neighbour ? cv.chunk->get(int(uint32_t(nl) * kLayerStep[axis] + u * kUStep[axis] +
+                                                            v * kVStep[axis]))
+                                        : cv.apron->ids[int(apron_face)][u + kChunkSize * v];
+            if (a == b)
+                mask[v] &= ~(1u << u);
+        }
+    }
+}
+
+// Greedy merge of one plane's face mask (consumed). Width first along u, then height along v.
+template <bool kMulti, class Sink>
+void merge_plane(const ChunkView& cv, uint32_t mask[kChunkSize], int axis, int plane, bool positive,
+                 int block_layer, Sink& sink) {
+    const uint32_t base = uint32_t(block_layer) * kLayerStep[axis];
+    const uint32_t su = kUStep[axis], sv = kVStep[axis];
+    const PackedArray* idx = kMulti ? &cv.pal->indices : nullptr;
+    for (int v = 0; v < kChunkSize; ++v) {
+        while (mask[v]) {
+            const uint32_t m = mask[v];
+            const int u0 = std::countr_zero(m);
+            int w = std::countr_zero(~(uint64_t(m) >> u0)); // Run of ones from u0.
+            uint32_t id0 = 0;
+            const uint32_t row0 = base + uint32_t(v) * sv;
+            if constexpr (kMulti) {
+                id0 = idx->get(row0 + uint32_t(u0) * su);
+                for (int k = 1; k < w; ++k)
+                    if (idx->get(row0 + uint32_t(u0 + k) * su) != id0) {
+                        w = k;
+                        break;
+                    }
+            }
+            const uint32_t run = uint32_t((uint64_t(1) << w) - 1) << u0;
+            int h = 1;
+            for (; v + h < kChunkSize && (mask[v + h] & run) == run; ++h) {
+                if constexpr (kMulti) {
+                    const uint32_t row = base + uint32_t(v + h) * sv;
+                    bool same = true;
+                    for (int k = 0; k < w && same; ++k)
+                        same = idx->get(row + uint32_t(u0 + k) * su) == id0;
+                    if (!same)
+                        break;
+                }
+                mask[v + h] &= ~run;
+            }
+            mask[v] &= ~run;
+            const BlockId block = kMulti ? cv.pal->ids[id0] : cv.single;
+            sink(Quad::make(axis, plane, positive, u0, v, w, h, block));
+        }
+    }
+}
+
+// Emits slice (axis, plane): negative faces of layer `plane`, then positive faces of layer
+// `plane - 1`. `layer(l)` returns the bits of layer l (0..31) on this axis.
+template <class LayerFn, class Sink>
+void emit_slice(const ChunkView& cv, int axis, int plane, LayerFn&& layer, Sink& sink) {
+    uint32_t mask[kChunkSize];
+    auto merge = [&](bool positive, int block_layer) {
+        if (cv.multi)
+            merge_plane<true>(cv, mask, axis, plane, positive, block_layer, sink);
+        else
+            merge_plane<false>(cv, mask, axis, plane, positive, block_layer, sink);
+    };
+    if (plane < kChunkSize) {
+        const LayerBits& b = layer(plane);
+        const Face nf = make_face(axis, false);
+        const LayerBits* nb = plane > 0 ? &layer(plane - 1) : nullptr;
+        const uint32_t* occ = nb ? nb->o : cv.apron->opaque[int(nf)].data();
+        uint32_t any = 0;
+        for (int v = 0; v < kChunkSize; ++v)
+            any |= mask[v] = b.n[v] & ~occ[v];
+        if (any && cv.transparent)
+            hide_same_transparent(cv, axis, plane, nb, nf, mask);
+        if (any)
+            merge(false, plane);
+    }
+    if (plane > 0) {
+        const LayerBits& b = layer(plane - 1);
+        const Face pf = make_face(axis, true);
+        const LayerBits* nb = plane < kChunkSize ? &layer(plane) : nullptr;
+        const uint32_t* occ = nb ? nb->o : cv.apron->opaque[int(pf)].data();
+        uint32_t any = 0;
+        for (int v = 0; v < kChunkSize; ++v)
+            any |= mask[v] = b.n[v] & ~occ[v];
+        if (any && cv.transparent)
+            hide_same_transparent(cv, axis, plane - 1, nb, pf, mask);
+        if (any)
+            merge(true, plane - 1);
+    }
+}
+
+} // namespace
+
+struct GreedyMesher::Scratch {
+    LayerBits layers[3][kChunkSize];
+    std::vector<uint8_t> flags;
+    std::vector<Quad> quads;
+    LayerBits cache[3];
+    int cache_layer[3];
+};
+
+GreedyMesher::GreedyMesher() : m_scratch(new Scratch) {}
+GreedyMesher::~GreedyMesher() { delete m_scratch; }
+
+static ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags) {
+    ChunkView cv;
+    cv.chunk = &in.chunk;
+    cv.apron = &in.apron;
+    cv.pal = in.chunk.palette();
+    if (!cv.pal) {
+        cv.uniform_flags = block_flags(in.chunk.uniform_id(), in.registry);
+        cv.single = in.chunk.uniform_id();
+        cv.transparent = (cv.uniform_flags & kTransparent) != 0;
+        return cv;
+    }
+    const ChunkPalette& p = *cv.pal;
+    flags.resize(p.ids.size());
+    int non_air = 0;
+    for (size_t e = 0; e < p.ids.size(); ++e) {
+        flags[e] = block_flags(p.ids[e], in.registry);
+        if (p.counts[e] == 0)
+            continue;
+        if (flags[e] & kNonAir) {
+            ++non_air;
+            cv.single = p.ids[e];
+        }
+        cv.transparent |= (flags[e] & kTransparent) != 0;
+    }
+    cv.flags = flags.data();
+    cv.multi = non_air > 1;
+    return cv;
+}
+
+void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
+    Scratch& s = *m_scratch;
+    const ChunkView cv = make_view(in, s.flags);
+    out.begin(0);
+    if (cv.chunk->is_empty()) {
+        for (int i = 0; i < kSliceCount; ++i)
+            out.begin_slice(i);
+        out.end();
+        return;
+    }
+    extract_all_layers(cv, s.layers);
+    auto sink = [&out](const Quad& q) { out.push(q); };
+    for (int axis = 0; axis < 3; ++axis) {
+        auto layer = [&](int l) -> const LayerBits& { return s.layers[axis][l]; };
+        for (int plane = 0; plane < kPlanesPerAxis; ++plane) {
+            out.begin_slice(slice_index(axis, plane));
+            emit_slice(cv, axis, plane, layer, sink);
+        }
+    }
+    out.end();
+}
+
+void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh) {
+    Scratch& s = *m_scratch;
+    const ChunkView cv = make_view(in, s.flags);
+    LayerBits* cache = s.cache;
+    int loaded[2] = {-1, -1};
+    auto layer = [&](int l) -> const LayerBits& {
+        const int slot = l == plane ? 0 : 1;
+        if (loaded[slot] != l) {
+            extract_layer(cv, axis, l, cache[slot]);
+            loaded[slot] = l;
+        }
+        return cache[slot];
+    };
+    s.quads.clear();
+    auto sink = [&s](const Quad& q) { s.quads.push_back(q); };
+    emit_slice(cv, axis, plane, layer, sink);
+    mesh.replace_slice(slice_index(axis, plane), s.quads);
+}
+
+void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh) {
+    Scratch& s = *m_scratch;
+    const ChunkView cv = make_view(in, s.flags);
+    auto sink = [&s](const Quad& q) { s.quads.push_back(q); };
+    for (int axis = 0; axis < 3; ++axis) {
+        // Planes c and c + 1 read layers c - 1, c and c + 1: extract each once.
+        const int c = p[axis];
+        int loaded[3] = {-1, -1, -1};
+        auto layer = [&](int l) -> const LayerBits& {
+            const int slot = l - c + 1;
+            if (loaded[slot] != l) {
+                extract_layer(cv, axis, l, s.cache[slot]);
+                loaded[slot] = l;
+            }
+            return s.cache[slot];
+        };
+        for (int plane = c; plane <= c + 1; ++plane) {
+            s.quads.clear();
+            emit_slice(cv, axis, plane, layer, sink);
+            mesh.replace_slice(slice_index(axis, plane), s.quads);
+        }
+    }
+}
+
+const char* mesher_name(MesherKind kind) {
+    switch (kind) {
+    case MesherKind::Greedy: return "greedy";
+    case MesherKind::Culled: return "culled";
+    case MesherKind::Naive: return "naive";
+    }
+    return "?";
+}
+
+} // namespace vx::world

@@ -1,0 +1,67 @@
+#pragma once
+// Chunk meshers: greedy (the fast one), culled and naive (for comparison and as test oracles).
+//
+// Face rule: the face of block A towards neighbour B is emitted iff A is not air, B is not
+// opaque, and A != B (two blocks of one transparent type, e.g. water, show no face between
+// them). Greedy merging joins faces of one block id and one facing direction only.
+//
+// Input: the chunk and its apron (chunk + neighbour borders = a snapshot; no world access), so a
+// mesher can run on any thread. Output: a ChunkMesh, per slice (see chunk_mesh.h).
+
+#include <cstdint>
+#include <vector>
+
+#include "world/apron.h"
+#include "world/block_registry.h"
+#include "world/chunk.h"
+#include "world/chunk_mesh.h"
+
+namespace vx::world {
+
+struct MesherInput {
+    const Chunk& chunk;
+    const Apron& apron;
+    const BlockRegistry& registry;
+};
+
+inline bool face_visible(BlockId a, BlockId b, const BlockRegistry& registry) {
+    return a != kAir && a != b && !registry.is_opaque(b);
+}
+
+// Bitmask greedy mesher. Planes are built as 32-bit rows of face masks; runs are found with
+// count-trailing-zeros and grown row by row, width first, then height (the classic greedy order,
+// so it emits exactly the quads of a classic per-slice greedy mesher).
+// Not thread-safe: owns scratch memory; use one instance per thread.
+class GreedyMesher {
+public:
+    GreedyMesher();
+    ~GreedyMesher();
+    GreedyMesher(const GreedyMesher&) = delete;
+    GreedyMesher& operator=(const GreedyMesher&) = delete;
+
+    // Meshes the whole chunk into `out` (its storage is reused).
+    void mesh(const MesherInput& in, ChunkMesh& out);
+
+    // After block `p` (chunk-local) changed, remeshes the six slices bounding it (planes p and
+    // p + 1 on each axis). `mesh` must be this chunk's mesh before the edit; afterwards it equals
+    // mesh() of the new state. A neighbour chunk's border plane is the caller's: when p touches
+    // face f, call remesh_slice on the neighbour across f (after updating its apron).
+    void remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh);
+
+    // Remeshes one slice (axis 0..2, plane 0..32).
+    void remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh);
+
+private:
+    struct Scratch;
+    Scratch* m_scratch;
+};
+
+// One quad per visible face.
+void mesh_culled(const MesherInput& in, ChunkMesh& out);
+// One quad per face of every non-air block, hidden or not.
+void mesh_naive(const MesherInput& in, ChunkMesh& out);
+
+enum class MesherKind : uint8_t { Greedy, Culled, Naive };
+const char* mesher_name(MesherKind kind);
+
+} // namespace vx::world

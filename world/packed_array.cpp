@@ -1,0 +1,32 @@
+#include "world/packed_array.h"
+
+namespace vx::world {
+
+PackedArray::PackedArray(uint32_t count, uint32_t bits)
+    : m_words(new uint64_t[word_count_for(count, bits)]()), m_mask((uint64_t(1) << bits) - 1), m_count(count),
+      m_bits(bits) {
+    VX_ASSERT(bits >= 1 && bits <= 16);
+}
+
+PackedArray::PackedArray(const PackedArray& other)
+    : m_mask(other.m_mask), m_count(other.m_count), m_bits(other.m_bits) {
+    if (other.m_words) {
+        m_words.reset(new uint64_t[other.word_count()]);
+        std::memcpy(m_words.get(), other.m_words.get(), other.memory_bytes());
+    }
+}
+
+PackedArray& PackedArray::operator=(const PackedArray& other) {
+    if (this != &other)
+        *this = PackedArray(other);
+    return *this;
+}
+
+PackedArray PackedArray::resized(uint32_t new_bits) const {
+    PackedArray out(m_count, new_bits);
+    for (uint32_t i = 0; i < m_count; ++i)
+        out.set(i, get(i));
+    return out;
+}
+
+} // namespace vx::world

@@ -1,0 +1,57 @@
+// Culled and naive meshers: one quad per face, written for clarity, used as comparison points
+// and as oracles for the greedy mesher.
+#include "world/mesher.h"
+
+namespace vx::world {
+namespace {
+
+// The block just across face `f` of local block p: in the chunk, or in the apron.
+BlockId neighbour_of(const MesherInput& in, LocalPos p, Face f) {
+    const int axis = face_axis(f);
+    LocalPos q = p + face_normal(f);
+    if (q[axis] < 0 || q[axis] >= kChunkSize) {
+        const int u = p[plane_u_axis(axis)], v = p[plane_v_axis(axis)];
+        return in.apron.ids[int(f)][u + kChunkSize * v];
+    }
+    return in.chunk.get(q);
+}
+
+template <class Keep> void mesh_unit_faces(const MesherInput& in, ChunkMesh& out, Keep&& keep) {
+    out.begin(0);
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int plane = 0; plane < kPlanesPerAxis; ++plane) {
+            out.begin_slice(slice_index(axis, plane));
+            // Same order as the greedy mesher: negative faces of layer `plane`, then positive
+            // faces of layer `plane - 1`, each row by row.
+            for (int pass = 0; pass < 2; ++pass) {
+                const bool positive = pass == 1;
+                const int layer = positive ? plane - 1 : plane;
+                if (layer < 0 || layer >= kChunkSize)
+                    continue;
+                const Face f = make_face(axis, positive);
+                for (int v = 0; v < kChunkSize; ++v)
+                    for (int u = 0; u < kChunkSize; ++u) {
+                        const LocalPos p = plane_to_local(axis, layer, u, v);
+                        const BlockId id = in.chunk.get(p);
+                        if (id != kAir && keep(id, p, f))
+                            out.push(Quad::make(axis, plane, positive, u, v, 1, 1, id));
+                    }
+            }
+        }
+    }
+    out.end();
+}
+
+} // namespace
+
+void mesh_culled(const MesherInput& in, ChunkMesh& out) {
+    mesh_unit_faces(in, out, [&](BlockId id, LocalPos p, Face f) {
+        return face_visible(id, neighbour_of(in, p, f), in.registry);
+    });
+}
+
+void mesh_naive(const MesherInput& in, ChunkMesh& out) {
+    mesh_unit_faces(in, out, [](BlockId, LocalPos, Face) { return true; });
+}
+
+} // namespace vx::world
