@@ -18,24 +18,51 @@ Chunk& Chunk::operator=(const Chunk& other) {
 
 Chunk Chunk::from_dense(std::span<const BlockId> ids) {
     VX_ASSERT(ids.size() == size_t(kChunkVolume));
-    Chunk c(ids[0]);
-    if (std::all_of(ids.begin(), ids.end(), [&](BlockId b) { return b == ids[0]; }))
-        return c;
+    const BlockId first = ids[0];
+    size_t i0 = 1;
+    while (i0 < ids.size() && ids[i0] == first)
+        ++i0;
+    if (i0 == ids.size())
+        return Chunk(first);
     auto pal = std::make_unique<ChunkPalette>();
-    std::unordered_map<BlockId, uint32_t> lookup;
-    std::vector<uint32_t> local(kChunkVolume);
-    for (int i = 0; i < kChunkVolume; ++i) {
-        auto [it, inserted] = lookup.try_emplace(ids[i], uint32_t(pal->ids.size()));
-        if (inserted) {
-            pal->ids.push_back(ids[i]);
-            pal->counts.push_back(0);
+    // Palette indices, found by a short linear search (chunks rarely hold more than a dozen ids);
+    // a hash map takes over past 32 entries.
+    std::vector<uint16_t> local(kChunkVolume);
+    std::unordered_map<BlockId, uint16_t> big;
+    BlockId last_id = first;
+    uint16_t last_entry = 0;
+    pal->ids.push_back(first);
+    for (size_t i = 0; i < ids.size(); ++i) {
+        const BlockId id = ids[i];
+        if (id != last_id) {
+            last_id = id;
+            const size_t n = pal->ids.size();
+            size_t e = 0;
+            if (n <= 32) {
+                while (e < n && pal->ids[e] != id)
+                    ++e;
+            } else {
+                auto it = big.find(id);
+                e = it == big.end() ? n : it->second;
+            }
+            if (e == n) {
+                pal->ids.push_back(id);
+                if (n == 32)
+                    for (size_t k = 0; k < pal->ids.size(); ++k)
+                        big.emplace(pal->ids[k], uint16_t(k));
+                else if (n > 32)
+                    big.emplace(id, uint16_t(e));
+            }
+            last_entry = uint16_t(e);
         }
-        local[i] = it->second;
-        ++pal->counts[it->second];
+        local[i] = last_entry;
     }
+    pal->counts.assign(pal->ids.size(), 0);
+    for (uint16_t e : local)
+        ++pal->counts[e];
     pal->indices = PackedArray(kChunkVolume, bits_for_count(uint32_t(pal->ids.size())));
-    for (int i = 0; i < kChunkVolume; ++i)
-        pal->indices.set(uint32_t(i), local[i]);
+    pal->indices.set_all(local.data());
+    Chunk c;
     c.m_palette = std::move(pal);
     return c;
 }

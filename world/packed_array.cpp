@@ -22,6 +22,19 @@ PackedArray& PackedArray::operator=(const PackedArray& other) {
     return *this;
 }
 
+void PackedArray::set_all(const uint16_t* values) {
+    std::memset(m_words.get(), 0, memory_bytes());
+    uint64_t* w = m_words.get();
+    uint64_t pos = 0;
+    for (uint32_t i = 0; i < m_count; ++i, pos += m_bits) {
+        const uint64_t v = values[i] & m_mask;
+        const uint32_t off = uint32_t(pos & 63);
+        w[pos >> 6] |= v << off;
+        if (off + m_bits > 64)
+            w[(pos >> 6) + 1] |= v >> (64 - off);
+    }
+}
+
 PackedArray PackedArray::resized(uint32_t new_bits) const {
     PackedArray out(m_count, new_bits);
     for (uint32_t i = 0; i < m_count; ++i)

@@ -55,6 +55,9 @@ public:
         }
     }
 
+    // Sets every entry from `values` (size() of them), faster than set() one by one.
+    void set_all(const uint16_t* values);
+
     // A copy with another entry width; values must fit.
     PackedArray resized(uint32_t new_bits) const;
 
