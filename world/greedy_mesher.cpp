@@ -4,6 +4,10 @@
 #include <bit>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace vx::world {
 namespace {
 
@@ -26,6 +30,13 @@ struct ChunkView {
     bool multi = false;       // More than one non-air id present: merging must compare ids.
     bool transparent = false; // Some non-opaque, non-air block present.
     BlockId single = kAir;    // The only non-air id when !multi.
+    const uint8_t* dense = nullptr; // Unpacked palette indices (full meshes of palettes <= 256).
+    // Split mode (few ids, unpacked): per-entry occupancy layers, so each id merges on its own
+    // bitmask with no id compares. split_layers[k][axis][layer][v] for entry split_entries[k].
+    int split_count = 0;
+    const uint8_t* split_entries = nullptr;
+    const uint32_t (*split_layers)[3][kChunkSize][kChunkSize] = nullptr;
+    uint32_t entry(uint32_t i) const { return dense ? dense[i] : pal->indices.get(i); }
 };
 
 // Local index steps for (layer, u, v) on planes perpendicular to each axis.
@@ -112,12 +123,93 @@ void extract_layer(const ChunkView& cv, int axis, int layer, LayerBits& out) {
     }
 }
 
+// Unpacks B-bit palette indices to bytes. 64 entries of B bits fill exactly B words, so every
+// shift below is a compile-time constant once the inner loop is unrolled.
+template <int B> void unpack_fixed(const uint64_t* w, uint8_t* out) {
+    constexpr uint64_t kMask = (uint64_t(1) << B) - 1;
+    for (int g = 0; g < kChunkVolume / 64; ++g, w += B, out += 64) {
+#pragma GCC unroll 64
+        for (int k = 0; k < 64; ++k) {
+            const int bit = k * B, word = bit >> 6, off = bit & 63;
+            uint64_t v = w[word] >> off;
+            if (off + B > 64)
+                v |= w[word + 1] << (64 - off);
+            out[k] = uint8_t(v & kMask);
+        }
+    }
+}
+
+bool unpack_indices(const PackedArray& a, uint8_t* out) {
+    switch (a.bits()) {
+    case 1: unpack_fixed<1>(a.words(), out); return true;
+    case 2: unpack_fixed<2>(a.words(), out); return true;
+    case 3: unpack_fixed<3>(a.words(), out); return true;
+    case 4: unpack_fixed<4>(a.words(), out); return true;
+    case 5: unpack_fixed<5>(a.words(), out); return true;
+    case 6: unpack_fixed<6>(a.words(), out); return true;
+    case 7: unpack_fixed<7>(a.words(), out); return true;
+    case 8: unpack_fixed<8>(a.words(), out); return true;
+    default: return false;
+    }
+}
+
+// Bit x set where row[x] == e, for a row of 32 bytes.
+inline uint32_t eq_mask(const uint8_t* row, uint8_t e) {
+#if defined(__SSE2__)
+    const __m128i v = _mm_set1_epi8(char(e));
+    const uint32_t lo = uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_loadu_si128((const __m128i*)row), v)));
+    const uint32_t hi = uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_loadu_si128((const __m128i*)(row + 16)), v)));
+    return lo | hi << 16;
+#else
+    uint32_t m = 0;
+    for (int x = 0; x < kChunkSize; ++x)
+        m |= uint32_t(row[x] == e) << x;
+    return m;
+#endif
+}
+
+// Row masks from unpacked indices: a compare per air entry (non-air = not any of them) and, only
+// when some non-air entry is not opaque, a compare per opaque entry.
+void dense_rows(const ChunkView& cv, LayerBits* lz) {
+    uint8_t air[256], opaque[256];
+    int n_air = 0, n_opaque = 0;
+    bool all_opaque = true;
+    for (size_t e = 0; e < cv.pal->ids.size(); ++e) {
+        if (cv.pal->counts[e] == 0)
+            continue;
+        const uint8_t f = cv.flags[e];
+        if (!(f & kNonAir))
+            air[n_air++] = uint8_t(e);
+        else if (f & kOpaque)
+            opaque[n_opaque++] = uint8_t(e);
+        else
+            all_opaque = false;
+    }
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int y = 0; y < kChunkSize; ++y) {
+            const uint8_t* row = cv.dense + z * kChunkSize * kChunkSize + y * kChunkSize;
+            uint32_t a = 0;
+            for (int k = 0; k < n_air; ++k)
+                a |= eq_mask(row, air[k]);
+            const uint32_t n = ~a;
+            uint32_t o = n;
+            if (!all_opaque) {
+                o = 0;
+                for (int k = 0; k < n_opaque; ++k)
+                    o |= eq_mask(row, opaque[k]);
+            }
+            lz[z].n[y] = n, lz[z].o[y] = o, lz[z].t[y] = n & ~o;
+        }
+}
+
 // All 3×32 layers at once: rows along x are read once, the X layers come from transposes.
 void extract_all_layers(const ChunkView& cv, LayerBits (*layers)[kChunkSize]) {
     LayerBits* lz = layers[2];
     if (!cv.pal) {
         for (int l = 0; l < kChunkSize; ++l)
             extract_layer(cv, 2, l, lz[l]);
+    } else if (cv.dense) {
+        dense_rows(cv, lz);
     } else {
         for (uint32_t z = 0; z < uint32_t(kChunkSize); ++z)
             for (uint32_t y = 0; y < uint32_t(kChunkSize); ++y)
@@ -176,7 +268,6 @@ void merge_plane(const ChunkView& cv, uint32_t mask[kChunkSize], int axis, int p
                  int block_layer, Sink& sink) {
     const uint32_t base = uint32_t(block_layer) * kLayerStep[axis];
     const uint32_t su = kUStep[axis], sv = kVStep[axis];
-    const PackedArray* idx = kMulti ? &cv.pal->indices : nullptr;
     for (int v = 0; v < kChunkSize; ++v) {
         while (mask[v]) {
             const uint32_t m = mask[v];
@@ -185,9 +276,9 @@ void merge_plane(const ChunkView& cv, uint32_t mask[kChunkSize], int axis, int p
             uint32_t id0 = 0;
             const uint32_t row0 = base + uint32_t(v) * sv;
             if constexpr (kMulti) {
-                id0 = idx->get(row0 + uint32_t(u0) * su);
+                id0 = cv.entry(row0 + uint32_t(u0) * su);
                 for (int k = 1; k < w; ++k)
-                    if (idx->get(row0 + uint32_t(u0 + k) * su) != id0) {
+                    if (cv.entry(row0 + uint32_t(u0 + k) * su) != id0) {
                         w = k;
                         break;
                     }
@@ -199,7 +290,7 @@ void merge_plane(const ChunkView& cv, uint32_t mask[kChunkSize], int axis, int p
                     const uint32_t row = base + uint32_t(v + h) * sv;
                     bool same = true;
                     for (int k = 0; k < w && same; ++k)
-                        same = idx->get(row + uint32_t(u0 + k) * su) == id0;
+                        same = cv.entry(row + uint32_t(u0 + k) * su) == id0;
                     if (!same)
                         break;
                 }
@@ -218,7 +309,21 @@ template <class LayerFn, class Sink>
 void emit_slice(const ChunkView& cv, int axis, int plane, LayerFn&& layer, Sink& sink) {
     uint32_t mask[kChunkSize];
     auto merge = [&](bool positive, int block_layer) {
-        if (cv.multi)
+        if (cv.split_count) {
+            // Faces of different ids never merge, so merging each id's faces alone gives the
+            // same quads as merging all with id compares (only the order within a slice differs).
+            ChunkView one = cv;
+            for (int k = 0; k < cv.split_count; ++k) {
+                const uint32_t* occ = cv.split_layers[k][axis][block_layer];
+                uint32_t part[kChunkSize], any = 0;
+                for (int v = 0; v < kChunkSize; ++v)
+                    any |= part[v] = mask[v] & occ[v];
+                if (!any)
+                    continue;
+                one.single = cv.pal->ids[cv.split_entries[k]];
+                merge_plane<false>(one, part, axis, plane, positive, block_layer, sink);
+            }
+        } else if (cv.multi)
             merge_plane<true>(cv, mask, axis, plane, positive, block_layer, sink);
         else
             merge_plane<false>(cv, mask, axis, plane, positive, block_layer, sink);
@@ -253,10 +358,56 @@ void emit_slice(const ChunkView& cv, int axis, int plane, LayerFn&& layer, Sink&
 
 } // namespace
 
+// Up to this many non-air ids, full meshes merge per id (split mode).
+constexpr int kMaxSplit = 12;
+
+// Per-entry occupancy layers on all three axes, from the unpacked indices.
+void build_split_layers(ChunkView& cv, uint8_t* entries, uint32_t (*layers)[3][kChunkSize][kChunkSize]) {
+    int n = 0;
+    for (size_t e = 0; e < cv.pal->ids.size(); ++e)
+        if (cv.pal->counts[e] && (cv.flags[e] & kNonAir))
+            entries[n++] = uint8_t(e);
+    for (int k = 0; k < n; ++k) {
+        auto& L = layers[k];
+        for (int z = 0; z < kChunkSize; ++z) {
+            uint32_t rows[kChunkSize];
+            for (int y = 0; y < kChunkSize; ++y) {
+                rows[y] = eq_mask(cv.dense + z * kChunkSize * kChunkSize + y * kChunkSize, entries[k]);
+                L[2][z][y] = rows[y];
+                L[1][y][z] = rows[y];
+            }
+            transpose32(rows);
+            for (int x = 0; x < kChunkSize; ++x)
+                L[0][x][z] = rows[x];
+        }
+    }
+    cv.split_count = n;
+    cv.split_entries = entries;
+    cv.split_layers = layers;
+}
+
+// Split mode costs ~4 µs per id up front and saves ~5 ns per face merged. Solid-air transitions
+// along x estimate the face count; measured break-even on terrain vs 50% noise lies near 4096.
+bool split_pays_off(const ChunkView& cv, const LayerBits* lz) {
+    int non_air = 0;
+    for (size_t e = 0; e < cv.pal->ids.size(); ++e)
+        non_air += cv.pal->counts[e] && (cv.flags[e] & kNonAir);
+    if (non_air > kMaxSplit)
+        return false;
+    int transitions = 0;
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int y = 0; y < kChunkSize; ++y)
+            transitions += std::popcount(lz[z].n[y] ^ (lz[z].n[y] << 1));
+    return transitions > 4096;
+}
+
 struct GreedyMesher::Scratch {
     LayerBits layers[3][kChunkSize];
     std::vector<uint8_t> flags;
     std::vector<Quad> quads;
+    alignas(64) uint8_t dense[kChunkVolume];
+    uint8_t split_entries[kMaxSplit];
+    uint32_t split_layers[kMaxSplit][3][kChunkSize][kChunkSize];
     LayerBits cache[3];
     int cache_layer[3];
 };
@@ -295,7 +446,11 @@ static ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags) {
 
 void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
     Scratch& s = *m_scratch;
-    const ChunkView cv = make_view(in, s.flags);
+    ChunkView cv = make_view(in, s.flags);
+    // One-bit palettes build masks straight from the packed words; wider ones unpack once so
+    // masks come from byte compares and merging compares bytes.
+    if (cv.pal && cv.pal->indices.bits() > 1 && unpack_indices(cv.pal->indices, s.dense))
+        cv.dense = s.dense;
     out.begin(0);
     if (cv.chunk->is_empty()) {
         for (int i = 0; i < kSliceCount; ++i)
@@ -304,6 +459,8 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
         return;
     }
     extract_all_layers(cv, s.layers);
+    if (cv.dense && cv.multi && split_pays_off(cv, s.layers[2]))
+        build_split_layers(cv, s.split_entries, s.split_layers);
     auto sink = [&out](const Quad& q) { out.push(q); };
     for (int axis = 0; axis < 3; ++axis) {
         auto layer = [&](int l) -> const LayerBits& { return s.layers[axis][l]; };
