@@ -36,6 +36,11 @@ struct ChunkView {
     int split_count = 0;
     const uint8_t* split_entries = nullptr;
     const uint32_t (*split_layers)[3][kChunkSize][kChunkSize] = nullptr;
+    // Entry classes for byte-compare masks (palettes of <= 256 entries, used entries only).
+    const uint8_t* air_entries = nullptr;
+    const uint8_t* opaque_entries = nullptr;
+    int n_air = 0, n_opaque = 0;
+    bool all_opaque = true; // Every used non-air entry is opaque.
     uint32_t entry(uint32_t i) const { return dense ? dense[i] : pal->indices.get(i); }
 };
 
@@ -168,38 +173,93 @@ inline uint32_t eq_mask(const uint8_t* row, uint8_t e) {
 #endif
 }
 
-// Row masks from unpacked indices: a compare per air entry (non-air = not any of them) and, only
-// when some non-air entry is not opaque, a compare per opaque entry.
-void dense_rows(const ChunkView& cv, LayerBits* lz) {
-    uint8_t air[256], opaque[256];
-    int n_air = 0, n_opaque = 0;
-    bool all_opaque = true;
-    for (size_t e = 0; e < cv.pal->ids.size(); ++e) {
-        if (cv.pal->counts[e] == 0)
-            continue;
-        const uint8_t f = cv.flags[e];
-        if (!(f & kNonAir))
-            air[n_air++] = uint8_t(e);
-        else if (f & kOpaque)
-            opaque[n_opaque++] = uint8_t(e);
-        else
-            all_opaque = false;
+// Masks of one row of 32 unpacked indices: a compare per air entry (non-air = none of them)
+// and, only when some non-air entry is not opaque, a compare per opaque entry.
+inline void row_bits_dense(const ChunkView& cv, const uint8_t* row, uint32_t& n, uint32_t& o, uint32_t& t) {
+    uint32_t a = 0;
+    for (int k = 0; k < cv.n_air; ++k)
+        a |= eq_mask(row, cv.air_entries[k]);
+    n = ~a;
+    o = n;
+    if (!cv.all_opaque) {
+        o = 0;
+        for (int k = 0; k < cv.n_opaque; ++k)
+            o |= eq_mask(row, cv.opaque_entries[k]);
     }
+    t = n & ~o;
+}
+
+void dense_rows(const ChunkView& cv, LayerBits* lz) {
     for (int z = 0; z < kChunkSize; ++z)
-        for (int y = 0; y < kChunkSize; ++y) {
-            const uint8_t* row = cv.dense + z * kChunkSize * kChunkSize + y * kChunkSize;
-            uint32_t a = 0;
-            for (int k = 0; k < n_air; ++k)
-                a |= eq_mask(row, air[k]);
-            const uint32_t n = ~a;
-            uint32_t o = n;
-            if (!all_opaque) {
-                o = 0;
-                for (int k = 0; k < n_opaque; ++k)
-                    o |= eq_mask(row, opaque[k]);
-            }
-            lz[z].n[y] = n, lz[z].o[y] = o, lz[z].t[y] = n & ~o;
+        for (int y = 0; y < kChunkSize; ++y)
+            row_bits_dense(cv, cv.dense + z * kChunkSize * kChunkSize + y * kChunkSize, lz[z].n[y], lz[z].o[y],
+                           lz[z].t[y]);
+}
+
+static_assert(std::endian::native == std::endian::little, "row unpacking reads packed words as bytes");
+
+// Unpacks the 32 B-bit indices of the row starting at i0 (a multiple of 32, so the row starts
+// on a 32-bit boundary and all shifts are constants).
+template <int B> inline void unpack_row(const uint64_t* w, uint32_t i0, uint8_t* out) {
+    uint64_t buf[6] = {};
+    // 4B bytes of row plus 8 bytes: within the array's padding word at the very end.
+    std::memcpy(buf, reinterpret_cast<const char*>(w) + size_t(i0) * B / 8, 4 * B + 8);
+    constexpr uint64_t kMask = (uint64_t(1) << B) - 1;
+#pragma GCC unroll 32
+    for (int k = 0; k < kChunkSize; ++k) {
+        const int bit = k * B, word = bit >> 6, off = bit & 63;
+        uint64_t v = buf[word] >> off;
+        if (off + B > 64)
+            v |= buf[word + 1] << (64 - off);
+        out[k] = uint8_t(v & kMask);
+    }
+}
+
+template <int B> inline uint32_t get_fixed(const uint64_t* w, uint32_t i) {
+    const uint32_t pos = i * B, off = pos & 63;
+    const uint64_t* p = w + (pos >> 6);
+    return uint32_t(((p[0] >> off) | ((p[1] << 1) << (63 - off))) & ((uint64_t(1) << B) - 1));
+}
+
+// One layer for incremental remeshing: unpacks its indices into `dense` (at their chunk
+// indices, for the merge's id compares) and builds its bits.
+template <int B> void extract_layer_fixed(const ChunkView& cv, int axis, int layer, uint8_t* dense, LayerBits& out) {
+    const uint64_t* w = cv.pal->indices.words();
+    if (axis != 0) {
+        for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v) {
+            const uint32_t i0 = uint32_t(layer) * kLayerStep[axis] + v * kVStep[axis];
+            unpack_row<B>(w, i0, dense + i0);
+            row_bits_dense(cv, dense + i0, out.n[v], out.o[v], out.t[v]);
         }
+        return;
+    }
+    for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v) {
+        uint32_t rn = 0, ro = 0, rt = 0;
+        uint32_t i = uint32_t(layer) + v * kVStep[0];
+        for (uint32_t u = 0; u < uint32_t(kChunkSize); ++u, i += kUStep[0]) {
+            const uint32_t e = get_fixed<B>(w, i);
+            dense[i] = uint8_t(e);
+            const uint32_t f = cv.flags[e];
+            rn |= (f & 1u) << u;
+            ro |= ((f >> 1) & 1u) << u;
+            rt |= ((f >> 2) & 1u) << u;
+        }
+        out.n[v] = rn, out.o[v] = ro, out.t[v] = rt;
+    }
+}
+
+using ExtractFn = void (*)(const ChunkView&, int, int, uint8_t*, LayerBits&);
+ExtractFn extract_fixed_for(uint32_t bits) {
+    switch (bits) {
+    case 2: return extract_layer_fixed<2>;
+    case 3: return extract_layer_fixed<3>;
+    case 4: return extract_layer_fixed<4>;
+    case 5: return extract_layer_fixed<5>;
+    case 6: return extract_layer_fixed<6>;
+    case 7: return extract_layer_fixed<7>;
+    case 8: return extract_layer_fixed<8>;
+    default: return nullptr;
+    }
 }
 
 // All 3×32 layers at once: rows along x are read once, the X layers come from transposes.
@@ -406,16 +466,36 @@ struct GreedyMesher::Scratch {
     std::vector<uint8_t> flags;
     std::vector<Quad> quads;
     alignas(64) uint8_t dense[kChunkVolume];
+    uint8_t air[256], opaque[256];
     uint8_t split_entries[kMaxSplit];
     uint32_t split_layers[kMaxSplit][3][kChunkSize][kChunkSize];
     LayerBits cache[3];
     int cache_layer[3];
 };
 
+// Layer extraction for incremental remeshing: unpacking (2..8-bit indices) or generic.
+struct LayerLoader {
+    ChunkView& cv;
+    uint8_t* dense;
+    ExtractFn fixed = nullptr;
+    LayerLoader(ChunkView& view, uint8_t* dense_scratch) : cv(view), dense(dense_scratch) {
+        if (cv.pal && cv.air_entries)
+            fixed = extract_fixed_for(cv.pal->indices.bits());
+        if (fixed)
+            cv.dense = dense; // Merges read ids only from layers loaded here.
+    }
+    void load(int axis, int layer, LayerBits& out) const {
+        if (fixed)
+            fixed(cv, axis, layer, dense, out);
+        else
+            extract_layer(cv, axis, layer, out);
+    }
+};
+
 GreedyMesher::GreedyMesher() : m_scratch(new Scratch) {}
 GreedyMesher::~GreedyMesher() { delete m_scratch; }
 
-static ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags) {
+static ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags, uint8_t* air, uint8_t* opaque) {
     ChunkView cv;
     cv.chunk = &in.chunk;
     cv.apron = &in.apron;
@@ -441,12 +521,26 @@ static ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags) {
     }
     cv.flags = flags.data();
     cv.multi = non_air > 1;
+    if (p.ids.size() <= 256) {
+        for (size_t e = 0; e < p.ids.size(); ++e) {
+            if (p.counts[e] == 0)
+                continue;
+            if (!(flags[e] & kNonAir))
+                air[cv.n_air++] = uint8_t(e);
+            else if (flags[e] & kOpaque)
+                opaque[cv.n_opaque++] = uint8_t(e);
+            else
+                cv.all_opaque = false;
+        }
+        cv.air_entries = air;
+        cv.opaque_entries = opaque;
+    }
     return cv;
 }
 
 void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
     Scratch& s = *m_scratch;
-    ChunkView cv = make_view(in, s.flags);
+    ChunkView cv = make_view(in, s.flags, s.air, s.opaque);
     // One-bit palettes build masks straight from the packed words; wider ones unpack once so
     // masks come from byte compares and merging compares bytes.
     if (cv.pal && cv.pal->indices.bits() > 1 && unpack_indices(cv.pal->indices, s.dense))
@@ -474,13 +568,14 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
 
 void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh) {
     Scratch& s = *m_scratch;
-    const ChunkView cv = make_view(in, s.flags);
+    ChunkView cv = make_view(in, s.flags, s.air, s.opaque);
+    const LayerLoader loader(cv, s.dense);
     LayerBits* cache = s.cache;
     int loaded[2] = {-1, -1};
     auto layer = [&](int l) -> const LayerBits& {
         const int slot = l == plane ? 0 : 1;
         if (loaded[slot] != l) {
-            extract_layer(cv, axis, l, cache[slot]);
+            loader.load(axis, l, cache[slot]);
             loaded[slot] = l;
         }
         return cache[slot];
@@ -493,7 +588,8 @@ void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, Chun
 
 void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh) {
     Scratch& s = *m_scratch;
-    const ChunkView cv = make_view(in, s.flags);
+    ChunkView cv = make_view(in, s.flags, s.air, s.opaque);
+    const LayerLoader loader(cv, s.dense);
     auto sink = [&s](const Quad& q) { s.quads.push_back(q); };
     for (int axis = 0; axis < 3; ++axis) {
         // Planes c and c + 1 read layers c - 1, c and c + 1: extract each once.
@@ -502,7 +598,7 @@ void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& me
         auto layer = [&](int l) -> const LayerBits& {
             const int slot = l - c + 1;
             if (loaded[slot] != l) {
-                extract_layer(cv, axis, l, s.cache[slot]);
+                loader.load(axis, l, s.cache[slot]);
                 loaded[slot] = l;
             }
             return s.cache[slot];
