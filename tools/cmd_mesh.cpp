@@ -50,6 +50,8 @@ Result<std::vector<Edit>> read_edits(const std::string& path) {
             return Error{path + ":" + std::to_string(n) + ": expected 'x y z id'"};
         if (id < 0 || id > 0xFFFF)
             return Error{path + ":" + std::to_string(n) + ": block id " + std::to_string(id) + " out of range 0..65535"};
+        if (!in_world(BlockPos(x, y, z)))
+            return Error{path + ":" + std::to_string(n) + ": position outside the world (|coordinate| < 2^36)"};
         edits.push_back({BlockPos(x, y, z), BlockId(id)});
     }
     return edits;

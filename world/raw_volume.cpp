@@ -21,10 +21,8 @@ Status check_desc(const RawVolumeDesc& d) {
         uint64_t(d.dims.z) > kMaxRawBlocks ||
         uint64_t(d.dims.x) * uint64_t(d.dims.y) > kMaxRawBlocks / uint64_t(d.dims.z))
         return Error{"volume too large (more than 2^34 blocks)"};
-    const int64_t lim = int64_t(1) << 60; // Keep origin + dims far from int64 overflow.
-    for (int a = 0; a < 3; ++a)
-        if (d.origin[a] > lim || d.origin[a] < -lim)
-            return Error{"origin out of range (|coordinate| must be below 2^60)"};
+    if (!in_world(d.origin) || !in_world(d.origin + d.dims - glm::i64vec3(1)))
+        return Error{"volume lies outside the world (block coordinates must stay within [-2^36, 2^36))"};
     return {};
 }
 
