@@ -161,7 +161,8 @@ TEST(EditMesher, IncrementalEqualsFullRemesh) {
         const BlockPos p(pick(border && rng() % 2), pick(border && rng() % 2), pick(border));
         const BlockId id = (rng() % 3 == 0) ? kAir : BlockId(1 + rng() % 6);
         const EditResult r = em.apply(world, p, id, meshes);
-        for (const ChunkCoord& c : r.touched) {
+        for (const SliceUpdate& u : r.updates) {
+            const ChunkCoord c = u.chunk;
             const Apron fresh = make_apron(world, c);
             ChunkMesh expect;
             const Chunk* chunk = world.find_chunk(c);
