@@ -96,12 +96,12 @@ TEST(JobSystem, CompleteMaySubmitFollowUpJobs) {
 TEST(JobSystem, ShutdownWithWorkOutstanding) {
     Tally tally;
     std::atomic<bool> blocker_saw_stop{false};
+    Gate started; // Outlives the system: the blocker may still be inside open() at shutdown.
     {
         JobSystem jobs(test_info(1));
         // One finished result awaiting completion, one running job, 200 queued jobs on both lanes.
         jobs.submit(std::make_unique<TallyJob>(key_at(-1, 0, 0), tally));
         jobs.wait_idle();
-        Gate started;
         jobs.submit(std::make_unique<TallyJob>(key_at(0, 0, 0), tally, [&](JobContext& ctx) {
             started.open();
             while (!ctx.is_cancelled())
