@@ -108,6 +108,7 @@ public:
     Job& operator=(const Job&) = delete;
 
     // Worker thread. Does the work on the job's own snapshot; polls ctx.is_cancelled() when long.
+    // Must not throw (vx code throws no exceptions; an escaping one terminates the program).
     virtual void run(JobContext& ctx) = 0;
     // Main thread. Applies the result (e.g. stores a mesh, uploads it). Must re-check that its
     // target still exists: the chunk may have been unloaded since submission. May submit jobs.

@@ -17,7 +17,9 @@
 //   ever applies the newest requested result of a key.
 // - Cancellation: a job's token is checked before it starts, by the job itself through
 //   JobContext::is_cancelled() while it runs, after it returns and again before complete(). A
-//   cancelled job never completes. cancel(key) cancels everything of a key submitted so far.
+//   cancelled job never completes. cancel(key) cancels everything of a key submitted so far and
+//   frees its queued job at once; a job cancelled only through its token stays queued (counted in
+//   `queued`) until a worker reaches it and drops it unrun.
 // - I/O lane: jobs of kinds whose lane_of() is Io run on one dedicated thread, one at a time, in
 //   the order of their (surviving) submissions; a replacing submit takes its own, later place.
 //   The lane ignores the viewer: disk order is the caller's order (a save submitted before a load
@@ -111,7 +113,8 @@ public:
     JobSystem(const JobSystem&) = delete;
     JobSystem& operator=(const JobSystem&) = delete;
 
-    // Thread-safe (also from complete(); not from run()). Takes ownership; see the key rule.
+    // Thread-safe: any thread, also from inside run() or complete(). Takes ownership; see the key
+    // rule. Never blocks on running jobs.
     JobTicket submit(std::unique_ptr<Job> job);
     // Thread-safe. Cancels every job of `key` submitted so far: drops the queued one, tells the
     // running one to stop and discards finished results. Returns whether there was any.
