@@ -55,58 +55,114 @@ JobSystem::~JobSystem() {
     m_io_thread.join();
     // Every thread is gone: finished results are discarded without complete().
     m_counters.cancelled += m_completions.size();
-    for (const std::unique_ptr<Job>& job : m_completions)
-        m_counters.wasted_work += job->m_run_time;
+    for (const Finished& f : m_completions)
+        m_counters.wasted_work += f.job->m_run_time;
     m_completions.clear();
     m_keys.clear();
 }
 
 JobTicket JobSystem::submit(std::unique_ptr<Job> job) {
     VX_ASSERT(job != nullptr);
-    const JobKey key = job->key();
-    JobTicket ticket{key, 0, job->token()};
     const glm::dvec3 position = job->priority_position(); // User code: outside the lock.
     std::unique_ptr<Job> replaced;
+    JobTicket ticket;
+    Wake wake;
     {
         std::lock_guard lock(m_mutex);
-        ++m_counters.submitted;
-        if (m_stopping.load(std::memory_order_relaxed)) {
-            ++m_counters.cancelled;
-            replaced = std::move(job); // Destroyed below, outside the lock.
-        } else {
-            ticket.generation = job->m_generation = ++m_next_generation;
-            KeyState& state = m_keys[key];
-            state.latest = ticket.generation;
-            if (state.running)
-                state.running->m_abandoned.store(true, std::memory_order_release);
-            if (state.queued) {
-                replaced = std::move(state.queued);
-                ++m_counters.cancelled;
-                ++m_counters.replaced;
-                if (lane_of(key.kind) == JobLane::Pool && !state.parked)
-                    m_pool_queue.note_dead([this](const QueueEntry& e) { return is_live_nolock(e.key, e.generation); });
-            } else {
-                ++m_counters.queued;
-            }
-            state.queued = std::move(job);
-            state.queued_position = position;
-            if (lane_of(key.kind) == JobLane::Io) {
-                m_io_queue.push_back({key, ticket.generation});
-                m_io_cv.notify_one();
-            } else if (state.running) {
-                state.parked = true;
-            } else {
-                enqueue_pool_nolock(key, state);
-            }
+        ticket = submit_nolock(std::move(job), position, replaced, wake);
+        decide_wake_nolock(wake);
+    }
+    notify(wake);
+    return ticket; // `replaced` is destroyed here, outside the lock.
+}
+
+std::vector<JobTicket> JobSystem::submit_batch(std::vector<std::unique_ptr<Job>> jobs) {
+    std::vector<glm::dvec3> positions;
+    positions.reserve(jobs.size());
+    for (const std::unique_ptr<Job>& job : jobs) {
+        VX_ASSERT(job != nullptr);
+        positions.push_back(job->priority_position());
+    }
+    std::vector<JobTicket> tickets(jobs.size());
+    std::vector<std::unique_ptr<Job>> replaced(jobs.size());
+    Wake wake;
+    {
+        std::lock_guard lock(m_mutex);
+        for (size_t i = 0; i < jobs.size(); ++i)
+            tickets[i] = submit_nolock(std::move(jobs[i]), positions[i], replaced[i], wake);
+        decide_wake_nolock(wake);
+    }
+    notify(wake);
+    return tickets;
+}
+
+// The key rule (see the header). Jobs to destroy go to `replaced`; lanes to wake are added to `wake`.
+JobTicket JobSystem::submit_nolock(std::unique_ptr<Job> job, const glm::dvec3& position,
+                                   std::unique_ptr<Job>& replaced, Wake& wake) {
+    const JobKey key = job->key();
+    JobTicket ticket{key, 0, job->token()};
+    ++m_counters.submitted;
+    if (m_stopping.load(std::memory_order_relaxed)) {
+        ++m_counters.cancelled;
+        replaced = std::move(job);
+        return ticket;
+    }
+    ticket.generation = job->m_generation = ++m_next_generation;
+    KeyState& state = m_keys[key];
+    state.latest = ticket.generation;
+    if (state.running)
+        state.running->m_abandoned.store(true, std::memory_order_release);
+    if (state.queued) {
+        replaced = std::move(state.queued);
+        ++m_counters.cancelled;
+        ++m_counters.replaced;
+        if (lane_of(key.kind) == JobLane::Pool && !state.parked)
+            m_pool_queue.note_dead([this](const QueueEntry& e) { return is_live_nolock(e.key, e.generation); });
+    } else {
+        ++m_counters.queued;
+    }
+    state.queued = std::move(job);
+    state.queued_position = position;
+    if (lane_of(key.kind) == JobLane::Io) {
+        if (state.io_entry == 0) { // Otherwise the new job inherits the replaced job's entry.
+            state.io_entry = ++m_next_sequence;
+            m_io_queue.push_back({key, state.io_entry});
+            wake.io = true;
         }
+    } else if (state.running) {
+        state.parked = true;
+    } else {
+        enqueue_pool_nolock(key, state);
+        ++wake.pool;
     }
     return ticket;
+}
+
+// Decides under the lock which lanes need a wake-up; notify() sends them after the unlock. Only
+// sleeping threads are woken, and none while paused: a notify that finds a waiter costs a futex
+// syscall and a context switch, and a paused worker would only go back to sleep. No wake-up is
+// lost: a worker counts itself as waiting under the lock before it sleeps.
+void JobSystem::decide_wake_nolock(Wake& wake) const {
+    if (m_paused) {
+        wake = {};
+        return;
+    }
+    wake.pool = std::min(wake.pool, m_pool_waiting);
+    wake.io = wake.io && m_io_waiting > 0;
+}
+
+void JobSystem::notify(const Wake& wake) {
+    if (wake.pool > 1)
+        m_pool_cv.notify_all();
+    else if (wake.pool == 1)
+        m_pool_cv.notify_one();
+    if (wake.io)
+        m_io_cv.notify_one();
 }
 
 void JobSystem::enqueue_pool_nolock(const JobKey& key, KeyState& state) {
     state.parked = false;
     m_pool_queue.push(key, state.queued->m_generation, ++m_next_sequence, state.queued_position);
-    m_pool_cv.notify_one();
 }
 
 bool JobSystem::cancel(const JobKey& key) {
@@ -119,7 +175,7 @@ bool JobSystem::cancel(const JobKey& key) {
             return false;
         any = true; // Entries exist only while a job of the key is queued, running or finished.
         dropped = cancel_nolock(it->second);
-        erase_if_idle_nolock(key);
+        erase_if_idle_nolock(key, it->second);
         notify_if_idle_nolock();
     }
     return any;
@@ -150,6 +206,7 @@ std::unique_ptr<Job> JobSystem::cancel_nolock(KeyState& state) {
             m_pool_queue.note_dead([this](const QueueEntry& e) { return is_live_nolock(e.key, e.generation); });
     }
     state.parked = false;
+    state.io_entry = 0; // Its I/O entry, if any, is dead now.
     return dropped;
 }
 
@@ -162,7 +219,6 @@ void JobSystem::set_viewer(const Viewer& viewer) {
         return; // Small moves keep the current order: re-scoring costs O(queued).
     m_viewer = viewer;
     m_pool_queue.set_viewer(viewer, ++m_viewer_epoch);
-    m_pool_cv.notify_one(); // Harmless; lets an idle worker re-heap before the next job is needed.
 }
 
 void JobSystem::pause() {
@@ -198,10 +254,9 @@ void JobSystem::notify_if_idle_nolock() {
         m_idle_cv.notify_all();
 }
 
-void JobSystem::erase_if_idle_nolock(const JobKey& key) {
-    auto it = m_keys.find(key);
-    if (it != m_keys.end() && it->second.idle())
-        m_keys.erase(it);
+void JobSystem::erase_if_idle_nolock(const JobKey& key, const KeyState& state) {
+    if (state.idle())
+        m_keys.erase(key);
 }
 
 bool JobSystem::is_live_nolock(const JobKey& key, uint64_t generation) const {

@@ -21,9 +21,11 @@
 //   frees its queued job at once; a job cancelled only through its token stays queued (counted in
 //   `queued`) until a worker reaches it and drops it unrun.
 // - I/O lane: jobs of kinds whose lane_of() is Io run on one dedicated thread, one at a time, in
-//   the order of their (surviving) submissions; a replacing submit takes its own, later place.
-//   The lane ignores the viewer: disk order is the caller's order (a save submitted before a load
-//   of the same file is written first).
+//   submission order. The lane ignores the viewer: disk order is the caller's order (a save
+//   submitted before a load of the same chunk is written first). A replacing submit takes the
+//   place in line of the job it replaces, so a job submitted after the first request still runs
+//   after the data of that request (or newer) is written; moving it to the back could let a later
+//   load read older data than an earlier save.
 // - Completion: process_completions() runs complete() of finished jobs, oldest first, until the
 //   budget is spent; the rest wait for the next call. Budget checks happen before each job, so the
 //   last one may overrun by its own duration. A zero time budget applies nothing.
@@ -116,6 +118,9 @@ public:
     // Thread-safe: any thread, also from inside run() or complete(). Takes ownership; see the key
     // rule. Never blocks on running jobs.
     JobTicket submit(std::unique_ptr<Job> job);
+    // Thread-safe. submit() for many jobs under one lock and one wake-up, in vector order (what a
+    // streaming frame does). Tickets are in the same order.
+    std::vector<JobTicket> submit_batch(std::vector<std::unique_ptr<Job>> jobs);
     // Thread-safe. Cancels every job of `key` submitted so far: drops the queued one, tells the
     // running one to stop and discards finished results. Returns whether there was any.
     bool cancel(const JobKey& key);
@@ -148,25 +153,40 @@ private:
         std::unique_ptr<Job> queued;    // Newest job not yet started.
         glm::dvec3 queued_position{0.0};
         bool parked = false;   // Pool: `queued` waits for `running`; it has no heap entry.
+        uint64_t io_entry = 0; // I/O: the sequence of the m_io_queue entry `queued` holds; 0 none.
         Job* running = nullptr; // Owned by the worker running it.
         uint32_t awaiting = 0; // Finished jobs of this key in m_completions.
         bool idle() const { return !queued && !running && awaiting == 0; }
     };
     enum class Outcome { Ok, Cancelled, Stale };
+    struct Wake {
+        size_t pool = 0; // Pool workers to wake.
+        bool io = false;
+    };
+    // unordered_map keeps element addresses stable until erasure, and a key's state is not erased
+    // while a job of it runs or awaits completion: workers and completions hold it by pointer.
+    struct Finished {
+        std::unique_ptr<Job> job;
+        KeyState* state = nullptr;
+    };
     struct IoEntry {
         JobKey key;
-        uint64_t generation = 0;
+        uint64_t sequence = 0; // Live while the key's io_entry equals it.
     };
+    JobTicket submit_nolock(std::unique_ptr<Job> job, const glm::dvec3& position, std::unique_ptr<Job>& replaced,
+                            Wake& wake);
+    void decide_wake_nolock(Wake& wake) const;
+    void notify(const Wake& wake);
     void worker_main(JobLane lane, int worker_index);
     bool has_work_nolock(JobLane lane) const;
-    std::unique_ptr<Job> pop_job_nolock(JobLane lane);
-    std::unique_ptr<Job> finish_run_nolock(std::unique_ptr<Job> job);
+    std::unique_ptr<Job> pop_job_nolock(JobLane lane, KeyState*& state);
+    std::unique_ptr<Job> finish_run_nolock(std::unique_ptr<Job> job, KeyState& state);
     std::unique_ptr<Job> pop_completion(Outcome& outcome);
     Outcome classify_nolock(const Job& job, const KeyState& state) const;
     void count_dropped_nolock(const Job& job, Outcome outcome);
     std::unique_ptr<Job> cancel_nolock(KeyState& state);
     void enqueue_pool_nolock(const JobKey& key, KeyState& state);
-    void erase_if_idle_nolock(const JobKey& key);
+    void erase_if_idle_nolock(const JobKey& key, const KeyState& state);
     void notify_if_idle_nolock();
     bool is_live_nolock(const JobKey& key, uint64_t generation) const;
     std::chrono::nanoseconds now() const;
@@ -180,11 +200,13 @@ private:
     std::condition_variable m_idle_cv;
     std::atomic<bool> m_stopping{false}; // Read without the lock by JobContext.
     bool m_paused = false;
+    size_t m_pool_waiting = 0; // Threads asleep on each lane's condition variable.
+    size_t m_io_waiting = 0;
 
     std::unordered_map<JobKey, KeyState, JobKeyHash> m_keys;
     PriorityJobQueue m_pool_queue;
     std::deque<IoEntry> m_io_queue;
-    std::deque<std::unique_ptr<Job>> m_completions;
+    std::deque<Finished> m_completions;
     Viewer m_viewer;
     uint64_t m_viewer_epoch = 0;
     uint64_t m_next_generation = 0;

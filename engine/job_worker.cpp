@@ -19,50 +19,68 @@ bool JobSystem::has_work_nolock(JobLane lane) const {
 
 // Pops the next live job of a lane and takes it out of its key's slot; null if only dead entries
 // were left.
-std::unique_ptr<Job> JobSystem::pop_job_nolock(JobLane lane) {
-    JobKey key;
+std::unique_ptr<Job> JobSystem::pop_job_nolock(JobLane lane, KeyState*& state) {
+    state = nullptr;
+    // One map lookup per entry: the liveness check remembers the state it found.
+    auto live = [this, &state](const JobKey& key, uint64_t generation) {
+        auto it = m_keys.find(key);
+        if (it == m_keys.end() || !it->second.queued || it->second.queued->m_generation != generation)
+            return false;
+        state = &it->second;
+        return true;
+    };
     if (lane == JobLane::Pool) {
         QueueEntry e;
-        if (!m_pool_queue.pop([this](const QueueEntry& q) { return is_live_nolock(q.key, q.generation); }, e))
+        if (!m_pool_queue.pop([&](const QueueEntry& q) { return live(q.key, q.generation); }, e))
             return nullptr;
-        key = e.key;
     } else {
-        while (!m_io_queue.empty() && !is_live_nolock(m_io_queue.front().key, m_io_queue.front().generation))
+        auto io_live = [this, &state](const IoEntry& e) {
+            auto it = m_keys.find(e.key);
+            if (it == m_keys.end() || !it->second.queued || it->second.io_entry != e.sequence)
+                return false;
+            state = &it->second;
+            return true;
+        };
+        while (!m_io_queue.empty() && !io_live(m_io_queue.front()))
             m_io_queue.pop_front();
         if (m_io_queue.empty())
             return nullptr;
-        key = m_io_queue.front().key;
         m_io_queue.pop_front();
+        state->io_entry = 0;
     }
-    KeyState& state = m_keys.at(key);
-    VX_ASSERT_MSG(state.running == nullptr, "two jobs of one key would run at once");
+    VX_ASSERT_MSG(state->running == nullptr, "two jobs of one key would run at once");
     --m_counters.queued;
-    return std::move(state.queued);
+    return std::move(state->queued);
 }
 
 void JobSystem::worker_main(JobLane lane, int worker_index) {
     std::condition_variable& cv = lane == JobLane::Pool ? m_pool_cv : m_io_cv;
+    size_t& waiting = lane == JobLane::Pool ? m_pool_waiting : m_io_waiting;
     std::unique_lock lock(m_mutex);
     for (;;) {
-        cv.wait(lock, [&] { return m_stopping.load(std::memory_order_relaxed) || (!m_paused && has_work_nolock(lane)); });
+        while (!m_stopping.load(std::memory_order_relaxed) && (m_paused || !has_work_nolock(lane))) {
+            ++waiting; // Lets submitters skip notifying when no one sleeps.
+            cv.wait(lock);
+            --waiting;
+        }
         if (m_stopping.load(std::memory_order_relaxed))
             return;
-        std::unique_ptr<Job> job = pop_job_nolock(lane);
+        KeyState* state = nullptr;
+        std::unique_ptr<Job> job = pop_job_nolock(lane, state);
         if (!job) {
             notify_if_idle_nolock();
             continue;
         }
-        KeyState& state = m_keys.at(job->key());
-        if (job->token().is_cancelled() || job->m_generation <= state.cancelled_through) {
+        if (job->token().is_cancelled() || job->m_generation <= state->cancelled_through) {
             ++m_counters.cancelled; // Cancelled before it started: never runs.
-            erase_if_idle_nolock(job->key());
+            erase_if_idle_nolock(job->key(), *state);
             notify_if_idle_nolock();
             lock.unlock();
             job.reset();
             lock.lock();
             continue;
         }
-        state.running = job.get();
+        state->running = job.get(); // From here until finish_run_nolock, `state` stays valid.
         ++m_counters.in_flight;
         lock.unlock();
 
@@ -72,7 +90,7 @@ void JobSystem::worker_main(JobLane lane, int worker_index) {
         job->m_run_time = elapsed_since(t0); // Published to other threads by the lock below.
 
         lock.lock();
-        std::unique_ptr<Job> dropped = finish_run_nolock(std::move(job));
+        std::unique_ptr<Job> dropped = finish_run_nolock(std::move(job), *state);
         if (dropped) {
             lock.unlock();
             dropped.reset();
@@ -83,9 +101,8 @@ void JobSystem::worker_main(JobLane lane, int worker_index) {
 
 // Bookkeeping after run(): hands a wanted result to the main thread, counts an unwanted one, and
 // releases a job of the same key that was parked behind this one. Returns the job to destroy.
-std::unique_ptr<Job> JobSystem::finish_run_nolock(std::unique_ptr<Job> job) {
+std::unique_ptr<Job> JobSystem::finish_run_nolock(std::unique_ptr<Job> job, KeyState& state) {
     const JobKey key = job->key();
-    KeyState& state = m_keys.at(key);
     VX_ASSERT(state.running == job.get());
     state.running = nullptr;
     --m_counters.in_flight;
@@ -94,13 +111,16 @@ std::unique_ptr<Job> JobSystem::finish_run_nolock(std::unique_ptr<Job> job) {
     const Outcome outcome = classify_nolock(*job, state);
     if (outcome == Outcome::Ok) {
         ++state.awaiting;
-        m_completions.push_back(std::move(job));
+        m_completions.push_back({std::move(job), &state});
     } else {
         count_dropped_nolock(*job, outcome);
     }
-    if (state.parked && state.queued)
+    if (state.parked && state.queued) {
         enqueue_pool_nolock(key, state);
-    erase_if_idle_nolock(key);
+        if (!m_paused && m_pool_waiting > 0) // This worker may pick another job: wake a sleeper.
+            m_pool_cv.notify_one();
+    }
+    erase_if_idle_nolock(key, state);
     notify_if_idle_nolock();
     return job; // Null when handed over.
 }
@@ -155,15 +175,14 @@ std::unique_ptr<Job> JobSystem::pop_completion(Outcome& outcome) {
     std::lock_guard lock(m_mutex);
     if (m_completions.empty())
         return nullptr;
-    std::unique_ptr<Job> job = std::move(m_completions.front());
+    std::unique_ptr<Job> job = std::move(m_completions.front().job);
+    KeyState& state = *m_completions.front().state;
     m_completions.pop_front();
-    const JobKey key = job->key();
-    KeyState& state = m_keys.at(key);
     --state.awaiting;
     outcome = classify_nolock(*job, state);
     if (outcome != Outcome::Ok)
         count_dropped_nolock(*job, outcome);
-    erase_if_idle_nolock(key);
+    erase_if_idle_nolock(job->key(), state);
     return job;
 }
 

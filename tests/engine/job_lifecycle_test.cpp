@@ -93,6 +93,22 @@ TEST(JobSystem, CompleteMaySubmitFollowUpJobs) {
     EXPECT_EQ(stages.values(), (std::vector<int>{1, 2, 3}));
 }
 
+TEST(JobSystem, RunMaySubmitJobs) {
+    // A worker fans out: one job submits four more from run(); all complete on the main thread.
+    JobSystem jobs(test_info(2));
+    std::atomic<int> children_run{0};
+    std::atomic<int> completes{0};
+    jobs.submit(make_job(key_at(0, 0, 0, JobKind::Task), [&](JobContext&) {
+        for (int i = 1; i <= 4; ++i)
+            jobs.submit(make_job(key_at(i, 0, 0), [&](JobContext&) { ++children_run; }, [&] { ++completes; }));
+    }, [&] { ++completes; }));
+    // The parent is done once it ran; children it submitted are queued or running by then, so
+    // wait_idle covers them too (it waits for queued as well as running jobs).
+    drain(jobs);
+    EXPECT_EQ(children_run.load(), 4);
+    EXPECT_EQ(completes.load(), 5);
+}
+
 TEST(JobSystem, ShutdownWithWorkOutstanding) {
     Tally tally;
     std::atomic<bool> blocker_saw_stop{false};

@@ -20,7 +20,7 @@ constexpr int kThreads = 4;
 constexpr int kOpsPerThread = 2500;
 constexpr int kChunks = 40;
 constexpr int kKeys = kChunks * 3; // Mesh and Generate (pool), Save (I/O lane).
-constexpr int kMaxJobs = kThreads * kOpsPerThread * 2 + kKeys + 2000;
+constexpr int kMaxJobs = kThreads * kOpsPerThread * 3 + kKeys + 2000;
 
 JobKey key_of(int k) {
     static constexpr JobKind kinds[3] = {JobKind::Mesh, JobKind::Generate, JobKind::Save};
@@ -97,6 +97,11 @@ void submitter(JobSystem& jobs, Observed& o, unsigned seed) {
             // Resubmit right away: replaces the queued job or supersedes the running one.
             jobs.submit(std::make_unique<StressJob>(o, k, CancellationToken{}));
             jobs.submit(std::make_unique<StressJob>(o, k, CancellationToken{}));
+        } else if (r < 65) {
+            std::vector<std::unique_ptr<Job>> batch; // May hold one key twice.
+            for (int i = 0; i < 3; ++i)
+                batch.push_back(std::make_unique<StressJob>(o, int(rng() % kKeys), CancellationToken{}));
+            jobs.submit_batch(std::move(batch));
         } else if (r < 75) {
             jobs.submit(std::make_unique<StressJob>(o, k, group)); // Shares the group's token.
         } else if (r < 85) {

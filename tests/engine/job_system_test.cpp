@@ -241,14 +241,38 @@ TEST(JobSystem, IoLaneRunsOneAtATimeInSubmissionOrder) {
         jobs.submit(io_job(x, i % 2 ? JobKind::Save : JobKind::Load, i));
         expected.push_back(i);
     }
-    // Replacing a queued save moves it to the back: order is that of surviving submissions.
+    // A replacing save takes the replaced one's place in line (1002 runs where 1000 was, before
+    // the load 1001 submitted between them, which so reads the newest data).
     jobs.submit(io_job(100, JobKind::Save, 1000));
-    jobs.submit(io_job(101, JobKind::Save, 1001));
+    jobs.submit(io_job(100, JobKind::Load, 1001));
     jobs.submit(io_job(100, JobKind::Save, 1002));
-    expected.insert(expected.end(), {1001, 1002});
+    // Cancelling a queued save and submitting again puts the new one at the back.
+    jobs.submit(io_job(101, JobKind::Save, 1003));
+    jobs.submit(io_job(102, JobKind::Save, 1004));
+    jobs.cancel(key_at(101, 0, 0, JobKind::Save));
+    jobs.submit(io_job(101, JobKind::Save, 1005));
+    expected.insert(expected.end(), {1002, 1001, 1004, 1005});
     jobs.resume();
     drain(jobs);
     EXPECT_EQ(order.values(), expected);
     EXPECT_EQ(max_inside.load(), 1);
     EXPECT_EQ(wrong_thread.load(), 0);
+}
+
+TEST(JobSystem, BatchSubmitFollowsTheSameRules) {
+    JobSystem jobs(test_info(1, true));
+    jobs.set_viewer({chunk_centre(0, 0, 0), {1, 0, 0}});
+    Recorder order;
+    std::vector<std::unique_ptr<Job>> batch;
+    for (int x : {4, 2, 3, 2, 1}) // Chunk 2 twice: the second replaces the first.
+        batch.push_back(make_job(key_at(x, 0, 0), [&order, x](JobContext&) { order.add(x); }));
+    const std::vector<JobTicket> tickets = jobs.submit_batch(std::move(batch));
+    ASSERT_EQ(tickets.size(), 5u);
+    for (size_t i = 1; i < tickets.size(); ++i)
+        EXPECT_GT(tickets[i].generation, tickets[i - 1].generation); // Vector order.
+    EXPECT_EQ(tickets[3].key, key_at(2, 0, 0));
+    jobs.resume();
+    EXPECT_EQ(drain(jobs), 4u);
+    EXPECT_EQ(order.values(), (std::vector<int>{1, 2, 3, 4}));
+    EXPECT_EQ(jobs.metrics().replaced, 1u);
 }
