@@ -1,6 +1,7 @@
 #include "world/terrain.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 
@@ -11,7 +12,6 @@ namespace vx::world {
 
 namespace {
 
-constexpr BlockId kCaveAir = 0xFFFF; // Carved air while generating; air in the output.
 constexpr int kGrid = 4;             // Spacing of the sparse noise samples, blocks.
 constexpr int kCells = kChunkSize / kGrid; // 8 lattice cells per chunk edge, 9 samples.
 
@@ -50,6 +50,8 @@ struct TerrainGenerator::Columns {
     int carve_limit[kChunkSize][kChunkSize]; // Highest world y caves may carve.
     BlockId top[kChunkSize][kChunkSize];     // Surface block.
     BlockId under[kChunkSize][kChunkSize];   // The soil_depth blocks below it.
+    int row_hmin[kChunkSize], row_hmax[kChunkSize]; // Height range of each z row.
+    int row_carve_max[kChunkSize];                  // Highest carve limit of each z row.
     int hmin, hmax;
 };
 
@@ -67,6 +69,10 @@ struct TerrainGenerator::Caves {
 TerrainGenerator::TerrainGenerator(uint64_t seed, TerrainParams params) : m_seed(seed), m_params(params) {
     m_ids = {must_find("stone"), must_find("dirt"),  must_find("grass"),  must_find("sand"), must_find("water"),
              must_find("snow"),  must_find("glass"), must_find("mirror"), must_find("lamp")};
+    for (BlockId id : {m_ids.stone, m_ids.dirt, m_ids.grass, m_ids.sand, m_ids.snow}) {
+        VX_ASSERT(id < 32);
+        m_terrain_mask |= 1u << id;
+    }
 }
 
 // Height at a grid column (x, z multiples of kGrid): lowland hills plus mountains where a
@@ -121,6 +127,9 @@ void TerrainGenerator::fill_columns(ChunkCoord c, Columns& cols) const {
             // Keep a roof over caves near and under the sea so they do not open into the water.
             cols.carve_limit[z][x] = std::min(p.cave_top, h > p.sea_level + 3 ? h : h - 6);
         }
+        cols.row_hmin[z] = *std::min_element(cols.h[z], cols.h[z] + kChunkSize);
+        cols.row_hmax[z] = *std::max_element(cols.h[z], cols.h[z] + kChunkSize);
+        cols.row_carve_max[z] = *std::max_element(cols.carve_limit[z], cols.carve_limit[z] + kChunkSize);
     }
 }
 
@@ -182,9 +191,8 @@ template <class Rows> inline float row_value(const Rows& rows, int x, int ry, in
 
 } // namespace
 
-bool TerrainGenerator::is_terrain_solid(BlockId id) const {
-    return id == m_ids.stone || id == m_ids.dirt || id == m_ids.grass || id == m_ids.sand || id == m_ids.snow;
-}
+// Terrain blocks (what the surface and soil are made of), as opposed to air, water and features.
+bool TerrainGenerator::is_terrain_solid(BlockId id) const { return id < 32 && ((m_terrain_mask >> id) & 1u); }
 
 // Terrain-solid (not air, water or carved) at local (x, y, z) of a column, any y.
 bool TerrainGenerator::solid_at(const Columns& cols, const Caves& cv, int64_t y0, int x, int y, int z) const {
@@ -197,44 +205,71 @@ bool TerrainGenerator::solid_at(const Columns& cols, const Caves& cv, int64_t y0
     return row_value(cv.rows, x, y + 1, z) >= thr;
 }
 
+// Writes the blocks: terrain by height, carved tunnels, and lamps on tunnel floors (cave air over
+// terrain, one in lamp_rarity by a position hash). Rows are visited in increasing y, so the block
+// below is final terrain when a lamp is decided; at y = 0 the border row of `cv` stands in.
 void TerrainGenerator::fill_blocks(ChunkCoord c, const Columns& cols, const Caves* cv, BlockId* ids) const {
     const TerrainParams& p = m_params;
-    const int64_t y0 = chunk_origin(c).y;
+    const BlockPos o = chunk_origin(c);
     for (int z = 0; z < kChunkSize; ++z) {
         const int k = z / kGrid;
         const float tz = float(z % kGrid) * (1.0f / kGrid);
         for (int y = 0; y < kChunkSize; ++y) {
-            const int64_t wy = y0 + y;
-            const float thr = cv ? cv->thr[y + 1] : 0.0f;
-            const bool cave_row = thr > 0.0f && wy <= std::min(cols.hmax, p.cave_top);
-            float row[kCells + 1];
-            if (cave_row)
-                for (int i = 0; i <= kCells; ++i)
-                    row[i] = lerp(cv->rows[k][y + 1][i], cv->rows[k + 1][y + 1][i], tz);
-            const BlockId above = wy <= p.sea_level ? m_ids.water : kAir;
+            const int64_t wy = o.y + y;
             BlockId* out = ids + local_index(0, y, z);
+            const BlockId above = wy <= p.sea_level ? m_ids.water : kAir;
+            if (wy > cols.row_hmax[z]) {
+                std::fill_n(out, kChunkSize, above);
+                continue;
+            }
+            const float thr = cv ? cv->thr[y + 1] : 0.0f;
+            const bool cave_row = thr > 0.0f && wy <= cols.row_carve_max[z];
+            if (!cave_row && wy < cols.row_hmin[z] - p.soil_depth) {
+                std::fill_n(out, kChunkSize, m_ids.stone);
+                continue;
+            }
+            float v[kChunkSize];
+            if (cave_row) {
+                // Same expression as row_value(): z first, then x (the border rows must agree).
+                for (int i = 0; i < kCells; ++i) {
+                    const float a = lerp(cv->rows[k][y + 1][i], cv->rows[k + 1][y + 1][i], tz);
+                    const float b = lerp(cv->rows[k][y + 1][i + 1], cv->rows[k + 1][y + 1][i + 1], tz);
+                    for (int t = 0; t < kGrid; ++t)
+                        v[i * kGrid + t] = lerp(a, b, float(t) * (1.0f / kGrid));
+                }
+            }
+            // Branch-free terrain by height, then carving as a bit mask of the row (tunnel
+            // edges are unpredictable for a branch).
+            const int iwy = int(wy);
             for (int x = 0; x < kChunkSize; ++x) {
                 const int h = cols.h[z][x];
-                if (wy > h) {
-                    out[x] = above;
-                    continue;
-                }
-                BlockId id = wy == h ? cols.top[z][x] : (wy >= h - p.soil_depth ? cols.under[z][x] : m_ids.stone);
-                if (cave_row && wy <= cols.carve_limit[z][x]) {
-                    const float v = lerp(row[x / kGrid], row[x / kGrid + 1], float(x % kGrid) * (1.0f / kGrid));
-                    if (v < thr)
-                        id = kCaveAir;
-                }
-                out[x] = id;
+                const BlockId soil = iwy == h ? cols.top[z][x] : cols.under[z][x];
+                const BlockId ground = iwy >= h - p.soil_depth ? soil : m_ids.stone;
+                out[x] = iwy > h ? above : ground;
+            }
+            if (!cave_row)
+                continue;
+            uint32_t carved = 0;
+            for (int x = 0; x < kChunkSize; ++x)
+                carved |= uint32_t((v[x] < thr) & (iwy <= cols.carve_limit[z][x])) << x;
+            while (carved) {
+                const int x = std::countr_zero(carved);
+                carved &= carved - 1;
+                const bool floor = y == 0 ? cv->solid_below[z][x] : is_terrain_solid(out[x - kChunkSize]);
+                out[x] = floor && noise::hash_coords(m_seed ^ kSaltLamp, o.x + x, wy, o.z + z) %
+                                          uint64_t(p.lamp_rarity) == 0
+                             ? m_ids.lamp
+                             : kAir;
             }
         }
     }
 }
 
 // Crystal clusters: one candidate centre per (2^bits)^3 cell, kept with probability
-// 1 / crystal_rarity; within its radius, cave air touching a terrain floor or ceiling turns to
-// glass (two thirds) or mirror. Only cave air changes, so cave-free chunks never hold crystals.
-void TerrainGenerator::place_crystals(ChunkCoord c, const Caves& cv, BlockId* ids) const {
+// 1 / crystal_rarity; within its radius, cave air (air at or below the surface) touching a
+// terrain floor or ceiling turns to glass (two thirds) or mirror. Only cave air changes, so
+// cave-free chunks never hold crystals, and lamps stay.
+void TerrainGenerator::place_crystals(ChunkCoord c, const Columns& cols, const Caves& cv, BlockId* ids) const {
     constexpr int kMaxRadius = 5;
     const int bits = m_params.crystal_cell_bits;
     const BlockPos o = chunk_origin(c);
@@ -257,7 +292,8 @@ void TerrainGenerator::place_crystals(ChunkCoord c, const Caves& cv, BlockId* id
                         for (int64_t x = a.x; x <= b.x; ++x) {
                             const BlockPos d = o + BlockPos(x, y, z) - centre;
                             const int idx = local_index(int(x), int(y), int(z));
-                            if (d.x * d.x + d.y * d.y + d.z * d.z > r * r || ids[idx] != kCaveAir)
+                            if (d.x * d.x + d.y * d.y + d.z * d.z > r * r || ids[idx] != kAir ||
+                                o.y + y > cols.h[z][x])
                                 continue;
                             const bool floor = y == 0 ? cv.solid_below[z][x] : is_terrain_solid(ids[idx - kChunkSize]);
                             const bool ceiling = y == kChunkSize - 1 ? cv.solid_above[z][x]
@@ -268,26 +304,6 @@ void TerrainGenerator::place_crystals(ChunkCoord c, const Caves& cv, BlockId* id
                             ids[idx] = hb % 3 == 0 ? m_ids.mirror : m_ids.glass;
                         }
             }
-}
-
-// Lamps on cave floors (cave air over terrain), one floor block in lamp_rarity; other cave air
-// becomes plain air. Runs in index order, so the block below was already visited: it can only
-// have turned from cave air to air or lamp, neither of which is terrain-solid, as before.
-void TerrainGenerator::place_lamps(ChunkCoord c, const Caves& cv, BlockId* ids) const {
-    const BlockPos o = chunk_origin(c);
-    for (int z = 0; z < kChunkSize; ++z)
-        for (int y = 0; y < kChunkSize; ++y) {
-            BlockId* row = ids + local_index(0, y, z);
-            for (int x = 0; x < kChunkSize; ++x) {
-                if (row[x] != kCaveAir)
-                    continue;
-                row[x] = kAir;
-                const bool floor = y == 0 ? cv.solid_below[z][x] : is_terrain_solid(row[x - kChunkSize]);
-                if (floor && noise::hash_coords(m_seed ^ kSaltLamp, o.x + x, o.y + y, o.z + z) %
-                                     uint64_t(m_params.lamp_rarity) == 0)
-                    row[x] = m_ids.lamp;
-            }
-        }
 }
 
 Chunk TerrainGenerator::generate(ChunkCoord c) const {
@@ -312,17 +328,16 @@ Chunk TerrainGenerator::generate(ChunkCoord c) const {
     const bool caves = y1 >= p.cave_bottom && y0 <= carve_top && fill_caves(c, carve_top, *cv);
     if (!caves && y1 < cols.hmin - p.soil_depth)
         return Chunk(m_ids.stone);
-    std::unique_ptr<BlockId[]> ids(new BlockId[kChunkVolume]);
-    fill_blocks(c, cols, caves ? cv.get() : nullptr, ids.get());
-    if (caves) {
+    if (caves)
         for (int z = 0; z < kChunkSize; ++z)
             for (int x = 0; x < kChunkSize; ++x) {
                 cv->solid_below[z][x] = solid_at(cols, *cv, y0, x, -1, z);
                 cv->solid_above[z][x] = solid_at(cols, *cv, y0, x, kChunkSize, z);
             }
-        place_crystals(c, *cv, ids.get());
-        place_lamps(c, *cv, ids.get());
-    }
+    std::unique_ptr<BlockId[]> ids(new BlockId[kChunkVolume]);
+    fill_blocks(c, cols, caves ? cv.get() : nullptr, ids.get());
+    if (caves)
+        place_crystals(c, cols, *cv, ids.get());
     return Chunk::from_dense(std::span<const BlockId>(ids.get(), kChunkVolume));
 }
 

@@ -71,12 +71,12 @@ private:
     bool is_terrain_solid(BlockId id) const;
     bool solid_at(const Columns& cols, const Caves& caves, int64_t y0, int x, int y, int z) const;
     void fill_blocks(ChunkCoord c, const Columns& cols, const Caves* caves, BlockId* ids) const;
-    void place_crystals(ChunkCoord c, const Caves& caves, BlockId* ids) const;
-    void place_lamps(ChunkCoord c, const Caves& caves, BlockId* ids) const;
+    void place_crystals(ChunkCoord c, const Columns& cols, const Caves& caves, BlockId* ids) const;
 
     uint64_t m_seed;
     TerrainParams m_params;
     Ids m_ids{};
+    uint32_t m_terrain_mask = 0; // Bit per terrain block id (all default ids are < 32).
 };
 
 // Convenience: TerrainGenerator(seed).generate(c). Thread-safe.

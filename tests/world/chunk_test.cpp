@@ -45,6 +45,26 @@ TEST(PackedArray, SetAllMatchesSetForEveryWidthAndLength) {
         }
 }
 
+TEST(Chunk, FromDensePaletteCountsMatchContents) {
+    std::mt19937 rng(8);
+    for (int types : {2, 5, 40, 300}) // Past 32 entries the palette search switches to a map.
+        for (int run : {1, 7, 100}) {
+            std::vector<BlockId> ids(kChunkVolume);
+            for (int i = 0; i < kChunkVolume; ++i)
+                ids[i] = i % run == 0 ? BlockId(rng() % types) : ids[i - 1];
+            const Chunk c = Chunk::from_dense(ids);
+            if (c.is_uniform())
+                continue;
+            const ChunkPalette* pal = c.palette();
+            std::vector<uint32_t> recount(pal->ids.size(), 0);
+            for (int i = 0; i < kChunkVolume; ++i)
+                ++recount[pal->indices.get(uint32_t(i))];
+            ASSERT_EQ(pal->counts.size(), pal->ids.size());
+            for (size_t e = 0; e < recount.size(); ++e)
+                ASSERT_EQ(pal->counts[e], recount[e]) << "types " << types << " run " << run << " entry " << e;
+        }
+}
+
 TEST(Chunk, UniformChunkIsSmall) {
     Chunk c(7);
     EXPECT_TRUE(c.is_uniform());
