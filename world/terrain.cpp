@@ -215,7 +215,7 @@ void TerrainGenerator::fill_blocks(ChunkCoord c, const Columns& cols, const Cave
         const int k = z / kGrid;
         const float tz = float(z % kGrid) * (1.0f / kGrid);
         for (int y = 0; y < kChunkSize; ++y) {
-            const int64_t wy = o.y + y;
+            const int wy = int(o.y + y); // generate() only fills chunks near the height range.
             BlockId* out = ids + local_index(0, y, z);
             const BlockId above = wy <= p.sea_level ? m_ids.water : kAir;
             if (wy > cols.row_hmax[z]) {
@@ -224,34 +224,37 @@ void TerrainGenerator::fill_blocks(ChunkCoord c, const Columns& cols, const Cave
             }
             const float thr = cv ? cv->thr[y + 1] : 0.0f;
             const bool cave_row = thr > 0.0f && wy <= cols.row_carve_max[z];
-            if (!cave_row && wy < cols.row_hmin[z] - p.soil_depth) {
+            // Rows under every column's soil are plain stone before carving.
+            if (wy < cols.row_hmin[z] - p.soil_depth) {
                 std::fill_n(out, kChunkSize, m_ids.stone);
-                continue;
-            }
-            float v[kChunkSize];
-            if (cave_row) {
-                // Same expression as row_value(): z first, then x (the border rows must agree).
-                for (int i = 0; i < kCells; ++i) {
-                    const float a = lerp(cv->rows[k][y + 1][i], cv->rows[k + 1][y + 1][i], tz);
-                    const float b = lerp(cv->rows[k][y + 1][i + 1], cv->rows[k + 1][y + 1][i + 1], tz);
-                    for (int t = 0; t < kGrid; ++t)
-                        v[i * kGrid + t] = lerp(a, b, float(t) * (1.0f / kGrid));
+            } else {
+                // Branch-free terrain by height (a branch per block mispredicts at the surface).
+                for (int x = 0; x < kChunkSize; ++x) {
+                    const int h = cols.h[z][x];
+                    const BlockId soil = wy == h ? cols.top[z][x] : cols.under[z][x];
+                    const BlockId ground = wy >= h - p.soil_depth ? soil : m_ids.stone;
+                    out[x] = wy > h ? above : ground;
                 }
-            }
-            // Branch-free terrain by height, then carving as a bit mask of the row (tunnel
-            // edges are unpredictable for a branch).
-            const int iwy = int(wy);
-            for (int x = 0; x < kChunkSize; ++x) {
-                const int h = cols.h[z][x];
-                const BlockId soil = iwy == h ? cols.top[z][x] : cols.under[z][x];
-                const BlockId ground = iwy >= h - p.soil_depth ? soil : m_ids.stone;
-                out[x] = iwy > h ? above : ground;
             }
             if (!cave_row)
                 continue;
+            // Same expression as row_value(): z first, then x (the border rows must agree). The
+            // interpolants stay within their samples, so a row whose samples all reach the
+            // threshold has no tunnel. Carving is a bit mask: tunnel edges defeat branches.
+            float v[kChunkSize];
+            float row_min = INFINITY;
+            for (int i = 0; i < kCells; ++i) {
+                const float a = lerp(cv->rows[k][y + 1][i], cv->rows[k + 1][y + 1][i], tz);
+                const float b = lerp(cv->rows[k][y + 1][i + 1], cv->rows[k + 1][y + 1][i + 1], tz);
+                row_min = std::min(row_min, std::min(a, b));
+                for (int t = 0; t < kGrid; ++t)
+                    v[i * kGrid + t] = lerp(a, b, float(t) * (1.0f / kGrid));
+            }
+            if (row_min >= thr)
+                continue;
             uint32_t carved = 0;
             for (int x = 0; x < kChunkSize; ++x)
-                carved |= uint32_t((v[x] < thr) & (iwy <= cols.carve_limit[z][x])) << x;
+                carved |= uint32_t((v[x] < thr) & (wy <= cols.carve_limit[z][x])) << x;
             while (carved) {
                 const int x = std::countr_zero(carved);
                 carved &= carved - 1;
