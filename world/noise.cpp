@@ -56,18 +56,26 @@ float gradient_2d(uint64_t seed, int64_t cx, int64_t cz, float fx, float fz) {
     return 1.4142135f * lerp(lerp(n00, n10, u), lerp(n01, n11, u), v);
 }
 
-Noise3Pair gradient_3d_pair(uint64_t seed, int64_t cx, int64_t cy, int64_t cz, float fx, float fy, float fz) {
+namespace {
+
+// The eight corner hashes of a lattice cell, x fastest.
+void corner_hashes(uint64_t seed, int64_t cx, int64_t cy, int64_t cz, uint64_t h[8]) {
     const uint64_t s = seed * kSeedMul;
     const uint64_t xs[2] = {uint64_t(cx) * kXMul, uint64_t(cx + 1) * kXMul};
     const uint64_t ys[2] = {uint64_t(cy) * kYMul, uint64_t(cy + 1) * kYMul};
     const uint64_t zs[2] = {uint64_t(cz) * kZMul, uint64_t(cz + 1) * kZMul};
+    for (int k = 0; k < 8; ++k)
+        h[k] = mix64(s ^ xs[k & 1] ^ ys[(k >> 1) & 1] ^ zs[k >> 2]);
+}
+
+// The pair from a cell's corner hashes; the single evaluation path for gradient_3d_pair and
+// the grid version, so both give the same bits.
+Noise3Pair pair_from_hashes(const uint64_t h[8], float fx, float fy, float fz) {
     float a[8], b[8];
     for (int k = 0; k < 8; ++k) {
-        const int i = k & 1, j = (k >> 1) & 1, l = k >> 2;
-        const uint64_t h = mix64(s ^ xs[i] ^ ys[j] ^ zs[l]);
-        const float x = fx - float(i), y = fy - float(j), z = fz - float(l);
-        a[k] = grad3(unsigned(h), x, y, z);
-        b[k] = grad3(unsigned(h >> 4), x, y, z);
+        const float x = fx - float(k & 1), y = fy - float((k >> 1) & 1), z = fz - float(k >> 2);
+        a[k] = grad3(unsigned(h[k]), x, y, z);
+        b[k] = grad3(unsigned(h[k] >> 4), x, y, z);
     }
     const float u = fade(fx), v = fade(fy), w = fade(fz);
     auto blend = [&](const float* n) {
@@ -76,6 +84,14 @@ Noise3Pair gradient_3d_pair(uint64_t seed, int64_t cx, int64_t cy, int64_t cz, f
         return lerp(y0, y1, w);
     };
     return {blend(a), blend(b)};
+}
+
+} // namespace
+
+Noise3Pair gradient_3d_pair(uint64_t seed, int64_t cx, int64_t cy, int64_t cz, float fx, float fy, float fz) {
+    uint64_t h[8];
+    corner_hashes(seed, cx, cy, cz, h);
+    return pair_from_hashes(h, fx, fy, fz);
 }
 
 float gradient_2d_at(uint64_t seed, int64_t x, int64_t z, int shift) {
@@ -101,6 +117,31 @@ Noise3Pair gradient_3d_pair_at(uint64_t seed, int64_t x, int64_t y, int64_t z, i
     VX_DEBUG_ASSERT(shift_xz >= 1 && shift_xz <= 30 && shift_y >= 1 && shift_y <= 30);
     return gradient_3d_pair(seed, cell_of(x, shift_xz), cell_of(y, shift_y), cell_of(z, shift_xz), frac_of(x, shift_xz),
                             frac_of(y, shift_y), frac_of(z, shift_xz));
+}
+
+void gradient_3d_pair_grid(uint64_t seed, int64_t x0, int64_t y0, int64_t z0, int step, int nx, int ny, int nz,
+                           int shift_xz, int shift_y, Noise3Pair* out) {
+    VX_DEBUG_ASSERT(shift_xz >= 1 && shift_xz <= 30 && shift_y >= 1 && shift_y <= 30 && step > 0);
+    uint64_t h[8];
+    int64_t hx = 0, hy = 0, hz = 0;
+    bool have = false;
+    for (int k = 0; k < nz; ++k) {
+        const int64_t z = z0 + int64_t(step) * k;
+        for (int j = 0; j < ny; ++j) {
+            const int64_t y = y0 + int64_t(step) * j;
+            for (int i = 0; i < nx; ++i) {
+                const int64_t x = x0 + int64_t(step) * i;
+                const int64_t cx = cell_of(x, shift_xz), cy = cell_of(y, shift_y), cz = cell_of(z, shift_xz);
+                // Neighbouring samples mostly share a cell: hash its corners once.
+                if (!have || cx != hx || cy != hy || cz != hz) {
+                    corner_hashes(seed, cx, cy, cz, h);
+                    hx = cx, hy = cy, hz = cz;
+                    have = true;
+                }
+                *out++ = pair_from_hashes(h, frac_of(x, shift_xz), frac_of(y, shift_y), frac_of(z, shift_xz));
+            }
+        }
+    }
 }
 
 } // namespace vx::world::noise

@@ -59,4 +59,10 @@ float fbm_2d_at(uint64_t seed, int64_t x, int64_t z, int shift, int octaves, flo
 // 2^shift_y (y).
 Noise3Pair gradient_3d_pair_at(uint64_t seed, int64_t x, int64_t y, int64_t z, int shift_xz, int shift_y);
 
+// gradient_3d_pair_at on the grid (x0 + step*i, y0 + step*j, z0 + step*k), i < nx, j < ny,
+// k < nz, written to out[(k * ny + j) * nx + i]; bit-identical to the pointwise calls, several
+// times faster for grids finer than the wavelength (each cell's corners are hashed once).
+void gradient_3d_pair_grid(uint64_t seed, int64_t x0, int64_t y0, int64_t z0, int step, int nx, int ny, int nz,
+                           int shift_xz, int shift_y, Noise3Pair* out);
+
 } // namespace vx::world::noise

@@ -53,6 +53,8 @@ struct TerrainGenerator::Columns {
     int row_hmin[kChunkSize], row_hmax[kChunkSize]; // Height range of each z row.
     int row_carve_max[kChunkSize];                  // Highest carve limit of each z row.
     int hmin, hmax;
+    float grid[kCells + 1][kCells + 1]; // Heights every kGrid blocks, [k][i] for z, x.
+    int grid_hmin, grid_hmax;           // Bounds of h over the chunk.
 };
 
 // The cave field c = a² + b² sampled every kGrid blocks: x, z at origin + 4i (i = 0..8) and
@@ -96,12 +98,25 @@ int TerrainGenerator::surface_height(int64_t x, int64_t z) const {
                         coarse_height(gx + kGrid, gz + kGrid), int(x - gx), int(z - gz));
 }
 
+// Heights on the chunk's 9 x 9 grid, and integer bounds of every column height (bilinear
+// interpolation stays within its samples).
+void TerrainGenerator::fill_grid(ChunkCoord c, Columns& cols) const {
+    const BlockPos o = chunk_origin(c);
+    float lo = INFINITY, hi = -INFINITY;
+    for (int k = 0; k <= kCells; ++k)
+        for (int i = 0; i <= kCells; ++i) {
+            const float h = coarse_height(o.x + kGrid * i, o.z + kGrid * k);
+            cols.grid[k][i] = h;
+            lo = std::min(lo, h);
+            hi = std::max(hi, h);
+        }
+    cols.grid_hmin = int(std::floor(lo));
+    cols.grid_hmax = int(std::floor(hi));
+}
+
 void TerrainGenerator::fill_columns(ChunkCoord c, Columns& cols) const {
     const BlockPos o = chunk_origin(c);
-    float grid[kCells + 1][kCells + 1];
-    for (int k = 0; k <= kCells; ++k)
-        for (int i = 0; i <= kCells; ++i)
-            grid[k][i] = coarse_height(o.x + kGrid * i, o.z + kGrid * k);
+    const auto& grid = cols.grid;
     const TerrainParams& p = m_params;
     cols.hmin = INT32_MAX;
     cols.hmax = INT32_MIN;
@@ -152,13 +167,14 @@ bool TerrainGenerator::fill_caves(ChunkCoord c, int top_y, Caves& cv) const {
     }
     if (thr_max <= 0.0f)
         return false;
+    noise::Noise3Pair n[kCells + 1][kCells + 2][kCells + 1];
+    noise::gradient_3d_pair_grid(m_seed ^ kSaltCave, o.x, o.y - kGrid, o.z, kGrid, kCells + 1, kCells + 2, kCells + 1, 6, 5,
+                                 &n[0][0][0]);
     float lo = INFINITY;
     for (int k = 0; k <= kCells; ++k)
         for (int j = 0; j <= kCells + 1; ++j)
             for (int i = 0; i <= kCells; ++i) {
-                const auto n = noise::gradient_3d_pair_at(m_seed ^ kSaltCave, o.x + kGrid * i, o.y - kGrid + kGrid * j,
-                                                          o.z + kGrid * k, 6, 5);
-                const float v = n.a * n.a + n.b * n.b;
+                const float v = n[k][j][i].a * n[k][j][i].a + n[k][j][i].b * n[k][j][i].b;
                 cv.lattice[k][j][i] = v;
                 if (j >= 1)
                     lo = std::min(lo, v);
@@ -320,27 +336,29 @@ Chunk TerrainGenerator::generate(ChunkCoord c) const {
         return Chunk(kAir);
     if (y1 < p.cave_bottom && y1 < h_lo - p.soil_depth)
         return Chunk(m_ids.stone);
-    Columns cols;
-    fill_columns(c, cols);
-    if (y0 > std::max(cols.hmax, p.sea_level))
+    // Decide from the height bounds before computing any column (uniform chunks stop here).
+    auto cols = std::make_unique<Columns>();
+    fill_grid(c, *cols);
+    if (y0 > std::max(cols->grid_hmax, p.sea_level))
         return Chunk(kAir);
-    if (y0 > cols.hmax && y1 <= p.sea_level)
+    if (y0 > cols->grid_hmax && y1 <= p.sea_level)
         return Chunk(m_ids.water);
     auto cv = std::make_unique<Caves>();
-    const int carve_top = std::min(cols.hmax, p.cave_top);
+    const int carve_top = std::min(cols->grid_hmax, p.cave_top);
     const bool caves = y1 >= p.cave_bottom && y0 <= carve_top && fill_caves(c, carve_top, *cv);
-    if (!caves && y1 < cols.hmin - p.soil_depth)
+    if (!caves && y1 < cols->grid_hmin - p.soil_depth)
         return Chunk(m_ids.stone);
+    fill_columns(c, *cols);
     if (caves)
         for (int z = 0; z < kChunkSize; ++z)
             for (int x = 0; x < kChunkSize; ++x) {
-                cv->solid_below[z][x] = solid_at(cols, *cv, y0, x, -1, z);
-                cv->solid_above[z][x] = solid_at(cols, *cv, y0, x, kChunkSize, z);
+                cv->solid_below[z][x] = solid_at(*cols, *cv, y0, x, -1, z);
+                cv->solid_above[z][x] = solid_at(*cols, *cv, y0, x, kChunkSize, z);
             }
     std::unique_ptr<BlockId[]> ids(new BlockId[kChunkVolume]);
-    fill_blocks(c, cols, caves ? cv.get() : nullptr, ids.get());
+    fill_blocks(c, *cols, caves ? cv.get() : nullptr, ids.get());
     if (caves)
-        place_crystals(c, cols, *cv, ids.get());
+        place_crystals(c, *cols, *cv, ids.get());
     return Chunk::from_dense(std::span<const BlockId>(ids.get(), kChunkVolume));
 }
 

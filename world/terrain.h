@@ -65,6 +65,7 @@ private:
     struct Columns;
     struct Caves;
     float coarse_height(int64_t x, int64_t z) const;
+    void fill_grid(ChunkCoord c, Columns& cols) const;
     void fill_columns(ChunkCoord c, Columns& cols) const;
     bool fill_caves(ChunkCoord c, int top_y, Caves& caves) const;
     float cave_threshold(int64_t y) const;
