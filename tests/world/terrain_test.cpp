@@ -1,6 +1,8 @@
 #include "world/terrain.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <map>
 #include <thread>
 #include <vector>
@@ -43,6 +45,58 @@ uint64_t region_hash(const std::map<std::tuple<int, int, int>, uint64_t>& per_ch
     for (const auto& [c, v] : per_chunk)
         h = noise::mix64(h ^ v);
     return h;
+}
+
+// ---- Noise ----
+
+TEST(Noise, GridMatchesPointwiseBitForBit) {
+    const int64_t far = int64_t(1) << 33;
+    for (const BlockPos o : {BlockPos(0, 0, 0), BlockPos(-100, -36, 68), BlockPos(far, -far, far + 12)}) {
+        constexpr int n = 9;
+        noise::Noise3Pair grid[n][n + 1][n];
+        noise::gradient_3d_pair_grid(7, o.x, o.y, o.z, 4, n, n + 1, n, 6, 5, &grid[0][0][0]);
+        for (int k = 0; k < n; ++k)
+            for (int j = 0; j <= n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const auto p = noise::gradient_3d_pair_at(7, o.x + 4 * i, o.y + 4 * j, o.z + 4 * k, 6, 5);
+                    ASSERT_EQ(std::memcmp(&p, &grid[k][j][i], sizeof(p)), 0) << i << " " << j << " " << k;
+                }
+    }
+}
+
+TEST(Noise, BoundedSmoothZeroOnLatticeAndSeeded) {
+    double sum2 = 0.0, sum3 = 0.0;
+    float max2 = 0.0f, max3 = 0.0f, max_step = 0.0f;
+    int differ = 0;
+    const int count = 20000;
+    for (int i = 0; i < count; ++i) {
+        const int64_t x = int64_t(noise::hash_coords(1, i) % 100000) - 50000;
+        const int64_t z = int64_t(noise::hash_coords(2, i) % 100000) - 50000;
+        const float n2 = noise::gradient_2d_at(3, x, z, 6);
+        const auto n3 = noise::gradient_3d_pair_at(3, x, z, x + z, 6, 5);
+        max2 = std::max(max2, std::abs(n2));
+        max3 = std::max({max3, std::abs(n3.a), std::abs(n3.b)});
+        sum2 += double(n2) * n2;
+        sum3 += double(n3.a) * n3.a;
+        // One block is 1/64 of a wavelength: neighbours differ by little (the fade is smooth).
+        max_step = std::max(max_step, std::abs(noise::gradient_2d_at(3, x + 1, z, 6) - n2));
+        differ += noise::gradient_2d_at(4, x, z, 6) != n2;
+        // Zero on lattice points (multiples of the wavelength).
+        ASSERT_EQ(noise::gradient_2d_at(3, x * 64, z * 64, 6), 0.0f);
+    }
+    EXPECT_LE(max2, 1.01f);
+    EXPECT_LE(max3, 1.1f);
+    EXPECT_GT(max2, 0.5f);
+    const double rms2 = std::sqrt(sum2 / count), rms3 = std::sqrt(sum3 / count);
+    EXPECT_GT(rms2, 0.15);
+    EXPECT_LT(rms2, 0.6);
+    EXPECT_GT(rms3, 0.15);
+    EXPECT_LT(rms3, 0.6);
+    EXPECT_LT(max_step, 0.1f);
+    EXPECT_GT(differ, count * 9 / 10);
+    // fBm stays normalized.
+    for (int i = 0; i < 1000; ++i)
+        EXPECT_LE(std::abs(noise::fbm_2d_at(5, i * 37 - 9000, i * 11, 8, 5, 0.5f)), 1.01f);
 }
 
 TEST(Terrain, DeterministicAcrossOrderInstancesAndThreads) {
