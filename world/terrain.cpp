@@ -168,7 +168,7 @@ bool TerrainGenerator::fill_caves(ChunkCoord c, int top_y, Caves& cv) const {
     if (thr_max <= 0.0f)
         return false;
     noise::Noise3Pair n[kCells + 1][kCells + 2][kCells + 1];
-    noise::gradient_3d_pair_grid(m_seed ^ kSaltCave, o.x, o.y - kGrid, o.z, kGrid, kCells + 1, kCells + 2, kCells + 1, 6, 5,
+    noise::gradient_3d_pair_grid(m_seed ^ kSaltCave, o.x, o.y - kGrid, o.z, kGrid, kCells + 1, kCells + 2, kCells + 1, 6, 6,
                                  &n[0][0][0]);
     float lo = INFINITY;
     for (int k = 0; k <= kCells; ++k)
@@ -285,11 +285,11 @@ void TerrainGenerator::fill_blocks(ChunkCoord c, const Columns& cols, const Cave
 }
 
 // Crystal clusters: one candidate centre per (2^bits)^3 cell, kept with probability
-// 1 / crystal_rarity; within its radius, cave air (air at or below the surface) touching a
-// terrain floor or ceiling turns to glass (two thirds) or mirror. Only cave air changes, so
+// 1 / crystal_rarity; within its radius (4..7 blocks), cave air (air at or below the surface)
+// touching a terrain floor or ceiling turns to glass (two thirds) or mirror. Only cave air changes, so
 // cave-free chunks never hold crystals, and lamps stay.
 void TerrainGenerator::place_crystals(ChunkCoord c, const Columns& cols, const Caves& cv, BlockId* ids) const {
-    constexpr int kMaxRadius = 5;
+    constexpr int kMaxRadius = 7;
     const int bits = m_params.crystal_cell_bits;
     const BlockPos o = chunk_origin(c);
     const BlockPos lo = (o - int64_t(kMaxRadius)) >> int64_t(bits);
@@ -303,7 +303,7 @@ void TerrainGenerator::place_crystals(ChunkCoord c, const Columns& cols, const C
                 const int64_t mask = (int64_t(1) << bits) - 1;
                 const BlockPos centre = BlockPos(cx, cy, cz) * (int64_t(1) << bits) +
                                         BlockPos(int64_t(h >> 16) & mask, int64_t(h >> 24) & mask, int64_t(h >> 32) & mask);
-                const int64_t r = 3 + int64_t((h >> 40) % 3);
+                const int64_t r = 4 + int64_t((h >> 40) % 4);
                 const BlockPos a = glm::max(centre - r, o) - o;
                 const BlockPos b = glm::min(centre + r, o + int64_t(kChunkSize - 1)) - o;
                 for (int64_t z = a.z; z <= b.z; ++z)

@@ -35,7 +35,7 @@ struct TerrainParams {
     int soil_depth = 3;       // Dirt (or sand) blocks under the surface block.
     int cave_bottom = -160;   // No caves below this world y (uniform stone down there)...
     int cave_top = 40;        // ... nor above this one (mountains stay whole).
-    float cave_radius = 0.105f; // Tunnel thickness in noise units (larger: wider tunnels).
+    float cave_radius = 0.15f; // Tunnel thickness in noise units (larger: wider tunnels).
     int crystal_cell_bits = 4;  // One crystal-cluster candidate per (2^bits)^3 cell...
     int crystal_rarity = 10;    // ... with probability 1 / crystal_rarity.
     int lamp_rarity = 160;      // One cave-floor block in this many gets a lamp.
