@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
+#ifdef VX_HAVE_BENCHMARKS
 #include <benchmark/benchmark.h>
+#endif
 
 #include "cli_common.h"
 #include "commands.h"
@@ -12,8 +14,13 @@
 namespace vx::tools {
 
 int run_bench(int argc, char** argv) {
+#ifndef VX_HAVE_BENCHMARKS
+    (void)argc, (void)argv;
+    std::fprintf(stderr, "vx: this build has no benchmarks (configure with -DVX_BUILD_BENCHMARKS=ON)\n");
+    return kExitBadInput;
+#else
     if (argc < 2 || argv[1][0] == '-') {
-        std::fprintf(stderr, "usage: vx bench SUITE [--benchmark_* flags]   (suites: mesh)\n");
+        std::fprintf(stderr, "usage: vx bench SUITE [--benchmark_* flags]   (suites: mesh, terrain, stream, store)\n");
         return kExitBadInput;
     }
     const std::string suite = argv[1];
@@ -38,6 +45,7 @@ int run_bench(int argc, char** argv) {
     }
     benchmark::Shutdown();
     return kExitOk;
+#endif
 }
 
 } // namespace vx::tools
