@@ -11,6 +11,13 @@ namespace vx::engine {
 using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
+namespace {
+const ChunkMesh& empty_mesh() {
+    static const ChunkMesh kEmpty;
+    return kEmpty;
+}
+} // namespace
+
 ChunkStreamer::ChunkStreamer(const TerrainGenerator& generator, ChunkStore* store, MeshSink& sink,
                              const StreamingSettings& settings)
     : m_generator(generator), m_store(store), m_sink(sink), m_settings(settings) {
@@ -164,9 +171,9 @@ void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
 void ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
     const Chunk& chunk = *m_world.find_chunk(c);
     if (chunk.is_empty()) { // Air has no faces: no job, no mesh to draw.
-        s.mesh.clear();
+        s.mesh.reset();
         s.has_mesh = true;
-        m_sink.on_mesh(c, s.mesh, {});
+        m_sink.on_mesh(c, empty_mesh(), {});
         return;
     }
     auto apron = std::make_unique<Apron>(make_apron(m_world, c));
@@ -186,9 +193,9 @@ void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
         m_mesh_candidates.insert(c);
         return;
     }
-    s.mesh = std::move(mesh);
+    s.mesh = mesh.empty() ? nullptr : std::make_unique<ChunkMesh>(std::move(mesh));
     s.has_mesh = true;
-    m_sink.on_mesh(c, s.mesh, {});
+    m_sink.on_mesh(c, s.mesh ? *s.mesh : empty_mesh(), {});
 }
 
 void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error) {
@@ -210,7 +217,12 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
             return nullptr;
         if (s->second.mesh_pending)
             s->second.mesh_stale = true; // Its snapshot predates this edit.
-        return s->second.has_mesh && !s->second.mesh_pending ? &s->second.mesh : nullptr;
+        ChunkState& q_state = s->second;
+        if (!q_state.has_mesh || q_state.mesh_pending)
+            return nullptr;
+        if (!q_state.mesh) // An empty mesh gains its first quads: give it storage.
+            q_state.mesh = std::make_unique<ChunkMesh>();
+        return q_state.mesh.get();
     });
     if (!r.changed)
         return {};
@@ -223,7 +235,7 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
         s.dirty_since = Clock::now();
     }
     for (const SliceUpdate& u : r.updates)
-        m_sink.on_mesh(u.chunk, m_chunks.at(u.chunk).mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
+        m_sink.on_mesh(u.chunk, *m_chunks.at(u.chunk).mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
     return {};
 }
 
@@ -333,7 +345,9 @@ StreamingMetrics ChunkStreamer::metrics() const {
 
 const ChunkMesh* ChunkStreamer::mesh(ChunkCoord c) const {
     auto it = m_chunks.find(c);
-    return it != m_chunks.end() && it->second.has_mesh ? &it->second.mesh : nullptr;
+    if (it == m_chunks.end() || !it->second.has_mesh)
+        return nullptr;
+    return it->second.mesh ? it->second.mesh.get() : &empty_mesh();
 }
 
 } // namespace vx::engine

@@ -106,7 +106,7 @@ private:
         bool outside = false;       // Beyond the unload radius since `outside_since`.
         std::chrono::steady_clock::time_point outside_since{}, dirty_since{};
         size_t bytes = 0;           // Block data memory accounted for.
-        world::ChunkMesh mesh;
+        std::unique_ptr<world::ChunkMesh> mesh; // Null while the mesh is empty (air, buried).
     };
 
     // Results from jobs (main thread, via complete()).
