@@ -3,6 +3,7 @@
 #include <bit>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include <xxhash.h>
 #include <zstd.h>
@@ -49,6 +50,60 @@ void finish_record(std::vector<uint8_t>& out, const RecordHeader& h) {
 }
 
 size_t index_width(RecordKind kind) { return kind == RecordKind::Palette8 ? 1 : 2; }
+
+// Largest of kChunkVolume values (a loop the compiler vectorizes).
+template <class T> uint32_t max_value(const T* v) {
+    T m = 0;
+    for (size_t i = 0; i < size_t(kChunkVolume); ++i)
+        m = v[i] > m ? v[i] : m;
+    return m;
+}
+
+// Counts of each u8 value (all < counts.size()), with four sub-histograms so consecutive equal
+// bytes do not serialize on one counter.
+void histogram8(const uint8_t* v, std::vector<uint32_t>& counts) {
+    uint32_t h[4][256] = {};
+    for (size_t i = 0; i < size_t(kChunkVolume); i += 4) {
+        ++h[0][v[i]];
+        ++h[1][v[i + 1]];
+        ++h[2][v[i + 2]];
+        ++h[3][v[i + 3]];
+    }
+    for (size_t e = 0; e < counts.size(); ++e)
+        counts[e] = h[0][e] + h[1][e] + h[2][e] + h[3][e];
+}
+
+// Packs kChunkVolume values of B bits in PackedArray's layout (entry i at bit i*B, straddling
+// words). 64 entries fill exactly B words, so each group is a fully unrolled loop with constant
+// shifts: ~10x faster than PackedArray::set_all's variable-shift loop.
+template <uint32_t B, class T> void pack_fixed(const T* src, uint64_t* w) {
+    for (size_t g = 0; g < size_t(kChunkVolume) / 64; ++g, src += 64, w += B) {
+        uint64_t acc = 0;
+        uint32_t fill = 0, out = 0;
+#pragma GCC unroll 64
+        for (uint32_t i = 0; i < 64; ++i) {
+            const uint64_t v = src[i];
+            acc |= v << fill;
+            fill += B;
+            if (fill >= 64) {
+                w[out++] = acc;
+                fill -= 64;
+                acc = fill ? v >> (B - fill) : 0;
+            }
+        }
+    }
+}
+
+template <class T, uint32_t... Bs>
+void pack_dispatch(const T* src, uint32_t bits, uint64_t* w, std::integer_sequence<uint32_t, Bs...>) {
+    ((bits == Bs + 1 ? pack_fixed<Bs + 1>(src, w) : void()), ...);
+}
+
+// Values must be < 2^bits (validated by the caller); bits in 1..16.
+template <class T> void pack_indices(const T* src, uint32_t bits, uint64_t* words) {
+    VX_ASSERT(bits >= 1 && bits <= 16);
+    pack_dispatch(src, bits, words, std::make_integer_sequence<uint32_t, 16>());
+}
 
 } // namespace
 
@@ -198,27 +253,30 @@ Result<Chunk> RecordCodec::decode_palette(const RecordHeader& h, std::span<const
             return fail("palette repeats block id " + std::to_string(id));
         w |= uint64_t(1) << (id & 63);
     }
-    m_indices.resize(kChunkVolume);
     const uint8_t* src = m_raw.data() + 2 * size_t(n);
     std::vector<uint32_t> counts(n, 0);
-    uint32_t bad = 0; // Branch-free range check: out-of-range indices are clamped and counted.
-    for (size_t i = 0; i < size_t(kChunkVolume); ++i) {
-        const uint32_t e = width == 1 ? src[i] : get<uint16_t>(src + 2 * i);
-        const uint32_t ok = e < n;
-        bad += 1 - ok;
-        m_indices[i] = uint16_t(e);
-        counts[ok ? e : 0] += ok;
+    const uint32_t bits = bits_for_count(n);
+    pal.indices = PackedArray(kChunkVolume, bits);
+    if (width == 1) {
+        if (max_value(src) >= n) // Checked before counting: counts[] has only n slots.
+            return fail("palette index out of range");
+        histogram8(src, counts);
+        pack_indices(src, bits, pal.indices.words());
+    } else {
+        m_indices.resize(kChunkVolume);
+        std::memcpy(m_indices.data(), src, 2 * size_t(kChunkVolume));
+        if (max_value(m_indices.data()) >= n)
+            return fail("palette index out of range");
+        for (uint16_t e : m_indices)
+            ++counts[e];
+        pack_indices(m_indices.data(), bits, pal.indices.words());
     }
-    if (bad)
-        return fail(std::to_string(bad) + " palette indices out of range");
     pal.counts.resize(n);
     for (uint32_t e = 0; e < n; ++e) {
         if (counts[e] == 0)
             return fail("unused palette entry " + std::to_string(e));
         pal.counts[e] = uint16_t(counts[e]); // n >= 2 and none is 0, so each is < kChunkVolume.
     }
-    pal.indices = PackedArray(kChunkVolume, bits_for_count(n));
-    pal.indices.set_all(m_indices.data());
     return Chunk::from_palette(std::move(pal));
 }
 

@@ -50,6 +50,24 @@ TEST(ChunkRecord, RoundTripsRandomChunksOfEveryPaletteShape) {
     expect_round_trip(codec, {1, 2, 3}, all_distinct_chunk(1));
 }
 
+TEST(ChunkRecord, RoundTripsEveryIndexWidth) {
+    // Palettes of 2^k and 2^k + 1 entries give every index width 1..15 bits (32768 -> 15).
+    std::mt19937 rng(12);
+    RecordCodec codec;
+    for (int k = 1; k <= 15; ++k)
+        for (int n : {1 << k, (1 << k) + 1}) {
+            if (n > kChunkVolume)
+                continue;
+            std::vector<BlockId> ids(kChunkVolume);
+            for (int i = 0; i < kChunkVolume; ++i) // Every entry used at least once.
+                ids[size_t(i)] = BlockId(i < n ? i : int(rng() % uint32_t(n)));
+            std::shuffle(ids.begin(), ids.end(), rng);
+            const Chunk chunk = Chunk::from_dense(ids);
+            ASSERT_EQ(chunk.distinct_ids(), uint32_t(n));
+            expect_round_trip(codec, {k, n, -k}, chunk);
+        }
+}
+
 TEST(ChunkRecord, UniformChunksAreTiny) {
     RecordCodec codec;
     for (BlockId id : {BlockId(0), BlockId(1), BlockId(65535)}) {
