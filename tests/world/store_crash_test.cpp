@@ -71,7 +71,10 @@ struct CycleResult {
     uint32_t last_ack = 0;
 };
 
-CycleResult run_and_kill(const std::string& path, uint32_t first_version, uint32_t seed, int kill_after_us) {
+// Kills the child `delay_us` after its `acks_before_kill`-th acknowledged flush (counting acks
+// instead of time keeps every cycle meaningful however slow the machine or the sanitizer).
+CycleResult run_and_kill(const std::string& path, uint32_t first_version, uint32_t seed, int acks_before_kill,
+                         int delay_us) {
     int fds[2];
     EXPECT_EQ(pipe(fds), 0);
     const pid_t pid = fork();
@@ -80,13 +83,17 @@ CycleResult run_and_kill(const std::string& path, uint32_t first_version, uint32
         child_main(path, first_version, fds[1], seed);
     }
     close(fds[1]);
-    usleep(useconds_t(kill_after_us));
+    CycleResult out;
+    uint32_t v;
+    for (int i = 0; i < acks_before_kill && read(fds[0], &v, sizeof v) == sizeof v; ++i) {
+        out.any_ack = true;
+        out.last_ack = v;
+    }
+    usleep(useconds_t(delay_us));
     kill(pid, SIGKILL);
     int status = 0;
     waitpid(pid, &status, 0);
     EXPECT_TRUE(WIFSIGNALED(status)) << "child exited early with status " << WEXITSTATUS(status);
-    CycleResult out;
-    uint32_t v;
     while (read(fds[0], &v, sizeof v) == sizeof v) {
         out.any_ack = true;
         out.last_ack = v;
@@ -107,9 +114,11 @@ TEST(StoreCrash, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
     uint32_t acked = 0; // Every coordinate holds at least this version (0: none acknowledged yet).
     uint64_t total_acks = 0, newer_than_ack = 0;
     for (uint32_t cycle = 0; cycle < cycles; ++cycle) {
-        // Kill moments from 0 to 50 ms: during open, mid-round, mid-commit, between flushes.
-        const int kill_after_us = int(rng() % 50000);
-        const CycleResult r = run_and_kill(path, next_version, rng(), kill_after_us);
+        // Kill moments: 0-3 acknowledged flushes, then 0-20 ms: during open, mid-round, mid-commit,
+        // between flushes.
+        const int acks_before_kill = int(rng() % 4);
+        const int delay_us = int(rng() % 20000);
+        const CycleResult r = run_and_kill(path, next_version, rng(), acks_before_kill, delay_us);
         // The version being written when the child died; it is never reused afterwards.
         const uint32_t in_flight = r.any_ack ? r.last_ack + 1 : next_version;
         if (r.any_ack) {
