@@ -173,9 +173,15 @@ void RecordCodec::encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8
     finish_record(out, h);
 }
 
+size_t max_record_bytes() {
+    return kRecordHeaderSize + ZSTD_compressBound(2 * size_t(kMaxPaletteEntries) + 2 * size_t(kChunkVolume));
+}
+
 Result<RecordHeader> read_record_header(std::span<const uint8_t> record) {
     if (record.size() < kRecordHeaderSize)
         return fail("truncated to " + std::to_string(record.size()) + " bytes (header is 40)");
+    if (record.size() > max_record_bytes())
+        return fail("too long (" + std::to_string(record.size()) + " bytes)");
     const uint8_t* p = record.data();
     if (get<uint32_t>(p) != kRecordMagic)
         return fail("bad magic (not a vx chunk record)");

@@ -85,6 +85,10 @@ private:
     std::vector<uint16_t> m_indices; // kChunkVolume palette indices scratch.
 };
 
+// Largest record the encoder can produce (a 32768-entry palette, u16 indices, incompressible):
+// anything longer is corrupt without looking further. Thread-safe.
+size_t max_record_bytes();
+
 // Reads and verifies the header and checksum of a record (not its content). Thread-safe.
 Result<RecordHeader> read_record_header(std::span<const uint8_t> record);
 

@@ -117,7 +117,8 @@ Status SqliteStore::init() {
                     prep(s.meta_get, "SELECT value FROM meta WHERE key=?1") &&
                     prep(s.meta_put, "INSERT OR REPLACE INTO meta(key, value) VALUES(?1, ?2)") &&
                     prep(s.q_put, "INSERT INTO quarantine(x, y, z, data, reason, time) "
-                                  "VALUES(?1, ?2, ?3, ?4, ?5, strftime('%s', 'now'))") &&
+                                  "SELECT x, y, z, data, ?4, strftime('%s', 'now') FROM chunks "
+                                  "WHERE x=?1 AND y=?2 AND z=?3") &&
                     prep(s.q_count, "SELECT count(*) FROM quarantine");
     if (!ok)
         return db_error("cannot prepare statements");
@@ -163,37 +164,42 @@ Status SqliteStore::init_schema() {
 
 Result<ChunkLoad> SqliteStore::load(ChunkCoord c) {
     ChunkLoad out;
-    std::vector<uint8_t> bytes;
     if (auto it = m_pending.find(c); it != m_pending.end()) {
         if (!it->second)
             return out; // Erase queued.
-        bytes = *it->second;
-    } else {
-        sqlite3_stmt* st = m_stmts->load.s;
-        ResetGuard guard{st};
-        bind_coord(st, c);
-        const int rc = sqlite3_step(st);
-        if (rc == SQLITE_DONE)
-            return out;
-        if (rc != SQLITE_ROW)
-            return db_error("cannot load chunk " + coord_str(c));
-        const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
-        bytes.assign(p, p + sqlite3_column_bytes(st, 0));
+        // Our own encoder's output: decoding cannot fail short of a bug, so nothing to quarantine.
+        Result<Chunk> chunk = m_codec.decode(*it->second, c);
+        VX_ASSERT_MSG(chunk.ok(), "a queued record failed to decode");
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
     }
-    Result<Chunk> chunk = m_codec.decode(bytes, c);
+    sqlite3_stmt* st = m_stmts->load.s;
+    ResetGuard guard{st};
+    bind_coord(st, c);
+    const int rc = sqlite3_step(st);
+    if (rc == SQLITE_DONE)
+        return out;
+    if (rc != SQLITE_ROW)
+        return db_error("cannot load chunk " + coord_str(c));
+    // Decoded straight from SQLite's buffer, which stays valid until the statement is reset.
+    const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
+    const size_t n = size_t(sqlite3_column_bytes(st, 0));
+    Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(p, p ? n : 0), c);
     if (chunk) {
         out.state = LoadState::Present;
         out.chunk = std::move(*chunk);
         return out;
     }
+    sqlite3_reset(st);
     out.state = LoadState::Corrupt;
     out.problem = chunk.error();
-    if (Status s = quarantine(c, bytes, out.problem); !s)
+    if (Status s = quarantine(c, out.problem); !s)
         return Error{s.error()};
     return out;
 }
 
-Status SqliteStore::quarantine(ChunkCoord c, std::span<const uint8_t> record, const std::string& reason) {
+Status SqliteStore::quarantine(ChunkCoord c, const std::string& reason) {
     if (m_info.read_only) {
         // Nothing can be moved: log each bad record once per session.
         if (m_reported.insert({c.x, c.y, c.z}).second && m_info.log_corrupt)
@@ -203,15 +209,16 @@ Status SqliteStore::quarantine(ChunkCoord c, std::span<const uint8_t> record, co
     // Logged once: after the move, the coordinate reads as absent.
     if (m_info.log_corrupt)
         VX_LOG_WARN("store '%s': chunk %s: %s; moved to quarantine", m_info.path.c_str(), coord_str(c).c_str(),
-                reason.c_str());
+                    reason.c_str());
     if (Status s = exec("BEGIN IMMEDIATE"); !s)
         return s;
+    // The row is copied inside SQLite (INSERT ... SELECT): its bytes are kept verbatim, whatever
+    // their size, without passing through us.
     sqlite3_stmt* q = m_stmts->q_put.s;
     sqlite3_stmt* d = m_stmts->del.s;
     ResetGuard gq{q}, gd{d};
     bind_coord(q, c);
-    sqlite3_bind_blob(q, 4, record.data(), int(record.size()), SQLITE_STATIC);
-    sqlite3_bind_text(q, 5, reason.c_str(), int(reason.size()), SQLITE_STATIC);
+    sqlite3_bind_text(q, 4, reason.c_str(), int(reason.size()), SQLITE_STATIC);
     bind_coord(d, c);
     if (sqlite3_step(q) != SQLITE_DONE || sqlite3_step(d) != SQLITE_DONE || !exec("COMMIT")) {
         Error e = db_error("cannot quarantine chunk " + coord_str(c));

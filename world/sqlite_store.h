@@ -72,7 +72,7 @@ private:
     explicit SqliteStore(SqliteStoreCreateInfo info);
     Status init();
     Status init_schema();
-    Status quarantine(ChunkCoord c, std::span<const uint8_t> record, const std::string& reason);
+    Status quarantine(ChunkCoord c, const std::string& reason);
     Status exec(const char* sql);
     Error db_error(const std::string& what) const;
 

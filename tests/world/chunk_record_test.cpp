@@ -138,6 +138,10 @@ TEST(ChunkRecordFaults, EveryTruncationAndExtensionIsDetected) {
         rec.push_back(0);
         EXPECT_FALSE(codec.decode(rec, {-7, 8, -9}).ok());
     }
+    std::vector<uint8_t> huge(max_record_bytes() + 1, 0);
+    vx::Result<Chunk> r = codec.decode(huge, {0, 0, 0});
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("too long"), std::string::npos) << r.error();
 }
 
 TEST(ChunkRecordFaults, WrongCoordinatesAreDetected) {
