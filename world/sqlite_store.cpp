@@ -148,7 +148,19 @@ Status SqliteStore::init_schema() {
             return Error{"store '" + m_info.path + "': empty database, not a vx world store"};
         return {};
     }
-    if (Status s = exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"); !s)
+    {
+        // The pragma answers with the mode in force: a file system without shared memory support
+        // would silently keep a rollback journal, whose durability argument differs.
+        Stmt st;
+        if (sqlite3_prepare_v2(m_db, "PRAGMA journal_mode=WAL", -1, &st.s, nullptr) != SQLITE_OK ||
+            sqlite3_step(st.s) != SQLITE_ROW)
+            return db_error("cannot enable WAL mode");
+        const auto* mode = reinterpret_cast<const char*>(sqlite3_column_text(st.s, 0));
+        if (!mode || std::string(mode) != "wal")
+            return Error{"store '" + m_info.path + "': WAL mode unavailable (journal mode " +
+                         (mode ? mode : "?") + ")"};
+    }
+    if (Status s = exec("PRAGMA synchronous=FULL;"); !s)
         return s;
     if (!fresh)
         return {};

@@ -24,6 +24,13 @@ void expect_round_trip(RecordCodec& codec, ChunkCoord c, const Chunk& chunk) {
     ASSERT_TRUE(*back == chunk);
     EXPECT_EQ(back->is_uniform(), chunk.distinct_ids() == 1);
     EXPECT_EQ(back->distinct_ids(), chunk.distinct_ids());
+    // The decoded chunk is a working chunk: edits behave as on the original.
+    Chunk edited = chunk;
+    for (int i : {0, 4097, kChunkVolume - 1}) {
+        ASSERT_EQ(back->set(i, BlockId(40000 + i)), edited.set(i, BlockId(40000 + i)));
+        ASSERT_EQ(back->get(i), BlockId(40000 + i));
+    }
+    ASSERT_TRUE(*back == edited);
 }
 
 const ChunkCoord kFar[] = {{0, 0, 0},          {-1, -1, -1},          {INT32_MAX, INT32_MIN, 7},
