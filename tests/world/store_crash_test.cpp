@@ -21,9 +21,9 @@ using vx::world::test::versioned_chunk_version;
 
 namespace {
 
-constexpr int kCoords = 24;
+constexpr int kCoords = 16;
 
-ChunkCoord coord_of(int k) { return ChunkCoord(k % 4 - 2, k / 4 % 3, -(k / 12) * 1000); }
+ChunkCoord coord_of(int k) { return ChunkCoord(k % 4 - 2, k / 4 % 2, -(k / 8) * 1000); }
 
 uint32_t env_u32(const char* name, uint32_t fallback) {
     const char* v = std::getenv(name);
@@ -36,7 +36,7 @@ uint32_t env_u32(const char* name, uint32_t fallback) {
     SqliteStoreCreateInfo info;
     info.path = path;
     info.max_pending_age = std::chrono::milliseconds(0);
-    info.max_pending_bytes = size_t(8) << 10;
+    info.max_pending_bytes = size_t(12) << 10; // A few commits per round.
     vx::Result<std::unique_ptr<SqliteStore>> opened = SqliteStore::open(info);
     if (!opened)
         _exit(3);
@@ -55,7 +55,7 @@ uint32_t env_u32(const char* name, uint32_t fallback) {
                 chunks.push_back(versioned_chunk(coord_of(order[i + j]), v));
             for (size_t j = 0; j < n; ++j)
                 batch.push_back({coord_of(order[i + j]), &chunks[j]});
-            if (!store.save(batch) || (rng() % 4 == 0 && !store.tick(ChunkStore::Clock::now())))
+            if (!store.save(batch) || (rng() % 8 == 0 && !store.tick(ChunkStore::Clock::now())))
                 _exit(4);
             i += n;
         }
@@ -114,10 +114,10 @@ TEST(StoreCrash, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
     uint32_t acked = 0; // Every coordinate holds at least this version (0: none acknowledged yet).
     uint64_t total_acks = 0, newer_than_ack = 0;
     for (uint32_t cycle = 0; cycle < cycles; ++cycle) {
-        // Kill moments: 0-3 acknowledged flushes, then 0-20 ms: during open, mid-round, mid-commit,
+        // Kill moments: 0-2 acknowledged flushes, then 0-10 ms: during open, mid-round, mid-commit,
         // between flushes.
-        const int acks_before_kill = int(rng() % 4);
-        const int delay_us = int(rng() % 20000);
+        const int acks_before_kill = int(rng() % 3);
+        const int delay_us = int(rng() % 10000);
         const CycleResult r = run_and_kill(path, next_version, rng(), acks_before_kill, delay_us);
         // The version being written when the child died; it is never reused afterwards.
         const uint32_t in_flight = r.any_ack ? r.last_ack + 1 : next_version;
