@@ -318,7 +318,7 @@ Status ChunkStreamer::flush() {
 
 bool ChunkStreamer::settled() const {
     for (const auto& [c, s] : m_chunks)
-        if (s.in_view && (!s.has_mesh || s.mesh_pending))
+        if (s.data != Data::Present || (s.in_view && (!s.has_mesh || s.mesh_pending)))
             return false;
     return m_have_center;
 }

@@ -72,6 +72,15 @@ Chunk Chunk::from_dense(std::span<const BlockId> ids) {
     return c;
 }
 
+Chunk Chunk::from_palette(ChunkPalette palette) {
+    VX_ASSERT(palette.ids.size() >= 2 && palette.ids.size() == palette.counts.size());
+    VX_ASSERT(palette.indices.size() == uint32_t(kChunkVolume));
+    VX_ASSERT(size_t(1) << palette.indices.bits() >= palette.ids.size());
+    Chunk c;
+    c.m_palette = std::make_unique<ChunkPalette>(std::move(palette));
+    return c;
+}
+
 void Chunk::to_dense(std::span<BlockId> out) const {
     VX_ASSERT(out.size() == size_t(kChunkVolume));
     if (!m_palette) {

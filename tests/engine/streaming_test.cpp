@@ -153,7 +153,7 @@ TEST(Streaming, DirtyChunksAreSavedBeforeTheyAreDropped) {
     const TerrainGenerator gen(8);
     const BlockPos p(3, 200, 3); // High in the sky: air before the edit.
     {
-        auto store = SqliteStore::open(path.string());
+        auto store = SqliteStore::open({path.string()});
         ASSERT_TRUE(store.ok()) << store.error();
         Recorder sink;
         ChunkStreamer s(gen, store->get(), sink, small_settings());
@@ -173,7 +173,7 @@ TEST(Streaming, DirtyChunksAreSavedBeforeTheyAreDropped) {
         ASSERT_TRUE(s.flush().ok());
     }
     // A new streamer over the reopened store sees both edits.
-    auto store = SqliteStore::open(path.string());
+    auto store = SqliteStore::open({path.string()});
     ASSERT_TRUE(store.ok());
     Recorder sink;
     ChunkStreamer s(gen, store->get(), sink, small_settings());
