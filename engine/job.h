@@ -51,6 +51,7 @@ struct JobKey {
     bool operator==(const JobKey&) const = default;
 };
 
+// Thread-safe (pure).
 struct JobKeyHash {
     size_t operator()(const JobKey& k) const noexcept {
         return world::ChunkCoordHash{}(k.chunk) ^ (size_t(k.kind) * 0x9E3779B97F4A7C15ull);
@@ -75,7 +76,8 @@ private:
 class Job;
 
 // What a running job may ask of the system. Handed to Job::run; valid only during that call.
-// Not thread-safe: used by the one worker running the job.
+// Not thread-safe: used by the one worker running the job. Tests may construct one to run a job
+// by itself.
 class JobContext {
 public:
     JobContext(const Job& job, const std::atomic<bool>& stopping, int worker_index)

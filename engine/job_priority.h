@@ -22,7 +22,7 @@
 
 namespace vx::engine {
 
-// Where the viewer is and looks. Plain value. Position in world block coordinates; forward need not
+// Where the viewer is and looks. Plain value (not thread-safe). Position in world block coordinates; forward need not
 // be normalized (a zero forward means "no direction": pure distance).
 struct Viewer {
     glm::dvec3 position{0.0};
@@ -32,7 +32,7 @@ struct Viewer {
 // Thread-safe (pure). See the file comment; view_weight >= 0 (0 = pure distance).
 double priority_score(const Viewer& viewer, double view_weight, const glm::dvec3& point);
 
-// One queued pool job as the heap sees it. The owner decides liveness: an entry is live while the
+// One queued pool job as the heap sees it. Plain value (not thread-safe). The owner decides liveness: an entry is live while the
 // owner's slot for `key` still holds the job of `generation`.
 struct QueueEntry {
     double score = 0.0;

@@ -170,3 +170,33 @@ TEST(JobSystem, MetricsAccountForEveryJob) {
     EXPECT_EQ(m.submitted, m.completed + m.cancelled + m.dropped_stale);
     EXPECT_EQ(m.queued + m.in_flight + m.awaiting_completion, 0u);
 }
+
+TEST(JobSystem, CancelAllDropsQueuedAndStopsRunning) {
+    Gate started;
+    JobSystem jobs(test_info(1));
+    std::atomic<int> completes{0};
+    std::atomic<bool> saw_cancel{false};
+    jobs.submit(make_job(key_at(0, 0, 0), [&](JobContext& ctx) {
+        started.open();
+        while (!ctx.is_cancelled())
+            std::this_thread::yield();
+        saw_cancel = true;
+    }, [&] { ++completes; }));
+    started.wait();
+    jobs.pause(); // Keeps the I/O lane from starting the saves before cancel_all.
+    for (int i = 1; i <= 5; ++i)
+        jobs.submit(make_job(key_at(i, 0, 0), [](JobContext&) {}, [&] { ++completes; }));
+    for (int i = 1; i <= 3; ++i)
+        jobs.submit(make_job(key_at(i, 0, 0, JobKind::Save), [](JobContext&) {}, [&] { ++completes; }));
+    EXPECT_EQ(jobs.metrics().queued, 8u);
+    jobs.cancel_all();
+    EXPECT_EQ(jobs.metrics().queued, 0u);
+    jobs.wait_idle(); // Paused but nothing queued: returns once the running job has stopped.
+    jobs.resume();
+    EXPECT_EQ(drain(jobs), 0u);
+    EXPECT_TRUE(saw_cancel.load());
+    EXPECT_EQ(completes.load(), 0);
+    const JobMetrics m = jobs.metrics();
+    EXPECT_EQ(m.cancelled, 9u); // 8 queued + the running one.
+    EXPECT_EQ(m.submitted, m.cancelled);
+}
