@@ -76,9 +76,9 @@ void BM_TerrainAll(benchmark::State& state) { run(state, region().all); }
 void BM_TerrainNonUniform(benchmark::State& state) { run(state, region().mixed); }
 void BM_TerrainUniform(benchmark::State& state) { run(state, region().uniform); }
 
-BENCHMARK(BM_TerrainAll)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_TerrainNonUniform)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_TerrainUniform)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TerrainAll)->Name("terrain/all_chunks")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TerrainNonUniform)->Name("terrain/non_uniform")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TerrainUniform)->Name("terrain/uniform")->Unit(benchmark::kMicrosecond);
 
 } // namespace
 } // namespace vx::world
