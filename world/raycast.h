@@ -59,7 +59,8 @@ struct RaycastHit {
 };
 
 // A non-owning reference to any callable `BlockId(BlockPos)`: the block source (a World, a chunk
-// snapshot, a generator). The callable must outlive the reference.
+// snapshot, a generator). The callable must outlive the reference: pass lambdas straight to
+// raycast(), never keep a BlockQueryRef made from a temporary.
 class BlockQueryRef {
 public:
     using Fn = BlockId (*)(BlockPos);

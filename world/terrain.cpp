@@ -52,7 +52,6 @@ struct TerrainGenerator::Columns {
     BlockId under[kChunkSize][kChunkSize];   // The soil_depth blocks below it.
     int row_hmin[kChunkSize], row_hmax[kChunkSize]; // Height range of each z row.
     int row_carve_max[kChunkSize];                  // Highest carve limit of each z row.
-    int hmin, hmax;
     float grid[kCells + 1][kCells + 1]; // Heights every kGrid blocks, [k][i] for z, x.
     int grid_hmin, grid_hmax;           // Bounds of h over the chunk.
 };
@@ -118,16 +117,12 @@ void TerrainGenerator::fill_columns(ChunkCoord c, Columns& cols) const {
     const BlockPos o = chunk_origin(c);
     const auto& grid = cols.grid;
     const TerrainParams& p = m_params;
-    cols.hmin = INT32_MAX;
-    cols.hmax = INT32_MIN;
     for (int z = 0; z < kChunkSize; ++z) {
         const int k = z / kGrid;
         for (int x = 0; x < kChunkSize; ++x) {
             const int i = x / kGrid;
             const int h = bilerp_floor(grid[k][i], grid[k][i + 1], grid[k + 1][i], grid[k + 1][i + 1], x % kGrid, z % kGrid);
             cols.h[z][x] = h;
-            cols.hmin = std::min(cols.hmin, h);
-            cols.hmax = std::max(cols.hmax, h);
             // Beaches and sea floors are sand; high peaks are snow over bare rock.
             const int jitter = int(noise::hash_coords(m_seed ^ kSaltSnow, o.x + x, o.z + z) % 9) - 4;
             if (h <= p.sea_level + 1) {
@@ -190,10 +185,6 @@ bool TerrainGenerator::fill_caves(ChunkCoord c, int top_y, Caves& cv) const {
         }
     return true;
 }
-
-} // namespace vx::world
-
-namespace vx::world {
 
 namespace {
 

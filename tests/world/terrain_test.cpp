@@ -29,13 +29,13 @@ uint64_t chunk_hash(const Chunk& c) {
     return h;
 }
 
-// 8 x 4 x 8 chunks around the origin, y from -3 to 0 (world y -96..31: sea floor, beaches,
-// hills and the upper cave band).
+// 6 x 4 x 6 chunks around the origin, y from -3 to 0 (world y -96..31: sea floor, beaches,
+// hills and the upper cave band). Small enough for sanitizer builds to stay fast.
 std::vector<ChunkCoord> test_region() {
     std::vector<ChunkCoord> r;
-    for (int z = -4; z < 4; ++z)
+    for (int z = -3; z < 3; ++z)
         for (int y = -3; y <= 0; ++y)
-            for (int x = -4; x < 4; ++x)
+            for (int x = -3; x < 3; ++x)
                 r.emplace_back(x, y, z);
     return r;
 }
@@ -143,7 +143,7 @@ TEST(Terrain, DifferentSeedsDiffer) {
         differ += !(ca == b.generate(c));
     }
     // Near the surface almost every chunk differs; only uniform ones may coincide.
-    EXPECT_GT(mixed, 64);
+    EXPECT_GT(mixed, 36);
     EXPECT_GE(differ, mixed * 9 / 10);
 }
 
@@ -195,16 +195,14 @@ TEST(Terrain, RegionHasWaterCavesAndEveryBlockType) {
     const TerrainGenerator gen(kSeed);
     const auto& ids = gen.ids();
     World world;
-    std::map<BlockId, int64_t> counts;
+    std::vector<int64_t> counts(size_t(1) << 16, 0);
     int64_t cave_air = 0, uniform = 0, total = 0;
     std::vector<BlockPos> features; // Lamps and crystals.
-    // 12 x 5 x 12 chunks, world y -128..31: sea, beaches, hills and most of the cave band.
-    for (int z = -6; z < 6; ++z)
-        for (int x = -6; x < 6; ++x) {
-            int surface[kChunkSize][kChunkSize];
-            for (int lz = 0; lz < kChunkSize; ++lz)
-                for (int lx = 0; lx < kChunkSize; ++lx)
-                    surface[lz][lx] = gen.surface_height(x * kChunkSize + lx, z * kChunkSize + lz);
+    // No surface lies below this (noise is within [-1, 1]): air under it is cave air.
+    const int64_t lowest_surface = int64_t(float(gen.params().base_height) - gen.params().hill_amplitude) - 2;
+    // 8 x 5 x 8 chunks, world y -128..31: sea, beaches, hills and most of the cave band.
+    for (int z = -4; z < 4; ++z)
+        for (int x = -4; x < 4; ++x)
             for (int y = -4; y <= 0; ++y) {
                 const Chunk c = gen.generate({x, y, z});
                 ++total;
@@ -214,17 +212,16 @@ TEST(Terrain, RegionHasWaterCavesAndEveryBlockType) {
                 for (int i = 0; i < kChunkVolume; ++i) {
                     ++counts[dense[i]];
                     const int lx = i & 31, ly = (i >> 5) & 31, lz = i >> 10;
-                    cave_air += dense[i] == kAir && y * kChunkSize + ly < surface[lz][lx];
+                    cave_air += dense[i] == kAir && y * kChunkSize + ly < lowest_surface;
                     if (dense[i] == ids.lamp || dense[i] == ids.glass || dense[i] == ids.mirror)
                         features.push_back(chunk_origin({x, y, z}) + BlockPos(lx, ly, lz));
                 }
                 world.put_chunk({x, y, z}, c);
             }
-        }
     for (BlockId id : {ids.stone, ids.dirt, ids.grass, ids.sand, ids.water, ids.glass, ids.mirror, ids.lamp})
         EXPECT_GT(counts[id], 0) << BlockRegistry::default_registry().info(id).name;
-    EXPECT_GT(counts[ids.water], 10000);
-    EXPECT_GT(cave_air, 20000); // Caves: air below the surface.
+    EXPECT_GT(counts[ids.water], 1000); // Some sea (a third of all surface; less in this region).
+    EXPECT_GT(cave_air, 20000); // Caves: air below any surface.
     EXPECT_LT(uniform, total);
     // Lamps stand on terrain and crystals touch terrain above or below, across chunk borders too.
     auto terrain = [&](BlockId b) {
