@@ -1,0 +1,42 @@
+#pragma once
+// Shared by the renderer tests: a lavapipe context with validation on, checked for 0 errors.
+
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "render/context.h"
+
+namespace vx::render::test {
+
+inline std::unique_ptr<Context> make_test_context() {
+    ContextCreateInfo ci;
+    ci.validation = true;
+    ci.device.kind = DeviceChoice::Kind::Cpu; // lavapipe (VK_DRIVER_FILES points at it in CTest).
+    ci.app_name = "vx_render_tests";
+    Result<std::unique_ptr<Context>> ctx = Context::create(ci);
+    if (!ctx) {
+        ADD_FAILURE() << "no context: " << ctx.error();
+        return nullptr;
+    }
+    EXPECT_TRUE((*ctx)->validation_enabled()) << "the validation layer must be installed for these tests";
+    return std::move(*ctx);
+}
+
+// Fixture: a context per test; fails the test when the validation layer reported an error.
+class RenderTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_ctx = make_test_context();
+        ASSERT_NE(m_ctx, nullptr);
+    }
+    void TearDown() override {
+        if (m_ctx) {
+            m_ctx->wait_idle();
+            EXPECT_EQ(m_ctx->validation_errors(), 0u);
+        }
+    }
+    std::unique_ptr<Context> m_ctx;
+};
+
+} // namespace vx::render::test
