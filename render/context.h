@@ -72,6 +72,10 @@ public:
     // Waits for every submitted frame and frees every retire list.
     void wait_idle();
     uint64_t frame_number() const { return m_frame_number; }
+    // Slot (0..kFramesInFlight-1) of the frame being recorded or last submitted.
+    uint32_t frame_slot() const { return m_frame_slot; }
+    // Waits until the last submitted frame has completed (for read-back).
+    void wait_frame();
 
     // Retiring: called by resource destructors; the handle is destroyed once the current frame
     // (and so every earlier one) has completed on the GPU.

@@ -96,6 +96,11 @@ void Context::end_frame() {
     m_in_frame = false;
 }
 
+void Context::wait_frame() {
+    VX_ASSERT(!m_in_frame);
+    VK_CHECK(vkWaitForFences(m_device, 1, &m_frames[m_frame_slot].fence, VK_TRUE, UINT64_MAX));
+}
+
 void Context::wait_idle() {
     VX_ASSERT(!m_in_frame);
     VK_CHECK(vkDeviceWaitIdle(m_device));

@@ -1,0 +1,42 @@
+#pragma once
+// CPU side of a chunk's bottom-level acceleration structure. Quads go into "slots", two triangles
+// each, laid out slice by slice with spare capacity, so an edit whose slices still fit keeps the
+// topology (same primitive count, same index values; unused slots are degenerate triangles) and
+// can be applied by a BLAS update (refit) instead of a rebuild. Slot k uses vertices 4k..4k+3 and
+// indices (4k, 4k+1, 4k+2), (4k, 4k+2, 4k+3), so every chunk shares one index buffer.
+// Vertex positions are chunk-local integers (exact in float). Not thread-safe (plain values).
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "world/chunk_mesh.h"
+
+namespace vx::render {
+
+struct SlotLayout {
+    std::array<uint32_t, world::kSliceCount> start{};    // First slot of each slice.
+    std::array<uint32_t, world::kSliceCount> capacity{}; // Slots of each slice.
+    uint32_t total = 0;                                  // Slots in all.
+
+    // Capacity count + count / 4 + 2 per slice: room for the few quads a block edit adds.
+    static SlotLayout for_mesh(const world::ChunkMesh& mesh);
+    // True when every slice of `mesh` fits its capacity (the edit can be a refit).
+    bool fits(const world::ChunkMesh& mesh) const;
+    uint32_t triangle_count() const { return 2 * total; }
+};
+
+// Geometry of one chunk in a layout.
+struct SlotGeometry {
+    std::vector<float> vertices;    // 4 vertices per slot, xyz float, chunk-local block units.
+    std::vector<world::Quad> quads; // One per slot; Quad{} (block air) in unused slots.
+};
+
+// Writes the mesh into its slots; unused slots get four copies of the origin (zero-area
+// triangles, which rays never hit, and which stay active so a later refit may reuse them).
+void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out);
+
+// The shared index pattern for `slots` slots.
+std::vector<uint32_t> slot_indices(uint32_t slots);
+
+} // namespace vx::render
