@@ -3,6 +3,7 @@
 // meshes into a Renderer. Also a Renderer fixture that checks the validation layer stayed silent.
 
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 
