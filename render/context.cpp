@@ -159,7 +159,7 @@ void Context::create_device() {
     vkGetDeviceQueue(m_device, m_queue_family, 0, &m_queue);
     set_name(m_device, VK_OBJECT_TYPE_DEVICE, "vx device");
     set_name(m_queue, VK_OBJECT_TYPE_QUEUE, "vx queue");
-    m_allocator = std::make_unique<GpuAllocator>(m_pd, m_device);
+    m_allocator = std::make_unique<GpuAllocator>(m_pd, m_device, 64ull << 20, m_debug_utils);
 }
 
 void Context::set_name(VkObjectType type, uint64_t handle, const char* name) const {

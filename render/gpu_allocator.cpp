@@ -9,8 +9,8 @@ namespace vx::render {
 
 static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
-GpuAllocator::GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size)
-    : m_device(device), m_block_size(block_size) {
+GpuAllocator::GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size, bool debug_names)
+    : m_device(device), m_block_size(block_size), m_debug_names(debug_names) {
     vkGetPhysicalDeviceMemoryProperties(pd, &m_props);
 }
 
@@ -60,6 +60,13 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
     }
     if (m_props.memoryTypes[memory_type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
         VK_CHECK(vkMapMemory(m_device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+    if (m_debug_names) {
+        VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+        ni.objectType = VK_OBJECT_TYPE_DEVICE_MEMORY;
+        ni.objectHandle = uint64_t(b.memory);
+        ni.pObjectName = "vx memory block";
+        VK_CHECK(vkSetDebugUtilsObjectNameEXT(m_device, &ni));
+    }
     b.size = size;
     b.pool = pool;
     b.free.push_back({0, size});

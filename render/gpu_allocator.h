@@ -37,7 +37,9 @@ struct AllocatorStats {
 
 class GpuAllocator {
 public:
-    GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size = 64ull << 20);
+    // `debug_names`: name each block for validation messages (needs VK_EXT_debug_utils).
+    GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size = 64ull << 20,
+                 bool debug_names = false);
     ~GpuAllocator();
     GpuAllocator(const GpuAllocator&) = delete;
     GpuAllocator& operator=(const GpuAllocator&) = delete;
@@ -70,6 +72,7 @@ private:
     VkDevice m_device;
     VkPhysicalDeviceMemoryProperties m_props{};
     VkDeviceSize m_block_size;
+    bool m_debug_names;
     std::vector<Block> m_blocks; // Slots of released blocks have memory == VK_NULL_HANDLE.
 };
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <unordered_set>
 
 #include "render/commands.h"
 #include "render/context.h"
@@ -213,6 +214,18 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
                std::chrono::duration<double, std::milli>(t1 - t0).count(),
                std::chrono::duration<double, std::milli>(t2 - t1).count()};
     return img;
+}
+
+RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, const Scene& scene) {
+    set_registry(scene.registry ? *scene.registry : world::BlockRegistry::default_registry());
+    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> keep;
+    for (const auto& [c, mesh] : scene.chunks) {
+        VX_ASSERT(mesh != nullptr);
+        keep.insert(c);
+        set_chunk(c, *mesh);
+    }
+    m->accel->retain_only(keep);
+    return render(settings, camera);
 }
 
 void Renderer::set_registry(const world::BlockRegistry& registry) {

@@ -78,6 +78,12 @@ struct RenderStats {
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
 };
 
+// A whole scene for the one-call API: chunk meshes (not owned) plus the materials.
+struct Scene {
+    std::vector<std::pair<world::ChunkCoord, const world::ChunkMesh*>> chunks;
+    const world::BlockRegistry* registry = nullptr; // Null: the default registry.
+};
+
 struct RendererCreateInfo {
     bool validation = false;
     DeviceChoice device{};
@@ -99,6 +105,10 @@ public:
 
     // Renders one image and reads it back (waits for the GPU).
     RenderImage render(const RenderSettings& settings, const Camera& camera);
+    // One call: makes `scene` the renderer's scene, then renders. Chunks absent from `scene` are
+    // dropped; every chunk in it is re-sent (a refit when its slots fit), so for small edits
+    // prefer set_chunk + render.
+    RenderImage render(const RenderSettings& settings, const Camera& camera, const Scene& scene);
 
     const DeviceReport& device() const;
     uint32_t validation_errors() const;

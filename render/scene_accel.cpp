@@ -35,6 +35,10 @@ void SceneAccel::remove_chunk(world::ChunkCoord c) { m_chunks.erase(c); }
 
 void SceneAccel::clear() { m_chunks.clear(); }
 
+void SceneAccel::retain_only(const std::unordered_set<world::ChunkCoord, world::ChunkCoordHash>& keep) {
+    std::erase_if(m_chunks, [&](const auto& kv) { return !keep.count(kv.first); });
+}
+
 void SceneAccel::ensure_indices(uint32_t slots) {
     if (slots <= m_index_slots)
         return;

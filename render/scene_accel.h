@@ -8,6 +8,7 @@
 
 #include <array>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "render/chunk_geometry.h"
@@ -32,6 +33,8 @@ public:
     void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh);
     void remove_chunk(world::ChunkCoord c);
     void clear();
+    // Removes every chunk not in `keep`.
+    void retain_only(const std::unordered_set<world::ChunkCoord, world::ChunkCoordHash>& keep);
     size_t chunk_count() const { return m_chunks.size(); }
 
     // Records the frame's uploads, BLAS builds/refits and the TLAS build into `cmd` (between

@@ -35,6 +35,20 @@ TEST_F(RendererTest, FlatRenderShowsSkyAndBlockColours) {
     EXPECT_EQ(m_renderer->last_stats().blas_builds, 1u);
 }
 
+TEST_F(RendererTest, OneCallSceneApiReplacesTheScene) {
+    world::World w = floor_world();
+    const world::MeshMap meshes = test::mesh_world(w);
+    Scene scene;
+    for (const auto& [c, mc] : meshes)
+        scene.chunks.emplace_back(c, &mc.mesh);
+    m_renderer->set_chunk({5, 5, 5}, meshes.begin()->second.mesh); // Dropped by the next call.
+    RenderSettings s;
+    s.mode = ShadingMode::Flat;
+    const RenderImage img = m_renderer->render(s, Camera::look_at({16.0, 10.5, 16.5}, {16.0, 10.5, 0.0}), scene);
+    EXPECT_TRUE(test::rgb_near(img.at(4, 63), reg().info(test::block_id("stone")).albedo));
+    EXPECT_EQ(m_renderer->last_stats().instances, 1u);
+}
+
 TEST_F(RendererTest, EmptySceneIsAllSky) {
     RenderSettings s;
     s.mode = ShadingMode::Full;

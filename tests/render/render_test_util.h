@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the renderer tests: a lavapipe context with validation on, checked for 0 errors.
 
+#include <cstdlib>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -9,10 +10,18 @@
 
 namespace vx::render::test {
 
+// lavapipe ("cpu") unless $VX_TEST_DEVICE names another choice (auto, gpu, an index).
+inline DeviceChoice test_device_choice() {
+    const char* env = std::getenv("VX_TEST_DEVICE");
+    Result<DeviceChoice> c = parse_device_choice(env ? env : "cpu");
+    EXPECT_TRUE(c.ok()) << "bad VX_TEST_DEVICE";
+    return c.ok() ? *c : DeviceChoice{DeviceChoice::Kind::Cpu, 0};
+}
+
 inline std::unique_ptr<Context> make_test_context() {
     ContextCreateInfo ci;
     ci.validation = true;
-    ci.device.kind = DeviceChoice::Kind::Cpu; // lavapipe (VK_DRIVER_FILES points at it in CTest).
+    ci.device = test_device_choice();
     ci.app_name = "vx_render_tests";
     Result<std::unique_ptr<Context>> ctx = Context::create(ci);
     if (!ctx) {

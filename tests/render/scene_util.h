@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "render/renderer.h"
+#include "render_test_util.h"
 #include "world/edit_mesher.h"
 #include "world/world.h"
 
@@ -66,7 +67,7 @@ protected:
     void SetUp() override {
         RendererCreateInfo ci;
         ci.validation = true;
-        ci.device.kind = DeviceChoice::Kind::Cpu; // lavapipe
+        ci.device = test_device_choice();
         auto r = Renderer::create(ci);
         ASSERT_TRUE(r.ok()) << r.error();
         m_renderer = std::move(*r);
