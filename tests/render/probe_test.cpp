@@ -65,8 +65,9 @@ TEST(DeviceProbe, ApiVersionRequiresVulkan13) {
 using ContextTest = test::RenderTest;
 
 TEST_F(ContextTest, CreatesHeadlessRayTracingDevice) {
-    if (!std::getenv("VX_TEST_DEVICE"))
+    if (!std::getenv("VX_TEST_DEVICE")) {
         EXPECT_EQ(m_ctx->report().type, DeviceType::Cpu);
+    }
     const auto& rt = m_ctx->rt_properties();
     EXPECT_GT(rt.shaderGroupHandleSize, 0u);
     EXPECT_GT(rt.shaderGroupBaseAlignment, 0u);
