@@ -24,6 +24,30 @@ bool SlotLayout::fits(const world::ChunkMesh& mesh) const {
     return true;
 }
 
+// Spare slots collapse onto a real vertex near them in slot order: builders that split by
+// primitive order (lavapipe) would otherwise stretch node bounds out to wherever the spares sit
+// (measured: spares at the chunk origin made tracing several times slower).
+static void collapse_spares(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out) {
+    std::vector<uint8_t> used(layout.total, 0);
+    for (int s = 0; s < world::kSliceCount; ++s)
+        std::fill_n(used.begin() + layout.start[s], mesh.slice(s).size(), uint8_t(1));
+    const float* anchor = nullptr;
+    for (uint32_t k = 0; k < layout.total && !anchor; ++k)
+        if (used[k])
+            anchor = out.vertices.data() + size_t(k) * 12;
+    if (!anchor)
+        return; // No quads: all spares stay at the origin.
+    for (uint32_t k = 0; k < layout.total; ++k) {
+        float* v = out.vertices.data() + size_t(k) * 12;
+        if (used[k]) {
+            anchor = v + 6; // Corner 2 of the last real quad.
+            continue;
+        }
+        for (int i = 0; i < 4; ++i)
+            std::copy_n(anchor, 3, v + i * 3);
+    }
+}
+
 void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out) {
     VX_ASSERT(layout.fits(mesh));
     out.vertices.assign(size_t(layout.total) * 12, 0.f);
@@ -41,6 +65,7 @@ void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeom
             ++slot;
         }
     }
+    collapse_spares(layout, mesh, out);
 }
 
 std::vector<uint32_t> slot_indices(uint32_t slots) {

@@ -32,8 +32,9 @@ struct SlotGeometry {
     std::vector<world::Quad> quads; // One per slot; Quad{} (block air) in unused slots.
 };
 
-// Writes the mesh into its slots; unused slots get four copies of the origin (zero-area
-// triangles, which rays never hit, and which stay active so a later refit may reuse them).
+// Writes the mesh into its slots; each unused slot gets four copies of one nearby real vertex
+// (zero-area triangles, which rays never hit, and which stay active so a later refit may reuse
+// them).
 void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out);
 
 // The shared index pattern for `slots` slots.
