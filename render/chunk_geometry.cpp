@@ -24,48 +24,50 @@ bool SlotLayout::fits(const world::ChunkMesh& mesh) const {
     return true;
 }
 
-// Spare slots collapse onto a real vertex near them in slot order: builders that split by
-// primitive order (lavapipe) would otherwise stretch node bounds out to wherever the spares sit
-// (measured: spares at the chunk origin made tracing several times slower).
-static void collapse_spares(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out) {
-    std::vector<uint8_t> used(layout.total, 0);
-    for (int s = 0; s < world::kSliceCount; ++s)
-        std::fill_n(used.begin() + layout.start[s], mesh.slice(s).size(), uint8_t(1));
-    const float* anchor = nullptr;
-    for (uint32_t k = 0; k < layout.total && !anchor; ++k)
-        if (used[k])
-            anchor = out.vertices.data() + size_t(k) * 12;
-    if (!anchor)
-        return; // No quads: all spares stay at the origin.
-    for (uint32_t k = 0; k < layout.total; ++k) {
-        float* v = out.vertices.data() + size_t(k) * 12;
-        if (used[k]) {
-            anchor = v + 6; // Corner 2 of the last real quad.
-            continue;
-        }
-        for (int i = 0; i < 4; ++i)
-            std::copy_n(anchor, 3, v + i * 3);
-    }
+static void write_quad(const world::Quad& q, float* v) {
+    glm::ivec3 c[4];
+    world::quad_corners(q, c);
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 3; ++k)
+            v[i * 3 + k] = float(c[i][k]);
 }
 
-void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out) {
-    VX_ASSERT(layout.fits(mesh));
-    out.vertices.assign(size_t(layout.total) * 12, 0.f);
-    out.quads.assign(layout.total, world::Quad{});
-    for (int s = 0; s < world::kSliceCount; ++s) {
-        uint32_t slot = layout.start[s];
-        for (const world::Quad& q : mesh.slice(s)) {
+// A vertex of the first quad of the mesh (the anchor of spares before any real quad).
+static glm::vec3 first_vertex(const world::ChunkMesh& mesh) {
+    for (int s = 0; s < world::kSliceCount; ++s)
+        if (!mesh.slice(s).empty()) {
             glm::ivec3 c[4];
-            world::quad_corners(q, c);
-            float* v = out.vertices.data() + size_t(slot) * 12;
+            world::quad_corners(mesh.slice(s)[0], c);
+            return glm::vec3(c[0]);
+        }
+    return glm::vec3(0.f);
+}
+
+void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, float* vertices, world::Quad* quads) {
+    VX_ASSERT(layout.fits(mesh));
+    // Spares collapse onto the last real vertex before them in slot order: builders that split by
+    // primitive order (lavapipe) would otherwise stretch node bounds out to wherever spares sit
+    // (measured: spares at the chunk origin traced 3x slower).
+    glm::vec3 anchor = first_vertex(mesh);
+    for (int s = 0; s < world::kSliceCount; ++s) {
+        const std::span<const world::Quad> quads_of = mesh.slice(s);
+        float* v = vertices + size_t(layout.start[s]) * 12;
+        world::Quad* q = quads + layout.start[s];
+        for (const world::Quad& quad : quads_of) {
+            write_quad(quad, v);
+            glm::ivec3 c[4];
+            world::quad_corners(quad, c);
+            anchor = glm::vec3(c[2]);
+            *q++ = quad;
+            v += 12;
+        }
+        for (size_t k = quads_of.size(); k < layout.capacity[s]; ++k) {
             for (int i = 0; i < 4; ++i)
-                for (int k = 0; k < 3; ++k)
-                    v[i * 3 + k] = float(c[i][k]);
-            out.quads[slot] = q;
-            ++slot;
+                v[i * 3 + 0] = anchor.x, v[i * 3 + 1] = anchor.y, v[i * 3 + 2] = anchor.z;
+            *q++ = world::Quad{};
+            v += 12;
         }
     }
-    collapse_spares(layout, mesh, out);
 }
 
 std::vector<uint32_t> slot_indices(uint32_t slots) {

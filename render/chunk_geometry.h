@@ -26,16 +26,16 @@ struct SlotLayout {
     uint32_t triangle_count() const { return 2 * total; }
 };
 
-// Geometry of one chunk in a layout.
-struct SlotGeometry {
-    std::vector<float> vertices;    // 4 vertices per slot, xyz float, chunk-local block units.
-    std::vector<world::Quad> quads; // One per slot; Quad{} (block air) in unused slots.
-};
+// Bytes of one slot: 4 vertices of 3 floats, then (in a second array) its Quad.
+inline constexpr size_t kSlotVertexBytes = 12 * sizeof(float);
+inline constexpr size_t kSlotQuadBytes = sizeof(world::Quad);
 
-// Writes the mesh into its slots; each unused slot gets four copies of one nearby real vertex
-// (zero-area triangles, which rays never hit, and which stay active so a later refit may reuse
-// them).
-void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, SlotGeometry& out);
+// Writes the mesh into its slots: `vertices` gets 12 floats per slot (chunk-local block units),
+// `quads` one Quad per slot (Quad{}, block air, in unused slots). Each unused slot gets four
+// copies of one nearby real vertex: zero-area triangles, which rays never hit, which stay active
+// (so a later refit may reuse them) and which do not stretch BVH nodes. Writes each output byte
+// once, in order (the outputs may be write-combined mapped memory).
+void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, float* vertices, world::Quad* quads);
 
 // The shared index pattern for `slots` slots.
 std::vector<uint32_t> slot_indices(uint32_t slots);

@@ -1,5 +1,6 @@
 #include "render/commands.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace vx::render {
@@ -51,29 +52,39 @@ Buffer upload_buffer(Context& ctx, const void* data, size_t bytes, VkBufferUsage
     return dst;
 }
 
-void StagingBatch::add(const Buffer& dst, VkDeviceSize dst_offset, const void* data, size_t bytes) {
-    if (bytes == 0)
-        return;
-    const VkDeviceSize src_offset = align_up(m_bytes.size(), 16);
-    m_bytes.resize(src_offset + bytes);
-    std::memcpy(m_bytes.data() + src_offset, data, bytes);
-    m_copies.push_back({dst.handle(), dst_offset, src_offset, bytes});
+void StagingRing::begin(VkDeviceSize bytes) {
+    VX_ASSERT(m_copies.empty());
+    Buffer& b = m_buffers[m_ctx->frame_slot()];
+    if (b.size() < bytes) {
+        BufferCreateInfo bi;
+        bi.size = std::max(bytes, b.size() + b.size() / 2);
+        bi.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+        bi.memory = MemoryUse::Upload;
+        bi.name = "frame staging";
+        b = Buffer::create(*m_ctx, bi);
+        VX_ASSERT_MSG(b.valid(), "out of memory for the frame's staging buffer");
+    }
+    m_used = 0;
+    m_reserved = bytes;
 }
 
-bool StagingBatch::record(VkCommandBuffer cmd) {
+void* StagingRing::add(const Buffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes) {
+    const VkDeviceSize at = align_up(m_used, 16);
+    VX_ASSERT_MSG(at + bytes <= m_reserved, "staging beyond what begin() reserved");
+    m_used = at + bytes;
+    m_copies.push_back({dst.handle(), dst_offset, at, bytes});
+    return static_cast<unsigned char*>(m_buffers[m_ctx->frame_slot()].mapped()) + at;
+}
+
+bool StagingRing::record(VkCommandBuffer cmd) {
     if (m_copies.empty())
         return false;
-    Buffer staging = Buffer::create(
-        *m_ctx, {m_bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, 0, "frame staging"});
-    VX_ASSERT_MSG(staging.valid(), "out of memory for the frame's staging buffer");
-    std::memcpy(staging.mapped(), m_bytes.data(), m_bytes.size());
+    const VkBuffer src = m_buffers[m_ctx->frame_slot()].handle();
     for (const Copy& c : m_copies) {
         VkBufferCopy region{c.src_offset, c.dst_offset, c.size};
-        vkCmdCopyBuffer(cmd, staging.handle(), c.dst, 1, &region);
+        vkCmdCopyBuffer(cmd, src, c.dst, 1, &region);
     }
-    m_bytes.clear();
     m_copies.clear();
-    // `staging` retires into the current frame's list here, freed once the frame completes.
     return true;
 }
 

@@ -2,7 +2,9 @@
 // Vulkan command boilerplate as free functions (niagara's barrier builders), and staging uploads.
 // Main thread only.
 
+#include <array>
 #include <cstddef>
+#include <vector>
 
 #include "render/resources.h"
 
@@ -21,15 +23,17 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
 // one-shot submission (waits). `usage` gets TRANSFER_DST added. Empty Buffer on out-of-memory.
 Buffer upload_buffer(Context& ctx, const void* data, size_t bytes, VkBufferUsageFlags usage, const char* name);
 
-// Per-frame staging: appends data to a host-visible buffer that lives for one frame and records
-// the copies into device buffers. Call flush() before the frame's command buffer is submitted;
-// the staging buffer is then retired with the frame.
-class StagingBatch {
+// Per-frame staging: one grow-only host-visible buffer per frame slot (the slot's last frame
+// has completed when it is reused), written in place by the caller, then copied into device
+// buffers by record(). Main thread only.
+class StagingRing {
 public:
-    explicit StagingBatch(Context& ctx) : m_ctx(&ctx) {}
-    // Queues a copy of `bytes` from `data` into `dst` at `dst_offset`.
-    void add(const Buffer& dst, VkDeviceSize dst_offset, const void* data, size_t bytes);
-    // Records all queued copies into `cmd` (no barrier); returns false when nothing was queued.
+    explicit StagingRing(Context& ctx) : m_ctx(&ctx) {}
+    // Starts this frame's staging with room for `bytes` (plus 16-byte alignment per copy).
+    void begin(VkDeviceSize bytes);
+    // Reserves `bytes` that will be copied into `dst` at `dst_offset`; returns where to write them.
+    void* add(const Buffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes);
+    // Records the copies into `cmd` (no barrier); false when there were none.
     bool record(VkCommandBuffer cmd);
 
 private:
@@ -38,7 +42,8 @@ private:
         VkDeviceSize dst_offset, src_offset, size;
     };
     Context* m_ctx;
-    std::vector<unsigned char> m_bytes;
+    std::array<Buffer, kFramesInFlight> m_buffers;
+    VkDeviceSize m_used = 0, m_reserved = 0;
     std::vector<Copy> m_copies;
 };
 

@@ -3,6 +3,7 @@
 // errors), the chosen physical device, a logical device with the ray-tracing features and one
 // queue, the memory allocator, and the frame ring whose retire lists free GPU objects once the
 // frame that last used them has finished (Granite's PerFrame). Headless: no surface.
+// One Context per process at a time: volk keeps Vulkan entry points in process globals.
 // Main thread only.
 
 #include <array>

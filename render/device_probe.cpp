@@ -106,7 +106,8 @@ Result<std::vector<DeviceReport>> probe_devices() {
     VkInstance instance = VK_NULL_HANDLE;
     if (VkResult res = vkCreateInstance(&ci, nullptr, &instance); res != VK_SUCCESS)
         return Error{std::string("vkCreateInstance failed: ") + vk_result_name(res)};
-    // Loads instance-level pointers into volk's globals; Context reloads them for its own instance.
+    // volk keeps instance-level pointers in globals: load ours, then give a live Context's back.
+    const VkInstance previous = volkGetLoadedInstance();
     volkLoadInstanceOnly(instance);
 
     uint32_t n = 0;
@@ -117,6 +118,8 @@ Result<std::vector<DeviceReport>> probe_devices() {
     for (uint32_t i = 0; i < n; ++i)
         out.push_back(describe_device(pds[i], i));
     vkDestroyInstance(instance, nullptr);
+    if (previous != VK_NULL_HANDLE)
+        volkLoadInstanceOnly(previous);
     if (out.empty())
         return Error{"no Vulkan device found (no driver installed?)"};
     return out;

@@ -31,7 +31,8 @@ struct DeviceReport {
 };
 
 // Enumerates the devices through a temporary instance. Returns an error (never crashes) when no
-// Vulkan loader or driver is installed. Thread-safe but slow (creates an instance): call rarely.
+// Vulkan loader or driver is installed. Slow (creates an instance): call rarely. Main thread
+// only (volk's function pointers are process globals); safe while a Context exists.
 Result<std::vector<DeviceReport>> probe_devices();
 
 // Which device to use: "auto" prefers a ray-tracing discrete GPU, then any ray-tracing device;

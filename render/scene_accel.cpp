@@ -15,7 +15,7 @@ struct SceneAccel::BuildBatch {
     std::vector<VkDeviceSize> scratch_sizes;
 };
 
-SceneAccel::SceneAccel(Context& ctx) : m_ctx(&ctx) {}
+SceneAccel::SceneAccel(Context& ctx) : m_ctx(&ctx), m_staging(ctx) {}
 
 void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh) {
     if (mesh.empty()) {
@@ -26,7 +26,7 @@ void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh) {
     const bool refit = g.blas.valid() && g.layout.fits(mesh);
     if (!refit)
         g.layout = SlotLayout::for_mesh(mesh);
-    fill_slots(g.layout, mesh, g.geometry);
+    g.mesh = mesh;
     // A rebuild pending from an earlier set_chunk in the same frame stays a rebuild.
     g.pending = refit && g.pending != Pending::Build ? Pending::Refit : Pending::Build;
 }
@@ -81,22 +81,21 @@ static VkAccelerationStructureGeometryKHR triangle_geometry(VkDeviceAddress vert
     return g;
 }
 
-void SceneAccel::prepare_chunk(world::ChunkCoord c, ChunkGpu& g, StagingBatch& staging, BuildBatch& batch) {
+void SceneAccel::prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch) {
     const uint32_t slots = g.layout.total;
     const bool build = g.pending == Pending::Build;
     if (build) {
         const VkBufferUsageFlags input = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
                                          VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-        g.vertices = Buffer::create(*m_ctx, {g.geometry.vertices.size() * sizeof(float), input, MemoryUse::Device, 0,
-                                             "chunk vertices"});
-        g.quads = Buffer::create(*m_ctx, {g.geometry.quads.size() * sizeof(world::Quad),
+        g.vertices = Buffer::create(*m_ctx, {slots * kSlotVertexBytes, input, MemoryUse::Device, 0, "chunk vertices"});
+        g.quads = Buffer::create(*m_ctx, {slots * kSlotQuadBytes,
                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                           MemoryUse::Device, 0, "chunk quads"});
         VX_ASSERT_MSG(g.vertices.valid() && g.quads.valid(), "out of GPU memory for chunk geometry");
     }
-    staging.add(g.vertices, 0, g.geometry.vertices.data(), g.geometry.vertices.size() * sizeof(float));
-    staging.add(g.quads, 0, g.geometry.quads.data(), g.geometry.quads.size() * sizeof(world::Quad));
-    g.geometry = {};
+    fill_slots(g.layout, g.mesh, static_cast<float*>(m_staging.add(g.vertices, 0, slots * kSlotVertexBytes)),
+               static_cast<world::Quad*>(m_staging.add(g.quads, 0, slots * kSlotQuadBytes)));
+    g.mesh.clear();
 
     batch.geometries.push_back(triangle_geometry(g.vertices.address(), m_indices.address(), slots));
     VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
@@ -160,18 +159,21 @@ void SceneAccel::record(VkCommandBuffer cmd, world::BlockPos camera_block) {
                    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR |
                        VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
     uint32_t max_slots = 0;
+    VkDeviceSize staging_bytes = 0;
     for (auto& [c, g] : m_chunks)
-        if (g.pending != Pending::None)
+        if (g.pending != Pending::None) {
             max_slots = std::max(max_slots, g.layout.total);
+            staging_bytes += g.layout.total * (kSlotVertexBytes + kSlotQuadBytes) + 32;
+        }
     ensure_indices(max_slots);
 
-    StagingBatch staging(*m_ctx);
+    m_staging.begin(staging_bytes);
     BuildBatch batch;
     batch.geometries.reserve(m_chunks.size());
     for (auto& [c, g] : m_chunks)
         if (g.pending != Pending::None)
-            prepare_chunk(c, g, staging, batch);
-    if (staging.record(cmd))
+            prepare_chunk(c, g, batch);
+    if (m_staging.record(cmd))
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR |
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,

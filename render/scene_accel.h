@@ -51,7 +51,7 @@ private:
     enum class Pending : uint8_t { None, Build, Refit };
     struct ChunkGpu {
         SlotLayout layout;
-        SlotGeometry geometry; // Waiting for upload; cleared once recorded.
+        world::ChunkMesh mesh; // Waiting for upload; cleared once recorded.
         Buffer vertices, quads;
         AccelStruct blas;
         VkDeviceSize update_scratch = 0;
@@ -66,7 +66,7 @@ private:
     struct BuildBatch; // Geometry and build infos of one frame's BLAS call.
 
     void ensure_indices(uint32_t slots);
-    void prepare_chunk(world::ChunkCoord c, ChunkGpu& g, StagingBatch& staging, BuildBatch& batch);
+    void prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch);
     void record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
     void record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
     VkDeviceAddress scratch(VkDeviceSize bytes);
@@ -75,6 +75,7 @@ private:
     std::unordered_map<world::ChunkCoord, ChunkGpu, world::ChunkCoordHash> m_chunks;
     Buffer m_indices;
     uint32_t m_index_slots = 0;
+    StagingRing m_staging;
     Buffer m_scratch; // Shared by the frame's BLAS call and TLAS build (a barrier separates them).
     std::array<FrameData, kFramesInFlight> m_frames;
     AccelStats m_stats;

@@ -129,7 +129,7 @@ void BM_Trace(benchmark::State& state) {
 
 BENCHMARK(BM_BuildAllBlas)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_RefitAllBlas)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Trace)->Args({256, 256, 1})->Args({256, 256, 4})->Args({1920, 1080, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Trace)->Args({256, 256, 1})->Args({256, 256, 4})->Args({1920, 1080, 1})->Args({1920, 1080, 4})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 } // namespace vx::render
