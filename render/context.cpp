@@ -82,8 +82,16 @@ Status Context::create_instance(const ContextCreateInfo& info) {
         exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     if (m_validation)
         layers.push_back(kValidationLayer);
+    const VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = &sync;
     VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ci.pNext = m_debug_utils ? &mci : nullptr; // Also reports problems of vkCreate/DestroyInstance.
+    if (m_validation && info.sync_validation) {
+        features.pNext = ci.pNext;
+        ci.pNext = &features;
+    }
     ci.pApplicationInfo = &app;
     ci.enabledExtensionCount = uint32_t(exts.size());
     ci.ppEnabledExtensionNames = exts.data();

@@ -20,6 +20,7 @@ namespace vx::render {
 
 struct ContextCreateInfo {
     bool validation = false;   // Enable VK_LAYER_KHRONOS_validation if it is installed.
+    bool sync_validation = false; // With validation: also its synchronization checks (slow).
     DeviceChoice device{};     // Which device to use.
     const char* app_name = "vx";
 };

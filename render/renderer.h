@@ -86,6 +86,7 @@ struct Scene {
 
 struct RendererCreateInfo {
     bool validation = false;
+    bool sync_validation = false; // With validation: synchronization validation too (slow).
     DeviceChoice device{};
 };
 

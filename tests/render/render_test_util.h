@@ -21,6 +21,7 @@ inline DeviceChoice test_device_choice() {
 inline std::unique_ptr<Context> make_test_context() {
     ContextCreateInfo ci;
     ci.validation = true;
+    ci.sync_validation = std::getenv("VX_SYNC_VALIDATION") != nullptr;
     ci.device = test_device_choice();
     ci.app_name = "vx_render_tests";
     Result<std::unique_ptr<Context>> ctx = Context::create(ci);

@@ -67,6 +67,7 @@ protected:
     void SetUp() override {
         RendererCreateInfo ci;
         ci.validation = true;
+        ci.sync_validation = std::getenv("VX_SYNC_VALIDATION") != nullptr;
         ci.device = test_device_choice();
         auto r = Renderer::create(ci);
         ASSERT_TRUE(r.ok()) << r.error();
