@@ -24,12 +24,14 @@ bool SlotLayout::fits(const world::ChunkMesh& mesh) const {
     return true;
 }
 
-static void write_quad(const world::Quad& q, float* v) {
+// Writes the quad's four corners; returns corner 2.
+static glm::vec3 write_quad(const world::Quad& q, float* v) {
     glm::ivec3 c[4];
     world::quad_corners(q, c);
     for (int i = 0; i < 4; ++i)
         for (int k = 0; k < 3; ++k)
             v[i * 3 + k] = float(c[i][k]);
+    return glm::vec3(c[2]);
 }
 
 // A vertex of the first quad of the mesh (the anchor of spares before any real quad).
@@ -54,10 +56,7 @@ void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, float* v
         float* v = vertices + size_t(layout.start[s]) * 12;
         world::Quad* q = quads + layout.start[s];
         for (const world::Quad& quad : quads_of) {
-            write_quad(quad, v);
-            glm::ivec3 c[4];
-            world::quad_corners(quad, c);
-            anchor = glm::vec3(c[2]);
+            anchor = write_quad(quad, v);
             *q++ = quad;
             v += 12;
         }
