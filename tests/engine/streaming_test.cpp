@@ -199,3 +199,48 @@ TEST(Streaming, MemoryCapNeverEvictsInsideTheView) {
     EXPECT_EQ(m.meshed, m.wanted_meshes); // The view is whole despite the cap.
     EXPECT_EQ(m.loaded, size_t(7 * 7 * 5));
 }
+
+// A viewer flying chunk by chunk: after each step settles, the whole view is meshed and nothing
+// beyond the unload radius is kept.
+TEST(Streaming, FlyThroughLeavesNoHoles) {
+    const TerrainGenerator gen(21);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    glm::dvec3 pos(16.5, 20.5, 16.5);
+    for (int step = 0; step < 10; ++step) {
+        pos += step < 6 ? glm::dvec3(32, 0, 0) : glm::dvec3(0, 0, -32);
+        ASSERT_TRUE(settle(s, pos, now)) << "step " << step;
+        const StreamingMetrics m = s.metrics();
+        EXPECT_EQ(m.meshed, m.wanted_meshes) << "step " << step;
+        const ChunkCoord center = chunk_of(BlockPos(int64_t(pos.x), int64_t(pos.y), int64_t(pos.z)));
+        s.world().for_each_chunk([&](ChunkCoord c, const Chunk&) {
+            const glm::ivec3 d = glm::abs(c - center);
+            EXPECT_LE(std::max(d.x, d.z), 2 + 1 + 1); // View + neighbour ring + margin.
+            EXPECT_LE(d.y, 1 + 1 + 1);
+        });
+        for (int dz = -2; dz <= 2; ++dz)
+            for (int dx = -2; dx <= 2; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    EXPECT_NE(s.mesh(center + ChunkCoord(dx, dy, dz)), nullptr);
+        EXPECT_EQ(sink.meshes.size() >= m.wanted_meshes, true);
+    }
+    EXPECT_GT(s.metrics().unloaded, 0u);
+}
+
+// Hovering across a chunk border: the margin and the delay keep edge chunks loaded.
+TEST(Streaming, HysteresisStopsThrashing) {
+    const TerrainGenerator gen(22);
+    Recorder sink;
+    StreamingSettings st = small_settings();
+    st.unload_delay_s = 5.0;
+    ChunkStreamer s(gen, nullptr, sink, st);
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, glm::dvec3(31.0, 20.5, 16.5), now));
+    for (int i = 0; i < 200; ++i) {
+        now += std::chrono::milliseconds(16);
+        s.update(glm::dvec3(i % 2 ? 33.0 : 31.0, 20.5, 16.5), glm::dvec3(1, 0, 0), now);
+    }
+    EXPECT_EQ(s.metrics().unloaded, 0u);
+    EXPECT_EQ(sink.unloads, 0);
+}
