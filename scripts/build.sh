@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Configures and builds vx. Usage: scripts/build.sh [release|asan|tsan|debug] [extra cmake args...]
 # Build trees go to build/<kind>. Warnings are errors here (VX_WERROR=ON), as in CI.
+# VX_TARGETS="a b" builds only those targets (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 kind=${1:-release}
@@ -14,4 +15,5 @@ case "$kind" in
 esac
 jobs=$(nproc)
 cmake -S . -B "build/$kind" -G Ninja -DVX_WERROR=ON "${args[@]}" "$@" >/dev/null
-ninja -C "build/$kind" -j "$jobs"
+# shellcheck disable=SC2086
+ninja -C "build/$kind" -j "$jobs" ${VX_TARGETS:-}

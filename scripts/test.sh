@@ -17,7 +17,7 @@ ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "vulkan|slow"
 
 if [[ -d engine ]]; then
-  bash scripts/build.sh tsan
+  VX_TARGETS=vx_engine_tests bash scripts/build.sh tsan
   TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
     ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L engine
 fi
