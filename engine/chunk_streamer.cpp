@@ -35,29 +35,49 @@ ChunkStreamer::~ChunkStreamer() {
     m_jobs.reset(); // Joins the workers before any state below goes away.
 }
 
-bool ChunkStreamer::in_view(ChunkCoord c) const {
-    const glm::ivec3 d = glm::abs(c - m_center);
-    return std::max(d.x, d.z) <= m_settings.view_radius && d.y <= m_settings.view_radius_vertical;
+bool ChunkStreamer::near(ChunkCoord c, ChunkCoord center, int extra) const {
+    const glm::ivec3 d = glm::abs(c - center);
+    return std::max(d.x, d.z) <= m_settings.view_radius + extra && d.y <= m_settings.view_radius_vertical + extra;
 }
 
-bool ChunkStreamer::in_loaded_ring(ChunkCoord c) const {
-    const glm::ivec3 d = glm::abs(c - m_center);
-    return std::max(d.x, d.z) <= m_settings.view_radius + 1 && d.y <= m_settings.view_radius_vertical + 1;
-}
+bool ChunkStreamer::in_view(ChunkCoord c) const { return near(c, m_center, 0); }
+
+bool ChunkStreamer::wants_mesh(ChunkCoord c) const { return near(c, m_center, 0) || near(c, m_lead, 0); }
+
+bool ChunkStreamer::in_loaded_ring(ChunkCoord c) const { return near(c, m_center, 1) || near(c, m_lead, 1); }
 
 bool ChunkStreamer::beyond_unload(ChunkCoord c) const {
-    const glm::ivec3 d = glm::abs(c - m_center);
     const int m = m_settings.unload_margin + 1;
-    return std::max(d.x, d.z) > m_settings.view_radius + m || d.y > m_settings.view_radius_vertical + m;
+    return !near(c, m_center, m) && !near(c, m_lead, m);
 }
 
 void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward, Clock::time_point now) {
     const Clock::time_point t0 = Clock::now();
     const Clock::time_point deadline = t0 + m_settings.frame_budget;
     m_jobs->set_viewer({position, forward});
-    const ChunkCoord center = chunk_of(BlockPos(std::floor(position.x), std::floor(position.y), std::floor(position.z)));
-    if (!m_have_center || center != m_center) {
+    // Velocity from the last frames (exponentially smoothed), so meshes are ready where the
+    // viewer is heading before it gets there.
+    const double dt = std::chrono::duration<double>(now - m_prev_time).count();
+    const glm::dvec3 step = position - m_prev_position;
+    if (!m_have_center || dt <= 1e-4 || dt >= 1.0 || glm::length(step) > 2.0 * kChunkSize)
+        m_velocity = glm::dvec3(0.0); // First frame, a stall or a teleport: no prediction.
+    else
+        m_velocity = 0.8 * m_velocity + 0.2 * step / dt;
+    m_prev_position = position;
+    m_prev_time = now;
+    auto chunk_at = [](const glm::dvec3& p) {
+        return chunk_of(BlockPos(int64_t(std::floor(p.x)), int64_t(std::floor(p.y)), int64_t(std::floor(p.z))));
+    };
+    const ChunkCoord center = chunk_at(position);
+    // Never look further ahead than the view radius itself.
+    glm::dvec3 ahead = m_velocity * m_settings.lookahead_s;
+    const double reach = double(m_settings.view_radius * kChunkSize);
+    if (glm::length(ahead) > reach)
+        ahead *= reach / glm::length(ahead);
+    const ChunkCoord lead = chunk_at(position + ahead);
+    if (!m_have_center || center != m_center || lead != m_lead) {
         m_center = center;
+        m_lead = lead;
         m_have_center = true;
         refresh_region(now);
     }
@@ -66,7 +86,7 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
     budget.time = std::chrono::duration_cast<std::chrono::nanoseconds>(m_settings.frame_budget * 3 / 4);
     m_jobs->process_completions(budget);
     schedule_meshes(deadline);
-    unload_far(now);
+    unload_far(now, deadline);
     enforce_memory_cap();
     save_dirty(now, false);
     if (m_store && now - m_last_tick >= std::chrono::duration<double>(m_settings.store_tick_s)) {
@@ -76,37 +96,43 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
     m_last_update = Clock::now() - t0;
 }
 
-void ChunkStreamer::refresh_region(Clock::time_point now) {
-    // Flags of known chunks follow the new centre.
-    for (auto& [c, s] : m_chunks) {
-        const bool view = in_view(c);
-        if (view && !s.in_view && s.data == Data::Present)
-            m_mesh_candidates.insert(c);
-        s.in_view = view;
-        const bool beyond = beyond_unload(c);
-        if (beyond && !s.outside)
-            s.outside_since = now;
-        s.outside = beyond;
-    }
-    // Every chunk of the loaded ring is requested (again, if it was dropped: no silent holes).
+void ChunkStreamer::refresh_region(Clock::time_point) {
+    // Every chunk of the loaded ring is requested (again, if it was dropped: no silent holes),
+    // in one batch; loaded chunks that now want a mesh become candidates.
+    std::vector<std::unique_ptr<Job>> jobs;
+    request_box(m_center, jobs);
+    if (m_lead != m_center)
+        request_box(m_lead, jobs);
+    if (!jobs.empty())
+        m_jobs->submit_batch(std::move(jobs));
+    // Unloading rescans every chunk from here, a slice per frame (see unload_far).
+    m_scan.clear();
+    m_scan.reserve(m_chunks.size());
+    for (const auto& [c, st] : m_chunks)
+        m_scan.push_back(c);
+    m_scan_pos = 0;
+}
+
+void ChunkStreamer::request_box(ChunkCoord center, std::vector<std::unique_ptr<Job>>& jobs) {
     const int r = m_settings.view_radius + 1, rv = m_settings.view_radius_vertical + 1;
     for (int dy = -rv; dy <= rv; ++dy)
         for (int dz = -r; dz <= r; ++dz)
             for (int dx = -r; dx <= r; ++dx) {
-                const ChunkCoord c = m_center + ChunkCoord(dx, dy, dz);
-                if (!m_chunks.count(c))
-                    request_data(c);
+                const ChunkCoord c = center + ChunkCoord(dx, dy, dz);
+                auto it = m_chunks.find(c);
+                if (it == m_chunks.end())
+                    jobs.push_back(request_data(c));
+                else if (it->second.data == Data::Present && !it->second.has_mesh && wants_mesh(c))
+                    m_mesh_candidates.insert(c);
             }
 }
 
-void ChunkStreamer::request_data(ChunkCoord c) {
+std::unique_ptr<Job> ChunkStreamer::request_data(ChunkCoord c) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Requested;
-    s.in_view = in_view(c);
     if (m_store)
-        m_jobs->submit(std::make_unique<LoadJob>(*this, c, *m_store));
-    else
-        m_jobs->submit(std::make_unique<GenerateJob>(*this, c, m_generator));
+        return std::make_unique<LoadJob>(*this, c, *m_store);
+    return std::make_unique<GenerateJob>(*this, c, m_generator);
 }
 
 void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem) {
@@ -162,7 +188,7 @@ void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
         if (st == m_chunks.end())
             continue;
         ChunkState& s = st->second;
-        if (s.data != Data::Present || !s.in_view || s.has_mesh || s.mesh_pending || !neighbours_present(c))
+        if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
             continue; // A later put_chunk() or refresh_region() brings it back.
         request_mesh(c, s);
     }
@@ -239,18 +265,42 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     return {};
 }
 
-void ChunkStreamer::unload_far(Clock::time_point now) {
+void ChunkStreamer::unload_far(Clock::time_point now, Clock::time_point deadline) {
+    // A slice of the chunks is checked each frame (all of them every ~16 frames), so the cost
+    // stays flat however many chunks are loaded; the unload delay dwarfs the scan latency.
+    // Drops stay within the frame's budget, but at least kMinDrops happen a frame so memory
+    // cannot grow without bound while the budget is spent elsewhere.
+    constexpr int kMinDrops = 32;
     const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
-    for (auto it = m_chunks.begin(); it != m_chunks.end();) {
+    if (m_scan_pos >= m_scan.size()) {
+        m_scan.clear();
+        for (const auto& [c, st] : m_chunks)
+            m_scan.push_back(c);
+        m_scan_pos = 0;
+    }
+    const size_t end = std::min(m_scan.size(), m_scan_pos + std::max<size_t>(256, m_scan.size() / 16));
+    int dropped = 0;
+    for (; m_scan_pos < end; ++m_scan_pos) {
+        const ChunkCoord c = m_scan[m_scan_pos];
+        auto it = m_chunks.find(c);
+        if (it == m_chunks.end())
+            continue;
         ChunkState& s = it->second;
-        if (s.outside && now - s.outside_since >= delay) {
-            const ChunkCoord c = it->first;
-            ++it;
-            drop(c, m_chunks.at(c));
-            ++m_unloaded;
-        } else {
-            ++it;
+        if (!beyond_unload(c)) {
+            s.outside = false;
+            continue;
         }
+        if (!s.outside) {
+            s.outside = true;
+            s.outside_since = now;
+        }
+        if (now - s.outside_since < delay)
+            continue;
+        if (dropped >= kMinDrops && Clock::now() >= deadline)
+            return; // Checked again on the next pass.
+        drop(c, s);
+        ++m_unloaded;
+        ++dropped;
     }
 }
 
@@ -318,7 +368,7 @@ Status ChunkStreamer::flush() {
 
 bool ChunkStreamer::settled() const {
     for (const auto& [c, s] : m_chunks)
-        if (s.data != Data::Present || (s.in_view && (!s.has_mesh || s.mesh_pending)))
+        if (s.data != Data::Present || (wants_mesh(c) && (!s.has_mesh || s.mesh_pending)))
             return false;
     return m_have_center;
 }
@@ -328,8 +378,9 @@ StreamingMetrics ChunkStreamer::metrics() const {
     for (const auto& [c, s] : m_chunks) {
         m.loaded += s.data == Data::Present;
         m.pending_data += s.data == Data::Requested;
-        m.wanted_meshes += s.in_view;
-        m.meshed += s.in_view && s.has_mesh && !s.mesh_pending;
+        const bool view = in_view(c);
+        m.wanted_meshes += view;
+        m.meshed += view && s.has_mesh && !s.mesh_pending;
         m.pending_meshes += s.mesh_pending;
         m.dirty += s.dirty;
     }

@@ -7,7 +7,9 @@
 // neighbours (view radius + 1) are loaded too, so every mesh sees its real neighbours and none is
 // ever remeshed because a neighbour arrived late. Chunks beyond the unload radius (view radius +
 // 1 + margin) for longer than the unload delay are saved if dirty, then dropped; the margin and
-// delay are the hysteresis that keeps chunks at the edge from thrashing.
+// delay are the hysteresis that keeps chunks at the edge from thrashing. The same radii also apply
+// around where the viewer will be in `lookahead_s` at its current velocity, so the chunks it
+// flies into are meshed before they enter the view.
 //
 // Threads: the streamer lives on one thread (the main thread): construct it, call update() once
 // per frame, edit, flush and destroy it there. Loads and saves run on the job system's serial I/O
@@ -39,6 +41,7 @@ struct StreamingSettings {
     double unload_delay_s = 3.0;   // Time outside the unload radius before a chunk is dropped.
     double save_delay_s = 1.0;     // Edited chunks are handed to the store within this time.
     double store_tick_s = 0.5;     // How often the store is asked to commit (its own bound: 1 s).
+    double lookahead_s = 1.5;      // Also mesh the view around where the viewer will be this soon.
     size_t memory_cap_bytes = 0;   // Block data cap (0: none). Never evicts inside the view radius.
     std::chrono::nanoseconds frame_budget{std::chrono::milliseconds(2)}; // Main-thread work per update().
     int worker_count = 0;          // Pool workers (0: cores - 1, at least 1).
@@ -98,7 +101,6 @@ private:
     enum class Data : uint8_t { Requested, Present };
     struct ChunkState {
         Data data = Data::Requested;
-        bool in_view = false;       // Within the view radius: wants a mesh.
         bool has_mesh = false;      // `mesh` is current and was handed to the sink.
         bool mesh_pending = false;  // A mesh job is in flight.
         bool mesh_stale = false;    // The in-flight mesh job's snapshot is out of date.
@@ -116,18 +118,21 @@ private:
     void on_saved(world::ChunkCoord c, const std::string& error);
 
     void refresh_region(std::chrono::steady_clock::time_point now);
-    void request_data(world::ChunkCoord c);
+    std::unique_ptr<Job> request_data(world::ChunkCoord c);
     void put_chunk(world::ChunkCoord c, world::Chunk chunk);
     bool neighbours_present(world::ChunkCoord c) const;
     void schedule_meshes(std::chrono::steady_clock::time_point deadline);
     void request_mesh(world::ChunkCoord c, ChunkState& s);
-    void unload_far(std::chrono::steady_clock::time_point now);
+    void unload_far(std::chrono::steady_clock::time_point now, std::chrono::steady_clock::time_point deadline);
     void drop(world::ChunkCoord c, ChunkState& s);
     void save_dirty(std::chrono::steady_clock::time_point now, bool all);
     void enforce_memory_cap();
-    bool in_view(world::ChunkCoord c) const;
-    bool in_loaded_ring(world::ChunkCoord c) const;
+    bool near(world::ChunkCoord c, world::ChunkCoord center, int extra) const;
+    bool in_view(world::ChunkCoord c) const;        // The view radius around the viewer.
+    bool wants_mesh(world::ChunkCoord c) const;     // ... or around where it is heading.
+    bool in_loaded_ring(world::ChunkCoord c) const; // Either of those, plus one chunk.
     bool beyond_unload(world::ChunkCoord c) const;
+    void request_box(world::ChunkCoord center, std::vector<std::unique_ptr<Job>>& jobs);
 
     const world::TerrainGenerator& m_generator;
     world::ChunkStore* m_store;
@@ -137,8 +142,13 @@ private:
     world::EditMesher m_edits;
     std::unordered_map<world::ChunkCoord, ChunkState, world::ChunkCoordHash> m_chunks;
     std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_mesh_candidates;
+    std::vector<world::ChunkCoord> m_scan; // Chunks to check for unloading, a slice per frame.
+    size_t m_scan_pos = 0;
     world::ChunkCoord m_center{INT32_MIN};
+    world::ChunkCoord m_lead{INT32_MIN}; // Chunk the viewer reaches in lookahead_s at its velocity.
     bool m_have_center = false;
+    glm::dvec3 m_prev_position{0.0}, m_velocity{0.0}; // Blocks/s, smoothed over frames.
+    std::chrono::steady_clock::time_point m_prev_time{};
     std::chrono::steady_clock::time_point m_last_tick{};
     size_t m_block_bytes = 0;
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
