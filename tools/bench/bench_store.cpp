@@ -177,7 +177,7 @@ void BM_RecordEncode(benchmark::State& state) {
     state.counters["bytes_per_chunk"] = double(bytes) / double(n);
     state.counters["uniform_share"] = double(d.uniform) / double(d.chunks.size());
 }
-BENCHMARK(BM_RecordEncode)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RecordEncode)->Name("store/record_encode_zstd_level")->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
 
 void BM_RecordDecode(benchmark::State& state) {
     const Dataset& d = dataset();
@@ -194,7 +194,7 @@ void BM_RecordDecode(benchmark::State& state) {
         }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(recs.size()));
 }
-BENCHMARK(BM_RecordDecode)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RecordDecode)->Name("store/record_decode")->Unit(benchmark::kMillisecond);
 
 // Save every chunk into a fresh store in batches of 64, then flush (one durable commit, fsync).
 void BM_StoreSave(benchmark::State& state) {
@@ -228,7 +228,7 @@ void BM_StoreSave(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(d.chunks.size()));
     state.counters["file_bytes_per_chunk"] = file_bytes / double(d.chunks.size());
 }
-BENCHMARK(BM_StoreSave)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StoreSave)->Name("store/sqlite_save")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Load every chunk of a store written once, in a shuffled order (streaming order is not key order).
 void BM_StoreLoad(benchmark::State& state) {
@@ -259,7 +259,7 @@ void BM_StoreLoad(benchmark::State& state) {
         }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(d.chunks.size()));
 }
-BENCHMARK(BM_StoreLoad)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StoreLoad)->Name("store/sqlite_load")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 } // namespace vx::world
