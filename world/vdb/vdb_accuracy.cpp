@@ -111,7 +111,7 @@ Result<std::vector<AccuracyRow>> measure_vdb_accuracy(const std::string& path, s
         Result<VolumeImport> ref = timed_import(path, o, seconds);
         if (!ref)
             return Error{ref.error()};
-        for (VolumeSampling s : {VolumeSampling::Adaptive, VolumeSampling::CentreOnly}) {
+        for (VolumeSampling s : {VolumeSampling::Adaptive, VolumeSampling::VoxelMajority, VolumeSampling::CentreOnly}) {
             o.sampling = s;
             o.samples_per_axis = base.samples_per_axis;
             Result<VolumeImport> imp = timed_import(path, o, seconds);

@@ -28,7 +28,8 @@ struct AccuracyRow {
 };
 
 // Imports grid `base.grid_index` / `base.grid_name` of `path` at each block size with the
-// Adaptive and CentreOnly samplings and compares with the 8³ reference. Not thread-safe (times
+// Adaptive, VoxelMajority and CentreOnly samplings (rows in that order per block size) and
+// compares each with the 8³ reference. Not thread-safe (times
 // itself); run it alone for meaningful times.
 Result<std::vector<AccuracyRow>> measure_vdb_accuracy(const std::string& path, std::span<const int> block_sizes,
                                                       const VolumeImportOptions& base = {});

@@ -6,6 +6,8 @@
 
 #include <unistd.h>
 
+#include <tbb/task_arena.h>
+
 namespace vx::vdb::detail {
 
 Error make_error(std::string_view context, std::string_view what) {
@@ -39,6 +41,12 @@ Status replace_file(const std::string& from, const std::string& to) {
         return make_error("cannot rename '" + from + "' to '" + to + "'", ec.message());
     }
     return {};
+}
+
+void run_in_calling_thread(const std::function<void()>& f) {
+    // One slot, reserved for this thread: the arena never asks TBB for workers.
+    tbb::task_arena arena(1, 1);
+    arena.execute(f);
 }
 
 } // namespace vx::vdb::detail

@@ -123,6 +123,15 @@ struct Neighbourhood {
                     max = std::max(max, v);
                 }
     }
+    // Mean of the inner voxels (the block itself, without the one-voxel margin).
+    double inner_mean() const {
+        double sum = 0;
+        for (int z = 1; z < dim - 1; ++z)
+            for (int y = 1; y < dim - 1; ++y)
+                for (int x = 1; x < dim - 1; ++x)
+                    sum += std::isfinite(at(x, y, z)) ? at(x, y, z) : 0.0;
+        return sum / double((dim - 2) * (dim - 2) * (dim - 2));
+    }
     // Trilinear value at continuous index position p (p - lo must lie in [0, dim - 1]).
     double sample(const glm::dvec3& p) const {
         const glm::dvec3 q = p - glm::dvec3(lo.x(), lo.y(), lo.z());
@@ -153,7 +162,7 @@ private:
     bool supersample(const glm::i64vec3& src, bool refine);
     int count_inside(const glm::i64vec3& org, int s) const;
     bool inside(double v) const { return m_level_set ? v < 0 : v >= m_threshold; }
-    bool fog_majority(const glm::i64vec3& src, float& mean);
+    bool voxel_majority(const glm::i64vec3& src, float& mean);
     void mark_active_chunks();
     void add_chunks(openvdb::CoordBBox b);
     bool fill_chunk(ChunkCoord c, bool active, std::vector<BlockId>& ids);
@@ -283,9 +292,9 @@ template <class GridT> bool VolumeImporter<GridT>::supersample(const glm::i64vec
     return 2 * votes > s * s * s;
 }
 
-// Fog: more than half of the block's voxels at or above the threshold. `mean` gets the block's
-// mean value relative to the grid's max.
-template <class GridT> bool VolumeImporter<GridT>::fog_majority(const glm::i64vec3& src, float& mean) {
+// More than half of the block's voxels inside (box reconstruction: no interpolation). `mean`
+// gets the block's mean value relative to the grid's max.
+template <class GridT> bool VolumeImporter<GridT>::voxel_majority(const glm::i64vec3& src, float& mean) {
     const glm::i64vec3 org = src * int64_t(m_b);
     const openvdb::Coord o(int32_t(org.x), int32_t(org.y), int32_t(org.z));
     int dense = 0;
@@ -294,7 +303,7 @@ template <class GridT> bool VolumeImporter<GridT>::fog_majority(const glm::i64ve
         for (int y = 0; y < m_b; ++y)
             for (int x = 0; x < m_b; ++x) {
                 const double v = double(m_acc.getValue(o.offsetBy(x, y, z)));
-                dense += v >= m_threshold ? 1 : 0;
+                dense += inside(v) ? 1 : 0;
                 sum += std::isfinite(v) ? v : 0.0;
             }
     const int volume = m_b * m_b * m_b;
@@ -304,26 +313,33 @@ template <class GridT> bool VolumeImporter<GridT>::fog_majority(const glm::i64ve
 
 template <class GridT> bool VolumeImporter<GridT>::solid(const glm::i64vec3& src, float& mean) {
     const glm::dvec3 centre = glm::dvec3(src * int64_t(m_b)) + 0.5 * (m_b - 1);
+    mean = 0.f;
     switch (m_o.sampling) {
     case VolumeSampling::CentreOnly: {
         const double v = sample(centre);
         mean = float(v / m_max);
-        return m_level_set ? v < 0 : v >= m_threshold;
+        return inside(v);
     }
-    case VolumeSampling::Supersample:
-        mean = m_level_set ? 0.f : float(sample(centre) / m_max);
-        return supersample(src, false);
+    case VolumeSampling::VoxelMajority:
+        return voxel_majority(src, mean);
+    case VolumeSampling::Supersample: {
+        const bool in = supersample(src, false);
+        mean = float(m_hood.inner_mean() / m_max);
+        return in;
+    }
     case VolumeSampling::Adaptive:
         break;
     }
-    if (!m_level_set)
-        return fog_majority(src, mean);
+    if (!m_level_set) {
+        const bool in = supersample(src, true);
+        mean = float(m_hood.inner_mean() / m_max);
+        return in;
+    }
     // Signed distances are in world units; a zero crossing inside the block lies within half a
     // block diagonal of its centre (distance fields are 1-Lipschitz); one voxel of slack covers
     // interpolation and narrow-band clamping.
     const double phi = sample(centre) / m_voxel;
     const double near = 0.5 * std::sqrt(3.0) * m_b + 1.0;
-    mean = 0.f;
     if (std::abs(phi) < near)
         return supersample(src, true);
     return phi < 0;
@@ -477,7 +493,7 @@ GridInfo describe(const openvdb::GridBase& g, int index) {
 
 } // namespace
 
-Result<std::vector<GridInfo>> list_grids(const std::string& path) {
+static Result<std::vector<GridInfo>> list_grids_impl(const std::string& path) {
     try {
         Result<openvdb::GridPtrVecPtr> grids = read_all_grids(path);
         if (!grids)
@@ -493,7 +509,7 @@ Result<std::vector<GridInfo>> list_grids(const std::string& path) {
     }
 }
 
-Result<VolumeImport> import_volume(const std::string& path, const VolumeImportOptions& options) {
+static Result<VolumeImport> import_volume_impl(const std::string& path, const VolumeImportOptions& options) {
     if (Status s = check_options(options); !s)
         return Error{s.error()};
     try {
@@ -527,9 +543,18 @@ const char* to_string(VolumeSampling sampling) {
     switch (sampling) {
     case VolumeSampling::Adaptive: return "adaptive";
     case VolumeSampling::CentreOnly: return "centre";
+    case VolumeSampling::VoxelMajority: return "voxels";
     case VolumeSampling::Supersample: return "supersample";
     }
     return "?";
+}
+
+Result<std::vector<GridInfo>> list_grids(const std::string& path) {
+    return detail::serial<Result<std::vector<GridInfo>>>([&] { return list_grids_impl(path); });
+}
+
+Result<VolumeImport> import_volume(const std::string& path, const VolumeImportOptions& options) {
+    return detail::serial<Result<VolumeImport>>([&] { return import_volume_impl(path, options); });
 }
 
 } // namespace vx::vdb

@@ -7,15 +7,20 @@
 // B*bx + (B - 1) / 2 (a voxel centre for odd B, between voxels for even B, where the value is
 // interpolated trilinearly). The world block is (bx, by, bz) + offset.
 //
-// Classification:
-//   level set: a block is solid when the signed distance at its centre is negative. Blocks whose
-//     centre lies within about one block of the zero crossing (|phi| < half a block diagonal +
-//     one voxel) are supersampled (samples_per_axis³ points, majority vote) instead, which fixes
-//     the centre-only error along the surface. Values outside the narrow band are inactive and
-//     carry +-background; their sign is used as is (the interior is inside).
-//   fog: a voxel is dense when its value >= threshold * (the grid's largest active value); a block
-//     is solid when more than half of its B³ voxels are dense (majority vote). Inactive voxels
-//     count as the background (which must be below the threshold).
+// Classification (VolumeSampling::Adaptive, the default): the volume is the trilinear
+// interpolation of the voxel values; a block is solid when more than half of its volume is inside,
+// estimated by supersampling (samples_per_axis³ points, redone at twice the rate per axis when the
+// vote is within 15% of a tie; an exact tie goes to the centre sample). Blocks that cannot
+// straddle the surface skip supersampling:
+//   level set: inside = negative signed distance. A block whose centre lies farther than half a
+//     block diagonal + one voxel from the zero crossing takes the sign at its centre. Values
+//     outside the narrow band are inactive and carry +-background; their sign is used as is (the
+//     interior is inside; no pruneInactive, which would flip it).
+//   fog: inside = value >= threshold * (the grid's largest active value). A block whose
+//     neighbourhood voxels are all on one side of the threshold is decided without sampling
+//     (trilinear values lie between their corners'). Inactive voxels count as the background,
+//     which must be below the threshold.
+// Chunks no leaf or active tile touches are decided by one sample (uniform).
 // Untrusted input: bounds come from the tree (never from file metadata), empty grids, point grids,
 // vector grids and sizes above max_blocks are refused, every OpenVDB exception is caught.
 
@@ -54,9 +59,11 @@ enum class VolumeMode {
 };
 
 enum class VolumeSampling {
-    Adaptive,    // Level set: centre sample, supersampled near the surface; fog: majority of voxels.
-    CentreOnly,  // One (trilinear) sample at each block centre. Cheaper, less accurate.
-    Supersample, // samples_per_axis³ trilinear samples per block everywhere, majority vote (reference).
+    Adaptive,      // Supersample (with refinement) where the block may straddle the surface: level
+                   // sets test the centre's distance first; fog tests the block's neighbourhood range.
+    CentreOnly,    // One (trilinear) sample at each block centre. Cheapest, least accurate.
+    VoxelMajority, // More than half of the block's B³ voxels inside (box filter, no interpolation).
+    Supersample,   // samples_per_axis³ trilinear samples per block, majority vote (the reference).
 };
 
 // Maps a fog block's mean relative density (mean of its voxels / max) to a block id: the entry
@@ -76,7 +83,7 @@ struct VolumeImportOptions {
     std::vector<DensityBlock> density_blocks; // Fog only: overrides `block` when not empty.
     world::BlockPos offset{0};                // Added to every block coordinate.
     VolumeSampling sampling = VolumeSampling::Adaptive;
-    int samples_per_axis = 4;                 // Supersampling density, 1..16.
+    int samples_per_axis = 4;                 // Supersampling density, 1..16 (refinement doubles it, up to 16).
     uint64_t max_blocks = uint64_t(1) << 28;  // Refuse volumes whose block bbox holds more blocks.
 };
 

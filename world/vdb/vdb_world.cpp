@@ -325,7 +325,7 @@ Result<openvdb::Int32Grid::Ptr> read_blocks_grid(const std::string& path, const 
 
 } // namespace
 
-Status export_vdb(const world::World& w, const std::string& path, const VdbExportOptions& options) {
+static Status export_vdb_impl(const world::World& w, const std::string& path, const VdbExportOptions& options) {
     const std::string tmp = detail::temp_path_beside(path);
     try {
         openvdb::initialize();
@@ -351,7 +351,7 @@ Status export_vdb(const world::World& w, const std::string& path, const VdbExpor
     return detail::replace_file(tmp, path);
 }
 
-Result<world::World> import_world_vdb(const std::string& path, const VdbWorldImportOptions& options) {
+static Result<world::World> import_world_vdb_impl(const std::string& path, const VdbWorldImportOptions& options) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         return Error{"cannot read '" + path + "': no such file"};
@@ -369,6 +369,14 @@ Result<world::World> import_world_vdb(const std::string& path, const VdbWorldImp
     } catch (...) {
         return detail::make_error("cannot read '" + path + "'", "unknown error");
     }
+}
+
+Status export_vdb(const world::World& w, const std::string& path, const VdbExportOptions& options) {
+    return detail::serial<Status>([&] { return export_vdb_impl(w, path, options); });
+}
+
+Result<world::World> import_world_vdb(const std::string& path, const VdbWorldImportOptions& options) {
+    return detail::serial<Result<world::World>>([&] { return import_world_vdb_impl(path, options); });
 }
 
 } // namespace vx::vdb
