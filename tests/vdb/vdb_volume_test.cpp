@@ -298,3 +298,64 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
 
 } // namespace
 } // namespace vx::vdb
+
+#include "world/vdb/vdb_isolated.h"
+
+namespace vx::vdb {
+namespace {
+
+TEST(VdbIsolated, SameResultAsInProcess) {
+    VX_REQUIRE_VDB_DATA();
+    const std::string path = data_path("arnoldusd_grids.vdb");
+    VolumeImportOptions o;
+    o.grid_index = 1;
+    o.block_size = 2;
+    o.offset = BlockPos(-(int64_t(1) << 30), 3, 99);
+    Result<VolumeImport> a = import_volume(path, o);
+    Result<VolumeImport> b = import_volume_isolated(path, o);
+    ASSERT_TRUE(a.ok() && b.ok()) << (b.ok() ? a.error() : b.error());
+    EXPECT_TRUE(test::same_blocks(a->world, b->world));
+    EXPECT_EQ(a->summary.solid_blocks, b->summary.solid_blocks);
+    EXPECT_EQ(a->summary.grid_name, b->summary.grid_name);
+    EXPECT_EQ(a->summary.blocks.min, b->summary.blocks.min);
+    EXPECT_EQ(a->summary.blocks.max, b->summary.blocks.max);
+    EXPECT_EQ(a->summary.max_value, b->summary.max_value);
+
+    Result<std::vector<GridInfo>> g1 = list_grids(path), g2 = list_grids_isolated(path);
+    ASSERT_TRUE(g1.ok() && g2.ok());
+    ASSERT_EQ(g1->size(), g2->size());
+    for (size_t i = 0; i < g1->size(); ++i) {
+        EXPECT_EQ((*g1)[i].name, (*g2)[i].name);
+        EXPECT_EQ((*g1)[i].active_voxels, (*g2)[i].active_voxels);
+        EXPECT_EQ((*g1)[i].bbox_max, (*g2)[i].bbox_max);
+    }
+}
+
+TEST(VdbIsolated, ErrorsComeBackFromTheChild) {
+    VX_REQUIRE_VDB_DATA();
+    Result<VolumeImport> r = import_volume_isolated(data_path("gaffer_points.vdb"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("point-data"), std::string::npos) << r.error();
+    r = import_volume_isolated(data_path("damaged/oiio_truncated.vdb"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().find('\n'), std::string::npos);
+    Result<world::World> w = import_world_vdb_isolated(data_path("oiio_sphere.vdb"));
+    ASSERT_FALSE(w.ok());
+    EXPECT_NE(w.error().find("'blocks'"), std::string::npos) << w.error();
+}
+
+TEST(VdbIsolated, WorldRoundTrip) {
+    world::World w;
+    for (int i = 0; i < 100; ++i)
+        w.set_block(BlockPos(i * 7 % 61, i, -i * 3), world::BlockId(1 + i % 11));
+    w.put_chunk(world::ChunkCoord(5, 5, 5), world::Chunk(world::BlockId(7)));
+    test::TempDir dir;
+    const std::string path = dir.file("w.vdb");
+    ASSERT_TRUE(export_vdb(w, path).ok());
+    Result<world::World> back = import_world_vdb_isolated(path);
+    ASSERT_TRUE(back.ok()) << back.error();
+    EXPECT_TRUE(test::same_blocks(w, *back));
+}
+
+} // namespace
+} // namespace vx::vdb
