@@ -1,6 +1,7 @@
 // Import of real VDB files written by other tools (shared/data/vdb, see its PROVENANCE.md).
 
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -112,7 +113,9 @@ TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.file);
-        for (int b : {1, 3}) {
+        // Block size 1 on the two large files costs seconds in sanitizer builds; 4 suffices there.
+        const bool large = std::string(c.file) == "arnoldusd_smoke.vdb" || std::string(c.file) == "gaffer_vdbtest_sphere.vdb";
+        for (int b : large ? std::vector<int>{4} : std::vector<int>{1, 3}) {
             VolumeImportOptions o;
             o.block_size = b;
             Result<VolumeImport> r = import_volume(data_path(c.file), o);
@@ -221,17 +224,19 @@ TEST(VdbVolume, DensityMapsToBlocks) {
 
 TEST(VdbVolume, LargerBlocksCoverTheSameShape) {
     VX_REQUIRE_VDB_DATA();
-    // Solid volume in voxels stays about the same as B grows: B³ * solid(B) ~ solid(1).
+    // Solid volume in voxels stays about the same as B grows: B³ * solid(B) ~ 8 * solid(2).
     const std::string path = data_path("gaffer_vdbtest_sphere.vdb");
-    Result<VolumeImport> one = import_volume(path);
-    ASSERT_TRUE(one.ok());
-    for (int b : {2, 4, 8}) {
-        VolumeImportOptions o;
+    VolumeImportOptions o;
+    o.block_size = 2;
+    Result<VolumeImport> two = import_volume(path, o);
+    ASSERT_TRUE(two.ok());
+    const double base = 8.0 * double(two->summary.solid_blocks);
+    for (int b : {4, 8}) {
         o.block_size = b;
         Result<VolumeImport> r = import_volume(path, o);
         ASSERT_TRUE(r.ok()) << r.error();
         const double voxels = double(r->summary.solid_blocks) * b * b * b;
-        EXPECT_NEAR(voxels, double(one->summary.solid_blocks), 0.02 * double(one->summary.solid_blocks)) << b;
+        EXPECT_NEAR(voxels, base, 0.02 * base) << b;
     }
 }
 
@@ -285,7 +290,11 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
             for (int64_t y = -n; y <= n; ++y)
                 for (int64_t x = -n; x <= n; ++x) {
                     const BlockPos b(x, y, z);
-                    const bool truth = ball_fraction(b, bs, r) > 0.5;
+                    // Blocks whose centre is more than half a diagonal from the sphere lie wholly
+                    // on one side; only the shell needs the 8³ estimate.
+                    const double d = glm::length(glm::dvec3(b * int64_t(bs)) + 0.5 * (bs - 1)) - r;
+                    const double half_diagonal = 0.5 * std::sqrt(3.0) * bs;
+                    const bool truth = std::abs(d) > half_diagonal ? d < 0 : ball_fraction(b, bs, r) > 0.5;
                     const bool got = imp->world.get_block(b) != world::kAir;
                     both += truth && got;
                     either += truth || got;

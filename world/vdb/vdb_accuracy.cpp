@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <unordered_set>
 
 namespace vx::vdb {
@@ -121,6 +122,33 @@ Result<std::vector<AccuracyRow>> measure_vdb_accuracy(const std::string& path, s
         }
     }
     return rows;
+}
+
+Result<WorldRoundTripStats> measure_world_roundtrip(const world::World& w, const std::string& path) {
+    WorldRoundTripStats st;
+    st.chunks = w.chunk_count();
+    auto t0 = std::chrono::steady_clock::now();
+    if (Status s = export_vdb(w, path); !s)
+        return Error{s.error()};
+    auto t1 = std::chrono::steady_clock::now();
+    Result<world::World> back = import_world_vdb(path);
+    auto t2 = std::chrono::steady_clock::now();
+    if (!back)
+        return Error{back.error()};
+    std::error_code ec;
+    st.file_bytes = std::filesystem::file_size(path, ec);
+    st.export_seconds = std::chrono::duration<double>(t1 - t0).count();
+    st.import_seconds = std::chrono::duration<double>(t2 - t1).count();
+    const Comparison c = compare(*back, w);
+    // Solid/air agreement is not enough: compare ids too.
+    bool same = c.mismatches.empty();
+    w.for_each_chunk([&](ChunkCoord cc, const world::Chunk& chunk) {
+        const world::Chunk* o = back->find_chunk(cc);
+        for (int i = 0; same && i < world::kChunkVolume; ++i)
+            same = chunk.get(i) == (o ? o->get(i) : world::kAir);
+    });
+    st.exact = same;
+    return st;
 }
 
 std::string format_accuracy_table(std::span<const AccuracyRow> rows) {

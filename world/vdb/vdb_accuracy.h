@@ -34,6 +34,18 @@ struct AccuracyRow {
 Result<std::vector<AccuracyRow>> measure_vdb_accuracy(const std::string& path, std::span<const int> block_sizes,
                                                       const VolumeImportOptions& base = {});
 
+struct WorldRoundTripStats {
+    uint64_t chunks = 0;        // Chunks of the world.
+    uint64_t file_bytes = 0;    // Size of the .vdb.
+    double export_seconds = 0;  // export_vdb, file write included.
+    double import_seconds = 0;  // import_world_vdb, file read included.
+    bool exact = false;         // Every block read back equal.
+};
+
+// Exports `world` to `path`, reads it back and compares. For `vx bench vdb`. Not thread-safe with
+// respect to `world`.
+Result<WorldRoundTripStats> measure_world_roundtrip(const world::World& world, const std::string& path);
+
 // A fixed-width text table of rows, one line each, with a header. Thread-safe.
 std::string format_accuracy_table(std::span<const AccuracyRow> rows);
 

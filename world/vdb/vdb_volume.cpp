@@ -272,9 +272,9 @@ template <class GridT> int VolumeImporter<GridT>::count_inside(const glm::i64vec
 
 // Majority of samples_per_axis³ samples on a regular grid inside the block. Blocks whose whole
 // neighbourhood lies on one side of the threshold skip sampling (trilinear values lie between
-// their corners' values, so that answer is exact). With `refine`, a vote within 15% of a tie is
-// redone at twice the rate per axis: close votes are where a coarse estimate of the solid
-// fraction flips.
+// their corners' values, so that answer is exact). With `refine`, a solid fraction within 0.075
+// of one half is redone at twice the rate per axis: close votes are where a coarse estimate
+// flips.
 template <class GridT> bool VolumeImporter<GridT>::supersample(const glm::i64vec3& src, bool refine) {
     const glm::i64vec3 org = src * int64_t(m_b);
     m_hood.fetch(m_acc, openvdb::Coord(int32_t(org.x - 1), int32_t(org.y - 1), int32_t(org.z - 1)), m_b + 2);

@@ -9,9 +9,9 @@
 //
 // Classification (VolumeSampling::Adaptive, the default): the volume is the trilinear
 // interpolation of the voxel values; a block is solid when more than half of its volume is inside,
-// estimated by supersampling (samples_per_axis³ points, redone at twice the rate per axis when the
-// vote is within 15% of a tie; an exact tie goes to the centre sample). Blocks that cannot
-// straddle the surface skip supersampling:
+// estimated by supersampling (samples_per_axis³ points, redone at twice the rate per axis when
+// the solid fraction is within 0.075 of one half; an exact tie goes to the centre sample). Blocks
+// that cannot straddle the surface skip supersampling:
 //   level set: inside = negative signed distance. A block whose centre lies farther than half a
 //     block diagonal + one voxel from the zero crossing takes the sign at its centre. Values
 //     outside the narrow band are inactive and carry +-background; their sign is used as is (the
