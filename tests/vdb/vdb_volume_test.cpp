@@ -279,7 +279,9 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
     // Independent ground truth: ls_sphere is a sphere of radius 3.0 at the origin with voxel
     // 0.05, i.e. 60 voxels (vdb_print: band bbox +-62 = 60 + 3 voxels of band, rounded).
     const double r = 60.0;
-    for (int bs : {1, 2, 4, 8}) {
+    // Block size 1 is LevelSetSphereFromOldFormatHalfFloats (volume and sample blocks); it takes
+    // seconds in sanitizer builds.
+    for (int bs : {2, 4, 8}) {
         VolumeImportOptions o;
         o.block_size = bs;
         Result<VolumeImport> imp = import_volume(data_path("gaffer_vdbtest_sphere.vdb"), o);

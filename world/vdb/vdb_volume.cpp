@@ -28,14 +28,15 @@ std::string quoted_name(const openvdb::GridBase& g, int index) {
     return g.getName().empty() ? "#" + std::to_string(index) + " (unnamed)" : "'" + g.getName() + "'";
 }
 
-Result<openvdb::GridPtrVecPtr> read_all_grids(const std::string& path) {
+// Reads every grid of `path`: with trees when `trees`, else metadata only.
+Result<openvdb::GridPtrVecPtr> read_grids(const std::string& path, bool trees) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         return Error{"cannot read '" + path + "': no such file"};
     openvdb::initialize();
     openvdb::io::File file(path);
     file.open(false); // No delayed loading: every read error surfaces inside the caller's try.
-    openvdb::GridPtrVecPtr grids = file.getGrids();
+    openvdb::GridPtrVecPtr grids = trees ? file.getGrids() : file.readAllGridMetadata();
     file.close();
     if (!grids || grids->empty())
         return Error{"'" + path + "' holds no grids"};
@@ -43,6 +44,28 @@ Result<openvdb::GridPtrVecPtr> read_all_grids(const std::string& path) {
         if (!g)
             return Error{"'" + path + "' holds a grid that could not be read"};
     return grids;
+}
+
+// Reads grid `index` with its tree: alone when its name is unique in the file (OpenVDB reads by
+// name), else together with all the others.
+Result<openvdb::GridBase::Ptr> read_one_grid(const std::string& path, const openvdb::GridPtrVec& meta, int index) {
+    const std::string& name = meta[size_t(index)]->getName();
+    const auto same = std::count_if(meta.begin(), meta.end(), [&](const auto& g) { return g->getName() == name; });
+    if (same == 1 && !name.empty()) {
+        openvdb::io::File file(path);
+        file.open(false);
+        openvdb::GridBase::Ptr g = file.readGrid(name);
+        file.close();
+        if (!g)
+            return Error{"cannot read grid '" + name + "' of '" + path + "'"};
+        return g;
+    }
+    Result<openvdb::GridPtrVecPtr> all = read_grids(path, true);
+    if (!all)
+        return Error{all.error()};
+    if ((*all)->size() != meta.size())
+        return Error{"'" + path + "' changed while being read"};
+    return (**all)[size_t(index)];
 }
 
 bool is_scalar(const openvdb::GridBase& g) {
@@ -495,7 +518,7 @@ GridInfo describe(const openvdb::GridBase& g, int index) {
 
 static Result<std::vector<GridInfo>> list_grids_impl(const std::string& path) {
     try {
-        Result<openvdb::GridPtrVecPtr> grids = read_all_grids(path);
+        Result<openvdb::GridPtrVecPtr> grids = read_grids(path, true);
         if (!grids)
             return Error{grids.error()};
         std::vector<GridInfo> out;
@@ -513,13 +536,16 @@ static Result<VolumeImport> import_volume_impl(const std::string& path, const Vo
     if (Status s = check_options(options); !s)
         return Error{s.error()};
     try {
-        Result<openvdb::GridPtrVecPtr> grids = read_all_grids(path);
-        if (!grids)
-            return Error{grids.error()};
-        Result<int> index = select_grid(**grids, options);
+        Result<openvdb::GridPtrVecPtr> meta = read_grids(path, false);
+        if (!meta)
+            return Error{meta.error()};
+        Result<int> index = select_grid(**meta, options);
         if (!index)
             return Error{"cannot import '" + path + "': " + index.error()};
-        Result<VolumeImport> r = import_grid((**grids)[size_t(*index)], *index, options);
+        Result<openvdb::GridBase::Ptr> grid = read_one_grid(path, **meta, *index);
+        if (!grid)
+            return Error{grid.error()};
+        Result<VolumeImport> r = import_grid(*grid, *index, options);
         if (!r)
             return Error{"cannot import '" + path + "': " + r.error()};
         return r;

@@ -49,7 +49,7 @@ struct GridInfo {
     bool saved_as_half = false;    // File metadata "is_saved_as_half_float".
 };
 
-// Lists every grid of a VDB file (reading all of them). Thread-safe.
+// Lists every grid of a VDB file (reading all of them). Runs in the calling thread. Thread-safe.
 Result<std::vector<GridInfo>> list_grids(const std::string& path);
 
 enum class VolumeMode {
@@ -107,9 +107,11 @@ struct VolumeImport {
 
 // Converts one grid of a VDB file to blocks (see the top of this header). The result is a new
 // World with the default registry; nothing on disk changes, so a failed import leaves any output
-// untouched. Fails with a one-line reason naming the option to change. Thread-safe.
+// untouched. Fails with a one-line reason naming the option to change. Runs in the calling thread.
+// Thread-safe. For untrusted files see import_volume_isolated (vdb_isolated.h).
 Result<VolumeImport> import_volume(const std::string& path, const VolumeImportOptions& options = {});
 
+// Option names as a CLI would spell them ("levelset", "centre", ...). Thread-safe.
 const char* to_string(VolumeMode mode);
 const char* to_string(VolumeSampling sampling);
 

@@ -29,7 +29,8 @@
 
 namespace vx::vdb {
 
-// An axis-aligned box of world blocks, both corners inclusive (world block coordinates).
+// An axis-aligned box of world blocks, both corners inclusive (world block coordinates). A plain
+// value: thread-safe to read.
 struct BlockBox {
     world::BlockPos min{0};
     world::BlockPos max{-1};
@@ -53,7 +54,8 @@ struct VdbExportOptions {
 // written to a temporary beside `path` and renamed over it only on success, so a failed export
 // leaves an existing file untouched. Fails (with a one-line reason) on I/O errors and on blocks
 // beyond kVdbCoordLimit. Streams chunk by chunk: memory is the OpenVDB tree plus one chunk.
-// Not thread-safe with respect to `world` (reads it); safe to call for different worlds at once.
+// Runs in the calling thread (OpenVDB's TBB work confined to a one-slot arena). Thread-safe as long
+// as nobody writes `world` meanwhile.
 Status export_vdb(const world::World& world, const std::string& path, const VdbExportOptions& options = {});
 
 struct VdbWorldImportOptions {
@@ -65,8 +67,9 @@ struct VdbWorldImportOptions {
 // block ids 0..65535; its registry metadata is optional). The registry comes from the file's
 // metadata when present, else the default registry. Partial import reads only the part of the
 // tree inside options.box. The result is a new World: nothing on disk changes, so a failed import
-// leaves any existing output untouched. Thread-safe (touches no shared state beyond OpenVDB's
-// registry, which it initializes once).
+// leaves any existing output untouched. Runs in the calling thread. Thread-safe (shares only
+// OpenVDB's type registry, which openvdb::initialize() fills once under a lock). For untrusted
+// files see import_world_vdb_isolated (vdb_isolated.h).
 Result<world::World> import_world_vdb(const std::string& path, const VdbWorldImportOptions& options = {});
 
 } // namespace vx::vdb
