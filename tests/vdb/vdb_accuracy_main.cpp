@@ -1,7 +1,7 @@
 // vx_vdb_accuracy [--samples N] [--grid I] [file.vdb ...]: accuracy and time of volume import at
 // block sizes 1, 2, 4, 8 against an 8³-supersampled reference, for the given files or every real
 // sample file.
-// vx_vdb_accuracy --world N: export/import time of an N x 4 x N-chunk terrain-like world.
+// vx_vdb_accuracy --world N [--no-zip]: export/import time of an N x 4 x N-chunk terrain world.
 
 #include <cmath>
 #include <cstdio>
@@ -38,19 +38,21 @@ vx::world::World terrain(int n) {
     return w;
 }
 
-int world_bench(int n) {
+int world_bench(int n, bool zip) {
     const vx::world::World w = terrain(n);
     const std::string path = "/tmp/vx_vdb_world_bench.vdb";
-    vx::Result<vx::vdb::WorldRoundTripStats> st = vx::vdb::measure_world_roundtrip(w, path);
+    vx::vdb::VdbExportOptions o;
+    o.compression = zip ? vx::vdb::VdbCompression::Zip : vx::vdb::VdbCompression::None;
+    vx::Result<vx::vdb::WorldRoundTripStats> st = vx::vdb::measure_world_roundtrip(w, path, o);
     std::remove(path.c_str());
     if (!st) {
         std::fprintf(stderr, "%s\n", st.error().c_str());
         return 1;
     }
     const double blocks = double(st->chunks) * vx::world::kChunkVolume;
-    std::printf("world %d x 4 x %d: %llu chunks, file %.2f MB (%.2f bytes/chunk), export %.3f s (%.1f Mblocks/s), "
+    std::printf("world %d x 4 x %d, %s: %llu chunks, file %.2f MB (%.2f bytes/chunk), export %.3f s (%.1f Mblocks/s), "
                 "import %.3f s (%.1f Mblocks/s), exact %s\n",
-                n, n, (unsigned long long)st->chunks, st->file_bytes / 1e6, double(st->file_bytes) / double(st->chunks),
+                n, n, zip ? "zip" : "no zip", (unsigned long long)st->chunks, st->file_bytes / 1e6, double(st->file_bytes) / double(st->chunks),
                 st->export_seconds, blocks / st->export_seconds / 1e6, st->import_seconds,
                 blocks / st->import_seconds / 1e6, st->exact ? "yes" : "NO");
     return st->exact ? 0 : 1;
@@ -59,8 +61,8 @@ int world_bench(int n) {
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc == 3 && std::string(argv[1]) == "--world")
-        return world_bench(std::atoi(argv[2]));
+    if (argc >= 3 && std::string(argv[1]) == "--world")
+        return world_bench(std::atoi(argv[2]), !(argc == 4 && std::string(argv[3]) == "--no-zip"));
     std::vector<std::string> files;
     vx::vdb::VolumeImportOptions base;
     for (int i = 1; i < argc; ++i) {

@@ -124,11 +124,12 @@ Result<std::vector<AccuracyRow>> measure_vdb_accuracy(const std::string& path, s
     return rows;
 }
 
-Result<WorldRoundTripStats> measure_world_roundtrip(const world::World& w, const std::string& path) {
+Result<WorldRoundTripStats> measure_world_roundtrip(const world::World& w, const std::string& path,
+                                                    const VdbExportOptions& options) {
     WorldRoundTripStats st;
     st.chunks = w.chunk_count();
     auto t0 = std::chrono::steady_clock::now();
-    if (Status s = export_vdb(w, path); !s)
+    if (Status s = export_vdb(w, path, options); !s)
         return Error{s.error()};
     auto t1 = std::chrono::steady_clock::now();
     Result<world::World> back = import_world_vdb(path);

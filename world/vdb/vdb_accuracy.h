@@ -44,7 +44,8 @@ struct WorldRoundTripStats {
 
 // Exports `world` to `path`, reads it back and compares. For `vx bench vdb`. Not thread-safe with
 // respect to `world`.
-Result<WorldRoundTripStats> measure_world_roundtrip(const world::World& world, const std::string& path);
+Result<WorldRoundTripStats> measure_world_roundtrip(const world::World& world, const std::string& path,
+                                                    const VdbExportOptions& options = {});
 
 // A fixed-width text table of rows, one line each, with a header. Thread-safe.
 std::string format_accuracy_table(std::span<const AccuracyRow> rows);

@@ -334,7 +334,9 @@ static Status export_vdb_impl(const world::World& w, const std::string& path, co
             return Error{"cannot export to '" + path + "': " + grid.error()};
         openvdb::io::File file(tmp);
         // ZIP rather than Blosc: zlib is part of every OpenVDB build, Blosc is optional.
-        file.setCompression(openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
+        file.setCompression(options.compression == VdbCompression::Zip
+                                ? openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK
+                                : openvdb::io::COMPRESS_ACTIVE_MASK);
         openvdb::MetaMap meta;
         meta.insertMeta("creator", openvdb::StringMetadata("vx"));
         file.write(openvdb::GridCPtrVec{*grid}, meta);

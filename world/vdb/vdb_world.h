@@ -11,7 +11,8 @@
 //     "_reflectivity" (float), "_emission" (vec3s, linear RGB radiance) and "_opaque" (bool) per
 //     registered id, and "vx_box_min"/"vx_box_max" (vec3i, inclusive) when a box was exported.
 //   - file metadata: "creator" = "vx".
-//   - compression ZIP + active mask (no Blosc), which every OpenVDB build can read.
+//   - compression ZIP + active mask by default (no Blosc: it is optional in OpenVDB builds, zlib
+//     is not), or active mask only.
 //
 // Coordinates: block (x, y, z) is VDB voxel (x, y, z) in index space. OpenVDB index coordinates
 // name voxel centres, so the grid's transform is "voxel size 1, translated by +0.5": voxel
@@ -46,8 +47,14 @@ struct BlockBox {
 // overflow.
 inline constexpr int64_t kVdbCoordLimit = (int64_t(1) << 31) - (int64_t(1) << 13);
 
+enum class VdbCompression {
+    Zip,  // zlib per node: small files; zlib is in every OpenVDB build. ~1 ms per mixed chunk.
+    None, // Active-mask compression only: larger files, faster to write.
+};
+
 struct VdbExportOptions {
     std::optional<BlockBox> box; // Export only these blocks; the whole world when empty.
+    VdbCompression compression = VdbCompression::Zip;
 };
 
 // Writes `world` (or its blocks inside options.box) to `path` as described above. The file is
