@@ -31,10 +31,16 @@ Chunk Chunk::from_dense(std::span<const BlockId> ids) {
     std::unordered_map<BlockId, uint16_t> big;
     BlockId last_id = first;
     uint16_t last_entry = 0;
+    size_t run_start = 0;
     pal->ids.push_back(first);
+    pal->counts.push_back(0);
     for (size_t i = 0; i < ids.size(); ++i) {
         const BlockId id = ids[i];
         if (id != last_id) {
+            // Counts are added per run: a per-block increment is a chain of dependent
+            // read-modify-writes on one counter, which cost more than the whole palette search.
+            pal->counts[last_entry] += uint16_t(i - run_start);
+            run_start = i;
             last_id = id;
             const size_t n = pal->ids.size();
             size_t e = 0;
@@ -47,6 +53,7 @@ Chunk Chunk::from_dense(std::span<const BlockId> ids) {
             }
             if (e == n) {
                 pal->ids.push_back(id);
+                pal->counts.push_back(0);
                 if (n == 32)
                     for (size_t k = 0; k < pal->ids.size(); ++k)
                         big.emplace(pal->ids[k], uint16_t(k));
@@ -57,13 +64,20 @@ Chunk Chunk::from_dense(std::span<const BlockId> ids) {
         }
         local[i] = last_entry;
     }
-    pal->counts.assign(pal->ids.size(), 0);
-    for (uint16_t e : local)
-        ++pal->counts[e];
+    pal->counts[last_entry] += uint16_t(ids.size() - run_start);
     pal->indices = PackedArray(kChunkVolume, bits_for_count(uint32_t(pal->ids.size())));
     pal->indices.set_all(local.data());
     Chunk c;
     c.m_palette = std::move(pal);
+    return c;
+}
+
+Chunk Chunk::from_palette(ChunkPalette palette) {
+    VX_ASSERT(palette.ids.size() >= 2 && palette.ids.size() == palette.counts.size());
+    VX_ASSERT(palette.indices.size() == uint32_t(kChunkVolume));
+    VX_ASSERT(size_t(1) << palette.indices.bits() >= palette.ids.size());
+    Chunk c;
+    c.m_palette = std::make_unique<ChunkPalette>(std::move(palette));
     return c;
 }
 

@@ -35,6 +35,10 @@ public:
 
     // Builds a chunk from kChunkVolume ids in local-index order.
     static Chunk from_dense(std::span<const BlockId> ids);
+    // Adopts palette storage as is (the chunk record decoder). Preconditions, checked by the
+    // caller: ids.size() == counts.size() >= 2, indices.size() == kChunkVolume, every index <
+    // ids.size(), counts match the indices, no id repeats, and no count equals kChunkVolume.
+    static Chunk from_palette(ChunkPalette palette);
     // Writes kChunkVolume ids in local-index order.
     void to_dense(std::span<BlockId> out) const;
 

@@ -1,6 +1,7 @@
 #include "world/chunk_mesh.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "world/base/assert.h"
 
@@ -89,7 +90,15 @@ bool operator==(const ChunkMesh& a, const ChunkMesh& b) {
         return false;
     for (int s = 0; s < kSliceCount; ++s) {
         auto sa = a.slice(s), sb = b.slice(s);
-        if (!std::equal(sa.begin(), sa.end(), sb.begin(), sb.end()))
+        if (std::equal(sa.begin(), sa.end(), sb.begin(), sb.end()))
+            continue;
+        // Same quads in another order still describe the same surface.
+        std::vector<Quad> qa(sa.begin(), sa.end()), qb(sb.begin(), sb.end());
+        auto key = [](const Quad& q) { return (uint64_t(q.packed) << 16) | q.block; };
+        auto less = [&](const Quad& x, const Quad& y) { return key(x) < key(y); };
+        std::sort(qa.begin(), qa.end(), less);
+        std::sort(qb.begin(), qb.end(), less);
+        if (qa != qb)
             return false;
     }
     return true;

@@ -84,7 +84,7 @@ public:
     void push(const Quad& q) { m_quads.push_back(q); }
     void end();
 
-    // Slices equal (order inside a slice included).
+    // Every slice holds the same quads (in any order).
     friend bool operator==(const ChunkMesh& a, const ChunkMesh& b);
 
 private:

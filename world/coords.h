@@ -5,6 +5,7 @@
 //   Local coordinates: 0..31 inside one chunk.
 // All helpers here are pure functions. Thread-safe.
 
+#include <climits>
 #include <cstdint>
 #include <functional>
 
@@ -22,6 +23,12 @@ inline constexpr int kChunkSize = 1 << kChunkBits;                 // 32 blocks 
 inline constexpr int kChunkVolume = kChunkSize * kChunkSize * kChunkSize; // 32768 blocks.
 inline constexpr int kPlanesPerAxis = kChunkSize + 1;             // 33 boundary planes per axis.
 inline constexpr int kSliceCount = 3 * kPlanesPerAxis;            // 99 slices per chunk.
+
+// The world spans every block whose chunk coordinate fits in 32 bits: [-2^36, 2^36).
+inline constexpr int64_t kWorldMinBlock = int64_t(INT32_MIN) * kChunkSize;
+inline constexpr int64_t kWorldMaxBlock = int64_t(INT32_MAX) * kChunkSize + (kChunkSize - 1);
+inline constexpr bool in_world(int64_t v) { return v >= kWorldMinBlock && v <= kWorldMaxBlock; }
+inline bool in_world(glm::i64vec3 p) { return in_world(p.x) && in_world(p.y) && in_world(p.z); }
 
 // Linear index of a local position: x fastest, then y, then z.
 inline constexpr int local_index(int x, int y, int z) { return x | (y << kChunkBits) | (z << (2 * kChunkBits)); }

@@ -1,31 +1,44 @@
 #include "world/edit_mesher.h"
 
 namespace vx::world {
+namespace {
+
+const Chunk& chunk_or_air(const World& world, ChunkCoord c) {
+    static const Chunk kAirChunk;
+    const Chunk* chunk = world.find_chunk(c);
+    return chunk ? *chunk : kAirChunk;
+}
+
+} // namespace
 
 void EditMesher::mesh_chunk(const World& world, ChunkCoord c, MeshMap& meshes) {
     MeshedChunk& mc = meshes[c];
     mc.apron = make_apron(world, c);
-    static const Chunk kEmpty;
-    const Chunk* chunk = world.find_chunk(c);
-    m_mesher.mesh({chunk ? *chunk : kEmpty, mc.apron, world.registry()}, mc.mesh);
+    m_mesher.mesh({chunk_or_air(world, c), mc.apron, world.registry()}, mc.mesh);
 }
 
-EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, MeshMap& meshes) {
+EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLookup& lookup) {
     EditResult r;
-    const ChunkCoord c = chunk_of(p);
-    const LocalPos l = local_of(p);
     if (world.set_block(p, id) == id)
         return r;
     r.changed = true;
-    if (auto it = meshes.find(c); it != meshes.end()) {
-        const Chunk& chunk = world.chunk(c);
-        m_mesher.remesh_block({chunk, it->second.apron, world.registry()}, l, it->second.mesh);
+    const ChunkCoord c = chunk_of(p);
+    const LocalPos l = local_of(p);
+    const BlockRegistry& reg = world.registry();
+    if (ChunkMesh* mesh = lookup(c)) {
+        // remesh_block reads apron face f only when the block lies on that border.
+        for (int f = 0; f < 6; ++f) {
+            const Face face = Face(f);
+            if (l[face_axis(face)] == (face_positive(face) ? kChunkSize - 1 : 0))
+                m_apron.copy_face(face, world.find_chunk(c + face_normal(face)), reg);
+        }
+        m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, *mesh);
+        SliceUpdate u{c, false, 6, {}};
+        for (int a = 0; a < 3; ++a)
+            u.slices[2 * a] = slice_index(a, l[a]), u.slices[2 * a + 1] = slice_index(a, l[a] + 1);
+        r.updates.push_back(u);
         r.slices_remeshed += 6;
-    } else {
-        mesh_chunk(world, c, meshes);
-        r.slices_remeshed += kSliceCount;
     }
-    r.touched.push_back(c);
     for (int f = 0; f < 6; ++f) {
         const Face face = Face(f);
         const int axis = face_axis(face);
@@ -33,18 +46,31 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, MeshMap& mesh
         if (l[axis] != (pos ? kChunkSize - 1 : 0))
             continue;
         const ChunkCoord n = c + face_normal(face);
-        auto it = meshes.find(n);
-        if (it == meshes.end())
+        ChunkMesh* mesh = lookup(n);
+        if (!mesh)
             continue;
-        // In the neighbour, this block lies across its opposite face.
+        // The neighbour's border plane facing the edited block reads only its apron face back here.
         const Face back = make_face(axis, !pos);
-        it->second.apron.set(back, l[plane_u_axis(axis)], l[plane_v_axis(axis)], id, world.registry());
-        static const Chunk kEmpty;
-        const Chunk* nc = world.find_chunk(n);
-        m_mesher.remesh_slice({nc ? *nc : kEmpty, it->second.apron, world.registry()}, axis,
-                              pos ? 0 : kChunkSize, it->second.mesh);
+        m_apron.copy_face(back, world.find_chunk(c), reg);
+        const int plane = pos ? 0 : kChunkSize;
+        m_mesher.remesh_slice({chunk_or_air(world, n), m_apron, reg}, axis, plane, *mesh);
+        r.updates.push_back(SliceUpdate{n, false, 1, {slice_index(axis, plane)}});
         r.slices_remeshed += 1;
-        r.touched.push_back(n);
+    }
+    return r;
+}
+
+EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, MeshMap& meshes) {
+    const ChunkCoord c = chunk_of(p);
+    const bool meshed = meshes.count(c) > 0;
+    EditResult r = apply(world, p, id, [&meshes](ChunkCoord q) -> ChunkMesh* {
+        auto it = meshes.find(q);
+        return it == meshes.end() ? nullptr : &it->second.mesh;
+    });
+    if (r.changed && !meshed) {
+        mesh_chunk(world, c, meshes);
+        r.updates.insert(r.updates.begin(), SliceUpdate{c, true, 0, {}});
+        r.slices_remeshed += kSliceCount;
     }
     return r;
 }

@@ -3,6 +3,8 @@
 // bound the edited block (six in its chunk, plus one border plane in each face neighbour it
 // touches). Engine and CLI both apply edits through this. Not thread-safe (main thread).
 
+#include <array>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -15,30 +17,47 @@ namespace vx::world {
 
 struct MeshedChunk {
     ChunkMesh mesh;
-    Apron apron; // Kept current so edits never re-read neighbours.
+    Apron apron; // Input of batch meshing; edits read neighbours from the world instead.
 };
 
 using MeshMap = std::unordered_map<ChunkCoord, MeshedChunk, ChunkCoordHash>;
 
+// The slices of one chunk's mesh an edit replaced (full: the whole mesh was made anew).
+struct SliceUpdate {
+    ChunkCoord chunk{0};
+    bool full = false;
+    int count = 0;
+    std::array<int, 6> slices{}; // slice_index() values, count of them.
+};
+
 struct EditResult {
-    bool changed = false;                  // False when the block already had that id.
-    std::vector<ChunkCoord> touched;       // Chunks whose mesh changed (edited one first).
+    bool changed = false;             // False when the block already had that id.
+    std::vector<SliceUpdate> updates; // Edited chunk first, then neighbours.
     int slices_remeshed = 0;
 };
+
+// Finds the mesh of a chunk, or null when the chunk is not meshed (then it is left alone).
+using MeshLookup = std::function<ChunkMesh*(ChunkCoord)>;
 
 class EditMesher {
 public:
     // Meshes chunk `c` of `world` from scratch into `meshes`.
     void mesh_chunk(const World& world, ChunkCoord c, MeshMap& meshes);
 
-    // Sets block `p` to `id` and brings every affected mesh in `meshes` up to date. A chunk the
-    // edit creates is meshed whole; neighbours absent from `meshes` are left alone.
+    // Sets block `p` to `id` and updates the meshes `lookup` finds: the edited chunk's six
+    // slices and the border plane of each face neighbour the block touches. Neighbour blocks
+    // are read from `world` (only the apron faces those slices use), so no apron is stored.
+    // A chunk without a mesh is not meshed here; the caller decides (see full below).
+    EditResult apply(World& world, BlockPos p, BlockId id, const MeshLookup& lookup);
+
+    // MeshMap convenience: a chunk the edit creates (absent from `meshes`) is meshed whole.
     EditResult apply(World& world, BlockPos p, BlockId id, MeshMap& meshes);
 
     GreedyMesher& mesher() { return m_mesher; }
 
 private:
     GreedyMesher m_mesher;
+    Apron m_apron;
 };
 
 } // namespace vx::world

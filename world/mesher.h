@@ -61,6 +61,10 @@ void mesh_culled(const MesherInput& in, ChunkMesh& out);
 // One quad per face of every non-air block, hidden or not.
 void mesh_naive(const MesherInput& in, ChunkMesh& out);
 
+// The classic per-slice greedy mesher (thesis listing 3.1, generalised to block ids and aprons):
+// scalar and plain, the reference the bitmask mesher matches quad for quad.
+void mesh_classic_greedy(const MesherInput& in, ChunkMesh& out);
+
 enum class MesherKind : uint8_t { Greedy, Culled, Naive };
 const char* mesher_name(MesherKind kind);
 

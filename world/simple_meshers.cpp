@@ -1,4 +1,4 @@
-// Culled and naive meshers: one quad per face, written for clarity, used as comparison points
+// Culled, naive and classic greedy meshers: one quad per face, written for clarity, used as comparison points
 // and as oracles for the greedy mesher.
 #include "world/mesher.h"
 
@@ -52,6 +52,44 @@ void mesh_culled(const MesherInput& in, ChunkMesh& out) {
 
 void mesh_naive(const MesherInput& in, ChunkMesh& out) {
     mesh_unit_faces(in, out, [](BlockId, LocalPos, Face) { return true; });
+}
+
+void mesh_classic_greedy(const MesherInput& in, ChunkMesh& out) {
+    ChunkMesh culled;
+    mesh_culled(in, culled);
+    out.begin(0);
+    for (int s = 0; s < kSliceCount; ++s) {
+        out.begin_slice(s);
+        for (int pass = 0; pass < 2; ++pass) {
+            BlockId grid[kChunkSize][kChunkSize] = {}; // [v][u]; 0 = no face.
+            int axis = s / kPlanesPerAxis, plane = s % kPlanesPerAxis;
+            for (const Quad& q : culled.slice(s))
+                if (q.positive() == (pass == 1))
+                    grid[q.v0()][q.u0()] = q.block;
+            for (int v = 0; v < kChunkSize; ++v)
+                for (int u = 0; u < kChunkSize; ++u) {
+                    const BlockId id = grid[v][u];
+                    if (!id)
+                        continue;
+                    int w = 1;
+                    while (u + w < kChunkSize && grid[v][u + w] == id)
+                        ++w;
+                    int h = 1;
+                    for (; v + h < kChunkSize; ++h) {
+                        bool row = true;
+                        for (int k = 0; k < w && row; ++k)
+                            row = grid[v + h][u + k] == id;
+                        if (!row)
+                            break;
+                    }
+                    for (int dv = 0; dv < h; ++dv)
+                        for (int k = 0; k < w; ++k)
+                            grid[v + dv][u + k] = 0;
+                    out.push(Quad::make(axis, plane, pass == 1, u, v, w, h, id));
+                }
+        }
+    }
+    out.end();
 }
 
 } // namespace vx::world

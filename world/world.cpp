@@ -10,6 +10,7 @@ BlockId World::get_block(BlockPos p) const {
 }
 
 BlockId World::set_block(BlockPos p, BlockId id) {
+    VX_ASSERT(in_world(p));
     const ChunkCoord cc = chunk_of(p);
     if (id == kAir) {
         Chunk* c = find_chunk(cc);

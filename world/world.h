@@ -21,7 +21,7 @@ public:
     BlockRegistry& registry() { return m_registry; }
 
     BlockId get_block(BlockPos p) const;
-    // Sets a block, creating its chunk if needed; returns the id it replaced.
+    // Sets a block, creating its chunk if needed; returns the id it replaced. p must be in_world().
     BlockId set_block(BlockPos p, BlockId id);
 
     const Chunk* find_chunk(ChunkCoord c) const;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <map>
 #include <random>
 #include <tuple>
@@ -25,6 +26,43 @@ TEST(PackedArray, RoundTripsEveryWidthAcrossWordBoundaries) {
         for (uint32_t i = 0; i < 1000; ++i)
             ASSERT_EQ(wider.get(i), ref[i]);
     }
+}
+
+TEST(PackedArray, SetAllMatchesSetForEveryWidthAndLength) {
+    std::mt19937 rng(7);
+    for (uint32_t bits = 1; bits <= 16; ++bits)
+        for (uint32_t count : {1u, 2u, 63u, 64u, 65u, 127u, 200u, 1000u}) {
+            std::vector<uint16_t> values(count);
+            for (uint16_t& v : values)
+                v = uint16_t(rng()); // Bits above the width must be ignored.
+            PackedArray a(count, bits), b(count, bits);
+            for (uint32_t i = 0; i < count; ++i)
+                a.set(i, values[i] & ((1u << bits) - 1));
+            std::fill(b.words(), b.words() + b.word_count(), ~uint64_t(0)); // set_all must clear.
+            b.set_all(values.data());
+            for (uint32_t w = 0; w < a.word_count(); ++w) // Including the zero padding word.
+                ASSERT_EQ(a.words()[w], b.words()[w]) << "bits " << bits << " count " << count << " word " << w;
+        }
+}
+
+TEST(Chunk, FromDensePaletteCountsMatchContents) {
+    std::mt19937 rng(8);
+    for (int types : {2, 5, 40, 300}) // Past 32 entries the palette search switches to a map.
+        for (int run : {1, 7, 100}) {
+            std::vector<BlockId> ids(kChunkVolume);
+            for (int i = 0; i < kChunkVolume; ++i)
+                ids[i] = i % run == 0 ? BlockId(rng() % types) : ids[i - 1];
+            const Chunk c = Chunk::from_dense(ids);
+            if (c.is_uniform())
+                continue;
+            const ChunkPalette* pal = c.palette();
+            std::vector<uint32_t> recount(pal->ids.size(), 0);
+            for (int i = 0; i < kChunkVolume; ++i)
+                ++recount[pal->indices.get(uint32_t(i))];
+            ASSERT_EQ(pal->counts.size(), pal->ids.size());
+            for (size_t e = 0; e < recount.size(); ++e)
+                ASSERT_EQ(pal->counts[e], recount[e]) << "types " << types << " run " << run << " entry " << e;
+        }
 }
 
 TEST(Chunk, UniformChunkIsSmall) {

@@ -15,46 +15,6 @@ glm::ivec3 icross(glm::ivec3 a, glm::ivec3 b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-// The classic per-slice greedy mesher (thesis listing 3.1, generalised to block ids and
-// aprons), scalar and obviously correct: the reference the bitmask mesher must match quad for quad.
-void classic_greedy(const MesherInput& in, ChunkMesh& out) {
-    ChunkMesh culled;
-    mesh_culled(in, culled);
-    out.begin(0);
-    for (int s = 0; s < kSliceCount; ++s) {
-        out.begin_slice(s);
-        for (int pass = 0; pass < 2; ++pass) {
-            BlockId grid[kChunkSize][kChunkSize] = {}; // [v][u]; 0 = no face.
-            int axis = s / kPlanesPerAxis, plane = s % kPlanesPerAxis;
-            for (const Quad& q : culled.slice(s))
-                if (q.positive() == (pass == 1))
-                    grid[q.v0()][q.u0()] = q.block;
-            for (int v = 0; v < kChunkSize; ++v)
-                for (int u = 0; u < kChunkSize; ++u) {
-                    const BlockId id = grid[v][u];
-                    if (!id)
-                        continue;
-                    int w = 1;
-                    while (u + w < kChunkSize && grid[v][u + w] == id)
-                        ++w;
-                    int h = 1;
-                    for (; v + h < kChunkSize; ++h) {
-                        bool row = true;
-                        for (int k = 0; k < w && row; ++k)
-                            row = grid[v + h][u + k] == id;
-                        if (!row)
-                            break;
-                    }
-                    for (int dv = 0; dv < h; ++dv)
-                        for (int k = 0; k < w; ++k)
-                            grid[v + dv][u + k] = 0;
-                    out.push(Quad::make(axis, plane, pass == 1, u, v, w, h, id));
-                }
-        }
-    }
-    out.end();
-}
-
 struct Case {
     double fill;
     int types;
@@ -76,7 +36,7 @@ TEST(GreedyMesher, RandomChunksMatchOracleAndClassicGreedy) {
             const MesherInput in{chunk, apron, reg};
             ChunkMesh greedy, classic, culled;
             mesher.mesh(in, greedy);
-            classic_greedy(in, classic);
+            mesh_classic_greedy(in, classic);
             mesh_culled(in, culled);
             ASSERT_TRUE(covers_exactly(in, greedy)) << "fill " << c.fill << " types " << c.types;
             ASSERT_TRUE(covers_exactly(in, culled));
@@ -201,7 +161,8 @@ TEST(EditMesher, IncrementalEqualsFullRemesh) {
         const BlockPos p(pick(border && rng() % 2), pick(border && rng() % 2), pick(border));
         const BlockId id = (rng() % 3 == 0) ? kAir : BlockId(1 + rng() % 6);
         const EditResult r = em.apply(world, p, id, meshes);
-        for (const ChunkCoord& c : r.touched) {
+        for (const SliceUpdate& u : r.updates) {
+            const ChunkCoord c = u.chunk;
             const Apron fresh = make_apron(world, c);
             ChunkMesh expect;
             const Chunk* chunk = world.find_chunk(c);

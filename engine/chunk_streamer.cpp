@@ -1,0 +1,353 @@
+#include "engine/chunk_streamer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/stream_jobs.h"
+#include "world/base/log.h"
+
+namespace vx::engine {
+
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+const ChunkMesh& empty_mesh() {
+    static const ChunkMesh kEmpty;
+    return kEmpty;
+}
+} // namespace
+
+ChunkStreamer::ChunkStreamer(const TerrainGenerator& generator, ChunkStore* store, MeshSink& sink,
+                             const StreamingSettings& settings)
+    : m_generator(generator), m_store(store), m_sink(sink), m_settings(settings) {
+    JobSystemCreateInfo info;
+    info.worker_count = settings.worker_count;
+    m_jobs = std::make_unique<JobSystem>(info);
+}
+
+ChunkStreamer::~ChunkStreamer() {
+    if (m_store) {
+        Status s = flush();
+        if (!s)
+            VX_LOG_ERROR("saving the world on shutdown failed: %s", s.error().c_str());
+    }
+    m_jobs.reset(); // Joins the workers before any state below goes away.
+}
+
+bool ChunkStreamer::in_view(ChunkCoord c) const {
+    const glm::ivec3 d = glm::abs(c - m_center);
+    return std::max(d.x, d.z) <= m_settings.view_radius && d.y <= m_settings.view_radius_vertical;
+}
+
+bool ChunkStreamer::in_loaded_ring(ChunkCoord c) const {
+    const glm::ivec3 d = glm::abs(c - m_center);
+    return std::max(d.x, d.z) <= m_settings.view_radius + 1 && d.y <= m_settings.view_radius_vertical + 1;
+}
+
+bool ChunkStreamer::beyond_unload(ChunkCoord c) const {
+    const glm::ivec3 d = glm::abs(c - m_center);
+    const int m = m_settings.unload_margin + 1;
+    return std::max(d.x, d.z) > m_settings.view_radius + m || d.y > m_settings.view_radius_vertical + m;
+}
+
+void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward, Clock::time_point now) {
+    const Clock::time_point t0 = Clock::now();
+    const Clock::time_point deadline = t0 + m_settings.frame_budget;
+    m_jobs->set_viewer({position, forward});
+    const ChunkCoord center = chunk_of(BlockPos(std::floor(position.x), std::floor(position.y), std::floor(position.z)));
+    if (!m_have_center || center != m_center) {
+        m_center = center;
+        m_have_center = true;
+        refresh_region(now);
+    }
+    // Completions get most of the budget; what is left schedules new meshes.
+    CompletionBudget budget;
+    budget.time = std::chrono::duration_cast<std::chrono::nanoseconds>(m_settings.frame_budget * 3 / 4);
+    m_jobs->process_completions(budget);
+    schedule_meshes(deadline);
+    unload_far(now);
+    enforce_memory_cap();
+    save_dirty(now, false);
+    if (m_store && now - m_last_tick >= std::chrono::duration<double>(m_settings.store_tick_s)) {
+        m_last_tick = now;
+        m_jobs->submit(std::make_unique<StoreSyncJob>(*this, *m_store, nullptr));
+    }
+    m_last_update = Clock::now() - t0;
+}
+
+void ChunkStreamer::refresh_region(Clock::time_point now) {
+    // Flags of known chunks follow the new centre.
+    for (auto& [c, s] : m_chunks) {
+        const bool view = in_view(c);
+        if (view && !s.in_view && s.data == Data::Present)
+            m_mesh_candidates.insert(c);
+        s.in_view = view;
+        const bool beyond = beyond_unload(c);
+        if (beyond && !s.outside)
+            s.outside_since = now;
+        s.outside = beyond;
+    }
+    // Every chunk of the loaded ring is requested (again, if it was dropped: no silent holes).
+    const int r = m_settings.view_radius + 1, rv = m_settings.view_radius_vertical + 1;
+    for (int dy = -rv; dy <= rv; ++dy)
+        for (int dz = -r; dz <= r; ++dz)
+            for (int dx = -r; dx <= r; ++dx) {
+                const ChunkCoord c = m_center + ChunkCoord(dx, dy, dz);
+                if (!m_chunks.count(c))
+                    request_data(c);
+            }
+}
+
+void ChunkStreamer::request_data(ChunkCoord c) {
+    ChunkState& s = m_chunks[c];
+    s.data = Data::Requested;
+    s.in_view = in_view(c);
+    if (m_store)
+        m_jobs->submit(std::make_unique<LoadJob>(*this, c, *m_store));
+    else
+        m_jobs->submit(std::make_unique<GenerateJob>(*this, c, m_generator));
+}
+
+void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || it->second.data != Data::Requested)
+        return; // Unloaded meanwhile.
+    if (chunk) {
+        put_chunk(c, std::move(*chunk));
+        return;
+    }
+    if (!problem.empty()) {
+        VX_LOG_WARN("chunk %d,%d,%d: %s; regenerating", c.x, c.y, c.z, problem.c_str());
+        ++m_regenerated;
+    }
+    m_jobs->submit(std::make_unique<GenerateJob>(*this, c, m_generator));
+}
+
+void ChunkStreamer::on_generated(ChunkCoord c, Chunk chunk) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || it->second.data != Data::Requested)
+        return;
+    put_chunk(c, std::move(chunk));
+}
+
+void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
+    ChunkState& s = m_chunks[c];
+    s.data = Data::Present;
+    s.bytes = chunk.memory_bytes();
+    m_block_bytes += s.bytes;
+    m_world.put_chunk(c, std::move(chunk));
+    // This chunk and its face neighbours may now have everything they need to mesh.
+    m_mesh_candidates.insert(c);
+    for (int f = 0; f < 6; ++f)
+        m_mesh_candidates.insert(c + face_normal(Face(f)));
+}
+
+bool ChunkStreamer::neighbours_present(ChunkCoord c) const {
+    for (int f = 0; f < 6; ++f) {
+        auto it = m_chunks.find(c + face_normal(Face(f)));
+        if (it == m_chunks.end() || it->second.data != Data::Present)
+            return false;
+    }
+    return true;
+}
+
+void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
+    for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
+        if (Clock::now() >= deadline)
+            return; // The rest wait for the next frame.
+        const ChunkCoord c = *it;
+        it = m_mesh_candidates.erase(it);
+        auto st = m_chunks.find(c);
+        if (st == m_chunks.end())
+            continue;
+        ChunkState& s = st->second;
+        if (s.data != Data::Present || !s.in_view || s.has_mesh || s.mesh_pending || !neighbours_present(c))
+            continue; // A later put_chunk() or refresh_region() brings it back.
+        request_mesh(c, s);
+    }
+}
+
+void ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
+    const Chunk& chunk = *m_world.find_chunk(c);
+    if (chunk.is_empty()) { // Air has no faces: no job, no mesh to draw.
+        s.mesh.reset();
+        s.has_mesh = true;
+        m_sink.on_mesh(c, empty_mesh(), {});
+        return;
+    }
+    auto apron = std::make_unique<Apron>(make_apron(m_world, c));
+    s.mesh_pending = true;
+    s.mesh_stale = false;
+    m_jobs->submit(std::make_unique<MeshJob>(*this, c, chunk, std::move(apron), m_world.registry()));
+}
+
+void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || !it->second.mesh_pending)
+        return;
+    ChunkState& s = it->second;
+    s.mesh_pending = false;
+    if (s.mesh_stale || s.data != Data::Present) {
+        // Edited while the job ran: its snapshot is out of date; mesh again.
+        m_mesh_candidates.insert(c);
+        return;
+    }
+    s.mesh = mesh.empty() ? nullptr : std::make_unique<ChunkMesh>(std::move(mesh));
+    s.has_mesh = true;
+    m_sink.on_mesh(c, s.mesh ? *s.mesh : empty_mesh(), {});
+}
+
+void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error) {
+    if (!error.empty())
+        VX_LOG_ERROR("saving chunk %d,%d,%d failed: %s", c.x, c.y, c.z, error.c_str());
+}
+
+Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
+    if (!in_world(p))
+        return Error{"position outside the world"};
+    const ChunkCoord c = chunk_of(p);
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || it->second.data != Data::Present)
+        return Error{"chunk " + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) +
+                     " is not loaded"};
+    const EditResult r = m_edits.apply(m_world, p, id, [this](ChunkCoord q) -> ChunkMesh* {
+        auto s = m_chunks.find(q);
+        if (s == m_chunks.end())
+            return nullptr;
+        if (s->second.mesh_pending)
+            s->second.mesh_stale = true; // Its snapshot predates this edit.
+        ChunkState& q_state = s->second;
+        if (!q_state.has_mesh || q_state.mesh_pending)
+            return nullptr;
+        if (!q_state.mesh) // An empty mesh gains its first quads: give it storage.
+            q_state.mesh = std::make_unique<ChunkMesh>();
+        return q_state.mesh.get();
+    });
+    if (!r.changed)
+        return {};
+    ChunkState& s = it->second;
+    m_block_bytes -= s.bytes;
+    s.bytes = m_world.find_chunk(c)->memory_bytes();
+    m_block_bytes += s.bytes;
+    if (m_store && !s.dirty) {
+        s.dirty = true;
+        s.dirty_since = Clock::now();
+    }
+    for (const SliceUpdate& u : r.updates)
+        m_sink.on_mesh(u.chunk, *m_chunks.at(u.chunk).mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
+    return {};
+}
+
+void ChunkStreamer::unload_far(Clock::time_point now) {
+    const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
+    for (auto it = m_chunks.begin(); it != m_chunks.end();) {
+        ChunkState& s = it->second;
+        if (s.outside && now - s.outside_since >= delay) {
+            const ChunkCoord c = it->first;
+            ++it;
+            drop(c, m_chunks.at(c));
+            ++m_unloaded;
+        } else {
+            ++it;
+        }
+    }
+}
+
+void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
+    m_jobs->cancel({c, JobKind::Load});
+    m_jobs->cancel({c, JobKind::Generate});
+    m_jobs->cancel({c, JobKind::Mesh});
+    if (s.data == Data::Present) {
+        Chunk* chunk = m_world.find_chunk(c);
+        if (s.dirty && m_store) { // Saved before it is dropped: the job owns the data now.
+            m_jobs->submit(std::make_unique<SaveJob>(*this, c, std::move(*chunk), *m_store));
+            ++m_saves;
+        }
+        m_block_bytes -= s.bytes;
+        m_world.remove_chunk(c);
+    }
+    if (s.has_mesh)
+        m_sink.on_unload(c);
+    m_mesh_candidates.erase(c);
+    m_chunks.erase(c);
+}
+
+void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
+    if (!m_store)
+        return;
+    const auto delay = std::chrono::duration<double>(m_settings.save_delay_s);
+    for (auto& [c, s] : m_chunks) {
+        if (!s.dirty || (!all && now - s.dirty_since < delay))
+            continue;
+        m_jobs->submit(std::make_unique<SaveJob>(*this, c, *m_world.find_chunk(c), *m_store));
+        s.dirty = false;
+        ++m_saves;
+    }
+}
+
+void ChunkStreamer::enforce_memory_cap() {
+    if (m_settings.memory_cap_bytes == 0 || m_block_bytes <= m_settings.memory_cap_bytes)
+        return;
+    // Farthest first; only chunks beyond the loaded ring (those the view needs stay).
+    std::vector<std::pair<int64_t, ChunkCoord>> far;
+    for (const auto& [c, s] : m_chunks) {
+        if (s.data != Data::Present || in_loaded_ring(c))
+            continue;
+        const glm::i64vec3 d = glm::i64vec3(c - m_center);
+        far.push_back({d.x * d.x + d.y * d.y + d.z * d.z, c});
+    }
+    std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& [dist, c] : far) {
+        if (m_block_bytes <= m_settings.memory_cap_bytes)
+            break;
+        drop(c, m_chunks.at(c));
+        ++m_evicted;
+    }
+}
+
+Status ChunkStreamer::flush() {
+    if (!m_store)
+        return {};
+    save_dirty(Clock::now(), true);
+    std::promise<Status> done;
+    std::future<Status> result = done.get_future();
+    m_jobs->submit(std::make_unique<StoreSyncJob>(*this, *m_store, &done));
+    return result.get(); // Set on the I/O thread (or by the job's destructor if it never runs).
+}
+
+bool ChunkStreamer::settled() const {
+    for (const auto& [c, s] : m_chunks)
+        if (s.data != Data::Present || (s.in_view && (!s.has_mesh || s.mesh_pending)))
+            return false;
+    return m_have_center;
+}
+
+StreamingMetrics ChunkStreamer::metrics() const {
+    StreamingMetrics m;
+    for (const auto& [c, s] : m_chunks) {
+        m.loaded += s.data == Data::Present;
+        m.pending_data += s.data == Data::Requested;
+        m.wanted_meshes += s.in_view;
+        m.meshed += s.in_view && s.has_mesh && !s.mesh_pending;
+        m.pending_meshes += s.mesh_pending;
+        m.dirty += s.dirty;
+    }
+    m.block_bytes = m_block_bytes;
+    m.unloaded = m_unloaded;
+    m.evicted = m_evicted;
+    m.saves = m_saves;
+    m.regenerated_corrupt = m_regenerated;
+    m.jobs = m_jobs->metrics();
+    m.last_update_time = m_last_update;
+    return m;
+}
+
+const ChunkMesh* ChunkStreamer::mesh(ChunkCoord c) const {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || !it->second.has_mesh)
+        return nullptr;
+    return it->second.mesh ? it->second.mesh.get() : &empty_mesh();
+}
+
+} // namespace vx::engine

@@ -1,0 +1,150 @@
+#pragma once
+// Chunk streaming around a viewer: a world much larger than memory, loaded from a store (or
+// generated) and meshed as the viewer approaches, saved and dropped as it leaves.
+//
+// Radii, in chunks, measured from the viewer's chunk (Chebyshev horizontally, separately
+// vertically): chunks within the view radius are meshed and handed to the MeshSink; their face
+// neighbours (view radius + 1) are loaded too, so every mesh sees its real neighbours and none is
+// ever remeshed because a neighbour arrived late. Chunks beyond the unload radius (view radius +
+// 1 + margin) for longer than the unload delay are saved if dirty, then dropped; the margin and
+// delay are the hysteresis that keeps chunks at the edge from thrashing.
+//
+// Threads: the streamer lives on one thread (the main thread): construct it, call update() once
+// per frame, edit, flush and destroy it there. Loads and saves run on the job system's serial I/O
+// lane, generation and meshing on its pool; results are applied in update() within the budget.
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/job_system.h"
+#include "engine/mesh_sink.h"
+#include "world/base/result.h"
+#include "world/chunk_store.h"
+#include "world/edit_mesher.h"
+#include "world/terrain.h"
+#include "world/world.h"
+
+namespace vx::engine {
+
+struct StreamingSettings {
+    int view_radius = 12;          // Chunks meshed horizontally around the viewer's chunk.
+    int view_radius_vertical = 4;  // Chunks meshed vertically.
+    int unload_margin = 2;         // Extra chunks kept beyond the loaded ring before unloading.
+    double unload_delay_s = 3.0;   // Time outside the unload radius before a chunk is dropped.
+    double save_delay_s = 1.0;     // Edited chunks are handed to the store within this time.
+    double store_tick_s = 0.5;     // How often the store is asked to commit (its own bound: 1 s).
+    size_t memory_cap_bytes = 0;   // Block data cap (0: none). Never evicts inside the view radius.
+    std::chrono::nanoseconds frame_budget{std::chrono::milliseconds(2)}; // Main-thread work per update().
+    int worker_count = 0;          // Pool workers (0: cores - 1, at least 1).
+};
+
+struct StreamingMetrics {
+    size_t loaded = 0;          // Chunks whose block data is in memory.
+    size_t meshed = 0;          // Chunks in the view radius with a current mesh handed out.
+    size_t wanted_meshes = 0;   // Chunks in the view radius (meshed when == meshed).
+    size_t pending_data = 0;    // Loads/generations requested, not applied yet.
+    size_t pending_meshes = 0;  // Mesh jobs requested, not applied yet.
+    size_t dirty = 0;           // Edited chunks not yet handed to the store.
+    size_t block_bytes = 0;     // Memory of loaded block data.
+    uint64_t unloaded = 0, evicted = 0, saves = 0, regenerated_corrupt = 0;
+    JobMetrics jobs;
+    std::chrono::nanoseconds last_update_time{0}; // Main-thread time of the last update().
+};
+
+class ChunkStreamer {
+public:
+    // Main thread. `store` may be null (generate only, nothing persists). The store, generator and
+    // sink must outlive the streamer.
+    ChunkStreamer(const world::TerrainGenerator& generator, world::ChunkStore* store, MeshSink& sink,
+                  const StreamingSettings& settings = {});
+    // Main thread. Saves dirty chunks and flushes the store, then stops the jobs.
+    ~ChunkStreamer();
+    ChunkStreamer(const ChunkStreamer&) = delete;
+    ChunkStreamer& operator=(const ChunkStreamer&) = delete;
+
+    // Main thread, once per frame. `position` and `forward` in world block units.
+    void update(const glm::dvec3& position, const glm::dvec3& forward, std::chrono::steady_clock::time_point now);
+
+    // Main thread. Sets a block of a loaded chunk; meshes update through the six-slice path.
+    // Fails (nothing changes) when the chunk is not loaded.
+    Status set_block(world::BlockPos p, world::BlockId id);
+    // Main thread. Air for chunks not loaded.
+    world::BlockId get_block(world::BlockPos p) const { return m_world.get_block(p); }
+
+    // Main thread. Hands every edited chunk to the store and waits until the store has made
+    // everything acknowledged so far durable. Blocks; call rarely (e.g. on save or quit).
+    Status flush();
+
+    // Main thread. True when every chunk in the view radius is meshed and nothing is pending.
+    bool settled() const;
+    StreamingMetrics metrics() const;
+    const world::World& world() const { return m_world; }
+    // Main thread. The mesh of chunk c, or null.
+    const world::ChunkMesh* mesh(world::ChunkCoord c) const;
+
+private:
+    friend class LoadJob;
+    friend class GenerateJob;
+    friend class MeshJob;
+    friend class SaveJob;
+    friend class StoreSyncJob;
+
+    enum class Data : uint8_t { Requested, Present };
+    struct ChunkState {
+        Data data = Data::Requested;
+        bool in_view = false;       // Within the view radius: wants a mesh.
+        bool has_mesh = false;      // `mesh` is current and was handed to the sink.
+        bool mesh_pending = false;  // A mesh job is in flight.
+        bool mesh_stale = false;    // The in-flight mesh job's snapshot is out of date.
+        bool dirty = false;         // Edited since it was last handed to the store.
+        bool outside = false;       // Beyond the unload radius since `outside_since`.
+        std::chrono::steady_clock::time_point outside_since{}, dirty_since{};
+        size_t bytes = 0;           // Block data memory accounted for.
+        std::unique_ptr<world::ChunkMesh> mesh; // Null while the mesh is empty (air, buried).
+    };
+
+    // Results from jobs (main thread, via complete()).
+    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem);
+    void on_generated(world::ChunkCoord c, world::Chunk chunk);
+    void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh);
+    void on_saved(world::ChunkCoord c, const std::string& error);
+
+    void refresh_region(std::chrono::steady_clock::time_point now);
+    void request_data(world::ChunkCoord c);
+    void put_chunk(world::ChunkCoord c, world::Chunk chunk);
+    bool neighbours_present(world::ChunkCoord c) const;
+    void schedule_meshes(std::chrono::steady_clock::time_point deadline);
+    void request_mesh(world::ChunkCoord c, ChunkState& s);
+    void unload_far(std::chrono::steady_clock::time_point now);
+    void drop(world::ChunkCoord c, ChunkState& s);
+    void save_dirty(std::chrono::steady_clock::time_point now, bool all);
+    void enforce_memory_cap();
+    bool in_view(world::ChunkCoord c) const;
+    bool in_loaded_ring(world::ChunkCoord c) const;
+    bool beyond_unload(world::ChunkCoord c) const;
+
+    const world::TerrainGenerator& m_generator;
+    world::ChunkStore* m_store;
+    MeshSink& m_sink;
+    StreamingSettings m_settings;
+    world::World m_world;
+    world::EditMesher m_edits;
+    std::unordered_map<world::ChunkCoord, ChunkState, world::ChunkCoordHash> m_chunks;
+    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_mesh_candidates;
+    world::ChunkCoord m_center{INT32_MIN};
+    bool m_have_center = false;
+    std::chrono::steady_clock::time_point m_last_tick{};
+    size_t m_block_bytes = 0;
+    uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
+    std::chrono::nanoseconds m_last_update{0};
+    // Declared last: destroyed first, so no job outlives the state it reports to.
+    std::unique_ptr<JobSystem> m_jobs;
+};
+
+} // namespace vx::engine

@@ -1,0 +1,69 @@
+#include "engine/stream_jobs.h"
+
+#include "engine/chunk_streamer.h"
+#include "world/mesher.h"
+
+namespace vx::engine {
+
+void LoadJob::run(JobContext& ctx) {
+    if (ctx.is_cancelled())
+        return;
+    Result<world::ChunkLoad> r = m_store.load(key().chunk);
+    if (!r) {
+        m_problem = "store failed: " + r.error();
+        return;
+    }
+    if (r->state == world::LoadState::Present)
+        m_chunk = std::move(r->chunk);
+    else if (r->state == world::LoadState::Corrupt)
+        m_problem = "corrupt record (quarantined): " + r->problem;
+}
+
+void LoadJob::complete() { m_owner.on_loaded(key().chunk, std::move(m_chunk), m_problem); }
+
+void GenerateJob::run(JobContext& ctx) {
+    if (!ctx.is_cancelled())
+        m_chunk = m_gen.generate(key().chunk);
+}
+
+void GenerateJob::complete() { m_owner.on_generated(key().chunk, std::move(m_chunk)); }
+
+void MeshJob::run(JobContext& ctx) {
+    if (ctx.is_cancelled())
+        return;
+    // One mesher (and its scratch) per worker thread, reused by every mesh job it runs.
+    thread_local world::GreedyMesher mesher;
+    mesher.mesh({m_chunk, *m_apron, m_registry}, m_mesh);
+}
+
+void MeshJob::complete() { m_owner.on_meshed(key().chunk, std::move(m_mesh)); }
+
+void SaveJob::run(JobContext&) {
+    // Saves are never skipped, even when cancelled: the chunk was dropped trusting this job.
+    Status s = m_store.save(key().chunk, m_chunk);
+    if (!s)
+        m_error = s.error();
+}
+
+void SaveJob::complete() { m_owner.on_saved(key().chunk, m_error); }
+
+void StoreSyncJob::run(JobContext&) {
+    if (m_flushed) {
+        m_flushed->set_value(m_store.flush());
+        m_flushed = nullptr;
+        return;
+    }
+    m_status = m_store.tick(world::ChunkStore::Clock::now());
+}
+
+void StoreSyncJob::complete() {
+    if (!m_status)
+        m_owner.on_saved(world::ChunkCoord(0), m_status.error());
+}
+
+StoreSyncJob::~StoreSyncJob() {
+    if (m_flushed) // Never ran (shutdown): whoever waits must not wait forever.
+        m_flushed->set_value(Error{"flush cancelled: the job system is shutting down"});
+}
+
+} // namespace vx::engine

@@ -1,0 +1,201 @@
+#include "render/context.h"
+
+#include <cstring>
+
+#include "render/device_probe_internal.h"
+#include "world/base/log.h"
+
+namespace vx::render {
+
+static const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                       void* user) {
+    auto* self = static_cast<Context*>(user);
+    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        self->m_validation_errors.fetch_add(1);
+        VX_LOG_ERROR("vulkan: %s", data->pMessage);
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        self->m_validation_warnings.fetch_add(1);
+        VX_LOG_WARN("vulkan: %s", data->pMessage);
+    }
+    return VK_FALSE;
+}
+
+static bool layer_available(const char* name) {
+    uint32_t n = 0;
+    vkEnumerateInstanceLayerProperties(&n, nullptr);
+    std::vector<VkLayerProperties> layers(n);
+    vkEnumerateInstanceLayerProperties(&n, layers.data());
+    for (const VkLayerProperties& l : layers)
+        if (std::strcmp(l.layerName, name) == 0)
+            return true;
+    return false;
+}
+
+static bool instance_extension_available(const char* name) {
+    uint32_t n = 0;
+    vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> exts(n);
+    vkEnumerateInstanceExtensionProperties(nullptr, &n, exts.data());
+    for (const VkExtensionProperties& e : exts)
+        if (std::strcmp(e.extensionName, name) == 0)
+            return true;
+    return false;
+}
+
+Result<std::unique_ptr<Context>> Context::create(const ContextCreateInfo& info) {
+    if (Status s = init_loader(); !s)
+        return Error{s.error()};
+    std::unique_ptr<Context> ctx(new Context());
+    if (Status s = ctx->create_instance(info); !s)
+        return Error{s.error()};
+    if (Status s = ctx->pick_device(info); !s)
+        return Error{s.error()};
+    ctx->create_device();
+    ctx->create_frames();
+    return ctx;
+}
+
+Status Context::create_instance(const ContextCreateInfo& info) {
+    m_debug_utils = instance_extension_available(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    m_validation = info.validation && layer_available(kValidationLayer);
+    if (info.validation && !m_validation)
+        VX_LOG_WARN("validation requested but %s is not installed", kValidationLayer);
+
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = info.app_name;
+    app.pEngineName = "vx";
+    app.apiVersion = VK_API_VERSION_1_3; // Headers, loader and layers are 1.3 (FIELD-NOTES).
+
+    VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mci.pfnUserCallback = debug_callback;
+    mci.pUserData = this;
+
+    std::vector<const char*> exts, layers;
+    if (m_debug_utils)
+        exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (m_validation)
+        layers.push_back(kValidationLayer);
+    const VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = &sync;
+    VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ci.pNext = m_debug_utils ? &mci : nullptr; // Also reports problems of vkCreate/DestroyInstance.
+    if (m_validation && info.sync_validation) {
+        features.pNext = ci.pNext;
+        ci.pNext = &features;
+    }
+    ci.pApplicationInfo = &app;
+    ci.enabledExtensionCount = uint32_t(exts.size());
+    ci.ppEnabledExtensionNames = exts.data();
+    ci.enabledLayerCount = uint32_t(layers.size());
+    ci.ppEnabledLayerNames = layers.data();
+    if (VkResult r = vkCreateInstance(&ci, nullptr, &m_instance); r != VK_SUCCESS)
+        return Error{std::string("vkCreateInstance failed: ") + vk_result_name(r)};
+    volkLoadInstance(m_instance);
+    if (m_debug_utils)
+        VK_CHECK(vkCreateDebugUtilsMessengerEXT(m_instance, &mci, nullptr, &m_messenger));
+    return {};
+}
+
+Status Context::pick_device(const ContextCreateInfo& info) {
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(m_instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> pds(n);
+    vkEnumeratePhysicalDevices(m_instance, &n, pds.data());
+    std::vector<DeviceReport> reports;
+    for (uint32_t i = 0; i < n; ++i)
+        reports.push_back(describe_device(pds[i], i));
+    Result<uint32_t> chosen = choose_device(reports, info.device);
+    if (!chosen)
+        return Error{chosen.error()};
+    m_pd = pds[*chosen];
+    m_report = reports[*chosen];
+
+    m_as_props = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
+    m_rt_props = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR, &m_as_props};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &m_rt_props};
+    vkGetPhysicalDeviceProperties2(m_pd, &props);
+    m_rt_props.pNext = nullptr;
+    m_limits = props.properties.limits;
+
+    uint32_t qn = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(m_pd, &qn, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(qn);
+    vkGetPhysicalDeviceQueueFamilyProperties(m_pd, &qn, qf.data());
+    for (uint32_t i = 0; i < qn; ++i)
+        if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+            m_queue_family = i;
+            return {};
+        }
+    return Error{"device " + m_report.name + " has no compute queue"};
+}
+
+void Context::create_device() {
+    VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+    rt.rayTracingPipeline = VK_TRUE;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rt};
+    as.accelerationStructure = VK_TRUE;
+    VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &as};
+    v13.synchronization2 = VK_TRUE;
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &v13};
+    v12.bufferDeviceAddress = VK_TRUE;
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
+    f2.features.shaderInt64 = VK_TRUE;
+
+    const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+                          VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+    const float priority = 1.f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = m_queue_family;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f2};
+    ci.queueCreateInfoCount = 1;
+    ci.pQueueCreateInfos = &qci;
+    ci.enabledExtensionCount = uint32_t(std::size(exts));
+    ci.ppEnabledExtensionNames = exts;
+    VK_CHECK(vkCreateDevice(m_pd, &ci, nullptr, &m_device));
+    volkLoadDevice(m_device);
+    vkGetDeviceQueue(m_device, m_queue_family, 0, &m_queue);
+    set_name(m_device, VK_OBJECT_TYPE_DEVICE, "vx device");
+    set_name(m_queue, VK_OBJECT_TYPE_QUEUE, "vx queue");
+    m_allocator = std::make_unique<GpuAllocator>(m_pd, m_device, 64ull << 20, m_debug_utils);
+}
+
+void Context::set_name(VkObjectType type, uint64_t handle, const char* name) const {
+    if (!m_debug_utils || !vkSetDebugUtilsObjectNameEXT || handle == 0)
+        return;
+    VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+    ni.objectType = type;
+    ni.objectHandle = handle;
+    ni.pObjectName = name;
+    VK_CHECK(vkSetDebugUtilsObjectNameEXT(m_device, &ni));
+}
+
+Context::~Context() {
+    if (m_device) {
+        wait_idle();
+        for (Frame& f : m_frames) {
+            vkDestroyFence(m_device, f.fence, nullptr);
+            vkDestroyCommandPool(m_device, f.pool, nullptr);
+        }
+        vkDestroyFence(m_device, m_one_shot_fence, nullptr);
+        vkDestroyCommandPool(m_device, m_one_shot_pool, nullptr);
+        m_allocator.reset();
+        vkDestroyDevice(m_device, nullptr);
+    }
+    if (m_messenger)
+        vkDestroyDebugUtilsMessengerEXT(m_instance, m_messenger, nullptr);
+    if (m_instance)
+        vkDestroyInstance(m_instance, nullptr);
+}
+
+} // namespace vx::render

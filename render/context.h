@@ -1,0 +1,137 @@
+#pragma once
+// The Vulkan context: instance (API 1.3, optional validation + a debug messenger that counts
+// errors), the chosen physical device, a logical device with the ray-tracing features and one
+// queue, the memory allocator, and the frame ring whose retire lists free GPU objects once the
+// frame that last used them has finished (Granite's PerFrame). Headless: no surface.
+// One Context per process at a time: volk keeps Vulkan entry points in process globals.
+// Main thread only.
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "render/device_probe.h"
+#include "render/gpu_allocator.h"
+#include "render/vk_common.h"
+
+namespace vx::render {
+
+struct ContextCreateInfo {
+    bool validation = false;   // Enable VK_LAYER_KHRONOS_validation if it is installed.
+    bool sync_validation = false; // With validation: also its synchronization checks (slow).
+    DeviceChoice device{};     // Which device to use.
+    const char* app_name = "vx";
+};
+
+inline constexpr uint32_t kFramesInFlight = 2;
+
+// Handles a destroyed owner hands over; freed when their frame's fence has signalled.
+struct RetireList {
+    std::vector<VkAccelerationStructureKHR> accels;
+    std::vector<VkImageView> views;
+    std::vector<VkImage> images;
+    std::vector<VkBuffer> buffers;
+    std::vector<Allocation> allocations;
+    std::vector<VkPipeline> pipelines;
+};
+
+class Context {
+public:
+    // Creates everything; an error (not a crash) when no loader or no ray-tracing device exists.
+    static Result<std::unique_ptr<Context>> create(const ContextCreateInfo& info);
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const { return m_instance; }
+    VkPhysicalDevice physical_device() const { return m_pd; }
+    VkDevice device() const { return m_device; }
+    VkQueue queue() const { return m_queue; }
+    uint32_t queue_family() const { return m_queue_family; }
+    const DeviceReport& report() const { return m_report; }
+    const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& rt_properties() const { return m_rt_props; }
+    const VkPhysicalDeviceAccelerationStructurePropertiesKHR& as_properties() const { return m_as_props; }
+    const VkPhysicalDeviceLimits& limits() const { return m_limits; }
+    GpuAllocator& allocator() { return *m_allocator; }
+
+    // Validation-layer messages of severity error seen so far (tests assert 0). Thread-safe.
+    uint32_t validation_errors() const { return m_validation_errors.load(); }
+    uint32_t validation_warnings() const { return m_validation_warnings.load(); }
+    bool validation_enabled() const { return m_validation; }
+
+    // Names an object for validation messages and debuggers (no-op without debug utils).
+    void set_name(VkObjectType type, uint64_t handle, const char* name) const;
+    template <class T> void set_name(T handle, VkObjectType type, const char* name) const {
+        set_name(type, uint64_t(handle), name);
+    }
+
+    // Frames: begin_frame waits until this slot's previous submission finished, frees its retire
+    // list and returns a command buffer in the recording state; end_frame submits it.
+    VkCommandBuffer begin_frame();
+    void end_frame();
+    // Waits for every submitted frame and frees every retire list.
+    void wait_idle();
+    uint64_t frame_number() const { return m_frame_number; }
+    // Slot (0..kFramesInFlight-1) of the frame being recorded or last submitted.
+    uint32_t frame_slot() const { return m_frame_slot; }
+    // Waits until the last submitted frame has completed (for read-back).
+    void wait_frame();
+
+    // Retiring: called by resource destructors; the handle is destroyed once the current frame
+    // (and so every earlier one) has completed on the GPU.
+    RetireList& retire_list() { return m_frames[m_frame_slot].retire; }
+
+    // Records `record` into a fresh command buffer, submits it and waits (uploads, tests).
+    template <class F> void submit_now(F&& record) {
+        VkCommandBuffer cmd = begin_one_shot();
+        record(cmd);
+        end_one_shot(cmd);
+    }
+
+private:
+    Context() = default;
+    Status create_instance(const ContextCreateInfo& info);
+    Status pick_device(const ContextCreateInfo& info);
+    void create_device();
+    void create_frames();
+    void flush(RetireList& list);
+    VkCommandBuffer begin_one_shot();
+    void end_one_shot(VkCommandBuffer cmd);
+    static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                         VkDebugUtilsMessageTypeFlagsEXT types,
+                                                         const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                         void* user);
+
+    struct Frame {
+        VkCommandPool pool = VK_NULL_HANDLE;
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        VkFence fence = VK_NULL_HANDLE;
+        RetireList retire;
+    };
+
+    VkInstance m_instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT m_messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice m_pd = VK_NULL_HANDLE;
+    VkDevice m_device = VK_NULL_HANDLE;
+    VkQueue m_queue = VK_NULL_HANDLE;
+    uint32_t m_queue_family = 0;
+    bool m_validation = false;
+    bool m_debug_utils = false;
+    DeviceReport m_report;
+    VkPhysicalDeviceRayTracingPipelinePropertiesKHR m_rt_props{};
+    VkPhysicalDeviceAccelerationStructurePropertiesKHR m_as_props{};
+    VkPhysicalDeviceLimits m_limits{};
+    std::unique_ptr<GpuAllocator> m_allocator;
+    std::array<Frame, kFramesInFlight> m_frames{};
+    uint32_t m_frame_slot = 0;
+    uint64_t m_frame_number = 0;
+    bool m_in_frame = false;
+    VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
+    VkFence m_one_shot_fence = VK_NULL_HANDLE;
+    std::atomic<uint32_t> m_validation_errors{0};
+    std::atomic<uint32_t> m_validation_warnings{0};
+};
+
+} // namespace vx::render

@@ -1,0 +1,49 @@
+#pragma once
+// What the Vulkan devices of this machine can do, without creating a logical device: for `vx info`
+// and for choosing the device to render with. No Vulkan types in this header.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "world/base/result.h"
+
+namespace vx::render {
+
+enum class DeviceType : uint8_t { Other, Integrated, Discrete, Virtual, Cpu };
+const char* device_type_name(DeviceType type);
+
+struct DeviceReport {
+    uint32_t index = 0;           // Position in vkEnumeratePhysicalDevices order.
+    std::string name;
+    DeviceType type = DeviceType::Other;
+    uint32_t api_version = 0;     // VK_MAKE_API_VERSION encoding, as the driver reports it.
+    std::string driver_info;      // Driver name and info strings (e.g. "llvmpipe / Mesa 25.0.7").
+    bool acceleration_structure = false;   // VK_KHR_acceleration_structure + feature.
+    bool ray_tracing_pipeline = false;     // VK_KHR_ray_tracing_pipeline + feature.
+    bool deferred_host_operations = false; // VK_KHR_deferred_host_operations.
+    bool buffer_device_address = false;    // Vulkan 1.2 bufferDeviceAddress feature.
+
+    // Everything the renderer needs (it also needs Vulkan 1.3: see api_version).
+    bool can_ray_trace() const;
+    std::string api_version_string() const; // "1.4.303"
+};
+
+// Enumerates the devices through a temporary instance. Returns an error (never crashes) when no
+// Vulkan loader or driver is installed. Slow (creates an instance): call rarely. Main thread
+// only (volk's function pointers are process globals); safe while a Context exists.
+Result<std::vector<DeviceReport>> probe_devices();
+
+// Which device to use: "auto" prefers a ray-tracing discrete GPU, then any ray-tracing device;
+// "cpu" wants a CPU device (lavapipe); "gpu" any non-CPU device; "N" the device at index N.
+struct DeviceChoice {
+    enum class Kind : uint8_t { Auto, Cpu, Gpu, Index } kind = Kind::Auto;
+    uint32_t index = 0; // For Kind::Index.
+};
+Result<DeviceChoice> parse_device_choice(std::string_view text);
+
+// The index into `devices` to use, or an error saying why none fits. Thread-safe.
+Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceChoice choice);
+
+} // namespace vx::render

@@ -1,0 +1,133 @@
+// Context frames, retire lists and one-shot submissions.
+#include "render/context.h"
+
+#include "world/base/assert.h"
+
+namespace vx::render {
+
+static VkCommandPool make_pool(VkDevice device, uint32_t family) {
+    VkCommandPoolCreateInfo ci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    ci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+    ci.queueFamilyIndex = family;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateCommandPool(device, &ci, nullptr, &pool));
+    return pool;
+}
+
+static VkCommandBuffer make_cmd(VkDevice device, VkCommandPool pool) {
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
+    return cmd;
+}
+
+static VkFence make_fence(VkDevice device, bool signalled) {
+    VkFenceCreateInfo ci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    ci.flags = signalled ? VK_FENCE_CREATE_SIGNALED_BIT : 0;
+    VkFence fence = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFence(device, &ci, nullptr, &fence));
+    return fence;
+}
+
+void Context::create_frames() {
+    for (uint32_t i = 0; i < kFramesInFlight; ++i) {
+        Frame& f = m_frames[i];
+        f.pool = make_pool(m_device, m_queue_family);
+        f.cmd = make_cmd(m_device, f.pool);
+        f.fence = make_fence(m_device, true);
+        set_name(f.pool, VK_OBJECT_TYPE_COMMAND_POOL, i ? "frame pool 1" : "frame pool 0");
+        set_name(f.cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, i ? "frame cmd 1" : "frame cmd 0");
+        set_name(f.fence, VK_OBJECT_TYPE_FENCE, i ? "frame fence 1" : "frame fence 0");
+    }
+    m_one_shot_pool = make_pool(m_device, m_queue_family);
+    m_one_shot_fence = make_fence(m_device, false);
+    set_name(m_one_shot_pool, VK_OBJECT_TYPE_COMMAND_POOL, "one-shot pool");
+    set_name(m_one_shot_fence, VK_OBJECT_TYPE_FENCE, "one-shot fence");
+}
+
+void Context::flush(RetireList& list) {
+    // Acceleration structures and views before the buffers and images under them.
+    for (VkAccelerationStructureKHR a : list.accels)
+        vkDestroyAccelerationStructureKHR(m_device, a, nullptr);
+    for (VkImageView v : list.views)
+        vkDestroyImageView(m_device, v, nullptr);
+    for (VkImage i : list.images)
+        vkDestroyImage(m_device, i, nullptr);
+    for (VkBuffer b : list.buffers)
+        vkDestroyBuffer(m_device, b, nullptr);
+    for (VkPipeline p : list.pipelines)
+        vkDestroyPipeline(m_device, p, nullptr);
+    for (const Allocation& a : list.allocations)
+        m_allocator->free(a);
+    list = RetireList{};
+}
+
+VkCommandBuffer Context::begin_frame() {
+    VX_ASSERT(!m_in_frame);
+    m_frame_slot = uint32_t((m_frame_number + 1) % kFramesInFlight);
+    ++m_frame_number;
+    Frame& f = m_frames[m_frame_slot];
+    // The slot's fence covers its last submission; with kFramesInFlight >= 2 every earlier frame
+    // was waited for when its own slot began again, so everything retired in this slot is idle.
+    VK_CHECK(vkWaitForFences(m_device, 1, &f.fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(m_device, 1, &f.fence));
+    flush(f.retire);
+    VK_CHECK(vkResetCommandPool(m_device, f.pool, 0));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(f.cmd, &bi));
+    m_in_frame = true;
+    return f.cmd;
+}
+
+void Context::end_frame() {
+    VX_ASSERT(m_in_frame);
+    Frame& f = m_frames[m_frame_slot];
+    VK_CHECK(vkEndCommandBuffer(f.cmd));
+    VkCommandBufferSubmitInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cbi.commandBuffer = f.cmd;
+    VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    si.commandBufferInfoCount = 1;
+    si.pCommandBufferInfos = &cbi;
+    VK_CHECK(vkQueueSubmit2(m_queue, 1, &si, f.fence));
+    m_in_frame = false;
+}
+
+void Context::wait_frame() {
+    VX_ASSERT(!m_in_frame);
+    VK_CHECK(vkWaitForFences(m_device, 1, &m_frames[m_frame_slot].fence, VK_TRUE, UINT64_MAX));
+}
+
+void Context::wait_idle() {
+    VX_ASSERT(!m_in_frame);
+    VK_CHECK(vkDeviceWaitIdle(m_device));
+    for (Frame& f : m_frames)
+        flush(f.retire);
+}
+
+VkCommandBuffer Context::begin_one_shot() {
+    VK_CHECK(vkResetCommandPool(m_device, m_one_shot_pool, 0));
+    VkCommandBuffer cmd = make_cmd(m_device, m_one_shot_pool);
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    return cmd;
+}
+
+void Context::end_one_shot(VkCommandBuffer cmd) {
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    VkCommandBufferSubmitInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cbi.commandBuffer = cmd;
+    VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    si.commandBufferInfoCount = 1;
+    si.pCommandBufferInfos = &cbi;
+    VK_CHECK(vkQueueSubmit2(m_queue, 1, &si, m_one_shot_fence));
+    VK_CHECK(vkWaitForFences(m_device, 1, &m_one_shot_fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
+    vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd);
+}
+
+} // namespace vx::render

@@ -1,0 +1,177 @@
+#include "render/gpu_allocator.h"
+
+#include <algorithm>
+
+#include "world/base/assert.h"
+#include "world/base/log.h"
+
+namespace vx::render {
+
+static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
+GpuAllocator::GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size, bool debug_names)
+    : m_device(device), m_block_size(block_size), m_debug_names(debug_names) {
+    vkGetPhysicalDeviceMemoryProperties(pd, &m_props);
+}
+
+GpuAllocator::~GpuAllocator() {
+    for (Block& b : m_blocks)
+        if (b.memory)
+            vkFreeMemory(m_device, b.memory, nullptr);
+}
+
+int GpuAllocator::find_memory_type(uint32_t type_bits, MemoryUse use) const {
+    VkMemoryPropertyFlags required = 0, preferred = 0;
+    switch (use) {
+    case MemoryUse::Device: preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT; break;
+    case MemoryUse::Upload:
+        required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+        break;
+    case MemoryUse::Readback:
+        required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+        preferred = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+        break;
+    }
+    int fallback = -1;
+    for (uint32_t i = 0; i < m_props.memoryTypeCount; ++i) {
+        if (!(type_bits & (1u << i)))
+            continue;
+        const VkMemoryPropertyFlags f = m_props.memoryTypes[i].propertyFlags;
+        if ((f & required) != required)
+            continue;
+        if ((f & preferred) == preferred)
+            return int(i);
+        if (fallback < 0)
+            fallback = int(i);
+    }
+    return fallback;
+}
+
+int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize size) {
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};
+    ai.allocationSize = size;
+    ai.memoryTypeIndex = memory_type;
+    Block b;
+    if (vkAllocateMemory(m_device, &ai, nullptr, &b.memory) != VK_SUCCESS) {
+        VX_LOG_ERROR("GPU allocator: vkAllocateMemory of %llu bytes failed", (unsigned long long)size);
+        return -1;
+    }
+    if (m_props.memoryTypes[memory_type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+        VK_CHECK(vkMapMemory(m_device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+    if (m_debug_names) {
+        VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+        ni.objectType = VK_OBJECT_TYPE_DEVICE_MEMORY;
+        ni.objectHandle = uint64_t(b.memory);
+        ni.pObjectName = "vx memory block";
+        VK_CHECK(vkSetDebugUtilsObjectNameEXT(m_device, &ni));
+    }
+    b.size = size;
+    b.pool = pool;
+    b.free.push_back({0, size});
+    for (size_t i = 0; i < m_blocks.size(); ++i)
+        if (!m_blocks[i].memory) {
+            m_blocks[i] = std::move(b);
+            return int(i);
+        }
+    m_blocks.push_back(std::move(b));
+    return int(m_blocks.size() - 1);
+}
+
+bool GpuAllocator::carve(Block& b, VkDeviceSize size, VkDeviceSize align, VkDeviceSize& out_offset) {
+    for (size_t i = 0; i < b.free.size(); ++i) {
+        Range r = b.free[i];
+        const VkDeviceSize start = align_up(r.offset, align);
+        if (start + size > r.offset + r.size)
+            continue;
+        // Split the range into [r.offset, start) and [start + size, end).
+        const VkDeviceSize end = r.offset + r.size;
+        b.free.erase(b.free.begin() + ptrdiff_t(i));
+        auto at = b.free.begin() + ptrdiff_t(i);
+        if (start + size < end)
+            at = b.free.insert(at, Range{start + size, end - start - size});
+        if (start > r.offset)
+            b.free.insert(at, Range{r.offset, start - r.offset});
+        out_offset = start;
+        return true;
+    }
+    return false;
+}
+
+Allocation GpuAllocator::allocate(const VkMemoryRequirements& req, MemoryUse use, bool for_image) {
+    const int type = find_memory_type(req.memoryTypeBits, use);
+    if (type < 0) {
+        VX_LOG_ERROR("GPU allocator: no memory type fits (bits 0x%x)", req.memoryTypeBits);
+        return {};
+    }
+    const uint32_t pool = uint32_t(type) * 2 + (for_image ? 1 : 0);
+    const VkDeviceSize size = align_up(std::max<VkDeviceSize>(req.size, 1), 16);
+    const VkDeviceSize align = std::max<VkDeviceSize>(req.alignment, 16);
+    Allocation a;
+    for (uint32_t i = 0; i < m_blocks.size() && !a.valid(); ++i) {
+        Block& b = m_blocks[i];
+        if (b.memory && b.pool == pool && b.size - b.used >= size && carve(b, size, align, a.offset))
+            a.memory = b.memory, a.block = i;
+    }
+    if (!a.valid()) {
+        const int i = new_block(pool, uint32_t(type), std::max(m_block_size, align_up(size, 1 << 20)));
+        if (i < 0 || !carve(m_blocks[size_t(i)], size, align, a.offset))
+            return {};
+        a.memory = m_blocks[size_t(i)].memory;
+        a.block = uint32_t(i);
+    }
+    Block& b = m_blocks[a.block];
+    b.used += size;
+    ++b.live;
+    a.size = size;
+    a.mapped = b.mapped ? static_cast<char*>(b.mapped) + a.offset : nullptr;
+    return a;
+}
+
+void GpuAllocator::free(const Allocation& a) {
+    if (!a.valid())
+        return;
+    VX_ASSERT(a.block < m_blocks.size() && m_blocks[a.block].memory == a.memory);
+    Block& b = m_blocks[a.block];
+    auto it = std::lower_bound(b.free.begin(), b.free.end(), a.offset,
+                               [](const Range& r, VkDeviceSize off) { return r.offset < off; });
+    it = b.free.insert(it, Range{a.offset, a.size});
+    // Coalesce with the next, then the previous range.
+    if (auto next = it + 1; next != b.free.end() && it->offset + it->size == next->offset) {
+        it->size += next->size;
+        b.free.erase(next);
+    }
+    if (it != b.free.begin()) {
+        auto prev = it - 1;
+        if (prev->offset + prev->size == it->offset) {
+            prev->size += it->size;
+            b.free.erase(it);
+        }
+    }
+    b.used -= a.size;
+    --b.live;
+    if (b.live > 0)
+        return;
+    const auto same_pool = std::count_if(m_blocks.begin(), m_blocks.end(),
+                                         [&](const Block& o) { return o.memory && o.pool == b.pool; });
+    if (same_pool > 1) {
+        vkFreeMemory(m_device, b.memory, nullptr);
+        b = Block{};
+    }
+}
+
+AllocatorStats GpuAllocator::stats() const {
+    AllocatorStats s;
+    for (const Block& b : m_blocks) {
+        if (!b.memory)
+            continue;
+        ++s.blocks;
+        s.block_bytes += b.size;
+        s.used_bytes += b.used;
+        s.allocations += b.live;
+    }
+    return s;
+}
+
+} // namespace vx::render

@@ -1,0 +1,142 @@
+#include "render/rt_pipeline.h"
+
+#include <cstring>
+#include <vector>
+
+#include "render/commands.h"
+#include "render/shader_code.h"
+
+namespace vx::render {
+
+enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, kGroupCount };
+
+RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
+    create_layouts();
+    create_pipeline();
+    create_sbt();
+}
+
+RtPipeline::~RtPipeline() {
+    // Layouts are not used by in-flight work once recorded; the pipeline retires with the frame.
+    if (m_pipeline)
+        m_ctx->retire_list().pipelines.push_back(m_pipeline);
+    vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
+    vkDestroyDescriptorSetLayout(m_ctx->device(), m_set_layout, nullptr);
+}
+
+void RtPipeline::create_layouts() {
+    const VkShaderStageFlags rgen = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+    const VkDescriptorSetLayoutBinding bindings[] = {
+        {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rgen, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, rgen | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    ci.bindingCount = uint32_t(std::size(bindings));
+    ci.pBindings = bindings;
+    VK_CHECK(vkCreateDescriptorSetLayout(m_ctx->device(), &ci, nullptr, &m_set_layout));
+    m_ctx->set_name(m_set_layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "rt set layout");
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = 1;
+    pl.pSetLayouts = &m_set_layout;
+    VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
+    m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "rt pipeline layout");
+}
+
+static VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, const char* name) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = code.size_bytes();
+    ci.pCode = code.data();
+    VkShaderModule m = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
+    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
+    return m;
+}
+
+static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR type, uint32_t general,
+                                                  uint32_t closest_hit) {
+    VkRayTracingShaderGroupCreateInfoKHR g{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
+    g.type = type;
+    g.generalShader = general;
+    g.closestHitShader = closest_hit;
+    g.anyHitShader = VK_SHADER_UNUSED_KHR;
+    g.intersectionShader = VK_SHADER_UNUSED_KHR;
+    return g;
+}
+
+void RtPipeline::create_pipeline() {
+    const VkShaderModule modules[] = {
+        make_module(*m_ctx, spirv::raygen(), "raygen.rgen"),
+        make_module(*m_ctx, spirv::primary_miss(), "primary.rmiss"),
+        make_module(*m_ctx, spirv::shadow_miss(), "shadow.rmiss"),
+        make_module(*m_ctx, spirv::closest_hit(), "closest_hit.rchit"),
+    };
+    const VkShaderStageFlagBits stage_bits[] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
+                                                VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR};
+    VkPipelineShaderStageCreateInfo stages[4];
+    for (int i = 0; i < 4; ++i) {
+        stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        stages[i].stage = stage_bits[i];
+        stages[i].module = modules[i];
+        stages[i].pName = "main";
+    }
+    const VkRayTracingShaderGroupCreateInfoKHR groups[kGroupCount] = {
+        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 0, VK_SHADER_UNUSED_KHR),
+        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 1, VK_SHADER_UNUSED_KHR),
+        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 2, VK_SHADER_UNUSED_KHR),
+        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, 3),
+    };
+    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    ci.stageCount = 4;
+    ci.pStages = stages;
+    ci.groupCount = kGroupCount;
+    ci.pGroups = groups;
+    ci.maxPipelineRayRecursionDepth = 1; // Every ray is traced from raygen; reflections loop there.
+    ci.layout = m_layout;
+    VK_CHECK(vkCreateRayTracingPipelinesKHR(m_ctx->device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr,
+                                            &m_pipeline));
+    m_ctx->set_name(m_pipeline, VK_OBJECT_TYPE_PIPELINE, "rt pipeline");
+    for (VkShaderModule m : modules)
+        vkDestroyShaderModule(m_ctx->device(), m, nullptr);
+}
+
+void RtPipeline::create_sbt() {
+    const auto& p = m_ctx->rt_properties();
+    const uint32_t handle = p.shaderGroupHandleSize;
+    const VkDeviceSize stride = align_up(handle, p.shaderGroupHandleAlignment);
+    const VkDeviceSize base = p.shaderGroupBaseAlignment;
+    std::vector<uint8_t> handles(size_t(handle) * kGroupCount);
+    VK_CHECK(vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), m_pipeline, 0, kGroupCount, handles.size(),
+                                                  handles.data()));
+    // Regions start at base-aligned offsets: [raygen][miss primary, miss shadow][hit].
+    const VkDeviceSize raygen_size = align_up(stride, base);
+    const VkDeviceSize miss_size = align_up(2 * stride, base);
+    const VkDeviceSize hit_size = align_up(stride, base);
+    BufferCreateInfo bi;
+    bi.size = raygen_size + miss_size + hit_size;
+    bi.usage = VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR;
+    bi.memory = MemoryUse::Upload;
+    bi.alignment = base;
+    bi.name = "shader binding table";
+    m_sbt = Buffer::create(*m_ctx, bi);
+    VX_ASSERT_MSG(m_sbt.valid(), "out of memory for the SBT");
+    auto* dst = static_cast<uint8_t*>(m_sbt.mapped());
+    std::memset(dst, 0, bi.size);
+    auto put = [&](uint32_t group_index, VkDeviceSize offset) {
+        std::memcpy(dst + offset, handles.data() + size_t(group_index) * handle, handle);
+    };
+    put(kGroupRaygen, 0);
+    put(kGroupPrimaryMiss, raygen_size);
+    put(kGroupShadowMiss, raygen_size + stride);
+    put(kGroupHit, raygen_size + miss_size);
+    const VkDeviceAddress a = m_sbt.address();
+    m_raygen = {a, raygen_size, raygen_size}; // Raygen: stride must equal size.
+    m_miss = {a + raygen_size, stride, miss_size};
+    m_hit = {a + raygen_size + miss_size, stride, hit_size};
+}
+
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) const {
+    vkCmdTraceRaysKHR(cmd, &m_raygen, &m_miss, &m_hit, &m_callable, width, height, 1);
+}
+
+} // namespace vx::render

@@ -1,0 +1,15 @@
+#pragma once
+// SPIR-V of the ray-tracing stages, compiled from shaders/ at build time and embedded in the
+// library (so binaries work from any directory). Thread-safe (constant data).
+
+#include <cstdint>
+#include <span>
+
+namespace vx::render::spirv {
+
+std::span<const uint32_t> raygen();
+std::span<const uint32_t> primary_miss();
+std::span<const uint32_t> shadow_miss();
+std::span<const uint32_t> closest_hit();
+
+} // namespace vx::render::spirv

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Configures and builds vx. Usage: scripts/build.sh [release|asan|tsan|debug] [extra cmake args...]
+# Build trees go to build/<kind>. Warnings are errors here (VX_WERROR=ON), as in CI.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+kind=${1:-release}
+shift || true
+case "$kind" in
+  release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
+  debug) args=(-DCMAKE_BUILD_TYPE=Debug) ;;
+  asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DVX_SANITIZE=address,undefined" -DVX_BUILD_BENCHMARKS=OFF) ;;
+  tsan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVX_SANITIZE=thread -DVX_BUILD_BENCHMARKS=OFF) ;;
+  *) echo "usage: scripts/build.sh [release|asan|tsan|debug]" >&2; exit 2 ;;
+esac
+jobs=$(nproc)
+cmake -S . -B "build/$kind" -G Ninja -DVX_WERROR=ON "${args[@]}" "$@" >/dev/null
+ninja -C "build/$kind" -j "$jobs"

@@ -1,0 +1,33 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Nearest hit of a primary or reflection ray: looks up the quad of the hit triangle (two
+// triangles per quad slot) and returns a robust secondary-ray origin: the hit point snapped onto
+// the quad's integer face plane (chunk-local, exact in float), clamped inside the quad, and
+// offset by kSurfaceOffset along the face normal, then moved to camera-relative space. No tMin
+// is needed: the origin is strictly on the air side of the face it left.
+#include "shared/rt_common.glsl"
+
+layout(location = 0) rayPayloadInEXT HitPayload payload;
+
+void main() {
+    QuadSlots quads = QuadSlots(ChunkTable(frame.chunk_table).quads[gl_InstanceCustomIndexEXT]);
+    uvec2 q = quads.slot[gl_PrimitiveID >> 1];
+    uint packed = q.x;
+    uint u0 = packed & 31u, v0 = (packed >> 5u) & 31u;
+    uint w = ((packed >> 10u) & 31u) + 1u, h = ((packed >> 15u) & 31u) + 1u;
+    uint plane = (packed >> 20u) & 63u, axis = (packed >> 26u) & 3u;
+    bool positive = ((packed >> 28u) & 1u) != 0u;
+    // Plane axes as in world/chunk_mesh.h: X planes (y, z), Y planes (x, z), Z planes (x, y).
+    uint ua = axis == 0u ? 1u : 0u;
+    uint va = axis == 2u ? 1u : 2u;
+
+    vec3 local = gl_ObjectRayOriginEXT + gl_ObjectRayDirectionEXT * gl_HitTEXT;
+    local[axis] = float(plane) + (positive ? kSurfaceOffset : -kSurfaceOffset);
+    local[ua] = clamp(local[ua], float(u0) + kSurfaceOffset, float(u0 + w) - kSurfaceOffset);
+    local[va] = clamp(local[va], float(v0) + kSurfaceOffset, float(v0 + h) - kSurfaceOffset);
+
+    payload.position = gl_ObjectToWorldEXT * vec4(local, 1.0);
+    payload.t = gl_HitTEXT;
+    payload.block = q.y & 0xffffu;
+    payload.face = axis * 2u + (positive ? 1u : 0u);
+}

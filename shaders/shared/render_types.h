@@ -1,0 +1,64 @@
+// Layouts shared by the GLSL ray-tracing shaders and render/ (C++). Every struct is made of
+// 16-byte vectors and 8-byte addresses so std140/std430 and C++ agree; render/gpu_layouts.cpp
+// checks sizes and offsets with static_assert.
+#ifndef VX_SHADERS_RENDER_TYPES_H
+#define VX_SHADERS_RENDER_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace vx::render::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = uint32_t;
+#define VX_CONST inline constexpr
+#else
+#define VX_CONST const
+#endif
+
+// Shading modes (FrameParams.mode_seed.x).
+VX_CONST uint kModeFlat = 0;       // Albedo of the hit block, sky colour on a miss; no lighting.
+VX_CONST uint kModeFull = 1;       // Area light with soft shadows, emission, mirror reflections.
+VX_CONST uint kModeVisibility = 2; // Fraction of unoccluded shadow samples at the primary hit.
+
+// Ray payload locations and miss shader indices.
+VX_CONST int kPrimaryPayload = 0;
+VX_CONST int kShadowPayload = 1;
+VX_CONST uint kPrimaryMiss = 0;
+VX_CONST uint kShadowMiss = 1;
+
+// Secondary rays start this far off the hit's face plane, along the face normal, in chunk-local
+// block units (64 ulps at 32.0, so the origin is on the air side after the instance transform).
+VX_CONST float kSurfaceOffset = 1.0f / 1024.0f;
+
+// Per-frame constants (uniform buffer, std140). Positions are camera-relative: world block
+// position minus the camera's block (computed in 64-bit on the CPU), in block units.
+struct FrameParams {
+    vec4 camera_origin;  // xyz: camera position inside its block (0..1); w: tan(vertical fov / 2).
+    vec4 camera_forward; // xyz: unit view direction; w: aspect ratio (width / height).
+    vec4 camera_right;   // xyz: unit, right in the image.
+    vec4 camera_up;      // xyz: unit, up in the image.
+    vec4 sky_color;      // xyz: linear RGB radiance of the sky (returned by missed rays).
+    vec4 light_corner;   // xyz: one corner of the rectangular area light.
+    vec4 light_edge_u;   // xyz: first edge from the corner.
+    vec4 light_edge_v;   // xyz: second edge from the corner.
+    vec4 light_emission; // xyz: radiance of the light (two-sided).
+    uvec4 size_samples;  // width, height, shadow samples per pixel, max reflection bounces.
+    uvec4 mode_seed;     // mode, seed, material count, 0.
+    uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
+    uint64_t materials;   // Address of Material[material count], indexed by block id.
+};
+
+// One block type's material (std430 array element).
+struct Material {
+    vec4 albedo_reflectivity; // xyz: linear albedo; w: mirror reflectivity 0..1.
+    vec4 emission;            // xyz: emitted radiance.
+};
+
+// A quad slot of a chunk BLAS is world::Quad verbatim (uint packed, uint16 block, uint16 spare),
+// read as a uvec2: x = packed (u0:5 v0:5 w-1:5 h-1:5 plane:6 axis:2 positive:1), y & 0xffff = block.
+
+#ifdef __cplusplus
+} // namespace vx::render::gpu
+#endif
+#endif

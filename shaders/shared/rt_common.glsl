@@ -1,0 +1,21 @@
+// Declarations shared by the ray-tracing stages.
+#extension GL_EXT_ray_tracing : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+#include "shared/render_types.h"
+
+layout(set = 0, binding = 2, std140) uniform FrameBlock { FrameParams frame; };
+
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer ChunkTable { uint64_t quads[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer QuadSlots { uvec2 slot[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
+
+// Primary/reflection ray result, written by the closest-hit shader.
+struct HitPayload {
+    vec3 position; // Camera-relative secondary-ray origin: on the face, offset to its air side.
+    float t;       // Hit distance, < 0 on a miss.
+    uint block;    // Block id.
+    uint face;     // world::Face: axis * 2 + positive.
+};

@@ -1,0 +1,246 @@
+// Chunk streaming: fills the view, meshes exactly what a full remesh would, saves edits before
+// dropping chunks, and never evicts inside the view. Waits are bounded by conditions, never by
+// the machine's speed: a slow machine takes longer, it does not fail.
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "engine/chunk_streamer.h"
+#include "world/mesher.h"
+#include "world/sqlite_store.h"
+
+using namespace vx;
+using namespace vx::engine;
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Recorder : MeshSink {
+    std::map<std::tuple<int, int, int>, ChunkMesh> meshes;
+    int unloads = 0, partial_updates = 0;
+    void on_mesh(ChunkCoord c, const ChunkMesh& mesh, std::span<const int> changed) override {
+        meshes[{c.x, c.y, c.z}] = mesh;
+        partial_updates += !changed.empty();
+    }
+    void on_unload(ChunkCoord c) override {
+        meshes.erase({c.x, c.y, c.z});
+        ++unloads;
+    }
+};
+
+StreamingSettings small_settings() {
+    StreamingSettings s;
+    s.view_radius = 2;
+    s.view_radius_vertical = 1;
+    s.unload_margin = 1;
+    s.unload_delay_s = 0.0;
+    s.worker_count = 2;
+    return s;
+}
+
+// Updates until the streamer has meshed its whole view (or a generous limit passes).
+bool settle(ChunkStreamer& s, glm::dvec3 pos, Clock::time_point& now) {
+    const auto limit = Clock::now() + std::chrono::minutes(3);
+    do {
+        now += std::chrono::milliseconds(16);
+        s.update(pos, glm::dvec3(0, 0, -1), now);
+        if (s.settled())
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    } while (Clock::now() < limit);
+    return false;
+}
+
+// The view's meshes equal full meshes of the same world built directly.
+void expect_meshes_match(const ChunkStreamer& s, const TerrainGenerator& gen, ChunkCoord center, int r, int rv) {
+    GreedyMesher mesher;
+    for (int dy = -rv; dy <= rv; ++dy)
+        for (int dz = -r; dz <= r; ++dz)
+            for (int dx = -r; dx <= r; ++dx) {
+                const ChunkCoord c = center + ChunkCoord(dx, dy, dz);
+                const ChunkMesh* got = s.mesh(c);
+                ASSERT_NE(got, nullptr) << "missing mesh " << c.x << "," << c.y << "," << c.z;
+                Apron apron;
+                for (int f = 0; f < 6; ++f) {
+                    const ChunkCoord n = c + face_normal(Face(f));
+                    const Chunk* live = s.world().find_chunk(n);
+                    const Chunk fresh = live ? Chunk() : gen.generate(n);
+                    apron.copy_face(Face(f), live ? live : &fresh, s.world().registry());
+                }
+                ChunkMesh expect;
+                mesher.mesh({*s.world().find_chunk(c), apron, s.world().registry()}, expect);
+                ASSERT_TRUE(*got == expect) << c.x << "," << c.y << "," << c.z;
+            }
+}
+
+std::filesystem::path temp_store(const char* name) {
+    auto p = std::filesystem::temp_directory_path() / (std::string("vx_stream_") + name);
+    std::filesystem::remove_all(p);
+    std::filesystem::create_directories(p);
+    return p / "world.db";
+}
+
+} // namespace
+
+TEST(Streaming, FillsTheViewWithExactMeshes) {
+    const TerrainGenerator gen(11);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    const glm::dvec3 pos(40.5, double(gen.surface_height(40, 40)) + 2, 40.5);
+    ASSERT_TRUE(settle(s, pos, now));
+    const ChunkCoord center = chunk_of(BlockPos(40, gen.surface_height(40, 40) + 2, 40));
+    expect_meshes_match(s, gen, center, 2, 1);
+    const StreamingMetrics m = s.metrics();
+    EXPECT_EQ(m.meshed, m.wanted_meshes);
+    EXPECT_EQ(m.wanted_meshes, size_t(5 * 5 * 3));
+    EXPECT_EQ(m.loaded, size_t(7 * 7 * 5)); // The view plus its neighbour ring.
+}
+
+TEST(Streaming, SameWorldWithOneWorkerOrMany) {
+    const TerrainGenerator gen(5);
+    auto hash_world = [&](int workers) {
+        Recorder sink;
+        StreamingSettings st = small_settings();
+        st.worker_count = workers;
+        ChunkStreamer s(gen, nullptr, sink, st);
+        Clock::time_point now = Clock::now();
+        EXPECT_TRUE(settle(s, glm::dvec3(-70.5, 10, 300.5), now));
+        // FNV-1a over every loaded block, chunks in coordinate order.
+        std::map<std::tuple<int, int, int>, const Chunk*> sorted;
+        s.world().for_each_chunk([&](ChunkCoord c, const Chunk& ch) { sorted[{c.x, c.y, c.z}] = &ch; });
+        uint64_t h = 1469598103934665603ull;
+        for (auto& [k, ch] : sorted)
+            for (int i = 0; i < kChunkVolume; ++i)
+                h = (h ^ ch->get(i)) * 1099511628211ull;
+        return std::make_pair(h, sorted.size());
+    };
+    const auto one = hash_world(1);
+    const auto many = hash_world(3);
+    EXPECT_EQ(one.second, many.second);
+    EXPECT_EQ(one.first, many.first);
+}
+
+TEST(Streaming, EditsUpdateMeshesIncrementally) {
+    const TerrainGenerator gen(3);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    const glm::dvec3 pos(0.5, double(gen.surface_height(0, 0)) + 1, 0.5);
+    ASSERT_TRUE(settle(s, pos, now));
+    const ChunkCoord center = chunk_of(BlockPos(0, gen.surface_height(0, 0) + 1, 0));
+    const BlockPos o = chunk_origin(center);
+    // Inside, on a border between two meshed chunks, and a corner.
+    const BlockPos edits[] = {o + BlockPos(5, 5, 5), o + BlockPos(0, 7, 9), o + BlockPos(31, 31, 0), o + BlockPos(-1, 3, 3)};
+    for (const BlockPos& p : edits) {
+        ASSERT_TRUE(s.set_block(p, 7).ok());
+        EXPECT_EQ(s.get_block(p), 7);
+    }
+    EXPECT_GT(sink.partial_updates, 0);
+    ASSERT_TRUE(settle(s, pos, now));
+    expect_meshes_match(s, gen, center, 2, 1);
+    // A chunk that is not loaded refuses edits.
+    EXPECT_FALSE(s.set_block(BlockPos(100000, 0, 0), 1).ok());
+}
+
+TEST(Streaming, DirtyChunksAreSavedBeforeTheyAreDropped) {
+    const auto path = temp_store("dirty");
+    const TerrainGenerator gen(8);
+    const BlockPos p(3, 200, 3); // High in the sky: air before the edit.
+    {
+        auto store = SqliteStore::open({path.string()});
+        ASSERT_TRUE(store.ok()) << store.error();
+        Recorder sink;
+        ChunkStreamer s(gen, store->get(), sink, small_settings());
+        Clock::time_point now = Clock::now();
+        ASSERT_TRUE(settle(s, glm::dvec3(3.5, 200.5, 3.5), now));
+        ASSERT_TRUE(s.set_block(p, 9).ok());
+        // Fly far away: the edited chunk leaves the unload radius and is dropped (saved first).
+        ASSERT_TRUE(settle(s, glm::dvec3(3.5 + 32 * 20, 200.5, 3.5), now));
+        for (int i = 0; i < 5; ++i)
+            s.update(glm::dvec3(3.5 + 32 * 20, 200.5, 3.5), glm::dvec3(0, 0, -1), now += std::chrono::seconds(1));
+        EXPECT_EQ(s.world().find_chunk(chunk_of(p)), nullptr);
+        EXPECT_GT(s.metrics().unloaded, 0u);
+        // Come back: the edit is loaded from the store.
+        ASSERT_TRUE(settle(s, glm::dvec3(3.5, 200.5, 3.5), now));
+        EXPECT_EQ(s.get_block(p), 9);
+        ASSERT_TRUE(s.set_block(p + BlockPos(1, 0, 0), 10).ok());
+        ASSERT_TRUE(s.flush().ok());
+    }
+    // A new streamer over the reopened store sees both edits.
+    auto store = SqliteStore::open({path.string()});
+    ASSERT_TRUE(store.ok());
+    Recorder sink;
+    ChunkStreamer s(gen, store->get(), sink, small_settings());
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, glm::dvec3(3.5, 200.5, 3.5), now));
+    EXPECT_EQ(s.get_block(p), 9);
+    EXPECT_EQ(s.get_block(p + BlockPos(1, 0, 0)), 10);
+}
+
+TEST(Streaming, MemoryCapNeverEvictsInsideTheView) {
+    const TerrainGenerator gen(4);
+    Recorder sink;
+    StreamingSettings st = small_settings();
+    st.unload_delay_s = 1e9; // Only the cap removes chunks here.
+    st.memory_cap_bytes = 1;  // Absurdly small: everything evictable goes.
+    ChunkStreamer s(gen, nullptr, sink, st);
+    Clock::time_point now = Clock::now();
+    const double y = gen.surface_height(0, 0);
+    ASSERT_TRUE(settle(s, glm::dvec3(0.5, y, 0.5), now));
+    ASSERT_TRUE(settle(s, glm::dvec3(32 * 6 + 0.5, y, 0.5), now));
+    const StreamingMetrics m = s.metrics();
+    EXPECT_GT(m.evicted, 0u);
+    EXPECT_EQ(m.meshed, m.wanted_meshes); // The view is whole despite the cap.
+    EXPECT_EQ(m.loaded, size_t(7 * 7 * 5));
+}
+
+// A viewer flying chunk by chunk: after each step settles, the whole view is meshed and nothing
+// beyond the unload radius is kept.
+TEST(Streaming, FlyThroughLeavesNoHoles) {
+    const TerrainGenerator gen(21);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    glm::dvec3 pos(16.5, 20.5, 16.5);
+    for (int step = 0; step < 10; ++step) {
+        pos += step < 6 ? glm::dvec3(32, 0, 0) : glm::dvec3(0, 0, -32);
+        ASSERT_TRUE(settle(s, pos, now)) << "step " << step;
+        const StreamingMetrics m = s.metrics();
+        EXPECT_EQ(m.meshed, m.wanted_meshes) << "step " << step;
+        const ChunkCoord center = chunk_of(BlockPos(int64_t(pos.x), int64_t(pos.y), int64_t(pos.z)));
+        s.world().for_each_chunk([&](ChunkCoord c, const Chunk&) {
+            const glm::ivec3 d = glm::abs(c - center);
+            EXPECT_LE(std::max(d.x, d.z), 2 + 1 + 1); // View + neighbour ring + margin.
+            EXPECT_LE(d.y, 1 + 1 + 1);
+        });
+        for (int dz = -2; dz <= 2; ++dz)
+            for (int dx = -2; dx <= 2; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    EXPECT_NE(s.mesh(center + ChunkCoord(dx, dy, dz)), nullptr);
+        EXPECT_EQ(sink.meshes.size() >= m.wanted_meshes, true);
+    }
+    EXPECT_GT(s.metrics().unloaded, 0u);
+}
+
+// Hovering across a chunk border: the margin and the delay keep edge chunks loaded.
+TEST(Streaming, HysteresisStopsThrashing) {
+    const TerrainGenerator gen(22);
+    Recorder sink;
+    StreamingSettings st = small_settings();
+    st.unload_delay_s = 5.0;
+    ChunkStreamer s(gen, nullptr, sink, st);
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, glm::dvec3(31.0, 20.5, 16.5), now));
+    for (int i = 0; i < 200; ++i) {
+        now += std::chrono::milliseconds(16);
+        s.update(glm::dvec3(i % 2 ? 33.0 : 31.0, 20.5, 16.5), glm::dvec3(1, 0, 0), now);
+    }
+    EXPECT_EQ(s.metrics().unloaded, 0u);
+    EXPECT_EQ(sink.unloads, 0);
+}

@@ -1,0 +1,86 @@
+#include <gtest/gtest.h>
+
+#include "render/device_probe.h"
+#include "render_test_util.h"
+
+namespace vx::render {
+namespace {
+
+TEST(DeviceProbe, FindsARayTracingCpuDevice) {
+    if (std::getenv("VX_TEST_DEVICE"))
+        GTEST_SKIP() << "VX_TEST_DEVICE set: not on lavapipe";
+    Result<std::vector<DeviceReport>> devices = probe_devices();
+    ASSERT_TRUE(devices.ok()) << devices.error();
+    ASSERT_FALSE(devices->empty());
+    bool found = false;
+    for (const DeviceReport& d : *devices) {
+        EXPECT_FALSE(d.name.empty());
+        if (d.type == DeviceType::Cpu && d.can_ray_trace()) {
+            found = true;
+            EXPECT_TRUE(d.acceleration_structure && d.ray_tracing_pipeline && d.deferred_host_operations &&
+                        d.buffer_device_address);
+            EXPECT_GE(d.api_version_string(), std::string("1.3"));
+        }
+    }
+    EXPECT_TRUE(found) << "lavapipe with ray tracing expected (VK_DRIVER_FILES)";
+}
+
+DeviceReport fake(uint32_t index, DeviceType type, bool rt) {
+    DeviceReport d;
+    d.index = index;
+    d.name = "fake";
+    d.type = type;
+    d.api_version = (1u << 22) | (3u << 12); // 1.3.0
+    d.acceleration_structure = d.ray_tracing_pipeline = d.deferred_host_operations = rt;
+    d.buffer_device_address = true;
+    return d;
+}
+
+TEST(DeviceProbe, ChoicePrefersRayTracingDiscreteGpu) {
+    const std::vector<DeviceReport> devs = {fake(0, DeviceType::Cpu, true), fake(1, DeviceType::Integrated, false),
+                                            fake(2, DeviceType::Discrete, true)};
+    EXPECT_EQ(*choose_device(devs, DeviceChoice{}), 2u);
+    EXPECT_EQ(*choose_device(devs, *parse_device_choice("cpu")), 0u);
+    EXPECT_EQ(*choose_device(devs, *parse_device_choice("gpu")), 2u);
+    EXPECT_EQ(*choose_device(devs, *parse_device_choice("0")), 0u);
+    EXPECT_FALSE(choose_device(devs, *parse_device_choice("1")).ok()); // Cannot ray trace.
+    EXPECT_FALSE(choose_device(devs, *parse_device_choice("7")).ok()); // Out of range.
+    EXPECT_FALSE(parse_device_choice("fast").ok());
+    EXPECT_FALSE(parse_device_choice("1x").ok());
+}
+
+TEST(DeviceProbe, NoRayTracingDeviceIsAClearError) {
+    const std::vector<DeviceReport> devs = {fake(0, DeviceType::Discrete, false)};
+    Result<uint32_t> r = choose_device(devs, DeviceChoice{});
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("ray trace"), std::string::npos);
+}
+
+TEST(DeviceProbe, ApiVersionRequiresVulkan13) {
+    DeviceReport d = fake(0, DeviceType::Discrete, true);
+    d.api_version = (1u << 22) | (2u << 12);
+    EXPECT_FALSE(d.can_ray_trace());
+}
+
+using ContextTest = test::RenderTest;
+
+TEST_F(ContextTest, CreatesHeadlessRayTracingDevice) {
+    if (!std::getenv("VX_TEST_DEVICE")) {
+        EXPECT_EQ(m_ctx->report().type, DeviceType::Cpu);
+    }
+    const auto& rt = m_ctx->rt_properties();
+    EXPECT_GT(rt.shaderGroupHandleSize, 0u);
+    EXPECT_GT(rt.shaderGroupBaseAlignment, 0u);
+    EXPECT_GT(m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment, 0u);
+    // Probing while a context is alive leaves the context's entry points usable.
+    ASSERT_TRUE(probe_devices().ok());
+    // Frames cycle without errors.
+    for (int i = 0; i < 3; ++i) {
+        m_ctx->begin_frame();
+        m_ctx->end_frame();
+    }
+    EXPECT_EQ(m_ctx->frame_number(), 3u);
+}
+
+} // namespace
+} // namespace vx::render

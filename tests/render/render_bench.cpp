@@ -1,0 +1,137 @@
+// Renderer benchmarks (Google Benchmark): batched BLAS builds and refits of a terrain of
+// K x K chunks, and tracing primary + shadow rays. Device: $VX_BENCH_DEVICE (auto, cpu, gpu, N).
+// Sizes: 8 x 8 chunks is a small view distance (256 blocks across), 16 x 16 a typical one;
+// 256 x 256 keeps lavapipe runs short, 1920 x 1080 is the real target.
+// Timings are wall clock from submit to fence (what a frame waits for).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+
+#include <benchmark/benchmark.h>
+
+#include "render/renderer.h"
+#include "world/edit_mesher.h"
+#include "world/world.h"
+
+namespace vx::render {
+namespace {
+
+Renderer& renderer() {
+    static std::unique_ptr<Renderer> r = [] {
+        const char* env = std::getenv("VX_BENCH_DEVICE");
+        RendererCreateInfo ci;
+        ci.device = *parse_device_choice(env ? env : "auto");
+        auto created = Renderer::create(ci);
+        if (!created) {
+            std::fprintf(stderr, "no renderer: %s\n", created.error().c_str());
+            std::exit(1);
+        }
+        std::fprintf(stderr, "device: %s (%s)\n", (*created)->device().name.c_str(),
+                     device_type_name((*created)->device().type));
+        return std::move(*created);
+    }();
+    return *r;
+}
+
+// Rolling terrain, 4..27 blocks high, over k x k chunks (one chunk layer), greedy meshed.
+const world::MeshMap& terrain(int k) {
+    static std::map<int, world::MeshMap> cache;
+    if (auto it = cache.find(k); it != cache.end())
+        return it->second;
+    world::World w;
+    const int64_t n = int64_t(k) * world::kChunkSize;
+    for (int64_t z = 0; z < n; ++z)
+        for (int64_t x = 0; x < n; ++x) {
+            const double h = 15 + 6 * std::sin(double(x) * 0.07) * std::cos(double(z) * 0.05) +
+                             5 * std::sin(double(x + 2 * z) * 0.13);
+            for (int64_t y = 0; y < int64_t(h); ++y)
+                w.set_block({x, y, z}, world::BlockId(y + 1 >= int64_t(h) ? 3 : (y > 8 ? 2 : 1)));
+        }
+    world::EditMesher em;
+    world::MeshMap meshes;
+    w.for_each_chunk([&](world::ChunkCoord c, const world::Chunk&) { em.mesh_chunk(w, c, meshes); });
+    return cache[k] = std::move(meshes);
+}
+
+RenderSettings tiny() {
+    RenderSettings s;
+    s.width = s.height = 8;
+    s.mode = ShadingMode::Flat;
+    return s;
+}
+
+Camera overview(int k) {
+    const double n = k * 32.0;
+    return Camera::look_at({n * 0.5 + 0.3, 60.2, -10.7}, {n * 0.5, 10.0, n * 0.6});
+}
+
+void BM_BuildAllBlas(benchmark::State& state) {
+    const int k = int(state.range(0));
+    const world::MeshMap& meshes = terrain(k);
+    Renderer& r = renderer();
+    uint64_t tris = 0;
+    for (auto _ : state) {
+        r.clear_chunks();
+        for (const auto& [c, mc] : meshes)
+            r.set_chunk(c, mc.mesh);
+        r.render(tiny(), overview(k));
+        tris = r.last_stats().triangles;
+    }
+    state.counters["blas"] = double(meshes.size());
+    state.counters["triangles"] = double(tris);
+    state.counters["tri/s"] = benchmark::Counter(double(tris), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_RefitAllBlas(benchmark::State& state) {
+    const int k = int(state.range(0));
+    const world::MeshMap& meshes = terrain(k);
+    Renderer& r = renderer();
+    r.clear_chunks();
+    for (const auto& [c, mc] : meshes)
+        r.set_chunk(c, mc.mesh);
+    r.render(tiny(), overview(k));
+    for (auto _ : state) {
+        for (const auto& [c, mc] : meshes)
+            r.set_chunk(c, mc.mesh); // Same slots: every chunk is a refit.
+        r.render(tiny(), overview(k));
+        if (r.last_stats().blas_refits != meshes.size())
+            state.SkipWithError("expected refits only");
+    }
+    state.counters["blas"] = double(meshes.size());
+}
+
+void BM_Trace(benchmark::State& state) {
+    const int k = 8;
+    const world::MeshMap& meshes = terrain(k);
+    Renderer& r = renderer();
+    r.clear_chunks();
+    for (const auto& [c, mc] : meshes)
+        r.set_chunk(c, mc.mesh);
+    RenderSettings s;
+    s.width = uint32_t(state.range(0));
+    s.height = uint32_t(state.range(1));
+    s.mode = ShadingMode::Full;
+    s.shadow_samples = uint32_t(state.range(2));
+    s.max_bounces = 0;
+    s.light.block = {-50, 120, -50};
+    r.render(s, overview(k)); // Builds the BLASes outside the timed loop.
+    double gpu_ms = 0;
+    for (auto _ : state) {
+        r.render(s, overview(k));
+        gpu_ms += r.last_stats().gpu_ms;
+    }
+    const double rays = double(s.width) * s.height * (1 + s.shadow_samples); // Upper bound.
+    state.counters["rays"] = rays;
+    state.counters["Mrays/s"] = rays * double(state.iterations()) / (gpu_ms * 1e3);
+    state.counters["gpu_ms"] = gpu_ms / double(state.iterations());
+}
+
+BENCHMARK(BM_BuildAllBlas)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RefitAllBlas)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Trace)->Args({256, 256, 1})->Args({256, 256, 4})->Args({1920, 1080, 1})->Args({1920, 1080, 4})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+} // namespace
+} // namespace vx::render
+
+BENCHMARK_MAIN();

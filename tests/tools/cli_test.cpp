@@ -1,0 +1,188 @@
+// Runs the vx binary as a user would: exit codes, messages and outputs.
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <glm/glm.hpp>
+
+namespace {
+
+struct CliRun {
+    int code;
+    std::string out; // stdout and stderr together.
+};
+
+CliRun vx(const std::string& args) {
+    const std::string cmd = std::string(VX_BINARY) + " " + args + " 2>&1";
+    std::FILE* p = popen(cmd.c_str(), "r");
+    CliRun r{-1, {}};
+    if (!p)
+        return r;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0)
+        r.out.append(buf.data(), n);
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::filesystem::path temp_dir() {
+    auto d = std::filesystem::temp_directory_path() / "vx_cli_test";
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+// A 40×20×36 u8 volume: a floor, a pillar and a few scattered blocks of 3 types.
+std::string write_volume() {
+    const auto path = (temp_dir() / "vol.raw").string();
+    std::vector<uint8_t> v(40 * 20 * 36, 0);
+    for (int z = 0; z < 36; ++z)
+        for (int x = 0; x < 40; ++x)
+            v[size_t(z * 40 * 20 + x)] = 1;
+    for (int y = 1; y < 15; ++y)
+        v[size_t(10 * 40 * 20 + y * 40 + 31)] = 2;
+    v[size_t(30 * 40 * 20 + 5 * 40 + 3)] = 3;
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size()));
+    return path;
+}
+
+} // namespace
+
+TEST(Cli, InfoPrintsVersion) {
+    const CliRun r = vx("info");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("vx "), std::string::npos);
+}
+
+TEST(Cli, BadArgumentsExitTwo) {
+    EXPECT_EQ(vx("").code, 2);
+    EXPECT_EQ(vx("frobnicate").code, 2);
+    EXPECT_EQ(vx("mesh").code, 2);
+    EXPECT_EQ(vx("mesh --raw /nonexistent.raw --dims 2,2,2").code, 2);
+    const std::string vol = write_volume();
+    CliRun r = vx("mesh --raw " + vol + " --dims 40,20");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.out.find("--dims"), std::string::npos) << r.out;
+    r = vx("mesh --raw " + vol + " --dims 41,20,36");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.out.find("bytes"), std::string::npos) << r.out;
+    EXPECT_EQ(vx("mesh --raw " + vol + " --dims 40,20,36 --mesher fancy").code, 2);
+    EXPECT_EQ(vx("mesh --raw " + vol + " --dims 40,20,36 --origin 1,2,x").code, 2);
+    const auto edits = (temp_dir() / "bad_edits.txt").string();
+    std::ofstream(edits) << "1 2 3 4\n5 6 seven 8\n";
+    r = vx("mesh --raw " + vol + " --dims 40,20,36 --edits " + edits);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.out.find(":2:"), std::string::npos) << r.out; // Names the bad line.
+    EXPECT_EQ(vx("bench").code, 2);
+    r = vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;
+}
+
+// The OBJ has 4 vertices per quad, every face is CCW seen from outside (its normal points to
+// air) and the totals match the summary; the same volume far from the origin gives the same
+// mesh shifted exactly.
+TEST(Cli, MeshWritesObjAndEditsMatchFullRemesh) {
+    const std::string vol = write_volume();
+    const auto edits = (temp_dir() / "edits.txt").string();
+    std::ofstream(edits) << "# dig and build\n31 5 10 0\n0 0 0 0\n39 19 35 2\n32 1 1 3\n";
+    auto mesh_obj = [&](const std::string& extra, const std::string& name) {
+        const auto obj = (temp_dir() / name).string();
+        const CliRun r = vx("mesh --raw " + vol + " --dims 40,20,36 --obj " + obj + " " + extra);
+        EXPECT_EQ(r.code, 0) << r.out;
+        std::ifstream in(obj);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return std::make_pair(r.out, ss.str());
+    };
+    auto [summary, obj] = mesh_obj("--edits " + edits, "a.obj");
+    std::istringstream lines(obj);
+    std::string line;
+    std::vector<glm::dvec3> verts;
+    int faces = 0;
+    while (std::getline(lines, line)) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream l(line.substr(2));
+            glm::dvec3 p;
+            l >> p.x >> p.y >> p.z;
+            verts.push_back(p);
+        } else if (line.rfind("f ", 0) == 0) {
+            ++faces;
+            const size_t n = verts.size();
+            const glm::dvec3 normal = glm::cross(verts[n - 3] - verts[n - 4], verts[n - 1] - verts[n - 4]);
+            EXPECT_GT(glm::length(normal), 0.5);
+        }
+    }
+    EXPECT_EQ(verts.size(), size_t(faces) * 4);
+    EXPECT_NE(summary.find(std::to_string(faces) + " quads"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("4 edits"), std::string::npos) << summary;
+
+    // Edits applied to the volume itself, meshed from scratch, give the same quad count.
+    std::ifstream vin(vol, std::ios::binary);
+    std::vector<char> v((std::istreambuf_iterator<char>(vin)), {});
+    auto at = [&](int x, int y, int z) -> char& { return v[size_t(z * 800 + y * 40 + x)]; };
+    at(31, 5, 10) = 0, at(0, 0, 0) = 0, at(39, 19, 35) = 2, at(32, 1, 1) = 3;
+    const auto vol2 = (temp_dir() / "vol2.raw").string();
+    std::ofstream(vol2, std::ios::binary).write(v.data(), std::streamsize(v.size()));
+    const CliRun full = vx("mesh --raw " + vol2 + " --dims 40,20,36");
+    EXPECT_NE(full.out.find(std::to_string(faces) + " quads"), std::string::npos) << full.out;
+
+    // Far from the origin: identical quads, vertices shifted by exactly the origin.
+    auto [far_summary, far_obj] = mesh_obj("--origin 68719476000,-4294967296,7", "far.obj"); // Near the world's edge, 2^36.
+    auto [near_summary, near_obj] = mesh_obj("", "near.obj");
+    EXPECT_EQ(std::count(far_obj.begin(), far_obj.end(), '\n'), std::count(near_obj.begin(), near_obj.end(), '\n'));
+    EXPECT_NE(far_obj.find("v 68719476000 -4294967296 7"), std::string::npos);
+}
+
+// `vx world gen` writes a store that `vx world info --check` verifies; a damaged record turns
+// the check's exit code to 1, an unopenable store to 2.
+TEST(Cli, WorldGenInfoAndCheck) {
+    const auto dir = temp_dir() / "world";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = (dir / "w.db").string();
+    CliRun r = vx("world gen " + db + " --seed 9 --radius 1 --bottom -1 --top 1");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("27 chunks"), std::string::npos) << r.out; // 3 × 3 × 3.
+    r = vx("world info " + db);
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("chunks stored: 27"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("seed: 9"), std::string::npos) << r.out;
+    r = vx("world info " + db + " --check");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("records: 27, corrupt: 0"), std::string::npos) << r.out;
+
+    // Another seed into the same store is refused.
+    EXPECT_EQ(vx("world gen " + db + " --seed 10 --radius 1").code, 2);
+
+    // Flip a byte inside one record's payload.
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(h,
+                           "UPDATE chunks SET data = substr(data, 1, length(data) - 1) || "
+                           "char((unicode(substr(data, -1)) + 1) % 128) WHERE x = 0 AND y = 0 AND z = 0",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(h);
+    r = vx("world info " + db + " --check");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("records: 27, corrupt: 1"), std::string::npos) << r.out;
+
+    r = vx("world info " + (dir / "missing.db").string() + " --check");
+    EXPECT_EQ(r.code, 2) << r.out;
+    const std::string garbage = (dir / "garbage.db").string();
+    std::ofstream(garbage) << "this is not a database, but it is long enough to look like one to a careless reader";
+    r = vx("world info " + garbage);
+    EXPECT_EQ(r.code, 2) << r.out;
+}

@@ -1,0 +1,250 @@
+#include <climits>
+#include <numeric>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <zstd.h>
+
+#include "test_util.h"
+#include "store_test_util.h"
+#include "world/chunk_record.h"
+
+using namespace vx::world;
+using vx::world::test::poke;
+using vx::world::test::random_chunk;
+using vx::world::test::reseal;
+
+namespace {
+
+void expect_round_trip(RecordCodec& codec, ChunkCoord c, const Chunk& chunk) {
+    std::vector<uint8_t> rec;
+    codec.encode(c, chunk, rec);
+    vx::Result<Chunk> back = codec.decode(rec, c);
+    ASSERT_TRUE(back.ok()) << back.error();
+    ASSERT_TRUE(*back == chunk);
+    EXPECT_EQ(back->is_uniform(), chunk.distinct_ids() == 1);
+    EXPECT_EQ(back->distinct_ids(), chunk.distinct_ids());
+    // The decoded chunk is a working chunk: edits behave as on the original.
+    Chunk edited = chunk;
+    for (int i : {0, 4097, kChunkVolume - 1}) {
+        ASSERT_EQ(back->set(i, BlockId(40000 + i)), edited.set(i, BlockId(40000 + i)));
+        ASSERT_EQ(back->get(i), BlockId(40000 + i));
+    }
+    ASSERT_TRUE(*back == edited);
+}
+
+const ChunkCoord kFar[] = {{0, 0, 0},          {-1, -1, -1},          {INT32_MAX, INT32_MIN, 7},
+                           {INT32_MIN, 0, INT32_MAX}, {123456, -654321, 99}};
+
+// A chunk with 32768 distinct ids: the largest palette a record can hold.
+Chunk all_distinct_chunk(uint32_t seed) {
+    std::vector<BlockId> ids(kChunkVolume);
+    std::iota(ids.begin(), ids.end(), BlockId(1000));
+    std::shuffle(ids.begin(), ids.end(), std::mt19937(seed));
+    return Chunk::from_dense(ids);
+}
+
+} // namespace
+
+TEST(ChunkRecord, RoundTripsRandomChunksOfEveryPaletteShape) {
+    std::mt19937 rng(11);
+    RecordCodec codec;
+    // Types 1 -> 1-bit palettes with air; 255/256/257 straddle the u8/u16 index switch.
+    for (int types : {1, 2, 3, 7, 16, 255, 256, 257, 1000, 30000})
+        for (double fill : {0.001, 0.3, 0.9})
+            for (ChunkCoord c : kFar)
+                expect_round_trip(codec, c, random_chunk(rng, fill, types));
+    expect_round_trip(codec, {1, 2, 3}, all_distinct_chunk(1));
+}
+
+TEST(ChunkRecord, RoundTripsEveryIndexWidth) {
+    // Palettes of 2^k and 2^k + 1 entries give every index width 1..15 bits (32768 -> 15).
+    std::mt19937 rng(12);
+    RecordCodec codec;
+    for (int k = 1; k <= 15; ++k)
+        for (int n : {1 << k, (1 << k) + 1}) {
+            if (n > kChunkVolume)
+                continue;
+            std::vector<BlockId> ids(kChunkVolume);
+            for (int i = 0; i < kChunkVolume; ++i) // Every entry used at least once.
+                ids[size_t(i)] = BlockId(i < n ? i : int(rng() % uint32_t(n)));
+            std::shuffle(ids.begin(), ids.end(), rng);
+            const Chunk chunk = Chunk::from_dense(ids);
+            ASSERT_EQ(chunk.distinct_ids(), uint32_t(n));
+            expect_round_trip(codec, {k, n, -k}, chunk);
+        }
+}
+
+TEST(ChunkRecord, UniformChunksAreTiny) {
+    RecordCodec codec;
+    for (BlockId id : {BlockId(0), BlockId(1), BlockId(65535)}) {
+        std::vector<uint8_t> rec;
+        codec.encode({5, -6, 7}, Chunk(id), rec);
+        EXPECT_EQ(rec.size(), kRecordHeaderSize + 2);
+        expect_round_trip(codec, {5, -6, 7}, Chunk(id));
+    }
+}
+
+TEST(ChunkRecord, DropsUnusedPaletteEntriesWithoutTouchingTheChunk) {
+    RecordCodec codec;
+    Chunk c;
+    for (int i = 0; i < 300; ++i)
+        c.set(i, BlockId(i + 1)); // 301 entries, 9-bit indices.
+    for (int i = 1; i < 300; ++i)
+        c.set(i, kAir); // Leaves 2 used entries: air and id 1.
+    const Chunk before = c;
+    std::vector<uint8_t> rec;
+    codec.encode({0, 0, 0}, c, rec);
+    EXPECT_EQ(c.palette()->ids.size(), before.palette()->ids.size());
+    vx::Result<RecordHeader> h = read_record_header(rec);
+    ASSERT_TRUE(h.ok()) << h.error();
+    EXPECT_EQ(h->palette_entries, 2u);
+    EXPECT_EQ(h->kind, RecordKind::Palette8);
+    expect_round_trip(codec, {0, 0, 0}, c);
+}
+
+TEST(ChunkRecord, OneShotHelpersMatchTheCodec) {
+    std::mt19937 rng(3);
+    const Chunk chunk = random_chunk(rng, 0.5, 5);
+    const std::vector<uint8_t> rec = encode_chunk_record({1, 1, 1}, chunk);
+    vx::Result<Chunk> back = decode_chunk_record(rec, {1, 1, 1});
+    ASSERT_TRUE(back.ok());
+    EXPECT_TRUE(*back == chunk);
+}
+
+TEST(ChunkRecordFaults, EveryBitFlipIsDetected) {
+    std::mt19937 rng(5);
+    RecordCodec codec;
+    const Chunk chunks[] = {Chunk(4), random_chunk(rng, 0.2, 2), random_chunk(rng, 0.6, 300),
+                            test::versioned_chunk({3, 4, 5}, 77)};
+    for (const Chunk& chunk : chunks) {
+        std::vector<uint8_t> rec;
+        codec.encode({3, 4, 5}, chunk, rec);
+        for (size_t i = 0; i < rec.size(); ++i) {
+            // Every bit of the header; one random bit of each payload byte (keeps the test fast).
+            const int bits = i < kRecordHeaderSize ? 8 : 1;
+            for (int b = 0; b < bits; ++b) {
+                const uint8_t mask = uint8_t(1u << (bits == 8 ? b : int(rng() % 8)));
+                rec[i] ^= mask;
+                EXPECT_FALSE(codec.decode(rec, {3, 4, 5}).ok()) << "flip at byte " << i;
+                rec[i] ^= mask;
+            }
+        }
+        ASSERT_TRUE(codec.decode(rec, {3, 4, 5}).ok());
+    }
+}
+
+TEST(ChunkRecordFaults, EveryTruncationAndExtensionIsDetected) {
+    std::mt19937 rng(6);
+    RecordCodec codec;
+    for (const Chunk& chunk : {Chunk(9), random_chunk(rng, 0.4, 20)}) {
+        std::vector<uint8_t> rec;
+        codec.encode({-7, 8, -9}, chunk, rec);
+        for (size_t n = 0; n < rec.size(); ++n)
+            EXPECT_FALSE(codec.decode(std::span(rec.data(), n), {-7, 8, -9}).ok()) << "length " << n;
+        rec.push_back(0);
+        EXPECT_FALSE(codec.decode(rec, {-7, 8, -9}).ok());
+    }
+    std::vector<uint8_t> huge(max_record_bytes() + 1, 0);
+    vx::Result<Chunk> r = codec.decode(huge, {0, 0, 0});
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("too long"), std::string::npos) << r.error();
+}
+
+TEST(ChunkRecordFaults, WrongCoordinatesAreDetected) {
+    std::mt19937 rng(7);
+    RecordCodec codec;
+    std::vector<uint8_t> rec;
+    codec.encode({1, 2, 3}, random_chunk(rng, 0.5, 4), rec);
+    for (ChunkCoord other : {ChunkCoord(1, 2, 4), ChunkCoord(-1, 2, 3), ChunkCoord(1, 3, 3), ChunkCoord(0)}) {
+        vx::Result<Chunk> r = codec.decode(rec, other);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().find("filed under"), std::string::npos) << r.error();
+    }
+}
+
+// Records with a valid checksum but hostile fields: each must be refused with a message.
+TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
+    std::mt19937 rng(8);
+    RecordCodec codec;
+    std::vector<uint8_t> good;
+    codec.encode({0, 0, 0}, random_chunk(rng, 0.5, 3), good); // Palette of 4: air + 3.
+    auto refused = [&](auto edit, const char* what) {
+        std::vector<uint8_t> rec = good;
+        edit(rec);
+        reseal(rec);
+        vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
+        EXPECT_FALSE(r.ok()) << what;
+    };
+    refused([](auto& r) { poke<uint16_t>(r, 4, 2); }, "future version");
+    refused([](auto& r) { r[6] = 9; }, "unknown kind");
+    refused([](auto& r) { r[7] = 9; }, "unknown codec");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 0); }, "empty palette");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 1); }, "palette of one");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 40000); }, "palette too big");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 3); }, "palette smaller than the indices");
+    refused([](auto& r) { poke<uint32_t>(r, 24, 0xFFFFFFFFu); }, "huge raw size");
+    refused([](auto& r) { r[7] = 0; }, "raw codec on compressed bytes");
+    refused([](auto& r) { r[6] = 0; }, "uniform kind with a palette payload");
+    refused([&](auto& r) { std::fill(r.begin() + kRecordHeaderSize, r.end(), uint8_t(rng())); }, "garbage payload");
+    // Raw payloads with bad content, compressed properly.
+    auto refused_raw = [&](std::vector<uint8_t> raw, uint32_t n, const char* what) {
+        std::vector<uint8_t> rec(kRecordHeaderSize + ZSTD_compressBound(raw.size()));
+        const size_t z = ZSTD_compress(rec.data() + kRecordHeaderSize, rec.size() - kRecordHeaderSize, raw.data(),
+                                       raw.size(), 1);
+        ASSERT_FALSE(ZSTD_isError(z));
+        rec.resize(kRecordHeaderSize + z);
+        std::copy(good.begin(), good.begin() + kRecordHeaderSize, rec.begin());
+        poke<uint32_t>(rec, 20, n);
+        poke<uint32_t>(rec, 24, uint32_t(raw.size()));
+        poke<uint32_t>(rec, 28, uint32_t(z));
+        reseal(rec);
+        vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
+        ASSERT_FALSE(r.ok()) << what;
+    };
+    std::vector<uint8_t> raw(2 * 2 + kChunkVolume, 0);
+    raw[0] = 1;                                               // ids {1, 0}
+    raw[4] = 1;                                               // index 0 -> entry 1, rest entry 0
+    raw[100] = 2;                                             // entry 2 of 2
+    refused_raw(raw, 2, "index out of range");
+    raw[100] = 0;
+    raw[0] = 0;                                               // ids {0, 0}
+    refused_raw(raw, 2, "repeated id");
+    raw[0] = 1;
+    raw[4] = 0;                                               // entry 1 never used
+    refused_raw(raw, 2, "unused entry");
+    raw.push_back(0);
+    refused_raw(raw, 2, "raw size off by one");
+}
+
+TEST(ChunkRecordFaults, RandomGarbageNeverCrashes) {
+    std::mt19937 rng(9);
+    RecordCodec codec;
+    std::vector<uint8_t> good;
+    codec.encode({2, 2, 2}, random_chunk(rng, 0.5, 40), good);
+    for (int i = 0; i < 3000; ++i) {
+        std::vector<uint8_t> rec;
+        if (i % 3 == 0) { // Pure garbage, sometimes with a valid magic.
+            rec.resize(rng() % 200);
+            for (uint8_t& b : rec)
+                b = uint8_t(rng());
+            if (rec.size() >= 4 && i % 2)
+                poke<uint32_t>(rec, 0, kRecordMagic);
+        } else { // A real record with a few bytes changed, then resealed half the time.
+            rec = good;
+            for (int k = 0; k < 1 + int(rng() % 4); ++k)
+                rec[rng() % rec.size()] = uint8_t(rng());
+            if (i % 2)
+                reseal(rec);
+        }
+        vx::Result<Chunk> r = codec.decode(rec, {2, 2, 2});
+        if (r.ok()) { // Only when resealed and the content passed every check: it must be sound.
+            std::vector<uint8_t> again;
+            codec.encode({2, 2, 2}, *r, again);
+            vx::Result<Chunk> r2 = codec.decode(again, {2, 2, 2});
+            ASSERT_TRUE(r2.ok());
+            EXPECT_TRUE(*r2 == *r);
+        }
+    }
+    ASSERT_TRUE(codec.decode(good, {2, 2, 2}).ok());
+}

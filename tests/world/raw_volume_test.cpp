@@ -1,0 +1,64 @@
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "world/raw_volume.h"
+
+using namespace vx::world;
+
+namespace {
+
+std::string temp_path(const char* name) {
+    return (std::filesystem::temp_directory_path() / (std::string("vx_raw_") + name)).string();
+}
+
+} // namespace
+
+TEST(RawVolume, RoundTripsU16AtFarOrigin) {
+    std::mt19937 rng(9);
+    World src;
+    const BlockPos origin(kWorldMinBlock + 5, 17, kWorldMaxBlock - 70); // The world's far corners.
+    const glm::i64vec3 dims(45, 33, 70);
+    for (int i = 0; i < 4000; ++i)
+        src.set_block(origin + BlockPos(rng() % 45, rng() % 33, rng() % 70), BlockId(1 + rng() % 1000));
+    const std::string path = temp_path("u16.raw");
+    ASSERT_TRUE(save_raw_volume(path, {dims, RawType::U16, origin}, src).ok());
+    EXPECT_EQ(std::filesystem::file_size(path), uint64_t(45 * 33 * 70 * 2));
+    World dst;
+    auto r = load_raw_volume(path, {dims, RawType::U16, origin}, dst);
+    ASSERT_TRUE(r.ok()) << r.error();
+    for (int64_t z = 0; z < dims.z; ++z)
+        for (int64_t y = 0; y < dims.y; ++y)
+            for (int64_t x = 0; x < dims.x; ++x)
+                ASSERT_EQ(dst.get_block(origin + BlockPos(x, y, z)), src.get_block(origin + BlockPos(x, y, z)));
+    std::filesystem::remove(path);
+}
+
+TEST(RawVolume, ClearErrorsForBadInput) {
+    World w;
+    const std::string path = temp_path("short.raw");
+    {
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        ASSERT_TRUE(f);
+        std::fputs("abc", f);
+        std::fclose(f);
+    }
+    auto size = load_raw_volume(path, {glm::i64vec3(2, 2, 2), RawType::U8, BlockPos(0)}, w);
+    ASSERT_FALSE(size.ok());
+    EXPECT_NE(size.error().find("has 3 bytes"), std::string::npos) << size.error();
+    auto missing = load_raw_volume("/nonexistent/x.raw", {glm::i64vec3(1, 1, 1), RawType::U8, BlockPos(0)}, w);
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.error().find("cannot open"), std::string::npos);
+    auto zero = load_raw_volume(path, {glm::i64vec3(0, 1, 1), RawType::U8, BlockPos(0)}, w);
+    EXPECT_FALSE(zero.ok());
+    auto huge = load_raw_volume(path, {glm::i64vec3(1 << 20, 1 << 20, 1 << 20), RawType::U8, BlockPos(0)}, w);
+    ASSERT_FALSE(huge.ok());
+    EXPECT_NE(huge.error().find("too large"), std::string::npos);
+    auto outside = load_raw_volume(path, {glm::i64vec3(1, 1, 3), RawType::U8, BlockPos(0, 0, kWorldMaxBlock - 1)}, w);
+    ASSERT_FALSE(outside.ok());
+    EXPECT_NE(outside.error().find("outside the world"), std::string::npos);
+    EXPECT_EQ(w.chunk_count(), 0u); // Nothing half-loaded from refused input.
+    std::filesystem::remove(path);
+}

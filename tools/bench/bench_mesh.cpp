@@ -1,0 +1,172 @@
+// Mesher benchmarks (`vx bench mesh`). Scenes follow issue 2: 10% random (the thesis's
+// `rand() % 10 == 0`), a terrain-like heightmap with a few block types, 50% noise with 3 types,
+// a 3D checkerboard (the worst case), solid and empty; each isolated (air around, as in the
+// thesis) and embedded (opaque neighbours). 32³ chunks: the engine's chunk size.
+// Each benchmark cycles through 16 different chunks so caches see realistic variety.
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "../parallel_mesh.h"
+#include "world/mesher.h"
+#include "world/seed_scene.h"
+
+namespace vx::tools {
+namespace {
+
+using namespace vx::world;
+
+constexpr int kPool = 16;
+
+Chunk terrain_chunk(uint64_t seed) {
+    // Rolling hills 8..26 blocks high: stone, 3 dirt, grass on top, sand in hollows, ~1% ore.
+    std::vector<BlockId> ids(kChunkVolume, kAir);
+    std::mt19937_64 rng(seed);
+    const double px = double(rng() % 1000), pz = double(rng() % 1000);
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int x = 0; x < kChunkSize; ++x) {
+            const double fx = (x + px) * 0.11, fz = (z + pz) * 0.09;
+            const int h = 17 + int(std::lround(5 * std::sin(fx) * std::cos(fz) + 2.5 * std::sin(fx * 2.3 + fz * 1.7)));
+            for (int y = 0; y <= h && y < kChunkSize; ++y) {
+                BlockId b = y < h - 3 ? 1 : y < h ? 2 : (h < 13 ? 4 : 3);
+                if (b == 1 && rng() % 100 == 0)
+                    b = 10; // Ore-like speckles.
+                ids[local_index(x, y, z)] = b;
+            }
+        }
+    return Chunk::from_dense(ids);
+}
+
+Chunk noise_chunk(uint64_t seed, int percent, int types) {
+    std::vector<BlockId> ids(kChunkVolume);
+    std::mt19937_64 rng(seed);
+    for (BlockId& b : ids)
+        b = int(rng() % 100) < percent ? BlockId(1 + rng() % types) : kAir;
+    return Chunk::from_dense(ids);
+}
+
+Chunk checker_chunk() {
+    std::vector<BlockId> ids(kChunkVolume);
+    for (int i = 0; i < kChunkVolume; ++i)
+        ids[i] = BlockId(((i & 31) + ((i >> 5) & 31) + (i >> 10)) & 1);
+    return Chunk::from_dense(ids);
+}
+
+struct Scene {
+    const char* name;
+    std::function<Chunk(uint64_t)> make;
+};
+
+const std::vector<Scene>& scenes() {
+    static const std::vector<Scene> s = {
+        {"random10", [](uint64_t i) { return random_fill_chunk(i * 7919 + 1, 10, 1); }},
+        {"terrain", [](uint64_t i) { return terrain_chunk(i + 11); }},
+        {"noise50x3", [](uint64_t i) { return noise_chunk(i + 101, 50, 3); }},
+        {"checker3d", [](uint64_t) { return checker_chunk(); }},
+        {"solid", [](uint64_t) { return Chunk(1); }},
+        {"empty", [](uint64_t) { return Chunk(); }},
+    };
+    return s;
+}
+
+using MeshFn = void (*)(GreedyMesher&, const MesherInput&, ChunkMesh&);
+
+void bench_mesher(benchmark::State& state, const Scene& scene, bool embedded, MeshFn fn) {
+    const BlockRegistry& reg = BlockRegistry::default_registry();
+    std::vector<Chunk> pool;
+    for (int i = 0; i < kPool; ++i)
+        pool.push_back(scene.make(uint64_t(i)));
+    const Apron apron = embedded ? Apron::filled(1, reg) : Apron::air();
+    GreedyMesher mesher;
+    ChunkMesh mesh;
+    uint64_t quads = 0, n = 0;
+    for (const Chunk& c : pool) {
+        fn(mesher, {c, apron, reg}, mesh);
+        quads += mesh.quad_count();
+    }
+    for (auto _ : state) {
+        const Chunk& c = pool[n++ % kPool];
+        fn(mesher, {c, apron, reg}, mesh);
+        benchmark::DoNotOptimize(mesh.quad_count());
+    }
+    state.counters["quads"] = double(quads) / kPool; // Mean over the pool, exact.
+}
+
+// One edit and its undo per iteration, so the chunk stays the scene it started as (toggling
+// blocks forever would turn any chunk into noise).
+void bench_remesh_edit(benchmark::State& state, const Scene& scene) {
+    const BlockRegistry& reg = BlockRegistry::default_registry();
+    Chunk chunk = scene.make(3);
+    const Apron apron = Apron::air();
+    GreedyMesher mesher;
+    ChunkMesh mesh;
+    mesher.mesh({chunk, apron, reg}, mesh);
+    std::mt19937 rng(5);
+    for (auto _ : state) {
+        const LocalPos p(int(rng() % 32), int(rng() % 32), int(rng() % 32));
+        const BlockId old = chunk.get(p);
+        chunk.set(p, old == kAir ? BlockId(1) : kAir); // Place stone, or dig.
+        mesher.remesh_block({chunk, apron, reg}, p, mesh);
+        chunk.set(p, old);
+        mesher.remesh_block({chunk, apron, reg}, p, mesh);
+        benchmark::DoNotOptimize(mesh.quad_count());
+    }
+    state.counters["per_edit"] = benchmark::Counter(double(state.iterations()) * 2,
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void bench_seed_scene(benchmark::State& state) {
+    std::vector<Chunk> chunks;
+    for (int z = 0; z < kSeedSceneSide; ++z)
+        for (int x = 0; x < kSeedSceneSide; ++x)
+            chunks.push_back(seed_scene_chunk(ChunkCoord(x, 0, z)));
+    std::vector<MeshedChunk> out(chunks.size());
+    std::vector<MeshJob> jobs;
+    for (size_t i = 0; i < chunks.size(); ++i)
+        jobs.push_back({ChunkCoord(int(i % 32), 0, int(i / 32)), &chunks[i], &out[i]});
+    uint64_t tris = 0;
+    for (auto _ : state) {
+        const double s = mesh_parallel(jobs, BlockRegistry::default_registry(), MeshMode::Greedy, 0);
+        state.SetIterationTime(s);
+        tris = 0;
+        for (const MeshedChunk& m : out)
+            tris += m.mesh.triangle_count();
+    }
+    state.counters["triangles"] = double(tris);
+    state.counters["thesis_triangles"] = 30917848;
+}
+
+const bool registered = [] {
+    MeshFn greedy = [](GreedyMesher& m, const MesherInput& in, ChunkMesh& out) { m.mesh(in, out); };
+    MeshFn classic = [](GreedyMesher&, const MesherInput& in, ChunkMesh& out) { mesh_classic_greedy(in, out); };
+    MeshFn culled = [](GreedyMesher&, const MesherInput& in, ChunkMesh& out) { mesh_culled(in, out); };
+    for (const Scene& s : scenes())
+        for (int e = 0; e < 2; ++e) {
+            const std::string where = e ? "embedded" : "isolated";
+            benchmark::RegisterBenchmark(("mesh/greedy/" + std::string(s.name) + "/" + where).c_str(),
+                                         [&s, e, greedy](benchmark::State& st) { bench_mesher(st, s, e, greedy); })
+                ->Unit(benchmark::kMicrosecond);
+            benchmark::RegisterBenchmark(("mesh/classic/" + std::string(s.name) + "/" + where).c_str(),
+                                         [&s, e, classic](benchmark::State& st) { bench_mesher(st, s, e, classic); })
+                ->Unit(benchmark::kMicrosecond);
+            if (e == 0 && std::string(s.name) != "empty" && std::string(s.name) != "solid")
+                benchmark::RegisterBenchmark(("mesh/culled/" + std::string(s.name) + "/" + where).c_str(),
+                                             [&s, culled](benchmark::State& st) { bench_mesher(st, s, false, culled); })
+                    ->Unit(benchmark::kMicrosecond);
+        }
+    for (const Scene& s : scenes())
+        if (std::string(s.name) != "empty" && std::string(s.name) != "solid")
+            benchmark::RegisterBenchmark(("mesh/remesh_edit/" + std::string(s.name)).c_str(),
+                                         [&s](benchmark::State& st) { bench_remesh_edit(st, s); })
+                ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("mesh/seed_scene_all_cores", bench_seed_scene)->UseManualTime()->Unit(benchmark::kMillisecond);
+    return true;
+}();
+
+} // namespace
+} // namespace vx::tools

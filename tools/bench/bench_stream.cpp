@@ -1,0 +1,111 @@
+// Streaming benchmarks (`vx bench stream`): how fast the engine fills a view from nothing
+// (terrain generation + meshing on all cores), and a real-time fly-through at 100 blocks/s with
+// a 12-chunk view radius: holes in the view after the initial fill, and main-thread time per
+// frame (p50/p99). Wall-clock by nature: run them on a quiet machine.
+#include <algorithm>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "engine/chunk_streamer.h"
+
+namespace vx::tools {
+namespace {
+
+using namespace vx::engine;
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+
+struct NullSink : MeshSink {
+    size_t quads = 0;
+    void on_mesh(ChunkCoord, const ChunkMesh& m, std::span<const int>) override { quads += m.quad_count(); }
+    void on_unload(ChunkCoord) override {}
+};
+
+// From an empty world to a fully meshed view of radius 8 (3 vertically) at a terrain surface.
+void bench_fill(benchmark::State& state) {
+    const TerrainGenerator gen(1234);
+    size_t loaded = 0, meshed = 0;
+    double seconds = 0;
+    for (auto _ : state) {
+        NullSink sink;
+        StreamingSettings st;
+        st.view_radius = 8;
+        st.view_radius_vertical = 3;
+        st.frame_budget = std::chrono::milliseconds(4);
+        ChunkStreamer s(gen, nullptr, sink, st);
+        const glm::dvec3 pos(0.5, gen.surface_height(0, 0) + 2.0, 0.5);
+        const auto t0 = Clock::now();
+        do {
+            s.update(pos, glm::dvec3(1, 0, 0), Clock::now());
+            std::this_thread::sleep_for(std::chrono::microseconds(500));
+        } while (!s.settled());
+        const double t = std::chrono::duration<double>(Clock::now() - t0).count();
+        state.SetIterationTime(t);
+        seconds += t;
+        loaded += s.metrics().loaded;
+        meshed += s.metrics().meshed;
+    }
+    state.counters["generated_per_s"] = double(loaded) / seconds;
+    state.counters["meshed_per_s"] = double(meshed) / seconds;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty())
+        return 0;
+    std::sort(v.begin(), v.end());
+    return v[size_t(p * double(v.size() - 1))];
+}
+
+// 100 blocks/s along +x at 60 frames/s, view radius 12 (4 vertically), for 10 s after the fill.
+void bench_flythrough(benchmark::State& state) {
+    const TerrainGenerator gen(77);
+    for (auto _ : state) {
+        NullSink sink;
+        StreamingSettings st;
+        st.view_radius = 12;
+        st.view_radius_vertical = 4;
+        ChunkStreamer s(gen, nullptr, sink, st);
+        glm::dvec3 pos(0.5, 40.0, 0.5);
+        while (!s.settled()) {
+            s.update(pos, glm::dvec3(1, 0, 0), Clock::now());
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        std::vector<double> update_ms;
+        size_t max_missing = 0, missing_frames = 0, frames = 0;
+        const auto frame = std::chrono::microseconds(16667);
+        auto next = Clock::now();
+        const auto t0 = next;
+        while (next - t0 < std::chrono::seconds(10)) {
+            pos.x += 100.0 / 60.0;
+            s.update(pos, glm::dvec3(1, 0, 0), next);
+            const StreamingMetrics m = s.metrics();
+            update_ms.push_back(std::chrono::duration<double, std::milli>(m.last_update_time).count());
+            const size_t missing = m.wanted_meshes - m.meshed;
+            max_missing = std::max(max_missing, missing);
+            missing_frames += missing > 0;
+            ++frames;
+            next += frame;
+            std::this_thread::sleep_until(next);
+        }
+        const StreamingMetrics m = s.metrics();
+        state.counters["max_missing_in_view"] = double(max_missing);
+        state.counters["frames_with_missing"] = double(missing_frames);
+        state.counters["frames"] = double(frames);
+        state.counters["update_p50_ms"] = percentile(update_ms, 0.5);
+        state.counters["update_p99_ms"] = percentile(update_ms, 0.99);
+        state.counters["update_max_ms"] = percentile(update_ms, 1.0);
+        state.counters["loaded"] = double(m.loaded);
+        state.counters["bytes_per_loaded_chunk"] = double(m.block_bytes) / double(std::max<size_t>(1, m.loaded));
+        state.counters["wasted_ms"] = std::chrono::duration<double, std::milli>(m.jobs.wasted_work).count();
+        state.counters["cancelled"] = double(m.jobs.cancelled);
+    }
+}
+
+BENCHMARK(bench_fill)->Name("stream/fill_radius8")->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(bench_flythrough)->Name("stream/flythrough_100bps_r12")->Unit(benchmark::kMillisecond)->Iterations(1);
+
+} // namespace
+} // namespace vx::tools

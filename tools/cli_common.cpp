@@ -1,0 +1,65 @@
+#include "cli_common.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <vector>
+
+namespace vx::tools {
+namespace {
+
+std::vector<std::string> split3(const std::string& s) {
+    std::vector<std::string> parts;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        parts.push_back(item);
+    if (!s.empty() && s.back() == ',')
+        parts.push_back("");
+    return parts;
+}
+
+} // namespace
+
+std::optional<glm::i64vec3> parse_i64vec3(const std::string& s) {
+    const auto parts = split3(s);
+    if (parts.size() != 3)
+        return std::nullopt;
+    glm::i64vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        const char* b = parts[i].c_str();
+        char* end = nullptr;
+        errno = 0;
+        const long long x = std::strtoll(b, &end, 10);
+        if (errno != 0 || end == b || *end != '\0')
+            return std::nullopt;
+        v[i] = x;
+    }
+    return v;
+}
+
+std::optional<glm::dvec3> parse_dvec3(const std::string& s) {
+    const auto parts = split3(s);
+    if (parts.size() != 3)
+        return std::nullopt;
+    glm::dvec3 v;
+    for (int i = 0; i < 3; ++i) {
+        const char* b = parts[i].c_str();
+        char* end = nullptr;
+        errno = 0;
+        const double x = std::strtod(b, &end);
+        if (errno != 0 || end == b || *end != '\0' || !std::isfinite(x))
+            return std::nullopt;
+        v[i] = x;
+    }
+    return v;
+}
+
+int bad_input(const std::string& message) {
+    std::fprintf(stderr, "vx: %s\n", message.c_str());
+    return kExitBadInput;
+}
+
+} // namespace vx::tools

@@ -1,0 +1,24 @@
+#pragma once
+// Shared helpers of the vx CLI: argument parsing of vectors, and the exit codes.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+
+namespace vx::tools {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;  // The command ran and found a problem (e.g. corrupt records).
+inline constexpr int kExitBadInput = 2; // Bad arguments or unreadable/corrupt input.
+
+// Parses "X,Y,Z" of 64-bit integers; nullopt on anything else (overflow included).
+std::optional<glm::i64vec3> parse_i64vec3(const std::string& s);
+// Parses "X,Y,Z" of finite doubles.
+std::optional<glm::dvec3> parse_dvec3(const std::string& s);
+
+// Prints "vx: <message>" to stderr and returns kExitBadInput.
+int bad_input(const std::string& message);
+
+} // namespace vx::tools

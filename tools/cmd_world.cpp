@@ -1,0 +1,168 @@
+// `vx world gen` and `vx world info`: pregenerate a terrain world into a store, and inspect or
+// verify one.
+#include <atomic>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "engine/job_system.h"
+#include "world/mesher.h"
+#include "world/sqlite_store.h"
+#include "world/terrain.h"
+
+namespace vx::tools {
+namespace {
+
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+
+struct GenArgs {
+    std::string path;
+    uint64_t seed = 1;
+    int radius = 8;
+    int bottom = -6, top = 5; // Chunk y range: the terrain's caves to its peaks.
+};
+
+void progress(size_t done, size_t total, double seconds) {
+    const int width = 40, filled = int(double(width) * double(done) / double(total));
+    std::fprintf(stderr, "\r[%.*s%*s] %zu/%zu chunks, %.1f s", filled,
+                 "========================================", width - filled, "", done, total, seconds);
+    std::fflush(stderr);
+}
+
+// Generates and meshes every chunk in the box on the job system's pool; the main thread saves
+// each as it completes (the store is used from this thread only).
+int run_gen(const GenArgs& a) {
+    if (a.radius < 0 || a.radius > 256)
+        return bad_input("--radius must be 0..256 chunks");
+    if (a.bottom > a.top)
+        return bad_input("--bottom must not be above --top");
+    auto store = SqliteStore::open({a.path});
+    if (!store)
+        return bad_input(store.error());
+    auto old_seed = (*store)->get_meta("seed");
+    if (old_seed && *old_seed && **old_seed != std::to_string(a.seed))
+        return bad_input("'" + a.path + "' holds a world of seed " + **old_seed + ", not " + std::to_string(a.seed));
+    if (Status s = (*store)->set_meta("seed", std::to_string(a.seed)); !s)
+        return bad_input(s.error());
+
+    const TerrainGenerator gen(a.seed);
+    engine::JobSystem jobs;
+    size_t total = 0, done = 0;
+    uint64_t quads = 0, non_uniform = 0;
+    std::string failure;
+    const auto t0 = Clock::now();
+    for (int y = a.bottom; y <= a.top; ++y)
+        for (int z = -a.radius; z <= a.radius; ++z)
+            for (int x = -a.radius; x <= a.radius; ++x) {
+                const ChunkCoord c(x, y, z);
+                auto chunk = std::make_shared<Chunk>();
+                auto mesh_quads = std::make_shared<uint32_t>(0);
+                auto run = [c, chunk, mesh_quads, &gen](engine::JobContext&) {
+                    thread_local GreedyMesher mesher;
+                    *chunk = gen.generate(c);
+                    // Meshing here checks each chunk meshes and reports the world's size; the
+                    // engine meshes again with real neighbours when it streams the world in.
+                    ChunkMesh mesh;
+                    mesher.mesh({*chunk, Apron::air(), BlockRegistry::default_registry()}, mesh);
+                    *mesh_quads = mesh.quad_count();
+                };
+                auto complete = [&, c, chunk, mesh_quads] {
+                    if (Status s = (*store)->save(c, *chunk); !s && failure.empty())
+                        failure = s.error();
+                    (void)(*store)->tick(Clock::now());
+                    quads += *mesh_quads;
+                    non_uniform += !chunk->is_uniform();
+                    ++done;
+                };
+                jobs.submit(std::make_unique<engine::FunctionJob>(engine::JobKey{c, engine::JobKind::Generate}, run, complete));
+                ++total;
+            }
+    while (done < total) {
+        jobs.process_completions({std::chrono::milliseconds(50)});
+        progress(done, total, std::chrono::duration<double>(Clock::now() - t0).count());
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    std::fputc('\n', stderr);
+    if (!failure.empty())
+        return bad_input("saving failed: " + failure);
+    if (Status s = (*store)->flush(); !s)
+        return bad_input(s.error());
+    const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+    std::printf("vx world gen: %zu chunks (%" PRIu64 " non-uniform, %" PRIu64 " quads isolated) in %.2f s "
+                "(%.0f chunks/s), seed %" PRIu64 ", saved to %s\n",
+                total, non_uniform, quads, secs, double(total) / secs, a.seed, a.path.c_str());
+    return kExitOk;
+}
+
+int run_info(const std::string& path, bool check) {
+    if (check) {
+        auto r = check_store(path);
+        if (!r)
+            return bad_input(r.error());
+        for (const std::string& p : r->problems)
+            std::printf("  problem: %s\n", p.c_str());
+        if (!r->database_ok)
+            std::printf("  database structure check failed\n");
+        std::printf("records: %" PRIu64 ", corrupt: %" PRIu64 "\n", r->records, r->corrupt);
+        if (r->quarantined)
+            std::printf("quarantined earlier: %" PRIu64 "\n", r->quarantined);
+        return r->corrupt == 0 && r->database_ok ? kExitOk : kExitFailure;
+    }
+    auto store = SqliteStore::open({path, /*read_only=*/true, /*create=*/false});
+    if (!store)
+        return bad_input(store.error());
+    auto count = (*store)->count();
+    if (!count)
+        return bad_input(count.error());
+    ChunkCoord lo(INT32_MAX), hi(INT32_MIN);
+    Status s = (*store)->for_each_coord([&](ChunkCoord c) {
+        lo = glm::min(lo, c);
+        hi = glm::max(hi, c);
+        return true;
+    });
+    if (!s)
+        return bad_input(s.error());
+    auto seed = (*store)->get_meta("seed");
+    std::printf("world: %s\n", path.c_str());
+    std::printf("  chunks stored: %" PRIu64 "\n", *count);
+    if (*count)
+        std::printf("  chunk bounds: (%d,%d,%d) .. (%d,%d,%d)\n", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+    std::printf("  seed: %s\n", seed && *seed ? (*seed)->c_str() : "(none)");
+    if (auto q = (*store)->quarantine_count(); q)
+        std::printf("  quarantined records: %" PRIu64 "\n", uint64_t(*q));
+    return kExitOk;
+}
+
+} // namespace
+
+void add_world_command(CLI::App& app, std::function<int()>& action) {
+    CLI::App* world = app.add_subcommand("world", "Create and inspect stored worlds");
+    world->require_subcommand(1);
+
+    auto gen = std::make_shared<GenArgs>();
+    CLI::App* g = world->add_subcommand("gen", "Pregenerate (and mesh) the chunks around the origin into a store");
+    g->add_option("path", gen->path, "World store (SQLite file; its folder must exist)")->required();
+    g->add_option("--seed", gen->seed, "Terrain seed");
+    g->add_option("--radius", gen->radius, "Horizontal radius in chunks around the origin");
+    g->add_option("--bottom", gen->bottom, "Lowest chunk y (default -6: below the caves)");
+    g->add_option("--top", gen->top, "Highest chunk y (default 5: above the peaks)");
+    g->callback([gen, &action] { action = [gen] { return run_gen(*gen); }; });
+
+    auto path = std::make_shared<std::string>();
+    auto check = std::make_shared<bool>(false);
+    CLI::App* i = world->add_subcommand("info", "Print what a world holds; --check verifies every record");
+    i->add_option("path", *path, "World store")->required();
+    i->add_flag("--check", *check, "Read and verify every record: exit 0 if none is corrupt, 1 otherwise");
+    i->callback([path, check, &action] { action = [path, check] { return run_info(*path, *check); }; });
+}
+
+} // namespace vx::tools

@@ -1,0 +1,35 @@
+// The vx command-line tool. CLI11 reports parse errors by exception: they are caught here, at
+// its boundary, and turned into a one-line message and exit code 2.
+#include <cstdio>
+#include <cstring>
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.h"
+#include "commands.h"
+
+int main(int argc, char** argv) {
+    using namespace vx::tools;
+    if (argc >= 2 && std::strcmp(argv[1], "bench") == 0)
+        return run_bench(argc - 1, argv + 1);
+
+    CLI::App app("vx: voxel world streaming engine tools", "vx");
+    app.require_subcommand(1);
+    std::function<int()> action;
+    add_info_command(app, action);
+    add_mesh_command(app, action);
+    add_world_command(app, action);
+    app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "vx: %s\nRun 'vx --help' or 'vx COMMAND --help' for usage.\n", e.what());
+        return kExitBadInput;
+    }
+    return action ? action() : kExitBadInput;
+}

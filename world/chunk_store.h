@@ -1,0 +1,103 @@
+#pragma once
+// ChunkStore: persistent storage of chunk records (world/chunk_record.h) plus a few metadata
+// strings (seed, block registry names). Implementations: SqliteStore (read-write, batched,
+// crash-safe); a read-only VDB-backed store can implement the same interface later (its save,
+// erase and set_meta return an error, tick and flush succeed with nothing to do).
+//
+// Thread affinity of every implementation: not thread-safe. The engine calls a store from its one
+// serial I/O lane thread only (one call at a time, all on that thread); main-thread code never
+// touches it directly.
+//
+// Write model: save/erase/set_meta queue edits in memory (read back at once by load/contains/
+// get_meta on the same store); they reach the disk in one transaction when tick() finds the oldest
+// queued edit older than the store's bound, when the queue grows too big, or on flush(). Only
+// flush() promises durability: when it returns success, every edit queued before it survives a
+// crash of the process.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "world/base/result.h"
+#include "world/chunk.h"
+#include "world/coords.h"
+
+namespace vx::world {
+
+enum class LoadState : uint8_t {
+    Present, // The chunk was stored and decoded.
+    Absent,  // Nothing stored at this coordinate (generate it).
+    Corrupt, // A record was there but failed verification; it was moved aside where the store
+             // can (SqliteStore: the quarantine table), so regenerating and saving loses nothing.
+};
+
+struct ChunkLoad {
+    LoadState state = LoadState::Absent;
+    std::optional<Chunk> chunk; // Set when state == Present.
+    std::string problem;        // When state == Corrupt: what was wrong, one line.
+};
+
+// One edit of a save batch. `chunk` == nullptr erases the stored chunk.
+struct ChunkWrite {
+    ChunkCoord coord{0};
+    const Chunk* chunk = nullptr; // Read during save() only (encoded at once).
+};
+
+class ChunkStore {
+public:
+    using Clock = std::chrono::steady_clock;
+
+    virtual ~ChunkStore() = default;
+
+    // Loads chunk `c`. An error result means the store itself failed (I/O error, database
+    // damaged beyond one record): the caller must not overwrite that chunk in the meantime.
+    virtual Result<ChunkLoad> load(ChunkCoord c) = 0;
+
+    // Queues a batch of edits (encoded during the call; later edits of a coordinate win).
+    virtual Status save(std::span<const ChunkWrite> batch) = 0;
+    Status save(ChunkCoord c, const Chunk& chunk) {
+        const ChunkWrite w{c, &chunk};
+        return save(std::span<const ChunkWrite>(&w, 1));
+    }
+    Status erase(ChunkCoord c) {
+        const ChunkWrite w{c, nullptr};
+        return save(std::span<const ChunkWrite>(&w, 1));
+    }
+
+    // Commits queued edits if the oldest is older than the store's bound. `now` is the caller's
+    // steady-clock time (call it every frame or so from the I/O lane).
+    virtual Status tick(Clock::time_point now) = 0;
+    // Commits every queued edit and makes it durable before returning success.
+    virtual Status flush() = 0;
+
+    // Whether chunk `c` is stored (queued edits included; a corrupt record counts as stored).
+    virtual Result<bool> contains(ChunkCoord c) = 0;
+    // Stored chunks. May commit queued edits first.
+    virtual Result<uint64_t> count() = 0;
+    // Calls `fn` for every stored chunk coordinate, in no particular order, until it returns false.
+    // May commit queued edits first. `fn` must not call back into the store.
+    virtual Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) = 0;
+    Result<std::vector<ChunkCoord>> list_coords() {
+        std::vector<ChunkCoord> out;
+        Status s = for_each_coord([&](ChunkCoord c) {
+            out.push_back(c);
+            return true;
+        });
+        if (!s)
+            return Error{s.error()};
+        return out;
+    }
+
+    // Metadata strings (e.g. "seed", "registry"): values are opaque bytes. Queued like chunks.
+    virtual Result<std::optional<std::string>> get_meta(std::string_view key) = 0;
+    virtual Status set_meta(std::string_view key, std::string_view value) = 0;
+
+    virtual bool read_only() const = 0;
+};
+
+} // namespace vx::world

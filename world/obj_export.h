@@ -1,0 +1,21 @@
+#pragma once
+// Wavefront OBJ export of chunk meshes. Vertices in world block units (exact 64-bit integers),
+// one quad per face line, counter-clockwise seen from the air side, grouped by `usemtl block_<id>`.
+// A companion .mtl gives each block its registry albedo. Not thread-safe.
+
+#include <string>
+
+#include "world/base/result.h"
+#include "world/edit_mesher.h"
+
+namespace vx::world {
+
+struct ObjStats {
+    uint64_t quads = 0;
+    uint64_t vertices = 0;
+};
+
+// Writes every mesh of `meshes` to `path` (and `path` with .mtl for materials).
+Result<ObjStats> write_obj(const std::string& path, const MeshMap& meshes, const BlockRegistry& registry);
+
+} // namespace vx::world

@@ -1,0 +1,444 @@
+#include "world/sqlite_store.h"
+
+#include <sqlite3.h>
+
+#include "world/base/log.h"
+
+namespace vx::world {
+
+namespace {
+
+constexpr int64_t kApplicationId = 0x56585744; // "VXWD"
+constexpr int64_t kSchemaVersion = 1;
+
+// Durability (why synchronous=FULL). In WAL mode a transaction is committed once its frames and
+// the commit frame are write()n to the -wal file. write() puts the bytes in the kernel page cache,
+// which outlives the process, so even synchronous=NORMAL survives SIGKILL; what NORMAL can lose
+// is the last transactions on an OS crash or power cut, because it fsyncs only at checkpoints.
+// FULL fsyncs the WAL at every commit, so a flush() that returned success survives both. Commits
+// are batched (one per ≤2 s or per flush), so the fsync costs little per chunk.
+// https://www.sqlite.org/pragma.html#pragma_synchronous, https://www.sqlite.org/wal.html
+const char* const kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS chunks(
+  x INTEGER NOT NULL, y INTEGER NOT NULL, z INTEGER NOT NULL, data BLOB NOT NULL,
+  PRIMARY KEY(x, y, z));
+CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY NOT NULL, value BLOB NOT NULL);
+CREATE TABLE IF NOT EXISTS quarantine(
+  id INTEGER PRIMARY KEY, x INTEGER, y INTEGER, z INTEGER, data BLOB, reason TEXT, time INTEGER);
+)sql";
+
+struct Stmt {
+    sqlite3_stmt* s = nullptr;
+    ~Stmt() { sqlite3_finalize(s); }
+};
+
+// Resets a statement when the scope ends, whatever path leaves it.
+struct ResetGuard {
+    sqlite3_stmt* s;
+    ~ResetGuard() {
+        sqlite3_reset(s);
+        sqlite3_clear_bindings(s);
+    }
+};
+
+void bind_coord(sqlite3_stmt* s, ChunkCoord c) {
+    sqlite3_bind_int64(s, 1, c.x);
+    sqlite3_bind_int64(s, 2, c.y);
+    sqlite3_bind_int64(s, 3, c.z);
+}
+
+std::string coord_str(ChunkCoord c) {
+    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
+}
+
+} // namespace
+
+struct SqliteStore::Stmts {
+    Stmt load, put, del, has, count, list, meta_get, meta_put, q_put, q_count;
+};
+
+SqliteStore::SqliteStore(SqliteStoreCreateInfo info) : m_info(std::move(info)), m_codec(m_info.zstd_level) {}
+
+SqliteStore::~SqliteStore() {
+    if (m_db && pending_edits() > 0) {
+        if (Status s = commit(); !s)
+            VX_LOG_ERROR("closing store '%s' lost %zu queued edits: %s", m_info.path.c_str(), pending_edits(),
+                         s.error().c_str());
+    }
+    m_stmts.reset(); // Statements are finalized before the connection closes.
+    sqlite3_close_v2(m_db);
+}
+
+Error SqliteStore::db_error(const std::string& what) const {
+    return Error{"store '" + m_info.path + "': " + what + ": " + (m_db ? sqlite3_errmsg(m_db) : "out of memory")};
+}
+
+Status SqliteStore::exec(const char* sql) {
+    char* msg = nullptr;
+    if (sqlite3_exec(m_db, sql, nullptr, nullptr, &msg) != SQLITE_OK) {
+        Error e{"store '" + m_info.path + "': " + (msg ? msg : sqlite3_errmsg(m_db))};
+        sqlite3_free(msg);
+        return e;
+    }
+    return {};
+}
+
+Result<std::unique_ptr<SqliteStore>> SqliteStore::open(const SqliteStoreCreateInfo& info) {
+    VX_ASSERT_RETURN(info.zstd_level >= 1 && info.zstd_level <= 19, Error{"zstd level out of range"});
+    std::unique_ptr<SqliteStore> store(new SqliteStore(info));
+    if (Status s = store->init(); !s)
+        return Error{s.error()};
+    return store;
+}
+
+Status SqliteStore::init() {
+    int flags = SQLITE_OPEN_NOMUTEX | SQLITE_OPEN_EXRESCODE;
+    flags |= m_info.read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE;
+    if (!m_info.read_only && m_info.create)
+        flags |= SQLITE_OPEN_CREATE;
+    if (sqlite3_open_v2(m_info.path.c_str(), &m_db, flags, nullptr) != SQLITE_OK)
+        return db_error("cannot open");
+    if (!m_info.read_only && sqlite3_db_readonly(m_db, "main") == 1)
+        return Error{"store '" + m_info.path + "': the file is read-only"};
+    sqlite3_busy_timeout(m_db, 2000);
+    sqlite3_extended_result_codes(m_db, 1);
+    if (Status s = init_schema(); !s)
+        return s;
+    m_stmts = std::make_unique<Stmts>();
+    auto prep = [&](Stmt& st, const char* sql) {
+        return sqlite3_prepare_v3(m_db, sql, -1, SQLITE_PREPARE_PERSISTENT, &st.s, nullptr) == SQLITE_OK;
+    };
+    Stmts& s = *m_stmts;
+    const bool ok = prep(s.load, "SELECT data FROM chunks WHERE x=?1 AND y=?2 AND z=?3") &&
+                    prep(s.put, "INSERT OR REPLACE INTO chunks(x, y, z, data) VALUES(?1, ?2, ?3, ?4)") &&
+                    prep(s.del, "DELETE FROM chunks WHERE x=?1 AND y=?2 AND z=?3") &&
+                    prep(s.has, "SELECT 1 FROM chunks WHERE x=?1 AND y=?2 AND z=?3") &&
+                    prep(s.count, "SELECT count(*) FROM chunks") && prep(s.list, "SELECT x, y, z FROM chunks") &&
+                    prep(s.meta_get, "SELECT value FROM meta WHERE key=?1") &&
+                    prep(s.meta_put, "INSERT OR REPLACE INTO meta(key, value) VALUES(?1, ?2)") &&
+                    prep(s.q_put, "INSERT INTO quarantine(x, y, z, data, reason, time) "
+                                  "SELECT x, y, z, data, ?4, strftime('%s', 'now') FROM chunks "
+                                  "WHERE x=?1 AND y=?2 AND z=?3") &&
+                    prep(s.q_count, "SELECT count(*) FROM quarantine");
+    if (!ok)
+        return db_error("cannot prepare statements");
+    return {};
+}
+
+Status SqliteStore::init_schema() {
+    // Reading the header pragmas is the first access to the file: a non-SQLite file fails here.
+    auto query_int = [&](const char* sql, int64_t& out) {
+        Stmt st;
+        if (sqlite3_prepare_v2(m_db, sql, -1, &st.s, nullptr) != SQLITE_OK || sqlite3_step(st.s) != SQLITE_ROW)
+            return false;
+        out = sqlite3_column_int64(st.s, 0);
+        return true;
+    };
+    int64_t app = 0, version = 0, objects = 0;
+    if (!query_int("PRAGMA application_id", app) || !query_int("PRAGMA user_version", version) ||
+        !query_int("SELECT count(*) FROM sqlite_schema", objects))
+        return db_error("cannot read the database");
+    const bool fresh = app == 0 && version == 0 && objects == 0;
+    if (!fresh && app != kApplicationId)
+        return Error{"store '" + m_info.path + "': not a vx world store (another SQLite database)"};
+    if (!fresh && version != kSchemaVersion)
+        return Error{"store '" + m_info.path + "': unsupported store version " + std::to_string(version)};
+    if (m_info.read_only) {
+        if (fresh)
+            return Error{"store '" + m_info.path + "': empty database, not a vx world store"};
+        return {};
+    }
+    {
+        // The pragma answers with the mode in force: a file system without shared memory support
+        // would silently keep a rollback journal, whose durability argument differs.
+        Stmt st;
+        if (sqlite3_prepare_v2(m_db, "PRAGMA journal_mode=WAL", -1, &st.s, nullptr) != SQLITE_OK ||
+            sqlite3_step(st.s) != SQLITE_ROW)
+            return db_error("cannot enable WAL mode");
+        const auto* mode = reinterpret_cast<const char*>(sqlite3_column_text(st.s, 0));
+        if (!mode || std::string(mode) != "wal")
+            return Error{"store '" + m_info.path + "': WAL mode unavailable (journal mode " +
+                         (mode ? mode : "?") + ")"};
+    }
+    if (Status s = exec("PRAGMA synchronous=FULL;"); !s)
+        return s;
+    if (!fresh)
+        return {};
+    const std::string init = std::string("BEGIN IMMEDIATE;") + kSchema +
+                             "PRAGMA application_id=" + std::to_string(kApplicationId) +
+                             "; PRAGMA user_version=" + std::to_string(kSchemaVersion) + "; COMMIT;";
+    if (Status s = exec(init.c_str()); !s) {
+        exec("ROLLBACK");
+        return s;
+    }
+    return {};
+}
+
+Result<ChunkLoad> SqliteStore::load(ChunkCoord c) {
+    ChunkLoad out;
+    if (auto it = m_pending.find(c); it != m_pending.end()) {
+        if (!it->second)
+            return out; // Erase queued.
+        // Our own encoder's output: decoding cannot fail short of a bug, so nothing to quarantine.
+        Result<Chunk> chunk = m_codec.decode(*it->second, c);
+        VX_ASSERT_MSG(chunk.ok(), "a queued record failed to decode");
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    sqlite3_stmt* st = m_stmts->load.s;
+    ResetGuard guard{st};
+    bind_coord(st, c);
+    const int rc = sqlite3_step(st);
+    if (rc == SQLITE_DONE)
+        return out;
+    if (rc != SQLITE_ROW)
+        return db_error("cannot load chunk " + coord_str(c));
+    // Decoded straight from SQLite's buffer, which stays valid until the statement is reset.
+    const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
+    const size_t n = size_t(sqlite3_column_bytes(st, 0));
+    Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(p, p ? n : 0), c);
+    if (chunk) {
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    sqlite3_reset(st);
+    out.state = LoadState::Corrupt;
+    out.problem = chunk.error();
+    if (Status s = quarantine(c, out.problem); !s)
+        return Error{s.error()};
+    return out;
+}
+
+Status SqliteStore::quarantine(ChunkCoord c, const std::string& reason) {
+    if (m_info.read_only) {
+        // Nothing can be moved: log each bad record once per session.
+        if (m_reported.insert({c.x, c.y, c.z}).second && m_info.log_corrupt)
+            VX_LOG_WARN("store '%s': chunk %s: %s", m_info.path.c_str(), coord_str(c).c_str(), reason.c_str());
+        return {};
+    }
+    // Logged once: after the move, the coordinate reads as absent.
+    if (m_info.log_corrupt)
+        VX_LOG_WARN("store '%s': chunk %s: %s; moved to quarantine", m_info.path.c_str(), coord_str(c).c_str(),
+                    reason.c_str());
+    if (Status s = exec("BEGIN IMMEDIATE"); !s)
+        return s;
+    // The row is copied inside SQLite (INSERT ... SELECT): its bytes are kept verbatim, whatever
+    // their size, without passing through us.
+    sqlite3_stmt* q = m_stmts->q_put.s;
+    sqlite3_stmt* d = m_stmts->del.s;
+    ResetGuard gq{q}, gd{d};
+    bind_coord(q, c);
+    sqlite3_bind_text(q, 4, reason.c_str(), int(reason.size()), SQLITE_STATIC);
+    bind_coord(d, c);
+    if (sqlite3_step(q) != SQLITE_DONE || sqlite3_step(d) != SQLITE_DONE || !exec("COMMIT")) {
+        Error e = db_error("cannot quarantine chunk " + coord_str(c));
+        exec("ROLLBACK");
+        return e;
+    }
+    return {};
+}
+
+Status SqliteStore::save(std::span<const ChunkWrite> batch) {
+    if (m_info.read_only)
+        return Error{"store '" + m_info.path + "' is open read-only"};
+    if (pending_edits() == 0 && !batch.empty())
+        m_pending_since = Clock::now();
+    for (const ChunkWrite& w : batch) {
+        auto [it, inserted] = m_pending.try_emplace(w.coord);
+        if (!inserted && it->second)
+            m_pending_bytes -= it->second->size();
+        if (!w.chunk) {
+            it->second.reset();
+            continue;
+        }
+        if (!it->second)
+            it->second.emplace();
+        m_codec.encode(w.coord, *w.chunk, *it->second);
+        m_pending_bytes += it->second->size();
+    }
+    if (m_pending_bytes > m_info.max_pending_bytes)
+        return commit();
+    return {};
+}
+
+Status SqliteStore::tick(Clock::time_point now) {
+    if (m_pending_since && now - *m_pending_since >= m_info.max_pending_age)
+        return commit();
+    return {};
+}
+
+Status SqliteStore::flush() {
+    // synchronous=FULL: the commit fsyncs the WAL before returning (see kSchema's comment).
+    return commit();
+}
+
+Status SqliteStore::commit() {
+    if (pending_edits() == 0)
+        return {};
+    if (Status s = exec("BEGIN IMMEDIATE"); !s)
+        return s;
+    for (const auto& [c, record] : m_pending) {
+        sqlite3_stmt* st = record ? m_stmts->put.s : m_stmts->del.s;
+        ResetGuard guard{st};
+        bind_coord(st, c);
+        if (record)
+            sqlite3_bind_blob(st, 4, record->data(), int(record->size()), SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE) {
+            Error e = db_error("cannot write chunk " + coord_str(c));
+            exec("ROLLBACK"); // The queue is kept: a later commit retries.
+            return e;
+        }
+    }
+    for (const auto& [key, value] : m_pending_meta) {
+        sqlite3_stmt* st = m_stmts->meta_put.s;
+        ResetGuard guard{st};
+        sqlite3_bind_text(st, 1, key.data(), int(key.size()), SQLITE_STATIC);
+        sqlite3_bind_blob(st, 2, value.data(), int(value.size()), SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE) {
+            Error e = db_error("cannot write metadata '" + key + "'");
+            exec("ROLLBACK");
+            return e;
+        }
+    }
+    if (Status s = exec("COMMIT"); !s) {
+        exec("ROLLBACK");
+        return s;
+    }
+    m_pending.clear();
+    m_pending_meta.clear();
+    m_pending_bytes = 0;
+    m_pending_since.reset();
+    return {};
+}
+
+Result<bool> SqliteStore::contains(ChunkCoord c) {
+    if (auto it = m_pending.find(c); it != m_pending.end())
+        return it->second.has_value();
+    sqlite3_stmt* st = m_stmts->has.s;
+    ResetGuard guard{st};
+    bind_coord(st, c);
+    const int rc = sqlite3_step(st);
+    if (rc != SQLITE_ROW && rc != SQLITE_DONE)
+        return db_error("cannot look up chunk " + coord_str(c));
+    return rc == SQLITE_ROW;
+}
+
+Result<uint64_t> SqliteStore::count() {
+    if (Status s = commit(); !s)
+        return Error{s.error()};
+    sqlite3_stmt* st = m_stmts->count.s;
+    ResetGuard guard{st};
+    if (sqlite3_step(st) != SQLITE_ROW)
+        return db_error("cannot count chunks");
+    return uint64_t(sqlite3_column_int64(st, 0));
+}
+
+Result<uint64_t> SqliteStore::quarantine_count() {
+    sqlite3_stmt* st = m_stmts->q_count.s;
+    ResetGuard guard{st};
+    if (sqlite3_step(st) != SQLITE_ROW)
+        return db_error("cannot count quarantined records");
+    return uint64_t(sqlite3_column_int64(st, 0));
+}
+
+Status SqliteStore::verify_database() {
+    Stmt st;
+    if (sqlite3_prepare_v2(m_db, "PRAGMA quick_check", -1, &st.s, nullptr) != SQLITE_OK)
+        return db_error("cannot check the database");
+    const int rc = sqlite3_step(st.s);
+    if (rc != SQLITE_ROW)
+        return db_error("cannot check the database");
+    const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(st.s, 0));
+    const std::string first = text ? text : "";
+    if (first != "ok")
+        return Error{"store '" + m_info.path + "': damaged database: " + first};
+    return {};
+}
+
+Status SqliteStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
+    if (Status s = commit(); !s)
+        return s;
+    sqlite3_stmt* st = m_stmts->list.s;
+    ResetGuard guard{st};
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        const ChunkCoord c(int32_t(sqlite3_column_int64(st, 0)), int32_t(sqlite3_column_int64(st, 1)),
+                           int32_t(sqlite3_column_int64(st, 2)));
+        if (!fn(c))
+            return {};
+    }
+    if (rc != SQLITE_DONE)
+        return db_error("cannot list chunks");
+    return {};
+}
+
+Result<std::optional<std::string>> SqliteStore::get_meta(std::string_view key) {
+    if (auto it = m_pending_meta.find(key); it != m_pending_meta.end())
+        return std::optional<std::string>(it->second);
+    sqlite3_stmt* st = m_stmts->meta_get.s;
+    ResetGuard guard{st};
+    sqlite3_bind_text(st, 1, key.data(), int(key.size()), SQLITE_STATIC);
+    const int rc = sqlite3_step(st);
+    if (rc == SQLITE_DONE)
+        return std::optional<std::string>();
+    if (rc != SQLITE_ROW)
+        return db_error("cannot read metadata '" + std::string(key) + "'");
+    const auto* p = static_cast<const char*>(sqlite3_column_blob(st, 0));
+    return std::optional<std::string>(std::string(p ? p : "", size_t(sqlite3_column_bytes(st, 0))));
+}
+
+Status SqliteStore::set_meta(std::string_view key, std::string_view value) {
+    if (m_info.read_only)
+        return Error{"store '" + m_info.path + "' is open read-only"};
+    if (pending_edits() == 0)
+        m_pending_since = Clock::now();
+    m_pending_meta.insert_or_assign(std::string(key), std::string(value));
+    return {};
+}
+
+Result<StoreCheck> check_store(const std::string& path) {
+    SqliteStoreCreateInfo info;
+    info.path = path;
+    info.read_only = true;
+    info.log_corrupt = false;
+    Result<std::unique_ptr<SqliteStore>> opened = SqliteStore::open(info);
+    if (!opened)
+        return Error{opened.error()};
+    SqliteStore& store = **opened;
+    StoreCheck out;
+    constexpr size_t kMaxProblems = 16;
+    auto note = [&](std::string line) {
+        if (out.problems.size() < kMaxProblems)
+            out.problems.push_back(std::move(line));
+    };
+    if (Status s = store.verify_database(); !s) {
+        out.database_ok = false;
+        note(s.error());
+    }
+    // Coordinates first, then one load each: the list statement is not kept open across loads.
+    Result<std::vector<ChunkCoord>> coords = store.list_coords();
+    if (!coords)
+        return Error{coords.error()};
+    for (ChunkCoord c : *coords) {
+        ++out.records;
+        Result<ChunkLoad> r = store.load(c);
+        if (!r)
+            return Error{r.error()};
+        if (r->state == LoadState::Corrupt) {
+            ++out.corrupt;
+            note("chunk " + coord_str(c) + ": " + r->problem);
+        } else if (r->state == LoadState::Absent) {
+            ++out.corrupt; // Listed but not found by its key: coordinates outside the i32 range.
+            note("chunk row with coordinates out of range near " + coord_str(c));
+        }
+    }
+    Result<uint64_t> q = store.quarantine_count();
+    if (!q)
+        return Error{q.error()};
+    out.quarantined = *q;
+    return out;
+}
+
+} // namespace vx::world

@@ -1,0 +1,105 @@
+#pragma once
+// SqliteStore: a ChunkStore in one SQLite 3 database file (WAL mode).
+//   chunks(x, y, z, data)                  one chunk record per chunk coordinate
+//   meta(key, value)                        metadata strings
+//   quarantine(id, x, y, z, data, reason, time)  records that failed verification, kept verbatim
+// Edits queue in memory and commit in one transaction (see chunk_store.h for the write model).
+// The file carries application_id "VXWD" and user_version 1; any other SQLite file is refused.
+// Thread affinity: not thread-safe; one serial I/O lane thread only (as every ChunkStore).
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <tuple>
+#include <unordered_map>
+#include <vector>
+
+#include "world/chunk_record.h"
+#include "world/chunk_store.h"
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace vx::world {
+
+struct SqliteStoreCreateInfo {
+    std::string path;                               // Database file; its directory must exist.
+    bool read_only = false;                         // Open an existing store for reading only.
+    bool create = true;                             // Create the file if missing (read-write only).
+    std::chrono::milliseconds max_pending_age{1000}; // tick() commits edits older than this.
+    size_t max_pending_bytes = size_t(32) << 20;    // save() commits when the queue holds more.
+    int zstd_level = 1;                             // 1..3.
+    bool log_corrupt = true;                        // Log each corrupt record found (once).
+};
+
+class SqliteStore final : public ChunkStore {
+public:
+    // Opens or creates a store. Errors (one line, naming the path): directory missing, file not a
+    // database or not a vx store, read-only file opened for writing, unsupported version.
+    static Result<std::unique_ptr<SqliteStore>> open(const SqliteStoreCreateInfo& info);
+    // Commits queued edits (errors are logged: call flush() first to see them) and closes.
+    ~SqliteStore() override;
+    SqliteStore(const SqliteStore&) = delete;
+    SqliteStore& operator=(const SqliteStore&) = delete;
+
+    Result<ChunkLoad> load(ChunkCoord c) override;
+    using ChunkStore::save;
+    Status save(std::span<const ChunkWrite> batch) override;
+    Status tick(Clock::time_point now) override;
+    Status flush() override;
+    Result<bool> contains(ChunkCoord c) override;
+    Result<uint64_t> count() override;
+    Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override;
+    Result<std::optional<std::string>> get_meta(std::string_view key) override;
+    Status set_meta(std::string_view key, std::string_view value) override;
+    bool read_only() const override { return m_info.read_only; }
+
+    // Queued edits (chunks and metadata) not yet committed.
+    size_t pending_edits() const { return m_pending.size() + m_pending_meta.size(); }
+    // Records in the quarantine table.
+    Result<uint64_t> quarantine_count();
+    // Runs SQLite's PRAGMA quick_check over the whole file (O(size)); the error names the first
+    // problem found.
+    Status verify_database();
+    // Commits queued edits without forcing durability beyond the synchronous setting (which is
+    // FULL, so in practice the same as flush()).
+    Status commit();
+
+private:
+    struct Stmts;
+    explicit SqliteStore(SqliteStoreCreateInfo info);
+    Status init();
+    Status init_schema();
+    Status quarantine(ChunkCoord c, const std::string& reason);
+    Status exec(const char* sql);
+    Error db_error(const std::string& what) const;
+
+    SqliteStoreCreateInfo m_info;
+    sqlite3* m_db = nullptr;
+    std::unique_ptr<Stmts> m_stmts;
+    RecordCodec m_codec;
+    // Queued edits: coordinate -> record bytes, or nullopt for an erase.
+    std::unordered_map<ChunkCoord, std::optional<std::vector<uint8_t>>, ChunkCoordHash> m_pending;
+    std::map<std::string, std::string, std::less<>> m_pending_meta;
+    size_t m_pending_bytes = 0;
+    std::optional<Clock::time_point> m_pending_since; // Time of the oldest queued edit.
+    std::set<std::tuple<int, int, int>> m_reported;   // Corrupt records already logged (read-only).
+};
+
+// Result of check_store: every record read and verified.
+struct StoreCheck {
+    uint64_t records = 0;     // Rows in the chunks table.
+    uint64_t corrupt = 0;     // Of those, records that failed verification.
+    uint64_t quarantined = 0; // Rows in the quarantine table (moved aside earlier).
+    bool database_ok = true;  // SQLite's own PRAGMA quick_check passed.
+    std::vector<std::string> problems; // The first few problems found, one line each.
+};
+
+// Opens the store at `path` read-only and verifies every record (checksum, coordinates, content)
+// and the database structure. Moves nothing. Not thread-safe with respect to other writers in
+// this process; safe beside a writer in another process (WAL readers see a snapshot).
+Result<StoreCheck> check_store(const std::string& path);
+
+} // namespace vx::world
