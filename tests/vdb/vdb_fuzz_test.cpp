@@ -25,7 +25,7 @@
 extern "C" const char* __asan_default_options() { return "max_allocation_size_mb=1024:allocator_may_return_null=1"; }
 #endif
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_ADDRESS__)
 constexpr int kIterations = 24; // Sanitized children run 10-20x slower.
 #else
 constexpr int kIterations = 120;
@@ -76,6 +76,11 @@ std::string outcome(const std::string& error) {
 
 TEST(VdbFuzz, MutatedFilesNeverCrashTheCaller) {
     VX_REQUIRE_VDB_DATA();
+#if defined(__SANITIZE_THREAD__)
+    // Single-threaded code: TSan has nothing to check here, and its children (no memory cap)
+    // take minutes on inputs that make OpenVDB allocate gigabytes.
+    GTEST_SKIP() << "memory-safety fuzzing is for the ASan and plain builds";
+#endif
     // Small files (and the 0.8 MB level set now and then), so 120 inputs (4 child processes each) take ~25 s on 2 cores.
     const char* files[] = {"gaffer_arnoldtest_sphere.vdb", "oiio_sphere.vdb", "arnoldusd_torus01.vdb",
                            "arnoldusd_grids.vdb", "gaffer_points.vdb", "oiio_sphereCd.vdb"};

@@ -1,5 +1,6 @@
 // Import of real VDB files written by other tools (shared/data/vdb, see its PROVENANCE.md).
 
+#include <climits>
 #include <cmath>
 #include <vector>
 
@@ -182,6 +183,10 @@ TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
     EXPECT_TRUE(fails_with(import_volume(path, o), "air"));
     o = {};
     o.offset = BlockPos(int64_t(1) << 40, 0, 0);
+    EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
+    o.offset = BlockPos(0, INT64_MIN, 0);
+    EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
+    o.offset = BlockPos(0, 0, (int64_t(1) << 36) - 5); // The sphere's 25 blocks cross the edge.
     EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
     o = {};
     o.mode = VolumeMode::LevelSet; // Fog background 0 is not a level set's positive outside.

@@ -19,9 +19,6 @@ using world::ChunkCoord;
 using world::kChunkSize;
 using world::kChunkVolume;
 
-// Most blocks a destination coordinate may reach: chunk coordinates are int32 (coords.h).
-constexpr int64_t kMaxWorldBlock = int64_t(1) << 36;
-
 int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 std::string quoted_name(const openvdb::GridBase& g, int index) {
@@ -257,9 +254,12 @@ template <class GridT> Status VolumeImporter<GridT>::analyse() {
         return Error{"grid " + name() + " would be " + std::to_string(n.x) + "x" + std::to_string(n.y) + "x" +
                      std::to_string(n.z) + " blocks at block_size " + std::to_string(m_b) + ", more than max_blocks " +
                      std::to_string(m_o.max_blocks) + "; raise block_size or max_blocks"};
-    for (int a = 0; a < 3; ++a)
-        if (std::abs(m_src_lo[a] + m_o.offset[a]) > kMaxWorldBlock || std::abs(m_src_hi[a] + m_o.offset[a]) > kMaxWorldBlock)
-            return Error{"offset puts blocks beyond +-2^36, the world's chunk coordinate range; change offset"};
+    // Offsets near the world's edge could overflow; the world spans [-2^36, 2^36) (coords.h).
+    constexpr int64_t kMaxOffset = int64_t(1) << 40;
+    const glm::i64vec3 lim(kMaxOffset);
+    if (glm::any(glm::greaterThan(m_o.offset, lim)) || glm::any(glm::lessThan(m_o.offset, -lim)) ||
+        !world::in_world(m_src_lo + m_o.offset) || !world::in_world(m_src_hi + m_o.offset))
+        return Error{"offset puts blocks beyond the world's range [-2^36, 2^36); change offset"};
     return {};
 }
 
