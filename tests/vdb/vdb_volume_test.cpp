@@ -1,0 +1,377 @@
+// Import of real VDB files written by other tools (shared/data/vdb, see its PROVENANCE.md).
+
+#include <climits>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/vdb/vdb_test_util.h"
+#include "world/vdb/vdb_accuracy.h"
+#include "world/vdb/vdb_volume.h"
+
+namespace vx::vdb {
+namespace {
+
+using test::data_path;
+using world::BlockPos;
+
+uint64_t count_solid(const world::World& w) {
+    uint64_t n = 0;
+    w.for_each_chunk([&](world::ChunkCoord, const world::Chunk& c) {
+        for (int i = 0; i < world::kChunkVolume; ++i)
+            n += c.get(i) != world::kAir;
+    });
+    return n;
+}
+
+::testing::AssertionResult fails_with(const Result<VolumeImport>& r, const std::string& words) {
+    if (r.ok())
+        return ::testing::AssertionFailure() << "import succeeded; expected an error with '" << words << "'";
+    if (r.error().find('\n') != std::string::npos)
+        return ::testing::AssertionFailure() << "error is not one line: " << r.error();
+    if (r.error().find(words) == std::string::npos)
+        return ::testing::AssertionFailure() << "error lacks '" << words << "': " << r.error();
+    return ::testing::AssertionSuccess();
+}
+
+TEST(VdbVolume, ListGridsComputesBoundsFromTheTree) {
+    VX_REQUIRE_VDB_DATA();
+    Result<std::vector<GridInfo>> g = list_grids(data_path("arnoldusd_smoke.vdb"));
+    ASSERT_TRUE(g.ok()) << g.error();
+    ASSERT_EQ(g->size(), 1u);
+    EXPECT_EQ((*g)[0].name, "density");
+    EXPECT_EQ((*g)[0].value_type, "float");
+    EXPECT_EQ((*g)[0].grid_class, "fog volume");
+    EXPECT_EQ((*g)[0].active_voxels, 1049275u); // vdb_print's count.
+    EXPECT_EQ((*g)[0].bbox_min, glm::ivec3(1, 2, 1));
+    EXPECT_EQ((*g)[0].bbox_max, glm::ivec3(111, 223, 112));
+    EXPECT_TRUE((*g)[0].saved_as_half);
+    EXPECT_NEAR((*g)[0].voxel_size.x, 0.476, 1e-3);
+
+    g = list_grids(data_path("arnoldusd_grids.vdb"));
+    ASSERT_TRUE(g.ok()) << g.error();
+    ASSERT_EQ(g->size(), 3u);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ((*g)[size_t(i)].name, "density");
+        EXPECT_EQ((*g)[size_t(i)].index, i);
+    }
+    EXPECT_EQ((*g)[1].bbox_min, glm::ivec3(-9, -13, -9));
+    EXPECT_EQ((*g)[1].bbox_max, glm::ivec3(9, 5, 12));
+
+    // The damaged files claim huge bboxes in their metadata; the tree is empty.
+    for (const char* f : {"damaged/oiio_bad-bbox-huge.vdb", "damaged/oiio_bad-bbox-bomb.vdb"}) {
+        g = list_grids(data_path(f));
+        ASSERT_TRUE(g.ok()) << g.error();
+        ASSERT_EQ(g->size(), 1u);
+        EXPECT_TRUE((*g)[0].empty);
+        EXPECT_EQ((*g)[0].active_voxels, 0u);
+    }
+    g = list_grids(data_path("gaffer_points.vdb"));
+    ASSERT_TRUE(g.ok()) << g.error();
+    EXPECT_EQ((*g)[0].value_type, "ptdataidx32");
+}
+
+TEST(VdbVolume, LevelSetSphereFromOldFormatHalfFloats) {
+    VX_REQUIRE_VDB_DATA();
+    // OpenVDB 1.1 file, half floats, narrow band of 3 voxels: the interior is inactive tiles at
+    // -background, which must read as inside.
+    Result<VolumeImport> r = import_volume(data_path("gaffer_vdbtest_sphere.vdb"));
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r->summary.mode, VolumeMode::LevelSet);
+    EXPECT_EQ(r->summary.grid_name, "ls_sphere");
+    // The band's bbox is [-62, 62] with 3 voxels of band: radius ~59.5 voxels. A sphere of
+    // radius R has 4/3 pi R^3 blocks: 882,347 at R = 59.5; allow +-3% for the exact radius.
+    const double r3 = 4.0 / 3.0 * M_PI * std::pow(59.5, 3);
+    EXPECT_NEAR(double(r->summary.solid_blocks), r3, 0.03 * r3);
+    EXPECT_EQ(count_solid(r->world), r->summary.solid_blocks);
+    EXPECT_NE(r->world.get_block(BlockPos(0)), world::kAir);          // Deep interior (inactive tile).
+    EXPECT_NE(r->world.get_block(BlockPos(0, 0, -55)), world::kAir);  // Inside, near the band.
+    EXPECT_EQ(r->world.get_block(BlockPos(0, 62, 0)), world::kAir);   // Outside, in the band.
+    EXPECT_EQ(r->world.get_block(BlockPos(61, 61, 0)), world::kAir);  // Outside, bbox corner.
+    EXPECT_GT(r->summary.supersampled_blocks, 0u);
+}
+
+TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
+    VX_REQUIRE_VDB_DATA();
+    struct Case {
+        const char* file;
+        const char* error; // Null: imports.
+        VolumeMode mode;
+    };
+    const Case cases[] = {
+        {"gaffer_vdbtest_sphere.vdb", nullptr, VolumeMode::LevelSet},
+        {"arnoldusd_smoke.vdb", nullptr, VolumeMode::Fog},
+        {"arnoldusd_torus01.vdb", nullptr, VolumeMode::Fog},
+        {"oiio_sphere.vdb", nullptr, VolumeMode::Fog},
+        {"gaffer_arnoldtest_sphere.vdb", nullptr, VolumeMode::Fog},
+        {"arnoldusd_grids.vdb", nullptr, VolumeMode::Fog}, // First scalar grid.
+        {"oiio_sphereCd.vdb", "vec3s", VolumeMode::Auto},
+        {"gaffer_points.vdb", "point-data", VolumeMode::Auto},
+        {"damaged/oiio_bad-bbox-huge.vdb", "empty", VolumeMode::Auto},
+        {"damaged/oiio_bad-bbox-bomb.vdb", "empty", VolumeMode::Auto},
+        {"damaged/oiio_truncated.vdb", "cannot read", VolumeMode::Auto},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.file);
+        // Block size 1 on the two large files costs seconds in sanitizer builds; 4 suffices there.
+        const bool large = std::string(c.file) == "arnoldusd_smoke.vdb" || std::string(c.file) == "gaffer_vdbtest_sphere.vdb";
+        for (int b : large ? std::vector<int>{4} : std::vector<int>{1, 3}) {
+            VolumeImportOptions o;
+            o.block_size = b;
+            Result<VolumeImport> r = import_volume(data_path(c.file), o);
+            if (c.error) {
+                EXPECT_TRUE(fails_with(r, c.error));
+                continue;
+            }
+            ASSERT_TRUE(r.ok()) << r.error();
+            EXPECT_EQ(r->summary.mode, c.mode);
+            EXPECT_GT(r->summary.solid_blocks, 0u);
+            EXPECT_EQ(count_solid(r->world), r->summary.solid_blocks);
+        }
+    }
+}
+
+TEST(VdbVolume, GridsWithTheSameNameAreSelectedByIndex) {
+    VX_REQUIRE_VDB_DATA();
+    const std::string path = data_path("arnoldusd_grids.vdb");
+    VolumeImportOptions o;
+    o.grid_name = "density";
+    EXPECT_TRUE(fails_with(import_volume(path, o), "grid_index"));
+    o.grid_name.clear();
+    uint64_t solid[3];
+    for (int i = 0; i < 3; ++i) {
+        o.grid_index = i;
+        Result<VolumeImport> r = import_volume(path, o);
+        ASSERT_TRUE(r.ok()) << r.error();
+        EXPECT_EQ(r->summary.grid_index, i);
+        solid[i] = r->summary.solid_blocks;
+    }
+    // Grid 1 spans (-9,-13,-9)..(9,5,12): a block bbox unlike the other two.
+    o.grid_index = 1;
+    Result<VolumeImport> r = import_volume(path, o);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->summary.blocks.min, BlockPos(-9, -13, -9));
+    EXPECT_EQ(r->summary.blocks.max, BlockPos(9, 5, 12));
+    EXPECT_NE(solid[0], solid[1]);
+    o.grid_index = 3;
+    EXPECT_TRUE(fails_with(import_volume(path, o), "out of range"));
+    o.grid_index = -1;
+    o.grid_name = "nope";
+    EXPECT_TRUE(fails_with(import_volume(path, o), "no grid named 'nope'"));
+}
+
+TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
+    EXPECT_TRUE(fails_with(import_volume("/nonexistent/dir/x.vdb"), "no such file"));
+    Result<std::vector<GridInfo>> g = list_grids("/nonexistent/x.vdb");
+    EXPECT_FALSE(g.ok());
+    VX_REQUIRE_VDB_DATA();
+    const std::string path = data_path("oiio_sphere.vdb");
+    VolumeImportOptions o;
+    o.block_size = 0;
+    EXPECT_TRUE(fails_with(import_volume(path, o), "block_size"));
+    o.block_size = 65;
+    EXPECT_TRUE(fails_with(import_volume(path, o), "block_size"));
+    o = {};
+    o.threshold = 0.f;
+    EXPECT_TRUE(fails_with(import_volume(path, o), "threshold"));
+    o = {};
+    o.max_blocks = 1000; // The sphere spans 25³ = 15625 blocks.
+    EXPECT_TRUE(fails_with(import_volume(path, o), "max_blocks"));
+    o = {};
+    o.block = world::kAir;
+    EXPECT_TRUE(fails_with(import_volume(path, o), "air"));
+    o = {};
+    o.offset = BlockPos(int64_t(1) << 40, 0, 0);
+    EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
+    o.offset = BlockPos(0, INT64_MIN, 0);
+    EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
+    o.offset = BlockPos(0, 0, (int64_t(1) << 36) - 5); // The sphere's 25 blocks cross the edge.
+    EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
+    o = {};
+    o.mode = VolumeMode::LevelSet; // Fog background 0 is not a level set's positive outside.
+    EXPECT_TRUE(fails_with(import_volume(path, o), "background"));
+}
+
+TEST(VdbVolume, OffsetShiftsEveryBlock) {
+    VX_REQUIRE_VDB_DATA();
+    const std::string path = data_path("gaffer_arnoldtest_sphere.vdb");
+    Result<VolumeImport> a = import_volume(path);
+    VolumeImportOptions o;
+    o.offset = BlockPos(int64_t(1) << 30, -5, 7);
+    Result<VolumeImport> b = import_volume(path, o);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(a->summary.solid_blocks, b->summary.solid_blocks);
+    a->world.for_each_chunk([&](world::ChunkCoord c, const world::Chunk& chunk) {
+        for (int i = 0; i < world::kChunkVolume; ++i) {
+            const BlockPos p = world::chunk_origin(c) + BlockPos(i & 31, (i >> 5) & 31, i >> 10);
+            ASSERT_EQ(chunk.get(i), b->world.get_block(p + o.offset));
+        }
+    });
+}
+
+TEST(VdbVolume, DensityMapsToBlocks) {
+    VX_REQUIRE_VDB_DATA();
+    // oiio_sphere: density 0..1 rising towards the centre.
+    VolumeImportOptions o;
+    o.threshold = 0.1f;
+    o.density_blocks = {{0.f, 4}, {0.6f, 1}};
+    Result<VolumeImport> r = import_volume(data_path("oiio_sphere.vdb"), o);
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r->world.get_block(BlockPos(0)), 1);
+    uint64_t outer = 0;
+    r->world.for_each_chunk([&](world::ChunkCoord, const world::Chunk& c) {
+        for (int i = 0; i < world::kChunkVolume; ++i)
+            outer += c.get(i) == 4;
+    });
+    EXPECT_GT(outer, 0u);
+}
+
+TEST(VdbVolume, LargerBlocksCoverTheSameShape) {
+    VX_REQUIRE_VDB_DATA();
+    // Solid volume in voxels stays about the same as B grows: B³ * solid(B) ~ 8 * solid(2).
+    const std::string path = data_path("gaffer_vdbtest_sphere.vdb");
+    VolumeImportOptions o;
+    o.block_size = 2;
+    Result<VolumeImport> two = import_volume(path, o);
+    ASSERT_TRUE(two.ok());
+    const double base = 8.0 * double(two->summary.solid_blocks);
+    for (int b : {4, 8}) {
+        o.block_size = b;
+        Result<VolumeImport> r = import_volume(path, o);
+        ASSERT_TRUE(r.ok()) << r.error();
+        const double voxels = double(r->summary.solid_blocks) * b * b * b;
+        EXPECT_NEAR(voxels, base, 0.02 * base) << b;
+    }
+}
+
+TEST(VdbVolume, AdaptiveLevelSetMatchesSupersampledReference) {
+    VX_REQUIRE_VDB_DATA();
+    // The goal for level sets: IoU >= 0.999 against 8³ supersampling; centre-only is worse.
+    const int sizes[] = {4};
+    Result<std::vector<AccuracyRow>> rows = measure_vdb_accuracy(data_path("gaffer_vdbtest_sphere.vdb"), sizes);
+    ASSERT_TRUE(rows.ok()) << rows.error();
+    ASSERT_EQ(rows->size(), 3u);
+    const AccuracyRow& adaptive = (*rows)[0];
+    const AccuracyRow& centre = (*rows)[2];
+    EXPECT_EQ(adaptive.sampling, VolumeSampling::Adaptive);
+    EXPECT_GE(adaptive.iou, 0.999);
+    EXPECT_LE(adaptive.max_surface_distance, 1.0);
+    EXPECT_LT(centre.iou, 1.0);
+    EXPECT_GE(adaptive.iou, centre.iou);
+}
+
+} // namespace
+} // namespace vx::vdb
+
+namespace vx::vdb {
+namespace {
+
+// Fraction of block b (B voxels per edge) inside the ball |p| < r (index space), from 8³ samples.
+double ball_fraction(BlockPos b, int bs, double r) {
+    int in = 0;
+    for (int z = 0; z < 8; ++z)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const glm::dvec3 p = glm::dvec3(b * int64_t(bs)) - 0.5 + (glm::dvec3(x, y, z) + 0.5) * (bs / 8.0);
+                in += glm::dot(p, p) < r * r;
+            }
+    return in / 512.0;
+}
+
+TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
+    VX_REQUIRE_VDB_DATA();
+    // Independent ground truth: ls_sphere is a sphere of radius 3.0 at the origin with voxel
+    // 0.05, i.e. 60 voxels (vdb_print: band bbox +-62 = 60 + 3 voxels of band, rounded).
+    const double r = 60.0;
+    // Block size 1 is LevelSetSphereFromOldFormatHalfFloats (volume and sample blocks); it takes
+    // seconds in sanitizer builds.
+    for (int bs : {2, 4, 8}) {
+        VolumeImportOptions o;
+        o.block_size = bs;
+        Result<VolumeImport> imp = import_volume(data_path("gaffer_vdbtest_sphere.vdb"), o);
+        ASSERT_TRUE(imp.ok()) << imp.error();
+        const int64_t n = int64_t(r / bs) + 2;
+        uint64_t both = 0, either = 0;
+        for (int64_t z = -n; z <= n; ++z)
+            for (int64_t y = -n; y <= n; ++y)
+                for (int64_t x = -n; x <= n; ++x) {
+                    const BlockPos b(x, y, z);
+                    // Blocks whose centre is more than half a diagonal from the sphere lie wholly
+                    // on one side; only the shell needs the 8³ estimate.
+                    const double d = glm::length(glm::dvec3(b * int64_t(bs)) + 0.5 * (bs - 1)) - r;
+                    const double half_diagonal = 0.5 * std::sqrt(3.0) * bs;
+                    const bool truth = std::abs(d) > half_diagonal ? d < 0 : ball_fraction(b, bs, r) > 0.5;
+                    const bool got = imp->world.get_block(b) != world::kAir;
+                    both += truth && got;
+                    either += truth || got;
+                }
+        EXPECT_EQ(count_solid(imp->world), imp->summary.solid_blocks); // Nothing outside the ball's box.
+        EXPECT_GE(double(both) / double(either), 0.99) << "block size " << bs;
+        std::printf("block size %d: IoU vs analytic sphere %.5f\n", bs, double(both) / double(either));
+    }
+}
+
+} // namespace
+} // namespace vx::vdb
+
+#include "world/vdb/vdb_isolated.h"
+
+namespace vx::vdb {
+namespace {
+
+TEST(VdbIsolated, SameResultAsInProcess) {
+    VX_REQUIRE_VDB_DATA();
+    const std::string path = data_path("arnoldusd_grids.vdb");
+    VolumeImportOptions o;
+    o.grid_index = 1;
+    o.block_size = 2;
+    o.offset = BlockPos(-(int64_t(1) << 30), 3, 99);
+    Result<VolumeImport> a = import_volume(path, o);
+    Result<VolumeImport> b = import_volume_isolated(path, o);
+    ASSERT_TRUE(a.ok() && b.ok()) << (b.ok() ? a.error() : b.error());
+    EXPECT_TRUE(test::same_blocks(a->world, b->world));
+    EXPECT_EQ(a->summary.solid_blocks, b->summary.solid_blocks);
+    EXPECT_EQ(a->summary.grid_name, b->summary.grid_name);
+    EXPECT_EQ(a->summary.blocks.min, b->summary.blocks.min);
+    EXPECT_EQ(a->summary.blocks.max, b->summary.blocks.max);
+    EXPECT_EQ(a->summary.max_value, b->summary.max_value);
+
+    Result<std::vector<GridInfo>> g1 = list_grids(path), g2 = list_grids_isolated(path);
+    ASSERT_TRUE(g1.ok() && g2.ok());
+    ASSERT_EQ(g1->size(), g2->size());
+    for (size_t i = 0; i < g1->size(); ++i) {
+        EXPECT_EQ((*g1)[i].name, (*g2)[i].name);
+        EXPECT_EQ((*g1)[i].active_voxels, (*g2)[i].active_voxels);
+        EXPECT_EQ((*g1)[i].bbox_max, (*g2)[i].bbox_max);
+    }
+}
+
+TEST(VdbIsolated, ErrorsComeBackFromTheChild) {
+    VX_REQUIRE_VDB_DATA();
+    Result<VolumeImport> r = import_volume_isolated(data_path("gaffer_points.vdb"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("point-data"), std::string::npos) << r.error();
+    r = import_volume_isolated(data_path("damaged/oiio_truncated.vdb"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().find('\n'), std::string::npos);
+    Result<world::World> w = import_world_vdb_isolated(data_path("oiio_sphere.vdb"));
+    ASSERT_FALSE(w.ok());
+    EXPECT_NE(w.error().find("'blocks'"), std::string::npos) << w.error();
+}
+
+TEST(VdbIsolated, WorldRoundTrip) {
+    world::World w;
+    for (int i = 0; i < 100; ++i)
+        w.set_block(BlockPos(i * 7 % 61, i, -i * 3), world::BlockId(1 + i % 11));
+    w.put_chunk(world::ChunkCoord(5, 5, 5), world::Chunk(world::BlockId(7)));
+    test::TempDir dir;
+    const std::string path = dir.file("w.vdb");
+    ASSERT_TRUE(export_vdb(w, path).ok());
+    Result<world::World> back = import_world_vdb_isolated(path);
+    ASSERT_TRUE(back.ok()) << back.error();
+    EXPECT_TRUE(test::same_blocks(w, *back));
+}
+
+} // namespace
+} // namespace vx::vdb
