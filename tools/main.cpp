@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     add_info_command(app, action);
     add_mesh_command(app, action);
     add_world_command(app, action);
+    add_vdb_commands(app, action);
     app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store)");
     try {
         app.parse(argc, argv);

@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+
+#include "world/sqlite_store.h"
 #include <glm/glm.hpp>
 
 namespace {
@@ -22,7 +24,7 @@ struct CliRun {
     std::string out; // stdout and stderr together.
 };
 
-CliRun vx(const std::string& args) {
+CliRun run_vx(const std::string& args) {
     const std::string cmd = std::string(VX_BINARY) + " " + args + " 2>&1";
     std::FILE* p = popen(cmd.c_str(), "r");
     CliRun r{-1, {}};
@@ -60,32 +62,32 @@ std::string write_volume() {
 } // namespace
 
 TEST(Cli, InfoPrintsVersion) {
-    const CliRun r = vx("info");
+    const CliRun r = run_vx("info");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("vx "), std::string::npos);
 }
 
 TEST(Cli, BadArgumentsExitTwo) {
-    EXPECT_EQ(vx("").code, 2);
-    EXPECT_EQ(vx("frobnicate").code, 2);
-    EXPECT_EQ(vx("mesh").code, 2);
-    EXPECT_EQ(vx("mesh --raw /nonexistent.raw --dims 2,2,2").code, 2);
+    EXPECT_EQ(run_vx("").code, 2);
+    EXPECT_EQ(run_vx("frobnicate").code, 2);
+    EXPECT_EQ(run_vx("mesh").code, 2);
+    EXPECT_EQ(run_vx("mesh --raw /nonexistent.raw --dims 2,2,2").code, 2);
     const std::string vol = write_volume();
-    CliRun r = vx("mesh --raw " + vol + " --dims 40,20");
+    CliRun r = run_vx("mesh --raw " + vol + " --dims 40,20");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("--dims"), std::string::npos) << r.out;
-    r = vx("mesh --raw " + vol + " --dims 41,20,36");
+    r = run_vx("mesh --raw " + vol + " --dims 41,20,36");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("bytes"), std::string::npos) << r.out;
-    EXPECT_EQ(vx("mesh --raw " + vol + " --dims 40,20,36 --mesher fancy").code, 2);
-    EXPECT_EQ(vx("mesh --raw " + vol + " --dims 40,20,36 --origin 1,2,x").code, 2);
+    EXPECT_EQ(run_vx("mesh --raw " + vol + " --dims 40,20,36 --mesher fancy").code, 2);
+    EXPECT_EQ(run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 1,2,x").code, 2);
     const auto edits = (temp_dir() / "bad_edits.txt").string();
     std::ofstream(edits) << "1 2 3 4\n5 6 seven 8\n";
-    r = vx("mesh --raw " + vol + " --dims 40,20,36 --edits " + edits);
+    r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --edits " + edits);
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find(":2:"), std::string::npos) << r.out; // Names the bad line.
-    EXPECT_EQ(vx("bench").code, 2);
-    r = vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
+    EXPECT_EQ(run_vx("bench").code, 2);
+    r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;
 }
@@ -99,7 +101,7 @@ TEST(Cli, MeshWritesObjAndEditsMatchFullRemesh) {
     std::ofstream(edits) << "# dig and build\n31 5 10 0\n0 0 0 0\n39 19 35 2\n32 1 1 3\n";
     auto mesh_obj = [&](const std::string& extra, const std::string& name) {
         const auto obj = (temp_dir() / name).string();
-        const CliRun r = vx("mesh --raw " + vol + " --dims 40,20,36 --obj " + obj + " " + extra);
+        const CliRun r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --obj " + obj + " " + extra);
         EXPECT_EQ(r.code, 0) << r.out;
         std::ifstream in(obj);
         std::stringstream ss;
@@ -135,7 +137,7 @@ TEST(Cli, MeshWritesObjAndEditsMatchFullRemesh) {
     at(31, 5, 10) = 0, at(0, 0, 0) = 0, at(39, 19, 35) = 2, at(32, 1, 1) = 3;
     const auto vol2 = (temp_dir() / "vol2.raw").string();
     std::ofstream(vol2, std::ios::binary).write(v.data(), std::streamsize(v.size()));
-    const CliRun full = vx("mesh --raw " + vol2 + " --dims 40,20,36");
+    const CliRun full = run_vx("mesh --raw " + vol2 + " --dims 40,20,36");
     EXPECT_NE(full.out.find(std::to_string(faces) + " quads"), std::string::npos) << full.out;
 
     // Far from the origin: identical quads, vertices shifted by exactly the origin.
@@ -152,19 +154,19 @@ TEST(Cli, WorldGenInfoAndCheck) {
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     const std::string db = (dir / "w.db").string();
-    CliRun r = vx("world gen " + db + " --seed 9 --radius 1 --bottom -1 --top 1");
+    CliRun r = run_vx("world gen " + db + " --seed 9 --radius 1 --bottom -1 --top 1");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("27 chunks"), std::string::npos) << r.out; // 3 × 3 × 3.
-    r = vx("world info " + db);
+    r = run_vx("world info " + db);
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("chunks stored: 27"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("seed: 9"), std::string::npos) << r.out;
-    r = vx("world info " + db + " --check");
+    r = run_vx("world info " + db + " --check");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("records: 27, corrupt: 0"), std::string::npos) << r.out;
 
     // Another seed into the same store is refused.
-    EXPECT_EQ(vx("world gen " + db + " --seed 10 --radius 1").code, 2);
+    EXPECT_EQ(run_vx("world gen " + db + " --seed 10 --radius 1").code, 2);
 
     // Flip a byte inside one record's payload.
     sqlite3* h = nullptr;
@@ -175,14 +177,78 @@ TEST(Cli, WorldGenInfoAndCheck) {
                            nullptr, nullptr, nullptr),
               SQLITE_OK);
     sqlite3_close(h);
-    r = vx("world info " + db + " --check");
+    r = run_vx("world info " + db + " --check");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find("records: 27, corrupt: 1"), std::string::npos) << r.out;
 
-    r = vx("world info " + (dir / "missing.db").string() + " --check");
+    r = run_vx("world info " + (dir / "missing.db").string() + " --check");
     EXPECT_EQ(r.code, 2) << r.out;
     const std::string garbage = (dir / "garbage.db").string();
     std::ofstream(garbage) << "this is not a database, but it is long enough to look like one to a careless reader";
-    r = vx("world info " + garbage);
+    r = run_vx("world info " + garbage);
     EXPECT_EQ(r.code, 2) << r.out;
+}
+
+namespace {
+
+// Every non-air chunk of a store, for comparisons.
+std::map<std::tuple<int, int, int>, vx::world::Chunk> store_chunks(const std::string& path) {
+    std::map<std::tuple<int, int, int>, vx::world::Chunk> out;
+    auto store = vx::world::SqliteStore::open({path, true, false});
+    EXPECT_TRUE(store.ok()) << store.error();
+    if (!store)
+        return out;
+    for (const vx::world::ChunkCoord& c : *(*store)->list_coords()) {
+        auto r = (*store)->load(c);
+        if (r && r->chunk && !r->chunk->is_empty())
+            out.emplace(std::make_tuple(c.x, c.y, c.z), std::move(*r->chunk));
+    }
+    return out;
+}
+
+} // namespace
+
+// Store -> VDB -> store is lossless; foreign volumes import; refused files exit 2 and leave an
+// existing world untouched.
+TEST(Cli, VdbExportImport) {
+    const auto dir = temp_dir() / "vdb";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = (dir / "w.db").string(), vdb = (dir / "w.vdb").string(), back = (dir / "back.db").string();
+    ASSERT_EQ(run_vx("world gen " + db + " --seed 4 --radius 1 --bottom -1 --top 1").code, 0);
+    CliRun r = run_vx("export-vdb " + db + " --out " + vdb);
+    ASSERT_EQ(r.code, 0) << r.out;
+    r = run_vx("import-vdb " + vdb + " --out " + back);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("vx world grid 'blocks'"), std::string::npos) << r.out;
+    const auto a = store_chunks(db), b = store_chunks(back);
+    EXPECT_EQ(a.size(), b.size());
+    for (const auto& [k, chunk] : a) {
+        auto it = b.find(k);
+        ASSERT_NE(it, b.end());
+        EXPECT_TRUE(it->second == chunk);
+    }
+    EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 1,2,3").code, 2);
+
+    const std::string data = VX_VDB_DATA_DIR;
+    if (!std::filesystem::exists(data))
+        GTEST_SKIP() << "no sample VDB files at " << data;
+    r = run_vx("import-vdb " + data + "/arnoldusd_grids.vdb --list");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("[2] 'density'"), std::string::npos) << r.out;
+    const std::string sphere = (dir / "sphere.db").string();
+    r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --block-size 4");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("levelset"), std::string::npos) << r.out;
+    EXPECT_EQ(run_vx("world info " + sphere + " --check").code, 0);
+
+    // Refused imports over an existing world leave it as it was.
+    const auto before = store_chunks(back);
+    for (const std::string bad : {"/gaffer_points.vdb", "/damaged/oiio_truncated.vdb", "/damaged/oiio_bad-bbox-huge.vdb"}) {
+        r = run_vx("import-vdb " + data + bad + " --out " + back);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("vx: "), std::string::npos) << r.out;
+    }
+    EXPECT_EQ(store_chunks(back).size(), before.size());
+    EXPECT_EQ(run_vx("world info " + back + " --check").code, 0);
 }

@@ -1,0 +1,206 @@
+// `vx export-vdb` and `vx import-vdb`: worlds to and from OpenVDB files. Imports of files from
+// elsewhere run in a child process (vdb_isolated.h): OpenVDB's reader is not safe on damaged input.
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "world/vdb/vdb_isolated.h"
+#include "world_io.h"
+
+namespace vx::tools {
+namespace {
+
+using namespace vx::world;
+using namespace vx::vdb;
+using Clock = std::chrono::steady_clock;
+
+std::optional<BlockBox> parse_box(const std::string& s) {
+    std::stringstream ss(s);
+    std::string item;
+    std::vector<long long> v;
+    while (std::getline(ss, item, ',')) {
+        char* end = nullptr;
+        const long long x = std::strtoll(item.c_str(), &end, 10);
+        if (item.empty() || *end != '\0')
+            return std::nullopt;
+        v.push_back(x);
+    }
+    if (v.size() != 6 || v[0] > v[3] || v[1] > v[4] || v[2] > v[5])
+        return std::nullopt;
+    return BlockBox{BlockPos(v[0], v[1], v[2]), BlockPos(v[3], v[4], v[5])};
+}
+
+struct ExportArgs {
+    std::string world, out, box, compression = "zip";
+};
+
+int run_export(const ExportArgs& a) {
+    std::optional<BlockBox> box;
+    if (!a.box.empty() && !(box = parse_box(a.box)))
+        return bad_input("--box must be X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1");
+    const auto t0 = Clock::now();
+    std::optional<ChunkCoord> lo, hi;
+    if (box)
+        lo = chunk_of(box->min), hi = chunk_of(box->max);
+    auto w = load_store_world(a.world, lo, hi);
+    if (!w)
+        return bad_input(w.error());
+    VdbExportOptions opt;
+    opt.box = box;
+    opt.compression = a.compression == "none" ? VdbCompression::None : VdbCompression::Zip;
+    if (Status s = export_vdb(*w, a.out, opt); !s)
+        return bad_input(s.error());
+    std::printf("vx export-vdb: %zu chunks of %s -> %s (Int32 grid 'blocks', %s) in %.2f s\n", w->chunk_count(),
+                a.world.c_str(), a.out.c_str(), a.compression.c_str(),
+                std::chrono::duration<double>(Clock::now() - t0).count());
+    return kExitOk;
+}
+
+struct ImportArgs {
+    std::string file, out, grid, mode = "auto", sampling = "adaptive", offset = "0,0,0", density;
+    int index = -1, block_size = 1;
+    float threshold = 0.25f;
+    int block = 1;
+    bool list = false;
+};
+
+int list(const std::string& file) {
+    auto grids = list_grids_isolated(file);
+    if (!grids)
+        return bad_input(grids.error());
+    for (const GridInfo& g : *grids) {
+        std::printf("[%d] '%s' %s, %s, voxel %.4g, %" PRIu64 " active voxels", g.index, g.name.c_str(),
+                    g.value_type.c_str(), g.grid_class.c_str(), g.voxel_size.x, g.active_voxels);
+        if (!g.empty)
+            std::printf(", bbox (%d,%d,%d)..(%d,%d,%d)", g.bbox_min.x, g.bbox_min.y, g.bbox_min.z, g.bbox_max.x,
+                        g.bbox_max.y, g.bbox_max.z);
+        std::printf("%s\n", g.saved_as_half ? ", half floats" : "");
+    }
+    return kExitOk;
+}
+
+// "0.2:3,0.6:1": mean relative density -> block id.
+std::optional<std::vector<DensityBlock>> parse_density(const std::string& s) {
+    std::vector<DensityBlock> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        float d;
+        int id;
+        char colon;
+        std::istringstream is(item);
+        if (!(is >> d >> colon >> id) || colon != ':' || d < 0 || d > 1 || id < 1 || id > 0xFFFF)
+            return std::nullopt;
+        out.push_back({d, BlockId(id)});
+    }
+    if (out.empty())
+        return std::nullopt;
+    return out;
+}
+
+int run_import(const ImportArgs& a) {
+    if (a.list)
+        return list(a.file);
+    if (a.out.empty())
+        return bad_input("need --out WORLD (or --list)");
+    const auto t0 = Clock::now();
+    // A vx world (an Int32 grid named 'blocks') comes back as it was; anything else is a volume.
+    auto grids = list_grids_isolated(a.file);
+    if (!grids)
+        return bad_input(grids.error());
+    bool is_world = a.grid.empty() && a.index < 0;
+    if (is_world) {
+        is_world = false;
+        for (const GridInfo& g : *grids)
+            is_world |= g.name == "blocks" && g.value_type == "int32";
+    }
+    World world;
+    std::string what;
+    if (is_world) {
+        auto w = import_world_vdb_isolated(a.file);
+        if (!w)
+            return bad_input(w.error());
+        world = std::move(*w);
+        what = "vx world grid 'blocks'";
+    } else {
+        VolumeImportOptions o;
+        o.grid_name = a.grid;
+        o.grid_index = a.index;
+        o.block_size = a.block_size;
+        o.mode = a.mode == "levelset" ? VolumeMode::LevelSet : a.mode == "fog" ? VolumeMode::Fog : VolumeMode::Auto;
+        o.sampling = a.sampling == "centre"        ? VolumeSampling::CentreOnly
+                     : a.sampling == "majority"    ? VolumeSampling::VoxelMajority
+                     : a.sampling == "supersample" ? VolumeSampling::Supersample
+                                                   : VolumeSampling::Adaptive;
+        o.threshold = a.threshold;
+        if (a.block < 1 || a.block > 0xFFFF)
+            return bad_input("--block must be a block id 1..65535");
+        o.block = BlockId(a.block);
+        if (!a.density.empty()) {
+            auto d = parse_density(a.density);
+            if (!d)
+                return bad_input("--density must look like 0.2:3,0.6:1 (relative density 0..1 : block id)");
+            o.density_blocks = *d;
+        }
+        auto off = parse_i64vec3(a.offset);
+        if (!off)
+            return bad_input("--offset must be X,Y,Z (integers)");
+        o.offset = *off;
+        std::fprintf(stderr, "importing %s ...\n", a.file.c_str());
+        auto r = import_volume_isolated(a.file, o);
+        if (!r)
+            return bad_input(r.error());
+        const VolumeImportSummary& s = r->summary;
+        char line[512];
+        std::snprintf(line, sizeof line, "grid [%d] '%s', %s, voxel size %.4g, block size %d, %" PRIu64
+                      " solid blocks (%" PRIu64 " supersampled)", s.grid_index, s.grid_name.c_str(),
+                      to_string(s.mode), s.voxel_size.x, s.block_size, s.solid_blocks, s.supersampled_blocks);
+        what = line;
+        world = std::move(r->world);
+    }
+    if (Status s = save_store_world(world, a.out, a.file); !s)
+        return bad_input(s.error());
+    std::printf("vx import-vdb: %s -> %s: %s, %zu chunks, %.2f s\n", a.file.c_str(), a.out.c_str(), what.c_str(),
+                world.chunk_count(), std::chrono::duration<double>(Clock::now() - t0).count());
+    return kExitOk;
+}
+
+} // namespace
+
+void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
+    auto e = std::make_shared<ExportArgs>();
+    CLI::App* ex = app.add_subcommand("export-vdb", "Write a stored world (or a box of it) as an OpenVDB file");
+    ex->add_option("world", e->world, "World store")->required();
+    ex->add_option("--out", e->out, "Output .vdb")->required();
+    ex->add_option("--box", e->box, "Only blocks X0,Y0,Z0,X1,Y1,Z1 (inclusive, world block coordinates)");
+    ex->add_option("--compression", e->compression, "zip (small; any OpenVDB reads it) or none (fast)")
+        ->check(CLI::IsMember({"zip", "none"}));
+    ex->callback([e, &action] { action = [e] { return run_export(*e); }; });
+
+    auto i = std::make_shared<ImportArgs>();
+    CLI::App* im = app.add_subcommand("import-vdb", "Import a VDB file (a vx world, or any level set / fog volume) into a world store");
+    im->add_option("file", i->file, "Input .vdb")->required();
+    im->add_option("--out", i->out, "World store to write (replaced only when the import succeeds)");
+    im->add_flag("--list", i->list, "List the file's grids and exit");
+    im->add_option("--grid", i->grid, "Grid by name");
+    im->add_option("--index", i->index, "Grid by index (see --list)");
+    im->add_option("--block-size", i->block_size, "Voxels per block edge (1..64)");
+    im->add_option("--mode", i->mode, "auto, levelset or fog")->check(CLI::IsMember({"auto", "levelset", "fog"}));
+    im->add_option("--threshold", i->threshold, "Fog: solid at this fraction of the grid's max (0..1]");
+    im->add_option("--block", i->block, "Block id of solid blocks (default 1, stone)");
+    im->add_option("--density", i->density, "Fog: relative density -> block id, e.g. 0.2:3,0.6:1");
+    im->add_option("--offset", i->offset, "X,Y,Z added to every block (world block coordinates)");
+    im->add_option("--sampling", i->sampling, "adaptive (default), centre, majority or supersample")
+        ->check(CLI::IsMember({"adaptive", "centre", "majority", "supersample"}));
+    im->callback([i, &action] { action = [i] { return run_import(*i); }; });
+}
+
+} // namespace vx::tools

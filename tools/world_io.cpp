@@ -1,0 +1,84 @@
+#include "world_io.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include <unistd.h>
+
+#include "world/sqlite_store.h"
+
+namespace vx::tools {
+
+using namespace vx::world;
+
+Result<World> load_store_world(const std::string& path, std::optional<ChunkCoord> lo, std::optional<ChunkCoord> hi) {
+    auto store = SqliteStore::open({path, /*read_only=*/true, /*create=*/false});
+    if (!store)
+        return Error{store.error()};
+    auto coords = (*store)->list_coords();
+    if (!coords)
+        return Error{coords.error()};
+    World w;
+    for (const ChunkCoord& c : *coords) {
+        if (lo && hi && (glm::any(glm::lessThan(c, *lo)) || glm::any(glm::greaterThan(c, *hi))))
+            continue;
+        auto r = (*store)->load(c);
+        if (!r)
+            return Error{r.error()};
+        if (r->state == LoadState::Corrupt)
+            return Error{"'" + path + "': chunk " + std::to_string(c.x) + "," + std::to_string(c.y) + "," +
+                         std::to_string(c.z) + " is corrupt (" + r->problem + "); run vx world info --check"};
+        if (r->state == LoadState::Present)
+            w.put_chunk(c, std::move(*r->chunk));
+    }
+    return w;
+}
+
+Status save_store_world(const World& world, const std::string& path, const std::string& source) {
+    namespace fs = std::filesystem;
+    const std::string tmp = path + ".tmp-" + std::to_string(getpid());
+    std::error_code ec;
+    for (const char* suffix : {"", "-wal", "-shm"})
+        fs::remove(tmp + suffix, ec);
+    {
+        auto store = SqliteStore::open({tmp});
+        if (!store)
+            return Error{store.error()};
+        size_t done = 0;
+        const size_t total = world.chunk_count();
+        Status failure;
+        world.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
+            if (!failure.ok())
+                return;
+            if (Status s = (*store)->save(c, chunk); !s)
+                failure = s;
+            if (++done % 256 == 0 || done == total)
+                std::fprintf(stderr, "\rwriting %zu/%zu chunks", done, total);
+        });
+        std::fputc('\n', stderr);
+        if (failure.ok())
+            failure = (*store)->set_meta("source", source);
+        if (failure.ok())
+            failure = (*store)->flush();
+        if (!failure.ok()) {
+            store->reset();
+            for (const char* suffix : {"", "-wal", "-shm"})
+                fs::remove(tmp + suffix, ec);
+            return failure;
+        }
+    } // Closing the last connection checkpoints the WAL into the file and deletes it.
+    if (fs::exists(path)) {
+        // Fold the old world's WAL into its file first, so no stale -wal is applied to the new one.
+        if (auto old = SqliteStore::open({path}); !old)
+            return Error{"cannot replace '" + path + "': " + old.error()};
+        if (fs::exists(path + "-wal"))
+            return Error{"cannot replace '" + path + "': it is open in another process"};
+    }
+    fs::rename(tmp, path, ec);
+    if (ec)
+        return Error{"cannot move the new world into place at '" + path + "': " + ec.message()};
+    return {};
+}
+
+} // namespace vx::tools

@@ -1,0 +1,44 @@
+#pragma once
+// A read-only ChunkStore backed by a vx-world VDB file (vdb_world.h), so the streaming engine can
+// use an exported world as its source. The file is read once at open into palette chunks (the
+// compact in-memory form, uniform chunks 16 bytes each); load() hands out copies.
+// Limitation: the whole file (or the box given) is held in memory as chunks; very large VDB worlds
+// should be imported into an SqliteStore instead (vx import-vdb).
+// Thread affinity: not thread-safe, like every ChunkStore: one thread (the engine's I/O lane).
+
+#include <memory>
+#include <string>
+
+#include "world/chunk_store.h"
+#include "world/vdb/vdb_world.h"
+#include "world/world.h"
+
+namespace vx::vdb {
+
+class VdbStore final : public world::ChunkStore {
+public:
+    // Reads `path` in the calling process (use it for files vx wrote; untrusted files go through
+    // import_world_vdb_isolated first). Errors name the file.
+    static Result<std::unique_ptr<VdbStore>> open(const std::string& path, const VdbWorldImportOptions& options = {});
+
+    Result<world::ChunkLoad> load(world::ChunkCoord c) override;
+    Status save(std::span<const world::ChunkWrite> batch) override;
+    using world::ChunkStore::save;
+    Status tick(Clock::time_point) override { return {}; }
+    Status flush() override { return {}; }
+    Result<bool> contains(world::ChunkCoord c) override { return m_world.find_chunk(c) != nullptr; }
+    Result<uint64_t> count() override { return uint64_t(m_world.chunk_count()); }
+    Status for_each_coord(const std::function<bool(world::ChunkCoord)>& fn) override;
+    Result<std::optional<std::string>> get_meta(std::string_view key) override;
+    Status set_meta(std::string_view, std::string_view) override;
+    bool read_only() const override { return true; }
+
+    const world::World& world() const { return m_world; }
+
+private:
+    explicit VdbStore(world::World w, std::string path) : m_world(std::move(w)), m_path(std::move(path)) {}
+    world::World m_world;
+    std::string m_path;
+};
+
+} // namespace vx::vdb
