@@ -91,6 +91,14 @@ void bench_flythrough(benchmark::State& state) {
             std::this_thread::sleep_until(next);
         }
         const StreamingMetrics m = s.metrics();
+        size_t uniform = 0, other = 0, other_bytes = 0, uniform_bytes = 0;
+        s.world().for_each_chunk([&](ChunkCoord, const Chunk& c) {
+            (c.is_uniform() ? uniform : other) += 1;
+            (c.is_uniform() ? uniform_bytes : other_bytes) += c.memory_bytes();
+        });
+        state.counters["bytes_per_uniform_chunk"] = double(uniform_bytes) / double(std::max<size_t>(1, uniform));
+        state.counters["bytes_per_other_chunk"] = double(other_bytes) / double(std::max<size_t>(1, other));
+        state.counters["uniform_share"] = double(uniform) / double(std::max<size_t>(1, uniform + other));
         state.counters["max_missing_in_view"] = double(max_missing);
         state.counters["frames_with_missing"] = double(missing_frames);
         state.counters["frames"] = double(frames);
