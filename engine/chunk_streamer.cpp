@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 
 #include "engine/stream_jobs.h"
 #include "world/base/log.h"
@@ -12,6 +13,13 @@ using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+// CPU time of the calling thread: the work update() does, without time the OS gave others.
+std::chrono::nanoseconds thread_cpu_now() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+}
+
 const ChunkMesh& empty_mesh() {
     static const ChunkMesh kEmpty;
     return kEmpty;
@@ -53,6 +61,7 @@ bool ChunkStreamer::beyond_unload(ChunkCoord c) const {
 
 void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward, Clock::time_point now) {
     const Clock::time_point t0 = Clock::now();
+    const std::chrono::nanoseconds cpu0 = thread_cpu_now();
     const Clock::time_point deadline = t0 + m_settings.frame_budget;
     m_jobs->set_viewer({position, forward});
     // Velocity from the last frames (exponentially smoothed), so meshes are ready where the
@@ -94,6 +103,7 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
         m_jobs->submit(std::make_unique<StoreSyncJob>(*this, *m_store, nullptr));
     }
     m_last_update = Clock::now() - t0;
+    m_last_update_cpu = thread_cpu_now() - cpu0;
 }
 
 void ChunkStreamer::refresh_region(Clock::time_point) {
@@ -105,12 +115,7 @@ void ChunkStreamer::refresh_region(Clock::time_point) {
         request_box(m_lead, jobs);
     if (!jobs.empty())
         m_jobs->submit_batch(std::move(jobs));
-    // Unloading rescans every chunk from here, a slice per frame (see unload_far).
-    m_scan.clear();
-    m_scan.reserve(m_chunks.size());
-    for (const auto& [c, st] : m_chunks)
-        m_scan.push_back(c);
-    m_scan_pos = 0;
+    // Chunks now beyond the unload radius are found by unload_far's continuous scan.
 }
 
 void ChunkStreamer::request_box(ChunkCoord center, std::vector<std::unique_ptr<Job>>& jobs) {
@@ -391,6 +396,7 @@ StreamingMetrics ChunkStreamer::metrics() const {
     m.regenerated_corrupt = m_regenerated;
     m.jobs = m_jobs->metrics();
     m.last_update_time = m_last_update;
+    m.last_update_cpu = m_last_update_cpu;
     return m;
 }
 

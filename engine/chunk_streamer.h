@@ -57,7 +57,8 @@ struct StreamingMetrics {
     size_t block_bytes = 0;     // Memory of loaded block data.
     uint64_t unloaded = 0, evicted = 0, saves = 0, regenerated_corrupt = 0;
     JobMetrics jobs;
-    std::chrono::nanoseconds last_update_time{0}; // Main-thread time of the last update().
+    std::chrono::nanoseconds last_update_time{0}; // Wall time of the last update().
+    std::chrono::nanoseconds last_update_cpu{0};  // Main-thread CPU time of it (excludes preemption).
 };
 
 class ChunkStreamer {
@@ -152,7 +153,7 @@ private:
     std::chrono::steady_clock::time_point m_last_tick{};
     size_t m_block_bytes = 0;
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
-    std::chrono::nanoseconds m_last_update{0};
+    std::chrono::nanoseconds m_last_update{0}, m_last_update_cpu{0};
     // Declared last: destroyed first, so no job outlives the state it reports to.
     std::unique_ptr<JobSystem> m_jobs;
 };

@@ -73,7 +73,7 @@ void bench_flythrough(benchmark::State& state) {
             s.update(pos, glm::dvec3(1, 0, 0), Clock::now());
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
-        std::vector<double> update_ms;
+        std::vector<double> update_ms, update_cpu_ms;
         size_t max_missing = 0, missing_frames = 0, frames = 0;
         const auto frame = std::chrono::microseconds(16667);
         auto next = Clock::now();
@@ -83,6 +83,7 @@ void bench_flythrough(benchmark::State& state) {
             s.update(pos, glm::dvec3(1, 0, 0), next);
             const StreamingMetrics m = s.metrics();
             update_ms.push_back(std::chrono::duration<double, std::milli>(m.last_update_time).count());
+            update_cpu_ms.push_back(std::chrono::duration<double, std::milli>(m.last_update_cpu).count());
             const size_t missing = m.wanted_meshes - m.meshed;
             max_missing = std::max(max_missing, missing);
             missing_frames += missing > 0;
@@ -105,6 +106,8 @@ void bench_flythrough(benchmark::State& state) {
         state.counters["update_p50_ms"] = percentile(update_ms, 0.5);
         state.counters["update_p99_ms"] = percentile(update_ms, 0.99);
         state.counters["update_max_ms"] = percentile(update_ms, 1.0);
+        state.counters["update_cpu_p50_ms"] = percentile(update_cpu_ms, 0.5);
+        state.counters["update_cpu_p99_ms"] = percentile(update_cpu_ms, 0.99);
         state.counters["loaded"] = double(m.loaded);
         state.counters["bytes_per_loaded_chunk"] = double(m.block_bytes) / double(std::max<size_t>(1, m.loaded));
         state.counters["wasted_ms"] = std::chrono::duration<double, std::milli>(m.jobs.wasted_work).count();
