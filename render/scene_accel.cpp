@@ -147,7 +147,7 @@ void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
     vkCmdBuildAccelerationStructuresKHR(cmd, uint32_t(batch.infos.size()), batch.infos.data(), range_ptrs.data());
 }
 
-void SceneAccel::record(VkCommandBuffer cmd, world::BlockPos camera_block) {
+void SceneAccel::record_builds(VkCommandBuffer cmd) {
     m_stats = {};
     // Work of earlier frames (traces reading chunk buffers, builds writing BLASes and scratch)
     // must finish before this frame overwrites them.
@@ -179,6 +179,9 @@ void SceneAccel::record(VkCommandBuffer cmd, world::BlockPos camera_block) {
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     record_blas_builds(cmd, batch);
+}
+
+void SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block) {
     // One barrier between all BLAS builds and the TLAS build that references them.
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,

@@ -40,7 +40,14 @@ public:
     // Records the frame's uploads, BLAS builds/refits and the TLAS build into `cmd` (between
     // Context::begin_frame and end_frame). Afterwards the TLAS and the chunk table may be read by
     // ray-tracing shaders. `camera_block` is the world block the camera is in.
-    void record(VkCommandBuffer cmd, world::BlockPos camera_block);
+    void record(VkCommandBuffer cmd, world::BlockPos camera_block) {
+        record_builds(cmd);
+        record_tlas_build(cmd, camera_block);
+    }
+    // The two halves of record(), so a caller can time them apart: uploads and BLAS builds and
+    // refits, then (after a barrier) the TLAS build. Call both, in this order.
+    void record_builds(VkCommandBuffer cmd);
+    void record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block);
 
     VkAccelerationStructureKHR tlas() const { return m_frames[m_ctx->frame_slot()].tlas.handle(); }
     // Address of uint64[instance]: the Quad slot buffer of each TLAS instance.

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     std::function<int()> action;
     add_info_command(app, action);
     add_mesh_command(app, action);
+    add_render_command(app, action);
     app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store)");
     try {
         app.parse(argc, argv);
