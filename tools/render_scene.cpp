@@ -203,6 +203,7 @@ Status load_raw(RenderScene& scene, const RenderSceneArgs& a) {
     scene.world->for_each_chunk([&](ChunkCoord c, const Chunk&) { coords.push_back(c); });
     mesh_all(scene, coords, a.threads);
     scene.description = "raw volume " + a.raw + ": " + std::to_string(coords.size()) + " chunks";
+    scene.volume_box = std::pair{*origin, *origin + *dims}; // The default view frames the volume.
     return {};
 }
 
@@ -214,6 +215,10 @@ void finish(RenderScene& scene) {
         scene.box_min = first ? lo : glm::min(scene.box_min, lo);
         scene.box_max = first ? hi : glm::max(scene.box_max, hi);
         first = false;
+    }
+    if (scene.volume_box) {
+        scene.box_min = scene.volume_box->first;
+        scene.box_max = scene.volume_box->second;
     }
 }
 

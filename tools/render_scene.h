@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -51,6 +52,7 @@ struct RenderScene {
     std::string description;          // One line: what was loaded and how.
     glm::i64vec3 box_min{0}, box_max{0}; // Blocks covered by the meshed chunks, [min, max).
     std::optional<WorldPos> default_eye, default_target; // Scene-specific camera defaults.
+    std::optional<std::pair<glm::i64vec3, glm::i64vec3>> volume_box; // Raw volumes: their exact box.
     double load_ms = 0, mesh_ms = 0;
     uint64_t triangles = 0;           // 2 per quad.
 };
