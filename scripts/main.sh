@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job: set up (installs what is missing), build, run vx on the seed scene, and render
-# the default terrain world to out/vx_default.png (about 5 s on lavapipe on 2 cores).
+# the default terrain world to out/vx_default.png (about 1.5 s on lavapipe).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh

@@ -3,6 +3,7 @@
 // CLI prints its error count, which must be 0.
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -13,6 +14,8 @@
 #include <stb/stb_image.h>
 
 #include "cli_run.h"
+#include "world/seed_scene.h"
+#include "world/sqlite_store.h"
 
 namespace {
 
@@ -102,6 +105,27 @@ TEST(CliRender, FarFromOriginRendersIdentically) {
     ASSERT_EQ(far.w, 40);
     EXPECT_TRUE(near.rgba == far.rgba);
     EXPECT_NE(near.at(20, 15), near.at(0, 0)); // Not all sky.
+}
+
+// A stored world of 3 chunks (one of them all air): every stored chunk is loaded and meshed.
+TEST(CliRender, StoredWorldRendersEveryChunk) {
+    const std::string path = dir() + "/world.db";
+    std::filesystem::remove(path);
+    {
+        auto store = vx::world::SqliteStore::open({.path = path});
+        ASSERT_TRUE(store.ok()) << store.error();
+        for (int x = 0; x < 2; ++x)
+            ASSERT_TRUE((*store)->save({x, 0, 0}, vx::world::random_fill_chunk(uint64_t(x + 1), 20, 1)).ok());
+        ASSERT_TRUE((*store)->save({0, 1, 0}, vx::world::Chunk()).ok());
+        ASSERT_TRUE((*store)->flush().ok());
+    }
+    const std::string out = dir() + "/world.png";
+    const CliRun r = render("--world " + path + " --size 32x24 --shading flat --out " + out);
+    EXPECT_NE(r.out.find("every stored chunk (3)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("3 chunks (2 with triangles)"), std::string::npos) << r.out;
+    const Png png = read_png(out);
+    ASSERT_EQ(png.w, 32);
+    EXPECT_NE(png.at(16, 12), png.at(0, 0)); // Blocks in the middle, sky in the corner.
 }
 
 TEST(CliRender, DeviceOutOfRangeIsAClearError) {
