@@ -107,6 +107,24 @@ TEST(CliRender, FarFromOriginRendersIdentically) {
     EXPECT_NE(near.at(20, 15), near.at(0, 0)); // Not all sky.
 }
 
+// Negative decimals: "-9.5" is block -10 plus 0.5. The same view from (-9.5, 20.25, -7.75) of a
+// volume at the origin and from (90.5, 20.25, 92.25) of the volume at (100, 0, 100) is identical.
+TEST(CliRender, NegativeFractionalEyeParsesExactly) {
+    const std::string vol = write_volume();
+    auto run = [&](const std::string& origin, const std::string& eye, const std::string& target,
+                   const std::string& name) {
+        const std::string out = dir() + "/" + name;
+        render("--raw " + vol + " --dims 24,12,20 --size 40x30 --shading flat --origin " + origin + " --eye " + eye +
+               " --target " + target + " --out " + out);
+        return read_png(out);
+    };
+    const Png a = run("0,0,0", "-9.5,20.25,-7.75", "12,2,10", "neg_a.png");
+    const Png b = run("100,0,100", "90.5,20.25,92.25", "112,2,110", "neg_b.png");
+    ASSERT_EQ(a.w, 40);
+    EXPECT_TRUE(a.rgba == b.rgba);
+    EXPECT_NE(a.at(20, 15), a.at(0, 0));
+}
+
 // A stored world of 3 chunks (one of them all air): every stored chunk is loaded and meshed.
 TEST(CliRender, StoredWorldRendersEveryChunk) {
     const std::string path = dir() + "/world.db";
