@@ -69,7 +69,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
         return Error{ctx.error()};
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
-    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx);
+    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, info.allow_refit);
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
     r->m->create_queries();

@@ -91,6 +91,9 @@ struct RendererCreateInfo {
     bool validation = false;
     bool sync_validation = false; // With validation: synchronization validation too (slow).
     DeviceChoice device{};
+    // BLASes allow updates, so edits that fit their slots refit; false: no ALLOW_UPDATE (the
+    // driver may build a faster-to-trace BVH) and every edit rebuilds its chunk's BLAS.
+    bool allow_refit = true;
 };
 
 class Renderer {

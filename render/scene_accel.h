@@ -26,7 +26,9 @@ struct AccelStats {
 
 class SceneAccel {
 public:
-    explicit SceneAccel(Context& ctx);
+    // allow_refit: BLASes are built with ALLOW_UPDATE so fitting edits refit; false builds them
+    // without it (drivers may then build a better BVH) and every edit rebuilds.
+    explicit SceneAccel(Context& ctx, bool allow_refit = true);
 
     // Sets chunk `c`'s mesh. A mesh whose slices fit the chunk's slot layout becomes a refit at
     // the next record(); otherwise the BLAS is rebuilt. An empty mesh removes the chunk.
@@ -86,6 +88,8 @@ private:
     Buffer m_scratch; // Shared by the frame's BLAS call and TLAS build (a barrier separates them).
     std::array<FrameData, kFramesInFlight> m_frames;
     AccelStats m_stats;
+    bool m_allow_refit = true;
+    VkBuildAccelerationStructureFlagsKHR m_blas_flags = 0;
 };
 
 } // namespace vx::render

@@ -29,7 +29,7 @@ using Clock = std::chrono::steady_clock;
 struct RenderArgs {
     RenderSceneArgs scene;
     std::string eye, target, up = "0,1,0", light, size = "640x360", shading = "full", shadows = "on";
-    std::string device = "auto", out = "render.png";
+    std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
     bool validation = false;
@@ -147,7 +147,7 @@ void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uin
     coords.resize(std::min<size_t>(coords.size(), k));
     const BlockId stone = scene.world->registry().find("stone").value_or(BlockId(1));
     std::vector<double> refit, rebuild;
-    uint32_t refits = 0, builds = 0;
+    uint32_t refits = 0, builds[2] = {0, 0};
     for (uint32_t round = 0; round < rounds; ++round)
         for (int mode = 0; mode < 2; ++mode) {
             for (ChunkCoord c : coords) {
@@ -161,12 +161,13 @@ void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uin
             timed_render(r, s, nullptr);
             const render::RenderStats& st = r.last_stats();
             (mode == 0 ? refit : rebuild).push_back(st.gpu_blas_ms);
-            (mode == 0 ? refits : builds) += mode == 0 ? st.blas_refits : st.blas_builds;
+            refits += st.blas_refits;
+            builds[mode] += st.blas_builds;
         }
-    std::printf("  edit burst of %zu chunks (medians of %u): refit BLAS %s (%.1f refits per burst), rebuild BLAS %s "
-                "(%.1f builds per burst)\n",
-                coords.size(), rounds, ms(median(refit)).c_str(), double(refits) / rounds, ms(median(rebuild)).c_str(),
-                double(builds) / rounds);
+    std::printf("  edit burst of %zu chunks (medians of %u): set_chunk BLAS %s (%.1f refits, %.1f builds per burst), "
+                "remove+set rebuild BLAS %s (%.1f builds per burst)\n",
+                coords.size(), rounds, ms(median(refit)).c_str(), double(refits) / rounds, double(builds[0]) / rounds,
+                ms(median(rebuild)).c_str(), double(builds[1]) / rounds);
 }
 
 int run_render(RenderArgs a) {
@@ -187,7 +188,7 @@ int run_render(RenderArgs a) {
         return bad_input(*err);
     const char* env = std::getenv("VX_VALIDATION");
     const bool validation = a.validation || (env && std::strcmp(env, "0") != 0 && *env);
-    auto renderer = render::Renderer::create({.validation = validation, .device = *choice});
+    auto renderer = render::Renderer::create({.validation = validation, .device = *choice, .allow_refit = a.blas_update == "on"});
     if (!renderer)
         return bad_input("cannot render: " + renderer.error());
     render::Renderer& r = **renderer;
@@ -258,6 +259,8 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--out", a->out, "PNG file to write");
     cmd->add_option("--repeat", a->repeat, "Render N frames of the view; print medians of frames 2..N");
     cmd->add_option("--edit-burst", a->edit_burst, "Then time refit vs rebuild of K edited chunks (--repeat rounds)");
+    cmd->add_option("--blas-update", a->blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
     cmd->callback([a, seed, seed_opt, &action] {
         if (seed_opt->count() > 0)
