@@ -44,6 +44,13 @@ TEST(Cli, InfoPrintsVersion) {
     EXPECT_NE(r.out.find("vx "), std::string::npos);
 }
 
+// No Vulkan driver (the loader is pointed at a manifest that does not exist): a line, exit 0.
+TEST(Cli, InfoWithoutAVulkanDriverStillSucceeds) {
+    const CliRun r = vx("info", "VK_DRIVER_FILES=/nonexistent/vx_icd.json VK_ICD_FILENAMES=/nonexistent/vx_icd.json");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("vulkan: none ("), std::string::npos) << r.out;
+}
+
 TEST(Cli, BadArgumentsExitTwo) {
     EXPECT_EQ(vx("").code, 2);
     EXPECT_EQ(vx("frobnicate").code, 2);
