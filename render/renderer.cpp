@@ -29,14 +29,27 @@ struct Renderer::Impl {
     Image target;
     Buffer readback;
     RenderStats stats;
+    // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
+    // the trace, after the copy. Null when the queue family has no timestamps.
+    static constexpr uint32_t kStamps = 5;
+    VkQueryPool queries = VK_NULL_HANDLE;
+    double ms_per_tick = 0;
 
     ~Impl() {
         if (!ctx)
             return;
         ctx->wait_idle();
         vkDestroyDescriptorPool(ctx->device(), pool, nullptr);
+        if (queries)
+            vkDestroyQueryPool(ctx->device(), queries, nullptr);
     }
     void create_descriptors();
+    void create_queries();
+    void stamp(VkCommandBuffer cmd, uint32_t i) {
+        if (queries)
+            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, queries, ctx->frame_slot() * kStamps + i);
+    }
+    void read_stamps();
     void update_materials();
     void ensure_target(uint32_t width, uint32_t height);
     void write_params(const RenderSettings& s, const Camera& cam);
@@ -56,9 +69,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
         return Error{ctx.error()};
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
-    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx);
+    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, info.allow_refit);
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
+    r->m->create_queries();
     r->m->registry = world::BlockRegistry::default_registry();
     return r;
 }
@@ -88,6 +102,34 @@ void Renderer::Impl::create_descriptors() {
                                           MemoryUse::Upload, 0, "frame params"});
         VX_ASSERT(params[i].valid());
     }
+}
+
+void Renderer::Impl::create_queries() {
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device(), &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device(), &count, families.data());
+    if (families[ctx->queue_family()].timestampValidBits == 0 || ctx->limits().timestampPeriod <= 0.f)
+        return;
+    VkQueryPoolCreateInfo ci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    ci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    ci.queryCount = kStamps * kFramesInFlight;
+    VK_CHECK(vkCreateQueryPool(ctx->device(), &ci, nullptr, &queries));
+    ctx->set_name(queries, VK_OBJECT_TYPE_QUERY_POOL, "frame timestamps");
+    ms_per_tick = double(ctx->limits().timestampPeriod) * 1e-6; // timestampPeriod: ns per tick.
+}
+
+void Renderer::Impl::read_stamps() {
+    if (!queries)
+        return;
+    uint64_t t[kStamps];
+    VK_CHECK(vkGetQueryPoolResults(ctx->device(), queries, ctx->frame_slot() * kStamps, kStamps, sizeof t, t,
+                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    auto ms = [&](int i) { return double(t[i + 1] - t[i]) * ms_per_tick; };
+    stats.gpu_blas_ms = ms(0);
+    stats.gpu_tlas_ms = ms(1);
+    stats.gpu_trace_ms = ms(2);
+    stats.gpu_copy_ms = ms(3);
 }
 
 void Renderer::Impl::update_materials() {
@@ -175,6 +217,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
     pipeline->trace(cmd, width, height);
+    stamp(cmd, 3);
     image_barrier(cmd, target.handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
@@ -182,6 +225,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {width, height, 1};
     vkCmdCopyImageToBuffer(cmd, target.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1, &region);
+    stamp(cmd, 4);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
 }
@@ -194,7 +238,13 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     VkCommandBuffer cmd = d.ctx->begin_frame();
     d.update_materials();
     d.ensure_target(settings.width, settings.height);
-    d.accel->record(cmd, camera.block);
+    if (d.queries)
+        vkCmdResetQueryPool(cmd, d.queries, d.ctx->frame_slot() * Impl::kStamps, Impl::kStamps);
+    d.stamp(cmd, 0);
+    d.accel->record_builds(cmd);
+    d.stamp(cmd, 1);
+    d.accel->record_tlas_build(cmd, camera.block);
+    d.stamp(cmd, 2);
     d.write_params(settings, camera);
     d.write_descriptors();
     d.record_trace(cmd, settings.width, settings.height);
@@ -213,6 +263,7 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     d.stats = {a.blas_builds, a.blas_refits, a.instances, a.triangles,
                std::chrono::duration<double, std::milli>(t1 - t0).count(),
                std::chrono::duration<double, std::milli>(t2 - t1).count()};
+    d.read_stamps();
     return img;
 }
 

@@ -54,7 +54,7 @@ enum class ShadingMode : uint8_t {
 struct RenderSettings {
     uint32_t width = 64, height = 64;
     ShadingMode mode = ShadingMode::Full;
-    uint32_t shadow_samples = 4; // Per pixel and bounce (correlated multi-jittered).
+    uint32_t shadow_samples = 4; // Per pixel and bounce (correlated multi-jittered); 0: no shadows.
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky.
@@ -76,6 +76,9 @@ struct RenderStats {
     uint64_t triangles = 0;  // Including spare (degenerate) slots.
     double cpu_ms = 0;       // Recording, including CPU-side geometry work.
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
+    // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
+    // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace, the image read-back copy.
+    double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1, gpu_copy_ms = -1;
 };
 
 // A whole scene for the one-call API: chunk meshes (not owned) plus the materials.
@@ -88,6 +91,9 @@ struct RendererCreateInfo {
     bool validation = false;
     bool sync_validation = false; // With validation: synchronization validation too (slow).
     DeviceChoice device{};
+    // BLASes allow updates, so edits that fit their slots refit; false: no ALLOW_UPDATE (the
+    // driver may build a faster-to-trace BVH) and every edit rebuilds its chunk's BLAS.
+    bool allow_refit = true;
 };
 
 class Renderer {

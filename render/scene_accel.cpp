@@ -5,8 +5,6 @@
 
 namespace vx::render {
 
-static constexpr VkBuildAccelerationStructureFlagsKHR kBlasFlags =
-    VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR | VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR;
 
 struct SceneAccel::BuildBatch {
     std::vector<VkAccelerationStructureGeometryKHR> geometries;
@@ -15,7 +13,10 @@ struct SceneAccel::BuildBatch {
     std::vector<VkDeviceSize> scratch_sizes;
 };
 
-SceneAccel::SceneAccel(Context& ctx) : m_ctx(&ctx), m_staging(ctx) {}
+SceneAccel::SceneAccel(Context& ctx, bool allow_refit)
+    : m_ctx(&ctx), m_staging(ctx), m_allow_refit(allow_refit),
+      m_blas_flags(VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
+                   (allow_refit ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR : 0)) {}
 
 void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh) {
     if (mesh.empty()) {
@@ -23,7 +24,7 @@ void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh) {
         return;
     }
     ChunkGpu& g = m_chunks[c];
-    const bool refit = g.blas.valid() && g.layout.fits(mesh);
+    const bool refit = m_allow_refit && g.blas.valid() && g.layout.fits(mesh);
     if (!refit)
         g.layout = SlotLayout::for_mesh(mesh);
     g.mesh = mesh;
@@ -100,7 +101,7 @@ void SceneAccel::prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& bat
     batch.geometries.push_back(triangle_geometry(g.vertices.address(), m_indices.address(), slots));
     VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
     info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-    info.flags = kBlasFlags;
+    info.flags = m_blas_flags;
     info.mode = build ? VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR : VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
     info.geometryCount = 1;
     info.pGeometries = &batch.geometries.back();
@@ -147,7 +148,7 @@ void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
     vkCmdBuildAccelerationStructuresKHR(cmd, uint32_t(batch.infos.size()), batch.infos.data(), range_ptrs.data());
 }
 
-void SceneAccel::record(VkCommandBuffer cmd, world::BlockPos camera_block) {
+void SceneAccel::record_builds(VkCommandBuffer cmd) {
     m_stats = {};
     // Work of earlier frames (traces reading chunk buffers, builds writing BLASes and scratch)
     // must finish before this frame overwrites them.
@@ -179,6 +180,9 @@ void SceneAccel::record(VkCommandBuffer cmd, world::BlockPos camera_block) {
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     record_blas_builds(cmd, batch);
+}
+
+void SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block) {
     // One barrier between all BLAS builds and the TLAS build that references them.
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,

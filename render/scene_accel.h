@@ -26,7 +26,9 @@ struct AccelStats {
 
 class SceneAccel {
 public:
-    explicit SceneAccel(Context& ctx);
+    // allow_refit: BLASes are built with ALLOW_UPDATE so fitting edits refit; false builds them
+    // without it (drivers may then build a better BVH) and every edit rebuilds.
+    explicit SceneAccel(Context& ctx, bool allow_refit = true);
 
     // Sets chunk `c`'s mesh. A mesh whose slices fit the chunk's slot layout becomes a refit at
     // the next record(); otherwise the BLAS is rebuilt. An empty mesh removes the chunk.
@@ -40,7 +42,14 @@ public:
     // Records the frame's uploads, BLAS builds/refits and the TLAS build into `cmd` (between
     // Context::begin_frame and end_frame). Afterwards the TLAS and the chunk table may be read by
     // ray-tracing shaders. `camera_block` is the world block the camera is in.
-    void record(VkCommandBuffer cmd, world::BlockPos camera_block);
+    void record(VkCommandBuffer cmd, world::BlockPos camera_block) {
+        record_builds(cmd);
+        record_tlas_build(cmd, camera_block);
+    }
+    // The two halves of record(), so a caller can time them apart: uploads and BLAS builds and
+    // refits, then (after a barrier) the TLAS build. Call both, in this order.
+    void record_builds(VkCommandBuffer cmd);
+    void record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block);
 
     VkAccelerationStructureKHR tlas() const { return m_frames[m_ctx->frame_slot()].tlas.handle(); }
     // Address of uint64[instance]: the Quad slot buffer of each TLAS instance.
@@ -79,6 +88,8 @@ private:
     Buffer m_scratch; // Shared by the frame's BLAS call and TLAS build (a barrier separates them).
     std::array<FrameData, kFramesInFlight> m_frames;
     AccelStats m_stats;
+    bool m_allow_refit = true;
+    VkBuildAccelerationStructureFlagsKHR m_blas_flags = 0;
 };
 
 } // namespace vx::render

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The main job: set up (installs what is missing), build, and run vx on the seed scene.
+# The main job: set up (installs what is missing), build, run vx on the seed scene, and render
+# the default terrain world to out/vx_default.png (about 1.5 s on lavapipe).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh release
 ./build/release/tools/vx info
 ./build/release/tools/vx mesh --scene seed
+mkdir -p out
+./build/release/tools/vx render --seed 1 --size 640x360 --out out/vx_default.png

@@ -14,6 +14,7 @@ void add_info_command(CLI::App& app, std::function<int()>& action);
 void add_mesh_command(CLI::App& app, std::function<int()>& action);
 void add_world_command(CLI::App& app, std::function<int()>& action);
 void add_vdb_commands(CLI::App& app, std::function<int()>& action);
+void add_render_command(CLI::App& app, std::function<int()>& action);
 // `vx bench SUITE [Google Benchmark flags]` is dispatched before CLI11 parsing (main.cpp).
 int run_bench(int argc, char** argv);
 

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     add_mesh_command(app, action);
     add_world_command(app, action);
     add_vdb_commands(app, action);
+    add_render_command(app, action);
     app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store)");
     try {
         app.parse(argc, argv);

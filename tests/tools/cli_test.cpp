@@ -17,33 +17,14 @@
 #include "world/sqlite_store.h"
 #include <glm/glm.hpp>
 
+#include "cli_run.h"
+
 namespace {
 
-struct CliRun {
-    int code;
-    std::string out; // stdout and stderr together.
-};
+using cli_test::CliRun;
+using cli_test::temp_dir;
 
-CliRun run_vx(const std::string& args) {
-    const std::string cmd = std::string(VX_BINARY) + " " + args + " 2>&1";
-    std::FILE* p = popen(cmd.c_str(), "r");
-    CliRun r{-1, {}};
-    if (!p)
-        return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0)
-        r.out.append(buf.data(), n);
-    const int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-std::filesystem::path temp_dir() {
-    auto d = std::filesystem::temp_directory_path() / "vx_cli_test";
-    std::filesystem::create_directories(d);
-    return d;
-}
+CliRun run_vx(const std::string& args, const std::string& env = "") { return cli_test::vx(args, env); }
 
 // A 40×20×36 u8 volume: a floor, a pillar and a few scattered blocks of 3 types.
 std::string write_volume() {
@@ -65,6 +46,13 @@ TEST(Cli, InfoPrintsVersion) {
     const CliRun r = run_vx("info");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("vx "), std::string::npos);
+}
+
+// No Vulkan driver (the loader is pointed at a manifest that does not exist): a line, exit 0.
+TEST(Cli, InfoWithoutAVulkanDriverStillSucceeds) {
+    const CliRun r = run_vx("info", "VK_DRIVER_FILES=/nonexistent/vx_icd.json VK_ICD_FILENAMES=/nonexistent/vx_icd.json");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("vulkan: none ("), std::string::npos) << r.out;
 }
 
 TEST(Cli, BadArgumentsExitTwo) {
@@ -90,6 +78,33 @@ TEST(Cli, BadArgumentsExitTwo) {
     r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;
+}
+
+TEST(Cli, RenderBadArgumentsExitTwoBeforeTouchingVulkan) {
+    const std::string vol = write_volume();
+    const std::string base = "render --raw " + vol + " --dims 40,20,36 ";
+    auto expect_bad = [&](const std::string& args, const std::string& mentions) {
+        const CliRun r = run_vx(args);
+        EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+        EXPECT_NE(r.out.find(mentions), std::string::npos) << args << "\n" << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+    };
+    expect_bad("render", "exactly one scene");
+    expect_bad("render --scene seed --seed 3", "exactly one scene");
+    expect_bad("render --scene castle", "unknown scene");
+    expect_bad("render --raw /nonexistent.raw --dims 2,2,2", "/nonexistent.raw");
+    expect_bad("render --world /nonexistent/dir/w.db", "/nonexistent/dir/w.db");
+    expect_bad(base + "--size 640by480", "--size");
+    expect_bad(base + "--size 0x10", "--size");
+    expect_bad(base + "--eye 1,2", "--eye");
+    expect_bad(base + "--eye 1e3,2,3", "--eye");
+    expect_bad(base + "--target 1,2,x", "--target");
+    expect_bad(base + "--eye 68719476737,0,0", "--eye"); // Beyond the world's 2^36.
+    expect_bad(base + "--eye 0,10,0 --target 0,0,0", "--up"); // Looking straight down the up axis.
+    expect_bad(base + "--device fastest", "fastest");
+    expect_bad(base + "--fov 0", "--fov");
+    EXPECT_EQ(run_vx(base + "--shading glossy").code, 2);
+    EXPECT_EQ(run_vx(base + "--shadows maybe").code, 2);
 }
 
 // The OBJ has 4 vertices per quad, every face is CCW seen from outside (its normal points to

@@ -1,0 +1,162 @@
+// `vx render` end to end on lavapipe (CTest label `vulkan`): the PNG it writes, its exit codes,
+// and the 64-bit camera. Every render runs with the validation layer (VX_VALIDATION=1) and the
+// CLI prints its error count, which must be 0.
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
+
+#include "cli_run.h"
+#include "world/seed_scene.h"
+#include "world/sqlite_store.h"
+
+namespace {
+
+using cli_test::CliRun;
+using cli_test::vx;
+
+const std::string kEnv = "VX_VALIDATION=1";
+
+std::string dir() { return cli_test::temp_dir("vx_cli_render_test").string(); }
+
+// A 24×12×20 u8 volume: a stone floor (id 1) and a grass pillar (id 3) on it.
+std::string write_volume() {
+    const std::string path = dir() + "/vol.raw";
+    std::vector<uint8_t> v(24 * 12 * 20, 0);
+    for (int z = 0; z < 20; ++z)
+        for (int x = 0; x < 24; ++x)
+            v[size_t(z * 24 * 12 + x)] = 1;
+    for (int y = 1; y < 10; ++y)
+        v[size_t(8 * 24 * 12 + y * 24 + 12)] = 3;
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size()));
+    return path;
+}
+
+struct Png {
+    int w = 0, h = 0;
+    std::vector<uint8_t> rgba;
+    uint32_t at(int x, int y) const {
+        const uint8_t* p = &rgba[(size_t(y) * w + x) * 4];
+        return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16;
+    }
+};
+
+Png read_png(const std::string& path) {
+    Png png;
+    int n = 0;
+    if (uint8_t* data = stbi_load(path.c_str(), &png.w, &png.h, &n, 4)) {
+        png.rgba.assign(data, data + size_t(png.w) * png.h * 4);
+        stbi_image_free(data);
+    }
+    return png;
+}
+
+CliRun render(const std::string& args) {
+    CliRun r = vx("render " + args, kEnv);
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("validation errors: 0"), std::string::npos) << r.out;
+    return r;
+}
+
+TEST(CliRender, RawVolumeToPng) {
+    const std::string vol = write_volume(), out = dir() + "/full.png";
+    const CliRun r = render("--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 2 --out " + out);
+    EXPECT_NE(r.out.find("trace"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("1 chunks"), std::string::npos) << r.out; // 24×12×20 fits one chunk.
+    const Png png = read_png(out);
+    ASSERT_EQ(png.w, 48);
+    ASSERT_EQ(png.h, 32);
+    // The default camera looks at the volume from above: the top-left corner is sky, and the
+    // centre pixels show blocks, so plenty of pixels differ from the sky.
+    const uint32_t sky = png.at(0, 0);
+    EXPECT_NE(png.at(24, 16), sky);
+    int other = 0;
+    for (int y = 0; y < png.h; ++y)
+        for (int x = 0; x < png.w; ++x)
+            other += png.at(x, y) != sky;
+    EXPECT_GT(other, png.w * png.h / 10);
+}
+
+// Flat shading is exact, so the same volume and camera up to 2^36 blocks from the origin give the
+// same image bit for bit: camera and volume positions are parsed as 64-bit integers + fraction.
+TEST(CliRender, FarFromOriginRendersIdentically) {
+    const std::string vol = write_volume();
+    const int64_t ox = 68719470000, oy = 4294967296, oz = 34359738373; // 2^35 + 5.
+    auto run = [&](int64_t x, int64_t y, int64_t z, const std::string& name) {
+        const std::string out = dir() + "/" + name;
+        // Eye at (30.5, 20.25, 28.75) + origin, target (12, 2, 10) + origin; all coordinates are
+        // positive, so appending the fraction's digits adds it.
+        const std::string eye = std::to_string(x + 30) + ".5," + std::to_string(y + 20) + ".25," +
+                                std::to_string(z + 28) + ".75";
+        const std::string target = std::to_string(x + 12) + "," + std::to_string(y + 2) + "," + std::to_string(z + 10);
+        render("--raw " + vol + " --dims 24,12,20 --size 40x30 --shading flat --origin " + std::to_string(x) + "," +
+               std::to_string(y) + "," + std::to_string(z) + " --eye " + eye + " --target " + target + " --out " + out);
+        return read_png(out);
+    };
+    const Png near = run(0, 0, 0, "near.png"), far = run(ox, oy, oz, "far.png");
+    ASSERT_EQ(near.w, 40);
+    ASSERT_EQ(far.w, 40);
+    EXPECT_TRUE(near.rgba == far.rgba);
+    EXPECT_NE(near.at(20, 15), near.at(0, 0)); // Not all sky.
+}
+
+// Negative decimals: "-9.5" is block -10 plus 0.5. The same view from (-9.5, 20.25, -7.75) of a
+// volume at the origin and from (90.5, 20.25, 92.25) of the volume at (100, 0, 100) is identical.
+TEST(CliRender, NegativeFractionalEyeParsesExactly) {
+    const std::string vol = write_volume();
+    auto run = [&](const std::string& origin, const std::string& eye, const std::string& target,
+                   const std::string& name) {
+        const std::string out = dir() + "/" + name;
+        render("--raw " + vol + " --dims 24,12,20 --size 40x30 --shading flat --origin " + origin + " --eye " + eye +
+               " --target " + target + " --out " + out);
+        return read_png(out);
+    };
+    const Png a = run("0,0,0", "-9.5,20.25,-7.75", "12,2,10", "neg_a.png");
+    const Png b = run("100,0,100", "90.5,20.25,92.25", "112,2,110", "neg_b.png");
+    ASSERT_EQ(a.w, 40);
+    EXPECT_TRUE(a.rgba == b.rgba);
+    EXPECT_NE(a.at(20, 15), a.at(0, 0));
+}
+
+// A stored world of 3 chunks (one of them all air): every stored chunk is loaded and meshed.
+TEST(CliRender, StoredWorldRendersEveryChunk) {
+    const std::string path = dir() + "/world.db";
+    std::filesystem::remove(path);
+    {
+        auto store = vx::world::SqliteStore::open({.path = path});
+        ASSERT_TRUE(store.ok()) << store.error();
+        for (int x = 0; x < 2; ++x)
+            ASSERT_TRUE((*store)->save({x, 0, 0}, vx::world::random_fill_chunk(uint64_t(x + 1), 20, 1)).ok());
+        ASSERT_TRUE((*store)->save({0, 1, 0}, vx::world::Chunk()).ok());
+        ASSERT_TRUE((*store)->flush().ok());
+    }
+    const std::string out = dir() + "/world.png";
+    const CliRun r = render("--world " + path + " --size 32x24 --shading flat --out " + out);
+    EXPECT_NE(r.out.find("every stored chunk (3)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("3 chunks (2 with triangles)"), std::string::npos) << r.out;
+    const Png png = read_png(out);
+    ASSERT_EQ(png.w, 32);
+    EXPECT_NE(png.at(16, 12), png.at(0, 0)); // Blocks in the middle, sky in the corner.
+}
+
+TEST(CliRender, DeviceOutOfRangeIsAClearError) {
+    const CliRun r = vx("render --raw " + write_volume() + " --dims 24,12,20 --device 99", kEnv);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("99"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+}
+
+TEST(CliRender, InfoListsTheRayTracingDevice) {
+    const CliRun r = vx("info");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("ray tracing: yes"), std::string::npos) << r.out;
+}
+
+} // namespace

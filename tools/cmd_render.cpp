@@ -1,0 +1,272 @@
+// `vx render`: load and mesh a scene, ray trace it with vx_render, write a PNG and print where
+// the time went (GPU timestamps per phase where the device has them). --repeat and --edit-burst
+// make it a benchmark: medians over many frames and over refit/rebuild edit bursts.
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "render/renderer.h"
+#include "render_scene.h"
+
+namespace vx::tools {
+namespace {
+
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+
+struct RenderArgs {
+    RenderSceneArgs scene;
+    std::string eye, target, up = "0,1,0", light, size = "640x360", shading = "full", shadows = "on";
+    std::string device = "auto", out = "render.png", blas_update = "on";
+    float fov = 60.f;
+    uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
+    bool validation = false;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty())
+        return -1;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+std::string ms(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, v < 0 ? "n/a" : v < 10 ? "%.3f ms" : "%.1f ms", v);
+    return buf;
+}
+
+struct Settings {
+    render::RenderSettings settings;
+    render::Camera camera;
+};
+
+// Camera and light from the arguments or the scene's defaults: a view over the whole scene.
+std::optional<std::string> make_settings(const RenderArgs& a, const RenderScene& scene, Settings& out) {
+    render::RenderSettings& s = out.settings;
+    if (std::sscanf(a.size.c_str(), "%ux%u", &s.width, &s.height) != 2 || s.width == 0 || s.height == 0 ||
+        s.width > 16384 || s.height > 16384 || a.size.find_first_not_of("0123456789x") != std::string::npos)
+        return "--size must be WxH (1..16384), got '" + a.size + "'";
+    s.mode = a.shading == "flat" ? render::ShadingMode::Flat : render::ShadingMode::Full;
+    s.shadow_samples = a.shadows == "off" ? 0 : a.spp;
+    s.max_bounces = a.reflections;
+    if (!(a.fov > 1.f && a.fov < 179.f))
+        return "--fov must be within 1..179 degrees";
+    const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
+    const double half_fov = glm::radians(double(a.fov)) * 0.5;
+    std::optional<WorldPos> eye = scene.default_eye, target = scene.default_target;
+    if (!target)
+        target = world_pos_at(centre);
+    if (!eye) {
+        const double dist = 0.35 * glm::length(ext) / std::tan(half_fov); // Corners may be cut a little.
+        eye = world_pos_at(centre + dist * glm::normalize(glm::dvec3(-1.0, 0.9, -1.0)));
+    }
+    if (!a.eye.empty() && !(eye = parse_world_pos(a.eye)))
+        return "--eye must be X,Y,Z (decimals, inside the world), got '" + a.eye + "'";
+    if (!a.target.empty() && !(target = parse_world_pos(a.target)))
+        return "--target must be X,Y,Z (decimals, inside the world), got '" + a.target + "'";
+    const auto up = parse_dvec3(a.up);
+    if (!up || glm::length(*up) == 0.0)
+        return "--up must be a non-zero X,Y,Z, got '" + a.up + "'";
+    const glm::dvec3 fwd = world_delta(*target, *eye);
+    if (glm::length(fwd) == 0.0 || glm::length(glm::cross(glm::normalize(fwd), glm::normalize(*up))) < 1e-6)
+        return "--target must differ from --eye and not lie along --up";
+    out.camera.block = eye->block;
+    out.camera.offset = glm::vec3(eye->frac);
+    out.camera.forward = glm::vec3(fwd);
+    out.camera.up = glm::vec3(*up);
+    out.camera.fov_y_degrees = a.fov;
+    // Light: a square above the scene, its side half its height above the top (irradiance ≈ 5).
+    const double above = std::max(32.0, 0.25 * std::max(ext.x, ext.z));
+    std::optional<WorldPos> light = world_pos_at({centre.x, hi.y + above, centre.z});
+    if (!a.light.empty() && !(light = parse_world_pos(a.light)))
+        return "--light must be X,Y,Z (decimals, inside the world), got '" + a.light + "'";
+    const float side = float(above * 0.5);
+    s.light.edge_u = {side, 0, 0};
+    s.light.edge_v = {0, 0, side};
+    s.light.block = light->block;
+    s.light.offset = glm::vec3(light->frac) - 0.5f * (s.light.edge_u + s.light.edge_v);
+    return std::nullopt;
+}
+
+void print_frame(const char* what, const render::RenderStats& st, double wall_ms) {
+    std::printf("  %s: BLAS %s (%u builds, %u refits), TLAS %s (%u instances), trace %s, readback copy %s; "
+                "frame %s wall\n",
+                what, ms(st.gpu_blas_ms).c_str(), st.blas_builds, st.blas_refits, ms(st.gpu_tlas_ms).c_str(),
+                st.instances, ms(st.gpu_trace_ms).c_str(), ms(st.gpu_copy_ms).c_str(), ms(wall_ms).c_str());
+}
+
+// Renders and returns the wall time of the call (it waits for the GPU).
+double timed_render(render::Renderer& r, const Settings& s, render::RenderImage* image) {
+    const auto t0 = Clock::now();
+    render::RenderImage img = r.render(s.settings, s.camera);
+    const double wall = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (image)
+        *image = std::move(img);
+    return wall;
+}
+
+// Frames 2..N of the same view: medians of the GPU phases and the wall time.
+void repeat_frames(render::Renderer& r, const Settings& s, uint32_t n) {
+    std::vector<double> tlas, trace, copy, wall;
+    for (uint32_t i = 1; i < n; ++i) {
+        wall.push_back(timed_render(r, s, nullptr));
+        const render::RenderStats& st = r.last_stats();
+        tlas.push_back(st.gpu_tlas_ms);
+        trace.push_back(st.gpu_trace_ms);
+        copy.push_back(st.gpu_copy_ms);
+    }
+    std::printf("  frames 2..%u (medians of %u): TLAS %s, trace %s, readback copy %s; frame %s wall\n", n, n - 1,
+                ms(median(tlas)).c_str(), ms(median(trace)).c_str(), ms(median(copy)).c_str(),
+                ms(median(wall)).c_str());
+}
+
+// Edit bursts: `k` chunks each get one block toggled at their centre and are remeshed; the new
+// meshes go to the renderer as refits (set_chunk), then the same edit as rebuilds (remove_chunk
+// + set_chunk). Medians of the BLAS phase over `rounds` bursts of each kind.
+void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uint32_t k, uint32_t rounds) {
+    std::vector<ChunkCoord> coords;
+    for (const auto& [c, mc] : scene.meshes)
+        if (mc.mesh.quad_count() > 0)
+            coords.push_back(c);
+    std::sort(coords.begin(), coords.end(), [](ChunkCoord a, ChunkCoord b) {
+        return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+    });
+    coords.resize(std::min<size_t>(coords.size(), k));
+    const BlockId stone = scene.world->registry().find("stone").value_or(BlockId(1));
+    std::vector<double> refit, rebuild;
+    uint32_t refits = 0, builds[2] = {0, 0};
+    for (uint32_t round = 0; round < rounds; ++round)
+        for (int mode = 0; mode < 2; ++mode) {
+            for (ChunkCoord c : coords) {
+                const BlockPos p = chunk_origin(c) + BlockPos(kChunkSize / 2);
+                scene.world->set_block(p, scene.world->get_block(p) == kAir ? stone : kAir);
+                remesh_chunk(scene, c);
+                if (mode == 1)
+                    r.remove_chunk(c);
+                r.set_chunk(c, scene.meshes[c].mesh);
+            }
+            timed_render(r, s, nullptr);
+            const render::RenderStats& st = r.last_stats();
+            (mode == 0 ? refit : rebuild).push_back(st.gpu_blas_ms);
+            refits += st.blas_refits;
+            builds[mode] += st.blas_builds;
+        }
+    std::printf("  edit burst of %zu chunks (medians of %u): set_chunk BLAS %s (%.1f refits, %.1f builds per burst), "
+                "remove+set rebuild BLAS %s (%.1f builds per burst)\n",
+                coords.size(), rounds, ms(median(refit)).c_str(), double(refits) / rounds, double(builds[0]) / rounds,
+                ms(median(rebuild)).c_str(), double(builds[1]) / rounds);
+}
+
+int run_render(RenderArgs a) {
+    const auto t_start = Clock::now();
+    if (!a.eye.empty()) {
+        a.scene.eye = parse_world_pos(a.eye);
+        if (!a.scene.eye)
+            return bad_input("--eye must be X,Y,Z (decimals, inside the world), got '" + a.eye + "'");
+    }
+    const auto choice = render::parse_device_choice(a.device);
+    if (!choice)
+        return bad_input(choice.error());
+    auto scene = build_render_scene(a.scene);
+    if (!scene)
+        return bad_input(scene.error());
+    Settings s;
+    if (auto err = make_settings(a, *scene, s))
+        return bad_input(*err);
+    const char* env = std::getenv("VX_VALIDATION");
+    const bool validation = a.validation || (env && std::strcmp(env, "0") != 0 && *env);
+    auto renderer = render::Renderer::create({.validation = validation, .device = *choice, .allow_refit = a.blas_update == "on"});
+    if (!renderer)
+        return bad_input("cannot render: " + renderer.error());
+    render::Renderer& r = **renderer;
+    r.set_registry(scene->world->registry());
+    uint32_t non_empty = 0;
+    for (const auto& [c, mc] : scene->meshes)
+        if (mc.mesh.quad_count() > 0) {
+            r.set_chunk(c, mc.mesh);
+            ++non_empty;
+        }
+    std::printf("vx render: %s\n", scene->description.c_str());
+    std::printf("  scene: %zu chunks (%u with triangles), %" PRIu64 " triangles; load %s, mesh %s\n",
+                scene->meshes.size(), non_empty, scene->triangles, ms(scene->load_ms).c_str(),
+                ms(scene->mesh_ms).c_str());
+    const render::DeviceReport& dev = r.device();
+    std::printf("  device: %s (%s, %s)%s\n", dev.name.c_str(), render::device_type_name(dev.type),
+                dev.driver_info.c_str(), validation ? ", validation on" : "");
+    std::printf("  image: %ux%u, %s shading, shadows %s (%u samples), reflections %u\n", s.settings.width,
+                s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
+                s.settings.max_bounces);
+    render::RenderImage image;
+    const double first = timed_render(r, s, &image);
+    print_frame("frame 1", r.last_stats(), first);
+    if (a.repeat > 1)
+        repeat_frames(r, s, a.repeat);
+    if (a.edit_burst > 0)
+        edit_bursts(r, *scene, s, a.edit_burst, std::max<uint32_t>(a.repeat, 1));
+    if (Status w = render::write_png(a.out, image); !w)
+        return bad_input(w.error());
+    std::printf("  wrote %s; total %s\n", a.out.c_str(),
+                ms(std::chrono::duration<double, std::milli>(Clock::now() - t_start).count()).c_str());
+    if (validation) {
+        std::printf("  validation errors: %u\n", r.validation_errors());
+        if (r.validation_errors() > 0)
+            return kExitFailure;
+    }
+    return kExitOk;
+}
+
+} // namespace
+
+void add_render_command(CLI::App& app, std::function<int()>& action) {
+    auto a = std::make_shared<RenderArgs>();
+    auto seed = std::make_shared<uint64_t>(0);
+    CLI::App* cmd = app.add_subcommand("render", "Ray trace a scene to PNG and print timings");
+    cmd->add_option("--world", a->scene.world_path, "A stored world (SQLite); every chunk, or --radius around the camera if large");
+    CLI::Option* seed_opt = cmd->add_option("--seed", *seed, "Generate terrain of this seed around the camera");
+    cmd->add_option("--scene", a->scene.scene, "Built-in scene: 'seed' (thesis: 1024 chunks, 10% random, isolated)");
+    cmd->add_option("--scene-block", a->scene.scene_block, "Block of the seed scene (e.g. stone, mirror)");
+    cmd->add_option("--raw", a->scene.raw, "Raw volume of block ids (as vx mesh)");
+    cmd->add_option("--dims", a->scene.dims, "Raw volume size X,Y,Z");
+    cmd->add_option("--type", a->scene.type, "Raw block id type")->check(CLI::IsMember({"u8", "u16"}));
+    cmd->add_option("--origin", a->scene.origin, "World position X,Y,Z of the raw volume's first block");
+    cmd->add_option("--radius", a->scene.radius, "Chunks around the camera, horizontal (--seed: default 8)");
+    cmd->add_option("--vradius", a->scene.vradius, "Chunks around the camera, vertical (default 4)");
+    cmd->add_option("--threads", a->scene.threads, "Generation and meshing threads (0 = all cores)");
+    cmd->add_option("--eye", a->eye, "Camera position X,Y,Z in blocks (decimal; integer part read as 64-bit)");
+    cmd->add_option("--target", a->target, "Point looked at, X,Y,Z in blocks");
+    cmd->add_option("--up", a->up, "Up vector X,Y,Z");
+    cmd->add_option("--fov", a->fov, "Vertical field of view, degrees");
+    cmd->add_option("--size", a->size, "Image size WxH");
+    cmd->add_option("--spp", a->spp, "Shadow samples per pixel and bounce (one primary ray per pixel)");
+    cmd->add_option("--shading", a->shading, "Shading")->check(CLI::IsMember({"flat", "full"}));
+    cmd->add_option("--shadows", a->shadows, "Area-light shadows")->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--reflections", a->reflections, "Mirror reflection depth");
+    cmd->add_option("--light", a->light, "Centre of the area light X,Y,Z (default: above the scene)");
+    cmd->add_option("--device", a->device, "auto, cpu, gpu or a device index (see vx info)");
+    cmd->add_option("--out", a->out, "PNG file to write");
+    cmd->add_option("--repeat", a->repeat, "Render N frames of the view; print medians of frames 2..N");
+    cmd->add_option("--edit-burst", a->edit_burst, "Then time refit vs rebuild of K edited chunks (--repeat rounds)");
+    cmd->add_option("--blas-update", a->blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
+    cmd->callback([a, seed, seed_opt, &action] {
+        if (seed_opt->count() > 0)
+            a->scene.seed = *seed;
+        action = [a] { return run_render(*a); };
+    });
+}
+
+} // namespace vx::tools
