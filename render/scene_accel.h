@@ -65,6 +65,7 @@ private:
         AccelStruct blas;
         VkDeviceSize update_scratch = 0;
         Pending pending = Pending::None;
+        uint32_t refits_since_build = 0;
     };
     struct FrameData {
         AccelStruct tlas;

@@ -79,5 +79,31 @@ TEST_F(RendererTest, IncrementalEditsRenderLikeScratch) {
     EXPECT_GT(rebuilds, 2u);
 }
 
+// A chunk edited over and over is refitted 16 times, then rebuilt (its boxes would loosen), and
+// the count starts again.
+TEST_F(RendererTest, RepeatedRefitsEndInARebuild) {
+    world::World w = hills();
+    world::EditMesher em;
+    world::MeshMap meshes = test::mesh_world(w);
+    test::load_meshes(*m_renderer, meshes);
+    RenderSettings flat;
+    flat.mode = ShadingMode::Flat;
+    const Camera cam = Camera::look_at({30.3, 24.6, 29.1}, {-4.0, 4.0, -6.0});
+    m_renderer->render(flat, cam);
+    std::vector<char> kinds; // 'r' refit, 'b' build, per edit.
+    for (int i = 0; i < 34; ++i) {
+        // Toggle one block deep inside chunk (0,0,0): its slices keep their size, so it fits.
+        const world::BlockPos p(10, 1, 10);
+        em.apply(w, p, i % 2 ? test::block_id("dirt") : test::block_id("stone"), meshes);
+        m_renderer->set_chunk(world::ChunkCoord(0), meshes[world::ChunkCoord(0)].mesh);
+        m_renderer->render(flat, cam);
+        const auto& st = m_renderer->last_stats();
+        ASSERT_EQ(st.blas_refits + st.blas_builds, 1u) << "edit " << i;
+        kinds.push_back(st.blas_builds ? 'b' : 'r');
+    }
+    const std::string expect = std::string(16, 'r') + "b" + std::string(16, 'r') + "b";
+    EXPECT_EQ(std::string(kinds.begin(), kinds.end()), expect);
+}
+
 } // namespace
 } // namespace vx::render
