@@ -8,9 +8,8 @@
 #include <vector>
 
 namespace vx::tools {
-namespace {
 
-std::vector<std::string> split3(const std::string& s) {
+std::vector<std::string> split_commas(const std::string& s) {
     std::vector<std::string> parts;
     std::stringstream ss(s);
     std::string item;
@@ -21,10 +20,8 @@ std::vector<std::string> split3(const std::string& s) {
     return parts;
 }
 
-} // namespace
-
 std::optional<glm::i64vec3> parse_i64vec3(const std::string& s) {
-    const auto parts = split3(s);
+    const auto parts = split_commas(s);
     if (parts.size() != 3)
         return std::nullopt;
     glm::i64vec3 v;
@@ -41,7 +38,7 @@ std::optional<glm::i64vec3> parse_i64vec3(const std::string& s) {
 }
 
 std::optional<glm::dvec3> parse_dvec3(const std::string& s) {
-    const auto parts = split3(s);
+    const auto parts = split_commas(s);
     if (parts.size() != 3)
         return std::nullopt;
     glm::dvec3 v;

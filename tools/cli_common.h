@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -12,6 +13,9 @@ namespace vx::tools {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;  // The command ran and found a problem (e.g. corrupt records).
 inline constexpr int kExitBadInput = 2; // Bad arguments or unreadable/corrupt input.
+
+// "a,b,,c" -> {"a", "b", "", "c"}; a trailing comma gives a trailing empty part.
+std::vector<std::string> split_commas(const std::string& s);
 
 // Parses "X,Y,Z" of 64-bit integers; nullopt on anything else (overflow included).
 std::optional<glm::i64vec3> parse_i64vec3(const std::string& s);

@@ -2,11 +2,16 @@
 // Meshes many chunks on all cores (the CLI's batch path; the engine uses its job system).
 // Not thread-safe: call from one thread; it fans out internally and joins before returning.
 
+#include <functional>
 #include <vector>
 
 #include "world/edit_mesher.h"
 
 namespace vx::tools {
+
+// Calls fn(i) for every i in [0, count) on `threads` threads (0 = all cores), the calling thread
+// included, claiming indices in batches of `batch`; returns when all are done.
+void parallel_for(size_t count, unsigned threads, const std::function<void(size_t)>& fn, size_t batch = 1);
 
 struct MeshJob {
     world::ChunkCoord coord;

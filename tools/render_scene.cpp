@@ -50,16 +50,6 @@ std::optional<std::pair<int64_t, double>> parse_coord(const std::string& t) {
     return neg ? std::pair<int64_t, double>{i - 1, 1.0 - f} : std::pair<int64_t, double>{i, f};
 }
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> parts;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ','))
-        parts.push_back(item);
-    if (!s.empty() && s.back() == ',')
-        parts.push_back("");
-    return parts;
-}
 
 // Fills `scene.meshes` for `coords` and meshes them in parallel.
 void mesh_all(RenderScene& scene, const std::vector<ChunkCoord>& coords, unsigned threads) {
@@ -77,18 +67,7 @@ void mesh_all(RenderScene& scene, const std::vector<ChunkCoord>& coords, unsigne
 // Generates the chunks of `coords` on all cores (terrain generation is pure).
 void generate(World& world, const TerrainGenerator& gen, const std::vector<ChunkCoord>& coords, unsigned threads) {
     std::vector<Chunk> out(coords.size());
-    std::atomic<size_t> next{0};
-    auto work = [&] {
-        for (size_t i; (i = next.fetch_add(1)) < coords.size();)
-            out[i] = gen.generate(coords[i]);
-    };
-    const unsigned n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::thread> pool;
-    for (unsigned t = 1; t < n; ++t)
-        pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool)
-        t.join();
+    parallel_for(coords.size(), threads, [&](size_t i) { out[i] = gen.generate(coords[i]); });
     for (size_t i = 0; i < coords.size(); ++i)
         world.put_chunk(coords[i], std::move(out[i]));
 }
@@ -225,7 +204,7 @@ void finish(RenderScene& scene) {
 } // namespace
 
 std::optional<WorldPos> parse_world_pos(const std::string& s) {
-    const auto parts = split(s);
+    const auto parts = split_commas(s);
     if (parts.size() != 3)
         return std::nullopt;
     WorldPos p;
