@@ -27,8 +27,9 @@ const std::string kEnv = "VX_VALIDATION=1";
 std::string dir() { return cli_test::temp_dir("vx_cli_render_test").string(); }
 
 // A 24×12×20 u8 volume: a stone floor (id 1) and a grass pillar (id 3) on it.
+// Named after the running test: ctest runs tests as parallel processes.
 std::string write_volume() {
-    const std::string path = dir() + "/vol.raw";
+    const std::string path = dir() + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".raw";
     std::vector<uint8_t> v(24 * 12 * 20, 0);
     for (int z = 0; z < 20; ++z)
         for (int x = 0; x < 24; ++x)

@@ -27,8 +27,10 @@ using cli_test::temp_dir;
 CliRun run_vx(const std::string& args, const std::string& env = "") { return cli_test::vx(args, env); }
 
 // A 40×20×36 u8 volume: a floor, a pillar and a few scattered blocks of 3 types.
+// Named after the running test: ctest runs tests as parallel processes.
 std::string write_volume() {
-    const auto path = (temp_dir() / "vol.raw").string();
+    const auto path =
+        (temp_dir() / (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".raw")).string();
     std::vector<uint8_t> v(40 * 20 * 36, 0);
     for (int z = 0; z < 36; ++z)
         for (int x = 0; x < 40; ++x)
