@@ -215,7 +215,11 @@ std::map<std::tuple<int, int, int>, vx::world::Chunk> store_chunks(const std::st
     EXPECT_TRUE(store.ok()) << store.error();
     if (!store)
         return out;
-    for (const vx::world::ChunkCoord& c : *(*store)->list_coords()) {
+    auto coords = (*store)->list_coords(); // Kept alive: the loop must not range over a temporary's inside.
+    EXPECT_TRUE(coords.ok());
+    if (!coords)
+        return out;
+    for (const vx::world::ChunkCoord& c : *coords) {
         auto r = (*store)->load(c);
         if (r && r->chunk && !r->chunk->is_empty())
             out.emplace(std::make_tuple(c.x, c.y, c.z), std::move(*r->chunk));
