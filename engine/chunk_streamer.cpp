@@ -74,6 +74,7 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
         m_velocity = 0.8 * m_velocity + 0.2 * step / dt;
     m_prev_position = position;
     m_prev_time = now;
+    m_last_now = now;
     auto chunk_at = [](const glm::dvec3& p) {
         return chunk_of(BlockPos(int64_t(std::floor(p.x)), int64_t(std::floor(p.y)), int64_t(std::floor(p.z))));
     };
@@ -372,10 +373,17 @@ Status ChunkStreamer::flush() {
 }
 
 bool ChunkStreamer::settled() const {
-    for (const auto& [c, s] : m_chunks)
+    if (!m_have_center)
+        return false;
+    const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
+    for (const auto& [c, s] : m_chunks) {
         if (s.data != Data::Present || (wants_mesh(c) && (!s.has_mesh || s.mesh_pending)))
             return false;
-    return m_have_center;
+        // A chunk beyond the unload radius that is due to go (or not yet noticed) is pending work.
+        if (beyond_unload(c) && (!s.outside || m_last_now - s.outside_since >= delay))
+            return false;
+    }
+    return true;
 }
 
 StreamingMetrics ChunkStreamer::metrics() const {

@@ -85,7 +85,8 @@ public:
     // everything acknowledged so far durable. Blocks; call rarely (e.g. on save or quit).
     Status flush();
 
-    // Main thread. True when every chunk in the view radius is meshed and nothing is pending.
+    // Main thread. True when every chunk the view needs is loaded and meshed and no chunk is due
+    // to be unloaded: nothing is left to do until the viewer moves (or time passes).
     bool settled() const;
     StreamingMetrics metrics() const;
     const world::World& world() const { return m_world; }
@@ -149,7 +150,7 @@ private:
     world::ChunkCoord m_lead{INT32_MIN}; // Chunk the viewer reaches in lookahead_s at its velocity.
     bool m_have_center = false;
     glm::dvec3 m_prev_position{0.0}, m_velocity{0.0}; // Blocks/s, smoothed over frames.
-    std::chrono::steady_clock::time_point m_prev_time{};
+    std::chrono::steady_clock::time_point m_prev_time{}, m_last_now{};
     std::chrono::steady_clock::time_point m_last_tick{};
     size_t m_block_bytes = 0;
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
