@@ -32,6 +32,13 @@ ChunkStreamer::ChunkStreamer(const TerrainGenerator& generator, ChunkStore* stor
     JobSystemCreateInfo info;
     info.worker_count = settings.worker_count;
     m_jobs = std::make_unique<JobSystem>(info);
+    // Two rings (viewer and lookahead) plus the unload margin: room reserved up front so the hash
+    // tables never rehash thousands of chunks in the middle of a frame.
+    const int r = settings.view_radius + 2, rv = settings.view_radius_vertical + 2;
+    const size_t expected = 3 * size_t(2 * r + 1) * size_t(2 * r + 1) * size_t(2 * rv + 1);
+    m_chunks.reserve(expected);
+    m_world.reserve_chunks(expected);
+    m_mesh_candidates.reserve(expected / 4);
 }
 
 ChunkStreamer::~ChunkStreamer() {

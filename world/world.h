@@ -30,6 +30,8 @@ public:
     void put_chunk(ChunkCoord c, Chunk chunk);
     bool remove_chunk(ChunkCoord c);
     size_t chunk_count() const { return m_chunks.size(); }
+    // Makes room for n chunks, so inserting them never rehashes (no frame-time spikes).
+    void reserve_chunks(size_t n) { m_chunks.reserve(n); }
 
     template <class F> void for_each_chunk(F&& f) const {
         for (const auto& [c, chunk] : m_chunks)
