@@ -194,6 +194,7 @@ template <int B> void extract_layer_fixed(const ChunkView& cv, int axis, int lay
 using ExtractFn = void (*)(const ChunkView&, int, int, uint8_t*, LayerBits&);
 ExtractFn extract_fixed_for(uint32_t bits) {
     switch (bits) {
+    case 1: return extract_layer_fixed<1>;
     case 2: return extract_layer_fixed<2>;
     case 3: return extract_layer_fixed<3>;
     case 4: return extract_layer_fixed<4>;
