@@ -27,9 +27,9 @@
 #include "engine/job_system.h"
 #include "engine/mesh_sink.h"
 #include "world/base/result.h"
-#include "world/chunk_store.h"
-#include "world/edit_mesher.h"
-#include "world/terrain.h"
+#include "world/store/chunk_store.h"
+#include "world/mesh/edit_mesher.h"
+#include "world/gen/terrain.h"
 #include "world/world.h"
 
 namespace vx::engine {

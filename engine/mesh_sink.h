@@ -5,7 +5,7 @@
 
 #include <span>
 
-#include "world/chunk_mesh.h"
+#include "world/mesh/chunk_mesh.h"
 #include "world/coords.h"
 
 namespace vx::engine {

@@ -1,7 +1,7 @@
 #include "engine/stream_jobs.h"
 
 #include "engine/chunk_streamer.h"
-#include "world/mesher.h"
+#include "world/mesh/mesher.h"
 
 namespace vx::engine {
 

@@ -10,10 +10,10 @@
 #include <string>
 
 #include "engine/job.h"
-#include "world/apron.h"
-#include "world/chunk_mesh.h"
-#include "world/chunk_store.h"
-#include "world/terrain.h"
+#include "world/mesh/apron.h"
+#include "world/mesh/chunk_mesh.h"
+#include "world/store/chunk_store.h"
+#include "world/gen/terrain.h"
 
 namespace vx::engine {
 

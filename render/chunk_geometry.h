@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "world/chunk_mesh.h"
+#include "world/mesh/chunk_mesh.h"
 
 namespace vx::render {
 

@@ -18,7 +18,7 @@
 
 #include "render/device_probe.h"
 #include "world/block_registry.h"
-#include "world/chunk_mesh.h"
+#include "world/mesh/chunk_mesh.h"
 #include "world/coords.h"
 
 namespace vx::render {

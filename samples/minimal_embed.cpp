@@ -10,7 +10,7 @@
 #include "engine/chunk_streamer.h"
 #include "engine/renderer_sink.h"
 #include "render/renderer.h"
-#include "world/terrain.h"
+#include "world/gen/terrain.h"
 
 using namespace vx;
 using Clock = std::chrono::steady_clock;

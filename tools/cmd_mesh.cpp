@@ -14,9 +14,9 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "parallel_mesh.h"
-#include "world/obj_export.h"
-#include "world/raw_volume.h"
-#include "world/seed_scene.h"
+#include "world/io/obj_export.h"
+#include "world/io/raw_volume.h"
+#include "world/gen/seed_scene.h"
 
 namespace vx::tools {
 namespace {

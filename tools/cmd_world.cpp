@@ -14,9 +14,9 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "engine/job_system.h"
-#include "world/mesher.h"
-#include "world/sqlite_store.h"
-#include "world/terrain.h"
+#include "world/mesh/mesher.h"
+#include "world/store/sqlite_store.h"
+#include "world/gen/terrain.h"
 
 namespace vx::tools {
 namespace {

@@ -1,5 +1,7 @@
 #include "parallel_mesh.h"
 
+#include "world/mesh/reference_meshers.h"
+
 #include <atomic>
 #include <chrono>
 #include <memory>

@@ -5,7 +5,7 @@
 #include <functional>
 #include <vector>
 
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
 
 namespace vx::tools {
 

@@ -12,10 +12,10 @@
 
 #include "cli_common.h"
 #include "parallel_mesh.h"
-#include "world/raw_volume.h"
-#include "world/seed_scene.h"
-#include "world/sqlite_store.h"
-#include "world/terrain.h"
+#include "world/io/raw_volume.h"
+#include "world/gen/seed_scene.h"
+#include "world/store/sqlite_store.h"
+#include "world/gen/terrain.h"
 
 namespace vx::tools {
 namespace {

@@ -13,7 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "world/base/result.h"
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
 #include "world/world.h"
 
 namespace vx::tools {

@@ -6,7 +6,7 @@
 
 #include <unistd.h>
 
-#include "world/sqlite_store.h"
+#include "world/store/sqlite_store.h"
 
 namespace vx::tools {
 

@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "job_test_util.h"
-#include "world/apron.h"
-#include "world/mesher.h"
+#include "world/mesh/apron.h"
+#include "world/mesh/mesher.h"
 #include "world/world.h"
 
 using namespace vx::engine;

@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "engine/chunk_streamer.h"
-#include "world/mesher.h"
-#include "world/sqlite_store.h"
+#include "world/mesh/mesher.h"
+#include "world/store/sqlite_store.h"
 
 using namespace vx;
 using namespace vx::engine;

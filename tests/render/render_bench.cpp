@@ -11,7 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include "render/renderer.h"
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
 #include "world/world.h"
 
 namespace vx::render {

@@ -11,7 +11,7 @@
 
 #include "render/renderer.h"
 #include "render_test_util.h"
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
 #include "world/world.h"
 
 namespace vx::render::test {

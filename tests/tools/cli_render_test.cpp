@@ -14,8 +14,8 @@
 #include <stb/stb_image.h>
 
 #include "cli_run.h"
-#include "world/seed_scene.h"
-#include "world/sqlite_store.h"
+#include "world/gen/seed_scene.h"
+#include "world/store/sqlite_store.h"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
-#include "world/sqlite_store.h"
+#include "world/store/sqlite_store.h"
 #include <glm/glm.hpp>
 
 #include "cli_run.h"

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/chunk_streamer.h"
-#include "world/terrain.h"
+#include "world/gen/terrain.h"
 #include "world/vdb/vdb_store.h"
 
 using namespace vx;

@@ -7,7 +7,7 @@
 
 #include "test_util.h"
 #include "store_test_util.h"
-#include "world/chunk_record.h"
+#include "world/store/chunk_record.h"
 
 using namespace vx::world;
 using vx::world::test::poke;

@@ -4,7 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "test_util.h"
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
+#include "world/mesh/reference_meshers.h"
 
 using namespace vx::world;
 using namespace vx::world::test;

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "world/raw_volume.h"
+#include "world/io/raw_volume.h"
 
 using namespace vx::world;
 

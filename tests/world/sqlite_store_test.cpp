@@ -8,7 +8,7 @@
 
 #include "test_util.h"
 #include "store_test_util.h"
-#include "world/sqlite_store.h"
+#include "world/store/sqlite_store.h"
 
 using namespace vx::world;
 using vx::world::test::TempDir;

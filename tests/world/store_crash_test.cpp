@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "store_test_util.h"
-#include "world/sqlite_store.h"
+#include "world/store/sqlite_store.h"
 
 using namespace vx::world;
 using vx::world::test::versioned_chunk;

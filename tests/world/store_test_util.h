@@ -13,7 +13,7 @@
 #include <xxhash.h>
 
 #include "world/chunk.h"
-#include "world/chunk_record.h"
+#include "world/store/chunk_record.h"
 
 namespace vx::world::test {
 

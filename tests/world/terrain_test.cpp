@@ -1,4 +1,4 @@
-#include "world/terrain.h"
+#include "world/gen/terrain.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "world/noise.h"
+#include "world/gen/noise.h"
 #include "world/world.h"
 
 namespace vx::world {

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "world/mesher.h"
+#include "world/mesh/mesher.h"
 
 namespace vx::world::test {
 

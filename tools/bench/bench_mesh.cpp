@@ -13,8 +13,9 @@
 #include <benchmark/benchmark.h>
 
 #include "../parallel_mesh.h"
-#include "world/mesher.h"
-#include "world/seed_scene.h"
+#include "world/mesh/mesher.h"
+#include "world/mesh/reference_meshers.h"
+#include "world/gen/seed_scene.h"
 
 namespace vx::tools {
 namespace {

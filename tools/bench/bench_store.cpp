@@ -17,8 +17,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "world/chunk_record.h"
-#include "world/sqlite_store.h"
+#include "world/store/chunk_record.h"
+#include "world/store/sqlite_store.h"
 
 namespace vx::world {
 namespace {

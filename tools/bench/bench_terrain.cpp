@@ -9,7 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "world/terrain.h"
+#include "world/gen/terrain.h"
 
 namespace vx::world {
 namespace {

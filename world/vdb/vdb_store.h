@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "world/chunk_store.h"
+#include "world/store/chunk_store.h"
 #include "world/vdb/vdb_world.h"
 #include "world/world.h"
 

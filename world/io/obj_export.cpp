@@ -1,4 +1,4 @@
-#include "world/obj_export.h"
+#include "world/io/obj_export.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -16,8 +16,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "world/chunk_record.h"
-#include "world/chunk_store.h"
+#include "world/store/chunk_record.h"
+#include "world/store/chunk_store.h"
 
 struct sqlite3;
 struct sqlite3_stmt;

@@ -1,10 +1,10 @@
-#include "world/mesher.h"
+#include "world/mesh/mesher.h"
 
 #include <algorithm>
 #include <bit>
 #include <cstring>
 
-#include "world/mesher_layers.h"
+#include "world/mesh/mesher_layers.h"
 
 namespace vx::world {
 using namespace mesher_detail;
@@ -318,15 +318,6 @@ void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& me
             mesh.replace_slice(slice_index(axis, plane), s.quads);
         }
     }
-}
-
-const char* mesher_name(MesherKind kind) {
-    switch (kind) {
-    case MesherKind::Greedy: return "greedy";
-    case MesherKind::Culled: return "culled";
-    case MesherKind::Naive: return "naive";
-    }
-    return "?";
 }
 
 } // namespace vx::world

@@ -1,6 +1,6 @@
 // Culled, naive and classic greedy meshers: one quad per face, written for clarity, used as comparison points
 // and as oracles for the greedy mesher.
-#include "world/mesher.h"
+#include "world/mesh/reference_meshers.h"
 
 namespace vx::world {
 namespace {
@@ -90,6 +90,15 @@ void mesh_classic_greedy(const MesherInput& in, ChunkMesh& out) {
         }
     }
     out.end();
+}
+
+const char* mesher_name(MesherKind kind) {
+    switch (kind) {
+    case MesherKind::Greedy: return "greedy";
+    case MesherKind::Culled: return "culled";
+    case MesherKind::Naive: return "naive";
+    }
+    return "?";
 }
 
 } // namespace vx::world

@@ -10,7 +10,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "world/mesher.h"
+#include "world/mesh/mesher.h"
 
 namespace vx::world::mesher_detail {
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "world/base/result.h"
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
 
 namespace vx::world {
 

@@ -1,4 +1,4 @@
-#include "world/terrain.h"
+#include "world/gen/terrain.h"
 
 #include <algorithm>
 #include <bit>
@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "world/base/assert.h"
-#include "world/noise.h"
+#include "world/gen/noise.h"
 
 namespace vx::world {
 

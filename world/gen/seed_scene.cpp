@@ -1,4 +1,4 @@
-#include "world/seed_scene.h"
+#include "world/gen/seed_scene.h"
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "world/noise.h"
+#include "world/gen/noise.h"
 
 #include "world/base/assert.h"
 

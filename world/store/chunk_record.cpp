@@ -1,4 +1,4 @@
-#include "world/chunk_record.h"
+#include "world/store/chunk_record.h"
 
 #include <bit>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "world/edit_mesher.h"
+#include "world/mesh/edit_mesher.h"
 
 namespace vx::world {
 namespace {

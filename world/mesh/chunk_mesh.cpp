@@ -1,4 +1,4 @@
-#include "world/chunk_mesh.h"
+#include "world/mesh/chunk_mesh.h"
 
 #include <algorithm>
 #include <vector>

@@ -1,5 +1,6 @@
 #pragma once
-// Chunk meshers: greedy (the fast one), culled and naive (for comparison and as test oracles).
+// The greedy chunk mesher. The culled, naive and classic meshers (comparison points and test
+// oracles) live apart, in world/mesh/reference_meshers.h (target vx_mesh_reference).
 //
 // Face rule: the face of block A towards neighbour B is emitted iff A is not air, B is not
 // opaque, and A != B (two blocks of one transparent type, e.g. water, show no face between
@@ -11,10 +12,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "world/apron.h"
+#include "world/mesh/apron.h"
 #include "world/block_registry.h"
 #include "world/chunk.h"
-#include "world/chunk_mesh.h"
+#include "world/mesh/chunk_mesh.h"
 
 namespace vx::world {
 
@@ -55,17 +56,5 @@ private:
     struct Scratch;
     Scratch* m_scratch;
 };
-
-// One quad per visible face.
-void mesh_culled(const MesherInput& in, ChunkMesh& out);
-// One quad per face of every non-air block, hidden or not.
-void mesh_naive(const MesherInput& in, ChunkMesh& out);
-
-// The classic per-slice greedy mesher (thesis listing 3.1, generalised to block ids and aprons):
-// scalar and plain, the reference the bitmask mesher matches quad for quad.
-void mesh_classic_greedy(const MesherInput& in, ChunkMesh& out);
-
-enum class MesherKind : uint8_t { Greedy, Culled, Naive };
-const char* mesher_name(MesherKind kind);
 
 } // namespace vx::world

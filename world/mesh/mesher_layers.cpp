@@ -1,4 +1,4 @@
-#include "world/mesher_layers.h"
+#include "world/mesh/mesher_layers.h"
 
 #include <algorithm>
 #include <bit>

@@ -1,4 +1,4 @@
-#include "world/apron.h"
+#include "world/mesh/apron.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "world/sqlite_store.h"
+#include "world/store/sqlite_store.h"
 
 #include <sqlite3.h>
 

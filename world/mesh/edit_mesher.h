@@ -8,9 +8,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "world/apron.h"
-#include "world/chunk_mesh.h"
-#include "world/mesher.h"
+#include "world/mesh/apron.h"
+#include "world/mesh/chunk_mesh.h"
+#include "world/mesh/mesher.h"
 #include "world/world.h"
 
 namespace vx::world {

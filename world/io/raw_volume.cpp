@@ -1,4 +1,4 @@
-#include "world/raw_volume.h"
+#include "world/io/raw_volume.h"
 
 #include <cstdio>
 #include <cstring>
