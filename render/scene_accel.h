@@ -28,7 +28,7 @@ struct AccelStats {
     uint32_t instances = 0;        // TLAS instances (drawn chunks).
     uint32_t hot_chunks = 0;       // Chunks kept refittable (edited lately).
     uint32_t failed_chunks = 0;    // Chunks not drawn: their GPU memory could not be allocated.
-    uint64_t triangles = 0;        // Triangles in all BLASes, degenerate spares included.
+    uint64_t triangles = 0;        // Triangles in the drawn chunks' BLASes, degenerate spares included.
     uint64_t upload_bytes = 0;     // Chunk vertices + quad records staged and copied in the last record().
 };
 
