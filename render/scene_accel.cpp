@@ -165,11 +165,13 @@ void SceneAccel::fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes
 }
 
 // New buffers and BLAS for a build; on failure the chunk is dropped from the scene (not drawn).
-bool SceneAccel::allocate_chunk(world::ChunkCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes) {
+bool SceneAccel::allocate_chunk(world::ChunkCoord c, ChunkGpu& g,
+                                const VkAccelerationStructureBuildSizesInfoKHR& sizes) {
     const VkDeviceSize slots = g.layout.total;
     const VkBufferUsageFlags input =
         VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    Buffer vertices = Buffer::create(*m_ctx, {slots * kSlotVertexBytes, input, MemoryUse::Device, 0, "chunk vertices", true});
+    Buffer vertices =
+        Buffer::create(*m_ctx, {slots * kSlotVertexBytes, input, MemoryUse::Device, 0, "chunk vertices", true});
     Buffer quads = Buffer::create(*m_ctx, {slots * kSlotQuadBytes,
                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                            MemoryUse::Device, 0, "chunk quads", true});

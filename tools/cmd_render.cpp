@@ -198,7 +198,8 @@ void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uin
     auto burst = [&](Mode mode) {
         for (ChunkCoord c : coords) {
             const BlockPos p = chunk_origin(c) + BlockPos(kChunkSize / 2);
-            const EditResult e = em.apply(*scene.world, p, scene.world->get_block(p) == kAir ? stone : kAir, scene.meshes);
+            const BlockId id = scene.world->get_block(p) == kAir ? stone : kAir;
+            const EditResult e = em.apply(*scene.world, p, id, scene.meshes);
             for (const SliceUpdate& u : e.updates) {
                 const ChunkMesh& mesh = scene.meshes[u.chunk].mesh;
                 if (mode == Rebuild)
