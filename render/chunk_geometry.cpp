@@ -17,6 +17,16 @@ SlotLayout SlotLayout::for_mesh(const world::ChunkMesh& mesh) {
     return l;
 }
 
+SlotLayout SlotLayout::exact(const world::ChunkMesh& mesh) {
+    SlotLayout l;
+    for (int s = 0; s < world::kSliceCount; ++s) {
+        l.start[s] = l.total;
+        l.capacity[s] = uint32_t(mesh.slice(s).size());
+        l.total += l.capacity[s];
+    }
+    return l;
+}
+
 bool SlotLayout::fits(const world::ChunkMesh& mesh) const {
     for (int s = 0; s < world::kSliceCount; ++s)
         if (mesh.slice(s).size() > capacity[s])
@@ -45,28 +55,65 @@ static glm::vec3 first_vertex(const world::ChunkMesh& mesh) {
     return glm::vec3(0.f);
 }
 
+// Writes slice s at v/q and returns the anchor after it (its last real vertex, or `anchor`).
+static glm::vec3 write_slice(const SlotLayout& layout, const world::ChunkMesh& mesh, int s, glm::vec3 anchor,
+                             float* v, world::Quad* q) {
+    const std::span<const world::Quad> quads_of = mesh.slice(s);
+    for (const world::Quad& quad : quads_of) {
+        anchor = write_quad(quad, v);
+        *q++ = quad;
+        v += 12;
+    }
+    for (size_t k = quads_of.size(); k < layout.capacity[s]; ++k) {
+        for (int i = 0; i < 4; ++i)
+            v[i * 3 + 0] = anchor.x, v[i * 3 + 1] = anchor.y, v[i * 3 + 2] = anchor.z;
+        *q++ = world::Quad{};
+        v += 12;
+    }
+    return anchor;
+}
+
 void fill_slots(const SlotLayout& layout, const world::ChunkMesh& mesh, float* vertices, world::Quad* quads) {
     VX_ASSERT(layout.fits(mesh));
     // Spares collapse onto the last real vertex before them in slot order: builders that split by
     // primitive order (lavapipe) would otherwise stretch node bounds out to wherever spares sit
     // (measured: spares at the chunk origin traced 3x slower).
     glm::vec3 anchor = first_vertex(mesh);
+    for (int s = 0; s < world::kSliceCount; ++s)
+        anchor = write_slice(layout, mesh, s, anchor, vertices + size_t(layout.start[s]) * 12, quads + layout.start[s]);
+}
+
+void fill_slice(const SlotLayout& layout, const world::ChunkMesh& mesh, int s, float* vertices, world::Quad* quads) {
+    VX_ASSERT(s >= 0 && s < world::kSliceCount && mesh.slice(s).size() <= layout.capacity[s]);
+    glm::vec3 anchor = first_vertex(mesh);
+    for (int p = s - 1; p >= 0; --p)
+        if (!mesh.slice(p).empty()) {
+            glm::ivec3 c[4];
+            world::quad_corners(mesh.slice(p).back(), c);
+            anchor = glm::vec3(c[2]); // What write_quad returned for that quad in fill_slots.
+            break;
+        }
+    write_slice(layout, mesh, s, anchor, vertices, quads);
+}
+
+uint64_t mesh_hash(const world::ChunkMesh& mesh) {
+    // splitmix64's finaliser over (slice, count) and each quad's 8 bytes, chained.
+    auto mix = [](uint64_t h, uint64_t v) {
+        uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2));
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    };
+    uint64_t h = 0;
     for (int s = 0; s < world::kSliceCount; ++s) {
-        const std::span<const world::Quad> quads_of = mesh.slice(s);
-        float* v = vertices + size_t(layout.start[s]) * 12;
-        world::Quad* q = quads + layout.start[s];
-        for (const world::Quad& quad : quads_of) {
-            anchor = write_quad(quad, v);
-            *q++ = quad;
-            v += 12;
-        }
-        for (size_t k = quads_of.size(); k < layout.capacity[s]; ++k) {
-            for (int i = 0; i < 4; ++i)
-                v[i * 3 + 0] = anchor.x, v[i * 3 + 1] = anchor.y, v[i * 3 + 2] = anchor.z;
-            *q++ = world::Quad{};
-            v += 12;
-        }
+        const std::span<const world::Quad> quads = mesh.slice(s);
+        if (quads.empty())
+            continue;
+        h = mix(h, uint64_t(s) << 32 | quads.size());
+        for (const world::Quad& q : quads)
+            h = mix(h, uint64_t(q.packed) << 32 | uint64_t(q.block) << 16 | q.reserved);
     }
+    return h;
 }
 
 std::vector<uint32_t> slot_indices(uint32_t slots) {

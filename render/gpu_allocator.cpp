@@ -99,7 +99,7 @@ bool GpuAllocator::carve(Block& b, VkDeviceSize size, VkDeviceSize align, VkDevi
     return false;
 }
 
-Allocation GpuAllocator::allocate(const VkMemoryRequirements& req, MemoryUse use, bool for_image) {
+Allocation GpuAllocator::allocate(const VkMemoryRequirements& req, MemoryUse use, bool for_image, bool budgeted) {
     const int type = find_memory_type(req.memoryTypeBits, use);
     if (type < 0) {
         VX_LOG_ERROR("GPU allocator: no memory type fits (bits 0x%x)", req.memoryTypeBits);
@@ -108,6 +108,8 @@ Allocation GpuAllocator::allocate(const VkMemoryRequirements& req, MemoryUse use
     const uint32_t pool = uint32_t(type) * 2 + (for_image ? 1 : 0);
     const VkDeviceSize size = align_up(std::max<VkDeviceSize>(req.size, 1), 16);
     const VkDeviceSize align = std::max<VkDeviceSize>(req.alignment, 16);
+    if (budgeted && m_budget > 0 && m_budgeted_used + size > m_budget)
+        return {}; // The caller reports it (a chunk not drawn), as it would a full device.
     Allocation a;
     for (uint32_t i = 0; i < m_blocks.size() && !a.valid(); ++i) {
         Block& b = m_blocks[i];
@@ -125,6 +127,9 @@ Allocation GpuAllocator::allocate(const VkMemoryRequirements& req, MemoryUse use
     b.used += size;
     ++b.live;
     a.size = size;
+    a.budgeted = budgeted;
+    if (budgeted)
+        m_budgeted_used += size;
     a.mapped = b.mapped ? static_cast<char*>(b.mapped) + a.offset : nullptr;
     return a;
 }
@@ -151,6 +156,8 @@ void GpuAllocator::free(const Allocation& a) {
     }
     b.used -= a.size;
     --b.live;
+    if (a.budgeted)
+        m_budgeted_used -= a.size;
     if (b.live > 0)
         return;
     const auto same_pool = std::count_if(m_blocks.begin(), m_blocks.end(),
@@ -171,6 +178,7 @@ AllocatorStats GpuAllocator::stats() const {
         s.used_bytes += b.used;
         s.allocations += b.live;
     }
+    s.budgeted_bytes = m_budgeted_used;
     return s;
 }
 

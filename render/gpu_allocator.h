@@ -19,6 +19,7 @@ struct Allocation {
     VkDeviceSize size = 0;   // Bytes reserved (the request, rounded up).
     void* mapped = nullptr;  // Host pointer to `offset`, or null when not host visible.
     uint32_t block = ~0u;    // Owning block (allocator-internal).
+    bool budgeted = false;   // Counted against the allocator's budget (see set_budget).
     bool valid() const { return memory != VK_NULL_HANDLE; }
 };
 
@@ -33,6 +34,7 @@ struct AllocatorStats {
     VkDeviceSize block_bytes = 0; // Device memory held.
     VkDeviceSize used_bytes = 0;  // Of it, handed out.
     uint32_t allocations = 0;
+    VkDeviceSize budgeted_bytes = 0; // Of used_bytes, allocations made with `budgeted`.
 };
 
 class GpuAllocator {
@@ -46,7 +48,12 @@ public:
 
     // Reserves memory meeting `req` (size, alignment, type bits). `for_image` keeps images and
     // buffers apart. Returns an invalid Allocation (and logs) when the device is out of memory.
-    Allocation allocate(const VkMemoryRequirements& req, MemoryUse use, bool for_image);
+    // `budgeted`: memory that grows with the scene (chunk geometry, BLASes), whose failure the
+    // caller survives; it is also refused (invalid, no log line) past the budget.
+    Allocation allocate(const VkMemoryRequirements& req, MemoryUse use, bool for_image, bool budgeted = false);
+    // Bytes that budgeted allocations may hold in all (rounded sizes); 0: no limit. A knob that
+    // makes tests run out of memory the way a full device does, without filling one.
+    void set_budget(VkDeviceSize bytes) { m_budget = bytes; }
     // Returns memory to its block; a block left empty is released unless it is the last of its pool.
     void free(const Allocation& a);
 
@@ -73,6 +80,7 @@ private:
     VkPhysicalDeviceMemoryProperties m_props{};
     VkDeviceSize m_block_size;
     bool m_debug_names;
+    VkDeviceSize m_budget = 0, m_budgeted_used = 0;
     std::vector<Block> m_blocks; // Slots of released blocks have memory == VK_NULL_HANDLE.
 };
 

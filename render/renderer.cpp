@@ -69,7 +69,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
         return Error{ctx.error()};
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
-    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, info.allow_refit);
+    r->m->ctx->allocator().set_budget(info.gpu_memory_budget_bytes);
+    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames});
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
     r->m->create_queries();
@@ -260,9 +261,18 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     std::memcpy(img.rgba.data(), d.readback.mapped(), img.rgba.size());
 
     const AccelStats& a = d.accel->stats();
-    d.stats = {a.blas_builds, a.blas_refits, a.instances, a.triangles,
-               std::chrono::duration<double, std::milli>(t1 - t0).count(),
-               std::chrono::duration<double, std::milli>(t2 - t1).count()};
+    d.stats = RenderStats{};
+    d.stats.blas_builds = a.blas_builds;
+    d.stats.blas_refits = a.blas_refits;
+    d.stats.instances = a.instances;
+    d.stats.blas_compactions = a.blas_compactions;
+    d.stats.hot_chunks = a.hot_chunks;
+    d.stats.failed_chunks = a.failed_chunks;
+    d.stats.triangles = a.triangles;
+    d.stats.upload_bytes = a.upload_bytes;
+    d.stats.memory = d.accel->memory();
+    d.stats.cpu_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    d.stats.gpu_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
     d.read_stamps();
     return img;
 }
@@ -284,9 +294,9 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
     m->materials_dirty = true;
 }
 
-void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh) {
+void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
     mesh.for_each_quad([&](const world::Quad& q) { m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block); });
-    m->accel->set_chunk(c, mesh);
+    m->accel->set_chunk(c, mesh, changed_slices);
 }
 
 void Renderer::remove_chunk(world::ChunkCoord c) { m->accel->remove_chunk(c); }

@@ -71,9 +71,29 @@ struct RenderImage {
     }
 };
 
+// Device memory the scene's acceleration structures hold, bytes by kind (buffer sizes as
+// created, before the allocator's rounding to 16 bytes), after the last frame's builds.
+struct GpuMemoryStats {
+    uint64_t blas = 0;       // Bottom-level acceleration structures.
+    uint64_t vertices = 0;   // Build-input vertices (kept by hot chunks only).
+    uint64_t quads = 0;      // Quad records the hit shader reads (one per slot, spares included).
+    uint64_t tlas = 0;       // TLASes, instance buffers and chunk tables of every frame slot.
+    uint64_t scratch = 0;    // Shared build scratch.
+    uint64_t indices = 0;    // The shared slot index pattern.
+    uint64_t quad_count = 0; // Real quads of the drawn chunks.
+    uint64_t total() const { return blas + vertices + quads + tlas + scratch + indices; }
+    // Per-chunk memory (BLAS + vertices + quad records) per real quad; 0 without quads.
+    double bytes_per_quad() const { return quad_count ? double(blas + vertices + quads) / double(quad_count) : 0.0; }
+};
+
 struct RenderStats {
     uint32_t blas_builds = 0, blas_refits = 0, instances = 0;
-    uint64_t triangles = 0;  // Including spare (degenerate) slots.
+    uint32_t blas_compactions = 0; // Cold BLASes copied into their compacted size this frame.
+    uint32_t hot_chunks = 0;       // Chunks kept refittable (edited within hot_frames frames).
+    uint32_t failed_chunks = 0;    // Chunks not drawn: their GPU memory could not be allocated.
+    uint64_t triangles = 0;  // Of the drawn chunks, including spare (degenerate) slots.
+    uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
+    GpuMemoryStats memory;
     double cpu_ms = 0;       // Recording, including CPU-side geometry work.
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
     // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
@@ -94,6 +114,13 @@ struct RendererCreateInfo {
     // BLASes allow updates, so edits that fit their slots refit; false: no ALLOW_UPDATE (the
     // driver may build a faster-to-trace BVH) and every edit rebuilds its chunk's BLAS.
     bool allow_refit = true;
+    // Frames an edited ("hot": spare slots, ALLOW_UPDATE) chunk stays hot after its last edit
+    // before it is rebuilt cold (exact size, compacted). See render/scene_accel.h.
+    uint32_t hot_frames = 600;
+    // Test knob: chunk geometry and BLAS allocations fail once they would hold more than this
+    // many bytes, as on a full device (those chunks are not drawn and are counted in
+    // RenderStats::failed_chunks). 0: no limit.
+    uint64_t gpu_memory_budget_bytes = 0;
 };
 
 class Renderer {
@@ -105,8 +132,11 @@ public:
 
     // Materials come from `registry` (copied); unknown ids get the registry's fallback colours.
     void set_registry(const world::BlockRegistry& registry);
-    // Incremental scene edits: applied at the next render() (refit when the slots fit).
-    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh);
+    // Incremental scene edits, applied at the next render(). `changed_slices` (slice_index()
+    // values, as MeshSink::on_mesh gives them) marks an edit: only those slices' slots are
+    // uploaded and the BLAS refitted when they fit (else the chunk is rebuilt). Empty: the whole
+    // mesh is new (a chunk not edited lately is rebuilt exact-size and compacted).
+    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {});
     void remove_chunk(world::ChunkCoord c);
     void clear_chunks();
 

@@ -43,9 +43,10 @@ Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
     vkGetBufferMemoryRequirements(ctx.device(), b.m_buffer, &req);
     if (info.alignment > req.alignment)
         req.alignment = info.alignment;
-    b.m_alloc = ctx.allocator().allocate(req, info.memory, false);
+    b.m_alloc = ctx.allocator().allocate(req, info.memory, false, info.scene);
     if (!b.m_alloc.valid()) {
-        VX_LOG_ERROR("out of GPU memory for buffer '%s' (%llu bytes)", info.name, (unsigned long long)info.size);
+        if (!info.scene)
+            VX_LOG_ERROR("out of GPU memory for buffer '%s' (%llu bytes)", info.name, (unsigned long long)info.size);
         b.reset();
         return b;
     }
@@ -139,13 +140,14 @@ void AccelStruct::reset() {
 }
 
 AccelStruct AccelStruct::create(Context& ctx, VkAccelerationStructureTypeKHR type, VkDeviceSize size,
-                                const char* name) {
+                                const char* name, bool scene) {
     AccelStruct as;
     BufferCreateInfo bi;
     bi.size = size;
     bi.usage = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR;
     bi.alignment = 256; // Acceleration structures must start at 256-byte offsets.
     bi.name = name;
+    bi.scene = scene;
     as.m_buffer = Buffer::create(ctx, bi);
     if (!as.m_buffer.valid())
         return as;

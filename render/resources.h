@@ -16,6 +16,9 @@ struct BufferCreateInfo {
     MemoryUse memory = MemoryUse::Device;
     VkDeviceSize alignment = 0;   // Extra minimum alignment (e.g. 256 for acceleration structures).
     const char* name = "buffer";
+    // Scene memory (chunk geometry, BLASes): counts against the allocator's budget, and running
+    // out is the caller's to report (create() then logs nothing).
+    bool scene = false;
 };
 
 class Buffer {
@@ -83,7 +86,9 @@ public:
     AccelStruct& operator=(AccelStruct&& o) noexcept;
     ~AccelStruct() { reset(); }
 
-    static AccelStruct create(Context& ctx, VkAccelerationStructureTypeKHR type, VkDeviceSize size, const char* name);
+    // An empty AccelStruct when memory ran out. `scene`: as BufferCreateInfo::scene.
+    static AccelStruct create(Context& ctx, VkAccelerationStructureTypeKHR type, VkDeviceSize size, const char* name,
+                              bool scene = false);
 
     bool valid() const { return m_handle != VK_NULL_HANDLE; }
     VkAccelerationStructureKHR handle() const { return m_handle; }

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cstring>
 
-namespace vx::render {
+#include "world/base/log.h"
 
+namespace vx::render {
 
 struct SceneAccel::BuildBatch {
     std::vector<VkAccelerationStructureGeometryKHR> geometries;
@@ -13,29 +14,75 @@ struct SceneAccel::BuildBatch {
     std::vector<VkDeviceSize> scratch_sizes;
 };
 
-SceneAccel::SceneAccel(Context& ctx, bool allow_refit)
-    : m_ctx(&ctx), m_staging(ctx), m_allow_refit(allow_refit),
-      m_blas_flags(VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
-                   (allow_refit ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR : 0)) {}
+// A refit keeps the tree built for the old geometry, whose boxes loosen as edits pile up, so
+// every kMaxRefits-th update of a chunk is a rebuild. On the H200 a 64-chunk refit costs 2.9 ms
+// against 15.4 ms rebuilt (docs/benchmarks.md): one rebuild in 16 adds about a third to the
+// update cost. The trace-time loss after k refits is not measured yet.
+static constexpr uint32_t kMaxRefits = 16;
 
-void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh) {
+template <class G> static void mark_dirty(G& g, int slice) {
+    VX_ASSERT(slice >= 0 && slice < world::kSliceCount);
+    g.dirty.set(size_t(slice));
+}
+
+SceneAccel::SceneAccel(Context& ctx, const SceneAccelCreateInfo& info)
+    : m_ctx(&ctx), m_staging(ctx), m_info(info) {}
+
+SceneAccel::~SceneAccel() {
+    bool pools = false;
+    for (const CompactionQueries& q : m_queries)
+        pools |= q.pool != VK_NULL_HANDLE;
+    if (!pools)
+        return;
+    m_ctx->wait_idle(); // Query pools have no retire list: destroy them once the GPU is idle.
+    for (CompactionQueries& q : m_queries)
+        if (q.pool)
+            vkDestroyQueryPool(m_ctx->device(), q.pool, nullptr);
+}
+
+void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
     if (mesh.empty()) {
         remove_chunk(c);
         return;
     }
-    ChunkGpu& g = m_chunks[c];
-    // A refit keeps the tree built for the old geometry, whose boxes loosen as edits pile up, so
-    // every kMaxRefits-th update of a chunk is a rebuild. On the H200 a 64-chunk refit costs
-    // 2.9 ms against 15.4 ms rebuilt (docs/benchmarks.md): one rebuild in 16 adds about a third
-    // to the update cost. The trace-time loss after k refits is not measured yet.
-    constexpr uint32_t kMaxRefits = 16;
-    const bool refit =
-        m_allow_refit && g.blas.valid() && g.layout.fits(mesh) && g.refits_since_build < kMaxRefits;
-    if (!refit)
-        g.layout = SlotLayout::for_mesh(mesh);
+    auto [it, inserted] = m_chunks.try_emplace(c);
+    ChunkGpu& g = it->second;
+    const bool fresh = inserted || g.failed;
+    const uint64_t hash = mesh_hash(mesh);
+    if (!fresh && hash == g.hash) {
+        // The same mesh again (Renderer::render(scene) re-sends every chunk), or again after a
+        // batch of edits, each call naming its own slices: a pending refit uploads them all.
+        if (g.pending == Pending::Refit)
+            for (int s : changed_slices)
+                mark_dirty(g, s);
+        return;
+    }
+    g.hash = hash;
+    g.quad_count = mesh.quad_count();
+    g.failed = false;
     g.mesh = mesh;
-    // A rebuild pending from an earlier set_chunk in the same frame stays a rebuild.
-    g.pending = refit && g.pending != Pending::Build ? Pending::Refit : Pending::Build;
+    const bool edit = !fresh && !changed_slices.empty();
+    if (m_info.allow_refit && (edit || g.hot)) {
+        g.last_edit_frame = m_frame;
+        // A cold BLAS has neither spare slots nor ALLOW_UPDATE: its first edit rebuilds it hot.
+        const bool refit = g.hot && g.blas.valid() && g.pending != Pending::Build && g.layout.fits(mesh) &&
+                           g.refits_since_build < kMaxRefits;
+        g.hot = true;
+        if (refit) {
+            g.pending = Pending::Refit;
+            if (changed_slices.empty())
+                g.dirty.set();
+            for (int s : changed_slices)
+                mark_dirty(g, s);
+            return;
+        }
+        g.layout = SlotLayout::for_mesh(mesh);
+    } else {
+        g.hot = false;
+        g.layout = SlotLayout::exact(mesh);
+    }
+    g.pending = Pending::Build;
+    g.dirty.set();
 }
 
 void SceneAccel::remove_chunk(world::ChunkCoord c) { m_chunks.erase(c); }
@@ -88,51 +135,123 @@ static VkAccelerationStructureGeometryKHR triangle_geometry(VkDeviceAddress vert
     return g;
 }
 
+static constexpr VkDeviceSize kSlotBytes = kSlotVertexBytes + kSlotQuadBytes;
+
+// Staging a pending chunk needs: all its slots, or the dirty slices' (plus alignment per copy).
+VkDeviceSize SceneAccel::staging_bytes(const ChunkGpu& g) const {
+    if (g.pending == Pending::Build || g.dirty.all())
+        return g.layout.total * kSlotBytes + 32;
+    VkDeviceSize bytes = 0;
+    for (int s = 0; s < world::kSliceCount; ++s)
+        if (g.dirty.test(size_t(s)))
+            bytes += g.layout.capacity[s] * kSlotBytes + 32;
+    return bytes;
+}
+
+void SceneAccel::fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes) {
+    if (!m_logged_failure)
+        VX_LOG_ERROR("renderer: out of GPU memory for chunk %d,%d,%d (%llu bytes): not drawn; further failures are "
+                     "only counted (RenderStats::failed_chunks)",
+                     c.x, c.y, c.z, (unsigned long long)bytes);
+    m_logged_failure = true;
+    g.vertices.reset();
+    g.quads.reset();
+    g.blas.reset();
+    g.mesh = world::ChunkMesh{};
+    g.failed = true;
+    g.hot = false;
+    g.pending = Pending::None;
+    g.dirty.reset();
+}
+
+// New buffers and BLAS for a build; on failure the chunk is dropped from the scene (not drawn).
+bool SceneAccel::allocate_chunk(world::ChunkCoord c, ChunkGpu& g,
+                                const VkAccelerationStructureBuildSizesInfoKHR& sizes) {
+    const VkDeviceSize slots = g.layout.total;
+    const VkBufferUsageFlags input =
+        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    Buffer vertices =
+        Buffer::create(*m_ctx, {slots * kSlotVertexBytes, input, MemoryUse::Device, 0, "chunk vertices", true});
+    Buffer quads = Buffer::create(*m_ctx, {slots * kSlotQuadBytes,
+                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                           MemoryUse::Device, 0, "chunk quads", true});
+    char name[96];
+    std::snprintf(name, sizeof name, "BLAS chunk %d,%d,%d%s", c.x, c.y, c.z, g.hot ? " (hot)" : "");
+    AccelStruct blas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+                                           sizes.accelerationStructureSize, name, true);
+    if (!vertices.valid() || !quads.valid() || !blas.valid()) {
+        fail_chunk(c, g, slots * kSlotBytes + sizes.accelerationStructureSize);
+        return false; // What was allocated retires with the locals.
+    }
+    g.vertices = std::move(vertices); // The old ones retire with this frame.
+    g.quads = std::move(quads);
+    g.blas = std::move(blas);
+    return true;
+}
+
+void SceneAccel::upload_chunk(ChunkGpu& g, bool whole) {
+    const SlotLayout& l = g.layout;
+    if (whole || g.dirty.all()) {
+        fill_slots(l, g.mesh, static_cast<float*>(m_staging.add(g.vertices, 0, l.total * kSlotVertexBytes)),
+                   static_cast<world::Quad*>(m_staging.add(g.quads, 0, l.total * kSlotQuadBytes)));
+        m_stats.upload_bytes += l.total * kSlotBytes;
+        return;
+    }
+    for (int s = 0; s < world::kSliceCount; ++s) {
+        if (!g.dirty.test(size_t(s)) || l.capacity[s] == 0)
+            continue;
+        void* v = m_staging.add(g.vertices, l.start[s] * kSlotVertexBytes, l.capacity[s] * kSlotVertexBytes);
+        void* q = m_staging.add(g.quads, l.start[s] * kSlotQuadBytes, l.capacity[s] * kSlotQuadBytes);
+        fill_slice(l, g.mesh, s, static_cast<float*>(v), static_cast<world::Quad*>(q));
+        m_stats.upload_bytes += l.capacity[s] * kSlotBytes;
+    }
+}
+
 void SceneAccel::prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch) {
     const uint32_t slots = g.layout.total;
     const bool build = g.pending == Pending::Build;
-    if (build) {
-        const VkBufferUsageFlags input = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
-                                         VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-        g.vertices = Buffer::create(*m_ctx, {slots * kSlotVertexBytes, input, MemoryUse::Device, 0, "chunk vertices"});
-        g.quads = Buffer::create(*m_ctx, {slots * kSlotQuadBytes,
-                                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                          MemoryUse::Device, 0, "chunk quads"});
-        VX_ASSERT_MSG(g.vertices.valid() && g.quads.valid(), "out of GPU memory for chunk geometry");
-    }
-    fill_slots(g.layout, g.mesh, static_cast<float*>(m_staging.add(g.vertices, 0, slots * kSlotVertexBytes)),
-               static_cast<world::Quad*>(m_staging.add(g.quads, 0, slots * kSlotQuadBytes)));
-    g.mesh.clear();
-
-    batch.geometries.push_back(triangle_geometry(g.vertices.address(), m_indices.address(), slots));
     VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
     info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-    info.flags = m_blas_flags;
+    info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
+                 (g.hot ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR
+                        : VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR);
     info.mode = build ? VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR : VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
     info.geometryCount = 1;
-    info.pGeometries = &batch.geometries.back();
     const uint32_t triangles = 2 * slots;
+    VkDeviceSize scratch_bytes = g.update_scratch;
     if (build) {
+        const VkAccelerationStructureGeometryKHR shape = triangle_geometry(0, 0, slots);
+        info.pGeometries = &shape;
         VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
         vkGetAccelerationStructureBuildSizesKHR(m_ctx->device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
                                                 &triangles, &sizes);
-        char name[96];
-        std::snprintf(name, sizeof name, "BLAS chunk %d,%d,%d", c.x, c.y, c.z);
-        g.blas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-                                     sizes.accelerationStructureSize, name);
-        VX_ASSERT_MSG(g.blas.valid(), "out of GPU memory for a BLAS");
+        if (!allocate_chunk(c, g, sizes))
+            return;
+        scratch_bytes = sizes.buildScratchSize;
         g.update_scratch = sizes.updateScratchSize;
-        batch.scratch_sizes.push_back(sizes.buildScratchSize);
+        g.build_serial = m_next_serial++;
+        g.refits_since_build = 0;
+        ++m_stats.blas_builds;
     } else {
         info.srcAccelerationStructure = g.blas.handle();
-        batch.scratch_sizes.push_back(g.update_scratch);
+        ++g.refits_since_build;
+        ++m_stats.blas_refits;
     }
+    upload_chunk(g, build);
+    batch.geometries.push_back(triangle_geometry(g.vertices.address(), m_indices.address(), slots));
     info.dstAccelerationStructure = g.blas.handle();
-    batch.infos.push_back(info);
+    batch.infos.push_back(info); // pGeometries is set in record_blas_builds.
     batch.ranges.push_back({triangles, 0, 0, 0});
-    (build ? m_stats.blas_builds : m_stats.blas_refits)++;
-    g.refits_since_build = build ? 0 : g.refits_since_build + 1;
+    batch.scratch_sizes.push_back(scratch_bytes);
     g.pending = Pending::None;
+    g.dirty.reset();
+    if (!g.hot) {
+        // Cold: never refitted, so the vertices are needed only by this build; they retire with
+        // this frame. The compacted-size query follows the build (record_compaction_queries).
+        g.vertices.reset();
+        g.mesh = world::ChunkMesh{};
+        m_built_cold.push_back(c);
+    }
 }
 
 void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
@@ -157,8 +276,9 @@ void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
 
 void SceneAccel::record_builds(VkCommandBuffer cmd) {
     m_stats = {};
+    ++m_frame;
     // Work of earlier frames (traces reading chunk buffers, builds writing BLASes and scratch)
-    // must finish before this frame overwrites them.
+    // must finish before this frame overwrites them or copies them into compacted BLASes.
     memory_barrier(cmd,
                    VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR |
                        VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
@@ -166,16 +286,18 @@ void SceneAccel::record_builds(VkCommandBuffer cmd) {
                    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR |
                        VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
+    record_compactions(cmd);
+    demote_idle_hot_chunks();
     uint32_t max_slots = 0;
-    VkDeviceSize staging_bytes = 0;
+    VkDeviceSize staging = 0;
     for (auto& [c, g] : m_chunks)
         if (g.pending != Pending::None) {
             max_slots = std::max(max_slots, g.layout.total);
-            staging_bytes += g.layout.total * (kSlotVertexBytes + kSlotQuadBytes) + 32;
+            staging += staging_bytes(g);
         }
     ensure_indices(max_slots);
 
-    m_staging.begin(staging_bytes);
+    m_staging.begin(staging);
     BuildBatch batch;
     batch.geometries.reserve(m_chunks.size());
     for (auto& [c, g] : m_chunks)
@@ -190,17 +312,18 @@ void SceneAccel::record_builds(VkCommandBuffer cmd) {
 }
 
 void SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block) {
-    // One barrier between all BLAS builds and the TLAS build that references them.
+    // One barrier between all BLAS builds (and compaction copies) and what reads them: the
+    // compacted-size queries and the TLAS build.
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
                    VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
+    record_compaction_queries(cmd);
     record_tlas(cmd, camera_block);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
-    for (auto& [c, g] : m_chunks)
-        m_stats.triangles += g.layout.triangle_count();
+    count_memory();
 }
 
 } // namespace vx::render

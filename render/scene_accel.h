@@ -1,38 +1,70 @@
 #pragma once
 // The acceleration structures of a scene of chunks: one BLAS per non-empty chunk mesh (see
-// chunk_geometry.h for the slot layout that allows refits), and a TLAS rebuilt every frame with
-// camera-relative instance transforms computed in 64-bit on the CPU, so a world at 2^24 blocks
-// renders exactly like one at the origin. All BLAS builds and refits of a frame go into one
-// vkCmdBuildAccelerationStructuresKHR call, followed by one barrier and the TLAS build.
+// chunk_geometry.h for the slot layout that allows refits, and below for hot and cold chunks),
+// and a TLAS rebuilt every frame with camera-relative instance transforms computed in 64-bit on
+// the CPU, so a world at 2^24 blocks renders exactly like one at the origin. All BLAS builds and
+// refits of a frame go into one vkCmdBuildAccelerationStructuresKHR call, followed by one barrier
+// and the TLAS build.
 // Main thread only.
 
 #include <array>
+#include <bitset>
+#include <span>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
 #include "render/chunk_geometry.h"
 #include "render/commands.h"
+#include "render/renderer.h"
 #include "world/coords.h"
 
 namespace vx::render {
 
 struct AccelStats {
-    uint32_t blas_builds = 0;  // BLASes built from scratch in the last record().
-    uint32_t blas_refits = 0;  // BLASes updated in place in the last record().
-    uint32_t instances = 0;    // TLAS instances (non-empty chunks).
-    uint64_t triangles = 0;    // Triangles in all BLASes, degenerate spares included.
+    uint32_t blas_builds = 0;      // BLASes built from scratch in the last record().
+    uint32_t blas_refits = 0;      // BLASes updated in place in the last record().
+    uint32_t blas_compactions = 0; // Cold BLASes copied into their compacted size in the last record().
+    uint32_t instances = 0;        // TLAS instances (drawn chunks).
+    uint32_t hot_chunks = 0;       // Chunks kept refittable (edited lately).
+    uint32_t failed_chunks = 0;    // Chunks not drawn: their GPU memory could not be allocated.
+    uint64_t triangles = 0;        // Triangles in the drawn chunks' BLASes, degenerate spares included.
+    uint64_t upload_bytes = 0;     // Chunk vertices + quad records staged and copied in the last record().
 };
 
+// Device memory by kind: GpuMemoryStats (render/renderer.h).
+using AccelMemory = GpuMemoryStats;
+
+struct SceneAccelCreateInfo {
+    // Edited chunks are built with spare slots and ALLOW_UPDATE so fitting edits refit; false:
+    // every chunk is built cold and every edit rebuilds.
+    bool allow_refit = true;
+    // Frames after its last edit a hot chunk stays refittable before it is rebuilt cold.
+    uint32_t hot_frames = 600;
+};
+
+// Chunks are "cold" (built exact-size, PREFER_FAST_TRACE, without ALLOW_UPDATE, then compacted;
+// their vertices are dropped after the build, so they hold only the BLAS and the quad records)
+// or "hot" (spare slots per slice, ALLOW_UPDATE, vertices kept: an edit whose slices fit uploads
+// just those slices and refits). A new chunk is cold; an edit (set_chunk with changed slices)
+// makes it hot with a rebuild; a hot chunk not edited for hot_frames frames is rebuilt cold.
+// Compaction runs kFramesInFlight frames after the build, once the compacted-size query of that
+// frame slot has completed.
 class SceneAccel {
 public:
-    // allow_refit: BLASes are built with ALLOW_UPDATE so fitting edits refit; false builds them
-    // without it (drivers may then build a better BVH) and every edit rebuilds.
-    explicit SceneAccel(Context& ctx, bool allow_refit = true);
+    SceneAccel(Context& ctx, const SceneAccelCreateInfo& info);
+    ~SceneAccel();
+    SceneAccel(const SceneAccel&) = delete;
+    SceneAccel& operator=(const SceneAccel&) = delete;
 
-    // Sets chunk `c`'s mesh. A mesh whose slices fit the chunk's slot layout becomes a refit at
-    // the next record(); otherwise the BLAS is rebuilt. An empty mesh removes the chunk.
-    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh);
+    // Sets chunk `c`'s mesh (chunk-local block units); applied at the next record(). An empty
+    // mesh removes the chunk. `changed_slices` (slice_index() values) marks an edit: the chunk
+    // turns hot and, when it is hot already and every slice still fits its slots, only those
+    // slices are uploaded before a refit. Empty: the whole mesh is new (a hot chunk refits with
+    // a full upload when it fits, a cold one is rebuilt; a mesh equal to the current one is
+    // ignored). A chunk whose GPU memory cannot be allocated is not drawn and is counted in
+    // AccelStats::failed_chunks until it is set again or removed.
+    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {});
     void remove_chunk(world::ChunkCoord c);
     void clear();
     // Removes every chunk not in `keep`.
@@ -55,17 +87,25 @@ public:
     // Address of uint64[instance]: the Quad slot buffer of each TLAS instance.
     VkDeviceAddress chunk_table() const { return m_frames[m_ctx->frame_slot()].table.address(); }
     const AccelStats& stats() const { return m_stats; }
+    const AccelMemory& memory() const { return m_memory; }
 
 private:
     enum class Pending : uint8_t { None, Build, Refit };
     struct ChunkGpu {
         SlotLayout layout;
-        world::ChunkMesh mesh; // Waiting for upload; cleared once recorded.
+        world::ChunkMesh mesh; // Hot chunks: the current mesh (to rebuild cold later); cold: until uploaded.
+        std::bitset<world::kSliceCount> dirty; // Slices a pending refit uploads.
         Buffer vertices, quads;
         AccelStruct blas;
         VkDeviceSize update_scratch = 0;
         Pending pending = Pending::None;
+        bool hot = false;
+        bool failed = false;           // Out of memory at its last build: not drawn.
         uint32_t refits_since_build = 0;
+        uint32_t quad_count = 0;
+        uint64_t last_edit_frame = 0;  // record() count at its last edit (hot chunks).
+        uint64_t build_serial = 0;     // Which build its BLAS came from (stale compaction queries).
+        uint64_t hash = 0;             // mesh_hash() of its latest mesh.
     };
     struct FrameData {
         AccelStruct tlas;
@@ -73,12 +113,26 @@ private:
         uint32_t capacity = 0; // Instances the TLAS, instance and table buffers hold.
         VkDeviceSize tlas_scratch = 0;
     };
+    // Compacted-size queries written in one frame slot, read when the slot comes round again.
+    struct CompactionQueries {
+        VkQueryPool pool = VK_NULL_HANDLE;
+        uint32_t capacity = 0;
+        std::vector<std::pair<world::ChunkCoord, uint64_t>> chunks; // Query i: chunk, build serial.
+    };
     struct BuildBatch; // Geometry and build infos of one frame's BLAS call.
 
     void ensure_indices(uint32_t slots);
+    void demote_idle_hot_chunks();
+    VkDeviceSize staging_bytes(const ChunkGpu& g) const;
+    bool allocate_chunk(world::ChunkCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);
+    void fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes);
+    void upload_chunk(ChunkGpu& g, bool whole);
     void prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch);
     void record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
+    void record_compactions(VkCommandBuffer cmd);
+    void record_compaction_queries(VkCommandBuffer cmd);
     void record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
+    void count_memory();
     VkDeviceAddress scratch(VkDeviceSize bytes);
 
     Context* m_ctx;
@@ -88,9 +142,14 @@ private:
     StagingRing m_staging;
     Buffer m_scratch; // Shared by the frame's BLAS call and TLAS build (a barrier separates them).
     std::array<FrameData, kFramesInFlight> m_frames;
+    std::array<CompactionQueries, kFramesInFlight> m_queries;
+    std::vector<world::ChunkCoord> m_built_cold; // Chunks built cold this frame (to query).
     AccelStats m_stats;
-    bool m_allow_refit = true;
-    VkBuildAccelerationStructureFlagsKHR m_blas_flags = 0;
+    AccelMemory m_memory;
+    SceneAccelCreateInfo m_info;
+    uint64_t m_frame = 0;       // record_builds() calls.
+    uint64_t m_next_serial = 1;
+    bool m_logged_failure = false;
 };
 
 } // namespace vx::render

@@ -21,7 +21,8 @@ void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
     std::vector<std::pair<world::ChunkCoord, ChunkGpu*>> chunks;
     chunks.reserve(m_chunks.size());
     for (auto& [c, g] : m_chunks)
-        chunks.emplace_back(c, &g);
+        if (g.blas.valid()) // Not chunks whose memory ran out.
+            chunks.emplace_back(c, &g);
     std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) {
         return std::tie(a.first.x, a.first.y, a.first.z) < std::tie(b.first.x, b.first.y, b.first.z);
     });

@@ -1,6 +1,7 @@
 // `vx render`: load and mesh a scene, ray trace it with vx_render, write a PNG and print where
 // the time went (GPU timestamps per phase where the device has them). --repeat and --edit-burst
-// make it a benchmark: medians over many frames and over refit/rebuild edit bursts.
+// make it a benchmark: medians over many frames and over edit bursts (slice uploads + refits,
+// whole-chunk uploads + refits, rebuilds). It also prints the scene's GPU memory by kind.
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
@@ -101,11 +102,34 @@ std::optional<std::string> make_settings(const RenderArgs& a, const RenderScene&
     return std::nullopt;
 }
 
+std::string mb(uint64_t bytes) {
+    char buf[32];
+    if (bytes < 1000000)
+        std::snprintf(buf, sizeof buf, "%.1f KB", double(bytes) / 1e3);
+    else
+        std::snprintf(buf, sizeof buf, "%.2f MB", double(bytes) / 1e6);
+    return buf;
+}
+
 void print_frame(const char* what, const render::RenderStats& st, double wall_ms) {
-    std::printf("  %s: BLAS %s (%u builds, %u refits), TLAS %s (%u instances), trace %s, readback copy %s; "
-                "frame %s wall\n",
-                what, ms(st.gpu_blas_ms).c_str(), st.blas_builds, st.blas_refits, ms(st.gpu_tlas_ms).c_str(),
-                st.instances, ms(st.gpu_trace_ms).c_str(), ms(st.gpu_copy_ms).c_str(), ms(wall_ms).c_str());
+    std::printf("  %s: BLAS %s (%u builds, %u refits, %u compactions; upload %s), TLAS %s (%u instances), trace %s, "
+                "readback copy %s; frame %s wall\n",
+                what, ms(st.gpu_blas_ms).c_str(), st.blas_builds, st.blas_refits, st.blas_compactions,
+                mb(st.upload_bytes).c_str(), ms(st.gpu_tlas_ms).c_str(), st.instances, ms(st.gpu_trace_ms).c_str(),
+                ms(st.gpu_copy_ms).c_str(), ms(wall_ms).c_str());
+    if (st.failed_chunks > 0)
+        std::printf("  %u chunks not drawn: out of GPU memory\n", st.failed_chunks);
+}
+
+// Device memory of the scene by kind; B/quad counts what each chunk holds (BLAS, vertices, quad
+// records) over the real quads drawn.
+void print_memory(const render::RenderStats& st) {
+    const render::GpuMemoryStats& m = st.memory;
+    std::printf("  GPU memory: BLAS %s, vertices %s, quad records %s, TLAS %s, scratch %s, indices %s; total %s; "
+                "%.1f B/quad over %" PRIu64 " quads (%u chunks hot)\n",
+                mb(m.blas).c_str(), mb(m.vertices).c_str(), mb(m.quads).c_str(), mb(m.tlas).c_str(),
+                mb(m.scratch).c_str(), mb(m.indices).c_str(), mb(m.total()).c_str(), m.bytes_per_quad(), m.quad_count,
+                st.hot_chunks);
 }
 
 // Renders and returns the wall time of the call (it waits for the GPU).
@@ -133,9 +157,32 @@ void repeat_frames(render::Renderer& r, const Settings& s, uint32_t n) {
                 ms(median(wall)).c_str());
 }
 
-// Edit bursts: `k` chunks each get one block toggled at their centre and are remeshed; the new
-// meshes go to the renderer as refits (set_chunk), then the same edit as rebuilds (remove_chunk
-// + set_chunk). Medians of the BLAS phase over `rounds` bursts of each kind.
+struct BurstFigures {
+    std::vector<double> blas_ms, upload;
+    uint64_t refits = 0, builds = 0;
+    void add(const render::RenderStats& st) {
+        blas_ms.push_back(st.gpu_blas_ms);
+        upload.push_back(double(st.upload_bytes));
+        refits += st.blas_refits;
+        builds += st.blas_builds;
+    }
+    void print(const char* what, size_t chunks) const {
+        const double n = double(blas_ms.size()), up = median(upload);
+        std::printf("    %-8s BLAS %s, upload %s (%.0f B per chunk), %.1f refits + %.1f builds per burst\n", what,
+                    ms(median(blas_ms)).c_str(), mb(uint64_t(up)).c_str(), up / double(chunks), double(refits) / n,
+                    double(builds) / n);
+    }
+};
+
+// Edit bursts: `k` chunks each get one block toggled at their centre, remeshed through the
+// six-slice edit path (world::EditMesher, as the engine does). The meshes reach the renderer in
+// three ways, medians of the BLAS phase (uploads, builds, refits, compaction copies: GPU
+// timestamps) and of the bytes uploaded over `rounds` bursts each:
+//   slices:  set_chunk(c, mesh, changed slices), the engine's path: those slices, then a refit;
+//   whole:   set_chunk(c, mesh): the chunk's whole hot layout uploaded, then a refit;
+//   rebuild: remove_chunk + set_chunk: a cold build (exact size), compacted two frames later
+//            (that frame's BLAS phase is reported as "compact").
+// The first burst turns the loaded (cold) chunks hot, a rebuild each, and is reported alone.
 void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uint32_t k, uint32_t rounds) {
     std::vector<ChunkCoord> coords;
     for (const auto& [c, mc] : scene.meshes)
@@ -146,28 +193,45 @@ void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uin
     });
     coords.resize(std::min<size_t>(coords.size(), k));
     const BlockId stone = scene.world->registry().find("stone").value_or(BlockId(1));
-    std::vector<double> refit, rebuild;
-    uint32_t refits = 0, builds[2] = {0, 0};
-    for (uint32_t round = 0; round < rounds; ++round)
-        for (int mode = 0; mode < 2; ++mode) {
-            for (ChunkCoord c : coords) {
-                const BlockPos p = chunk_origin(c) + BlockPos(kChunkSize / 2);
-                scene.world->set_block(p, scene.world->get_block(p) == kAir ? stone : kAir);
-                remesh_chunk(scene, c);
-                if (mode == 1)
-                    r.remove_chunk(c);
-                r.set_chunk(c, scene.meshes[c].mesh);
+    EditMesher em;
+    enum Mode { Slices, Whole, Rebuild };
+    auto burst = [&](Mode mode) {
+        for (ChunkCoord c : coords) {
+            const BlockPos p = chunk_origin(c) + BlockPos(kChunkSize / 2);
+            const BlockId id = scene.world->get_block(p) == kAir ? stone : kAir;
+            const EditResult e = em.apply(*scene.world, p, id, scene.meshes);
+            for (const SliceUpdate& u : e.updates) {
+                const ChunkMesh& mesh = scene.meshes[u.chunk].mesh;
+                if (mode == Rebuild)
+                    r.remove_chunk(u.chunk);
+                if (mode == Slices && !u.full)
+                    r.set_chunk(u.chunk, mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
+                else
+                    r.set_chunk(u.chunk, mesh);
             }
-            timed_render(r, s, nullptr);
-            const render::RenderStats& st = r.last_stats();
-            (mode == 0 ? refit : rebuild).push_back(st.gpu_blas_ms);
-            refits += st.blas_refits;
-            builds[mode] += st.blas_builds;
         }
-    std::printf("  edit burst of %zu chunks (medians of %u): set_chunk BLAS %s (%.1f refits, %.1f builds per burst), "
-                "remove+set rebuild BLAS %s (%.1f builds per burst)\n",
-                coords.size(), rounds, ms(median(refit)).c_str(), double(refits) / rounds, double(builds[0]) / rounds,
-                ms(median(rebuild)).c_str(), double(builds[1]) / rounds);
+        timed_render(r, s, nullptr);
+        return r.last_stats();
+    };
+    BurstFigures first, slices, whole, rebuild, compact;
+    first.add(burst(Slices));
+    for (uint32_t round = 0; round < rounds; ++round) {
+        slices.add(burst(Slices));
+        whole.add(burst(Whole));
+    }
+    for (uint32_t round = 0; round < rounds; ++round) {
+        rebuild.add(burst(Rebuild));
+        timed_render(r, s, nullptr);
+        timed_render(r, s, nullptr); // The rebuilt chunks are compacted in this frame.
+        compact.add(r.last_stats());
+    }
+    std::printf("  edit burst of %zu chunks, one block each (medians of %u bursts; GPU timestamps):\n", coords.size(),
+                rounds);
+    first.print("first", coords.size());
+    slices.print("slices", coords.size());
+    whole.print("whole", coords.size());
+    rebuild.print("rebuild", coords.size());
+    compact.print("compact", coords.size());
 }
 
 int run_render(RenderArgs a) {
@@ -214,6 +278,9 @@ int run_render(RenderArgs a) {
     print_frame("frame 1", r.last_stats(), first);
     if (a.repeat > 1)
         repeat_frames(r, s, a.repeat);
+    for (uint32_t i = std::max<uint32_t>(a.repeat, 1); i < 3; ++i)
+        timed_render(r, s, nullptr); // Cold chunks are compacted in frame 3.
+    print_memory(r.last_stats());
     if (a.edit_burst > 0)
         edit_bursts(r, *scene, s, a.edit_burst, std::max<uint32_t>(a.repeat, 1));
     if (Status w = render::write_png(a.out, image); !w)
@@ -258,7 +325,9 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--device", a->device, "auto, cpu, gpu or a device index (see vx info)");
     cmd->add_option("--out", a->out, "PNG file to write");
     cmd->add_option("--repeat", a->repeat, "Render N frames of the view; print medians of frames 2..N");
-    cmd->add_option("--edit-burst", a->edit_burst, "Then time refit vs rebuild of K edited chunks (--repeat rounds)");
+    cmd->add_option("--edit-burst", a->edit_burst,
+                    "Then edit one block in each of K chunks: GPU time and bytes uploaded of slice refits, whole-chunk "
+                    "refits and rebuilds (--repeat rounds)");
     cmd->add_option("--blas-update", a->blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");

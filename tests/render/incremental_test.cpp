@@ -1,6 +1,6 @@
 // Incremental = scratch: random edits applied through the edit mesher and Renderer::set_chunk
-// (BLAS refits when the slots fit, rebuilds otherwise) render the same bytes as the same world
-// loaded from scratch.
+// with the slices each edit changed (those slices uploaded and the BLAS refitted when the slots
+// fit, rebuilds otherwise) render the same bytes as the same world loaded from scratch.
 #include <random>
 
 #include "scene_util.h"
@@ -10,18 +10,7 @@ namespace {
 
 using test::RendererTest;
 
-// Hilly ground over 2 x 1 x 2 chunks (x, z in [-32, 32), y in [0, 32)).
-world::World hills() {
-    world::World w;
-    const world::BlockId grass = test::block_id("grass"), dirt = test::block_id("dirt");
-    for (int64_t z = -32; z < 32; ++z)
-        for (int64_t x = -32; x < 32; ++x) {
-            const int64_t h = 6 + int64_t(4 * std::sin(double(x) * 0.2) + 3 * std::cos(double(z) * 0.15));
-            for (int64_t y = 0; y < h; ++y)
-                w.set_block({x, y, z}, y + 1 == h ? grass : dirt);
-        }
-    return w;
-}
+using test::hills;
 
 RenderSettings settings() {
     RenderSettings s;
@@ -44,7 +33,7 @@ TEST_F(RendererTest, IncrementalEditsRenderLikeScratch) {
     uint32_t refits = 0, rebuilds = 0;
     for (int round = 0; round < 4; ++round) {
         for (int batch = 0; batch < 3; ++batch) {
-            std::vector<world::ChunkCoord> touched;
+            std::vector<world::SliceUpdate> touched;
             // Single-block edits (mostly refits), and in the last batch of a round a solid box
             // that overflows slot capacity (rebuilds) and may create a new chunk above.
             const int edits = batch == 2 ? 1 : 12;
@@ -57,10 +46,11 @@ TEST_F(RendererTest, IncrementalEditsRenderLikeScratch) {
                         for (int64_t dx = 0; dx < size; ++dx)
                             for (const world::SliceUpdate& u :
                                  em.apply(w, p + world::BlockPos(dx, 20 * (size > 1) + dy, dz), id, meshes).updates)
-                                touched.push_back(u.chunk);
+                                touched.push_back(u);
             }
-            for (world::ChunkCoord c : touched)
-                m_renderer->set_chunk(c, meshes[c].mesh);
+            // Every edit's slices, each with the chunk's final mesh: a pending refit uploads the union.
+            for (const world::SliceUpdate& u : touched)
+                m_renderer->set_chunk(u.chunk, meshes[u.chunk].mesh, test::changed_slices(u));
             m_renderer->render(settings(), cam); // Applies this batch's refits and rebuilds.
             refits += m_renderer->last_stats().blas_refits;
             rebuilds += m_renderer->last_stats().blas_builds;
@@ -79,8 +69,9 @@ TEST_F(RendererTest, IncrementalEditsRenderLikeScratch) {
     EXPECT_GT(rebuilds, 2u);
 }
 
-// A chunk edited over and over is refitted 16 times, then rebuilt (its boxes would loosen), and
-// the count starts again.
+// A chunk edited over and over: its first edit rebuilds it hot (it was loaded cold: exact size,
+// no ALLOW_UPDATE), then it is refitted 16 times, then rebuilt (its boxes would loosen), and the
+// count starts again.
 TEST_F(RendererTest, RepeatedRefitsEndInARebuild) {
     world::World w = hills();
     world::EditMesher em;
@@ -92,16 +83,19 @@ TEST_F(RendererTest, RepeatedRefitsEndInARebuild) {
     m_renderer->render(flat, cam);
     std::vector<char> kinds; // 'r' refit, 'b' build, per edit.
     for (int i = 0; i < 34; ++i) {
-        // Toggle one block deep inside chunk (0,0,0): its slices keep their size, so it fits.
-        const world::BlockPos p(10, 1, 10);
-        em.apply(w, p, i % 2 ? test::block_id("dirt") : test::block_id("stone"), meshes);
-        m_renderer->set_chunk(world::ChunkCoord(0), meshes[world::ChunkCoord(0)].mesh);
+        // Place and remove one block on the ground inside chunk (0,0,0) (the surface there is at
+        // y = 9): the first edit (place) sets the hot layout, and both states fit it.
+        const world::BlockPos p(10, 9, 10);
+        const world::EditResult e = em.apply(w, p, i % 2 ? world::kAir : test::block_id("stone"), meshes);
+        ASSERT_EQ(e.updates.size(), 1u);
+        m_renderer->set_chunk(world::ChunkCoord(0), meshes[world::ChunkCoord(0)].mesh,
+                              test::changed_slices(e.updates[0]));
         m_renderer->render(flat, cam);
         const auto& st = m_renderer->last_stats();
         ASSERT_EQ(st.blas_refits + st.blas_builds, 1u) << "edit " << i;
         kinds.push_back(st.blas_builds ? 'b' : 'r');
     }
-    const std::string expect = std::string(16, 'r') + "b" + std::string(16, 'r') + "b";
+    const std::string expect = "b" + std::string(16, 'r') + "b" + std::string(16, 'r');
     EXPECT_EQ(std::string(kinds.begin(), kinds.end()), expect);
 }
 

@@ -2,6 +2,8 @@
 // Test scenes for the renderer: build a World by boxes, mesh it with the greedy mesher, load the
 // meshes into a Renderer. Also a Renderer fixture that checks the validation layer stayed silent.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -30,6 +32,20 @@ inline void fill_box(world::World& w, world::BlockPos lo, world::BlockPos hi, wo
                 w.set_block({x, y, z}, id);
 }
 
+// Hilly ground over 2 x 1 x 2 chunks (x, z in [-32, 32), y in [0, 32)); the ground at column
+// (10, 10) is 9 blocks high.
+inline world::World hills() {
+    world::World w;
+    const world::BlockId grass = block_id("grass"), dirt = block_id("dirt");
+    for (int64_t z = -32; z < 32; ++z)
+        for (int64_t x = -32; x < 32; ++x) {
+            const int64_t h = 6 + int64_t(4 * std::sin(double(x) * 0.2) + 3 * std::cos(double(z) * 0.15));
+            for (int64_t y = 0; y < h; ++y)
+                w.set_block({x, y, z}, y + 1 == h ? grass : dirt);
+        }
+    return w;
+}
+
 // Greedy meshes of every chunk of `w`.
 inline world::MeshMap mesh_world(const world::World& w) {
     world::EditMesher mesher;
@@ -41,6 +57,11 @@ inline world::MeshMap mesh_world(const world::World& w) {
 inline void load_meshes(Renderer& r, const world::MeshMap& meshes) {
     for (const auto& [c, mc] : meshes)
         r.set_chunk(c, mc.mesh);
+}
+
+// The slices an edit changed, as set_chunk takes them (empty when the mesh was made whole).
+inline std::span<const int> changed_slices(const world::SliceUpdate& u) {
+    return u.full ? std::span<const int>{} : std::span<const int>(u.slices.data(), size_t(u.count));
 }
 
 // The byte a linear value in 0..1 becomes in an R8G8B8A8_UNORM image (round to nearest).
@@ -62,16 +83,30 @@ inline void maybe_save(const RenderImage& img, const char* name) {
     }
 }
 
+// A renderer on the test device with the validation layer on; `ci`'s other fields as given.
+inline std::unique_ptr<Renderer> make_renderer(RendererCreateInfo ci = {}) {
+    ci.validation = true;
+    ci.sync_validation = std::getenv("VX_SYNC_VALIDATION") != nullptr;
+    ci.device = test_device_choice();
+    auto r = Renderer::create(ci);
+    EXPECT_TRUE(r.ok()) << r.error();
+    return r.ok() ? std::move(*r) : nullptr;
+}
+
+// Pixels whose bytes differ between two images of the same size.
+inline int differing_bytes(const RenderImage& a, const RenderImage& b) {
+    EXPECT_EQ(a.rgba.size(), b.rgba.size());
+    int diff = 0;
+    for (size_t i = 0; i < std::min(a.rgba.size(), b.rgba.size()); ++i)
+        diff += a.rgba[i] != b.rgba[i];
+    return diff;
+}
+
 class RendererTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        RendererCreateInfo ci;
-        ci.validation = true;
-        ci.sync_validation = std::getenv("VX_SYNC_VALIDATION") != nullptr;
-        ci.device = test_device_choice();
-        auto r = Renderer::create(ci);
-        ASSERT_TRUE(r.ok()) << r.error();
-        m_renderer = std::move(*r);
+        m_renderer = make_renderer();
+        ASSERT_NE(m_renderer, nullptr);
     }
     void TearDown() override {
         if (m_renderer) {
