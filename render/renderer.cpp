@@ -336,9 +336,10 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     d.record_frame(cmd, s, camera);
     d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr);
     d.stamp(cmd, 4);
-    const auto t2 = Clock::now();
     d.ctx->end_frame(d.presenter->submit_sync());
+    const auto t2 = Clock::now();
     d.presenter->present();
+    const auto t3 = Clock::now();
 
     const AccelStats& a = d.accel->stats();
     st.blas_builds = a.blas_builds;
@@ -348,6 +349,7 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     st.cpu_ms = Ms(t2 - t1).count();
     st.gpu_ms = -1;
     st.wait_ms = Ms(t1 - t0).count();
+    st.present_ms = Ms(t3 - t2).count();
     if (d.last_present != Clock::time_point{})
         st.frame_ms = Ms(t0 - d.last_present).count();
     d.last_present = t0;

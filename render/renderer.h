@@ -75,7 +75,7 @@ struct RenderImage {
 struct RenderStats {
     uint32_t blas_builds = 0, blas_refits = 0, instances = 0;
     uint64_t triangles = 0;  // Including spare (degenerate) slots.
-    double cpu_ms = 0;       // Recording, including CPU-side geometry work.
+    double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
     // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
     // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace, the image read-back copy.
@@ -87,8 +87,9 @@ struct RenderStats {
     // signalled; gpu_ms is -1. frame_ms: wall time from the previous present() call's start to
     // this one's (the frame period the caller sees). wait_ms: the part of this call spent blocked
     // on the GPU or the presentation engine (the fence two frames back, swapchain acquire and
-    // any recreation).
-    double frame_ms = -1, wait_ms = -1;
+    // any recreation). cpu_ms: recording and submitting. present_ms: time in vkQueuePresentKHR
+    // (a software WSI, lavapipe's on X11, copies the image out there, so it waits for the frame).
+    double frame_ms = -1, wait_ms = -1, present_ms = -1;
 };
 
 // What present() did.
