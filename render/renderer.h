@@ -148,7 +148,8 @@ public:
     // Skipped without drawing. The window shows exactly the bytes render() would return for the
     // same settings, camera and size (Full mode sRGB encoded once).
     // `capture` (tests, screenshots): also reads the presented image back into *capture as RGBA
-    // and waits for this frame; needs a surface whose images allow TRANSFER_SRC.
+    // and waits for this frame (written only when Presented); needs a surface whose images
+    // allow TRANSFER_SRC.
     Result<PresentResult> present(const RenderSettings& settings, const Camera& camera, RenderImage* capture = nullptr);
 
     const DeviceReport& device() const;

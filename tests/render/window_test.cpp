@@ -60,6 +60,7 @@ bool wait_for_size(GLFWwindow* window, int w, int h) {
 class WindowTest : public ::testing::Test {
 protected:
     void SetUp() override {
+        glfwSetErrorCallback([](int code, const char* what) { std::fprintf(stderr, "GLFW error %d: %s\n", code, what); });
         ASSERT_TRUE(glfwInit()) << "no display (run under xvfb-run -a)";
         ASSERT_TRUE(glfwVulkanSupported());
         glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
@@ -140,6 +141,28 @@ TEST_F(WindowTest, PresentsTheHeadlessImageAndFollowsResizes) {
     ASSERT_TRUE(wait_for_size(m_window, 64, 40));
     present_frames(5, &shown);
     expect_matches_headless(shown, 64, 40);
+}
+
+// Resizes that land between present()'s size check and its acquire or present make the surface
+// report out-of-date or suboptimal: every call must still succeed (Presented or Skipped), the
+// swapchain must follow, and the validation layer must stay silent.
+TEST_F(WindowTest, SurvivesAResizeEveryFrame) {
+    make_renderer(false);
+    ASSERT_NE(m_renderer, nullptr);
+    int presented = 0;
+    for (int i = 0; i < 12; ++i) {
+        glfwSetWindowSize(m_window, 40 + 8 * (i % 5), 30 + 6 * (i % 3));
+        glfwPollEvents();
+        Result<PresentResult> r = m_renderer->present(small_settings(), kCamera);
+        ASSERT_TRUE(r.ok()) << r.error();
+        presented += *r == PresentResult::Presented ? 1 : 0;
+    }
+    EXPECT_GT(presented, 0);
+    glfwSetWindowSize(m_window, 72, 56);
+    ASSERT_TRUE(wait_for_size(m_window, 72, 56));
+    RenderImage shown;
+    present_frames(3, &shown);
+    expect_matches_headless(shown, 72, 56);
 }
 
 TEST_F(WindowTest, VsyncPresentsToo) {
