@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "render/device_probe_internal.h"
+#include "render/present_window.h"
 #include "world/base/log.h"
 
 namespace vx::render {
@@ -52,6 +53,8 @@ Result<std::unique_ptr<Context>> Context::create(const ContextCreateInfo& info) 
     std::unique_ptr<Context> ctx(new Context());
     if (Status s = ctx->create_instance(info); !s)
         return Error{s.error()};
+    if (Status s = ctx->create_surface(info); !s)
+        return Error{s.error()};
     if (Status s = ctx->pick_device(info); !s)
         return Error{s.error()};
     ctx->create_device();
@@ -80,6 +83,12 @@ Status Context::create_instance(const ContextCreateInfo& info) {
     std::vector<const char*> exts, layers;
     if (m_debug_utils)
         exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (info.window) {
+        Result<std::vector<const char*>> wsi = window_instance_extensions();
+        if (!wsi)
+            return Error{wsi.error()};
+        exts.insert(exts.end(), wsi->begin(), wsi->end());
+    }
     if (m_validation)
         layers.push_back(kValidationLayer);
     const VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
@@ -105,15 +114,59 @@ Status Context::create_instance(const ContextCreateInfo& info) {
     return {};
 }
 
+Status Context::create_surface(const ContextCreateInfo& info) {
+    if (!info.window)
+        return {};
+    Result<VkSurfaceKHR> surface = create_window_surface(m_instance, info.window);
+    if (!surface)
+        return Error{surface.error()};
+    m_surface = *surface;
+    m_window = info.window;
+    return {};
+}
+
+// A queue family with graphics (vkCmdBlitImage needs it) and compute that presents to the
+// surface, on a device with VK_KHR_swapchain.
+bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) const {
+    uint32_t n = 0;
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> exts(n);
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
+    bool swapchain = false;
+    for (const VkExtensionProperties& e : exts)
+        swapchain = swapchain || std::strcmp(e.extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
+    if (!swapchain)
+        return false;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, qf.data());
+    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    for (uint32_t i = 0; i < n; ++i) {
+        VkBool32 supported = VK_FALSE;
+        if ((qf[i].queueFlags & need) != need)
+            continue;
+        VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, m_surface, &supported));
+        if (supported) {
+            *family = i;
+            return true;
+        }
+    }
+    return false;
+}
+
 Status Context::pick_device(const ContextCreateInfo& info) {
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(m_instance, &n, nullptr);
     std::vector<VkPhysicalDevice> pds(n);
     vkEnumeratePhysicalDevices(m_instance, &n, pds.data());
     std::vector<DeviceReport> reports;
-    for (uint32_t i = 0; i < n; ++i)
+    std::vector<uint32_t> present_family(n, 0);
+    for (uint32_t i = 0; i < n; ++i) {
         reports.push_back(describe_device(pds[i], i));
-    Result<uint32_t> chosen = choose_device(reports, info.device);
+        if (m_surface)
+            reports.back().present = can_present(pds[i], &present_family[i]);
+    }
+    Result<uint32_t> chosen = choose_device(reports, info.device, m_surface != VK_NULL_HANDLE);
     if (!chosen)
         return Error{chosen.error()};
     m_pd = pds[*chosen];
@@ -125,6 +178,10 @@ Status Context::pick_device(const ContextCreateInfo& info) {
     vkGetPhysicalDeviceProperties2(m_pd, &props);
     m_rt_props.pNext = nullptr;
     m_limits = props.properties.limits;
+    if (m_surface) {
+        m_queue_family = present_family[*chosen];
+        return {};
+    }
 
     uint32_t qn = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(m_pd, &qn, nullptr);
@@ -150,8 +207,11 @@ void Context::create_device() {
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
     f2.features.shaderInt64 = VK_TRUE;
 
-    const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
-                          VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+    std::vector<const char*> exts = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                     VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+                                     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+    if (m_surface)
+        exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qci.queueFamilyIndex = m_queue_family;
@@ -160,8 +220,8 @@ void Context::create_device() {
     VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f2};
     ci.queueCreateInfoCount = 1;
     ci.pQueueCreateInfos = &qci;
-    ci.enabledExtensionCount = uint32_t(std::size(exts));
-    ci.ppEnabledExtensionNames = exts;
+    ci.enabledExtensionCount = uint32_t(exts.size());
+    ci.ppEnabledExtensionNames = exts.data();
     VK_CHECK(vkCreateDevice(m_pd, &ci, nullptr, &m_device));
     volkLoadDevice(m_device);
     vkGetDeviceQueue(m_device, m_queue_family, 0, &m_queue);
@@ -192,6 +252,8 @@ Context::~Context() {
         m_allocator.reset();
         vkDestroyDevice(m_device, nullptr);
     }
+    if (m_surface)
+        vkDestroySurfaceKHR(m_instance, m_surface, nullptr);
     if (m_messenger)
         vkDestroyDebugUtilsMessengerEXT(m_instance, m_messenger, nullptr);
     if (m_instance)

@@ -2,7 +2,8 @@
 // The Vulkan context: instance (API 1.3, optional validation + a debug messenger that counts
 // errors), the chosen physical device, a logical device with the ray-tracing features and one
 // queue, the memory allocator, and the frame ring whose retire lists free GPU objects once the
-// frame that last used them has finished (Granite's PerFrame). Headless: no surface.
+// frame that last used them has finished (Granite's PerFrame). With a window it also owns the
+// window's surface (the swapchain lives in swapchain.h); without one it is headless.
 // One Context per process at a time: volk keeps Vulkan entry points in process globals.
 // Main thread only.
 
@@ -23,6 +24,19 @@ struct ContextCreateInfo {
     bool sync_validation = false; // With validation: also its synchronization checks (slow).
     DeviceChoice device{};     // Which device to use.
     const char* app_name = "vx";
+    // A GLFWwindow* to present to, or null (headless). With a window the instance enables GLFW's
+    // surface extensions, the device must present from its graphics+compute queue, and
+    // VK_KHR_swapchain is enabled. The caller keeps GLFW initialised and the window alive
+    // until the Context is destroyed.
+    void* window = nullptr;
+};
+
+// Semaphores of a frame's submission (presentation): wait on `wait` at `wait_stage` (the
+// acquired swapchain image), signal `signal` when the frame's commands have finished.
+struct FrameSubmitSync {
+    VkSemaphore wait = VK_NULL_HANDLE;
+    VkPipelineStageFlags2 wait_stage = VK_PIPELINE_STAGE_2_NONE;
+    VkSemaphore signal = VK_NULL_HANDLE;
 };
 
 inline constexpr uint32_t kFramesInFlight = 2;
@@ -50,6 +64,8 @@ public:
     VkDevice device() const { return m_device; }
     VkQueue queue() const { return m_queue; }
     uint32_t queue_family() const { return m_queue_family; }
+    VkSurfaceKHR surface() const { return m_surface; } // VK_NULL_HANDLE when headless.
+    void* window() const { return m_window; }          // The GLFWwindow*, or null.
     const DeviceReport& report() const { return m_report; }
     const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& rt_properties() const { return m_rt_props; }
     const VkPhysicalDeviceAccelerationStructurePropertiesKHR& as_properties() const { return m_as_props; }
@@ -68,9 +84,11 @@ public:
     }
 
     // Frames: begin_frame waits until this slot's previous submission finished, frees its retire
-    // list and returns a command buffer in the recording state; end_frame submits it.
+    // list and returns a command buffer in the recording state; end_frame submits it (with the
+    // semaphores of `sync` when presenting). The only CPU wait on the GPU per frame is the one in
+    // begin_frame: on the frame kFramesInFlight back.
     VkCommandBuffer begin_frame();
-    void end_frame();
+    void end_frame(const FrameSubmitSync& sync = {});
     // Waits for every submitted frame and frees every retire list.
     void wait_idle();
     uint64_t frame_number() const { return m_frame_number; }
@@ -93,7 +111,9 @@ public:
 private:
     Context() = default;
     Status create_instance(const ContextCreateInfo& info);
+    Status create_surface(const ContextCreateInfo& info);
     Status pick_device(const ContextCreateInfo& info);
+    bool can_present(VkPhysicalDevice pd, uint32_t* family) const;
     void create_device();
     void create_frames();
     void flush(RetireList& list);
@@ -113,6 +133,8 @@ private:
 
     VkInstance m_instance = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT m_messenger = VK_NULL_HANDLE;
+    VkSurfaceKHR m_surface = VK_NULL_HANDLE;
+    void* m_window = nullptr;
     VkPhysicalDevice m_pd = VK_NULL_HANDLE;
     VkDevice m_device = VK_NULL_HANDLE;
     VkQueue m_queue = VK_NULL_HANDLE;

@@ -149,7 +149,7 @@ static int auto_rank(const DeviceReport& d) {
     }
 }
 
-Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceChoice choice) {
+Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceChoice choice, bool need_present) {
     if (choice.kind == DeviceChoice::Kind::Index) {
         if (choice.index >= devices.size())
             return Error{"device index " + std::to_string(choice.index) + " out of range (" +
@@ -157,11 +157,14 @@ Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceC
         if (!devices[choice.index].can_ray_trace())
             return Error{"device " + std::to_string(choice.index) + " (" + devices[choice.index].name +
                          ") cannot ray trace (needs Vulkan 1.3 and KHR acceleration structures + RT pipelines)"};
+        if (need_present && !devices[choice.index].present)
+            return Error{"device " + std::to_string(choice.index) + " (" + devices[choice.index].name +
+                         ") cannot present to the window (needs VK_KHR_swapchain and a graphics queue that presents)"};
         return choice.index;
     }
     int best = -1, best_rank = -1;
     for (const DeviceReport& d : devices) {
-        if (!d.can_ray_trace())
+        if (!d.can_ray_trace() || (need_present && !d.present))
             continue;
         if (choice.kind == DeviceChoice::Kind::Cpu && d.type != DeviceType::Cpu)
             continue;
@@ -171,7 +174,7 @@ Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceC
             best = int(d.index), best_rank = auto_rank(d);
     }
     if (best < 0)
-        return Error{"no Vulkan device that can ray trace" +
+        return Error{"no Vulkan device that can ray trace" + std::string(need_present ? " and present to the window" : "") +
                      std::string(choice.kind == DeviceChoice::Kind::Cpu   ? " on the CPU"
                                  : choice.kind == DeviceChoice::Kind::Gpu ? " on a GPU"
                                                                           : "") +

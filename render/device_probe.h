@@ -24,6 +24,9 @@ struct DeviceReport {
     bool ray_tracing_pipeline = false;     // VK_KHR_ray_tracing_pipeline + feature.
     bool deferred_host_operations = false; // VK_KHR_deferred_host_operations.
     bool buffer_device_address = false;    // Vulkan 1.2 bufferDeviceAddress feature.
+    // Only filled in by a Context created with a window: VK_KHR_swapchain exists and a queue
+    // family with graphics + compute can present to the window's surface.
+    bool present = false;
 
     // Everything the renderer needs (it also needs Vulkan 1.3: see api_version).
     bool can_ray_trace() const;
@@ -43,7 +46,8 @@ struct DeviceChoice {
 };
 Result<DeviceChoice> parse_device_choice(std::string_view text);
 
-// The index into `devices` to use, or an error saying why none fits. Thread-safe.
-Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceChoice choice);
+// The index into `devices` to use, or an error saying why none fits. need_present: only devices
+// whose `present` is set qualify (rendering to a window). Thread-safe.
+Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceChoice choice, bool need_present = false);
 
 } // namespace vx::render

@@ -83,15 +83,25 @@ VkCommandBuffer Context::begin_frame() {
     return f.cmd;
 }
 
-void Context::end_frame() {
+void Context::end_frame(const FrameSubmitSync& sync) {
     VX_ASSERT(m_in_frame);
     Frame& f = m_frames[m_frame_slot];
     VK_CHECK(vkEndCommandBuffer(f.cmd));
     VkCommandBufferSubmitInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     cbi.commandBuffer = f.cmd;
+    VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    wait.semaphore = sync.wait;
+    wait.stageMask = sync.wait_stage;
+    VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    signal.semaphore = sync.signal;
+    signal.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
     VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
     si.commandBufferInfoCount = 1;
     si.pCommandBufferInfos = &cbi;
+    si.waitSemaphoreInfoCount = sync.wait ? 1 : 0;
+    si.pWaitSemaphoreInfos = &wait;
+    si.signalSemaphoreInfoCount = sync.signal ? 1 : 0;
+    si.pSignalSemaphoreInfos = &signal;
     VK_CHECK(vkQueueSubmit2(m_queue, 1, &si, f.fence));
     m_in_frame = false;
 }

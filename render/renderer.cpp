@@ -9,6 +9,7 @@
 #include "render/commands.h"
 #include "render/context.h"
 #include "render/gpu_layouts.h"
+#include "render/present.h"
 #include "render/rt_pipeline.h"
 #include "render/scene_accel.h"
 
@@ -26,19 +27,26 @@ struct Renderer::Impl {
     uint32_t material_count = 0;
     bool materials_dirty = true;
     uint32_t max_block_id = 0;
-    Image target;
+    // Trace targets, one per frame slot (the previous frame may still blit its own). With an
+    // sRGB swapchain they are R8G8B8A8_SRGB written through a UNORM view (present.h says why).
+    std::array<Image, kFramesInFlight> targets;
+    VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     RenderStats stats;
+    std::unique_ptr<Presenter> presenter; // With a window.
+    std::chrono::steady_clock::time_point last_present{};
     // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
     // the trace, after the copy. Null when the queue family has no timestamps.
     static constexpr uint32_t kStamps = 5;
     VkQueryPool queries = VK_NULL_HANDLE;
     double ms_per_tick = 0;
+    std::array<bool, kFramesInFlight> stamped{}; // The slot's last frame wrote its timestamps.
 
     ~Impl() {
         if (!ctx)
             return;
         ctx->wait_idle();
+        presenter.reset();
         vkDestroyDescriptorPool(ctx->device(), pool, nullptr);
         if (queries)
             vkDestroyQueryPool(ctx->device(), queries, nullptr);
@@ -49,12 +57,28 @@ struct Renderer::Impl {
         if (queries)
             vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, queries, ctx->frame_slot() * kStamps + i);
     }
-    void read_stamps();
+    void read_stamps(RenderStats& out);
+    // The scene's counters of the last frame's builds (builds, refits, memory...).
+    void fill_accel_stats(RenderStats& out) const {
+        const AccelStats& a = accel->stats();
+        out.blas_builds = a.blas_builds;
+        out.blas_refits = a.blas_refits;
+        out.instances = a.instances;
+        out.blas_compactions = a.blas_compactions;
+        out.hot_chunks = a.hot_chunks;
+        out.failed_chunks = a.failed_chunks;
+        out.triangles = a.triangles;
+        out.upload_bytes = a.upload_bytes;
+        out.memory = accel->memory();
+    }
     void update_materials();
+    Image& target() { return targets[ctx->frame_slot()]; }
     void ensure_target(uint32_t width, uint32_t height);
     void write_params(const RenderSettings& s, const Camera& cam);
     void write_descriptors();
+    void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {}
@@ -64,6 +88,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     ContextCreateInfo ci;
     ci.validation = info.validation;
     ci.device = info.device;
+    ci.window = info.glfw_window;
     Result<std::unique_ptr<Context>> ctx = Context::create(ci);
     if (!ctx)
         return Error{ctx.error()};
@@ -75,6 +100,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     r->m->create_descriptors();
     r->m->create_queries();
     r->m->registry = world::BlockRegistry::default_registry();
+    if (info.glfw_window) {
+        r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
+        r->m->target_format = r->m->presenter->target_format();
+    }
     return r;
 }
 
@@ -120,17 +149,20 @@ void Renderer::Impl::create_queries() {
     ms_per_tick = double(ctx->limits().timestampPeriod) * 1e-6; // timestampPeriod: ns per tick.
 }
 
-void Renderer::Impl::read_stamps() {
-    if (!queries)
+// The timestamps of the frame last submitted in this slot, once its fence has signalled.
+void Renderer::Impl::read_stamps(RenderStats& out) {
+    const uint32_t slot = ctx->frame_slot();
+    if (!queries || !stamped[slot])
         return;
     uint64_t t[kStamps];
     VK_CHECK(vkGetQueryPoolResults(ctx->device(), queries, ctx->frame_slot() * kStamps, kStamps, sizeof t, t,
                                    sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     auto ms = [&](int i) { return double(t[i + 1] - t[i]) * ms_per_tick; };
-    stats.gpu_blas_ms = ms(0);
-    stats.gpu_tlas_ms = ms(1);
-    stats.gpu_trace_ms = ms(2);
-    stats.gpu_copy_ms = ms(3);
+    out.gpu_blas_ms = ms(0);
+    out.gpu_tlas_ms = ms(1);
+    out.gpu_trace_ms = ms(2);
+    out.gpu_copy_ms = ms(3);
+    out.gpu_frame_ms = double(t[kStamps - 1] - t[0]) * ms_per_tick;
 }
 
 void Renderer::Impl::update_materials() {
@@ -151,13 +183,13 @@ void Renderer::Impl::update_materials() {
 }
 
 void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
-    if (target.valid() && target.width() == width && target.height() == height)
+    Image& t = target();
+    if (t.valid() && t.width() == width && t.height() == height)
         return;
-    target = Image::create(*ctx, {width, height, VK_FORMAT_R8G8B8A8_UNORM,
-                                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "render target"});
-    readback = Buffer::create(*ctx, {VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                     MemoryUse::Readback, 0, "render readback"});
-    VX_ASSERT_MSG(target.valid() && readback.valid(), "out of GPU memory for the render target");
+    // Resized: the old image goes to this frame's retire list; the slot's last frame is done.
+    t = Image::create(*ctx, {width, height, target_format, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                             "render target", VK_FORMAT_R8G8B8A8_UNORM});
+    VX_ASSERT_MSG(t.valid(), "out of GPU memory for the render target");
 }
 
 void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
@@ -192,7 +224,7 @@ void Renderer::Impl::write_descriptors() {
     VkWriteDescriptorSetAccelerationStructureKHR as_info{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
     as_info.accelerationStructureCount = 1;
     as_info.pAccelerationStructures = &tlas;
-    VkDescriptorImageInfo image_info{VK_NULL_HANDLE, target.view(), VK_IMAGE_LAYOUT_GENERAL};
+    VkDescriptorImageInfo image_info{VK_NULL_HANDLE, target().view(), VK_IMAGE_LAYOUT_GENERAL};
     VkDescriptorBufferInfo buffer_info{params[slot].handle(), 0, sizeof(gpu::FrameParams)};
     VkWriteDescriptorSet w[3];
     for (uint32_t i = 0; i < 3; ++i) {
@@ -210,8 +242,31 @@ void Renderer::Impl::write_descriptors() {
     vkUpdateDescriptorSets(ctx->device(), 3, w, 0, nullptr);
 }
 
+// Everything render() and present() share: uploads, BLAS and TLAS builds, the trace. Leaves the
+// target in TRANSFER_SRC_OPTIMAL, readable by transfers.
+void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
+    update_materials();
+    ensure_target(s.width, s.height);
+    if (queries)
+        vkCmdResetQueryPool(cmd, queries, ctx->frame_slot() * kStamps, kStamps);
+    // The previous frame may still be running: it traces BLASes this frame refits, reads chunk
+    // buffers this frame uploads into, and shares the build scratch. Its commands precede ours
+    // on the one queue, so one barrier orders them; the CPU still records ahead of the GPU.
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    stamp(cmd, 0);
+    accel->record_builds(cmd);
+    stamp(cmd, 1);
+    accel->record_tlas_build(cmd, cam.block);
+    stamp(cmd, 2);
+    write_params(s, cam);
+    write_descriptors();
+    record_trace(cmd, s.width, s.height);
+    stamped[ctx->frame_slot()] = queries != VK_NULL_HANDLE;
+}
+
 void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
-    image_barrier(cmd, target.handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+    image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
@@ -219,13 +274,23 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
                             &sets[ctx->frame_slot()], 0, nullptr);
     pipeline->trace(cmd, width, height);
     stamp(cmd, 3);
-    image_barrier(cmd, target.handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+// The copy of the target into the host-visible read-back buffer (render() waits for it). The
+// copy is raw bytes whatever the target's format (UNORM or SRGB), so PNGs do not depend on it.
+void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+    const VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
+    if (!readback.valid() || readback.size() != bytes) {
+        readback = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});
+        VX_ASSERT_MSG(readback.valid(), "out of GPU memory for the render read-back");
+    }
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {width, height, 1};
-    vkCmdCopyImageToBuffer(cmd, target.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1, &region);
+    vkCmdCopyImageToBuffer(cmd, target().handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1, &region);
     stamp(cmd, 4);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
@@ -237,18 +302,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     const auto t0 = Clock::now();
     Impl& d = *m;
     VkCommandBuffer cmd = d.ctx->begin_frame();
-    d.update_materials();
-    d.ensure_target(settings.width, settings.height);
-    if (d.queries)
-        vkCmdResetQueryPool(cmd, d.queries, d.ctx->frame_slot() * Impl::kStamps, Impl::kStamps);
-    d.stamp(cmd, 0);
-    d.accel->record_builds(cmd);
-    d.stamp(cmd, 1);
-    d.accel->record_tlas_build(cmd, camera.block);
-    d.stamp(cmd, 2);
-    d.write_params(settings, camera);
-    d.write_descriptors();
-    d.record_trace(cmd, settings.width, settings.height);
+    d.record_frame(cmd, settings, camera);
+    d.record_readback(cmd, settings.width, settings.height);
     const auto t1 = Clock::now();
     d.ctx->end_frame();
     d.ctx->wait_frame();
@@ -260,21 +315,60 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     img.rgba.resize(size_t(settings.width) * settings.height * 4);
     std::memcpy(img.rgba.data(), d.readback.mapped(), img.rgba.size());
 
-    const AccelStats& a = d.accel->stats();
     d.stats = RenderStats{};
-    d.stats.blas_builds = a.blas_builds;
-    d.stats.blas_refits = a.blas_refits;
-    d.stats.instances = a.instances;
-    d.stats.blas_compactions = a.blas_compactions;
-    d.stats.hot_chunks = a.hot_chunks;
-    d.stats.failed_chunks = a.failed_chunks;
-    d.stats.triangles = a.triangles;
-    d.stats.upload_bytes = a.upload_bytes;
-    d.stats.memory = d.accel->memory();
+    d.fill_accel_stats(d.stats);
     d.stats.cpu_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
     d.stats.gpu_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
-    d.read_stamps();
+    d.read_stamps(d.stats);
     return img;
+}
+
+Result<PresentResult> Renderer::present(const RenderSettings& settings, const Camera& camera, RenderImage* capture) {
+    using Clock = std::chrono::steady_clock;
+    using Ms = std::chrono::duration<double, std::milli>;
+    Impl& d = *m;
+    if (!d.presenter)
+        return Error{"present() needs a renderer created with a window (RendererCreateInfo::glfw_window)"};
+    if (capture && !d.presenter->can_capture())
+        return Error{"present(): this surface's images cannot be read back (no TRANSFER_SRC usage)"};
+    const auto t0 = Clock::now();
+    const std::optional<VkExtent2D> extent = d.presenter->prepare();
+    if (!extent)
+        return PresentResult::Skipped;
+    VkCommandBuffer cmd = d.ctx->begin_frame(); // Waits for the frame kFramesInFlight back.
+    RenderStats st;
+    d.read_stamps(st);
+    if (!d.presenter->acquire()) {
+        d.stamped[d.ctx->frame_slot()] = false;
+        d.ctx->end_frame(); // Empty: keeps the slot's fence signalling; recreated next call.
+        return PresentResult::Skipped;
+    }
+    const auto t1 = Clock::now();
+    RenderSettings s = settings;
+    s.width = extent->width;
+    s.height = extent->height;
+    d.record_frame(cmd, s, camera);
+    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr);
+    d.stamp(cmd, 4);
+    d.ctx->end_frame(d.presenter->submit_sync());
+    const auto t2 = Clock::now();
+    d.presenter->present();
+    const auto t3 = Clock::now();
+
+    d.fill_accel_stats(st);
+    st.cpu_ms = Ms(t2 - t1).count();
+    st.gpu_ms = -1;
+    st.wait_ms = Ms(t1 - t0).count();
+    st.present_ms = Ms(t3 - t2).count();
+    if (d.last_present != Clock::time_point{})
+        st.frame_ms = Ms(t0 - d.last_present).count();
+    d.last_present = t0;
+    d.stats = st;
+    if (capture) {
+        d.ctx->wait_frame();
+        *capture = d.presenter->read_capture();
+    }
+    return PresentResult::Presented;
 }
 
 RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, const Scene& scene) {

@@ -1,7 +1,8 @@
 #pragma once
-// vx's headless ray-tracing renderer: the public API. A scene is a set of chunk meshes
+// vx's ray-tracing renderer: the public API. A scene is a set of chunk meshes
 // (ChunkCoord -> world::ChunkMesh) plus a BlockRegistry for materials; render() traces one image
-// and reads it back. No Vulkan types here: only render/ touches Vk* objects.
+// and reads it back (headless); present() traces a frame into a GLFW window with two frames in
+// flight. No Vulkan or GLFW types here: only render/ touches Vk* objects.
 //
 // Coordinates: world block units (y up). The camera and the light are given as a 64-bit block
 // position plus a float offset inside (or from) that block; everything the GPU sees is relative
@@ -94,11 +95,27 @@ struct RenderStats {
     uint64_t triangles = 0;  // Of the drawn chunks, including spare (degenerate) slots.
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     GpuMemoryStats memory;
-    double cpu_ms = 0;       // Recording, including CPU-side geometry work.
+    double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
     // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
     // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace, the image read-back copy.
+    // The read-back copy for render(), the blit into the swapchain image for present().
     double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1, gpu_copy_ms = -1;
+    double gpu_frame_ms = -1; // The whole frame on the GPU (first to last timestamp).
+    // present() only (-1 after render()). Nothing waits for the frame just submitted, so its gpu_*
+    // fields are those of the frame kFramesInFlight (2) presents back, read once its fence has
+    // signalled; gpu_ms is -1. frame_ms: wall time from the previous present() call's start to
+    // this one's (the frame period the caller sees). wait_ms: the part of this call spent blocked
+    // on the GPU or the presentation engine (the fence two frames back, swapchain acquire and
+    // any recreation). cpu_ms: recording and submitting. present_ms: time in vkQueuePresentKHR
+    // (a software WSI, lavapipe's on X11, copies the image out there, so it waits for the frame).
+    double frame_ms = -1, wait_ms = -1, present_ms = -1;
+};
+
+// What present() did.
+enum class PresentResult : uint8_t {
+    Presented, // A frame was traced and queued for presentation.
+    Skipped,   // Minimised (0x0 framebuffer) or the swapchain was out of date: nothing drawn.
 };
 
 // A whole scene for the one-call API: chunk meshes (not owned) plus the materials.
@@ -121,6 +138,12 @@ struct RendererCreateInfo {
     // many bytes, as on a full device (those chunks are not drawn and are counted in
     // RenderStats::failed_chunks). 0: no limit.
     uint64_t gpu_memory_budget_bytes = 0;
+    // A GLFWwindow* to present() to, or null for a headless renderer. The caller has called
+    // glfwInit, created the window with GLFW_CLIENT_API = GLFW_NO_API, polls its events, and
+    // keeps GLFW and the window alive until the Renderer is destroyed. The device must present
+    // from its graphics+compute queue.
+    void* glfw_window = nullptr;
+    bool vsync = true; // With a window: FIFO; false: MAILBOX, else IMMEDIATE, else FIFO.
 };
 
 class Renderer {
@@ -146,6 +169,18 @@ public:
     // dropped; every chunk in it is re-sent (a refit when its slots fit), so for small edits
     // prefer set_chunk + render.
     RenderImage render(const RenderSettings& settings, const Camera& camera, const Scene& scene);
+
+    // Traces a frame and presents it to the window (a renderer created with glfw_window; an
+    // error otherwise). The render extent follows the window: settings.width/height are ignored,
+    // the frame is the swapchain's size, and a resized window gets a new swapchain at its next
+    // present(). Two frames in flight: the only CPU wait is on the frame two presents back (and
+    // on the presentation engine in acquire, e.g. with vsync). A minimised window returns
+    // Skipped without drawing. The window shows exactly the bytes render() would return for the
+    // same settings, camera and size (Full mode sRGB encoded once).
+    // `capture` (tests, screenshots): also reads the presented image back into *capture as RGBA
+    // and waits for this frame (written only when Presented); needs a surface whose images
+    // allow TRANSFER_SRC.
+    Result<PresentResult> present(const RenderSettings& settings, const Camera& camera, RenderImage* capture = nullptr);
 
     const DeviceReport& device() const;
     uint32_t validation_errors() const;

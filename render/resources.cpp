@@ -95,6 +95,9 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
     ci.usage = info.usage;
     ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    const bool other_view = info.view_format != VK_FORMAT_UNDEFINED && info.view_format != info.format;
+    if (other_view)
+        ci.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT;
     Image img;
     VK_CHECK(vkCreateImage(ctx.device(), &ci, nullptr, &img.m_image));
     img.m_ctx = &ctx;
@@ -112,7 +115,7 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.m_image;
     vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = info.format;
+    vi.format = other_view ? info.view_format : info.format;
     vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &img.m_view));
     ctx.set_name(img.m_image, VK_OBJECT_TYPE_IMAGE, info.name);

@@ -51,6 +51,9 @@ struct ImageCreateInfo {
     VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     VkImageUsageFlags usage = 0;
     const char* name = "image";
+    // Format of the view; UNDEFINED: `format`. Another (compatible) format makes the image
+    // MUTABLE_FORMAT + EXTENDED_USAGE (e.g. an _SRGB image written as UNORM storage).
+    VkFormat view_format = VK_FORMAT_UNDEFINED;
 };
 
 // A 2D, single-mip image in device memory with one colour view.

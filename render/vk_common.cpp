@@ -38,6 +38,10 @@ const char* vk_result_name(VkResult result) {
         VX_CASE(VK_THREAD_DONE_KHR)
         VX_CASE(VK_OPERATION_DEFERRED_KHR)
         VX_CASE(VK_OPERATION_NOT_DEFERRED_KHR)
+        VX_CASE(VK_SUBOPTIMAL_KHR)
+        VX_CASE(VK_ERROR_OUT_OF_DATE_KHR)
+        VX_CASE(VK_ERROR_SURFACE_LOST_KHR)
+        VX_CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
 #undef VX_CASE
     default:
         break;

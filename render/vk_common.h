@@ -21,3 +21,14 @@ const char* vk_result_name(VkResult result);
         if (vx_vk_result_ != VK_SUCCESS) [[unlikely]]                                                        \
             ::vx::render::vk_check_fail(#call, vx_vk_result_, __FILE__, __LINE__);                           \
     } while (0)
+
+// For vkAcquireNextImageKHR / vkQueuePresentKHR: VK_SUBOPTIMAL_KHR and VK_ERROR_OUT_OF_DATE_KHR
+// are allowed (the swapchain is recreated); any other failure aborts. Evaluates to the result.
+#define VK_CHECK_SWAPCHAIN(call)                                                                             \
+    ([&]() {                                                                                                 \
+        const VkResult vx_vk_result_ = (call);                                                               \
+        if (vx_vk_result_ != VK_SUCCESS && vx_vk_result_ != VK_SUBOPTIMAL_KHR &&                              \
+            vx_vk_result_ != VK_ERROR_OUT_OF_DATE_KHR) [[unlikely]]                                          \
+            ::vx::render::vk_check_fail(#call, vx_vk_result_, __FILE__, __LINE__);                           \
+        return vx_vk_result_;                                                                                \
+    }())

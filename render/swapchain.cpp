@@ -1,0 +1,154 @@
+#include "render/swapchain.h"
+
+#include <algorithm>
+#include <string>
+
+#include "world/base/log.h"
+
+namespace vx::render {
+
+bool is_srgb_format(VkFormat format) {
+    return format == VK_FORMAT_B8G8R8A8_SRGB || format == VK_FORMAT_R8G8B8A8_SRGB ||
+           format == VK_FORMAT_A8B8G8R8_SRGB_PACK32;
+}
+
+VkSurfaceFormatKHR choose_surface_format(std::span<const VkSurfaceFormatKHR> formats) {
+    VX_ASSERT(!formats.empty());
+    // sRGB first: the display expects sRGB-encoded values and an _SRGB image encodes on write.
+    for (VkFormat want : {VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_UNORM,
+                          VK_FORMAT_R8G8B8A8_UNORM})
+        for (const VkSurfaceFormatKHR& f : formats)
+            if (f.format == want && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
+                return f;
+    return formats[0];
+}
+
+VkPresentModeKHR choose_present_mode(std::span<const VkPresentModeKHR> modes, bool vsync) {
+    if (vsync)
+        return VK_PRESENT_MODE_FIFO_KHR; // The only mode every surface supports.
+    for (VkPresentModeKHR want : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
+        if (std::find(modes.begin(), modes.end(), want) != modes.end())
+            return want;
+    return VK_PRESENT_MODE_FIFO_KHR;
+}
+
+VkExtent2D choose_extent(const VkSurfaceCapabilitiesKHR& caps, VkExtent2D framebuffer) {
+    if (framebuffer.width == 0 || framebuffer.height == 0)
+        return {0, 0};
+    if (caps.currentExtent.width != UINT32_MAX) // The surface dictates its size (X11, Win32).
+        return caps.currentExtent;
+    return {std::clamp(framebuffer.width, caps.minImageExtent.width, caps.maxImageExtent.width),
+            std::clamp(framebuffer.height, caps.minImageExtent.height, caps.maxImageExtent.height)};
+}
+
+Swapchain::Swapchain(Context& ctx, bool vsync) : m_ctx(&ctx) {
+    VX_ASSERT(ctx.surface() != VK_NULL_HANDLE);
+    uint32_t n = 0;
+    VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &n, nullptr));
+    std::vector<VkSurfaceFormatKHR> formats(n);
+    VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &n, formats.data()));
+    m_format = choose_surface_format(formats);
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, nullptr));
+    std::vector<VkPresentModeKHR> modes(n);
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, modes.data()));
+    m_mode = choose_present_mode(modes, vsync);
+}
+
+Swapchain::~Swapchain() {
+    if (!m_swapchain)
+        return;
+    m_ctx->wait_idle();
+    destroy_semaphores();
+    vkDestroySwapchainKHR(m_ctx->device(), m_swapchain, nullptr);
+}
+
+void Swapchain::destroy_semaphores() {
+    for (VkSemaphore s : m_render_done)
+        vkDestroySemaphore(m_ctx->device(), s, nullptr);
+    m_render_done.clear();
+}
+
+bool Swapchain::stale(VkExtent2D framebuffer) const {
+    return !m_swapchain || m_out_of_date || framebuffer.width != m_framebuffer.width ||
+           framebuffer.height != m_framebuffer.height;
+}
+
+bool Swapchain::recreate(VkExtent2D framebuffer) {
+    VkSurfaceCapabilitiesKHR caps;
+    VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(m_ctx->physical_device(), m_ctx->surface(), &caps));
+    const VkExtent2D extent = choose_extent(caps, framebuffer);
+    if (extent.width == 0 || extent.height == 0)
+        return false;
+    VX_ASSERT_MSG(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                  "the surface's images cannot be blitted to (no TRANSFER_DST usage)");
+    // Frames in flight may still blit into or present the old images: wait (resizes are rare).
+    m_ctx->wait_idle();
+
+    VkSwapchainCreateInfoKHR ci{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
+    ci.surface = m_ctx->surface();
+    ci.minImageCount = caps.minImageCount + 1; // One more than the minimum: acquire rarely blocks.
+    if (caps.maxImageCount > 0)
+        ci.minImageCount = std::min(ci.minImageCount, caps.maxImageCount);
+    ci.imageFormat = m_format.format;
+    ci.imageColorSpace = m_format.colorSpace;
+    ci.imageExtent = extent;
+    ci.imageArrayLayers = 1;
+    m_capture = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
+    ci.imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | (m_capture ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+    ci.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE; // One queue renders and presents.
+    ci.preTransform = caps.currentTransform;
+    ci.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+    if (!(caps.supportedCompositeAlpha & ci.compositeAlpha)) // Lowest supported bit otherwise.
+        ci.compositeAlpha = VkCompositeAlphaFlagBitsKHR(caps.supportedCompositeAlpha & -caps.supportedCompositeAlpha);
+    ci.presentMode = m_mode;
+    ci.clipped = VK_TRUE;
+    ci.oldSwapchain = m_swapchain;
+    VkSwapchainKHR fresh = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSwapchainKHR(m_ctx->device(), &ci, nullptr, &fresh));
+    if (m_swapchain)
+        vkDestroySwapchainKHR(m_ctx->device(), m_swapchain, nullptr);
+    m_swapchain = fresh;
+    m_ctx->set_name(m_swapchain, VK_OBJECT_TYPE_SWAPCHAIN_KHR, "swapchain");
+
+    uint32_t n = 0;
+    VK_CHECK(vkGetSwapchainImagesKHR(m_ctx->device(), m_swapchain, &n, nullptr));
+    m_images.resize(n);
+    VK_CHECK(vkGetSwapchainImagesKHR(m_ctx->device(), m_swapchain, &n, m_images.data()));
+    destroy_semaphores();
+    for (uint32_t i = 0; i < n; ++i) {
+        VkSemaphoreCreateInfo si{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        VkSemaphore s = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateSemaphore(m_ctx->device(), &si, nullptr, &s));
+        m_render_done.push_back(s);
+        const std::string name = "swapchain image " + std::to_string(i);
+        m_ctx->set_name(m_images[i], VK_OBJECT_TYPE_IMAGE, name.c_str());
+        m_ctx->set_name(s, VK_OBJECT_TYPE_SEMAPHORE, (name + " done").c_str());
+    }
+    m_extent = extent;
+    m_framebuffer = framebuffer;
+    m_out_of_date = false;
+    ++m_recreations;
+    return true;
+}
+
+VkResult Swapchain::acquire(VkSemaphore acquired, uint32_t* index) {
+    VX_ASSERT(m_swapchain);
+    const VkResult r =
+        VK_CHECK_SWAPCHAIN(vkAcquireNextImageKHR(m_ctx->device(), m_swapchain, UINT64_MAX, acquired, VK_NULL_HANDLE, index));
+    if (r != VK_SUCCESS)
+        m_out_of_date = true;
+    return r;
+}
+
+void Swapchain::present(uint32_t index) {
+    VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    pi.waitSemaphoreCount = 1;
+    pi.pWaitSemaphores = &m_render_done[index];
+    pi.swapchainCount = 1;
+    pi.pSwapchains = &m_swapchain;
+    pi.pImageIndices = &index;
+    if (VK_CHECK_SWAPCHAIN(vkQueuePresentKHR(m_ctx->queue(), &pi)) != VK_SUCCESS)
+        m_out_of_date = true;
+}
+
+} // namespace vx::render
