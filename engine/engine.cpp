@@ -99,15 +99,23 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
     return e;
 }
 
-void Engine::set_viewer(const Viewer& viewer) {
-    m->viewer = viewer;
+Status Engine::set_viewer(const Viewer& viewer) {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (!finite(viewer.offset) || !finite(viewer.forward) || !finite(viewer.up) ||
+        (viewer.velocity && !finite(*viewer.velocity)) || !std::isfinite(viewer.fov_y_degrees))
+        return Error{"viewer: offset, forward, up, velocity and fov must be finite"};
+    if (glm::any(glm::greaterThan(glm::abs(viewer.offset), glm::dvec3(double(int64_t(1) << 40)))))
+        return Error{"viewer: keep the offset small and put the position in `block`"};
     // Fold the offset's whole blocks into the 64-bit block, so the float camera stays exact.
     const glm::dvec3 whole = glm::floor(viewer.offset);
-    if (finite(whole)) {
-        m->viewer.block += BlockPos(whole);
-        m->viewer.offset -= whole;
-    }
-    m->have_viewer = true;
+    const BlockPos block = viewer.block + BlockPos(whole);
+    if (!world::in_world(block))
+        return Error{"viewer: position outside the world (|coordinate| < 2^36 blocks)"};
+    m->viewer = viewer;
+    m->viewer.block = block;
+    m->viewer.offset -= whole;
+    return {};
 }
 
 void Engine::update(std::chrono::steady_clock::time_point now) {

@@ -23,7 +23,6 @@ struct Engine::Impl {
     std::unique_ptr<engine::EngineSink> sink;
     std::shared_ptr<const engine::SaveTracker> saves; // Outlives the streamer (tickets after shutdown).
     Viewer viewer;
-    bool have_viewer = false;
     RenderSettings render_settings;
     Stats frame;                                     // Timings of the last update and frame.
     bool shut_down = false;

@@ -13,6 +13,7 @@
 // Units: world block units (one block = 1), seconds, milliseconds where a name ends in _ms,
 // bytes where it ends in _bytes. Coordinates: see <vx/types.h>.
 // Errors: recoverable failures return vx::Status / vx::Result<T> with a one-line message.
+// The structs are plain values (copy them; not thread-safe to share while one thread writes).
 // Nothing here exposes Vulkan, SQLite or OpenVDB.
 
 #include <chrono>
@@ -225,7 +226,8 @@ public:
     Engine& operator=(const Engine&) = delete;
 
     // Main thread. Where the camera is and where streaming centres; takes effect at update().
-    void set_viewer(const Viewer& viewer);
+    // Fails, keeping the previous viewer, on non-finite values or a position outside the world.
+    Status set_viewer(const Viewer& viewer);
     // Main thread, once per frame. Streams around the viewer, applies finished loads and meshes
     // (within update_budget_ms), unloads, saves edited chunks after save_delay_s. `now` is the
     // game's steady clock (pass a synthetic one for deterministic tests).

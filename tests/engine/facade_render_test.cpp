@@ -44,7 +44,7 @@ TEST(FacadeRender, TerrainToMemory) {
     vx::Viewer v;
     v.block = {0, vx::terrain_height(3, 0, 0) + 12, 0};
     v.forward = {1, -0.35, 0.2};
-    e.set_viewer(v);
+    ASSERT_TRUE(e.set_viewer(v));
     ASSERT_TRUE(settle(e));
 
     vx::Image img;
@@ -130,7 +130,7 @@ glm::u8vec4 centre_pixel(bool window_transparent) {
     v.offset = {0.5, 0.5, 0.5};
     v.forward = {0, 0, -1};
     v.fov_y_degrees = 20.f;
-    e.set_viewer(v);
+    EXPECT_TRUE(e.set_viewer(v));
     vx::RenderSettings rs;
     rs.shading = vx::RenderSettings::Shading::Flat;
     e.set_render_settings(rs);

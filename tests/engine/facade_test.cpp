@@ -4,6 +4,7 @@
 // bounded by conditions (a generous limit), never by the machine's speed.
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <thread>
@@ -15,6 +16,9 @@
 #include <vx/vx.h>
 
 #include "world/gen/terrain.h"
+#if VX_WITH_OPENVDB
+#include "world/vdb/vdb_world.h"
+#endif
 
 using Clock = std::chrono::steady_clock;
 
@@ -75,7 +79,7 @@ TEST(Facade, StreamsAndAnswersBlocks) {
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
     const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
-    e.set_viewer(viewer_at({x, h + 2, 16}));
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
     ASSERT_TRUE(settle(e));
 
     // Every block of the viewer's chunk equals the generator's; far away is unknown, not air.
@@ -107,7 +111,7 @@ TEST(Facade, EditsAndRaycasts) {
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
     const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
-    e.set_viewer(viewer_at({x, h + 2, 16}));
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
     ASSERT_TRUE(settle(e));
     const vx::BlockId stone = *e.find_block("stone"), glass = *e.find_block("glass");
 
@@ -166,7 +170,7 @@ TEST(Facade, ChunkEvents) {
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
     const int64_t h = vx::terrain_height(kSeed, 16, 16);
-    e.set_viewer(viewer_at({16, h, 16}));
+    ASSERT_TRUE(e.set_viewer(viewer_at({16, h, 16})));
     ASSERT_TRUE(settle(e));
     const vx::ChunkCoord home = vx::chunk_of({16, h, 16});
     std::set<std::tuple<int, int, int, int>> seen;
@@ -181,7 +185,7 @@ TEST(Facade, ChunkEvents) {
     EXPECT_TRUE(e.poll_events().empty()); // Drained.
 
     // 20 chunks away: everything around home unloads (margin 0, no delay).
-    e.set_viewer(viewer_at({16 + 20 * 32, h, 16}));
+    ASSERT_TRUE(e.set_viewer(viewer_at({16 + 20 * 32, h, 16})));
     ASSERT_TRUE(settle(e));
     drain();
     EXPECT_TRUE(has(vx::ChunkEvent::Kind::Unloaded, home));
@@ -229,7 +233,7 @@ TEST(Facade, GameBlocksAndGenerator) {
     EXPECT_EQ(e.find_block("rock"), std::optional<vx::BlockId>(1));
     EXPECT_EQ(e.find_block("post"), std::optional<vx::BlockId>(2));
     EXPECT_EQ(e.find_block("stone"), std::nullopt); // The built-in palette is not there.
-    e.set_viewer(viewer_at({4, 2, 4}));
+    ASSERT_TRUE(e.set_viewer(viewer_at({4, 2, 4})));
     ASSERT_TRUE(settle(e));
     EXPECT_EQ(e.get_block({8, 3, 16}), std::optional<vx::BlockId>(2));
     EXPECT_EQ(e.get_block({8, 4, 16}), std::optional<vx::BlockId>(vx::kAir));
@@ -256,7 +260,7 @@ TEST(Facade, SaveTicketsAndReopen) {
         auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, kSeed)));
         ASSERT_TRUE(engine) << engine.error();
         vx::Engine& e = **engine;
-        e.set_viewer(viewer_at({x, h + 2, 16}));
+        ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
         ASSERT_TRUE(settle(e));
         const vx::BlockId lamp = *e.find_block("lamp");
         ASSERT_TRUE(e.set_block(a, lamp));
@@ -275,7 +279,7 @@ TEST(Facade, SaveTicketsAndReopen) {
     auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, kSeed)));
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
-    e.set_viewer(viewer_at({x, h + 2, 16}));
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
     ASSERT_TRUE(settle(e));
     EXPECT_EQ(e.get_block(a), e.find_block("lamp"));
     EXPECT_EQ(e.get_block(b), e.find_block("lamp"));
@@ -295,11 +299,51 @@ TEST(Facade, DescriptionErrors) {
 
     auto vdb = vx::Engine::create(small_info(vx::WorldSource::vdb("/nonexistent/world.vdb")));
     ASSERT_FALSE(vdb);
-    EXPECT_NE(vdb.error().find("world.vdb"), std::string::npos) << vdb.error();
+    EXPECT_NE(vdb.error().find(VX_WITH_OPENVDB ? "world.vdb" : "VX_WITH_OPENVDB=OFF"), std::string::npos) << vdb.error();
 
     auto db = vx::Engine::create(small_info(vx::WorldSource::sqlite("/nonexistent/dir/w.db", 1)));
     ASSERT_FALSE(db);
     EXPECT_NE(db.error().find("w.db"), std::string::npos) << db.error();
+
+    // Bad viewers are refused and the previous one stays.
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Viewer v;
+    v.offset.x = std::nan("");
+    EXPECT_FALSE((*engine)->set_viewer(v));
+    v.offset = glm::dvec3(0.5);
+    v.block.x = int64_t(1) << 40;
+    EXPECT_FALSE((*engine)->set_viewer(v));
+    v.block.x = 0;
+    EXPECT_TRUE((*engine)->set_viewer(v));
 }
+
+#if VX_WITH_OPENVDB
+// A VDB world: its blocks stream in, space outside it is air, edits stay in memory, save refuses.
+TEST(Facade, VdbWorldIsReadOnly) {
+    vx::world::World src;
+    for (int64_t x = -3; x < 40; ++x)
+        for (int64_t z = -3; z < 40; ++z)
+            src.set_block({x, -1, z}, 1);
+    src.set_block({5, 0, 5}, 8);
+    const std::string path = temp_path("vdb_world") + ".vdb";
+    ASSERT_TRUE(vx::vdb::export_vdb(src, path));
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::vdb(path)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(e.set_viewer(viewer_at({4, 4, 4})));
+    ASSERT_TRUE(settle(e));
+    EXPECT_EQ(e.get_block({5, 0, 5}), std::optional<vx::BlockId>(8));
+    EXPECT_EQ(e.get_block({20, -1, 20}), std::optional<vx::BlockId>(1));
+    EXPECT_EQ(e.get_block({50, -1, 50}), std::optional<vx::BlockId>(vx::kAir)); // Outside the file.
+    ASSERT_TRUE(e.set_block({6, 0, 6}, 2));
+    EXPECT_EQ(e.get_block({6, 0, 6}), std::optional<vx::BlockId>(2));
+    EXPECT_EQ(e.stats().dirty_chunks, 0u); // Nothing to save to.
+    auto ticket = e.save();
+    ASSERT_FALSE(ticket);
+    EXPECT_NE(ticket.error().find("read-only"), std::string::npos) << ticket.error();
+    EXPECT_TRUE(e.shutdown());
+}
+#endif
 
 } // namespace
