@@ -45,6 +45,42 @@ std::unique_ptr<world::ChunkGenerator> pick_generator(const WorldSource& source,
     return fallback;
 }
 
+// The block names a world file was saved with, one per line for ids 1, 2, ...
+std::string block_names(const world::BlockRegistry& registry) {
+    std::string out;
+    for (size_t id = 1; id < registry.size(); ++id)
+        out += registry.info(world::BlockId(id)).name + "\n";
+    return out;
+}
+
+// A SQLite world remembers its terrain seed ("seed", as `vx world gen` writes it) and its block
+// names ("blocks"): reopening it with another seed would put seams where new chunks meet stored
+// ones, and with other blocks would give stored ids new meanings. Appending blocks is fine.
+// Runs before the engine's threads start, so the store is used from one thread at a time.
+Status check_world_meta(world::ChunkStore& store, const WorldSource& source, const world::BlockRegistry& registry) {
+    const std::string path = "'" + source.path + "'";
+    if (!source.generator) {
+        auto seed = store.get_meta("seed");
+        if (!seed)
+            return Error{seed.error()};
+        if (*seed && **seed != std::to_string(source.seed))
+            return Error{path + " holds a world of seed " + **seed + ", not " + std::to_string(source.seed)};
+        if (Status s = store.set_meta("seed", std::to_string(source.seed)); !s)
+            return s;
+    }
+    auto stored = store.get_meta("blocks");
+    if (!stored)
+        return Error{stored.error()};
+    const std::string now = block_names(registry);
+    if (*stored && now.compare(0, (*stored)->size(), **stored) != 0) {
+        std::string listed = **stored;
+        std::replace(listed.begin(), listed.end(), '\n', ' ');
+        return Error{path + " was saved with other blocks (ids 1.. were: " + listed +
+                     "); keep their order and append new ones"};
+    }
+    return store.set_meta("blocks", now);
+}
+
 Result<std::unique_ptr<world::ChunkStore>> open_store(const WorldSource& source) {
     if (source.path.empty())
         return Error{"the world source needs a path"};
@@ -89,10 +125,13 @@ Result<OpenedWorld> open_world(const WorldSource& source, const std::vector<Bloc
         if (!store)
             return Error{store.error()};
         out.store = std::move(*store);
-        if (source.kind == WorldSource::Kind::Sqlite)
-            out.generator = pick_generator(source, std::make_unique<world::TerrainGenerator>(source.seed));
-        else
+        if (source.kind == WorldSource::Kind::Vdb) {
             out.generator = pick_generator(source, std::make_unique<AirGenerator>());
+            return out;
+        }
+        if (Status s = check_world_meta(*out.store, source, out.registry); !s)
+            return Error{s.error()};
+        out.generator = pick_generator(source, std::make_unique<world::TerrainGenerator>(source.seed));
         return out;
     }
     }

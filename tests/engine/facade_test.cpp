@@ -283,6 +283,23 @@ TEST(Facade, SaveTicketsAndReopen) {
     ASSERT_TRUE(settle(e));
     EXPECT_EQ(e.get_block(a), e.find_block("lamp"));
     EXPECT_EQ(e.get_block(b), e.find_block("lamp"));
+    ASSERT_TRUE(e.shutdown());
+
+    // The file remembers its seed and blocks: another seed, or blocks renumbered, are refused;
+    // blocks appended are fine.
+    auto other_seed = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, kSeed + 1)));
+    ASSERT_FALSE(other_seed);
+    EXPECT_NE(other_seed.error().find("seed 7"), std::string::npos) << other_seed.error();
+    vx::EngineCreateInfo renumbered = small_info(vx::WorldSource::sqlite(path, kSeed));
+    renumbered.blocks = vx::default_blocks();
+    std::swap(renumbered.blocks[0], renumbered.blocks[1]);
+    auto swapped = vx::Engine::create(renumbered);
+    ASSERT_FALSE(swapped);
+    EXPECT_NE(swapped.error().find("other blocks"), std::string::npos) << swapped.error();
+    vx::EngineCreateInfo appended = small_info(vx::WorldSource::sqlite(path, kSeed));
+    appended.blocks = vx::default_blocks();
+    appended.blocks.push_back({"marble", {0.9f, 0.9f, 0.85f}});
+    EXPECT_TRUE(vx::Engine::create(appended));
 }
 
 TEST(Facade, DescriptionErrors) {
