@@ -31,15 +31,16 @@ int main(int argc, char** argv) {
     }
     vx::Engine& e = **engine;
 
-    // 2. Fly along +x, one update per frame, then let the view fill.
+    // 2. Fly along +x for a second of game time (60 frames of 16 ms), then let the view fill.
     vx::Viewer viewer;
     viewer.block = {0, vx::terrain_height(2024, 0, 0) + 20, 0};
     viewer.forward = {30, -8, 0};
+    auto now = std::chrono::steady_clock::now();
     for (int frame = 0; frame < 60 || !e.settled(); ++frame) {
         if (frame < 60)
             viewer.offset.x += 0.5;
         e.set_viewer(viewer);
-        e.update();
+        e.update(now += std::chrono::milliseconds(16));
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
 
