@@ -398,8 +398,8 @@ uint64_t ChunkStreamer::request_save() {
     }
     save_dirty(Clock::now(), true);
     // Reported on the I/O thread (or by the job's destructor if it never runs).
-    m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store, sequence,
-                                                  [tracker = m_saves_done, sequence](const Status& s) { tracker->finished(sequence, s); }));
+    auto report = [tracker = m_saves_done, sequence](const Status& s) { tracker->finished(sequence, s); };
+    m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store, sequence, std::move(report)));
     return sequence;
 }
 

@@ -10,9 +10,10 @@
 
 namespace vx {
 
-static_assert(int(Face::NegX) == int(world::Face::NegX) && int(Face::PosX) == int(world::Face::PosX) &&
-              int(Face::NegY) == int(world::Face::NegY) && int(Face::PosY) == int(world::Face::PosY) &&
-              int(Face::NegZ) == int(world::Face::NegZ) && int(Face::PosZ) == int(world::Face::PosZ));
+// The public types mirror world's: same values, so conversions are plain casts.
+static_assert(int(Face::NegX) == int(world::Face::NegX) && int(Face::PosX) == int(world::Face::PosX));
+static_assert(int(Face::NegY) == int(world::Face::NegY) && int(Face::PosY) == int(world::Face::PosY));
+static_assert(int(Face::NegZ) == int(world::Face::NegZ) && int(Face::PosZ) == int(world::Face::PosZ));
 static_assert(kChunkSize == world::kChunkSize && kChunkVolume == world::kChunkVolume);
 static_assert(chunk_index(1, 2, 3) == world::local_index(1, 2, 3));
 
@@ -186,17 +187,17 @@ Result<RayHit> Engine::raycast(BlockPos origin_block, glm::dvec3 origin_offset, 
     if (!std::isfinite(max_distance) || max_distance < 0)
         return Error{"raycast: max_distance must be finite and >= 0"};
     const world::World& w = m->streamer->world();
-    auto loaded = [&w](world::BlockPos p) { return world::in_world(p) && w.find_chunk(world::chunk_of(p)); };
+    auto chunk_at = [&w](world::BlockPos p) { return world::in_world(p) ? w.find_chunk(world::chunk_of(p)) : nullptr; };
     // Unloaded space reads as a solid block, so the walk stops where knowledge ends.
-    const world::RaycastHit h = world::raycast(world::Ray{origin_block, origin_offset, direction}, max_distance,
-                                               [&](world::BlockPos p) -> world::BlockId {
-                                                   const world::Chunk* c = world::in_world(p) ? w.find_chunk(world::chunk_of(p)) : nullptr;
-                                                   return c ? c->get(world::local_of(p)) : world::BlockId(1);
-                                               });
+    auto query = [&chunk_at](world::BlockPos p) -> world::BlockId {
+        const world::Chunk* c = chunk_at(p);
+        return c ? c->get(world::local_of(p)) : world::BlockId(1);
+    };
+    const world::RaycastHit h = world::raycast(world::Ray{origin_block, origin_offset, direction}, max_distance, query);
     RayHit out;
     if (!h.hit)
         return out;
-    out.kind = loaded(h.block) ? RayHit::Kind::Hit : RayHit::Kind::Unloaded;
+    out.kind = chunk_at(h.block) ? RayHit::Kind::Hit : RayHit::Kind::Unloaded;
     out.inside = h.inside;
     out.block = h.block;
     out.distance = h.distance;
