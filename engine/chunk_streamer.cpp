@@ -26,9 +26,9 @@ const ChunkMesh& empty_mesh() {
 }
 } // namespace
 
-ChunkStreamer::ChunkStreamer(const TerrainGenerator& generator, ChunkStore* store, MeshSink& sink,
-                             const StreamingSettings& settings)
-    : m_generator(generator), m_store(store), m_sink(sink), m_settings(settings) {
+ChunkStreamer::ChunkStreamer(const ChunkGenerator& generator, ChunkStore* store, MeshSink& sink,
+                             const StreamingSettings& settings, const BlockRegistry& registry)
+    : m_generator(generator), m_store(store), m_sink(sink), m_settings(settings), m_world(registry) {
     JobSystemCreateInfo info;
     info.worker_count = settings.worker_count;
     m_jobs = std::make_unique<JobSystem>(info);
@@ -67,6 +67,16 @@ bool ChunkStreamer::beyond_unload(ChunkCoord c) const {
 }
 
 void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward, Clock::time_point now) {
+    update_viewer(position, forward, nullptr, now);
+}
+
+void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3& velocity,
+                           Clock::time_point now) {
+    update_viewer(position, forward, &velocity, now);
+}
+
+void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,
+                                  Clock::time_point now) {
     const Clock::time_point t0 = Clock::now();
     const std::chrono::nanoseconds cpu0 = thread_cpu_now();
     const Clock::time_point deadline = t0 + m_settings.frame_budget;
@@ -75,7 +85,9 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
     // viewer is heading before it gets there.
     const double dt = std::chrono::duration<double>(now - m_prev_time).count();
     const glm::dvec3 step = position - m_prev_position;
-    if (!m_have_center || dt <= 1e-4 || dt >= 1.0 || glm::length(step) > 2.0 * kChunkSize)
+    if (velocity)
+        m_velocity = *velocity; // The game knows better than an estimate.
+    else if (!m_have_center || dt <= 1e-4 || dt >= 1.0 || glm::length(step) > 2.0 * kChunkSize)
         m_velocity = glm::dvec3(0.0); // First frame, a stall or a teleport: no prediction.
     else
         m_velocity = 0.8 * m_velocity + 0.2 * step / dt;
@@ -108,7 +120,7 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
     save_dirty(now, false);
     if (m_store && now - m_last_tick >= std::chrono::duration<double>(m_settings.store_tick_s)) {
         m_last_tick = now;
-        m_jobs->submit(std::make_unique<StoreSyncJob>(*this, *m_store, nullptr));
+        m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store));
     }
     m_last_update = Clock::now() - t0;
     m_last_update_cpu = thread_cpu_now() - cpu0;
@@ -144,8 +156,8 @@ std::unique_ptr<Job> ChunkStreamer::request_data(ChunkCoord c) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Requested;
     if (m_store)
-        return std::make_unique<LoadJob>(*this, c, *m_store);
-    return std::make_unique<GenerateJob>(*this, c, m_generator);
+        return std::make_unique<LoadJob>(events(), c, *m_store);
+    return std::make_unique<GenerateJob>(events(), c, m_generator);
 }
 
 void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem) {
@@ -160,7 +172,7 @@ void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const st
         VX_LOG_WARN("chunk %d,%d,%d: %s; regenerating", c.x, c.y, c.z, problem.c_str());
         ++m_regenerated;
     }
-    m_jobs->submit(std::make_unique<GenerateJob>(*this, c, m_generator));
+    m_jobs->submit(std::make_unique<GenerateJob>(events(), c, m_generator));
 }
 
 void ChunkStreamer::on_generated(ChunkCoord c, Chunk chunk) {
@@ -180,6 +192,8 @@ void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
     m_mesh_candidates.insert(c);
     for (int f = 0; f < 6; ++f)
         m_mesh_candidates.insert(c + face_normal(Face(f)));
+    if (m_observer)
+        m_observer->on_chunk_loaded(c);
 }
 
 bool ChunkStreamer::neighbours_present(ChunkCoord c) const {
@@ -218,7 +232,7 @@ void ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
     auto apron = std::make_unique<Apron>(make_apron(m_world, c));
     s.mesh_pending = true;
     s.mesh_stale = false;
-    m_jobs->submit(std::make_unique<MeshJob>(*this, c, chunk, std::move(apron), m_world.registry()));
+    m_jobs->submit(std::make_unique<MeshJob>(events(), c, chunk, std::move(apron), m_world.registry()));
 }
 
 void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
@@ -269,7 +283,7 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     m_block_bytes -= s.bytes;
     s.bytes = m_world.find_chunk(c)->memory_bytes();
     m_block_bytes += s.bytes;
-    if (m_store && !s.dirty) {
+    if (m_store && !m_store->read_only() && !s.dirty) {
         s.dirty = true;
         s.dirty_since = Clock::now();
     }
@@ -324,16 +338,19 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     if (s.data == Data::Present) {
         Chunk* chunk = m_world.find_chunk(c);
         if (s.dirty && m_store) { // Saved before it is dropped: the job owns the data now.
-            m_jobs->submit(std::make_unique<SaveJob>(*this, c, std::move(*chunk), *m_store));
+            m_jobs->submit(std::make_unique<SaveJob>(events(), c, std::move(*chunk), *m_store));
             ++m_saves;
         }
         m_block_bytes -= s.bytes;
         m_world.remove_chunk(c);
     }
+    const bool had_data = s.data == Data::Present;
     if (s.has_mesh)
         m_sink.on_unload(c);
     m_mesh_candidates.erase(c);
     m_chunks.erase(c);
+    if (had_data && m_observer)
+        m_observer->on_chunk_unloaded(c);
 }
 
 void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
@@ -343,7 +360,7 @@ void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
     for (auto& [c, s] : m_chunks) {
         if (!s.dirty || (!all && now - s.dirty_since < delay))
             continue;
-        m_jobs->submit(std::make_unique<SaveJob>(*this, c, *m_world.find_chunk(c), *m_store));
+        m_jobs->submit(std::make_unique<SaveJob>(events(), c, *m_world.find_chunk(c), *m_store));
         s.dirty = false;
         ++m_saves;
     }
@@ -370,13 +387,20 @@ void ChunkStreamer::enforce_memory_cap() {
 }
 
 Status ChunkStreamer::flush() {
-    if (!m_store)
-        return {};
+    return wait_saved(request_save());
+}
+
+uint64_t ChunkStreamer::request_save() {
+    const uint64_t sequence = m_saves_done->next();
+    if (!m_store) {
+        m_saves_done->finished(sequence, {}); // Nothing persists: nothing to wait for.
+        return sequence;
+    }
     save_dirty(Clock::now(), true);
-    std::promise<Status> done;
-    std::future<Status> result = done.get_future();
-    m_jobs->submit(std::make_unique<StoreSyncJob>(*this, *m_store, &done));
-    return result.get(); // Set on the I/O thread (or by the job's destructor if it never runs).
+    // Reported on the I/O thread (or by the job's destructor if it never runs).
+    auto report = [tracker = m_saves_done, sequence](const Status& s) { tracker->finished(sequence, s); };
+    m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store, sequence, std::move(report)));
+    return sequence;
 }
 
 bool ChunkStreamer::settled() const {

@@ -14,6 +14,8 @@
 // Threads: the streamer lives on one thread (the main thread): construct it, call update() once
 // per frame, edit, flush and destroy it there. Loads and saves run on the job system's serial I/O
 // lane, generation and meshing on its pool; results are applied in update() within the budget.
+// Saving: request_save() hands every edited chunk to the store and queues a flush behind them,
+// returning a sequence number that save_state()/wait_saved() report on (engine/save_tracker.h).
 
 #include <chrono>
 #include <cstddef>
@@ -26,10 +28,12 @@
 
 #include "engine/job_system.h"
 #include "engine/mesh_sink.h"
+#include "engine/save_tracker.h"
+#include "engine/stream_jobs.h"
 #include "world/base/result.h"
 #include "world/store/chunk_store.h"
 #include "world/mesh/edit_mesher.h"
-#include "world/gen/terrain.h"
+#include "world/gen/chunk_generator.h"
 #include "world/world.h"
 
 namespace vx::engine {
@@ -61,12 +65,26 @@ struct StreamingMetrics {
     std::chrono::nanoseconds last_update_cpu{0};  // Main-thread CPU time of it (excludes preemption).
 };
 
-class ChunkStreamer {
+// Block data arriving and leaving, for game logic (meshes go to the MeshSink). Main thread only:
+// called from update() and edits, on the streamer's thread.
+class StreamObserver {
 public:
-    // Main thread. `store` may be null (generate only, nothing persists). The store, generator and
-    // sink must outlive the streamer.
-    ChunkStreamer(const world::TerrainGenerator& generator, world::ChunkStore* store, MeshSink& sink,
-                  const StreamingSettings& settings = {});
+    virtual ~StreamObserver() = default;
+    // Chunk `c`'s block data is now in the world (loaded from the store or generated).
+    virtual void on_chunk_loaded(world::ChunkCoord c) = 0;
+    // Chunk `c` was dropped (unloaded or evicted); its mesh, if any, left the sink just before.
+    virtual void on_chunk_unloaded(world::ChunkCoord c) = 0;
+};
+
+class ChunkStreamer final : private StreamJobEvents {
+public:
+    // Main thread. `store` may be null (generate only, nothing persists); a read-only store
+    // (VDB) keeps edits in memory only. Blocks mesh with `registry` (copied): its transparent
+    // blocks mesh as transparent. The store, generator and sink must outlive the streamer; the
+    // generator is called from pool workers (thread-safe const).
+    ChunkStreamer(const world::ChunkGenerator& generator, world::ChunkStore* store, MeshSink& sink,
+                  const StreamingSettings& settings = {},
+                  const world::BlockRegistry& registry = world::BlockRegistry::default_registry());
     // Main thread. Saves dirty chunks and flushes the store, then stops the jobs.
     ~ChunkStreamer();
     ChunkStreamer(const ChunkStreamer&) = delete;
@@ -74,6 +92,12 @@ public:
 
     // Main thread, once per frame. `position` and `forward` in world block units.
     void update(const glm::dvec3& position, const glm::dvec3& forward, std::chrono::steady_clock::time_point now);
+    // The same with the viewer's velocity (blocks per second) given instead of estimated from
+    // the positions of past frames.
+    void update(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3& velocity,
+                std::chrono::steady_clock::time_point now);
+    // Main thread. Null: none. The observer must outlive the streamer or be reset first.
+    void set_observer(StreamObserver* observer) { m_observer = observer; }
 
     // Main thread. Sets a block of a loaded chunk; meshes update through the six-slice path.
     // Fails (nothing changes) when the chunk is not loaded.
@@ -84,6 +108,14 @@ public:
     // Main thread. Hands every edited chunk to the store and waits until the store has made
     // everything acknowledged so far durable. Blocks; call rarely (e.g. on save or quit).
     Status flush();
+    // Main thread; does not block. Hands every edited chunk to the I/O lane and queues a store
+    // flush behind them; returns its sequence number (with no store: one already durable).
+    uint64_t request_save();
+    // Thread-safe. Where save `sequence` stands; wait_saved() blocks until it is durable or failed.
+    SaveState save_state(uint64_t sequence) const { return m_saves_done->state(sequence); }
+    Status wait_saved(uint64_t sequence) const { return m_saves_done->wait(sequence); }
+    // Thread-safe. The tracker of request_save()'s sequences; may outlive the streamer.
+    std::shared_ptr<const SaveTracker> save_tracker() const { return m_saves_done; }
 
     // Main thread. True when every chunk the view needs is loaded and meshed and no chunk is due
     // to be unloaded: nothing is left to do until the viewer moves (or time passes).
@@ -94,11 +126,6 @@ public:
     const world::ChunkMesh* mesh(world::ChunkCoord c) const;
 
 private:
-    friend class LoadJob;
-    friend class GenerateJob;
-    friend class MeshJob;
-    friend class SaveJob;
-    friend class StoreSyncJob;
 
     enum class Data : uint8_t { Requested, Present };
     struct ChunkState {
@@ -113,11 +140,14 @@ private:
         std::unique_ptr<world::ChunkMesh> mesh; // Null while the mesh is empty (air, buried).
     };
 
-    // Results from jobs (main thread, via complete()).
-    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem);
-    void on_generated(world::ChunkCoord c, world::Chunk chunk);
-    void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh);
-    void on_saved(world::ChunkCoord c, const std::string& error);
+    // StreamJobEvents: results from jobs (main thread, via complete()).
+    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem) override;
+    void on_generated(world::ChunkCoord c, world::Chunk chunk) override;
+    void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) override;
+    void on_saved(world::ChunkCoord c, const std::string& error) override;
+    StreamJobEvents& events() { return *this; } // What jobs report to (a private base).
+    void update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,
+                       std::chrono::steady_clock::time_point now);
 
     void refresh_region(std::chrono::steady_clock::time_point now);
     std::unique_ptr<Job> request_data(world::ChunkCoord c);
@@ -136,9 +166,10 @@ private:
     bool beyond_unload(world::ChunkCoord c) const;
     void request_box(world::ChunkCoord center, std::vector<std::unique_ptr<Job>>& jobs);
 
-    const world::TerrainGenerator& m_generator;
+    const world::ChunkGenerator& m_generator;
     world::ChunkStore* m_store;
     MeshSink& m_sink;
+    StreamObserver* m_observer = nullptr;
     StreamingSettings m_settings;
     world::World m_world;
     world::EditMesher m_edits;
@@ -155,6 +186,8 @@ private:
     size_t m_block_bytes = 0;
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
     std::chrono::nanoseconds m_last_update{0}, m_last_update_cpu{0};
+    // Shared with flush jobs (which report to it) and with whoever asks after the streamer is gone.
+    std::shared_ptr<SaveTracker> m_saves_done = std::make_shared<SaveTracker>();
     // Declared last: destroyed first, so no job outlives the state it reports to.
     std::unique_ptr<JobSystem> m_jobs;
 };

@@ -1,6 +1,5 @@
 #include "engine/stream_jobs.h"
 
-#include "engine/chunk_streamer.h"
 #include "world/mesh/mesher.h"
 
 namespace vx::engine {
@@ -47,10 +46,15 @@ void SaveJob::run(JobContext&) {
 
 void SaveJob::complete() { m_owner.on_saved(key().chunk, m_error); }
 
+world::ChunkCoord flush_key(uint64_t sequence) {
+    return {INT32_MIN, INT32_MIN + 1, int32_t(sequence & 0x7fffffffu)};
+}
+
 void StoreSyncJob::run(JobContext&) {
     if (m_flushed) {
-        m_flushed->set_value(m_store.flush());
+        FlushDone done = std::move(m_flushed);
         m_flushed = nullptr;
+        done(m_store.flush());
         return;
     }
     m_status = m_store.tick(world::ChunkStore::Clock::now());
@@ -63,7 +67,7 @@ void StoreSyncJob::complete() {
 
 StoreSyncJob::~StoreSyncJob() {
     if (m_flushed) // Never ran (shutdown): whoever waits must not wait forever.
-        m_flushed->set_value(Error{"flush cancelled: the job system is shutting down"});
+        m_flushed(Error{"flush cancelled: the job system is shutting down"});
 }
 
 } // namespace vx::engine

@@ -1,10 +1,10 @@
 #pragma once
 // The jobs of chunk streaming. Each owns its snapshot (coordinates, a chunk copy, an apron) and
-// reports back to the ChunkStreamer in complete(), on the main thread; the streamer re-checks
-// that the chunk is still wanted (it may have been unloaded since).
+// reports back through StreamJobEvents in complete(), on the main thread; the receiver (the
+// ChunkStreamer) re-checks that the chunk is still wanted (it may have been unloaded since).
 
 #include <climits>
-#include <future>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -13,45 +13,58 @@
 #include "world/mesh/apron.h"
 #include "world/mesh/chunk_mesh.h"
 #include "world/store/chunk_store.h"
-#include "world/gen/terrain.h"
+#include "world/gen/chunk_generator.h"
 
 namespace vx::engine {
 
-class ChunkStreamer;
+// What the jobs report, and nothing more: the streamer implements it (no friendship, so a job
+// cannot reach the streamer's state). Main thread only: every call comes from a job's complete().
+class StreamJobEvents {
+public:
+    // A load finished: `chunk` when stored and intact; else `problem` says why (empty: absent).
+    virtual void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem) = 0;
+    virtual void on_generated(world::ChunkCoord c, world::Chunk chunk) = 0;
+    virtual void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) = 0;
+    // A save (or a store tick) failed with `error` (empty: it succeeded).
+    virtual void on_saved(world::ChunkCoord c, const std::string& error) = 0;
+
+protected:
+    ~StreamJobEvents() = default;
+};
 
 // I/O lane: reads a chunk record. Absent or corrupt chunks come back for generation.
 class LoadJob final : public Job {
 public:
-    LoadJob(ChunkStreamer& owner, world::ChunkCoord c, world::ChunkStore& store)
+    LoadJob(StreamJobEvents& owner, world::ChunkCoord c, world::ChunkStore& store)
         : Job({c, JobKind::Load}), m_owner(owner), m_store(store) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
 private:
-    ChunkStreamer& m_owner;
+    StreamJobEvents& m_owner;
     world::ChunkStore& m_store;
     std::optional<world::Chunk> m_chunk;
     std::string m_problem; // Corrupt record or store failure, for the log.
 };
 
-// Pool: generates terrain; a pure function of (seed, coordinate).
+// Pool: generates a chunk (a pure function of the coordinate).
 class GenerateJob final : public Job {
 public:
-    GenerateJob(ChunkStreamer& owner, world::ChunkCoord c, const world::TerrainGenerator& gen)
+    GenerateJob(StreamJobEvents& owner, world::ChunkCoord c, const world::ChunkGenerator& gen)
         : Job({c, JobKind::Generate}), m_owner(owner), m_gen(gen) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
 private:
-    ChunkStreamer& m_owner;
-    const world::TerrainGenerator& m_gen; // Immutable; outlives the job system.
+    StreamJobEvents& m_owner;
+    const world::ChunkGenerator& m_gen; // Thread-safe const; outlives the job system.
     world::Chunk m_chunk;
 };
 
 // Pool: meshes a snapshot (chunk copy + apron).
 class MeshJob final : public Job {
 public:
-    MeshJob(ChunkStreamer& owner, world::ChunkCoord c, world::Chunk chunk, std::unique_ptr<world::Apron> apron,
+    MeshJob(StreamJobEvents& owner, world::ChunkCoord c, world::Chunk chunk, std::unique_ptr<world::Apron> apron,
             const world::BlockRegistry& registry)
         : Job({c, JobKind::Mesh}), m_owner(owner), m_chunk(std::move(chunk)), m_apron(std::move(apron)),
           m_registry(registry) {}
@@ -59,7 +72,7 @@ public:
     void complete() override;
 
 private:
-    ChunkStreamer& m_owner;
+    StreamJobEvents& m_owner;
     world::Chunk m_chunk;
     std::unique_ptr<world::Apron> m_apron;
     const world::BlockRegistry& m_registry; // The streamer's; outlives the job system.
@@ -69,34 +82,41 @@ private:
 // I/O lane: queues a chunk's record in the store (which commits within its time bound).
 class SaveJob final : public Job {
 public:
-    SaveJob(ChunkStreamer& owner, world::ChunkCoord c, world::Chunk chunk, world::ChunkStore& store)
+    SaveJob(StreamJobEvents& owner, world::ChunkCoord c, world::Chunk chunk, world::ChunkStore& store)
         : Job({c, JobKind::Save}), m_owner(owner), m_chunk(std::move(chunk)), m_store(store) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
 private:
-    ChunkStreamer& m_owner;
+    StreamJobEvents& m_owner;
     world::Chunk m_chunk;
     world::ChunkStore& m_store;
     std::string m_error;
 };
 
-// I/O lane: store.tick(now), or flush() when a promise waits for it. Ticks and flushes use keys of
-// their own (no chunk has them), so a tick never replaces a waiting flush.
+// I/O lane: store.tick(now), or store.flush() reporting to `flushed` (on the I/O thread, or with
+// an error from the destructor if the job never ran). Ticks share one key (a newer tick replaces
+// a queued one); each flush has a key of its own, so a later flush never takes an earlier one's
+// place in line ahead of the saves submitted between them. No chunk uses JobKind::IoTask.
 inline const world::ChunkCoord kTickKey{INT32_MIN, INT32_MIN, INT32_MIN};
-inline const world::ChunkCoord kFlushKey{INT32_MIN, INT32_MIN, INT32_MIN + 1};
+world::ChunkCoord flush_key(uint64_t sequence);
 class StoreSyncJob final : public Job {
 public:
-    StoreSyncJob(ChunkStreamer& owner, world::ChunkStore& store, std::promise<Status>* flushed)
-        : Job({flushed ? kFlushKey : kTickKey, JobKind::IoTask}), m_owner(owner), m_store(store), m_flushed(flushed) {}
+    using FlushDone = std::function<void(const Status&)>;
+    // Tick.
+    StoreSyncJob(StreamJobEvents& owner, world::ChunkStore& store)
+        : Job({kTickKey, JobKind::IoTask}), m_owner(owner), m_store(store) {}
+    // Flush number `sequence`; `flushed` is called exactly once.
+    StoreSyncJob(StreamJobEvents& owner, world::ChunkStore& store, uint64_t sequence, FlushDone flushed)
+        : Job({flush_key(sequence), JobKind::IoTask}), m_owner(owner), m_store(store), m_flushed(std::move(flushed)) {}
     ~StoreSyncJob() override;
     void run(JobContext& ctx) override;
     void complete() override;
 
 private:
-    ChunkStreamer& m_owner;
+    StreamJobEvents& m_owner;
     world::ChunkStore& m_store;
-    std::promise<Status>* m_flushed; // Null: a periodic tick.
+    FlushDone m_flushed; // Empty: a periodic tick (or already reported).
     Status m_status;
 };
 

@@ -124,6 +124,12 @@ struct Scene {
     const world::BlockRegistry* registry = nullptr; // Null: the default registry.
 };
 
+// GPU memory of the renderer's sub-allocator, bytes (all of the renderer's buffers and images).
+struct GpuMemoryStats {
+    uint64_t held_bytes = 0; // Device memory blocks allocated from the driver.
+    uint64_t used_bytes = 0; // Of them, handed out to resources.
+};
+
 struct RendererCreateInfo {
     bool validation = false;
     bool sync_validation = false; // With validation: synchronization validation too (slow).
@@ -185,6 +191,7 @@ public:
     const DeviceReport& device() const;
     uint32_t validation_errors() const;
     const RenderStats& last_stats() const;
+    GpuMemoryStats memory_stats() const;
     Context& context();
 
 private:

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/chunk_streamer.h"
+#include "world/gen/terrain.h"
 #include "world/mesh/mesher.h"
 #include "world/store/sqlite_store.h"
 

@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include "engine/chunk_streamer.h"
+#include "world/gen/terrain.h"
 
 namespace vx::tools {
 namespace {

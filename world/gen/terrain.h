@@ -23,6 +23,7 @@
 #include "world/block_registry.h"
 #include "world/chunk.h"
 #include "world/coords.h"
+#include "world/gen/chunk_generator.h"
 
 namespace vx::world {
 
@@ -42,12 +43,12 @@ struct TerrainParams {
 };
 
 // Not thread-safe to construct; generate() and surface_height() are const and thread-safe.
-class TerrainGenerator {
+class TerrainGenerator final : public ChunkGenerator {
 public:
     explicit TerrainGenerator(uint64_t seed, TerrainParams params = {});
 
     // The chunk at `c`. Pure: equal inputs give equal chunks (operator==) on any thread.
-    Chunk generate(ChunkCoord c) const;
+    Chunk generate(ChunkCoord c) const override;
 
     // Surface height (world y of the topmost terrain block, before caves) of column (x, z).
     int surface_height(int64_t x, int64_t z) const;

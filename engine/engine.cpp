@@ -1,0 +1,259 @@
+// vx::Engine: the facade's life cycle, streaming, edits, queries and saving. Rendering and stats
+// are in engine_render.cpp; the world description is made real in world_setup.cpp.
+#include <cmath>
+
+#include <vx/vx.h>
+
+#include "engine/engine_impl.h"
+#include "world/base/log.h"
+#include "world/raycast.h"
+
+namespace vx {
+
+// The public types mirror world's: same values, so conversions are plain casts.
+static_assert(int(Face::NegX) == int(world::Face::NegX) && int(Face::PosX) == int(world::Face::PosX));
+static_assert(int(Face::NegY) == int(world::Face::NegY) && int(Face::PosY) == int(world::Face::PosY));
+static_assert(int(Face::NegZ) == int(world::Face::NegZ) && int(Face::PosZ) == int(world::Face::PosZ));
+static_assert(kChunkSize == world::kChunkSize && kChunkVolume == world::kChunkVolume);
+static_assert(chunk_index(1, 2, 3) == world::local_index(1, 2, 3));
+
+namespace {
+
+Status validate(const EngineCreateInfo& info) {
+    const StreamingDesc& s = info.streaming;
+    if (s.view_radius < 0 || s.view_radius_vertical < 0 || s.unload_margin < 0)
+        return Error{"streaming radii must be >= 0"};
+    if (s.view_radius > 64 || s.view_radius_vertical > 64)
+        return Error{"streaming radii above 64 chunks are not supported"};
+    if (!(s.unload_delay_s >= 0) || !(s.save_delay_s >= 0) || !(s.update_budget_ms > 0))
+        return Error{"streaming delays must be >= 0 and the update budget > 0"};
+    if (s.worker_threads < 0)
+        return Error{"worker_threads must be >= 0 (0: cores - 1)"};
+    const RenderTarget& t = info.render.target;
+    if (t.kind == RenderTarget::Kind::Window)
+        return Error{"window presentation not built yet: use RenderTarget::headless(width, height) for now"};
+    if (t.kind == RenderTarget::Kind::Headless && (t.width == 0 || t.height == 0 || t.width > 16384 || t.height > 16384))
+        return Error{"a headless target needs a size of 1..16384 pixels per side, got " + std::to_string(t.width) +
+                     "x" + std::to_string(t.height)};
+    return {};
+}
+
+engine::StreamingSettings streaming_settings(const StreamingDesc& d) {
+    engine::StreamingSettings s;
+    s.view_radius = d.view_radius;
+    s.view_radius_vertical = d.view_radius_vertical;
+    s.unload_margin = d.unload_margin;
+    s.unload_delay_s = d.unload_delay_s;
+    s.save_delay_s = d.save_delay_s;
+    s.memory_cap_bytes = d.memory_cap_bytes;
+    s.frame_budget = std::chrono::nanoseconds(int64_t(d.update_budget_ms * 1e6));
+    s.worker_count = d.worker_threads;
+    return s;
+}
+
+Result<std::unique_ptr<render::Renderer>> make_renderer(const RenderDesc& desc, const world::BlockRegistry& registry) {
+    auto choice = render::parse_device_choice(desc.device);
+    if (!choice)
+        return Error{choice.error()};
+    render::RendererCreateInfo rci;
+    rci.device = *choice;
+    rci.validation = desc.validation;
+    auto renderer = render::Renderer::create(rci);
+    if (!renderer)
+        return Error{renderer.error()};
+    (*renderer)->set_registry(registry);
+    return std::move(*renderer);
+}
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+} // namespace
+
+Engine::Engine() : m(std::make_unique<Impl>()) {}
+
+Engine::~Engine() {
+    if (Status s = shutdown(); !s)
+        VX_LOG_ERROR("engine shutdown: %s", s.error().c_str());
+}
+
+Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
+    if (Status s = validate(info); !s)
+        return Error{s.error()};
+    Result<engine::OpenedWorld> world = engine::open_world(info.world, info.blocks);
+    if (!world)
+        return Error{world.error()};
+    std::unique_ptr<Engine> e(new Engine());
+    Impl& m = *e->m;
+    m.info = info;
+    m.world = std::move(*world);
+    if (info.render.target.kind == RenderTarget::Kind::Headless) {
+        auto renderer = make_renderer(info.render, m.world.registry);
+        if (!renderer)
+            return Error{renderer.error()};
+        m.renderer = std::move(*renderer);
+    }
+    m.sink = std::make_unique<engine::EngineSink>(m.renderer.get(), info.chunk_events);
+    m.streamer = std::make_unique<engine::ChunkStreamer>(*m.world.generator, m.world.store.get(), *m.sink,
+                                                         streaming_settings(info.streaming), m.world.registry);
+    m.streamer->set_observer(m.sink.get());
+    m.saves = m.streamer->save_tracker();
+    return e;
+}
+
+Status Engine::set_viewer(const Viewer& viewer) {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (!finite(viewer.offset) || !finite(viewer.forward) || !finite(viewer.up) ||
+        (viewer.velocity && !finite(*viewer.velocity)) || !std::isfinite(viewer.fov_y_degrees))
+        return Error{"viewer: offset, forward, up, velocity and fov must be finite"};
+    if (glm::any(glm::greaterThan(glm::abs(viewer.offset), glm::dvec3(double(int64_t(1) << 40)))))
+        return Error{"viewer: keep the offset small and put the position in `block`"};
+    // Fold the offset's whole blocks into the 64-bit block, so the float camera stays exact.
+    const glm::dvec3 whole = glm::floor(viewer.offset);
+    const BlockPos block = viewer.block + BlockPos(whole);
+    if (!world::in_world(block))
+        return Error{"viewer: position outside the world (|coordinate| < 2^36 blocks)"};
+    m->viewer = viewer;
+    m->viewer.block = block;
+    m->viewer.offset -= whole;
+    return {};
+}
+
+void Engine::update(std::chrono::steady_clock::time_point now) {
+    if (m->shut_down)
+        return;
+    const glm::dvec3 forward = m->viewer.forward;
+    if (m->viewer.velocity)
+        m->streamer->update(m->eye(), forward, *m->viewer.velocity, now);
+    else
+        m->streamer->update(m->eye(), forward, now);
+    const engine::StreamingMetrics sm = m->streamer->metrics();
+    m->frame.update_cpu_ms = std::chrono::duration<double, std::milli>(sm.last_update_cpu).count();
+    m->frame.update_wall_ms = std::chrono::duration<double, std::milli>(sm.last_update_time).count();
+}
+
+bool Engine::settled() const { return !m->shut_down && m->streamer->settled(); }
+
+namespace {
+// Why `id` at `pos` cannot be set now, or success.
+Status check_edit(const engine::ChunkStreamer& streamer, const world::BlockRegistry& registry, BlockPos pos,
+                  BlockId id) {
+    if (!world::in_world(pos))
+        return Error{"block " + std::to_string(pos.x) + "," + std::to_string(pos.y) + "," + std::to_string(pos.z) +
+                     " is outside the world"};
+    if (id != kAir && !registry.contains(id))
+        return Error{"block id " + std::to_string(id) + " is not a registered block"};
+    const ChunkCoord c = chunk_of(pos);
+    if (!streamer.world().find_chunk(c))
+        return Error{"block " + std::to_string(pos.x) + "," + std::to_string(pos.y) + "," + std::to_string(pos.z) +
+                     ": chunk " + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) +
+                     " is not loaded"};
+    return {};
+}
+} // namespace
+
+Status Engine::set_block(BlockPos pos, BlockId id) {
+    const BlockEdit edit{pos, id};
+    return set_blocks(std::span<const BlockEdit>(&edit, 1));
+}
+
+Status Engine::set_blocks(std::span<const BlockEdit> edits) {
+    if (Status s = m->alive(); !s)
+        return s;
+    for (const BlockEdit& e : edits)
+        if (Status s = check_edit(*m->streamer, m->world.registry, e.pos, e.id); !s)
+            return s;
+    for (const BlockEdit& e : edits)
+        if (Status s = m->streamer->set_block(e.pos, e.id); !s)
+            return s; // Unreachable after the checks; kept so a future check cannot be silently lost.
+    return {};
+}
+
+std::optional<BlockId> Engine::get_block(BlockPos pos) const {
+    if (m->shut_down || !world::in_world(pos))
+        return std::nullopt;
+    const world::Chunk* chunk = m->streamer->world().find_chunk(chunk_of(pos));
+    if (!chunk)
+        return std::nullopt;
+    return chunk->get(world::local_of(pos));
+}
+
+Result<RayHit> Engine::raycast(BlockPos origin_block, glm::dvec3 origin_offset, glm::dvec3 direction,
+                               double max_distance) const {
+    if (Status s = m->alive(); !s)
+        return Error{s.error()};
+    if (!finite(direction) || direction == glm::dvec3(0.0) || !finite(origin_offset))
+        return Error{"raycast: the direction must be finite and non-zero, the origin finite"};
+    if (!std::isfinite(max_distance) || max_distance < 0)
+        return Error{"raycast: max_distance must be finite and >= 0"};
+    const world::World& w = m->streamer->world();
+    auto chunk_at = [&w](world::BlockPos p) { return world::in_world(p) ? w.find_chunk(world::chunk_of(p)) : nullptr; };
+    // Unloaded space reads as a solid block, so the walk stops where knowledge ends.
+    auto query = [&chunk_at](world::BlockPos p) -> world::BlockId {
+        const world::Chunk* c = chunk_at(p);
+        return c ? c->get(world::local_of(p)) : world::BlockId(1);
+    };
+    const world::RaycastHit h = world::raycast(world::Ray{origin_block, origin_offset, direction}, max_distance, query);
+    RayHit out;
+    if (!h.hit)
+        return out;
+    out.kind = chunk_at(h.block) ? RayHit::Kind::Hit : RayHit::Kind::Unloaded;
+    out.inside = h.inside;
+    out.block = h.block;
+    out.distance = h.distance;
+    if (out.kind == RayHit::Kind::Hit) {
+        out.id = h.id;
+        out.face = Face(h.face);
+        out.previous = h.previous;
+    }
+    return out;
+}
+
+std::optional<BlockId> Engine::find_block(std::string_view name) const { return m->world.registry.find(name); }
+
+std::vector<ChunkEvent> Engine::poll_events() { return m->sink ? m->sink->take_events() : std::vector<ChunkEvent>{}; }
+
+Result<SaveTicket> Engine::save() {
+    if (Status s = m->alive(); !s)
+        return Error{s.error()};
+    if (!m->world.store)
+        return Error{"this world does not persist (built-in terrain or a generator): open a SQLite world to save"};
+    if (m->world.store->read_only())
+        return Error{"this world is read-only (VDB): edits stay in memory"};
+    return SaveTicket{m->streamer->request_save()};
+}
+
+SaveState Engine::save_state(SaveTicket ticket) const {
+    switch (m->saves->state(ticket.sequence)) {
+    case engine::SaveState::Pending:
+        return SaveState::Pending;
+    case engine::SaveState::Durable:
+        return SaveState::Durable;
+    case engine::SaveState::Failed:
+        break;
+    }
+    return SaveState::Failed;
+}
+
+Status Engine::wait(SaveTicket ticket) const { return m->saves->wait(ticket.sequence); }
+
+Status Engine::shutdown() { return m->shutdown(); }
+
+Status Engine::Impl::shutdown() {
+    if (shut_down)
+        return {};
+    shut_down = true;
+    Status result;
+    if (streamer && world.store && !world.store->read_only())
+        result = streamer->flush(); // Every edit saved and synced before the threads stop.
+    streamer.reset();               // Joins the workers and the I/O thread.
+    if (sink)
+        sink->detach_renderer();
+    if (renderer) // Kept for stats() after shutdown.
+        frame.validation_errors = renderer->validation_errors();
+    renderer.reset();
+    world.store.reset();            // Closes the database.
+    return result;
+}
+
+} // namespace vx

@@ -1,0 +1,43 @@
+#pragma once
+// The state behind vx::Engine (the pimpl), shared by engine.cpp (life cycle, streaming, edits,
+// queries, saving) and engine_render.cpp (frames and stats). Main thread only, except `saves`
+// (thread-safe).
+
+#include <memory>
+#include <optional>
+
+#include <vx/vx.h>
+
+#include "engine/chunk_streamer.h"
+#include "engine/engine_sink.h"
+#include "engine/save_tracker.h"
+#include "engine/world_setup.h"
+#include "render/renderer.h"
+
+namespace vx {
+
+struct Engine::Impl {
+    EngineCreateInfo info;
+    engine::OpenedWorld world;                      // Registry, generator, store.
+    std::unique_ptr<render::Renderer> renderer;     // Null without a GPU target.
+    std::unique_ptr<engine::EngineSink> sink;
+    std::shared_ptr<const engine::SaveTracker> saves; // Outlives the streamer (tickets after shutdown).
+    Viewer viewer;
+    RenderSettings render_settings;
+    Stats frame;                                     // Timings of the last update and frame.
+    bool shut_down = false;
+    // Declared last: destroyed first, while everything it points to still exists.
+    std::unique_ptr<engine::ChunkStreamer> streamer;
+
+    // The viewer's eye as a double position (exact below 2^52 blocks, far beyond the world).
+    glm::dvec3 eye() const { return glm::dvec3(viewer.block) + viewer.offset; }
+    // Fails with a message when the engine was shut down.
+    Status alive() const {
+        if (shut_down)
+            return Error{"the engine has been shut down"};
+        return {};
+    }
+    Status shutdown();
+};
+
+} // namespace vx

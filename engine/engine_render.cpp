@@ -1,0 +1,119 @@
+// vx::Engine: frames (the viewer's view traced by render::Renderer) and stats.
+#include <chrono>
+#include <cmath>
+
+#include <vx/vx.h>
+
+#include "engine/engine_impl.h"
+
+namespace vx {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+render::Camera camera_of(const Viewer& v) {
+    render::Camera cam;
+    cam.block = v.block;
+    cam.offset = glm::vec3(v.offset); // In 0..1 after set_viewer folded the whole blocks away.
+    cam.forward = glm::vec3(v.forward);
+    cam.up = glm::vec3(v.up);
+    cam.fov_y_degrees = v.fov_y_degrees;
+    return cam;
+}
+
+render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uint32_t width, uint32_t height) {
+    render::RenderSettings r;
+    r.width = width;
+    r.height = height;
+    r.mode = s.shading == RenderSettings::Shading::Flat ? render::ShadingMode::Flat : render::ShadingMode::Full;
+    r.shadow_samples = s.shadow_samples;
+    r.max_bounces = s.max_bounces;
+    r.sky = s.sky;
+    r.light.block = s.light.follow_viewer ? v.block + s.light.corner : s.light.corner;
+    r.light.offset = glm::vec3(0.f);
+    r.light.edge_u = s.light.edge_u;
+    r.light.edge_v = s.light.edge_v;
+    r.light.emission = s.light.emission;
+    return r;
+}
+
+bool usable_view(const Viewer& v) {
+    const glm::dvec3 f = v.forward, u = v.up;
+    const double cross = glm::length(glm::cross(glm::normalize(f), glm::normalize(u)));
+    return glm::length(f) > 0 && glm::length(u) > 0 && std::isfinite(cross) && cross > 1e-6 &&
+           v.fov_y_degrees > 0.f && v.fov_y_degrees < 180.f;
+}
+
+} // namespace
+
+void Engine::set_render_settings(const RenderSettings& settings) { m->render_settings = settings; }
+
+Status Engine::render_to_image(Image& out) {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (m->info.render.target.kind != RenderTarget::Kind::Headless || !m->renderer)
+        return Error{"render_to_image needs a headless render target (RenderTarget::headless)"};
+    if (!usable_view(m->viewer))
+        return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
+    const RenderTarget& t = m->info.render.target;
+    const Clock::time_point t0 = Clock::now();
+    render::RenderImage img =
+        m->renderer->render(settings_of(m->render_settings, m->viewer, t.width, t.height), camera_of(m->viewer));
+    m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    out.width = img.width;
+    out.height = img.height;
+    out.rgba = std::move(img.rgba);
+    const render::RenderStats& rs = m->renderer->last_stats();
+    m->frame.render_cpu_ms = rs.cpu_ms;
+    m->frame.gpu_ms = rs.gpu_ms;
+    m->frame.gpu_blas_ms = rs.gpu_blas_ms;
+    m->frame.gpu_tlas_ms = rs.gpu_tlas_ms;
+    m->frame.gpu_trace_ms = rs.gpu_trace_ms;
+    m->frame.blas_builds = rs.blas_builds;
+    m->frame.blas_refits = rs.blas_refits;
+    m->frame.instances = rs.instances;
+    m->frame.triangles = rs.triangles;
+    return {};
+}
+
+Status Engine::render_to_window() {
+    if (Status s = m->alive(); !s)
+        return s;
+    // create() refuses window targets until the presenter lands, so no engine has one yet.
+    return Error{"window presentation not built yet: use a headless target and render_to_image"};
+}
+
+Stats Engine::stats() const {
+    Stats s = m->frame;
+    if (m->streamer) {
+        const engine::StreamingMetrics sm = m->streamer->metrics();
+        s.chunks_loaded = sm.loaded;
+        s.chunks_queued = sm.pending_data;
+        s.chunks_meshed = sm.meshed;
+        s.chunks_in_view = sm.wanted_meshes;
+        s.meshes_queued = sm.pending_meshes;
+        s.dirty_chunks = sm.dirty;
+        s.chunks_unloaded = sm.unloaded + sm.evicted;
+        s.block_memory_bytes = sm.block_bytes;
+    }
+    if (m->renderer) {
+        const render::GpuMemoryStats mem = m->renderer->memory_stats();
+        s.gpu_memory_bytes = mem.held_bytes;
+        s.gpu_memory_used_bytes = mem.used_bytes;
+        s.validation_errors = m->renderer->validation_errors();
+    }
+    return s;
+}
+
+Status write_png(const std::string& path, const Image& image) {
+    if (image.width == 0 || image.height == 0 || image.rgba.size() != size_t(image.width) * image.height * 4)
+        return Error{"write_png: the image is empty or its pixel count does not match its size"};
+    render::RenderImage img;
+    img.width = image.width;
+    img.height = image.height;
+    img.rgba = image.rgba;
+    return render::write_png(path, img);
+}
+
+} // namespace vx

@@ -1,0 +1,50 @@
+#pragma once
+// Where the facade's streamer reports: meshes go on to the renderer (when there is one), and
+// loads, meshes and unloads become ChunkEvents for the game (when it asked for them). Main thread
+// only, like the streamer that calls it.
+
+#include <utility>
+#include <vector>
+
+#include <vx/vx.h>
+
+#include "engine/chunk_streamer.h"
+#include "engine/mesh_sink.h"
+#include "render/renderer.h"
+
+namespace vx::engine {
+
+class EngineSink final : public MeshSink, public StreamObserver {
+public:
+    // `renderer` may be null (no GPU); it must outlive the sink's use.
+    EngineSink(render::Renderer* renderer, bool record_events) : m_renderer(renderer), m_record(record_events) {}
+
+    void on_mesh(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int>) override {
+        if (m_renderer)
+            m_renderer->set_chunk(c, mesh); // An empty mesh removes the chunk's BLAS.
+        record(ChunkEvent::Kind::Meshed, c);
+    }
+    void on_unload(world::ChunkCoord c) override {
+        if (m_renderer)
+            m_renderer->remove_chunk(c);
+    }
+    void on_chunk_loaded(world::ChunkCoord c) override { record(ChunkEvent::Kind::Loaded, c); }
+    void on_chunk_unloaded(world::ChunkCoord c) override { record(ChunkEvent::Kind::Unloaded, c); }
+
+    // Takes the events recorded so far.
+    std::vector<ChunkEvent> take_events() { return std::exchange(m_events, {}); }
+    // The renderer is gone (shutdown): stop forwarding.
+    void detach_renderer() { m_renderer = nullptr; }
+
+private:
+    void record(ChunkEvent::Kind kind, world::ChunkCoord c) {
+        if (m_record)
+            m_events.push_back({kind, c});
+    }
+
+    render::Renderer* m_renderer;
+    bool m_record;
+    std::vector<ChunkEvent> m_events;
+};
+
+} // namespace vx::engine

@@ -1,0 +1,294 @@
+#pragma once
+// vx: a streaming voxel world with a ray-traced renderer, embedded in a game through one object.
+//
+//   auto engine = vx::Engine::create(info);           // world source, blocks, radii, render target
+//   each frame: engine->set_viewer(v); engine->update(); engine->render_to_image(img);
+//   edits:      engine->set_block(p, id);  queries: get_block, raycast;  engine->save();
+//
+// Threads. An Engine belongs to the thread that created it (the main thread): every member
+// function is "main thread only" unless its comment says "thread-safe". Inside, the engine runs
+// worker threads (generation, meshing; StreamingDesc::worker_threads) and one I/O thread (the
+// store); a game's Generator is called on the workers. update() applies their results within a
+// time budget; nothing calls back into the game from another thread.
+// Units: world block units (one block = 1), seconds, milliseconds where a name ends in _ms,
+// bytes where it ends in _bytes. Coordinates: see <vx/types.h>.
+// Errors: recoverable failures return vx::Status / vx::Result<T> with a one-line message.
+// The structs are plain values (copy them; not thread-safe to share while one thread writes).
+// Nothing here exposes Vulkan, SQLite or OpenVDB.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <vx/result.h>
+#include <vx/types.h>
+
+namespace vx {
+
+// A game's own world generator. Called on worker threads, several chunks at once: it must be
+// thread-safe through const (no unsynchronised mutable state). Deterministic output is expected:
+// an unedited chunk that was unloaded is generated again when the viewer returns, and its
+// neighbours were meshed against the first result.
+class Generator {
+public:
+    virtual ~Generator() = default;
+    // Worker threads. Fills `blocks` (kChunkVolume ids, chunk-local index chunk_index(x, y, z);
+    // local (0,0,0) is world chunk_origin(chunk)) with ids of the engine's blocks. `blocks`
+    // arrives all air. Ids beyond the registered blocks render with a generated colour.
+    virtual void generate(ChunkCoord chunk, std::span<BlockId> blocks) const = 0;
+    // Worker threads. Optional fast path: when chunk `chunk` is all one id (open sky, deep rock),
+    // return it and generate() is not called for that chunk. Default: never.
+    virtual std::optional<BlockId> uniform(ChunkCoord) const { return std::nullopt; }
+};
+
+// Where the world's chunks come from. Use the helpers below.
+struct WorldSource {
+    enum class Kind : uint8_t {
+        Terrain,   // The built-in terrain of `seed`. Nothing persists.
+        Generator, // The game's `generator`. Nothing persists.
+        Sqlite,    // A SQLite world file at `path` (created if missing), read-write; chunks it lacks
+                   // come from `generator` if set, else the built-in terrain of `seed`.
+        Vdb,       // A vx VDB world file at `path` (vx export-vdb), read-only: edits stay in
+                   // memory (lost when their chunk unloads); chunks outside it come from
+                   // `generator` if set, else are air. Needs a build with VX_WITH_OPENVDB.
+    };
+    Kind kind = Kind::Terrain;
+    uint64_t seed = 1;
+    std::shared_ptr<const Generator> generator; // Shared with the engine's workers until shutdown.
+    std::string path;
+
+    static WorldSource terrain(uint64_t seed);
+    static WorldSource custom(std::shared_ptr<const Generator> generator);
+    static WorldSource sqlite(std::string path, uint64_t seed);
+    static WorldSource sqlite(std::string path, std::shared_ptr<const Generator> generator);
+    static WorldSource vdb(std::string path, std::shared_ptr<const Generator> generator = nullptr);
+};
+
+// How much of the world is kept around the viewer. Radii in chunks from the viewer's chunk
+// (square horizontally, separately vertically). Chunks within the view radius are meshed (and
+// drawn); one more ring is loaded so meshes see their neighbours; beyond view + 1 + margin for
+// unload_delay_s they are saved (if edited) and dropped.
+struct StreamingDesc {
+    int view_radius = 8;
+    int view_radius_vertical = 4;
+    int unload_margin = 2;
+    double unload_delay_s = 3.0;  // Seconds outside before a chunk is dropped.
+    double save_delay_s = 1.0;    // Edited chunks reach the store within this (not yet durable).
+    size_t memory_cap_bytes = 0;  // Block data cap (0: none); never evicts inside the view.
+    double update_budget_ms = 2.0; // Main-thread time update() may spend applying results.
+    int worker_threads = 0;       // Generation/meshing threads (0: cores - 1, at least 1).
+};
+
+// What the engine draws into.
+struct RenderTarget {
+    enum class Kind : uint8_t {
+        None,     // No GPU at all (a server, a tool): streaming, edits and queries only.
+        Headless, // Render to an image in memory of width × height pixels (render_to_image).
+        Window,   // Present to a GLFW window (`window` is its GLFWwindow*, not owned; it must
+                  // outlive the engine). Not built yet: create() fails with a message.
+    };
+    Kind kind = Kind::None;
+    uint32_t width = 0, height = 0; // Headless: image size in pixels, 1..16384.
+    void* window = nullptr;         // Window: a GLFWwindow*.
+
+    static RenderTarget none() { return {}; }
+    static RenderTarget headless(uint32_t width, uint32_t height) { return {Kind::Headless, width, height, nullptr}; }
+    static RenderTarget glfw_window(void* glfw_window) { return {Kind::Window, 0, 0, glfw_window}; }
+};
+
+struct RenderDesc {
+    RenderTarget target;
+    std::string device = "auto"; // "auto", "cpu" (lavapipe), "gpu", or a device index (`vx info`).
+    bool validation = false;     // Vulkan validation layer; errors counted in Stats.
+};
+
+struct EngineCreateInfo {
+    WorldSource world;
+    // The game's blocks: id 0 is air, blocks[i] gets id i + 1. Empty: default_blocks().
+    std::vector<BlockType> blocks;
+    StreamingDesc streaming;
+    RenderDesc render;
+    // Record ChunkEvents for poll_events(). Off by default: an undrained queue grows without bound.
+    bool chunk_events = false;
+};
+
+// The camera and the centre of streaming. Position = block + offset (64-bit exact anywhere).
+struct Viewer {
+    BlockPos block{0};                     // World block holding the eye.
+    glm::dvec3 offset{0.5};                // Eye inside that block, blocks (any value; folded in).
+    glm::dvec3 forward{0.0, 0.0, -1.0};    // View direction (need not be unit).
+    glm::dvec3 up{0.0, 1.0, 0.0};          // Approximate up; not parallel to forward.
+    std::optional<glm::dvec3> velocity;    // Blocks per second; unset: estimated from positions.
+    float fov_y_degrees = 60.f;            // Vertical field of view.
+};
+
+// A two-sided rectangular area light (the scene's sun): corner plus two edges, in blocks.
+struct Light {
+    bool follow_viewer = true;       // `corner` is relative to the viewer's block.
+    BlockPos corner{-40, 120, -60};  // World block (or offset from the viewer's block).
+    glm::vec3 edge_u{48.f, 0.f, 0.f}, edge_v{0.f, 0.f, 48.f};
+    glm::vec3 emission{20.f};        // Radiance, linear RGB.
+};
+
+struct RenderSettings {
+    enum class Shading : uint8_t {
+        Flat, // Block albedo at the first hit, sky on a miss; linear, no lighting.
+        Full, // Area light, soft shadows, emission, mirrors; sRGB encoded.
+    };
+    Shading shading = Shading::Full;
+    uint32_t shadow_samples = 4; // Per pixel and bounce; 0: no shadows.
+    uint32_t max_bounces = 2;    // Mirror reflection depth.
+    glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance.
+    Light light;
+};
+
+struct BlockEdit {
+    BlockPos pos{0};
+    BlockId id = kAir;
+};
+
+struct RayHit {
+    enum class Kind : uint8_t {
+        Hit,      // A non-air block: block, id, face, distance, previous are set.
+        Miss,     // Only air within max_distance, all of it loaded.
+        Unloaded, // The ray reached a chunk that is not loaded first: `block` is the first block
+                  // of it on the ray and `distance` where the ray entered it. Nothing is known past.
+    };
+    Kind kind = Kind::Miss;
+    bool inside = false;     // Hit: the origin was inside the block (distance 0).
+    BlockPos block{0};
+    BlockId id = kAir;
+    Face face = Face::NegX;  // Hit: the face of `block` the ray entered through.
+    double distance = 0.0;   // Blocks along the normalized direction.
+    BlockPos previous{0};    // Hit: block + face_normal(face), where a placed block goes.
+};
+
+struct ChunkEvent {
+    enum class Kind : uint8_t {
+        Loaded,   // Block data arrived (store or generator); get_block answers for it now.
+        Meshed,   // Its mesh is new or changed (by streaming or an edit); drawn from the next frame.
+        Unloaded, // Block data and mesh dropped (saved first if edited).
+    };
+    Kind kind = Kind::Loaded;
+    ChunkCoord chunk{0};
+};
+
+// Figures of the last update() and the last rendered frame, and gauges now.
+struct Stats {
+    double update_cpu_ms = 0;    // Main-thread CPU time of the last update().
+    double update_wall_ms = 0;   // Its wall time.
+    double render_cpu_ms = 0;    // CPU time recording the last frame (render_to_image).
+    double render_wall_ms = 0;   // Wall time of that call (includes waiting for the GPU).
+    double gpu_ms = 0;           // Submit to fence of the last frame.
+    double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1; // GPU timestamps; -1: none.
+    uint32_t blas_builds = 0, blas_refits = 0; // In the last frame.
+    uint32_t instances = 0;      // Chunks drawn in the last frame.
+    uint64_t triangles = 0;      // Their triangles (spare slots included).
+    size_t chunks_loaded = 0;    // Chunks with block data in memory.
+    size_t chunks_queued = 0;    // Requested (load or generate), not arrived yet.
+    size_t chunks_meshed = 0;    // In the view radius with a current mesh.
+    size_t chunks_in_view = 0;   // In the view radius (all meshed when equal to chunks_meshed).
+    size_t meshes_queued = 0;    // Mesh jobs in flight.
+    size_t dirty_chunks = 0;     // Edited, not yet handed to the store.
+    uint64_t chunks_unloaded = 0; // Since creation.
+    size_t block_memory_bytes = 0; // Block data in memory.
+    uint64_t gpu_memory_bytes = 0; // Device memory the renderer holds (0 without a GPU).
+    uint64_t gpu_memory_used_bytes = 0; // Of it, in use.
+    uint32_t validation_errors = 0; // Vulkan validation errors so far (validation on).
+};
+
+// A save in flight: poll save_state() or block in wait().
+struct SaveTicket {
+    uint64_t sequence = 0;
+};
+enum class SaveState : uint8_t {
+    Pending, // Handed to the I/O thread; not durable yet.
+    Durable, // Committed and synced: survives a crash of the process.
+    Failed,  // Its flush failed (the message: wait()); a later save() may still cover it.
+};
+
+class Engine {
+public:
+    // Main thread (becomes the engine's thread). Opens the world, starts the threads and the
+    // renderer. Errors: a bad description, a store that cannot open, no usable GPU (with a
+    // render target), a window target (not built yet).
+    static Result<std::unique_ptr<Engine>> create(const EngineCreateInfo& info);
+    // Main thread. shutdown() if not done (errors are logged).
+    ~Engine();
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    // Main thread. Where the camera is and where streaming centres; takes effect at update().
+    // Fails, keeping the previous viewer, on non-finite values or a position outside the world.
+    Status set_viewer(const Viewer& viewer);
+    // Main thread, once per frame. Streams around the viewer, applies finished loads and meshes
+    // (within update_budget_ms), unloads, saves edited chunks after save_delay_s. `now` is the
+    // game's steady clock (pass a synthetic one for deterministic tests).
+    void update(std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
+    // Main thread. True when every chunk the view needs is loaded and meshed and nothing is due
+    // to unload: the view is complete until the viewer moves.
+    bool settled() const;
+
+    // Main thread. Sets one block; its chunk and neighbours remesh at once (six slices). Fails,
+    // changing nothing, when the chunk is not loaded or the id is not a registered block.
+    Status set_block(BlockPos pos, BlockId id);
+    // Main thread. All or nothing: checks every edit first (loaded, known id), then applies them
+    // in order (a later edit of the same block wins).
+    Status set_blocks(std::span<const BlockEdit> edits);
+    // Main thread. The block at `pos`, kAir for air; nullopt when its chunk is not loaded.
+    std::optional<BlockId> get_block(BlockPos pos) const;
+    // Main thread. First non-air block along the ray from origin_block + origin_offset in
+    // `direction` (need not be unit) within max_distance blocks; see RayHit::Kind. Errors: zero
+    // or non-finite direction, negative or non-finite max distance.
+    Result<RayHit> raycast(BlockPos origin_block, glm::dvec3 origin_offset, glm::dvec3 direction,
+                           double max_distance) const;
+    // Thread-safe (after create). The id of a block by name, or nullopt.
+    std::optional<BlockId> find_block(std::string_view name) const;
+
+    // Main thread. Rendering options for later frames.
+    void set_render_settings(const RenderSettings& settings);
+    // Main thread. Headless target: traces the viewer's view and reads it into `out` (resized to
+    // the target size). Blocks until the GPU is done. Errors: no GPU target, shut down.
+    Status render_to_image(Image& out);
+    // Main thread. Window target: renders and presents one frame. Not built yet: returns an error.
+    Status render_to_window();
+
+    // Main thread. Figures of the last frame and gauges now (see Stats).
+    Stats stats() const;
+    // Main thread. Chunk events since the last call, in order (needs chunk_events).
+    std::vector<ChunkEvent> poll_events();
+
+    // Main thread; does not block. Hands every edited chunk to the I/O thread and queues a
+    // commit behind them; the ticket turns Durable once that commit is synced. Errors: the world
+    // does not persist (terrain, generator) or is read-only (VDB), shut down.
+    Result<SaveTicket> save();
+    // Thread-safe.
+    SaveState save_state(SaveTicket ticket) const;
+    // Thread-safe (not from a Generator). Blocks until the ticket is durable (ok) or failed.
+    Status wait(SaveTicket ticket) const;
+
+    // Main thread. Saves and syncs every edit (persistent worlds), stops the threads and
+    // releases the world and the GPU. Afterwards only stats(), save_state(), wait() and the
+    // destructor may be called; other calls fail or do nothing. Idempotent.
+    Status shutdown();
+
+private:
+    Engine();
+    struct Impl;
+    std::unique_ptr<Impl> m;
+};
+
+// Writes an image as PNG. Thread-safe.
+Status write_png(const std::string& path, const Image& image);
+// The built-in terrain's surface height (world y of the topmost terrain block, before caves) at
+// column (x, z) for `seed`: where to put a player. Thread-safe.
+int64_t terrain_height(uint64_t seed, int64_t x, int64_t z);
+
+} // namespace vx

@@ -1,0 +1,156 @@
+// The facade <vx/vx.h> rendering headless on lavapipe with the validation layer on: a streamed
+// terrain view into memory (a real picture, BLAS builds then refits after an edit, GPU memory
+// reported), and a game's transparent block that shows the block behind it. CTest label vulkan.
+#include <chrono>
+#include <set>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include <vx/vx.h>
+
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+bool settle(vx::Engine& e) {
+    const auto limit = Clock::now() + std::chrono::minutes(3);
+    while (Clock::now() < limit) {
+        e.update();
+        if (e.settled())
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+vx::EngineCreateInfo render_info(vx::WorldSource source, uint32_t w, uint32_t h) {
+    vx::EngineCreateInfo info;
+    info.world = std::move(source);
+    info.streaming.view_radius = 2;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.worker_threads = 2;
+    info.render.target = vx::RenderTarget::headless(w, h);
+    info.render.device = "cpu";
+    info.render.validation = true;
+    return info;
+}
+
+TEST(FacadeRender, TerrainToMemory) {
+    auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 64, 48));
+    if (!engine)
+        GTEST_SKIP() << "no ray-tracing device: " << engine.error();
+    vx::Engine& e = **engine;
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(3, 0, 0) + 12, 0};
+    v.forward = {1, -0.35, 0.2};
+    ASSERT_TRUE(e.set_viewer(v));
+    ASSERT_TRUE(settle(e));
+
+    vx::Image img;
+    ASSERT_TRUE(e.render_to_image(img));
+    ASSERT_EQ(img.width, 64u);
+    ASSERT_EQ(img.height, 48u);
+    ASSERT_EQ(img.rgba.size(), 64u * 48u * 4u);
+    // A real picture: terrain below (many colours), sky at the top row's centre.
+    std::set<uint32_t> colours;
+    for (uint32_t y = 0; y < img.height; ++y)
+        for (uint32_t x = 0; x < img.width; ++x) {
+            const glm::u8vec4 p = img.at(x, y);
+            colours.insert(uint32_t(p.r) << 16 | uint32_t(p.g) << 8 | p.b);
+        }
+    EXPECT_GT(colours.size(), 20u);
+    const glm::u8vec4 sky = img.at(32, 0);
+    EXPECT_GT(sky.b, sky.r); // Blue sky (the light is above).
+    vx::Stats s = e.stats();
+    EXPECT_GT(s.blas_builds, 0u);
+    EXPECT_GT(s.instances, 0u);
+    EXPECT_GT(s.triangles, 0u);
+    EXPECT_GT(s.gpu_memory_bytes, 0u);
+    EXPECT_GE(s.gpu_memory_bytes, s.gpu_memory_used_bytes);
+    EXPECT_GT(s.render_wall_ms, 0.0);
+
+    // An edit in view: its chunk's BLAS is refitted or rebuilt in the next frame, nothing else.
+    auto hit = e.raycast(v.block, v.offset, v.forward, 200.0);
+    ASSERT_TRUE(hit);
+    ASSERT_EQ(hit->kind, vx::RayHit::Kind::Hit);
+    ASSERT_TRUE(e.set_block(hit->previous, *e.find_block("lamp")));
+    e.update();
+    ASSERT_TRUE(e.render_to_image(img));
+    s = e.stats();
+    EXPECT_GE(s.blas_builds + s.blas_refits, 1u);
+    EXPECT_LE(s.blas_builds + s.blas_refits, 3u); // The chunk and at most two face neighbours.
+    EXPECT_EQ(s.validation_errors, 0u);
+    ASSERT_TRUE(e.shutdown());
+    EXPECT_EQ(e.stats().validation_errors, 0u);
+    EXPECT_FALSE(e.render_to_image(img)); // Shut down.
+}
+
+// A cube of a game's block W (8³ blocks) with an opaque block O against its -z side and another
+// opaque block P behind O. The eye sits inside W looking -z. When W is transparent, O's face
+// towards W is meshed and the centre pixel shows O; when W is opaque that face is culled (both
+// sides opaque), and the ray, which ignores facing, runs through W and O to the back face of P.
+class WindowGenerator final : public vx::Generator {
+public:
+    void generate(vx::ChunkCoord c, std::span<vx::BlockId> blocks) const override {
+        const vx::BlockPos o = vx::chunk_origin(c);
+        for (int z = 0; z < 32; ++z)
+            for (int y = 0; y < 32; ++y)
+                for (int x = 0; x < 32; ++x) {
+                    const vx::BlockPos p = o + vx::BlockPos(x, y, z);
+                    vx::BlockId id = vx::kAir;
+                    if (p.x >= 0 && p.x < 8 && p.y >= 0 && p.y < 8 && p.z >= 0 && p.z < 8)
+                        id = 1; // W
+                    else if (p == vx::BlockPos(4, 4, -1))
+                        id = 2; // O
+                    else if (p == vx::BlockPos(4, 4, -2))
+                        id = 3; // P
+                    blocks[vx::chunk_index(x, y, z)] = id;
+                }
+    }
+    std::optional<vx::BlockId> uniform(vx::ChunkCoord c) const override {
+        if (c == vx::ChunkCoord(0) || c == vx::ChunkCoord(0, 0, -1))
+            return std::nullopt;
+        return vx::kAir;
+    }
+};
+
+glm::u8vec4 centre_pixel(bool window_transparent) {
+    vx::EngineCreateInfo info = render_info(vx::WorldSource::custom(std::make_shared<WindowGenerator>()), 16, 16);
+    info.streaming.view_radius = 1;
+    info.streaming.view_radius_vertical = 1;
+    info.blocks = {{"window", {0.9f, 0.1f, 0.1f}}, {"blue", {0.1f, 0.1f, 0.9f}}, {"green", {0.1f, 0.9f, 0.1f}}};
+    info.blocks[0].opaque = !window_transparent;
+    auto engine = vx::Engine::create(info);
+    if (!engine)
+        return {0, 0, 0, 0};
+    vx::Engine& e = **engine;
+    vx::Viewer v;
+    v.block = {4, 4, 4};
+    v.offset = {0.5, 0.5, 0.5};
+    v.forward = {0, 0, -1};
+    v.fov_y_degrees = 20.f;
+    EXPECT_TRUE(e.set_viewer(v));
+    vx::RenderSettings rs;
+    rs.shading = vx::RenderSettings::Shading::Flat;
+    e.set_render_settings(rs);
+    EXPECT_TRUE(settle(e));
+    vx::Image img;
+    EXPECT_TRUE(e.render_to_image(img));
+    EXPECT_EQ(e.stats().validation_errors, 0u);
+    return img.at(8, 8);
+}
+
+TEST(FacadeRender, TransparentBlockShowsWhatIsBehind) {
+    if (!vx::Engine::create(render_info(vx::WorldSource::terrain(1), 4, 4)))
+        GTEST_SKIP() << "no ray-tracing device";
+    const glm::u8vec4 through = centre_pixel(true);
+    const glm::u8vec4 solid = centre_pixel(false);
+    // Flat shading writes linear albedo: blue O through the transparent W, green P otherwise.
+    EXPECT_GT(through.b, 200) << int(through.r) << "," << int(through.g) << "," << int(through.b);
+    EXPECT_LT(through.g, 60);
+    EXPECT_GT(solid.g, 200) << int(solid.r) << "," << int(solid.g) << "," << int(solid.b);
+    EXPECT_LT(solid.b, 60);
+}
+
+} // namespace

@@ -1,0 +1,366 @@
+// The facade <vx/vx.h> end to end without a GPU (RenderTarget::none): streaming, get_block (air
+// vs not loaded), edits, raycasts (hit, miss, leaving loaded space), events, a game's own
+// generator and blocks, saving with tickets, shutdown, and reopening a SQLite world. Waits are
+// bounded by conditions (a generous limit), never by the machine's speed.
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <thread>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <vx/vx.h>
+
+#include "world/gen/terrain.h"
+#if VX_WITH_OPENVDB
+#include "world/vdb/vdb_world.h"
+#endif
+
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr uint64_t kSeed = 7;
+
+vx::EngineCreateInfo small_info(vx::WorldSource source) {
+    vx::EngineCreateInfo info;
+    info.world = std::move(source);
+    info.streaming.view_radius = 2;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.unload_margin = 0;
+    info.streaming.unload_delay_s = 0.0;
+    info.streaming.worker_threads = 2;
+    info.chunk_events = true;
+    return info;
+}
+
+// Updates until the view is complete (or three minutes pass on a very slow machine).
+bool settle(vx::Engine& e) {
+    const auto limit = Clock::now() + std::chrono::minutes(3);
+    while (Clock::now() < limit) {
+        e.update();
+        if (e.settled())
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+// A column of the seed's terrain above the sea, so the sky over it is air.
+int64_t dry_column_x(int64_t z) {
+    for (int64_t x = 0;; ++x)
+        if (vx::terrain_height(kSeed, x, z) > 4)
+            return x;
+}
+
+std::string temp_path(const char* name) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_facade_test";
+    std::filesystem::create_directories(dir);
+    const auto p = dir / (std::string(name) + "_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(p);
+    std::filesystem::remove(p.string() + "-wal");
+    std::filesystem::remove(p.string() + "-shm");
+    return p.string();
+}
+
+vx::Viewer viewer_at(vx::BlockPos block) {
+    vx::Viewer v;
+    v.block = block;
+    v.forward = {1, -0.2, 0};
+    return v;
+}
+
+TEST(Facade, StreamsAndAnswersBlocks) {
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::terrain(kSeed)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
+    ASSERT_TRUE(settle(e));
+
+    // Every block of the viewer's chunk equals the generator's; far away is unknown, not air.
+    const vx::ChunkCoord c = vx::chunk_of({x, h + 2, 16});
+    const vx::world::Chunk expect = vx::world::TerrainGenerator(kSeed).generate(c);
+    for (int i = 0; i < vx::kChunkVolume; i += 97) {
+        const vx::BlockPos p = vx::chunk_origin(c) + vx::BlockPos(i & 31, (i >> 5) & 31, i >> 10);
+        ASSERT_EQ(e.get_block(p), std::optional<vx::BlockId>(expect.get(i))) << i;
+    }
+    EXPECT_EQ(e.get_block({x, h + 1, 16}), std::optional<vx::BlockId>(vx::kAir)); // Loaded air.
+    EXPECT_EQ(e.get_block({x + 100000, 0, 16}), std::nullopt);                    // Not loaded.
+
+    // 5 × 5 × 3 chunks in view, all meshed; 7 × 7 × 5 loaded (the ring for neighbours).
+    const vx::Stats s = e.stats();
+    EXPECT_EQ(s.chunks_in_view, 75u);
+    EXPECT_EQ(s.chunks_meshed, 75u);
+    EXPECT_EQ(s.chunks_loaded, 245u);
+    EXPECT_GT(s.block_memory_bytes, 0u);
+    EXPECT_EQ(s.gpu_memory_bytes, 0u); // No GPU.
+    EXPECT_EQ(s.blas_builds, 0u);
+    // Not a persistent world: saving says so.
+    auto ticket = e.save();
+    ASSERT_FALSE(ticket);
+    EXPECT_NE(ticket.error().find("does not persist"), std::string::npos) << ticket.error();
+}
+
+TEST(Facade, EditsAndRaycasts) {
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::terrain(kSeed)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
+    ASSERT_TRUE(settle(e));
+    const vx::BlockId stone = *e.find_block("stone"), glass = *e.find_block("glass");
+
+    // Up from the eye, before any edit: air until the top of the loaded space (viewer chunk + 2).
+    const vx::BlockPos eye{x, h + 2, 16};
+    const int64_t top = (int64_t(vx::chunk_of(eye).y) + 3) * vx::kChunkSize;
+    auto up = e.raycast(eye, {0.5, 0.5, 0.5}, {0, 1, 0}, 1000.0);
+    ASSERT_TRUE(up) << up.error();
+    EXPECT_EQ(up->kind, vx::RayHit::Kind::Unloaded);
+    EXPECT_EQ(up->block, vx::BlockPos(x, top, 16));
+    EXPECT_EQ(up->distance, double(top) - (double(h + 2) + 0.5));
+    auto short_up = e.raycast(eye, {0.5, 0.5, 0.5}, {0, 1, 0}, 2.0);
+    ASSERT_TRUE(short_up);
+    EXPECT_EQ(short_up->kind, vx::RayHit::Kind::Miss);
+    const vx::BlockPos p{x, h + 5, 16};
+    ASSERT_TRUE(e.set_block(p, stone));
+    EXPECT_EQ(e.get_block(p), std::optional<vx::BlockId>(stone));
+
+    // Straight down from 5.5 blocks above the block's top face (y = h + 6): distance 5.5, exact.
+    auto down = e.raycast({x, h + 11, 16}, {0.5, 0.5, 0.5}, {0, -1, 0}, 20.0);
+    ASSERT_TRUE(down) << down.error();
+    EXPECT_EQ(down->kind, vx::RayHit::Kind::Hit);
+    EXPECT_EQ(down->block, p);
+    EXPECT_EQ(down->id, stone);
+    EXPECT_EQ(down->face, vx::Face::PosY);
+    EXPECT_EQ(down->distance, 5.5);
+    EXPECT_EQ(down->previous, p + vx::BlockPos(0, 1, 0));
+
+    EXPECT_FALSE(e.raycast(eye, {0.5, 0.5, 0.5}, {0, 0, 0}, 10.0)); // No direction: an error.
+
+    // Refusals change nothing: an unknown id, a chunk not loaded, and a batch holding either.
+    vx::Status bad_id = e.set_block(p, vx::BlockId(999));
+    ASSERT_FALSE(bad_id);
+    EXPECT_NE(bad_id.error().find("not a registered block"), std::string::npos) << bad_id.error();
+    vx::Status far = e.set_block({x + 100000, 0, 0}, stone);
+    ASSERT_FALSE(far);
+    EXPECT_NE(far.error().find("not loaded"), std::string::npos) << far.error();
+    const vx::BlockEdit batch[] = {{p, glass}, {p + vx::BlockPos(1, 0, 0), glass}, {{x + 100000, 0, 0}, glass}};
+    const std::optional<vx::BlockId> beside = e.get_block(p + vx::BlockPos(1, 0, 0));
+    ASSERT_TRUE(beside.has_value());
+    ASSERT_NE(*beside, glass);
+    EXPECT_FALSE(e.set_blocks(batch));
+    EXPECT_EQ(e.get_block(p), std::optional<vx::BlockId>(stone));
+    EXPECT_EQ(e.get_block(p + vx::BlockPos(1, 0, 0)), beside);
+    EXPECT_TRUE(e.set_blocks(std::span(batch, 2)));
+    EXPECT_EQ(e.get_block(p + vx::BlockPos(1, 0, 0)), std::optional<vx::BlockId>(glass));
+
+    ASSERT_TRUE(e.shutdown());
+    EXPECT_FALSE(e.set_block(p, stone));
+    EXPECT_EQ(e.get_block(p), std::nullopt);
+    EXPECT_TRUE(e.shutdown()); // Idempotent.
+}
+
+TEST(Facade, ChunkEvents) {
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::terrain(kSeed)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    const int64_t h = vx::terrain_height(kSeed, 16, 16);
+    ASSERT_TRUE(e.set_viewer(viewer_at({16, h, 16})));
+    ASSERT_TRUE(settle(e));
+    const vx::ChunkCoord home = vx::chunk_of({16, h, 16});
+    std::set<std::tuple<int, int, int, int>> seen;
+    auto drain = [&] {
+        for (const vx::ChunkEvent& ev : e.poll_events())
+            seen.insert({int(ev.kind), ev.chunk.x, ev.chunk.y, ev.chunk.z});
+    };
+    auto has = [&](vx::ChunkEvent::Kind k, vx::ChunkCoord c) { return seen.count({int(k), c.x, c.y, c.z}) == 1; };
+    drain();
+    EXPECT_TRUE(has(vx::ChunkEvent::Kind::Loaded, home));
+    EXPECT_TRUE(has(vx::ChunkEvent::Kind::Meshed, home));
+    EXPECT_TRUE(e.poll_events().empty()); // Drained.
+
+    // 20 chunks away: everything around home unloads (margin 0, no delay).
+    ASSERT_TRUE(e.set_viewer(viewer_at({16 + 20 * 32, h, 16})));
+    ASSERT_TRUE(settle(e));
+    drain();
+    EXPECT_TRUE(has(vx::ChunkEvent::Kind::Unloaded, home));
+    EXPECT_EQ(e.get_block({16, h, 16}), std::nullopt);
+}
+
+// A game's generator: a floor of stone below y = 0 and a post of "post" blocks every 8 blocks.
+class PostGenerator final : public vx::Generator {
+public:
+    explicit PostGenerator(vx::BlockId stone, vx::BlockId post) : m_stone(stone), m_post(post) {}
+    void generate(vx::ChunkCoord c, std::span<vx::BlockId> blocks) const override {
+        ++m_calls;
+        const vx::BlockPos o = vx::chunk_origin(c);
+        for (int z = 0; z < 32; ++z)
+            for (int y = 0; y < 32; ++y)
+                for (int x = 0; x < 32; ++x) {
+                    const vx::BlockPos p = o + vx::BlockPos(x, y, z);
+                    if (p.y < 0)
+                        blocks[vx::chunk_index(x, y, z)] = m_stone;
+                    else if (p.y < 4 && (p.x & 7) == 0 && (p.z & 7) == 0)
+                        blocks[vx::chunk_index(x, y, z)] = m_post;
+                }
+    }
+    std::optional<vx::BlockId> uniform(vx::ChunkCoord c) const override {
+        if (c.y < 0)
+            return m_stone;
+        if (c.y > 0)
+            return vx::kAir;
+        return std::nullopt;
+    }
+    mutable std::atomic<int> m_calls{0};
+
+private:
+    vx::BlockId m_stone, m_post;
+};
+
+TEST(Facade, GameBlocksAndGenerator) {
+    std::vector<vx::BlockType> blocks = {{"rock", {0.5f, 0.5f, 0.5f}}, {"post", {0.1f, 0.1f, 0.9f}}};
+    auto gen = std::make_shared<PostGenerator>(1, 2);
+    vx::EngineCreateInfo info = small_info(vx::WorldSource::custom(gen));
+    info.blocks = blocks;
+    auto engine = vx::Engine::create(info);
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    EXPECT_EQ(e.find_block("rock"), std::optional<vx::BlockId>(1));
+    EXPECT_EQ(e.find_block("post"), std::optional<vx::BlockId>(2));
+    EXPECT_EQ(e.find_block("stone"), std::nullopt); // The built-in palette is not there.
+    ASSERT_TRUE(e.set_viewer(viewer_at({4, 2, 4})));
+    ASSERT_TRUE(settle(e));
+    EXPECT_EQ(e.get_block({8, 3, 16}), std::optional<vx::BlockId>(2));
+    EXPECT_EQ(e.get_block({8, 4, 16}), std::optional<vx::BlockId>(vx::kAir));
+    EXPECT_EQ(e.get_block({9, 3, 16}), std::optional<vx::BlockId>(vx::kAir));
+    EXPECT_EQ(e.get_block({9, -40, 16}), std::optional<vx::BlockId>(1));
+    // Only the chunk layer y = 0 needed generate(): 7 × 7 columns of the loaded box.
+    EXPECT_EQ(gen->m_calls.load(), 49);
+    EXPECT_FALSE(e.set_block({9, 5, 16}, 3)); // Id 3 is not one of the game's blocks.
+
+    // Bad descriptions fail with a message.
+    info.blocks.push_back({"post"});
+    auto dup = vx::Engine::create(info);
+    ASSERT_FALSE(dup);
+    EXPECT_NE(dup.error().find("post"), std::string::npos) << dup.error();
+    vx::EngineCreateInfo null_gen = small_info(vx::WorldSource::custom(nullptr));
+    EXPECT_FALSE(vx::Engine::create(null_gen));
+}
+
+TEST(Facade, SaveTicketsAndReopen) {
+    const std::string path = temp_path("save");
+    const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
+    const vx::BlockPos a{x, h + 3, 16}, b{x, h + 4, 16};
+    {
+        auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, kSeed)));
+        ASSERT_TRUE(engine) << engine.error();
+        vx::Engine& e = **engine;
+        ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
+        ASSERT_TRUE(settle(e));
+        const vx::BlockId lamp = *e.find_block("lamp");
+        ASSERT_TRUE(e.set_block(a, lamp));
+        EXPECT_EQ(e.stats().dirty_chunks, 1u);
+        auto ticket = e.save();
+        ASSERT_TRUE(ticket) << ticket.error();
+        EXPECT_EQ(e.stats().dirty_chunks, 0u); // Handed to the I/O thread at once.
+        ASSERT_TRUE(e.wait(*ticket));
+        EXPECT_EQ(e.save_state(*ticket), vx::SaveState::Durable);
+        EXPECT_EQ(e.save_state(vx::SaveTicket{ticket->sequence + 1}), vx::SaveState::Failed); // Never issued.
+        // A second edit is saved by shutdown alone.
+        ASSERT_TRUE(e.set_block(b, lamp));
+        ASSERT_TRUE(e.shutdown());
+        EXPECT_EQ(e.save_state(*ticket), vx::SaveState::Durable); // Still answers after shutdown.
+    }
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, kSeed)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
+    ASSERT_TRUE(settle(e));
+    EXPECT_EQ(e.get_block(a), e.find_block("lamp"));
+    EXPECT_EQ(e.get_block(b), e.find_block("lamp"));
+    ASSERT_TRUE(e.shutdown());
+
+    // The file remembers its seed and blocks: another seed, or blocks renumbered, are refused;
+    // blocks appended are fine.
+    auto other_seed = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, kSeed + 1)));
+    ASSERT_FALSE(other_seed);
+    EXPECT_NE(other_seed.error().find("seed 7"), std::string::npos) << other_seed.error();
+    vx::EngineCreateInfo renumbered = small_info(vx::WorldSource::sqlite(path, kSeed));
+    renumbered.blocks = vx::default_blocks();
+    std::swap(renumbered.blocks[0], renumbered.blocks[1]);
+    auto swapped = vx::Engine::create(renumbered);
+    ASSERT_FALSE(swapped);
+    EXPECT_NE(swapped.error().find("other blocks"), std::string::npos) << swapped.error();
+    vx::EngineCreateInfo appended = small_info(vx::WorldSource::sqlite(path, kSeed));
+    appended.blocks = vx::default_blocks();
+    appended.blocks.push_back({"marble", {0.9f, 0.9f, 0.85f}});
+    EXPECT_TRUE(vx::Engine::create(appended));
+}
+
+TEST(Facade, DescriptionErrors) {
+    vx::EngineCreateInfo window = small_info(vx::WorldSource::terrain(1));
+    int fake_window = 0;
+    window.render.target = vx::RenderTarget::glfw_window(&fake_window);
+    auto w = vx::Engine::create(window);
+    ASSERT_FALSE(w);
+    EXPECT_NE(w.error().find("window presentation not built yet"), std::string::npos) << w.error();
+
+    vx::EngineCreateInfo sized = small_info(vx::WorldSource::terrain(1));
+    sized.render.target = vx::RenderTarget::headless(0, 10);
+    EXPECT_FALSE(vx::Engine::create(sized));
+
+    auto vdb = vx::Engine::create(small_info(vx::WorldSource::vdb("/nonexistent/world.vdb")));
+    ASSERT_FALSE(vdb);
+    EXPECT_NE(vdb.error().find(VX_WITH_OPENVDB ? "world.vdb" : "VX_WITH_OPENVDB=OFF"), std::string::npos) << vdb.error();
+
+    auto db = vx::Engine::create(small_info(vx::WorldSource::sqlite("/nonexistent/dir/w.db", 1)));
+    ASSERT_FALSE(db);
+    EXPECT_NE(db.error().find("w.db"), std::string::npos) << db.error();
+
+    // Bad viewers are refused and the previous one stays.
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Viewer v;
+    v.offset.x = std::nan("");
+    EXPECT_FALSE((*engine)->set_viewer(v));
+    v.offset = glm::dvec3(0.5);
+    v.block.x = int64_t(1) << 40;
+    EXPECT_FALSE((*engine)->set_viewer(v));
+    v.block.x = 0;
+    EXPECT_TRUE((*engine)->set_viewer(v));
+}
+
+#if VX_WITH_OPENVDB
+// A VDB world: its blocks stream in, space outside it is air, edits stay in memory, save refuses.
+TEST(Facade, VdbWorldIsReadOnly) {
+    vx::world::World src;
+    for (int64_t x = -3; x < 40; ++x)
+        for (int64_t z = -3; z < 40; ++z)
+            src.set_block({x, -1, z}, 1);
+    src.set_block({5, 0, 5}, 8);
+    const std::string path = temp_path("vdb_world") + ".vdb";
+    ASSERT_TRUE(vx::vdb::export_vdb(src, path));
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::vdb(path)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(e.set_viewer(viewer_at({4, 4, 4})));
+    ASSERT_TRUE(settle(e));
+    EXPECT_EQ(e.get_block({5, 0, 5}), std::optional<vx::BlockId>(8));
+    EXPECT_EQ(e.get_block({20, -1, 20}), std::optional<vx::BlockId>(1));
+    EXPECT_EQ(e.get_block({50, -1, 50}), std::optional<vx::BlockId>(vx::kAir)); // Outside the file.
+    ASSERT_TRUE(e.set_block({6, 0, 6}, 2));
+    EXPECT_EQ(e.get_block({6, 0, 6}), std::optional<vx::BlockId>(2));
+    EXPECT_EQ(e.stats().dirty_chunks, 0u); // Nothing to save to.
+    auto ticket = e.save();
+    ASSERT_FALSE(ticket);
+    EXPECT_NE(ticket.error().find("read-only"), std::string::npos) << ticket.error();
+    EXPECT_TRUE(e.shutdown());
+}
+#endif
+
+} // namespace

@@ -1,0 +1,60 @@
+// Save tickets: a flush covers every sequence up to its own, a later success supersedes an
+// earlier failure, unknown tickets fail at once, and wait() wakes when another thread reports.
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "engine/save_tracker.h"
+
+using namespace vx;
+using namespace vx::engine;
+
+TEST(SaveTracker, FlushCoversEarlierSequences) {
+    SaveTracker t;
+    const uint64_t a = t.next(), b = t.next(), c = t.next();
+    EXPECT_EQ(a, 1u);
+    EXPECT_EQ(c, 3u);
+    EXPECT_EQ(t.state(a), SaveState::Pending);
+    t.finished(b, {}); // The flush of b ran after a's saves too (I/O lane order).
+    EXPECT_EQ(t.state(a), SaveState::Durable);
+    EXPECT_EQ(t.state(b), SaveState::Durable);
+    EXPECT_EQ(t.state(c), SaveState::Pending);
+    EXPECT_EQ(t.durable(), b);
+    t.finished(a, Error{"late report of a replaced flush"}); // Older than a success: no effect.
+    EXPECT_EQ(t.state(a), SaveState::Durable);
+}
+
+TEST(SaveTracker, LaterSuccessSupersedesFailure) {
+    SaveTracker t;
+    const uint64_t a = t.next();
+    t.finished(a, Error{"disk full"});
+    EXPECT_EQ(t.state(a), SaveState::Failed);
+    Status w = t.wait(a);
+    ASSERT_FALSE(w);
+    EXPECT_EQ(w.error(), "disk full");
+    EXPECT_EQ(t.last_error(), "disk full");
+    const uint64_t b = t.next();
+    EXPECT_EQ(t.state(b), SaveState::Pending);
+    t.finished(b, {});
+    EXPECT_EQ(t.state(a), SaveState::Durable);
+    EXPECT_TRUE(t.wait(a));
+}
+
+TEST(SaveTracker, UnknownTicketsFail) {
+    SaveTracker t;
+    EXPECT_EQ(t.state(0), SaveState::Failed);
+    EXPECT_EQ(t.state(1), SaveState::Failed); // Not issued yet.
+    EXPECT_FALSE(t.wait(0));
+    EXPECT_FALSE(t.wait(7));
+}
+
+TEST(SaveTracker, WaitWakesOnAnotherThreadsReport) {
+    SaveTracker t;
+    const uint64_t a = t.next();
+    Status result = Error{"not set"};
+    std::thread waiter([&] { result = t.wait(a); });
+    std::thread io([&] { t.finished(a, {}); });
+    io.join();
+    waiter.join();
+    EXPECT_TRUE(result);
+}
