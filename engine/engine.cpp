@@ -30,8 +30,8 @@ Status validate(const EngineCreateInfo& info) {
     if (s.worker_threads < 0)
         return Error{"worker_threads must be >= 0 (0: cores - 1)"};
     const RenderTarget& t = info.render.target;
-    if (t.kind == RenderTarget::Kind::Window)
-        return Error{"window presentation not built yet: use RenderTarget::headless(width, height) for now"};
+    if (t.kind == RenderTarget::Kind::Window && !t.window)
+        return Error{"a window target needs a GLFWwindow* (RenderTarget::glfw_window)"};
     if (t.kind == RenderTarget::Kind::Headless && (t.width == 0 || t.height == 0 || t.width > 16384 || t.height > 16384))
         return Error{"a headless target needs a size of 1..16384 pixels per side, got " + std::to_string(t.width) +
                      "x" + std::to_string(t.height)};
@@ -58,6 +58,10 @@ Result<std::unique_ptr<render::Renderer>> make_renderer(const RenderDesc& desc, 
     render::RendererCreateInfo rci;
     rci.device = *choice;
     rci.validation = desc.validation;
+    if (desc.target.kind == RenderTarget::Kind::Window) {
+        rci.glfw_window = desc.target.window;
+        rci.vsync = desc.vsync;
+    }
     auto renderer = render::Renderer::create(rci);
     if (!renderer)
         return Error{renderer.error()};
@@ -86,7 +90,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
     Impl& m = *e->m;
     m.info = info;
     m.world = std::move(*world);
-    if (info.render.target.kind == RenderTarget::Kind::Headless) {
+    if (info.render.target.kind != RenderTarget::Kind::None) {
         auto renderer = make_renderer(info.render, m.world.registry);
         if (!renderer)
             return Error{renderer.error()};

@@ -38,6 +38,23 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     return r;
 }
 
+void record_frame_stats(Stats& f, const render::RenderStats& rs) {
+    f.render_cpu_ms = rs.cpu_ms;
+    f.gpu_ms = rs.gpu_ms;
+    f.gpu_blas_ms = rs.gpu_blas_ms;
+    f.gpu_tlas_ms = rs.gpu_tlas_ms;
+    f.gpu_trace_ms = rs.gpu_trace_ms;
+    f.frame_ms = rs.frame_ms;
+    f.wait_ms = rs.wait_ms;
+    f.present_ms = rs.present_ms;
+    f.blas_builds = rs.blas_builds;
+    f.blas_refits = rs.blas_refits;
+    f.instances = rs.instances;
+    f.triangles = rs.triangles;
+    f.upload_bytes = rs.upload_bytes;
+    f.failed_chunks = rs.failed_chunks;
+}
+
 bool usable_view(const Viewer& v) {
     const glm::dvec3 f = v.forward, u = v.up;
     const double cross = glm::length(glm::cross(glm::normalize(f), glm::normalize(u)));
@@ -64,24 +81,34 @@ Status Engine::render_to_image(Image& out) {
     out.width = img.width;
     out.height = img.height;
     out.rgba = std::move(img.rgba);
-    const render::RenderStats& rs = m->renderer->last_stats();
-    m->frame.render_cpu_ms = rs.cpu_ms;
-    m->frame.gpu_ms = rs.gpu_ms;
-    m->frame.gpu_blas_ms = rs.gpu_blas_ms;
-    m->frame.gpu_tlas_ms = rs.gpu_tlas_ms;
-    m->frame.gpu_trace_ms = rs.gpu_trace_ms;
-    m->frame.blas_builds = rs.blas_builds;
-    m->frame.blas_refits = rs.blas_refits;
-    m->frame.instances = rs.instances;
-    m->frame.triangles = rs.triangles;
+    record_frame_stats(m->frame, m->renderer->last_stats());
     return {};
 }
 
-Status Engine::render_to_window() {
+Status Engine::render_to_window(Image* capture) {
     if (Status s = m->alive(); !s)
         return s;
-    // create() refuses window targets until the presenter lands, so no engine has one yet.
-    return Error{"window presentation not built yet: use a headless target and render_to_image"};
+    if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
+        return Error{"render_to_window needs a window render target (RenderTarget::glfw_window)"};
+    if (!usable_view(m->viewer))
+        return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
+    const Clock::time_point t0 = Clock::now();
+    render::RenderImage img;
+    // The size comes from the swapchain; settings' width and height are ignored there.
+    auto done = m->renderer->present(settings_of(m->render_settings, m->viewer, 1, 1), camera_of(m->viewer),
+                                     capture ? &img : nullptr);
+    if (!done)
+        return Error{done.error()};
+    m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (*done == render::PresentResult::Skipped)
+        return {};
+    if (capture) {
+        capture->width = img.width;
+        capture->height = img.height;
+        capture->rgba = std::move(img.rgba);
+    }
+    record_frame_stats(m->frame, m->renderer->last_stats());
+    return {};
 }
 
 Stats Engine::stats() const {
@@ -98,7 +125,7 @@ Stats Engine::stats() const {
         s.block_memory_bytes = sm.block_bytes;
     }
     if (m->renderer) {
-        const render::GpuMemoryStats mem = m->renderer->memory_stats();
+        const render::GpuHeapStats mem = m->renderer->memory_stats();
         s.gpu_memory_bytes = mem.held_bytes;
         s.gpu_memory_used_bytes = mem.used_bytes;
         s.validation_errors = m->renderer->validation_errors();

@@ -398,7 +398,7 @@ void Renderer::clear_chunks() { m->accel->clear(); }
 const DeviceReport& Renderer::device() const { return m->ctx->report(); }
 uint32_t Renderer::validation_errors() const { return m->ctx->validation_errors(); }
 const RenderStats& Renderer::last_stats() const { return m->stats; }
-GpuMemoryStats Renderer::memory_stats() const {
+GpuHeapStats Renderer::memory_stats() const {
     const AllocatorStats a = m->ctx->allocator().stats();
     return {uint64_t(a.block_bytes), uint64_t(a.used_bytes)};
 }

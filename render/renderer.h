@@ -125,7 +125,7 @@ struct Scene {
 };
 
 // GPU memory of the renderer's sub-allocator, bytes (all of the renderer's buffers and images).
-struct GpuMemoryStats {
+struct GpuHeapStats {
     uint64_t held_bytes = 0; // Device memory blocks allocated from the driver.
     uint64_t used_bytes = 0; // Of them, handed out to resources.
 };
@@ -191,7 +191,7 @@ public:
     const DeviceReport& device() const;
     uint32_t validation_errors() const;
     const RenderStats& last_stats() const;
-    GpuMemoryStats memory_stats() const;
+    GpuHeapStats memory_stats() const;
     Context& context();
 
 private:

@@ -91,8 +91,10 @@ struct RenderTarget {
     enum class Kind : uint8_t {
         None,     // No GPU at all (a server, a tool): streaming, edits and queries only.
         Headless, // Render to an image in memory of width × height pixels (render_to_image).
-        Window,   // Present to a GLFW window (`window` is its GLFWwindow*, not owned; it must
-                  // outlive the engine). Not built yet: create() fails with a message.
+        Window,   // Present to a GLFW window (render_to_window): `window` is its GLFWwindow*, not
+                  // owned. The game calls glfwInit, creates it with GLFW_CLIENT_API =
+                  // GLFW_NO_API, polls its events, and keeps it alive until the engine is gone.
+                  // The frame follows the window's framebuffer size.
     };
     Kind kind = Kind::None;
     uint32_t width = 0, height = 0; // Headless: image size in pixels, 1..16384.
@@ -107,6 +109,7 @@ struct RenderDesc {
     RenderTarget target;
     std::string device = "auto"; // "auto", "cpu" (lavapipe), "gpu", or a device index (`vx info`).
     bool validation = false;     // Vulkan validation layer; errors counted in Stats.
+    bool vsync = true;           // Window: wait for the display (FIFO); false: present at once.
 };
 
 struct EngineCreateInfo {
@@ -186,10 +189,15 @@ struct Stats {
     double update_wall_ms = 0;   // Its wall time.
     double render_cpu_ms = 0;    // CPU time recording the last frame (render_to_image).
     double render_wall_ms = 0;   // Wall time of that call (includes waiting for the GPU).
-    double gpu_ms = 0;           // Submit to fence of the last frame.
+    double gpu_ms = 0;           // Submit to fence of the last frame (-1 for windowed frames).
+    double frame_ms = -1;        // Window: time between the starts of the last two frames.
+    double wait_ms = -1;         // Window: of it, blocked on the GPU or the display.
+    double present_ms = -1;      // Window: time in the present call.
     double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1; // GPU timestamps; -1: none.
     uint32_t blas_builds = 0, blas_refits = 0; // In the last frame.
     uint32_t instances = 0;      // Chunks drawn in the last frame.
+    uint32_t failed_chunks = 0;  // Chunks not drawn: out of GPU memory (see the log).
+    uint64_t upload_bytes = 0;   // Chunk geometry uploaded in the last frame (edits: slices only).
     uint64_t triangles = 0;      // Their triangles (spare slots included).
     size_t chunks_loaded = 0;    // Chunks with block data in memory.
     size_t chunks_queued = 0;    // Requested (load or generate), not arrived yet.
@@ -257,8 +265,11 @@ public:
     // Main thread. Headless target: traces the viewer's view and reads it into `out` (resized to
     // the target size). Blocks until the GPU is done. Errors: no GPU target, shut down.
     Status render_to_image(Image& out);
-    // Main thread. Window target: renders and presents one frame. Not built yet: returns an error.
-    Status render_to_window();
+    // Main thread. Window target: traces the viewer's view and presents it. Two frames are in
+    // flight: the call waits only for the GPU frame two back, so the stats' GPU figures are those
+    // of that frame. A minimised window presents nothing (ok). `capture`, if given, receives the
+    // presented image (RGBA8; the call then waits for this frame): screenshots, tests.
+    Status render_to_window(Image* capture = nullptr);
 
     // Main thread. Figures of the last frame and gauges now (see Stats).
     Stats stats() const;
