@@ -17,8 +17,10 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "engine/job_batch.h"
+#include "engine/scene_loader.h"
 #include "render/renderer.h"
-#include "render_scene.h"
+#include "scene_args.h"
 
 namespace vx::tools {
 namespace {
@@ -27,7 +29,7 @@ using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
 struct RenderArgs {
-    RenderSceneArgs scene;
+    SceneArgs scene;
     std::string eye, target, up = "0,1,0", light, size = "640x360", shading = "full", shadows = "on";
     std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
@@ -54,7 +56,7 @@ struct Settings {
 };
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
-std::optional<std::string> make_settings(const RenderArgs& a, const RenderScene& scene, Settings& out) {
+std::optional<std::string> make_settings(const RenderArgs& a, const engine::LoadedScene& scene, Settings& out) {
     render::RenderSettings& s = out.settings;
     if (std::sscanf(a.size.c_str(), "%ux%u", &s.width, &s.height) != 2 || s.width == 0 || s.height == 0 ||
         s.width > 16384 || s.height > 16384 || a.size.find_first_not_of("0123456789x") != std::string::npos)
@@ -136,7 +138,7 @@ void repeat_frames(render::Renderer& r, const Settings& s, uint32_t n) {
 // Edit bursts: `k` chunks each get one block toggled at their centre and are remeshed; the new
 // meshes go to the renderer as refits (set_chunk), then the same edit as rebuilds (remove_chunk
 // + set_chunk). Medians of the BLAS phase over `rounds` bursts of each kind.
-void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uint32_t k, uint32_t rounds) {
+void edit_bursts(render::Renderer& r, engine::LoadedScene& scene, const Settings& s, uint32_t k, uint32_t rounds) {
     std::vector<ChunkCoord> coords;
     for (const auto& [c, mc] : scene.meshes)
         if (mc.mesh.quad_count() > 0)
@@ -153,7 +155,7 @@ void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uin
             for (ChunkCoord c : coords) {
                 const BlockPos p = chunk_origin(c) + BlockPos(kChunkSize / 2);
                 scene.world->set_block(p, scene.world->get_block(p) == kAir ? stone : kAir);
-                remesh_chunk(scene, c);
+                engine::remesh_chunk(scene, c);
                 if (mode == 1)
                     r.remove_chunk(c);
                 r.set_chunk(c, scene.meshes[c].mesh);
@@ -180,7 +182,12 @@ int run_render(RenderArgs a) {
     const auto choice = render::parse_device_choice(a.device);
     if (!choice)
         return bad_input(choice.error());
-    auto scene = build_render_scene(a.scene);
+    const auto info = scene_load_info(a.scene);
+    if (!info)
+        return bad_input(info.error());
+    // The process's one job system: loading, generation and meshing run on it.
+    engine::JobSystem jobs(engine::batch_job_system_info(a.scene.threads));
+    auto scene = engine::load_scene(jobs, *info);
     if (!scene)
         return bad_input(scene.error());
     Settings s;
