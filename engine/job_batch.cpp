@@ -5,20 +5,26 @@
 
 namespace vx::engine {
 
-BatchStats run_batch(JobSystem& jobs, std::vector<std::unique_ptr<Job>> batch) {
+BatchStats run_batch(JobSystem& jobs, std::vector<std::unique_ptr<Job>> batch, const std::function<void()>& tick) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     const JobMetrics before = jobs.metrics();
     jobs.submit_batch(std::move(batch));
     BatchStats stats;
-    // wait_idle() returns once nothing is queued or running; completions then run here, and may
-    // submit follow-up jobs, so loop until the system is idle with nothing left to complete.
+    const CompletionBudget all{std::chrono::nanoseconds::max(), SIZE_MAX};
+    const CompletionBudget slice{std::chrono::milliseconds(50), SIZE_MAX};
+    // Completions may submit follow-up jobs: done only when nothing is queued, running or waiting.
     for (;;) {
-        jobs.wait_idle();
-        const CompletionStats c = jobs.process_completions({std::chrono::nanoseconds::max(), SIZE_MAX});
+        if (!tick)
+            jobs.wait_idle();
+        jobs.process_completions(tick ? slice : all);
         const JobMetrics m = jobs.metrics();
-        if (c.remaining == 0 && m.queued == 0 && m.in_flight == 0 && m.awaiting_completion == 0)
+        if (m.queued == 0 && m.in_flight == 0 && m.awaiting_completion == 0)
             break;
+        if (tick) {
+            tick();
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
     }
     const JobMetrics after = jobs.metrics();
     stats.completed = size_t(after.completed - before.completed);

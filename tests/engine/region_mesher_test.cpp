@@ -1,18 +1,24 @@
-// Batch meshing and scene loading on the job system (engine/region_mesher.h, scene_loader.h):
+// Batch work on the job system (engine/region_mesher.h, scene_loader.h, world_pregen.h):
 // every chunk meshed by the pool equals the same chunk meshed alone on this thread, aprons come
 // from neighbours (or air), duplicates and absent chunks are handled, and a caller's mesh
-// function is the one used.
+// function is the one used; pregeneration saves what the generator makes.
 
 #include <atomic>
 #include <cstring>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "engine/job_batch.h"
 #include "engine/region_mesher.h"
 #include "engine/scene_loader.h"
+#include "engine/world_pregen.h"
 #include "world/gen/terrain.h"
 #include "world/mesh/reference_meshers.h"
+#include "world/store/sqlite_store.h"
 
 using namespace vx::engine;
 using namespace vx::world;
@@ -135,4 +141,54 @@ TEST(SceneLoader, BadInputIsAOneLineError) {
     info.kind = SceneKind::Terrain;
     info.radius = 65;
     EXPECT_FALSE(load_scene(jobs, info));
+}
+
+// Pregeneration saves every chunk of the box, exactly as generated, and counts what it made.
+TEST(WorldPregen, SavesEveryChunkOfTheBoxAsGenerated) {
+    const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(path);
+    const TerrainGenerator gen(11);
+    PregenStats made;
+    {
+        auto store = SqliteStore::open({path.string()});
+        ASSERT_TRUE(store) << store.error();
+        JobSystem jobs(batch_job_system_info(2));
+        size_t last_done = 0, calls = 0;
+        auto r = pregenerate(jobs, gen, **store,
+                             {ChunkCoord(-1, -1, -1), ChunkCoord(1, 1, 0), [&](size_t done, size_t total) {
+                                  EXPECT_EQ(total, 18u);
+                                  EXPECT_GE(done, last_done);
+                                  last_done = done;
+                                  ++calls;
+                              }});
+        ASSERT_TRUE(r) << r.error();
+        made = *r;
+        EXPECT_GE(calls, 1u);
+        EXPECT_EQ(last_done, 18u);
+    }
+    EXPECT_EQ(made.chunks, 18u); // 3 x 3 x 2.
+    auto store = SqliteStore::open({path.string(), /*read_only=*/true, /*create=*/false});
+    ASSERT_TRUE(store) << store.error();
+    GreedyMesher mesher;
+    uint64_t quads = 0, non_uniform = 0;
+    for (int y = -1; y <= 1; ++y)
+        for (int z = -1; z <= 0; ++z)
+            for (int x = -1; x <= 1; ++x) {
+                const ChunkCoord c(x, y, z);
+                auto load = (*store)->load(c);
+                ASSERT_TRUE(load && load->state == LoadState::Present) << x << "," << y << "," << z;
+                const Chunk expect = gen.generate(c);
+                for (int i = 0; i < kChunkSize; ++i) {
+                    const LocalPos p(i, (i * 7) % kChunkSize, (i * 13) % kChunkSize);
+                    EXPECT_EQ(load->chunk->get(p), expect.get(p));
+                }
+                ChunkMesh m;
+                mesher.mesh({expect, Apron::air(), BlockRegistry::default_registry()}, m);
+                quads += m.quad_count();
+                non_uniform += !expect.is_uniform();
+            }
+    EXPECT_EQ(made.quads, quads);
+    EXPECT_EQ(made.non_uniform, non_uniform);
+    store->reset();
+    std::filesystem::remove(path);
 }
