@@ -48,7 +48,8 @@ public:
     // apron replaced; coords absent from the world are skipped, duplicates meshed once). Workers
     // read `world` while this call blocks: nothing may write it until it returns (the main thread
     // is the only writer, and it is waiting here). Each job builds its own apron and mesh and the
-    // result is moved into `meshes` on this thread, so workers never touch the map.
+    // result is moved into `meshes` on this thread, so workers never touch the map. Jobs are keyed
+    // {chunk, JobKind::Mesh}: a streamer sharing `jobs` must not be meshing the same chunks.
     RegionMeshStats mesh(const world::World& world, const std::vector<world::ChunkCoord>& coords,
                          world::MeshMap& meshes);
 

@@ -3,7 +3,8 @@
 // whole region at once (`vx render`, `vx mesh`): a stored world, generated terrain around a
 // camera, the thesis's seed scene, or a raw volume. Loads run on the job system's I/O lane,
 // generation and meshing on its pool (engine/region_mesher.h).
-// Main thread of the JobSystem passed in; the calls block until the scene is ready.
+// Main thread of the JobSystem passed in; the calls block until the scene is ready (run_batch
+// semantics, engine/job_batch.h: the system should have no other work meanwhile).
 
 #include <cstdint>
 #include <memory>
