@@ -21,6 +21,8 @@ get_property(VX_COMPONENTS GLOBAL PROPERTY VX_COMPONENTS)
 foreach(component IN LISTS VX_COMPONENTS)
   target_include_directories(vx_${component} PUBLIC $<INSTALL_INTERFACE:${VX_INTERNAL_INCLUDEDIR}>)
 endforeach()
+# <vx/vx.h>: the facade lives in vx_engine.
+target_include_directories(vx_engine PUBLIC $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 target_include_directories(vx_all INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 
 set(VX_INSTALL_TARGETS vx_volk vx_stb_write vx_all)
