@@ -35,7 +35,7 @@ struct RegionMeshInfo {
 struct RegionMeshStats {
     size_t chunks = 0;  // Chunks meshed (those of the list present in the world).
     uint64_t quads = 0; // Sum over the meshed chunks.
-    double seconds = 0; // Wall time of the batch: aprons, meshing and applying the results.
+    double seconds = 0; // Wall time of the batch: output slots, aprons and meshing.
 };
 
 // Meshes chunks of a World on a JobSystem. Main thread of `jobs` only (the one that made it).
@@ -47,8 +47,9 @@ public:
     // Blocks until done. Meshes every chunk of `coords` that `world` holds into meshes[c] (mesh and
     // apron replaced; coords absent from the world are skipped, duplicates meshed once). Workers
     // read `world` while this call blocks: nothing may write it until it returns (the main thread
-    // is the only writer, and it is waiting here). Each job builds its own apron and mesh and the
-    // result is moved into `meshes` on this thread, so workers never touch the map. Jobs are keyed
+    // is the only writer, and it is waiting here). The entries of `meshes` are made on this thread
+    // first; each job then fills only its own entry (apron, mesh) and no job touches the map's
+    // structure. Jobs are keyed
     // {chunk, JobKind::Mesh}: a streamer sharing `jobs` must not be meshing the same chunks.
     RegionMeshStats mesh(const world::World& world, const std::vector<world::ChunkCoord>& coords,
                          world::MeshMap& meshes);
