@@ -6,17 +6,17 @@
 #include <fstream>
 #include <functional>
 #include <memory>
-#include <thread>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
 
 #include "cli_common.h"
 #include "commands.h"
-#include "parallel_mesh.h"
+#include "engine/job_batch.h"
+#include "engine/scene_loader.h"
 #include "world/io/obj_export.h"
 #include "world/io/raw_volume.h"
-#include "world/gen/seed_scene.h"
+#include "world/mesh/reference_meshers.h"
 
 namespace vx::tools {
 namespace {
@@ -74,33 +74,70 @@ std::string group(uint64_t v) {
     return out;
 }
 
-int run_mesh(const MeshArgs& a) {
-    World world;
-    bool isolated = false;
-    const auto t0 = std::chrono::steady_clock::now();
+// Which mesher `--mesher` names: empty for the engine's greedy one, else a reference mesher.
+engine::ChunkMeshFn mesh_fn_of(const std::string& mesher) {
+    if (mesher == "culled")
+        return [](GreedyMesher&, const MesherInput& in, ChunkMesh& out) { mesh_culled(in, out); };
+    if (mesher == "naive")
+        return [](GreedyMesher&, const MesherInput& in, ChunkMesh& out) { mesh_naive(in, out); };
+    return {};
+}
+
+// The scene `a` names, checked (one-line errors).
+Result<engine::SceneLoadInfo> load_info_of(const MeshArgs& a) {
+    engine::SceneLoadInfo info;
+    info.mesh_fn = mesh_fn_of(a.mesher);
     if (!a.scene.empty()) {
         if (a.scene != "seed")
-            return bad_input("unknown scene '" + a.scene + "' (known: seed)");
+            return Error{"unknown scene '" + a.scene + "' (known: seed)"};
         if (!a.raw.empty())
-            return bad_input("--scene and --raw are exclusive");
-        isolated = true; // The thesis meshes each chunk padded with air.
-        for (int z = 0; z < kSeedSceneSide; ++z)
-            for (int x = 0; x < kSeedSceneSide; ++x)
-                world.put_chunk(ChunkCoord(x, 0, z), seed_scene_chunk(ChunkCoord(x, 0, z)));
-    } else {
-        if (a.raw.empty() || a.dims.empty())
-            return bad_input("need --raw FILE --dims X,Y,Z (or --scene seed)");
-        const auto dims = parse_i64vec3(a.dims);
-        if (!dims)
-            return bad_input("--dims must be X,Y,Z (integers), got '" + a.dims + "'");
-        const auto origin = parse_i64vec3(a.origin);
-        if (!origin)
-            return bad_input("--origin must be X,Y,Z (integers), got '" + a.origin + "'");
-        RawVolumeDesc d{*dims, a.type == "u16" ? RawType::U16 : RawType::U8, *origin};
-        auto r = load_raw_volume(a.raw, d, world);
-        if (!r)
-            return bad_input(r.error());
+            return Error{"--scene and --raw are exclusive"};
+        info.kind = engine::SceneKind::SeedScene; // Stone, as the thesis; chunks padded with air.
+        return info;
     }
+    if (a.raw.empty() || a.dims.empty())
+        return Error{"need --raw FILE --dims X,Y,Z (or --scene seed)"};
+    const auto dims = parse_i64vec3(a.dims);
+    if (!dims)
+        return Error{"--dims must be X,Y,Z (integers), got '" + a.dims + "'"};
+    const auto origin = parse_i64vec3(a.origin);
+    if (!origin)
+        return Error{"--origin must be X,Y,Z (integers), got '" + a.origin + "'"};
+    info.kind = engine::SceneKind::RawVolume;
+    info.raw_path = a.raw;
+    info.raw = {*dims, a.type == "u16" ? RawType::U16 : RawType::U8, *origin};
+    return info;
+}
+
+// Applies the edits: the incremental six-slice path (greedy), or a full remesh of the touched
+// chunks with the reference mesher. Returns the slices the incremental path remeshed.
+uint64_t apply_edits(engine::LoadedScene& scene, const std::vector<Edit>& edits, const engine::ChunkMeshFn& fn) {
+    World& world = *scene.world;
+    EditMesher em;
+    GreedyMesher scratch;
+    uint64_t slices = 0;
+    for (const Edit& e : edits) {
+        if (!fn) {
+            slices += uint64_t(em.apply(world, e.pos, e.id, scene.meshes).slices_remeshed);
+            continue;
+        }
+        world.set_block(e.pos, e.id);
+        const ChunkCoord c = chunk_of(e.pos);
+        for (int f = -1; f < 6; ++f) {
+            const ChunkCoord n = f < 0 ? c : c + face_normal(Face(f));
+            // Real neighbours, as the greedy edit path reads them, even in the isolated seed scene.
+            if (world.find_chunk(n))
+                engine::mesh_chunk(world, n, {engine::ApronMode::Neighbours, fn}, scratch, scene.meshes[n]);
+        }
+    }
+    return slices;
+}
+
+int run_mesh(const MeshArgs& a) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto info = load_info_of(a);
+    if (!info)
+        return bad_input(info.error());
     std::vector<Edit> edits;
     if (!a.edits.empty()) {
         auto e = read_edits(a.edits);
@@ -108,56 +145,34 @@ int run_mesh(const MeshArgs& a) {
             return bad_input(e.error());
         edits = std::move(*e);
     }
-    const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double edits_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    // The process's one job system, a worker per thread asked for (the main thread only waits).
+    engine::JobSystem jobs(engine::batch_job_system_info(a.threads));
+    const int threads = jobs.worker_count();
+    auto scene = engine::load_scene(jobs, *info);
+    if (!scene)
+        return bad_input(scene.error());
+    const double load_ms = edits_ms + scene->load_ms, mesh_ms = scene->mesh_ms;
 
-    const MeshMode mode = a.mesher == "culled" ? MeshMode::Culled : a.mesher == "naive" ? MeshMode::Naive : MeshMode::Greedy;
-    MeshMap meshes;
-    std::vector<MeshJob> jobs;
-    world.for_each_chunk([&](ChunkCoord c, const Chunk&) { meshes[c]; });
-    for (auto& [c, mc] : meshes) {
-        mc.apron = isolated ? Apron::air() : make_apron(world, c);
-        jobs.push_back({c, world.find_chunk(c), &mc});
-    }
-    const double mesh_s = mesh_parallel(jobs, world.registry(), mode, a.threads);
-
-    // Edits: the incremental six-slice path (greedy), or a full remesh of touched chunks.
-    EditMesher em;
-    uint64_t slices = 0;
     const auto te = std::chrono::steady_clock::now();
-    for (const Edit& e : edits) {
-        if (mode == MeshMode::Greedy) {
-            slices += uint64_t(em.apply(world, e.pos, e.id, meshes).slices_remeshed);
-            continue;
-        }
-        world.set_block(e.pos, e.id);
-        const ChunkCoord c = chunk_of(e.pos);
-        for (int f = -1; f < 6; ++f) {
-            const ChunkCoord n = f < 0 ? c : c + face_normal(Face(f));
-            if (!world.find_chunk(n))
-                continue;
-            MeshedChunk& mc = meshes[n];
-            mc.apron = make_apron(world, n);
-            std::vector<MeshJob> one{{n, world.find_chunk(n), &mc}};
-            mesh_parallel(one, world.registry(), mode, 1);
-        }
-    }
+    const uint64_t slices = apply_edits(*scene, edits, info->mesh_fn);
     const double edit_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
 
     uint64_t quads = 0;
-    for (auto& [c, mc] : meshes)
+    for (auto& [c, mc] : scene->meshes)
         quads += mc.mesh.quad_count();
-    std::printf("vx mesh: %zu chunks, %s quads, %s triangles (%s mesher%s)\n", meshes.size(), group(quads).c_str(),
-                group(2 * quads).c_str(), a.mesher.c_str(), isolated ? ", chunks isolated as in the thesis" : "");
+    const size_t chunks = scene->meshes.size();
+    std::printf("vx mesh: %zu chunks, %s quads, %s triangles (%s mesher%s)\n", chunks, group(quads).c_str(),
+                group(2 * quads).c_str(), a.mesher.c_str(), scene->isolated ? ", chunks isolated as in the thesis" : "");
     if (a.scene == "seed")
         std::printf("  thesis seed scene: 30,917,848 triangles\n");
-    std::printf("  load %.1f ms, mesh %.1f ms on %u threads (%.1f us per chunk per thread)\n", load_s * 1e3,
-                mesh_s * 1e3, a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency()),
-                meshes.empty() ? 0.0 : mesh_s * 1e6 * (a.threads ? a.threads : std::max(1u, std::thread::hardware_concurrency())) / double(meshes.size()));
+    std::printf("  load %.1f ms, mesh %.1f ms on %d threads (%.1f us per chunk per thread)\n", load_ms, mesh_ms,
+                threads, chunks == 0 ? 0.0 : mesh_ms * 1e3 * threads / double(chunks));
     if (!edits.empty())
         std::printf("  %zu edits in %.2f ms (%.2f us per edit, %" PRIu64 " slices remeshed)\n", edits.size(),
                     edit_s * 1e3, edit_s * 1e6 / double(edits.size()), slices);
     if (!a.obj.empty()) {
-        auto r = write_obj(a.obj, meshes, world.registry());
+        auto r = write_obj(a.obj, scene->meshes, scene->world->registry());
         if (!r)
             return bad_input(r.error());
         std::printf("  wrote %s (%s quads)\n", a.obj.c_str(), group(r->quads).c_str());

@@ -18,8 +18,11 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "engine/job_batch.h"
+#include "engine/scene_loader.h"
+#include "world/mesh/edit_mesher.h"
 #include "render/renderer.h"
-#include "render_scene.h"
+#include "scene_args.h"
 
 namespace vx::tools {
 namespace {
@@ -28,7 +31,7 @@ using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
 struct RenderArgs {
-    RenderSceneArgs scene;
+    SceneArgs scene;
     std::string eye, target, up = "0,1,0", light, size = "640x360", shading = "full", shadows = "on";
     std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
@@ -55,7 +58,7 @@ struct Settings {
 };
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
-std::optional<std::string> make_settings(const RenderArgs& a, const RenderScene& scene, Settings& out) {
+std::optional<std::string> make_settings(const RenderArgs& a, const engine::LoadedScene& scene, Settings& out) {
     render::RenderSettings& s = out.settings;
     if (std::sscanf(a.size.c_str(), "%ux%u", &s.width, &s.height) != 2 || s.width == 0 || s.height == 0 ||
         s.width > 16384 || s.height > 16384 || a.size.find_first_not_of("0123456789x") != std::string::npos)
@@ -183,7 +186,7 @@ struct BurstFigures {
 //   rebuild: remove_chunk + set_chunk: a cold build (exact size), compacted two frames later
 //            (that frame's BLAS phase is reported as "compact").
 // The first burst turns the loaded (cold) chunks hot, a rebuild each, and is reported alone.
-void edit_bursts(render::Renderer& r, RenderScene& scene, const Settings& s, uint32_t k, uint32_t rounds) {
+void edit_bursts(render::Renderer& r, engine::LoadedScene& scene, const Settings& s, uint32_t k, uint32_t rounds) {
     std::vector<ChunkCoord> coords;
     for (const auto& [c, mc] : scene.meshes)
         if (mc.mesh.quad_count() > 0)
@@ -244,7 +247,12 @@ int run_render(RenderArgs a) {
     const auto choice = render::parse_device_choice(a.device);
     if (!choice)
         return bad_input(choice.error());
-    auto scene = build_render_scene(a.scene);
+    const auto info = scene_load_info(a.scene);
+    if (!info)
+        return bad_input(info.error());
+    // The process's one job system: loading, generation and meshing run on it.
+    engine::JobSystem jobs(engine::batch_job_system_info(a.scene.threads));
+    auto scene = engine::load_scene(jobs, *info);
     if (!scene)
         return bad_input(scene.error());
     Settings s;

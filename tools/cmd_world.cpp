@@ -1,20 +1,18 @@
 // `vx world gen` and `vx world info`: pregenerate a terrain world into a store, and inspect or
 // verify one.
-#include <atomic>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <functional>
 #include <memory>
 #include <string>
-#include <thread>
 
 #include <CLI/CLI.hpp>
 
 #include "cli_common.h"
 #include "commands.h"
-#include "engine/job_system.h"
-#include "world/mesh/mesher.h"
+#include "engine/job_batch.h"
+#include "engine/world_pregen.h"
 #include "world/store/sqlite_store.h"
 #include "world/gen/terrain.h"
 
@@ -38,8 +36,7 @@ void progress(size_t done, size_t total, double seconds) {
     std::fflush(stderr);
 }
 
-// Generates and meshes every chunk in the box on the job system's pool; the main thread saves
-// each as it completes (the store is used from this thread only).
+// Generates, meshes and saves every chunk in the box through the engine (engine/world_pregen.h).
 int run_gen(const GenArgs& a) {
     if (a.radius < 0 || a.radius > 256)
         return bad_input("--radius must be 0..256 chunks");
@@ -55,47 +52,18 @@ int run_gen(const GenArgs& a) {
         return bad_input(s.error());
 
     const TerrainGenerator gen(a.seed);
-    engine::JobSystem jobs;
-    size_t total = 0, done = 0;
-    uint64_t quads = 0, non_uniform = 0;
-    std::string failure;
+    engine::JobSystem jobs(engine::batch_job_system_info());
+    engine::PregenInfo info{ChunkCoord(-a.radius, a.bottom, -a.radius), ChunkCoord(a.radius, a.top, a.radius), {}};
     const auto t0 = Clock::now();
-    for (int y = a.bottom; y <= a.top; ++y)
-        for (int z = -a.radius; z <= a.radius; ++z)
-            for (int x = -a.radius; x <= a.radius; ++x) {
-                const ChunkCoord c(x, y, z);
-                auto chunk = std::make_shared<Chunk>();
-                auto mesh_quads = std::make_shared<uint32_t>(0);
-                auto run = [c, chunk, mesh_quads, &gen](engine::JobContext&) {
-                    thread_local GreedyMesher mesher;
-                    *chunk = gen.generate(c);
-                    // Meshing here checks each chunk meshes and reports the world's size; the
-                    // engine meshes again with real neighbours when it streams the world in.
-                    ChunkMesh mesh;
-                    mesher.mesh({*chunk, Apron::air(), BlockRegistry::default_registry()}, mesh);
-                    *mesh_quads = mesh.quad_count();
-                };
-                auto complete = [&, c, chunk, mesh_quads] {
-                    if (Status s = (*store)->save(c, *chunk); !s && failure.empty())
-                        failure = s.error();
-                    (void)(*store)->tick(Clock::now());
-                    quads += *mesh_quads;
-                    non_uniform += !chunk->is_uniform();
-                    ++done;
-                };
-                jobs.submit(std::make_unique<engine::FunctionJob>(engine::JobKey{c, engine::JobKind::Generate}, run, complete));
-                ++total;
-            }
-    while (done < total) {
-        jobs.process_completions({std::chrono::milliseconds(50)});
+    info.progress = [&](size_t done, size_t total) {
         progress(done, total, std::chrono::duration<double>(Clock::now() - t0).count());
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    };
+    auto made = engine::pregenerate(jobs, gen, **store, info);
     std::fputc('\n', stderr);
-    if (!failure.empty())
-        return bad_input("saving failed: " + failure);
-    if (Status s = (*store)->flush(); !s)
-        return bad_input(s.error());
+    if (!made)
+        return bad_input(made.error());
+    const size_t total = made->chunks;
+    const uint64_t non_uniform = made->non_uniform, quads = made->quads;
     const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
     std::printf("vx world gen: %zu chunks (%" PRIu64 " non-uniform, %" PRIu64 " quads isolated) in %.2f s "
                 "(%.0f chunks/s), seed %" PRIu64 ", saved to %s\n",

@@ -12,7 +12,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "../parallel_mesh.h"
+#include "engine/job_batch.h"
+#include "engine/region_mesher.h"
 #include "world/mesh/mesher.h"
 #include "world/mesh/reference_meshers.h"
 #include "world/gen/seed_scene.h"
@@ -121,22 +122,22 @@ void bench_remesh_edit(benchmark::State& state, const Scene& scene) {
                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// The whole seed scene on the engine's job system, a worker per hardware thread: what `vx mesh
+// --scene seed` does. Times the batch (aprons, meshing, results applied on this thread).
 void bench_seed_scene(benchmark::State& state) {
-    std::vector<Chunk> chunks;
+    World world;
     for (int z = 0; z < kSeedSceneSide; ++z)
         for (int x = 0; x < kSeedSceneSide; ++x)
-            chunks.push_back(seed_scene_chunk(ChunkCoord(x, 0, z)));
-    std::vector<MeshedChunk> out(chunks.size());
-    std::vector<MeshJob> jobs;
-    for (size_t i = 0; i < chunks.size(); ++i)
-        jobs.push_back({ChunkCoord(int(i % 32), 0, int(i / 32)), &chunks[i], &out[i]});
+            world.put_chunk(ChunkCoord(x, 0, z), seed_scene_chunk(ChunkCoord(x, 0, z)));
+    const std::vector<ChunkCoord> coords = engine::chunk_coords(world);
+    engine::JobSystem jobs(engine::batch_job_system_info());
+    engine::RegionMesher mesher(jobs, {engine::ApronMode::Air, {}});
+    MeshMap meshes;
     uint64_t tris = 0;
     for (auto _ : state) {
-        const double s = mesh_parallel(jobs, BlockRegistry::default_registry(), MeshMode::Greedy, 0);
-        state.SetIterationTime(s);
-        tris = 0;
-        for (const MeshedChunk& m : out)
-            tris += m.mesh.triangle_count();
+        const engine::RegionMeshStats s = mesher.mesh(world, coords, meshes);
+        state.SetIterationTime(s.seconds);
+        tris = 2 * s.quads;
     }
     state.counters["triangles"] = double(tris);
     state.counters["thesis_triangles"] = 30917848;

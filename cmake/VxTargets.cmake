@@ -1,0 +1,25 @@
+# The public target names. Component libraries keep their vx_* names in this build and are
+# exported as vx::<component> (EXPORT_NAME); build-tree ALIAS targets give the same names here,
+# so a project that adds vx with add_subdirectory() links the same names as one that uses
+# find_package(vx). vx::vx is everything that was built.
+
+set(VX_COMPONENTS world store render engine)
+if(VX_WITH_OPENVDB)
+  list(APPEND VX_COMPONENTS vdb)
+endif()
+foreach(component IN LISTS VX_COMPONENTS)
+  set_target_properties(vx_${component} PROPERTIES EXPORT_NAME ${component})
+  add_library(vx::${component} ALIAS vx_${component})
+endforeach()
+# Linked PRIVATE by vx_render; exported only because static libraries carry their link deps.
+set_target_properties(vx_volk PROPERTIES EXPORT_NAME volk)
+set_target_properties(vx_stb_write PROPERTIES EXPORT_NAME stb_write)
+
+# `vx` names the CLI executable in this build, so the umbrella target is vx_all, exported as vx.
+add_library(vx_all INTERFACE)
+set_target_properties(vx_all PROPERTIES EXPORT_NAME vx)
+foreach(component IN LISTS VX_COMPONENTS)
+  target_link_libraries(vx_all INTERFACE vx_${component})
+endforeach()
+add_library(vx::vx ALIAS vx_all)
+set_property(GLOBAL PROPERTY VX_COMPONENTS "${VX_COMPONENTS}")

@@ -1,0 +1,79 @@
+#pragma once
+// Scenes loaded into a World and meshed through the engine's job system, for tools that need a
+// whole region at once (`vx render`, `vx mesh`): a stored world, generated terrain around a
+// camera, the thesis's seed scene, or a raw volume. Loads run on the job system's I/O lane,
+// generation and meshing on its pool (engine/region_mesher.h).
+// Main thread of the JobSystem passed in; the calls block until the scene is ready (run_batch
+// semantics, engine/job_batch.h: the system should have no other work meanwhile).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <glm/glm.hpp>
+
+#include "engine/job_system.h"
+#include "engine/region_mesher.h"
+#include "world/base/result.h"
+#include "world/io/raw_volume.h"
+#include "world/mesh/edit_mesher.h"
+#include "world/world.h"
+
+namespace vx::engine {
+
+// A world position in block units: block + frac, frac in [0, 1) per axis, so it stays exact for
+// any block of the world (|coordinate| < 2^36) where a double alone would not. Plain value.
+struct WorldPos {
+    glm::i64vec3 block{0};
+    glm::dvec3 frac{0.0};
+};
+// Thread-safe (pure). For positions near the origin (defaults): floor and fraction of `p`.
+WorldPos world_pos_at(glm::dvec3 p);
+
+enum class SceneKind {
+    StoredWorld, // An SQLite store: every chunk, or those around the eye when large or --radius given.
+    Terrain,     // Terrain of a seed, generated around the eye with a ring of neighbours for aprons.
+    SeedScene,   // The thesis's 32x32-chunk scene, 10% random, chunks meshed in isolation.
+    RawVolume,   // A raw block-id volume.
+};
+
+// What to load. Plain value (not thread-safe).
+struct SceneLoadInfo {
+    SceneKind kind = SceneKind::SeedScene;
+    std::string world_path;             // StoredWorld: the store (opened read-only).
+    uint64_t seed = 0;                  // Terrain: the seed.
+    std::string seed_block = "stone";   // SeedScene: the block, by registry name.
+    std::string raw_path;               // RawVolume: the file.
+    world::RawVolumeDesc raw;           // RawVolume: dims, id type, origin.
+    int radius = -1;                    // Chunks around the eye, horizontal; -1: default (8, or a
+                                        // whole stored world of at most 20000 chunks). 0..64.
+    int vradius = 4;                    // Chunks around the eye, vertical. 0..64.
+    std::optional<WorldPos> eye;        // Chooses the chunks of Terrain/StoredWorld.
+    ChunkMeshFn mesh_fn;                // Empty: greedy. See RegionMeshInfo.
+};
+
+// A loaded, meshed scene. Not thread-safe (main thread).
+struct LoadedScene {
+    std::unique_ptr<world::World> world;
+    world::MeshMap meshes;               // Every meshed chunk, empty meshes included.
+    bool isolated = false;               // Meshed with air aprons (the seed scene).
+    std::string description;             // One line: what was loaded and how.
+    glm::i64vec3 box_min{0}, box_max{0}; // Blocks covered by the meshed chunks, [min, max).
+    std::optional<WorldPos> default_eye, default_target; // Scene-specific camera defaults.
+    std::optional<std::pair<glm::i64vec3, glm::i64vec3>> volume_box; // Raw volumes: their exact box.
+    double load_ms = 0, mesh_ms = 0;     // Wall times of loading (or generating) and meshing.
+    uint64_t quads = 0;
+    uint64_t triangles = 0;              // 2 per quad.
+};
+
+// Main thread of `jobs`. Loads and meshes the scene `info` names. Errors are one line (unknown
+// block, unreadable store or file, radius out of range).
+Result<LoadedScene> load_scene(JobSystem& jobs, const SceneLoadInfo& info);
+
+// Main thread. Remeshes chunk `c` of `scene` on this thread after an edit (its own apron, or air
+// when isolated), with the mesher the scene was loaded with.
+void remesh_chunk(LoadedScene& scene, world::ChunkCoord c, const ChunkMeshFn& mesh_fn = {});
+
+} // namespace vx::engine

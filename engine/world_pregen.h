@@ -1,0 +1,40 @@
+#pragma once
+// Pregeneration of a terrain world into a store (`vx world gen`): every chunk of a box generated
+// and meshed on the job system's pool, then saved on its I/O lane, then flushed. Meshing here
+// checks that each chunk meshes and measures the world (quads in isolation); the streamer meshes
+// again with real neighbours when it streams the world in.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+
+#include "engine/job_system.h"
+#include "world/base/result.h"
+#include "world/coords.h"
+#include "world/gen/terrain.h"
+#include "world/store/chunk_store.h"
+
+namespace vx::engine {
+
+// What to generate. Plain value (not thread-safe).
+struct PregenInfo {
+    world::ChunkCoord lo{0}, hi{0}; // Inclusive box of chunk coordinates; lo <= hi per axis.
+    // Called on the main thread about every 50 ms: chunks saved so far, and the total.
+    std::function<void(size_t done, size_t total)> progress;
+};
+
+// What was made. Plain value (not thread-safe).
+struct PregenStats {
+    size_t chunks = 0;        // Chunks generated and saved.
+    uint64_t non_uniform = 0; // Of those, not all one block.
+    uint64_t quads = 0;       // Greedy quads, each chunk meshed in isolation (air around).
+    double seconds = 0;       // Wall time, the final flush included.
+};
+
+// Main thread of `jobs`; blocks until every chunk is saved and the store flushed. `store` is used
+// only from the job system's I/O lane during the call (see chunk_store.h); `gen` and `store` must
+// outlive it. Fails with the store's first error (the world may then be partly saved).
+Result<PregenStats> pregenerate(JobSystem& jobs, const world::TerrainGenerator& gen, world::ChunkStore& store,
+                                const PregenInfo& info);
+
+} // namespace vx::engine

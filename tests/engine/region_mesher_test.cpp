@@ -1,0 +1,194 @@
+// Batch work on the job system (engine/region_mesher.h, scene_loader.h, world_pregen.h):
+// every chunk meshed by the pool equals the same chunk meshed alone on this thread, aprons come
+// from neighbours (or air), duplicates and absent chunks are handled, and a caller's mesh
+// function is the one used; pregeneration saves what the generator makes.
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "engine/job_batch.h"
+#include "engine/region_mesher.h"
+#include "engine/scene_loader.h"
+#include "engine/world_pregen.h"
+#include "world/gen/terrain.h"
+#include "world/mesh/reference_meshers.h"
+#include "world/store/sqlite_store.h"
+
+using namespace vx::engine;
+using namespace vx::world;
+
+namespace {
+
+bool same_mesh(const ChunkMesh& a, const ChunkMesh& b) {
+    if (a.quad_count() != b.quad_count())
+        return false;
+    for (int s = 0; s < kSliceCount; ++s) {
+        const auto qa = a.slice(s), qb = b.slice(s);
+        if (qa.size() != qb.size() || (!qa.empty() && std::memcmp(qa.data(), qb.data(), qa.size_bytes()) != 0))
+            return false;
+    }
+    return true;
+}
+
+// Terrain around the origin: 3x3x3 chunks, surface chunks and their neighbours.
+World terrain_world() {
+    World w;
+    const TerrainGenerator gen(7);
+    const int h = chunk_of(BlockPos(0, gen.surface_height(0, 0), 0)).y;
+    for (int z = -1; z <= 1; ++z)
+        for (int y = h - 1; y <= h + 1; ++y)
+            for (int x = -1; x <= 1; ++x)
+                w.put_chunk(ChunkCoord(x, y, z), gen.generate(ChunkCoord(x, y, z)));
+    return w;
+}
+
+} // namespace
+
+TEST(RegionMesher, PoolMeshesEqualSerialMeshesWithNeighbourAprons) {
+    const World w = terrain_world();
+    JobSystem jobs(batch_job_system_info(3));
+    RegionMesher mesher(jobs);
+    std::vector<ChunkCoord> coords = chunk_coords(w);
+    coords.push_back(coords.front());        // A duplicate: meshed once.
+    coords.push_back(ChunkCoord(100, 0, 0)); // Not in the world: skipped.
+    MeshMap meshes;
+    const RegionMeshStats st = mesher.mesh(w, coords, meshes);
+    EXPECT_EQ(st.chunks, w.chunk_count());
+    ASSERT_EQ(meshes.size(), w.chunk_count());
+    EXPECT_EQ(meshes.count(ChunkCoord(100, 0, 0)), 0u);
+    GreedyMesher serial;
+    uint64_t quads = 0, border_differs = 0;
+    for (const auto& [c, mc] : meshes) {
+        const Apron apron = make_apron(w, c);
+        ChunkMesh expect, isolated;
+        serial.mesh({*w.find_chunk(c), apron, w.registry()}, expect);
+        EXPECT_TRUE(same_mesh(mc.mesh, expect)) << c.x << "," << c.y << "," << c.z;
+        serial.mesh({*w.find_chunk(c), Apron::air(), w.registry()}, isolated);
+        border_differs += !same_mesh(isolated, expect);
+        quads += expect.quad_count();
+    }
+    EXPECT_EQ(st.quads, quads);
+    EXPECT_GT(quads, 0u);
+    EXPECT_GT(border_differs, 0u); // The aprons mattered: some meshes differ from isolated ones.
+}
+
+TEST(RegionMesher, AirApronsAndACallersMeshFunction) {
+    const World w = terrain_world();
+    JobSystem jobs(batch_job_system_info(2));
+    std::atomic<int> calls{0};
+    RegionMesher mesher(jobs, {ApronMode::Air, [&](GreedyMesher&, const MesherInput& in, ChunkMesh& out) {
+                                   ++calls;
+                                   mesh_culled(in, out);
+                               }});
+    MeshMap meshes;
+    mesher.mesh(w, chunk_coords(w), meshes);
+    EXPECT_EQ(calls.load(), int(w.chunk_count()));
+    for (const auto& [c, mc] : meshes) {
+        ChunkMesh expect;
+        mesh_culled({*w.find_chunk(c), Apron::air(), w.registry()}, expect);
+        EXPECT_TRUE(same_mesh(mc.mesh, expect));
+    }
+    // mesh_one on this thread gives the same as the pool.
+    MeshMap one;
+    mesher.mesh_one(w, chunk_coords(w).front(), one);
+    ASSERT_EQ(one.size(), 1u);
+    EXPECT_TRUE(same_mesh(one.begin()->second.mesh, meshes[one.begin()->first].mesh));
+}
+
+TEST(SceneLoader, TerrainSceneMeshesTheRadiusWithGeneratedNeighbours) {
+    JobSystem jobs(batch_job_system_info(2));
+    SceneLoadInfo info;
+    info.kind = SceneKind::Terrain;
+    info.seed = 7;
+    info.radius = 1;
+    info.vradius = 1;
+    info.eye = world_pos_at({0.5, 40.5, 0.5});
+    auto scene = load_scene(jobs, info);
+    ASSERT_TRUE(scene) << scene.error();
+    // 3x3x3 meshed, a ring more generated (5x5x5) so every meshed apron is real.
+    EXPECT_EQ(scene->meshes.size(), 27u);
+    EXPECT_EQ(scene->world->chunk_count(), 125u);
+    const TerrainGenerator gen(7);
+    GreedyMesher serial;
+    for (const auto& [c, mc] : scene->meshes) {
+        EXPECT_EQ(scene->world->find_chunk(c)->get(LocalPos(3, 4, 5)), gen.generate(c).get(LocalPos(3, 4, 5)));
+        ChunkMesh expect;
+        serial.mesh({*scene->world->find_chunk(c), make_apron(*scene->world, c), scene->world->registry()}, expect);
+        EXPECT_TRUE(same_mesh(mc.mesh, expect));
+    }
+    EXPECT_EQ(scene->triangles, 2 * scene->quads);
+}
+
+TEST(SceneLoader, BadInputIsAOneLineError) {
+    JobSystem jobs(batch_job_system_info(1));
+    SceneLoadInfo info;
+    info.kind = SceneKind::SeedScene;
+    info.seed_block = "unobtainium";
+    auto r = load_scene(jobs, info);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().find("unobtainium"), std::string::npos);
+    info.kind = SceneKind::StoredWorld;
+    info.world_path = "/nonexistent/dir/w.db";
+    r = load_scene(jobs, info);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().find("/nonexistent/dir/w.db"), std::string::npos);
+    info.kind = SceneKind::Terrain;
+    info.radius = 65;
+    EXPECT_FALSE(load_scene(jobs, info));
+}
+
+// Pregeneration saves every chunk of the box, exactly as generated, and counts what it made.
+TEST(WorldPregen, SavesEveryChunkOfTheBoxAsGenerated) {
+    const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(path);
+    const TerrainGenerator gen(11);
+    PregenStats made;
+    {
+        auto store = SqliteStore::open({path.string()});
+        ASSERT_TRUE(store) << store.error();
+        JobSystem jobs(batch_job_system_info(2));
+        size_t last_done = 0, calls = 0;
+        auto r = pregenerate(jobs, gen, **store,
+                             {ChunkCoord(-1, -1, -1), ChunkCoord(1, 1, 0), [&](size_t done, size_t total) {
+                                  EXPECT_EQ(total, 18u);
+                                  EXPECT_GE(done, last_done);
+                                  last_done = done;
+                                  ++calls;
+                              }});
+        ASSERT_TRUE(r) << r.error();
+        made = *r;
+        EXPECT_GE(calls, 1u);
+        EXPECT_EQ(last_done, 18u);
+    }
+    EXPECT_EQ(made.chunks, 18u); // 3 x 3 x 2.
+    auto store = SqliteStore::open({path.string(), /*read_only=*/true, /*create=*/false});
+    ASSERT_TRUE(store) << store.error();
+    GreedyMesher mesher;
+    uint64_t quads = 0, non_uniform = 0;
+    for (int y = -1; y <= 1; ++y)
+        for (int z = -1; z <= 0; ++z)
+            for (int x = -1; x <= 1; ++x) {
+                const ChunkCoord c(x, y, z);
+                auto load = (*store)->load(c);
+                ASSERT_TRUE(load && load->state == LoadState::Present) << x << "," << y << "," << z;
+                const Chunk expect = gen.generate(c);
+                for (int i = 0; i < kChunkSize; ++i) {
+                    const LocalPos p(i, (i * 7) % kChunkSize, (i * 13) % kChunkSize);
+                    EXPECT_EQ(load->chunk->get(p), expect.get(p));
+                }
+                ChunkMesh m;
+                mesher.mesh({expect, Apron::air(), BlockRegistry::default_registry()}, m);
+                quads += m.quad_count();
+                non_uniform += !expect.is_uniform();
+            }
+    EXPECT_EQ(made.quads, quads);
+    EXPECT_EQ(made.non_uniform, non_uniform);
+    store->reset();
+    std::filesystem::remove(path);
+}

@@ -1,0 +1,61 @@
+# Run by ctest (tests/package/CMakeLists.txt) as `cmake -P`. Inputs: VX_BUILD_DIR, VX_SOURCE_DIR,
+# VX_CONSUMER_DIR, VX_GENERATOR, VX_BUILD_TYPE. Fails (FATAL_ERROR) on the first step that fails.
+cmake_minimum_required(VERSION 3.25)
+
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif()
+  set(run_output "${out}" PARENT_SCOPE)
+endfunction()
+
+# A fresh directory in the system's temporary folder: outside the source and build trees.
+if(DEFINED ENV{TMPDIR} AND IS_DIRECTORY "$ENV{TMPDIR}")
+  set(tmp_root "$ENV{TMPDIR}")
+else()
+  set(tmp_root /tmp)
+endif()
+string(RANDOM LENGTH 8 suffix)
+set(work "${tmp_root}/vx-package-test-${suffix}")
+file(REMOVE_RECURSE "${work}")
+file(MAKE_DIRECTORY "${work}")
+set(prefix "${work}/prefix")
+
+run("cmake --install" ${CMAKE_COMMAND} --install "${VX_BUILD_DIR}" --prefix "${prefix}")
+
+# The package must not point back into this machine's trees: the build tree may be deleted.
+file(GLOB_RECURSE installed_text "${prefix}/*.cmake" "${prefix}/*.h" "${prefix}/*.hpp")
+foreach(f IN LISTS installed_text)
+  file(READ "${f}" text)
+  foreach(tree IN ITEMS "${VX_BUILD_DIR}" "${VX_SOURCE_DIR}")
+    string(FIND "${text}" "${tree}" at)
+    if(NOT at EQUAL -1)
+      message(FATAL_ERROR "${f} names ${tree}")
+    endif()
+  endforeach()
+endforeach()
+foreach(f IN ITEMS lib/cmake/vx/vxConfig.cmake lib/cmake/vx/vxConfigVersion.cmake lib/cmake/vx/vxTargets.cmake)
+  if(NOT EXISTS "${prefix}/${f}")
+    # GNUInstallDirs may choose lib64 or lib/<multiarch>: look for it anywhere under the prefix.
+    get_filename_component(name "${f}" NAME)
+    file(GLOB_RECURSE found "${prefix}/*/${name}")
+    if(NOT found)
+      message(FATAL_ERROR "not installed: ${name}")
+    endif()
+  endif()
+endforeach()
+
+file(COPY "${VX_CONSUMER_DIR}/" DESTINATION "${work}/consumer")
+if(NOT VX_BUILD_TYPE)
+  set(VX_BUILD_TYPE Release)
+endif()
+run("consumer configure" ${CMAKE_COMMAND} -S "${work}/consumer" -B "${work}/build" -G "${VX_GENERATOR}"
+    -DCMAKE_BUILD_TYPE=${VX_BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${prefix}")
+run("consumer build" ${CMAKE_COMMAND} --build "${work}/build")
+run("consumer run" "${work}/build/vx_consumer")
+message(STATUS "${run_output}")
+if(NOT run_output MATCHES "vx_consumer: ok")
+  message(FATAL_ERROR "consumer printed no 'vx_consumer: ok':\n${run_output}")
+endif()
+file(REMOVE_RECURSE "${work}")
