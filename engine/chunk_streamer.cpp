@@ -162,6 +162,11 @@ void ChunkStreamer::refresh_region(ChunkCoord old_center, ChunkCoord old_lead, b
         if (it != m_chunks.end() && it->second.data == Data::Present && !it->second.has_mesh)
             m_mesh_candidates.insert(c);
     };
+    auto count_meshed = [&](ChunkCoord c, int sign) { // Keeps m_view_meshed relative to m_center.
+        auto it = m_chunks.find(c);
+        if (it != m_chunks.end() && it->second.has_mesh && !it->second.mesh_pending)
+            m_view_meshed += size_t(sign); // Wraps back for -1: exact in unsigned arithmetic.
+    };
     auto leave_ring = [&](ChunkCoord c) { // Memory-cap candidates.
         if (m_settings.memory_cap_bytes == 0 || in_loaded_ring(c))
             return;
@@ -180,8 +185,12 @@ void ChunkStreamer::refresh_region(ChunkCoord old_center, ChunkCoord old_lead, b
             continue; // The same box as the viewer's, done above.
         for_each_in_difference(to[i], from[i], first, r + 1, rv + 1, enter_ring);
         for_each_in_difference(to[i], from[i], first, r, rv, enter_view);
+        if (i == 0)
+            for_each_in_difference(to[i], from[i], first, r, rv, [&](ChunkCoord c) { count_meshed(c, 1); });
         if (first)
             continue;
+        if (i == 0)
+            for_each_in_difference(from[i], to[i], false, r, rv, [&](ChunkCoord c) { count_meshed(c, -1); });
         for_each_in_difference(from[i], to[i], false, r + 1, rv + 1, leave_ring);
         for_each_in_difference(from[i], to[i], false, r + m, rv + m, leave_unload);
     }
@@ -222,6 +231,7 @@ void ChunkStreamer::note_evictable(ChunkCoord c, ChunkState& s) {
 std::unique_ptr<Job> ChunkStreamer::request_data(ChunkCoord c) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Requested;
+    ++m_requested;
     auto generate = std::make_unique<GenerateJob>(*this, c, m_generator);
     if (m_store)
         return std::make_unique<LoadJob>(*this, c, *m_store, std::move(generate));
@@ -253,6 +263,8 @@ void ChunkStreamer::on_generated(ChunkCoord c, Chunk chunk) {
 void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Present;
+    --m_requested;
+    ++m_present;
     s.bytes = chunk.memory_bytes();
     m_block_bytes += s.bytes;
     m_world.put_chunk(c, std::move(chunk));
@@ -293,12 +305,12 @@ void ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
     const Chunk& chunk = *m_world.find_chunk(c);
     if (chunk.is_empty()) { // Air has no faces: no job, no mesh to draw.
         s.mesh.reset();
-        s.has_mesh = true;
+        set_mesh_flags(c, s, true, false);
         m_sink.on_mesh(c, empty_mesh(), {});
         return;
     }
     auto apron = std::make_unique<Apron>(make_apron(m_world, c));
-    s.mesh_pending = true;
+    set_mesh_flags(c, s, false, true);
     s.mesh_stale = false;
     m_jobs->submit(std::make_unique<MeshJob>(*this, c, chunk, std::move(apron), m_world.registry()));
 }
@@ -308,15 +320,24 @@ void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
     if (it == m_chunks.end() || !it->second.mesh_pending)
         return;
     ChunkState& s = it->second;
-    s.mesh_pending = false;
+    set_mesh_flags(c, s, s.has_mesh, false);
     if (s.mesh_stale || s.data != Data::Present) {
         // Edited while the job ran: its snapshot is out of date; mesh again.
         m_mesh_candidates.insert(c);
         return;
     }
     s.mesh = mesh.empty() ? nullptr : std::make_unique<ChunkMesh>(std::move(mesh));
-    s.has_mesh = true;
+    set_mesh_flags(c, s, true, false);
     m_sink.on_mesh(c, s.mesh ? *s.mesh : empty_mesh(), {});
+}
+
+void ChunkStreamer::set_mesh_flags(ChunkCoord c, ChunkState& s, bool has_mesh, bool pending) {
+    const bool was = s.has_mesh && !s.mesh_pending, is = has_mesh && !pending;
+    m_mesh_pending = m_mesh_pending - size_t(s.mesh_pending) + size_t(pending);
+    s.has_mesh = has_mesh;
+    s.mesh_pending = pending;
+    if (was != is && in_view(c))
+        m_view_meshed = is ? m_view_meshed + 1 : m_view_meshed - 1;
 }
 
 void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error) {
@@ -353,6 +374,7 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     m_block_bytes += s.bytes;
     if (m_store && !s.dirty) {
         s.dirty = true;
+        ++m_dirty_count;
         s.dirty_since = Clock::now();
         m_dirty.push_back({c, s.dirty_since});
     }
@@ -408,6 +430,9 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     }
     if (s.has_mesh)
         m_sink.on_unload(c);
+    set_mesh_flags(c, s, false, false); // Keeps the counts; the sink was told above.
+    (s.data == Data::Present ? m_present : m_requested) -= 1;
+    m_dirty_count -= size_t(s.dirty);
     m_mesh_candidates.erase(c);
     m_chunks.erase(c);
 }
@@ -427,6 +452,7 @@ void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
             continue; // Saved when it was dropped.
         m_jobs->submit(std::make_unique<SaveJob>(*this, e.chunk, *m_world.find_chunk(e.chunk), *m_store));
         it->second.dirty = false;
+        --m_dirty_count;
         ++m_saves;
     }
 }
@@ -488,15 +514,14 @@ bool ChunkStreamer::settled() const {
 
 StreamingMetrics ChunkStreamer::metrics() const {
     StreamingMetrics m;
-    for (const auto& [c, s] : m_chunks) {
-        m.loaded += s.data == Data::Present;
-        m.pending_data += s.data == Data::Requested;
-        const bool view = in_view(c);
-        m.wanted_meshes += view;
-        m.meshed += view && s.has_mesh && !s.mesh_pending;
-        m.pending_meshes += s.mesh_pending;
-        m.dirty += s.dirty;
-    }
+    m.loaded = m_present;
+    m.pending_data = m_requested;
+    // Every chunk of the view exists (requested or present) from the first update on.
+    const size_t side = size_t(2 * m_settings.view_radius + 1);
+    m.wanted_meshes = m_have_center ? side * side * size_t(2 * m_settings.view_radius_vertical + 1) : 0;
+    m.meshed = m_view_meshed;
+    m.pending_meshes = m_mesh_pending;
+    m.dirty = m_dirty_count;
     m.block_bytes = m_block_bytes;
     m.unloaded = m_unloaded;
     m.evicted = m_evicted;

@@ -129,6 +129,7 @@ private:
     bool neighbours_present(world::ChunkCoord c) const;
     void schedule_meshes(std::chrono::steady_clock::time_point deadline);
     void request_mesh(world::ChunkCoord c, ChunkState& s);
+    void set_mesh_flags(world::ChunkCoord c, ChunkState& s, bool has_mesh, bool pending);
     void unload_far(std::chrono::steady_clock::time_point now, std::chrono::steady_clock::time_point deadline);
     void drop(world::ChunkCoord c, ChunkState& s);
     void save_dirty(std::chrono::steady_clock::time_point now, bool all);
@@ -164,6 +165,9 @@ private:
     std::chrono::steady_clock::time_point m_prev_time{}, m_last_now{};
     std::chrono::steady_clock::time_point m_last_tick{};
     size_t m_block_bytes = 0;
+    // Counts kept as states change, so metrics() costs O(1) (a frame loop may call it every frame).
+    size_t m_requested = 0, m_present = 0, m_mesh_pending = 0, m_dirty_count = 0;
+    size_t m_view_meshed = 0; // Chunks in the view radius with a current mesh.
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
     std::chrono::nanoseconds m_last_update{0}, m_last_update_cpu{0};
     // Declared last: destroyed first, so no job outlives the state it reports to.
