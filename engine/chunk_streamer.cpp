@@ -129,11 +129,15 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
         m_have_center = true;
         refresh_region(old_center, old_lead, first, now);
     }
-    // Completions get most of the budget; what is left schedules new meshes.
+    // Completions get most of the budget, counted from the start of the frame (the request pass
+    // above is part of it); what is left schedules new meshes.
     CompletionBudget budget;
-    budget.time = std::chrono::duration_cast<std::chrono::nanoseconds>(m_settings.frame_budget * 3 / 4);
+    budget.time = std::max(std::chrono::nanoseconds(0),
+                           std::chrono::duration_cast<std::chrono::nanoseconds>(
+                               t0 + m_settings.frame_budget * 3 / 4 - Clock::now()));
     m_jobs->process_completions(budget);
-    schedule_meshes(deadline);
+    // Meshes stop an eighth early: unloads, evictions and saves after them fit in the budget too.
+    schedule_meshes(deadline - m_settings.frame_budget / 8);
     unload_far(now, deadline);
     enforce_memory_cap(deadline);
     save_dirty(now, false);
@@ -286,9 +290,11 @@ bool ChunkStreamer::neighbours_present(ChunkCoord c) const {
 }
 
 void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
+    // One batch: one lock of the job system for the frame's mesh jobs, not one per job.
+    std::vector<std::unique_ptr<Job>> jobs;
     for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
         if (Clock::now() >= deadline)
-            return; // The rest wait for the next frame.
+            break; // The rest wait for the next frame.
         const ChunkCoord c = *it;
         it = m_mesh_candidates.erase(it);
         auto st = m_chunks.find(c);
@@ -297,22 +303,25 @@ void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
         ChunkState& s = st->second;
         if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
             continue; // A later put_chunk() or refresh_region() brings it back.
-        request_mesh(c, s);
+        if (std::unique_ptr<Job> job = request_mesh(c, s))
+            jobs.push_back(std::move(job));
     }
+    if (!jobs.empty())
+        m_jobs->submit_batch(std::move(jobs));
 }
 
-void ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
+std::unique_ptr<Job> ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
     const Chunk& chunk = *m_world.find_chunk(c);
     if (chunk.is_empty()) { // Air has no faces: no job, no mesh to draw.
         s.mesh.reset();
         set_mesh_flags(c, s, true, false);
         m_sink.on_mesh(c, empty_mesh(), {});
-        return;
+        return nullptr;
     }
     auto apron = std::make_unique<Apron>(make_apron(m_world, c));
     set_mesh_flags(c, s, false, true);
     s.mesh_stale = false;
-    m_jobs->submit(std::make_unique<MeshJob>(*this, c, chunk, std::move(apron), m_world.registry()));
+    return std::make_unique<MeshJob>(*this, c, chunk, std::move(apron), m_world.registry());
 }
 
 void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
@@ -416,9 +425,14 @@ void ChunkStreamer::unload_far(Clock::time_point now, Clock::time_point deadline
 }
 
 void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
-    m_jobs->cancel({c, JobKind::Load});
-    m_jobs->cancel({c, JobKind::Generate});
-    m_jobs->cancel({c, JobKind::Mesh});
+    // Only jobs that can be in flight are cancelled (each cancel takes the job system's lock):
+    // a present chunk's load or generation has completed; a mesh job runs only while pending.
+    if (s.data == Data::Requested) {
+        m_jobs->cancel({c, JobKind::Load});
+        m_jobs->cancel({c, JobKind::Generate});
+    }
+    if (s.mesh_pending)
+        m_jobs->cancel({c, JobKind::Mesh});
     if (s.data == Data::Present) {
         Chunk* chunk = m_world.find_chunk(c);
         if (s.dirty && m_store) { // Saved before it is dropped: the job owns the data now.

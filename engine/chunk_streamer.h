@@ -128,7 +128,7 @@ private:
     void put_chunk(world::ChunkCoord c, world::Chunk chunk);
     bool neighbours_present(world::ChunkCoord c) const;
     void schedule_meshes(std::chrono::steady_clock::time_point deadline);
-    void request_mesh(world::ChunkCoord c, ChunkState& s);
+    std::unique_ptr<Job> request_mesh(world::ChunkCoord c, ChunkState& s); // Null: no job needed.
     void set_mesh_flags(world::ChunkCoord c, ChunkState& s, bool has_mesh, bool pending);
     void unload_far(std::chrono::steady_clock::time_point now, std::chrono::steady_clock::time_point deadline);
     void drop(world::ChunkCoord c, ChunkState& s);

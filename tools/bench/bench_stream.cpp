@@ -74,7 +74,7 @@ void bench_flythrough(benchmark::State& state) {
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
         std::vector<double> update_ms, update_cpu_ms;
-        size_t max_missing = 0, missing_frames = 0, frames = 0;
+        size_t max_missing = 0, missing_frames = 0, frames = 0, over_budget = 0;
         const auto frame = std::chrono::microseconds(16667);
         auto next = Clock::now();
         const auto t0 = next;
@@ -84,6 +84,7 @@ void bench_flythrough(benchmark::State& state) {
             const StreamingMetrics m = s.metrics();
             update_ms.push_back(std::chrono::duration<double, std::milli>(m.last_update_time).count());
             update_cpu_ms.push_back(std::chrono::duration<double, std::milli>(m.last_update_cpu).count());
+            over_budget += m.last_update_cpu > st.frame_budget;
             const size_t missing = m.wanted_meshes - m.meshed;
             max_missing = std::max(max_missing, missing);
             missing_frames += missing > 0;
@@ -107,7 +108,10 @@ void bench_flythrough(benchmark::State& state) {
         state.counters["update_p99_ms"] = percentile(update_ms, 0.99);
         state.counters["update_max_ms"] = percentile(update_ms, 1.0);
         state.counters["update_cpu_p50_ms"] = percentile(update_cpu_ms, 0.5);
+        state.counters["update_cpu_p90_ms"] = percentile(update_cpu_ms, 0.9);
         state.counters["update_cpu_p99_ms"] = percentile(update_cpu_ms, 0.99);
+        state.counters["update_cpu_max_ms"] = percentile(update_cpu_ms, 1.0);
+        state.counters["frames_cpu_over_budget"] = double(over_budget); // Main-thread CPU > frame_budget.
         state.counters["loaded"] = double(m.loaded);
         state.counters["bytes_per_loaded_chunk"] = double(m.block_bytes) / double(std::max<size_t>(1, m.loaded));
         state.counters["wasted_ms"] = std::chrono::duration<double, std::milli>(m.jobs.wasted_work).count();
