@@ -290,21 +290,28 @@ bool ChunkStreamer::neighbours_present(ChunkCoord c) const {
 }
 
 void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
-    // One batch: one lock of the job system for the frame's mesh jobs, not one per job.
+    // One batch: one lock of the job system for the frame's mesh jobs, not one per job. Chunks in
+    // the view go first (one missing now is a hole), then those around the lookahead point.
     std::vector<std::unique_ptr<Job>> jobs;
-    for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
-        if (Clock::now() >= deadline)
-            break; // The rest wait for the next frame.
-        const ChunkCoord c = *it;
-        it = m_mesh_candidates.erase(it);
-        auto st = m_chunks.find(c);
-        if (st == m_chunks.end())
-            continue;
-        ChunkState& s = st->second;
-        if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
-            continue; // A later put_chunk() or refresh_region() brings it back.
-        if (std::unique_ptr<Job> job = request_mesh(c, s))
-            jobs.push_back(std::move(job));
+    for (int pass = 0; pass < 2 && Clock::now() < deadline; ++pass) {
+        for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
+            if (Clock::now() >= deadline)
+                break; // The rest wait for the next frame.
+            const ChunkCoord c = *it;
+            if (pass == 0 && !in_view(c)) {
+                ++it;
+                continue;
+            }
+            it = m_mesh_candidates.erase(it);
+            auto st = m_chunks.find(c);
+            if (st == m_chunks.end())
+                continue;
+            ChunkState& s = st->second;
+            if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
+                continue; // A later put_chunk() or refresh_region() brings it back.
+            if (std::unique_ptr<Job> job = request_mesh(c, s))
+                jobs.push_back(std::move(job));
+        }
     }
     if (!jobs.empty())
         m_jobs->submit_batch(std::move(jobs));

@@ -4,12 +4,14 @@
 // frame (p50/p99). Wall-clock by nature: run them on a quiet machine.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <thread>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "engine/chunk_streamer.h"
+#include "world/store/sqlite_store.h"
 
 namespace vx::tools {
 namespace {
@@ -60,14 +62,28 @@ double percentile(std::vector<double> v, double p) {
 }
 
 // 100 blocks/s along +x at 60 frames/s, view radius 12 (4 vertically), for 10 s after the fill.
-void bench_flythrough(benchmark::State& state) {
+// With `use_store`: over an empty SQLite store in a temporary folder, so every chunk is a load
+// miss that falls back to generation (the I/O lane's path) instead of generating directly.
+void run_flythrough(benchmark::State& state, bool use_store) {
     const TerrainGenerator gen(77);
     for (auto _ : state) {
+        std::unique_ptr<SqliteStore> store;
+        const auto dir = std::filesystem::temp_directory_path() / "vx_bench_stream_store";
+        if (use_store) {
+            std::filesystem::remove_all(dir);
+            std::filesystem::create_directories(dir);
+            auto opened = SqliteStore::open({(dir / "world.db").string()});
+            if (!opened) {
+                state.SkipWithError(opened.error().c_str());
+                return;
+            }
+            store = std::move(*opened);
+        }
         NullSink sink;
         StreamingSettings st;
         st.view_radius = 12;
         st.view_radius_vertical = 4;
-        ChunkStreamer s(gen, nullptr, sink, st);
+        ChunkStreamer s(gen, store.get(), sink, st);
         glm::dvec3 pos(0.5, 40.0, 0.5);
         while (!s.settled()) {
             s.update(pos, glm::dvec3(1, 0, 0), Clock::now());
@@ -119,8 +135,15 @@ void bench_flythrough(benchmark::State& state) {
     }
 }
 
+void bench_flythrough(benchmark::State& state) { run_flythrough(state, false); }
+void bench_flythrough_store(benchmark::State& state) { run_flythrough(state, true); }
+
 BENCHMARK(bench_fill)->Name("stream/fill_radius8")->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(bench_flythrough)->Name("stream/flythrough_100bps_r12")->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(bench_flythrough_store)
+    ->Name("stream/flythrough_store_100bps_r12")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 } // namespace
 } // namespace vx::tools
