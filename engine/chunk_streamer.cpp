@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <tuple>
 
 #include "engine/stream_jobs.h"
 #include "world/base/log.h"
@@ -23,6 +24,34 @@ std::chrono::nanoseconds thread_cpu_now() {
 const ChunkMesh& empty_mesh() {
     static const ChunkMesh kEmpty;
     return kEmpty;
+}
+
+// Calls f(c) for every chunk c of the box around `a` that is not in the box around `b` (half
+// widths r horizontally, rv vertically), or of the whole box when `all`. A one-chunk move visits
+// one slab of the box, plus (2r+1)(2rv+1) cheap range tests: no hash lookups outside the slab.
+template <class F> void for_each_in_difference(ChunkCoord a, ChunkCoord b, bool all, int r, int rv, F&& f) {
+    const glm::ivec3 half(r, rv, r);
+    const glm::ivec3 lo = a - half, hi = a + half;
+    const glm::ivec3 blo = all ? glm::ivec3(1) : b - half, bhi = all ? glm::ivec3(0) : b + half; // all: empty b.
+    for (int x = lo.x; x <= hi.x; ++x) {
+        const bool in_x = x >= blo.x && x <= bhi.x;
+        for (int y = lo.y; y <= hi.y; ++y) {
+            if (!in_x || y < blo.y || y > bhi.y) {
+                for (int z = lo.z; z <= hi.z; ++z)
+                    f(ChunkCoord(x, y, z));
+                continue;
+            }
+            for (int z = lo.z; z <= std::min(hi.z, blo.z - 1); ++z)
+                f(ChunkCoord(x, y, z));
+            for (int z = std::max(lo.z, bhi.z + 1); z <= hi.z; ++z)
+                f(ChunkCoord(x, y, z));
+        }
+    }
+}
+
+int64_t distance2(ChunkCoord a, ChunkCoord b) {
+    const glm::i64vec3 d = glm::i64vec3(a - b);
+    return d.x * d.x + d.y * d.y + d.z * d.z;
 }
 } // namespace
 
@@ -105,18 +134,24 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
         ahead *= reach / glm::length(ahead);
     const ChunkCoord lead = chunk_at(position + ahead);
     if (!m_have_center || center != m_center || lead != m_lead) {
+        const ChunkCoord old_center = m_center, old_lead = m_lead;
+        const bool first = !m_have_center;
         m_center = center;
         m_lead = lead;
         m_have_center = true;
-        refresh_region(now);
+        refresh_region(old_center, old_lead, first, now);
     }
-    // Completions get most of the budget; what is left schedules new meshes.
+    // Completions get most of the budget, counted from the start of the frame (the request pass
+    // above is part of it); what is left schedules new meshes.
     CompletionBudget budget;
-    budget.time = std::chrono::duration_cast<std::chrono::nanoseconds>(m_settings.frame_budget * 3 / 4);
+    budget.time = std::max(std::chrono::nanoseconds(0),
+                           std::chrono::duration_cast<std::chrono::nanoseconds>(
+                               t0 + m_settings.frame_budget * 3 / 4 - Clock::now()));
     m_jobs->process_completions(budget);
-    schedule_meshes(deadline);
+    // Meshes stop an eighth early: unloads, evictions and saves after them fit in the budget too.
+    schedule_meshes(deadline - m_settings.frame_budget / 8);
     unload_far(now, deadline);
-    enforce_memory_cap();
+    enforce_memory_cap(deadline);
     save_dirty(now, false);
     if (m_store && now - m_last_tick >= std::chrono::duration<double>(m_settings.store_tick_s)) {
         m_last_tick = now;
@@ -126,38 +161,97 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
     m_last_update_cpu = thread_cpu_now() - cpu0;
 }
 
-void ChunkStreamer::refresh_region(Clock::time_point) {
-    // Every chunk of the loaded ring is requested (again, if it was dropped: no silent holes),
-    // in one batch; loaded chunks that now want a mesh become candidates.
+void ChunkStreamer::refresh_region(ChunkCoord old_center, ChunkCoord old_lead, bool first, Clock::time_point now) {
+    // Each box (around the viewer and around the lookahead point) visits only the chunks it gained
+    // or lost: a one-chunk move is one slab, a teleport the whole box. That suffices because every
+    // chunk of the loaded ring exists in m_chunks (requested or present) from the frame it enters
+    // the ring until it leaves the ring, and chunks are only created inside it.
+    const int r = m_settings.view_radius, rv = m_settings.view_radius_vertical;
+    const int m = m_settings.unload_margin + 1;
     std::vector<std::unique_ptr<Job>> jobs;
-    request_box(m_center, jobs);
-    if (m_lead != m_center)
-        request_box(m_lead, jobs);
+    auto enter_ring = [&](ChunkCoord c) { // Requested again if it was dropped: no silent holes.
+        if (!m_chunks.contains(c))
+            jobs.push_back(request_data(c));
+    };
+    auto enter_view = [&](ChunkCoord c) { // Loaded chunks that now want a mesh.
+        auto it = m_chunks.find(c);
+        if (it != m_chunks.end() && it->second.data == Data::Present && !it->second.has_mesh)
+            m_mesh_candidates.insert(c);
+    };
+    auto count_meshed = [&](ChunkCoord c, int sign) { // Keeps m_view_meshed relative to m_center.
+        auto it = m_chunks.find(c);
+        if (it != m_chunks.end() && it->second.has_mesh && !it->second.mesh_pending)
+            m_view_meshed += size_t(sign); // Wraps back for -1: exact in unsigned arithmetic.
+    };
+    auto leave_ring = [&](ChunkCoord c) { // Memory-cap candidates.
+        if (m_settings.memory_cap_bytes == 0 || in_loaded_ring(c))
+            return;
+        if (auto it = m_chunks.find(c); it != m_chunks.end())
+            note_evictable(c, it->second);
+    };
+    auto leave_unload = [&](ChunkCoord c) {
+        if (beyond_unload(c))
+            note_left(c, now);
+    };
+    const ChunkCoord from[2] = {old_center, old_lead}, to[2] = {m_center, m_lead};
+    for (int i = 0; i < 2; ++i) {
+        if (!first && from[i] == to[i])
+            continue;
+        if (i == 1 && m_lead == m_center && (first || old_lead == old_center))
+            continue; // The same box as the viewer's, done above.
+        for_each_in_difference(to[i], from[i], first, r + 1, rv + 1, enter_ring);
+        for_each_in_difference(to[i], from[i], first, r, rv, enter_view);
+        if (i == 0)
+            for_each_in_difference(to[i], from[i], first, r, rv, [&](ChunkCoord c) { count_meshed(c, 1); });
+        if (first)
+            continue;
+        if (i == 0)
+            for_each_in_difference(from[i], to[i], false, r, rv, [&](ChunkCoord c) { count_meshed(c, -1); });
+        for_each_in_difference(from[i], to[i], false, r + 1, rv + 1, leave_ring);
+        for_each_in_difference(from[i], to[i], false, r + m, rv + m, leave_unload);
+    }
     if (!jobs.empty())
         m_jobs->submit_batch(std::move(jobs));
-    // Chunks now beyond the unload radius are found by unload_far's continuous scan.
+    m_evict_sorted = false; // Distances changed.
 }
 
-void ChunkStreamer::request_box(ChunkCoord center, std::vector<std::unique_ptr<Job>>& jobs) {
-    const int r = m_settings.view_radius + 1, rv = m_settings.view_radius_vertical + 1;
-    for (int dy = -rv; dy <= rv; ++dy)
-        for (int dz = -r; dz <= r; ++dz)
-            for (int dx = -r; dx <= r; ++dx) {
-                const ChunkCoord c = center + ChunkCoord(dx, dy, dz);
-                auto it = m_chunks.find(c);
-                if (it == m_chunks.end())
-                    jobs.push_back(request_data(c));
-                else if (it->second.data == Data::Present && !it->second.has_mesh && wants_mesh(c))
-                    m_mesh_candidates.insert(c);
-            }
+void ChunkStreamer::note_left(ChunkCoord c, Clock::time_point now) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end())
+        return;
+    // (Re)starts its unload delay; an older queue entry of the chunk goes stale.
+    it->second.outside = true;
+    it->second.outside_since = now;
+    m_outside.push_back({c, now});
+}
+
+void ChunkStreamer::note_evictable(ChunkCoord c, ChunkState& s) {
+    if (s.evict_listed)
+        return;
+    s.evict_listed = true;
+    m_evict.push_back(c);
+    m_evict_sorted = false;
+    if (m_evict.size() <= 2 * m_chunks.size() + 64)
+        return;
+    // Entries of dropped chunks (and duplicates left by their reloaded successors) pile up while
+    // under the cap: compact, amortized over as many pushes as there are chunks.
+    auto less = [](ChunkCoord a, ChunkCoord b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); };
+    std::sort(m_evict.begin(), m_evict.end(), less);
+    m_evict.erase(std::unique(m_evict.begin(), m_evict.end()), m_evict.end());
+    std::erase_if(m_evict, [this](ChunkCoord q) {
+        auto it = m_chunks.find(q);
+        return it == m_chunks.end() || !it->second.evict_listed;
+    });
 }
 
 std::unique_ptr<Job> ChunkStreamer::request_data(ChunkCoord c) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Requested;
+    ++m_requested;
+    auto generate = std::make_unique<GenerateJob>(events(), c, m_generator);
     if (m_store)
-        return std::make_unique<LoadJob>(events(), c, *m_store);
-    return std::make_unique<GenerateJob>(events(), c, m_generator);
+        return std::make_unique<LoadJob>(events(), c, *m_store, std::move(generate));
+    return generate;
 }
 
 void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem) {
@@ -168,11 +262,11 @@ void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const st
         put_chunk(c, std::move(*chunk));
         return;
     }
+    // A miss: the load job already handed the chunk to its generate job (no hop through here).
     if (!problem.empty()) {
         VX_LOG_WARN("chunk %d,%d,%d: %s; regenerating", c.x, c.y, c.z, problem.c_str());
         ++m_regenerated;
     }
-    m_jobs->submit(std::make_unique<GenerateJob>(events(), c, m_generator));
 }
 
 void ChunkStreamer::on_generated(ChunkCoord c, Chunk chunk) {
@@ -185,9 +279,13 @@ void ChunkStreamer::on_generated(ChunkCoord c, Chunk chunk) {
 void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Present;
+    --m_requested;
+    ++m_present;
     s.bytes = chunk.memory_bytes();
     m_block_bytes += s.bytes;
     m_world.put_chunk(c, std::move(chunk));
+    if (m_settings.memory_cap_bytes != 0 && !in_loaded_ring(c))
+        note_evictable(c, s); // Arrived after the ring moved on.
     // This chunk and its face neighbours may now have everything they need to mesh.
     m_mesh_candidates.insert(c);
     for (int f = 0; f < 6; ++f)
@@ -206,33 +304,45 @@ bool ChunkStreamer::neighbours_present(ChunkCoord c) const {
 }
 
 void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
-    for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
-        if (Clock::now() >= deadline)
-            return; // The rest wait for the next frame.
-        const ChunkCoord c = *it;
-        it = m_mesh_candidates.erase(it);
-        auto st = m_chunks.find(c);
-        if (st == m_chunks.end())
-            continue;
-        ChunkState& s = st->second;
-        if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
-            continue; // A later put_chunk() or refresh_region() brings it back.
-        request_mesh(c, s);
+    // One batch: one lock of the job system for the frame's mesh jobs, not one per job. Chunks in
+    // the view go first (one missing now is a hole), then those around the lookahead point.
+    std::vector<std::unique_ptr<Job>> jobs;
+    for (int pass = 0; pass < 2 && Clock::now() < deadline; ++pass) {
+        for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
+            if (Clock::now() >= deadline)
+                break; // The rest wait for the next frame.
+            const ChunkCoord c = *it;
+            if (pass == 0 && !in_view(c)) {
+                ++it;
+                continue;
+            }
+            it = m_mesh_candidates.erase(it);
+            auto st = m_chunks.find(c);
+            if (st == m_chunks.end())
+                continue;
+            ChunkState& s = st->second;
+            if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
+                continue; // A later put_chunk() or refresh_region() brings it back.
+            if (std::unique_ptr<Job> job = request_mesh(c, s))
+                jobs.push_back(std::move(job));
+        }
     }
+    if (!jobs.empty())
+        m_jobs->submit_batch(std::move(jobs));
 }
 
-void ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
+std::unique_ptr<Job> ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
     const Chunk& chunk = *m_world.find_chunk(c);
     if (chunk.is_empty()) { // Air has no faces: no job, no mesh to draw.
         s.mesh.reset();
-        s.has_mesh = true;
+        set_mesh_flags(c, s, true, false);
         m_sink.on_mesh(c, empty_mesh(), {});
-        return;
+        return nullptr;
     }
     auto apron = std::make_unique<Apron>(make_apron(m_world, c));
-    s.mesh_pending = true;
+    set_mesh_flags(c, s, false, true);
     s.mesh_stale = false;
-    m_jobs->submit(std::make_unique<MeshJob>(events(), c, chunk, std::move(apron), m_world.registry()));
+    return std::make_unique<MeshJob>(events(), c, chunk, std::move(apron), m_world.registry());
 }
 
 void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
@@ -240,15 +350,24 @@ void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
     if (it == m_chunks.end() || !it->second.mesh_pending)
         return;
     ChunkState& s = it->second;
-    s.mesh_pending = false;
+    set_mesh_flags(c, s, s.has_mesh, false);
     if (s.mesh_stale || s.data != Data::Present) {
         // Edited while the job ran: its snapshot is out of date; mesh again.
         m_mesh_candidates.insert(c);
         return;
     }
     s.mesh = mesh.empty() ? nullptr : std::make_unique<ChunkMesh>(std::move(mesh));
-    s.has_mesh = true;
+    set_mesh_flags(c, s, true, false);
     m_sink.on_mesh(c, s.mesh ? *s.mesh : empty_mesh(), {});
+}
+
+void ChunkStreamer::set_mesh_flags(ChunkCoord c, ChunkState& s, bool has_mesh, bool pending) {
+    const bool was = s.has_mesh && !s.mesh_pending, is = has_mesh && !pending;
+    m_mesh_pending = m_mesh_pending - size_t(s.mesh_pending) + size_t(pending);
+    s.has_mesh = has_mesh;
+    s.mesh_pending = pending;
+    if (was != is && in_view(c))
+        m_view_meshed = is ? m_view_meshed + 1 : m_view_meshed - 1;
 }
 
 void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error) {
@@ -285,7 +404,9 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     m_block_bytes += s.bytes;
     if (m_store && !m_store->read_only() && !s.dirty) {
         s.dirty = true;
+        ++m_dirty_count;
         s.dirty_since = Clock::now();
+        m_dirty.push_back({c, s.dirty_since});
     }
     for (const SliceUpdate& u : r.updates)
         m_sink.on_mesh(u.chunk, *m_chunks.at(u.chunk).mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
@@ -293,48 +414,46 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
 }
 
 void ChunkStreamer::unload_far(Clock::time_point now, Clock::time_point deadline) {
-    // A slice of the chunks is checked each frame (all of them every ~16 frames), so the cost
-    // stays flat however many chunks are loaded; the unload delay dwarfs the scan latency.
-    // Drops stay within the frame's budget, but at least kMinDrops happen a frame so memory
-    // cannot grow without bound while the budget is spent elsewhere.
+    // Only chunks that left the unload radius are visited, oldest first (refresh_region queued
+    // them), so the cost follows what moved, not how many chunks are loaded. Drops stay within
+    // the frame's budget, but at least kMinDrops happen a frame so memory cannot grow without
+    // bound while the budget is spent elsewhere.
     constexpr int kMinDrops = 32;
     const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
-    if (m_scan_pos >= m_scan.size()) {
-        m_scan.clear();
-        for (const auto& [c, st] : m_chunks)
-            m_scan.push_back(c);
-        m_scan_pos = 0;
-    }
-    const size_t end = std::min(m_scan.size(), m_scan_pos + std::max<size_t>(256, m_scan.size() / 16));
     int dropped = 0;
-    for (; m_scan_pos < end; ++m_scan_pos) {
-        const ChunkCoord c = m_scan[m_scan_pos];
-        auto it = m_chunks.find(c);
-        if (it == m_chunks.end())
+    while (!m_outside.empty()) {
+        const Since e = m_outside.front();
+        auto it = m_chunks.find(e.chunk);
+        if (it == m_chunks.end() || !it->second.outside || it->second.outside_since != e.time) {
+            m_outside.pop_front(); // Dropped, or left again later (a newer entry).
             continue;
+        }
         ChunkState& s = it->second;
-        if (!beyond_unload(c)) {
+        if (!beyond_unload(e.chunk)) { // Came back in: the hysteresis kept it.
             s.outside = false;
+            m_outside.pop_front();
             continue;
         }
-        if (!s.outside) {
-            s.outside = true;
-            s.outside_since = now;
-        }
-        if (now - s.outside_since < delay)
-            continue;
+        if (now - e.time < delay)
+            return; // Every later entry left later.
         if (dropped >= kMinDrops && Clock::now() >= deadline)
-            return; // Checked again on the next pass.
-        drop(c, s);
+            return;
+        m_outside.pop_front();
+        drop(e.chunk, s);
         ++m_unloaded;
         ++dropped;
     }
 }
 
 void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
-    m_jobs->cancel({c, JobKind::Load});
-    m_jobs->cancel({c, JobKind::Generate});
-    m_jobs->cancel({c, JobKind::Mesh});
+    // Only jobs that can be in flight are cancelled (each cancel takes the job system's lock):
+    // a present chunk's load or generation has completed; a mesh job runs only while pending.
+    if (s.data == Data::Requested) {
+        m_jobs->cancel({c, JobKind::Load});
+        m_jobs->cancel({c, JobKind::Generate});
+    }
+    if (s.mesh_pending)
+        m_jobs->cancel({c, JobKind::Mesh});
     if (s.data == Data::Present) {
         Chunk* chunk = m_world.find_chunk(c);
         if (s.dirty && m_store) { // Saved before it is dropped: the job owns the data now.
@@ -347,6 +466,9 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     const bool had_data = s.data == Data::Present;
     if (s.has_mesh)
         m_sink.on_unload(c);
+    set_mesh_flags(c, s, false, false); // Keeps the counts; the sink was told above.
+    (s.data == Data::Present ? m_present : m_requested) -= 1;
+    m_dirty_count -= size_t(s.dirty);
     m_mesh_candidates.erase(c);
     m_chunks.erase(c);
     if (had_data && m_observer)
@@ -356,33 +478,51 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
 void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
     if (!m_store)
         return;
+    // Oldest edit first: the first chunk not yet due ends the pass, however many are loaded.
     const auto delay = std::chrono::duration<double>(m_settings.save_delay_s);
-    for (auto& [c, s] : m_chunks) {
-        if (!s.dirty || (!all && now - s.dirty_since < delay))
-            continue;
-        m_jobs->submit(std::make_unique<SaveJob>(events(), c, *m_world.find_chunk(c), *m_store));
-        s.dirty = false;
+    while (!m_dirty.empty()) {
+        const Since e = m_dirty.front();
+        if (!all && now - e.time < delay)
+            return;
+        m_dirty.pop_front();
+        auto it = m_chunks.find(e.chunk);
+        if (it == m_chunks.end() || !it->second.dirty || it->second.dirty_since != e.time)
+            continue; // Saved when it was dropped.
+        m_jobs->submit(std::make_unique<SaveJob>(events(), e.chunk, *m_world.find_chunk(e.chunk), *m_store));
+        it->second.dirty = false;
+        --m_dirty_count;
         ++m_saves;
     }
 }
 
-void ChunkStreamer::enforce_memory_cap() {
+void ChunkStreamer::enforce_memory_cap(Clock::time_point deadline) {
     if (m_settings.memory_cap_bytes == 0 || m_block_bytes <= m_settings.memory_cap_bytes)
         return;
-    // Farthest first; only chunks beyond the loaded ring (those the view needs stay).
-    std::vector<std::pair<int64_t, ChunkCoord>> far;
-    for (const auto& [c, s] : m_chunks) {
-        if (s.data != Data::Present || in_loaded_ring(c))
-            continue;
-        const glm::i64vec3 d = glm::i64vec3(c - m_center);
-        far.push_back({d.x * d.x + d.y * d.y + d.z * d.z, c});
+    // Farthest first, among chunks beyond the loaded ring only (those the view needs stay). The
+    // candidates are sorted only while over the cap, and only when the viewer moved or some
+    // were added since the last sort.
+    if (!m_evict_sorted) {
+        std::sort(m_evict.begin(), m_evict.end(),
+                  [this](ChunkCoord a, ChunkCoord b) { return distance2(a, m_center) < distance2(b, m_center); });
+        m_evict_sorted = true;
     }
-    std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    for (const auto& [dist, c] : far) {
-        if (m_block_bytes <= m_settings.memory_cap_bytes)
-            break;
-        drop(c, m_chunks.at(c));
+    constexpr int kMinEvictions = 32;
+    int evicted = 0;
+    while (m_block_bytes > m_settings.memory_cap_bytes && !m_evict.empty()) {
+        if (evicted >= kMinEvictions && Clock::now() >= deadline)
+            return; // The rest next frame.
+        const ChunkCoord c = m_evict.back();
+        m_evict.pop_back();
+        auto it = m_chunks.find(c);
+        if (it == m_chunks.end() || !it->second.evict_listed)
+            continue; // Dropped meanwhile, or a duplicate entry.
+        ChunkState& s = it->second;
+        s.evict_listed = false;
+        if (s.data != Data::Present || in_loaded_ring(c))
+            continue; // Listed again when it arrives (put_chunk) or leaves the ring again.
+        drop(c, s);
         ++m_evicted;
+        ++evicted;
     }
 }
 
@@ -419,15 +559,14 @@ bool ChunkStreamer::settled() const {
 
 StreamingMetrics ChunkStreamer::metrics() const {
     StreamingMetrics m;
-    for (const auto& [c, s] : m_chunks) {
-        m.loaded += s.data == Data::Present;
-        m.pending_data += s.data == Data::Requested;
-        const bool view = in_view(c);
-        m.wanted_meshes += view;
-        m.meshed += view && s.has_mesh && !s.mesh_pending;
-        m.pending_meshes += s.mesh_pending;
-        m.dirty += s.dirty;
-    }
+    m.loaded = m_present;
+    m.pending_data = m_requested;
+    // Every chunk of the view exists (requested or present) from the first update on.
+    const size_t side = size_t(2 * m_settings.view_radius + 1);
+    m.wanted_meshes = m_have_center ? side * side * size_t(2 * m_settings.view_radius_vertical + 1) : 0;
+    m.meshed = m_view_meshed;
+    m.pending_meshes = m_mesh_pending;
+    m.dirty = m_dirty_count;
     m.block_bytes = m_block_bytes;
     m.unloaded = m_unloaded;
     m.evicted = m_evicted;

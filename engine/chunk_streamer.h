@@ -134,7 +134,8 @@ private:
         bool mesh_pending = false;  // A mesh job is in flight.
         bool mesh_stale = false;    // The in-flight mesh job's snapshot is out of date.
         bool dirty = false;         // Edited since it was last handed to the store.
-        bool outside = false;       // Beyond the unload radius since `outside_since`.
+        bool outside = false;       // Beyond the unload radius since `outside_since` (queued then).
+        bool evict_listed = false;  // In m_evict (memory cap candidates).
         std::chrono::steady_clock::time_point outside_since{}, dirty_since{};
         size_t bytes = 0;           // Block data memory accounted for.
         std::unique_ptr<world::ChunkMesh> mesh; // Null while the mesh is empty (air, buried).
@@ -149,22 +150,25 @@ private:
     void update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,
                        std::chrono::steady_clock::time_point now);
 
-    void refresh_region(std::chrono::steady_clock::time_point now);
+    void refresh_region(world::ChunkCoord old_center, world::ChunkCoord old_lead, bool first,
+                        std::chrono::steady_clock::time_point now);
+    void note_left(world::ChunkCoord c, std::chrono::steady_clock::time_point now);
+    void note_evictable(world::ChunkCoord c, ChunkState& s);
     std::unique_ptr<Job> request_data(world::ChunkCoord c);
     void put_chunk(world::ChunkCoord c, world::Chunk chunk);
     bool neighbours_present(world::ChunkCoord c) const;
     void schedule_meshes(std::chrono::steady_clock::time_point deadline);
-    void request_mesh(world::ChunkCoord c, ChunkState& s);
+    std::unique_ptr<Job> request_mesh(world::ChunkCoord c, ChunkState& s); // Null: no job needed.
+    void set_mesh_flags(world::ChunkCoord c, ChunkState& s, bool has_mesh, bool pending);
     void unload_far(std::chrono::steady_clock::time_point now, std::chrono::steady_clock::time_point deadline);
     void drop(world::ChunkCoord c, ChunkState& s);
     void save_dirty(std::chrono::steady_clock::time_point now, bool all);
-    void enforce_memory_cap();
+    void enforce_memory_cap(std::chrono::steady_clock::time_point deadline);
     bool near(world::ChunkCoord c, world::ChunkCoord center, int extra) const;
     bool in_view(world::ChunkCoord c) const;        // The view radius around the viewer.
     bool wants_mesh(world::ChunkCoord c) const;     // ... or around where it is heading.
     bool in_loaded_ring(world::ChunkCoord c) const; // Either of those, plus one chunk.
     bool beyond_unload(world::ChunkCoord c) const;
-    void request_box(world::ChunkCoord center, std::vector<std::unique_ptr<Job>>& jobs);
 
     const world::ChunkGenerator& m_generator;
     world::ChunkStore* m_store;
@@ -175,8 +179,16 @@ private:
     world::EditMesher m_edits;
     std::unordered_map<world::ChunkCoord, ChunkState, world::ChunkCoordHash> m_chunks;
     std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_mesh_candidates;
-    std::vector<world::ChunkCoord> m_scan; // Chunks to check for unloading, a slice per frame.
-    size_t m_scan_pos = 0;
+    // Per-frame work follows what changed, never every loaded chunk: chunks that left the unload
+    // radius wait in m_outside by the time they left, edited chunks in m_dirty by edit time (both
+    // oldest first), memory-cap candidates (outside the loaded ring) in m_evict.
+    struct Since {
+        world::ChunkCoord chunk;
+        std::chrono::steady_clock::time_point time;
+    };
+    std::deque<Since> m_outside, m_dirty;
+    std::vector<world::ChunkCoord> m_evict; // Nearest first once sorted (evicted from the back).
+    bool m_evict_sorted = false;            // Sorted for m_center, nothing appended since.
     world::ChunkCoord m_center{INT32_MIN};
     world::ChunkCoord m_lead{INT32_MIN}; // Chunk the viewer reaches in lookahead_s at its velocity.
     bool m_have_center = false;
@@ -184,6 +196,9 @@ private:
     std::chrono::steady_clock::time_point m_prev_time{}, m_last_now{};
     std::chrono::steady_clock::time_point m_last_tick{};
     size_t m_block_bytes = 0;
+    // Counts kept as states change, so metrics() costs O(1) (a frame loop may call it every frame).
+    size_t m_requested = 0, m_present = 0, m_mesh_pending = 0, m_dirty_count = 0;
+    size_t m_view_meshed = 0; // Chunks in the view radius with a current mesh.
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
     std::chrono::nanoseconds m_last_update{0}, m_last_update_cpu{0};
     // Shared with flush jobs (which report to it) and with whoever asks after the streamer is gone.

@@ -116,6 +116,15 @@ public:
     // target still exists: the chunk may have been unloaded since submission. May submit jobs.
     virtual void complete() = 0;
 
+    // Worker thread, once, right after run() returned. A follow-up job to submit, or null (the
+    // default): e.g. a load that found nothing hands its chunk to a generate job, so a miss
+    // reaches the pool without a hop through the main thread. The system submits the follow-up
+    // under the same lock that hands this job's result to the main thread, and only if that
+    // result is still wanted (not cancelled, not stale): cancelling this job before it finishes
+    // cancels the follow-up too. The follow-up needs a key of its own (it would otherwise make
+    // this job's result stale).
+    virtual std::unique_ptr<Job> take_continuation() { return nullptr; }
+
     // Any thread, called once at submission. The point whose distance to the viewer orders pool
     // jobs, in world block coordinates. Default: the centre of the key's chunk.
     virtual glm::dvec3 priority_position() const;

@@ -26,6 +26,9 @@
 //   place in line of the job it replaces, so a job submitted after the first request still runs
 //   after the data of that request (or newer) is written; moving it to the back could let a later
 //   load read older data than an earlier save.
+// - Continuations: a job's take_continuation() is submitted by the worker that ran it, under the
+//   lock that hands the job's own result over, and only if that result is still wanted; the
+//   follow-up then follows the rules above like any submit (chains need no main thread).
 // - Completion: process_completions() runs complete() of finished jobs, oldest first, until the
 //   budget is spent; the rest wait for the next call. Budget checks happen before each job, so the
 //   last one may overrun by its own duration. A zero time budget applies nothing.

@@ -88,12 +88,27 @@ void JobSystem::worker_main(JobLane lane, int worker_index) {
         const auto t0 = std::chrono::steady_clock::now();
         job->run(ctx);
         job->m_run_time = elapsed_since(t0); // Published to other threads by the lock below.
+        std::unique_ptr<Job> next = job->take_continuation();
+        const glm::dvec3 next_position = next ? next->priority_position() : glm::dvec3(0.0);
+        VX_ASSERT_MSG(!next || !(next->key() == job->key()), "a continuation needs a key of its own");
 
         lock.lock();
+        const bool wanted = classify_nolock(*job, *state) == Outcome::Ok;
         std::unique_ptr<Job> dropped = finish_run_nolock(std::move(job), *state);
-        if (dropped) {
+        std::unique_ptr<Job> next_replaced;
+        Wake wake;
+        if (next && wanted) {
+            // Same lock as the hand-over above: no moment where neither job is queued (wait_idle),
+            // and a cancel of the parent after this point finds the follow-up queued.
+            submit_nolock(std::move(next), next_position, next_replaced, wake);
+            decide_wake_nolock(wake);
+        }
+        if (dropped || next || next_replaced || wake.pool > 0 || wake.io) {
             lock.unlock();
+            notify(wake);
             dropped.reset();
+            next.reset(); // Not wanted: destroyed unrun, never counted (it was never submitted).
+            next_replaced.reset();
             lock.lock();
         }
     }

@@ -18,6 +18,8 @@ void LoadJob::run(JobContext& ctx) {
         m_problem = "corrupt record (quarantined): " + r->problem;
 }
 
+std::unique_ptr<Job> LoadJob::take_continuation() { return m_chunk ? nullptr : std::move(m_fallback); }
+
 void LoadJob::complete() { m_owner.on_loaded(key().chunk, std::move(m_chunk), m_problem); }
 
 void GenerateJob::run(JobContext& ctx) {

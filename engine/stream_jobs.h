@@ -32,17 +32,21 @@ protected:
     ~StreamJobEvents() = default;
 };
 
-// I/O lane: reads a chunk record. Absent or corrupt chunks come back for generation.
+// I/O lane: reads a chunk record. When the store has none (absent, corrupt or a failed read) the
+// job hands `fallback` (the chunk's GenerateJob) to the job system from the I/O thread: a miss
+// goes to the pool without waiting for the main thread; complete() then only reports problems.
 class LoadJob final : public Job {
 public:
-    LoadJob(StreamJobEvents& owner, world::ChunkCoord c, world::ChunkStore& store)
-        : Job({c, JobKind::Load}), m_owner(owner), m_store(store) {}
+    LoadJob(StreamJobEvents& owner, world::ChunkCoord c, world::ChunkStore& store, std::unique_ptr<Job> fallback)
+        : Job({c, JobKind::Load}), m_owner(owner), m_store(store), m_fallback(std::move(fallback)) {}
     void run(JobContext& ctx) override;
     void complete() override;
+    std::unique_ptr<Job> take_continuation() override;
 
 private:
     StreamJobEvents& m_owner;
     world::ChunkStore& m_store;
+    std::unique_ptr<Job> m_fallback; // Submitted on a miss, destroyed unrun on a hit.
     std::optional<world::Chunk> m_chunk;
     std::string m_problem; // Corrupt record or store failure, for the log.
 };

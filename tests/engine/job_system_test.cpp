@@ -276,3 +276,65 @@ TEST(JobSystem, BatchSubmitFollowsTheSameRules) {
     EXPECT_EQ(order.values(), (std::vector<int>{1, 2, 3, 4}));
     EXPECT_EQ(jobs.metrics().replaced, 1u);
 }
+
+namespace {
+
+// A job whose run() calls `run_fn` and then hands over `next` as its continuation.
+class ChainJob final : public Job {
+public:
+    ChainJob(JobKey key, std::function<void(JobContext&)> run_fn, std::unique_ptr<Job> next)
+        : Job(key), m_run(std::move(run_fn)), m_next(std::move(next)) {}
+    void run(JobContext& ctx) override { m_run(ctx); }
+    void complete() override {}
+    std::unique_ptr<Job> take_continuation() override { return std::move(m_next); }
+
+private:
+    std::function<void(JobContext&)> m_run;
+    std::unique_ptr<Job> m_next;
+};
+
+} // namespace
+
+TEST(JobSystem, ContinuationRunsWithoutTheMainThread) {
+    // An I/O job hands a pool job over; wait_idle() returns only after both ran, and no
+    // process_completions() call happens in between: the chain needs no main thread.
+    JobSystem jobs(test_info(1));
+    std::atomic<int> io_runs{0}, pool_runs{0};
+    auto next = make_job(key_at(4, 0, 0, JobKind::Generate), [&](JobContext& ctx) {
+        EXPECT_GE(ctx.worker_index(), 0); // A pool worker, not the I/O lane (-1).
+        EXPECT_EQ(io_runs.load(), 1);     // Runs after its parent.
+        ++pool_runs;
+    });
+    jobs.submit(std::make_unique<ChainJob>(key_at(4, 0, 0, JobKind::Load), [&](JobContext&) { ++io_runs; },
+                                           std::move(next)));
+    jobs.wait_idle();
+    EXPECT_EQ(io_runs.load(), 1);
+    EXPECT_EQ(pool_runs.load(), 1);
+    EXPECT_EQ(drain(jobs), 2u); // Both results still reach the main thread.
+    const JobMetrics m = jobs.metrics();
+    EXPECT_EQ(m.submitted, 2u);
+    EXPECT_EQ(m.completed, 2u);
+}
+
+TEST(JobSystem, CancelledParentDropsItsContinuation) {
+    JobSystem jobs(test_info(1));
+    Gate started, release;
+    std::atomic<int> pool_runs{0};
+    auto next = make_job(key_at(5, 0, 0, JobKind::Generate), [&](JobContext&) { ++pool_runs; });
+    jobs.submit(std::make_unique<ChainJob>(
+        key_at(5, 0, 0, JobKind::Load),
+        [&](JobContext&) {
+            started.open();
+            release.wait();
+        },
+        std::move(next)));
+    started.wait();
+    EXPECT_TRUE(jobs.cancel(key_at(5, 0, 0, JobKind::Load))); // While it runs: its result is unwanted.
+    release.open();
+    jobs.wait_idle();
+    EXPECT_EQ(drain(jobs), 0u);
+    EXPECT_EQ(pool_runs.load(), 0);
+    const JobMetrics m = jobs.metrics();
+    EXPECT_EQ(m.submitted, 1u); // The continuation was never submitted.
+    EXPECT_EQ(m.cancelled, 1u);
+}

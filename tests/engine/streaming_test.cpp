@@ -2,6 +2,7 @@
 // dropping chunks, and never evicts inside the view. Waits are bounded by conditions, never by
 // the machine's speed: a slow machine takes longer, it does not fail.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -246,4 +247,173 @@ TEST(Streaming, HysteresisStopsThrashing) {
     }
     EXPECT_EQ(s.metrics().unloaded, 0u);
     EXPECT_EQ(sink.unloads, 0);
+}
+
+namespace {
+
+// Chunks of the box of half widths r, rv around `center` for which `s` has a mesh.
+size_t count_meshes(const ChunkStreamer& s, ChunkCoord center, int r, int rv) {
+    size_t n = 0;
+    for (int dy = -rv; dy <= rv; ++dy)
+        for (int dz = -r; dz <= r; ++dz)
+            for (int dx = -r; dx <= r; ++dx)
+                n += s.mesh(center + ChunkCoord(dx, dy, dz)) != nullptr;
+    return n;
+}
+
+ChunkCoord chunk_at(glm::dvec3 p) {
+    return chunk_of(BlockPos(int64_t(std::floor(p.x)), int64_t(std::floor(p.y)), int64_t(std::floor(p.z))));
+}
+
+} // namespace
+
+// Edited chunks reach the store once save_delay has passed since their first edit, no earlier,
+// among many clean loaded chunks; a chunk edited twice is saved once.
+TEST(Streaming, DirtyChunksAreSavedWithinTheSaveDelay) {
+    const auto path = temp_store("save_delay");
+    const TerrainGenerator gen(9);
+    auto store = SqliteStore::open({path.string()});
+    ASSERT_TRUE(store.ok()) << store.error();
+    Recorder sink;
+    StreamingSettings st = small_settings();
+    st.view_radius = 3; // 9 x 9 x 5 = 405 loaded chunks, 3 of them edited.
+    st.save_delay_s = 2.0;
+    st.unload_delay_s = 1e9;
+    ChunkStreamer s(gen, store->get(), sink, st);
+    Clock::time_point now = Clock::now();
+    const glm::dvec3 pos(8.5, 100.5, 8.5);
+    ASSERT_TRUE(settle(s, pos, now));
+    const size_t loaded = s.metrics().loaded;
+    EXPECT_EQ(loaded, size_t(9 * 9 * 5));
+    const Clock::time_point before = Clock::now();
+    const BlockPos edits[] = {{8, 100, 8}, {9, 100, 8}, {40, 100, 8}, {8, 100, -60}}; // 3 chunks.
+    for (const BlockPos& p : edits)
+        ASSERT_TRUE(s.set_block(p, 5).ok());
+    const Clock::time_point after = Clock::now();
+    EXPECT_EQ(s.metrics().dirty, 3u);
+    const auto delay = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(st.save_delay_s));
+    // Edited after `before`: not due at before + delay - 1 ms.
+    s.update(pos, glm::dvec3(0, 0, -1), before + delay - std::chrono::milliseconds(1));
+    EXPECT_EQ(s.metrics().saves, 0u);
+    EXPECT_EQ(s.metrics().dirty, 3u);
+    // Edited before `after`: all due at after + delay.
+    s.update(pos, glm::dvec3(0, 0, -1), after + delay);
+    EXPECT_EQ(s.metrics().saves, 3u);
+    EXPECT_EQ(s.metrics().dirty, 0u);
+    EXPECT_EQ(s.metrics().loaded, loaded); // Saving dropped nothing.
+    // Edited again after its save: dirty again, saved again once due.
+    const Clock::time_point again = Clock::now();
+    ASSERT_TRUE(s.set_block(edits[0], 6).ok());
+    s.update(pos, glm::dvec3(0, 0, -1), again + delay - std::chrono::milliseconds(1));
+    EXPECT_EQ(s.metrics().saves, 3u);
+    s.update(pos, glm::dvec3(0, 0, -1), Clock::now() + delay);
+    EXPECT_EQ(s.metrics().saves, 4u);
+    ASSERT_TRUE(s.flush().ok());
+}
+
+// A cap far below what the view needs, while flying fast with the lookahead: no meshed chunk
+// of the view ever loses its data or mesh; chunks behind are evicted.
+TEST(Streaming, MemoryCapNeverEvictsInsideTheViewInFlight) {
+    const TerrainGenerator gen(4);
+    struct ViewGuard : Recorder {
+        ChunkCoord center{0};
+        int bad = 0;
+        void on_unload(ChunkCoord c) override {
+            const glm::ivec3 d = glm::abs(c - center);
+            bad += std::max(d.x, d.z) <= 2 && d.y <= 1; // Inside the view radius.
+            Recorder::on_unload(c);
+        }
+    } sink;
+    StreamingSettings st = small_settings();
+    st.unload_delay_s = 1e9; // Only the cap removes chunks here.
+    st.memory_cap_bytes = 1;
+    ChunkStreamer s(gen, nullptr, sink, st);
+    Clock::time_point now = Clock::now();
+    glm::dvec3 pos(0.5, gen.surface_height(0, 0), 0.5);
+    ASSERT_TRUE(settle(s, pos, now));
+    for (int frame = 0; frame < 120; ++frame) {
+        pos.x += 6.0; // 375 blocks/s at 16 ms frames: the lookahead reaches the view radius.
+        sink.center = chunk_at(pos);
+        s.update(pos, glm::dvec3(1, 0, 0), now += std::chrono::milliseconds(16));
+        const ChunkCoord center = chunk_at(pos);
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -2; dz <= 2; ++dz)
+                for (int dx = -2; dx <= 2; ++dx) {
+                    const ChunkCoord c = center + ChunkCoord(dx, dy, dz);
+                    if (s.mesh(c)) {
+                        ASSERT_NE(s.world().find_chunk(c), nullptr) << "frame " << frame;
+                    }
+                }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_EQ(sink.bad, 0);
+    ASSERT_TRUE(settle(s, pos, now));
+    const StreamingMetrics m = s.metrics();
+    EXPECT_GT(m.evicted, 0u);
+    EXPECT_EQ(m.meshed, m.wanted_meshes);
+    EXPECT_LT(m.loaded, size_t(2 * 7 * 7 * 5)); // At most the rings of the viewer and the lookahead.
+}
+
+// With a store that has nothing yet, every chunk is a load miss that generates (chained from the
+// I/O lane, without the main thread): the view still fills with exact meshes.
+TEST(Streaming, LoadMissesGenerateAndMesh) {
+    const auto path = temp_store("miss");
+    const TerrainGenerator gen(13);
+    auto store = SqliteStore::open({path.string()});
+    ASSERT_TRUE(store.ok()) << store.error();
+    Recorder sink;
+    ChunkStreamer s(gen, store->get(), sink, small_settings());
+    Clock::time_point now = Clock::now();
+    const glm::dvec3 pos(-20.5, double(gen.surface_height(-21, 70)) + 2, 70.5);
+    ASSERT_TRUE(settle(s, pos, now));
+    expect_meshes_match(s, gen, chunk_at(pos), 2, 1);
+    const StreamingMetrics m = s.metrics();
+    EXPECT_EQ(m.meshed, m.wanted_meshes);
+    EXPECT_EQ(m.loaded, size_t(7 * 7 * 5));
+    EXPECT_EQ(m.pending_data, 0u);
+    EXPECT_EQ(m.regenerated_corrupt, 0u);
+}
+
+// A jump far beyond the loaded region fills the new view (a full pass, not a slab) and drops
+// the old region; jumping back fills the old view again.
+TEST(Streaming, TeleportFillsTheNewView) {
+    const TerrainGenerator gen(17);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    const glm::dvec3 a(16.5, double(gen.surface_height(16, 16)) + 2, 16.5);
+    const glm::dvec3 b(32000.5, double(gen.surface_height(32000, -9000)) + 2, -9000.5);
+    for (const glm::dvec3& p : {a, b, a}) {
+        ASSERT_TRUE(settle(s, p, now));
+        expect_meshes_match(s, gen, chunk_at(p), 2, 1);
+        EXPECT_EQ(s.metrics().loaded, size_t(7 * 7 * 5)); // The old region is gone (delay 0).
+    }
+    EXPECT_GE(s.metrics().unloaded, 2u * 7 * 7 * 5);
+}
+
+// metrics() keeps its counts as states change (no scan); they match a recount through the
+// public API on every frame of a flight that turns and stops.
+TEST(Streaming, MetricsMatchARecountInFlight) {
+    const TerrainGenerator gen(23);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    glm::dvec3 pos(0.5, 30.5, 0.5);
+    for (int frame = 0; frame < 300; ++frame) {
+        if (frame < 100)
+            pos.x += 3.0;
+        else if (frame < 200)
+            pos.z -= 4.0;
+        s.update(pos, glm::dvec3(1, 0, 0), now += std::chrono::milliseconds(16));
+        size_t loaded = 0;
+        s.world().for_each_chunk([&](ChunkCoord, const Chunk&) { ++loaded; });
+        const StreamingMetrics m = s.metrics();
+        ASSERT_EQ(m.loaded, loaded) << "frame " << frame;
+        ASSERT_EQ(m.meshed, count_meshes(s, chunk_at(pos), 2, 1)) << "frame " << frame;
+        ASSERT_EQ(m.wanted_meshes, size_t(5 * 5 * 3));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(settle(s, pos, now));
+    EXPECT_EQ(s.metrics().meshed, s.metrics().wanted_meshes);
+    EXPECT_EQ(s.metrics().pending_meshes, 0u);
 }
