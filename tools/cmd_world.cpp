@@ -86,12 +86,15 @@ int run_gen(const GenArgs& a) {
                 jobs.submit(std::make_unique<engine::FunctionJob>(engine::JobKey{c, engine::JobKind::Generate}, run, complete));
                 ++total;
             }
+    const bool bar = stderr_is_terminal(); // Piped: only the summary line below.
     while (done < total) {
         jobs.process_completions({std::chrono::milliseconds(50)});
-        progress(done, total, std::chrono::duration<double>(Clock::now() - t0).count());
+        if (bar)
+            progress(done, total, std::chrono::duration<double>(Clock::now() - t0).count());
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    std::fputc('\n', stderr);
+    if (bar)
+        std::fputc('\n', stderr);
     if (!failure.empty())
         return bad_input("saving failed: " + failure);
     if (Status s = (*store)->flush(); !s)

@@ -1,5 +1,5 @@
 // Layouts shared by the GLSL ray-tracing shaders and render/ (C++). Every struct is made of
-// 16-byte vectors and 8-byte addresses so std140/std430 and C++ agree; render/gpu_layouts.cpp
+// 16-byte vectors and 8-byte addresses so std140/std430 and C++ agree; render/gpu_layouts.h
 // checks sizes and offsets with static_assert.
 #ifndef VX_SHADERS_RENDER_TYPES_H
 #define VX_SHADERS_RENDER_TYPES_H
