@@ -3,8 +3,10 @@
 // Nearest hit of a primary or reflection ray: looks up the quad of the hit triangle (two
 // triangles per quad slot) and returns a robust secondary-ray origin: the hit point snapped onto
 // the quad's integer face plane (chunk-local, exact in float), clamped inside the quad, and
-// offset by kSurfaceOffset along the face normal, then moved to camera-relative space. No tMin
-// is needed: the origin is strictly on the air side of the face it left.
+// offset by kSurfaceOffset along the face normal, then moved to camera-relative space and pushed
+// kOffsetUlps ulps further along the normal (far from the camera the rounding of that move is
+// larger than kSurfaceOffset). No tMin is needed: the origin is strictly on the air side of the
+// face it left, also after the traversal moves it back into the instance's space.
 #include "shared/rt_common.glsl"
 
 layout(location = 0) rayPayloadInEXT HitPayload payload;
@@ -26,7 +28,7 @@ void main() {
     local[ua] = clamp(local[ua], float(u0) + kSurfaceOffset, float(u0 + w) - kSurfaceOffset);
     local[va] = clamp(local[va], float(v0) + kSurfaceOffset, float(v0 + h) - kSurfaceOffset);
 
-    payload.position = gl_ObjectToWorldEXT * vec4(local, 1.0);
+    payload.position = vx_push_off_ulps(gl_ObjectToWorldEXT * vec4(local, 1.0), axis, positive);
     payload.t = gl_HitTEXT;
     payload.block = q.y & 0xffffu;
     payload.face = axis * 2u + (positive ? 1u : 0u);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <unistd.h>
 #include <vector>
 
 namespace vx::tools {
@@ -58,5 +59,7 @@ int bad_input(const std::string& message) {
     std::fprintf(stderr, "vx: %s\n", message.c_str());
     return kExitBadInput;
 }
+
+bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
 } // namespace vx::tools

@@ -25,4 +25,8 @@ std::optional<glm::dvec3> parse_dvec3(const std::string& s);
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);
 
+// Whether stderr is a terminal: progress bars redraw in place ('\r') only there; piped into a
+// log, commands print one summary line instead. Thread-safe.
+bool stderr_is_terminal();
+
 } // namespace vx::tools

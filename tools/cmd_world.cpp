@@ -55,11 +55,14 @@ int run_gen(const GenArgs& a) {
     engine::JobSystem jobs(engine::batch_job_system_info());
     engine::PregenInfo info{ChunkCoord(-a.radius, a.bottom, -a.radius), ChunkCoord(a.radius, a.top, a.radius), {}};
     const auto t0 = Clock::now();
-    info.progress = [&](size_t done, size_t total) {
-        progress(done, total, std::chrono::duration<double>(Clock::now() - t0).count());
-    };
+    const bool bar = stderr_is_terminal(); // Piped: only the summary line below.
+    if (bar)
+        info.progress = [&](size_t done, size_t total) {
+            progress(done, total, std::chrono::duration<double>(Clock::now() - t0).count());
+        };
     auto made = engine::pregenerate(jobs, gen, **store, info);
-    std::fputc('\n', stderr);
+    if (bar)
+        std::fputc('\n', stderr);
     if (!made)
         return bad_input(made.error());
     const size_t total = made->chunks;

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include "cli_common.h"
 #include "world/store/sqlite_store.h"
 
 namespace vx::tools {
@@ -47,16 +48,21 @@ Status save_store_world(const World& world, const std::string& path, const std::
             return Error{store.error()};
         size_t done = 0;
         const size_t total = world.chunk_count();
+        const bool bar = stderr_is_terminal(); // Piped: one line at the end instead.
         Status failure;
         world.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
             if (!failure.ok())
                 return;
             if (Status s = (*store)->save(c, chunk); !s)
                 failure = s;
-            if (++done % 256 == 0 || done == total)
+            ++done;
+            if (bar && (done % 256 == 0 || done == total))
                 std::fprintf(stderr, "\rwriting %zu/%zu chunks", done, total);
         });
-        std::fputc('\n', stderr);
+        if (bar)
+            std::fputc('\n', stderr);
+        else
+            std::fprintf(stderr, "wrote %zu chunks\n", total);
         if (failure.ok())
             failure = (*store)->set_meta("source", source);
         if (failure.ok())

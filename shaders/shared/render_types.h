@@ -1,5 +1,5 @@
 // Layouts shared by the GLSL ray-tracing shaders and render/ (C++). Every struct is made of
-// 16-byte vectors and 8-byte addresses so std140/std430 and C++ agree; render/gpu_layouts.cpp
+// 16-byte vectors and 8-byte addresses so std140/std430 and C++ agree; render/gpu_layouts.h
 // checks sizes and offsets with static_assert.
 #ifndef VX_SHADERS_RENDER_TYPES_H
 #define VX_SHADERS_RENDER_TYPES_H
@@ -28,8 +28,19 @@ VX_CONST uint kPrimaryMiss = 0;
 VX_CONST uint kShadowMiss = 1;
 
 // Secondary rays start this far off the hit's face plane, along the face normal, in chunk-local
-// block units (64 ulps at 32.0, so the origin is on the air side after the instance transform).
+// block units (64 ulps at 32.0). It survives the move to camera-relative space only near the
+// camera: it is 32 ulps at 256 blocks and less than one beyond 8,192.
 VX_CONST float kSurfaceOffset = 1.0f / 1024.0f;
+
+// So the camera-relative origin is then also pushed this many ulps of its own normal component
+// further along the normal (Waechter & Binder, "A Fast and Robust Method for Avoiding
+// Self-Intersection", Ray Tracing Gems ch. 6). Two suffice with round-to-nearest: rounding the
+// instance transform loses at most half an ulp and each step is at least half an ulp (a step down
+// across a power of two); four leave room for a driver's transform being a little less exact.
+// At 2^20 blocks from the camera that is half a block, far below a pixel there.
+VX_CONST int kOffsetUlps = 4;
+// Below this magnitude the ulp push is skipped (it would cross zero) and kSurfaceOffset holds.
+VX_CONST float kOffsetUlpsFrom = 1.0f / 32.0f;
 
 // Per-frame constants (uniform buffer, std140). Positions are camera-relative: world block
 // position minus the camera's block (computed in 64-bit on the CPU), in block units.

@@ -19,3 +19,16 @@ struct HitPayload {
     uint block;    // Block id.
     uint face;     // world::Face: axis * 2 + positive.
 };
+
+// Moves p[axis] kOffsetUlps ulps towards + (positive) or - along that axis: a robust secondary-ray
+// origin far from the camera, where the chunk-local kSurfaceOffset is lost in rounding
+// (Waechter & Binder, Ray Tracing Gems ch. 6: integer steps of the float's bits).
+vec3 vx_push_off_ulps(vec3 p, uint axis, bool positive) {
+    float x = p[axis];
+    if (abs(x) >= kOffsetUlpsFrom) {
+        // The bits are sign and magnitude: adding grows |x|, so moving towards zero subtracts.
+        int step = (x < 0.0) == positive ? -kOffsetUlps : kOffsetUlps;
+        p[axis] = intBitsToFloat(floatBitsToInt(x) + step);
+    }
+    return p;
+}

@@ -206,6 +206,19 @@ TEST(Cli, WorldGenInfoAndCheck) {
     EXPECT_EQ(r.code, 2) << r.out;
 }
 
+// Progress bars draw only on a terminal: piped (as here, and into CI logs) `vx world gen` prints
+// no carriage-return frames, just its one summary line.
+TEST(Cli, PipedWorldGenPrintsOneSummaryLine) {
+    const auto dir = temp_dir() / "piped";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const CliRun r = run_vx("world gen " + (dir / "w.db").string() + " --seed 3 --radius 3 --bottom -2 --top 1");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(r.out.find('\r'), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_NE(r.out.find("196 chunks"), std::string::npos) << r.out; // 7 x 4 x 7.
+}
+
 namespace {
 
 // Every non-air chunk of a store, for comparisons (the VDB round trip).

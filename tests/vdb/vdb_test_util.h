@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the VDB tests: the real-data folder, temporary files, world comparison.
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <unistd.h>
@@ -11,14 +12,23 @@
 
 namespace vx::vdb::test {
 
-// Absolute path of a file in shared/data/vdb (beside the repository).
-inline std::string data_path(const std::string& name) { return std::string(VX_VDB_DATA_DIR) + "/" + name; }
-inline bool have_data() { return std::filesystem::is_directory(VX_VDB_DATA_DIR); }
+// The folder of the real VDB files: $VX_VDB_DATA_DIR when set, else the build's VX_VDB_DATA_DIR
+// (shared/data/vdb beside the repository unless configured otherwise).
+inline std::string data_dir() {
+    const char* env = std::getenv("VX_VDB_DATA_DIR");
+    return env && *env ? env : VX_VDB_DATA_DIR;
+}
+// Absolute path of a file in that folder.
+inline std::string data_path(const std::string& name) { return data_dir() + "/" + name; }
+inline bool have_data() { return std::filesystem::is_directory(data_dir()); }
 
-#define VX_REQUIRE_VDB_DATA()                                                                                \
-    do {                                                                                                     \
-        if (!::vx::vdb::test::have_data())                                                                   \
-            GTEST_SKIP() << "real VDB files not found at " VX_VDB_DATA_DIR " (shared/ beside the repository)"; \
+// Skips a test that needs files written by other tools, saying which folder it looked in.
+#define VX_REQUIRE_VDB_DATA()                                                                           \
+    do {                                                                                                \
+        if (!::vx::vdb::test::have_data())                                                              \
+            GTEST_SKIP() << "skipped: needs the real VDB files written by other tools, not found at "   \
+                         << ::vx::vdb::test::data_dir()                                                 \
+                         << " (clone shared/ beside the repository, or set VX_VDB_DATA_DIR)";           \
     } while (0)
 
 // A fresh directory under the system temp dir, removed with the object.

@@ -1,4 +1,6 @@
-// Import of real VDB files written by other tools (shared/data/vdb, see its PROVENANCE.md).
+// Import of VDB volumes: real files written by other tools (shared/data/vdb, see its
+// PROVENANCE.md; those tests skip, saying so, when the folder is absent) and files the tests write
+// with OpenVDB (vdb_test_files.h), which always run.
 
 #include <climits>
 #include <cmath>
@@ -6,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/vdb/vdb_test_files.h"
 #include "tests/vdb/vdb_test_util.h"
 #include "world/vdb/vdb_accuracy.h"
 #include "world/vdb/vdb_volume.h"
@@ -14,6 +17,8 @@ namespace vx::vdb {
 namespace {
 
 using test::data_path;
+using test::test_file;
+using test::TestFile;
 using world::BlockPos;
 
 uint64_t count_solid(const world::World& w) {
@@ -133,8 +138,7 @@ TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
 }
 
 TEST(VdbVolume, GridsWithTheSameNameAreSelectedByIndex) {
-    VX_REQUIRE_VDB_DATA();
-    const std::string path = data_path("arnoldusd_grids.vdb");
+    const std::string path = test_file(TestFile::ThreeDensities);
     VolumeImportOptions o;
     o.grid_name = "density";
     EXPECT_TRUE(fails_with(import_volume(path, o), "grid_index"));
@@ -147,12 +151,12 @@ TEST(VdbVolume, GridsWithTheSameNameAreSelectedByIndex) {
         EXPECT_EQ(r->summary.grid_index, i);
         solid[i] = r->summary.solid_blocks;
     }
-    // Grid 1 spans (-9,-13,-9)..(9,5,12): a block bbox unlike the other two.
+    // Grid 1 spans (-9,-13,-8)..(9,5,10): a block bbox unlike the other two.
     o.grid_index = 1;
     Result<VolumeImport> r = import_volume(path, o);
     ASSERT_TRUE(r.ok());
-    EXPECT_EQ(r->summary.blocks.min, BlockPos(-9, -13, -9));
-    EXPECT_EQ(r->summary.blocks.max, BlockPos(9, 5, 12));
+    EXPECT_EQ(r->summary.blocks.min, BlockPos(-9, -13, -8));
+    EXPECT_EQ(r->summary.blocks.max, BlockPos(9, 5, 10));
     EXPECT_NE(solid[0], solid[1]);
     o.grid_index = 3;
     EXPECT_TRUE(fails_with(import_volume(path, o), "out of range"));
@@ -165,8 +169,7 @@ TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
     EXPECT_TRUE(fails_with(import_volume("/nonexistent/dir/x.vdb"), "no such file"));
     Result<std::vector<GridInfo>> g = list_grids("/nonexistent/x.vdb");
     EXPECT_FALSE(g.ok());
-    VX_REQUIRE_VDB_DATA();
-    const std::string path = data_path("oiio_sphere.vdb");
+    const std::string path = test_file(TestFile::FogSphere);
     VolumeImportOptions o;
     o.block_size = 0;
     EXPECT_TRUE(fails_with(import_volume(path, o), "block_size"));
@@ -176,7 +179,7 @@ TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
     o.threshold = 0.f;
     EXPECT_TRUE(fails_with(import_volume(path, o), "threshold"));
     o = {};
-    o.max_blocks = 1000; // The sphere spans 25³ = 15625 blocks.
+    o.max_blocks = 1000; // The ball spans 25³ = 15625 blocks.
     EXPECT_TRUE(fails_with(import_volume(path, o), "max_blocks"));
     o = {};
     o.block = world::kAir;
@@ -186,7 +189,7 @@ TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
     EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
     o.offset = BlockPos(0, INT64_MIN, 0);
     EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
-    o.offset = BlockPos(0, 0, (int64_t(1) << 36) - 5); // The sphere's 25 blocks cross the edge.
+    o.offset = BlockPos(0, 0, (int64_t(1) << 36) - 5); // The ball's 25 blocks cross the edge.
     EXPECT_TRUE(fails_with(import_volume(path, o), "offset"));
     o = {};
     o.mode = VolumeMode::LevelSet; // Fog background 0 is not a level set's positive outside.
@@ -194,8 +197,7 @@ TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
 }
 
 TEST(VdbVolume, OffsetShiftsEveryBlock) {
-    VX_REQUIRE_VDB_DATA();
-    const std::string path = data_path("gaffer_arnoldtest_sphere.vdb");
+    const std::string path = test_file(TestFile::FogSphere);
     Result<VolumeImport> a = import_volume(path);
     VolumeImportOptions o;
     o.offset = BlockPos(int64_t(1) << 30, -5, 7);
@@ -211,12 +213,11 @@ TEST(VdbVolume, OffsetShiftsEveryBlock) {
 }
 
 TEST(VdbVolume, DensityMapsToBlocks) {
-    VX_REQUIRE_VDB_DATA();
-    // oiio_sphere: density 0..1 rising towards the centre.
+    // Density 0..1 rising towards the centre.
     VolumeImportOptions o;
     o.threshold = 0.1f;
     o.density_blocks = {{0.f, 4}, {0.6f, 1}};
-    Result<VolumeImport> r = import_volume(data_path("oiio_sphere.vdb"), o);
+    Result<VolumeImport> r = import_volume(test_file(TestFile::FogSphere), o);
     ASSERT_TRUE(r.ok()) << r.error();
     EXPECT_EQ(r->world.get_block(BlockPos(0)), 1);
     uint64_t outer = 0;
@@ -228,9 +229,8 @@ TEST(VdbVolume, DensityMapsToBlocks) {
 }
 
 TEST(VdbVolume, LargerBlocksCoverTheSameShape) {
-    VX_REQUIRE_VDB_DATA();
     // Solid volume in voxels stays about the same as B grows: B³ * solid(B) ~ 8 * solid(2).
-    const std::string path = data_path("gaffer_vdbtest_sphere.vdb");
+    const std::string path = test_file(TestFile::LevelSetSphere);
     VolumeImportOptions o;
     o.block_size = 2;
     Result<VolumeImport> two = import_volume(path, o);
@@ -246,10 +246,9 @@ TEST(VdbVolume, LargerBlocksCoverTheSameShape) {
 }
 
 TEST(VdbVolume, AdaptiveLevelSetMatchesSupersampledReference) {
-    VX_REQUIRE_VDB_DATA();
     // The goal for level sets: IoU >= 0.999 against 8³ supersampling; centre-only is worse.
     const int sizes[] = {4};
-    Result<std::vector<AccuracyRow>> rows = measure_vdb_accuracy(data_path("gaffer_vdbtest_sphere.vdb"), sizes);
+    Result<std::vector<AccuracyRow>> rows = measure_vdb_accuracy(test_file(TestFile::LevelSetSphere), sizes);
     ASSERT_TRUE(rows.ok()) << rows.error();
     ASSERT_EQ(rows->size(), 3u);
     const AccuracyRow& adaptive = (*rows)[0];
@@ -280,16 +279,15 @@ double ball_fraction(BlockPos b, int bs, double r) {
 }
 
 TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
-    VX_REQUIRE_VDB_DATA();
-    // Independent ground truth: ls_sphere is a sphere of radius 3.0 at the origin with voxel
-    // 0.05, i.e. 60 voxels (vdb_print: band bbox +-62 = 60 + 3 voxels of band, rounded).
+    // Ground truth independent of the importer: the test file is the level set of the sphere of
+    // radius 60 voxels at the origin (gaffer_vdbtest_sphere.vdb, radius 3.0 at voxel 0.05, is the
+    // same sphere written by another tool; LevelSetSphereFromOldFormatHalfFloats reads that one).
     const double r = 60.0;
-    // Block size 1 is LevelSetSphereFromOldFormatHalfFloats (volume and sample blocks); it takes
-    // seconds in sanitizer builds.
+    // Block size 1 takes seconds in sanitizer builds; 2, 4 and 8 cover the sampling.
     for (int bs : {2, 4, 8}) {
         VolumeImportOptions o;
         o.block_size = bs;
-        Result<VolumeImport> imp = import_volume(data_path("gaffer_vdbtest_sphere.vdb"), o);
+        Result<VolumeImport> imp = import_volume(test_file(TestFile::LevelSetSphere), o);
         ASSERT_TRUE(imp.ok()) << imp.error();
         const int64_t n = int64_t(r / bs) + 2;
         uint64_t both = 0, either = 0;
@@ -321,8 +319,7 @@ namespace vx::vdb {
 namespace {
 
 TEST(VdbIsolated, SameResultAsInProcess) {
-    VX_REQUIRE_VDB_DATA();
-    const std::string path = data_path("arnoldusd_grids.vdb");
+    const std::string path = test_file(TestFile::ThreeDensities);
     VolumeImportOptions o;
     o.grid_index = 1;
     o.block_size = 2;

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <grp.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "test_util.h"
@@ -248,6 +250,41 @@ TEST(SqliteStoreErrors, BadPathsAndFilesGiveClearErrors) {
     open_error(info);
 }
 
+// Opens the store in a forked child and returns "opened" or the error. Root ignores file
+// permissions, so as root (README and CI run so) the child first drops to the unprivileged
+// uid/gid 65534 ("nobody"); any other user opens as itself.
+std::string open_in_unprivileged_child(const SqliteStoreCreateInfo& info) {
+    int fds[2];
+    if (pipe(fds) != 0)
+        return "pipe failed";
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        constexpr uid_t kNobody = 65534;
+        std::string message;
+        if (geteuid() == 0 && (setgroups(0, nullptr) != 0 || setgid(kNobody) != 0 || setuid(kNobody) != 0))
+            message = "could not drop privileges";
+        else if (access(info.path.c_str(), W_OK) == 0)
+            message = "the test's file is writable by uid " + std::to_string(geteuid());
+        else {
+            vx::Result<std::unique_ptr<SqliteStore>> s = SqliteStore::open(info);
+            message = s.ok() ? "opened" : s.error();
+        }
+        const ssize_t written = write(fds[1], message.data(), message.size());
+        _exit(written == ssize_t(message.size()) ? 0 : 1);
+    }
+    close(fds[1]);
+    std::string message;
+    char buf[512];
+    for (ssize_t n; (n = read(fds[0], buf, sizeof buf)) > 0;)
+        message.append(buf, size_t(n));
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "child status " << status;
+    return message;
+}
+
 TEST(SqliteStoreErrors, ReadOnlyFileIsRefusedForWriting) {
     TempDir dir;
     const std::string path = dir.file("w.db");
@@ -256,11 +293,15 @@ TEST(SqliteStoreErrors, ReadOnlyFileIsRefusedForWriting) {
         ASSERT_TRUE(store->save({0, 0, 0}, Chunk(1)).ok());
     }
     ASSERT_EQ(chmod(path.c_str(), 0444), 0);
-    if (access(path.c_str(), W_OK) == 0)
-        GTEST_SKIP() << "running as root: file permissions do not stop writes";
+    // The folder is open to the child (mkdtemp made it 0700), as for a user whose one file is
+    // read-only in a folder of their own.
+    ASSERT_EQ(chmod(dir.path().c_str(), 0777), 0);
     SqliteStoreCreateInfo info;
     info.path = path;
-    EXPECT_NE(open_error(info).find("read-only"), std::string::npos);
+    const std::string refused = open_in_unprivileged_child(info);
+    EXPECT_NE(refused.find("the file is read-only"), std::string::npos) << refused;
+    info.read_only = true; // Control: the same child may read it.
+    EXPECT_EQ(open_in_unprivileged_child(info), "opened");
 }
 
 TEST(SqliteStoreErrors, DamagedDatabaseFileNeverCrashes) {

@@ -1,7 +1,7 @@
 #pragma once
 // ChunkStore: persistent storage of chunk records (world/chunk_record.h) plus a few metadata
-// strings (seed, block registry names). Implementations: SqliteStore (read-write, batched,
-// crash-safe); a read-only VDB-backed store can implement the same interface later (its save,
+// strings (seed, block registry names). Implementations: SqliteStore (world/store/sqlite_store.h:
+// read-write, batched, crash-safe) and the read-only VdbStore (world/vdb/vdb_store.h: its save,
 // erase and set_meta return an error, tick and flush succeed with nothing to do).
 //
 // Thread affinity of every implementation: not thread-safe. The engine calls a store from its one

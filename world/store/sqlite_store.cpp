@@ -16,7 +16,9 @@ constexpr int64_t kSchemaVersion = 1;
 // which outlives the process, so even synchronous=NORMAL survives SIGKILL; what NORMAL can lose
 // is the last transactions on an OS crash or power cut, because it fsyncs only at checkpoints.
 // FULL fsyncs the WAL at every commit, so a flush() that returned success survives both. Commits
-// are batched (one per ≤2 s or per flush), so the fsync costs little per chunk.
+// are batched (one when tick() finds the oldest queued edit older than max_pending_age, 1 s by
+// default; when the queue passes max_pending_bytes, 32 MiB; or on flush()), so the fsync costs
+// little per chunk.
 // https://www.sqlite.org/pragma.html#pragma_synchronous, https://www.sqlite.org/wal.html
 const char* const kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS chunks(
