@@ -258,10 +258,11 @@ TEST(VdbTransform, VoxelsPerBlockIsBlockSizeTimesVoxel) {
     }
 }
 
-// With an identity transform block (bx, by, bz) of N voxels holds voxels [N*b, N*b + N) per axis,
-// the former lattice: the voxel-majority import at N equals the majority of the N³ one-voxel
-// blocks of the import at N = 1 (which are the voxels' own inside tests).
-TEST(VdbTransform, IdentityTransformKeepsTheVoxelLattice) {
+// On a grid whose voxel centres sit at (i + 1/2) * v (vx's own export convention) block b of N
+// voxels covers exactly the voxel cells [N*b, N*b + N) per axis, the former lattice: the
+// voxel-majority import at N equals the majority of the N³ one-voxel blocks of the import at N = 1
+// (which are the voxels' own inside tests).
+TEST(VdbTransform, HalfVoxelTranslationGivesTheFormerVoxelLattice) {
     test::TempDir dir;
     AnalyticVolume v;
     v.name = "identity_box";
@@ -269,6 +270,7 @@ TEST(VdbTransform, IdentityTransformKeepsTheVoxelLattice) {
     v.centre = {0.4, -0.3, 0.2};
     v.half_extent = {9.3, 6.2, 7.7};
     v.rotation = rotation(20, {1, 1, 0});
+    v.translation = glm::dvec3(0.5);
     const std::string path = dir.file("b.vdb");
     ASSERT_TRUE(write_analytic_vdb(path, v).ok());
     VolumeImportOptions o;
@@ -290,6 +292,25 @@ TEST(VdbTransform, IdentityTransformKeepsTheVoxelLattice) {
             }
     EXPECT_EQ(solid, count_solid(three->world)); // And nothing beyond +-6 blocks (the box is < 13 voxels out).
     EXPECT_GT(solid, 0u);
+}
+
+// OpenVDB's voxel (i, j, k) is centred on world (i, j, k) (identity transform). A level-set cube
+// from 0 to 10 has its faces on voxel centres; in world space it fills blocks 0..9 exactly. (The
+// former index-space lattice, blocks centred on voxels, made the face blocks ties decided by a
+// centre on the surface: 9³ = 729 blocks.)
+TEST(VdbTransform, CubeWithFacesOnVoxelCentresHasItsExactVolume) {
+    test::TempDir dir;
+    AnalyticVolume v;
+    v.name = "cube10";
+    v.shape = AnalyticShape::Box;
+    v.centre = glm::dvec3(5.0);
+    v.half_extent = glm::dvec3(5.0);
+    Result<VolumeImport> r = write_and_import(dir, v, {});
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r->summary.solid_blocks, 1000u);
+    const AnalyticComparison c = compare_to_analytic(r->world, v, 1.0);
+    EXPECT_EQ(c.solid_min, glm::dvec3(0.0));
+    EXPECT_EQ(c.solid_max, glm::dvec3(10.0));
 }
 
 } // namespace

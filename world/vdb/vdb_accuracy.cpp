@@ -113,7 +113,7 @@ bool truth_solid(const AnalyticVolume& shape, double s, BlockPos b) {
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x)
                 in += analytic_distance(shape, lo + (glm::dvec3(x, y, z) + 0.5) * (s / 8)) < 0;
-    return 2 * in > 512;
+    return 2 * in == 512 ? d < 0 : 2 * in > 512; // A tie goes to the centre, as in the importer.
 }
 
 } // namespace

@@ -34,8 +34,8 @@ struct AccuracyRow {
 
 // An import against the exact shape it came from. The truth is the same rule as the importer's,
 // applied to the exact distance instead of the voxels: a block is solid when more than half of
-// 8³ points spread over its world cell are inside (blocks whose centre is farther than half a
-// block diagonal from the surface take the centre's side).
+// 8³ points spread over its world cell are inside, a tie going to the centre (blocks whose centre
+// is farther than half a block diagonal from the surface take the centre's side).
 struct AnalyticComparison {
     uint64_t solid = 0, truth_solid = 0, both = 0, either = 0;
     double iou = 1;                       // both / either (1 when both are empty).

@@ -38,6 +38,12 @@ struct Neighbourhood {
                 }
     }
 
+    // Value of the voxel nearest to continuous index position p (box reconstruction).
+    double nearest(const glm::dvec3& p) const {
+        const glm::ivec3 i = glm::clamp(glm::ivec3(glm::floor(p + 0.5)) - lo, glm::ivec3(0), dim - 1);
+        return at(i.x, i.y, i.z);
+    }
+
     // Trilinear value at continuous index position p (p - lo must lie in [0, dim - 1]).
     double sample(const glm::dvec3& p) const {
         const glm::dvec3 q = p - glm::dvec3(lo);

@@ -144,6 +144,7 @@ private:
     Status map_blocks(const openvdb::CoordBBox& bbox);
     bool solid(const glm::i64vec3& src, float& mean);
     double sample(const glm::dvec3& p);
+    void fetch_hood(const glm::i64vec3& src);
     bool supersample(const glm::i64vec3& src, bool refine);
     int count_inside(const glm::i64vec3& src, int s) const;
     double member_mean(const glm::i64vec3& src) const;
@@ -165,6 +166,7 @@ private:
     bool m_level_set = false;
     double m_threshold = 0, m_max = 0;
     double m_distance_unit = 1;             // Level set: world units per index unit, at most (largest voxel edge).
+    int m_box_samples = 2;                  // VoxelMajority: samples per block axis.
     glm::i64vec3 m_src_lo{0}, m_src_hi{-1}; // Source block range (inclusive).
     std::unordered_set<ChunkCoord, world::ChunkCoordHash> m_active;
     detail::Neighbourhood m_hood;
@@ -210,6 +212,9 @@ template <class GridT> Status VolumeImporter<GridT>::map_blocks(const openvdb::C
         return Error{"grid " + name() + ": " + lattice.error()};
     m_lattice = *lattice;
     m_distance_unit = std::max({vs.x, vs.y, vs.z});
+    // Two samples per voxel spacing make the box filter exact for whole voxels per block on a
+    // grid aligned with the blocks (each voxel cell is covered by whole sample pairs or halves).
+    m_box_samples = std::clamp(int(std::ceil(2 * m_block_size / finest - 1e-9)), 2, 32);
     const glm::dvec3 lo(bbox.min().x() - 0.5, bbox.min().y() - 0.5, bbox.min().z() - 0.5);
     const glm::dvec3 hi(bbox.max().x() + 0.5, bbox.max().y() + 0.5, bbox.max().z() + 0.5);
     m_lattice.blocks_meeting(lo, hi, m_src_lo, m_src_hi);
@@ -324,13 +329,18 @@ template <class GridT> double VolumeImporter<GridT>::member_mean(const glm::i64v
 // their corners' values, so that answer is exact). With `refine`, a solid fraction within 0.075
 // of one half is redone at twice the rate per axis: close votes are where a coarse estimate
 // flips.
-template <class GridT> bool VolumeImporter<GridT>::supersample(const glm::i64vec3& src, bool refine) {
+// Fetches the voxels under block src's cell into m_hood. Samples lie strictly inside the cell,
+// so floor(p) + 1 <= ceil(hi) for every trilinear corner and every nearest voxel.
+template <class GridT> void VolumeImporter<GridT>::fetch_hood(const glm::i64vec3& src) {
     glm::dvec3 lo, hi;
     m_lattice.cell_bounds(src, lo, hi);
-    // Samples lie strictly inside the cell, so floor(p) + 1 <= ceil(hi) for every corner read.
     const glm::dvec3 first = glm::floor(lo), last = glm::ceil(hi);
     m_hood.fetch(glm::ivec3(first), glm::ivec3(last - first) + 1,
                  [&](int x, int y, int z) { return double(m_acc.getValue(openvdb::Coord(x, y, z))); });
+}
+
+template <class GridT> bool VolumeImporter<GridT>::supersample(const glm::i64vec3& src, bool refine) {
+    fetch_hood(src);
     if (inside(m_hood.min) == inside(m_hood.max))
         return inside(m_hood.min);
     ++m_supersampled;
@@ -345,32 +355,25 @@ template <class GridT> bool VolumeImporter<GridT>::supersample(const glm::i64vec
     return 2 * votes > s * s * s;
 }
 
-// More than half of the voxels whose centres lie in the block's cell inside (box reconstruction:
-// no interpolation); the centre sample when the cell holds no voxel centre. `mean` gets their
-// mean value relative to the grid's max.
+// More than half of the block's cell inside with box reconstruction (each voxel's value fills
+// its cell, no interpolation), estimated from m_box_samples³ points each taking its nearest
+// voxel; exact for whole voxels per block on block-aligned grids. A tie is air. `mean` gets the
+// box-filtered mean relative to the grid's max.
 template <class GridT> bool VolumeImporter<GridT>::voxel_majority(const glm::i64vec3& src, float& mean) {
-    glm::dvec3 lo, hi;
-    m_lattice.cell_bounds(src, lo, hi);
-    const glm::i64vec3 first(glm::ceil(lo)), last(glm::floor(hi));
-    int dense = 0, members = 0;
+    fetch_hood(src);
+    const int n = m_box_samples;
+    const glm::dvec3 b(src);
+    int dense = 0;
     double sum = 0;
-    for (int64_t z = first.z; z <= last.z; ++z)
-        for (int64_t y = first.y; y <= last.y; ++y)
-            for (int64_t x = first.x; x <= last.x; ++x) {
-                if (glm::i64vec3(glm::floor(m_lattice.block_of(glm::dvec3(x, y, z)))) != src)
-                    continue;
-                const double v = double(m_acc.getValue(openvdb::Coord(int32_t(x), int32_t(y), int32_t(z))));
-                ++members;
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const double v = m_hood.nearest(m_lattice.index_of(b + (glm::dvec3(x, y, z) + 0.5) / double(n)));
                 dense += inside(v) ? 1 : 0;
                 sum += std::isfinite(v) ? v : 0.0;
             }
-    if (members == 0) {
-        const double v = sample(centre(src));
-        mean = float(v / m_max);
-        return inside(v);
-    }
-    mean = float(sum / members / m_max);
-    return 2 * dense > members;
+    mean = float(sum / (n * n * n) / m_max);
+    return 2 * dense > n * n * n;
 }
 
 template <class GridT> bool VolumeImporter<GridT>::solid(const glm::i64vec3& src, float& mean) {

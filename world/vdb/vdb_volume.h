@@ -70,7 +70,8 @@ enum class VolumeSampling {
     Adaptive,      // Supersample (with refinement) where the block may straddle the surface: level
                    // sets test the centre's distance first; fog tests the block's neighbourhood range.
     CentreOnly,    // One (trilinear) sample at each block centre. Cheapest, least accurate.
-    VoxelMajority, // More than half of the block's B³ voxels inside (box filter, no interpolation).
+    VoxelMajority, // More than half of the block inside with box reconstruction (each voxel fills its
+                   // cell, no interpolation): 2 nearest-voxel samples per voxel spacing and axis (<= 32).
     Supersample,   // samples_per_axis³ trilinear samples per block, majority vote (the reference).
 };
 
