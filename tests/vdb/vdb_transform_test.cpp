@@ -223,6 +223,13 @@ TEST(VdbTransform, BlockSizeMustBePositiveAndFinite) {
     o = {};
     o.voxels_per_block = 65;
     EXPECT_FALSE(import_volume(path, o).ok());
+    for (double tiny : {1e-300, 1e-6}) { // Refused (range or block count), never undefined.
+        o = {};
+        o.block_size = tiny;
+        r = import_volume(path, o);
+        ASSERT_FALSE(r.ok()) << tiny;
+        EXPECT_EQ(r.error().find('\n'), std::string::npos);
+    }
 }
 
 // --voxels-per-block N is --block-size N x voxel, exactly, on a rotated grid and an identity one;

@@ -29,7 +29,7 @@ public:
     // Index-space bounding box of block b's cell: [min, max] (closed).
     void cell_bounds(const glm::i64vec3& b, glm::dvec3& min, glm::dvec3& max) const;
     // Blocks (inclusive range) whose cells meet the index box [lo, hi]; conservative; clamped to
-    // +-2^62.
+    // +-2^61 (so that a range size fits int64).
     void blocks_meeting(const glm::dvec3& lo, const glm::dvec3& hi, glm::i64vec3& out_lo, glm::i64vec3& out_hi) const;
 
     // Index units from a cell's centre to its farthest corner.
