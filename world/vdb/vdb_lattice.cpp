@@ -2,18 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 
+#include "world/vdb/vdb_common.h"
+
 namespace vx::vdb::detail {
 namespace {
-
-std::string length(double v) {
-    char s[32];
-    std::snprintf(s, sizeof s, "%.6g", v);
-    return s;
-}
 
 double snap(double v, double unit, double tolerance) {
     const double r = std::round(v / unit) * unit;
@@ -32,7 +27,7 @@ bool finite(const glm::dmat3& m) {
 
 Result<BlockLattice> BlockLattice::create(const glm::dmat3& index_to_world, const glm::dvec3& origin, double block_size) {
     if (!(block_size > 0) || !std::isfinite(block_size))
-        return Error{"block_size " + length(block_size) + " is not a positive, finite length"};
+        return Error{"block_size " + format_length(block_size) + " is not a positive, finite length"};
     if (!finite(index_to_world) || !std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
         return Error{"the grid's transform holds non-finite values"};
     // Degenerate: the voxel's volume is negligible against its edges' (a flat or collapsed map).
@@ -54,7 +49,7 @@ Result<BlockLattice> BlockLattice::create(const glm::dmat3& index_to_world, cons
         l.m_c[a] = snap(l.m_c[a], 0.5, 1e-9 * std::max(1.0, std::abs(l.m_c[a])));
     l.m_g_inv = glm::inverse(l.m_g);
     if (!finite(l.m_g) || !finite(l.m_g_inv) || !(std::abs(glm::determinant(l.m_g)) > 0))
-        return Error{"block_size " + length(block_size) + " is out of range for this grid's voxel size"};
+        return Error{"block_size " + format_length(block_size) + " is out of range for this grid's voxel size"};
     for (int a = 0; a < 3; ++a)
         for (int k = 0; k < 3; ++k) {
             l.m_extent_lo[a] += std::min(0.0, l.m_g[k][a]);

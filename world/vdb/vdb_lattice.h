@@ -2,7 +2,8 @@
 // The block lattice of a volume import in a grid's continuous index space (vx_vdb internal; no
 // OpenVDB types). Block (bx, by, bz) is the world cell s * [b, b + 1) per axis (s = block size in
 // world units); through the grid's linear index-to-world map that cell is a parallelepiped in
-// index space (index coordinates name voxel centres, as in OpenVDB).
+// index space (index coordinates name voxel centres, as in OpenVDB). Immutable once created:
+// thread-safe.
 
 #include <glm/glm.hpp>
 #include <glm/gtc/type_precision.hpp>

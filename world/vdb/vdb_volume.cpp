@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <unordered_set>
@@ -118,18 +117,6 @@ Result<int> select_grid(const openvdb::GridPtrVec& grids, const VolumeImportOpti
     return Error{"no float or double grid to import (grids: " + grid_names(grids) + ")"};
 }
 
-// Voxel size of a grid whose voxels are cubes (within 1e-6), else 0.
-double uniform_voxel(const glm::dvec3& vs) {
-    const double lo = std::min({vs.x, vs.y, vs.z}), hi = std::max({vs.x, vs.y, vs.z});
-    return lo > 0 && hi - lo <= 1e-6 * hi ? vs.x : 0.0;
-}
-
-std::string format_length(double v) {
-    char s[32];
-    std::snprintf(s, sizeof s, "%.6g", v);
-    return s;
-}
-
 template <class GridT> class VolumeImporter {
 public:
     VolumeImporter(const GridT& grid, int index, const VolumeImportOptions& o)
@@ -191,8 +178,8 @@ template <class GridT> Status VolumeImporter<GridT>::map_blocks(const openvdb::C
     }
     const glm::dvec3 vs(glm::length(m[0]), glm::length(m[1]), glm::length(m[2]));
     const openvdb::Vec3d ovs = xf.voxelSize();
-    const double uniform = uniform_voxel(glm::dvec3(ovs[0], ovs[1], ovs[2]));
-    const std::string sizes = format_length(vs.x) + " x " + format_length(vs.y) + " x " + format_length(vs.z);
+    const double uniform = detail::uniform_voxel(glm::dvec3(ovs[0], ovs[1], ovs[2]));
+    const std::string sizes = detail::format_length(vs.x) + " x " + detail::format_length(vs.y) + " x " + detail::format_length(vs.z);
     if (m_o.voxels_per_block > 0 || m_o.block_size == 0) {
         if (uniform == 0)
             return Error{"grid " + name() + " has non-cubic voxels (" + sizes + " world units), so " +
@@ -205,7 +192,7 @@ template <class GridT> Status VolumeImporter<GridT>::map_blocks(const openvdb::C
     }
     const double finest = std::min({vs.x, vs.y, vs.z});
     if (m_block_size > 64 * finest * (1 + 1e-9))
-        return Error{"block_size " + format_length(m_block_size) + " is " + format_length(m_block_size / finest) +
+        return Error{"block_size " + detail::format_length(m_block_size) + " is " + detail::format_length(m_block_size / finest) +
                      " voxels of grid " + name() + " (voxel " + sizes + "), more than 64; lower block_size"};
     Result<detail::BlockLattice> lattice = detail::BlockLattice::create(m, glm::dvec3(o[0], o[1], o[2]), m_block_size);
     if (!lattice)
@@ -265,7 +252,7 @@ template <class GridT> Status VolumeImporter<GridT>::analyse() {
     const long double count = (long double)n.x * n.y * n.z;
     if (count > (long double)m_o.max_blocks)
         return Error{"grid " + name() + " would be " + std::to_string(n.x) + "x" + std::to_string(n.y) + "x" +
-                     std::to_string(n.z) + " blocks at block_size " + format_length(m_block_size) +
+                     std::to_string(n.z) + " blocks at block_size " + detail::format_length(m_block_size) +
                      ", more than max_blocks " + std::to_string(m_o.max_blocks) + "; raise block_size or max_blocks"};
     // Offsets near the world's edge could overflow; the world spans [-2^36, 2^36) (coords.h).
     constexpr int64_t kMaxOffset = int64_t(1) << 40;
@@ -519,24 +506,6 @@ template <class GridT> Result<VolumeImport> VolumeImporter<GridT>::run() {
     return out;
 }
 
-Status check_options(const VolumeImportOptions& o) {
-    if (o.voxels_per_block != 0 && o.block_size != 0)
-        return Error{"give block_size (world units) or voxels_per_block, not both"};
-    if (o.voxels_per_block < 0 || o.voxels_per_block > 64)
-        return Error{"voxels_per_block " + std::to_string(o.voxels_per_block) + " is outside 1..64"};
-    if (!(o.block_size >= 0) || !std::isfinite(o.block_size))
-        return Error{"block_size " + format_length(o.block_size) +
-                     " is not a positive, finite length in the file's world units"};
-    if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
-        return Error{"samples_per_axis " + std::to_string(o.samples_per_axis) + " is outside 1..16"};
-    if (o.block == world::kAir)
-        return Error{"block is 0 (air); choose a solid block id"};
-    for (const DensityBlock& d : o.density_blocks)
-        if (d.block == world::kAir)
-            return Error{"density_blocks maps to air (0); use ids > 0"};
-    return {};
-}
-
 Result<VolumeImport> import_grid(const openvdb::GridBase::Ptr& g, int index, const VolumeImportOptions& o) {
     if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g))
         return VolumeImporter<openvdb::FloatGrid>(*f, index, o).run();
@@ -584,7 +553,7 @@ static Result<std::vector<GridInfo>> list_grids_impl(const std::string& path) {
 }
 
 static Result<VolumeImport> import_volume_impl(const std::string& path, const VolumeImportOptions& options) {
-    if (Status s = check_options(options); !s)
+    if (Status s = detail::check_volume_options(options); !s)
         return Error{s.error()};
     try {
         Result<openvdb::GridPtrVecPtr> meta = read_grids(path, false);
@@ -605,25 +574,6 @@ static Result<VolumeImport> import_volume_impl(const std::string& path, const Vo
     } catch (...) {
         return detail::make_error("cannot read '" + path + "'", "unknown error");
     }
-}
-
-const char* to_string(VolumeMode mode) {
-    switch (mode) {
-    case VolumeMode::Auto: return "auto";
-    case VolumeMode::LevelSet: return "levelset";
-    case VolumeMode::Fog: return "fog";
-    }
-    return "?";
-}
-
-const char* to_string(VolumeSampling sampling) {
-    switch (sampling) {
-    case VolumeSampling::Adaptive: return "adaptive";
-    case VolumeSampling::CentreOnly: return "centre";
-    case VolumeSampling::VoxelMajority: return "voxels";
-    case VolumeSampling::Supersample: return "supersample";
-    }
-    return "?";
 }
 
 Result<std::vector<GridInfo>> list_grids(const std::string& path) {
