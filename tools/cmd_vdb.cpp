@@ -1,7 +1,9 @@
 // `vx export-vdb` and `vx import-vdb`: worlds to and from OpenVDB files. Imports of files from
 // elsewhere run in a child process (vdb_isolated.h): OpenVDB's reader is not safe on damaged input.
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -66,7 +68,9 @@ int run_export(const ExportArgs& a) {
 
 struct ImportArgs {
     std::string file, out, grid, mode = "auto", sampling = "adaptive", offset = "0,0,0", density;
-    int index = -1, block_size = 1;
+    int index = -1, voxels_per_block = 0;
+    double block_size = 0;         // World units; meaningful when block_size_given.
+    bool block_size_given = false;
     float threshold = 0.25f;
     int block = 1;
     bool list = false;
@@ -77,8 +81,11 @@ int list(const std::string& file) {
     if (!grids)
         return bad_input(grids.error());
     for (const GridInfo& g : *grids) {
-        std::printf("[%d] '%s' %s, %s, voxel %.4g, %" PRIu64 " active voxels", g.index, g.name.c_str(),
-                    g.value_type.c_str(), g.grid_class.c_str(), g.voxel_size.x, g.active_voxels);
+        std::printf("[%d] '%s' %s, %s, voxel %.4g", g.index, g.name.c_str(), g.value_type.c_str(),
+                    g.grid_class.c_str(), g.voxel_size.x);
+        if (g.voxel_size.y != g.voxel_size.x || g.voxel_size.z != g.voxel_size.x)
+            std::printf(" x %.4g x %.4g", g.voxel_size.y, g.voxel_size.z);
+        std::printf(" (%s), %" PRIu64 " active voxels", g.transform.c_str(), g.active_voxels);
         if (!g.empty)
             std::printf(", bbox (%d,%d,%d)..(%d,%d,%d)", g.bbox_min.x, g.bbox_min.y, g.bbox_min.z, g.bbox_max.x,
                         g.bbox_max.y, g.bbox_max.z);
@@ -134,7 +141,12 @@ int run_import(const ImportArgs& a) {
         VolumeImportOptions o;
         o.grid_name = a.grid;
         o.grid_index = a.index;
-        o.block_size = a.block_size;
+        if (a.block_size_given && a.voxels_per_block > 0)
+            return bad_input("give --block-size (world units) or --voxels-per-block, not both");
+        if (a.block_size_given && !(a.block_size > 0 && std::isfinite(a.block_size)))
+            return bad_input("--block-size must be a positive, finite length in the file's world units");
+        o.block_size = a.block_size_given ? a.block_size : 0.0;
+        o.voxels_per_block = a.voxels_per_block;
         o.mode = a.mode == "levelset" ? VolumeMode::LevelSet : a.mode == "fog" ? VolumeMode::Fog : VolumeMode::Auto;
         o.sampling = a.sampling == "centre"        ? VolumeSampling::CentreOnly
                      : a.sampling == "majority"    ? VolumeSampling::VoxelMajority
@@ -160,9 +172,11 @@ int run_import(const ImportArgs& a) {
             return bad_input(r.error());
         const VolumeImportSummary& s = r->summary;
         char line[512];
-        std::snprintf(line, sizeof line, "grid [%d] '%s', %s, voxel size %.4g, block size %d, %" PRIu64
+        const double finest = std::min({s.voxel_size.x, s.voxel_size.y, s.voxel_size.z});
+        std::snprintf(line, sizeof line, "grid [%d] '%s', %s, voxel size %.4g, block size %.4g (%.3g voxels), %" PRIu64
                       " solid blocks (%" PRIu64 " supersampled)", s.grid_index, s.grid_name.c_str(),
-                      to_string(s.mode), s.voxel_size.x, s.block_size, s.solid_blocks, s.supersampled_blocks);
+                      to_string(s.mode), s.voxel_size.x, s.block_size, s.block_size / finest, s.solid_blocks,
+                      s.supersampled_blocks);
         what = line;
         world = std::move(r->world);
     }
@@ -192,7 +206,11 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     im->add_flag("--list", i->list, "List the file's grids and exit");
     im->add_option("--grid", i->grid, "Grid by name");
     im->add_option("--index", i->index, "Grid by index (see --list)");
-    im->add_option("--block-size", i->block_size, "Voxels per block edge (1..64)");
+    CLI::Option* block_size = im->add_option(
+        "--block-size", i->block_size,
+        "Block edge in the file's world units (decimal; default: the voxel size, one block per voxel)");
+    im->add_option("--voxels-per-block", i->voxels_per_block, "Block edge as N voxels (1..64; cubic voxels only)")
+        ->check(CLI::Range(1, 64));
     im->add_option("--mode", i->mode, "auto, levelset or fog")->check(CLI::IsMember({"auto", "levelset", "fog"}));
     im->add_option("--threshold", i->threshold, "Fog: solid at this fraction of the grid's max (0..1]");
     im->add_option("--block", i->block, "Block id of solid blocks (default 1, stone)");
@@ -200,7 +218,10 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     im->add_option("--offset", i->offset, "X,Y,Z added to every block (world block coordinates)");
     im->add_option("--sampling", i->sampling, "adaptive (default), centre, majority or supersample")
         ->check(CLI::IsMember({"adaptive", "centre", "majority", "supersample"}));
-    im->callback([i, &action] { action = [i] { return run_import(*i); }; });
+    im->callback([i, block_size, &action] {
+        i->block_size_given = block_size->count() > 0;
+        action = [i] { return run_import(*i); };
+    });
 }
 
 } // namespace vx::tools

@@ -15,6 +15,7 @@
 #include <sqlite3.h>
 
 #include "world/store/sqlite_store.h"
+#include "world/vdb/vdb_analytic.h"
 #include <glm/glm.hpp>
 
 #include "cli_run.h"
@@ -275,6 +276,17 @@ TEST(Cli, VdbExportImport) {
     }
     EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 1,2,3").code, 2);
 
+    // A frustum-transform grid cannot become blocks of one size: refused with a clear line.
+    vx::vdb::AnalyticVolume frustum;
+    frustum.frustum = true;
+    frustum.half_extent = glm::dvec3(4.0);
+    const std::string fvdb = (dir / "frustum.vdb").string();
+    ASSERT_TRUE(vx::vdb::write_analytic_vdb(fvdb, frustum).ok());
+    r = run_vx("import-vdb " + fvdb + " --out " + back);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("vx: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("frustum"), std::string::npos) << r.out;
+
     const std::string data = VX_VDB_DATA_DIR;
     if (!std::filesystem::exists(data))
         GTEST_SKIP() << "no sample VDB files at " << data;
@@ -282,10 +294,20 @@ TEST(Cli, VdbExportImport) {
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("[2] 'density'"), std::string::npos) << r.out;
     const std::string sphere = (dir / "sphere.db").string();
-    r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --block-size 4");
+    r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --voxels-per-block 4");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("levelset"), std::string::npos) << r.out;
     EXPECT_EQ(run_vx("world info " + sphere + " --check").code, 0);
+    // --block-size is in the file's world units: 4 voxels of 0.05 = 0.2, the same blocks.
+    const std::string solid = r.out.substr(r.out.find("voxels), "), r.out.find(" solid blocks") - r.out.find("voxels), "));
+    r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --block-size 0.2");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find(solid + " solid blocks"), std::string::npos) << solid << " vs " << r.out;
+    for (const std::string bad : {"-0.2", "0", "nan", "inf", "abc"}) {
+        r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --block-size " + bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+    }
+    EXPECT_EQ(run_vx("import-vdb " + data + "/oiio_sphere.vdb --out " + sphere + " --block-size 0.2 --voxels-per-block 2").code, 2);
 
     // Refused imports over an existing world leave it as it was.
     const auto before = store_chunks(back);

@@ -114,7 +114,7 @@ TEST(VdbFuzz, MutatedFilesNeverCrashTheCaller) {
         }
         for (int block_size : {1, 4}) {
             VolumeImportOptions o;
-            o.block_size = block_size;
+            o.voxels_per_block = block_size;
             o.max_blocks = uint64_t(1) << 24; // Bounds the work a corrupt bbox can ask for.
             Result<VolumeImport> r = import_volume_isolated(path, o, iso);
             if (r.ok()) {

@@ -123,7 +123,7 @@ TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
         const bool large = std::string(c.file) == "arnoldusd_smoke.vdb" || std::string(c.file) == "gaffer_vdbtest_sphere.vdb";
         for (int b : large ? std::vector<int>{4} : std::vector<int>{1, 3}) {
             VolumeImportOptions o;
-            o.block_size = b;
+            o.voxels_per_block = b;
             Result<VolumeImport> r = import_volume(data_path(c.file), o);
             if (c.error) {
                 EXPECT_TRUE(fails_with(r, c.error));
@@ -151,11 +151,13 @@ TEST(VdbVolume, GridsWithTheSameNameAreSelectedByIndex) {
         EXPECT_EQ(r->summary.grid_index, i);
         solid[i] = r->summary.solid_blocks;
     }
-    // Grid 1 spans (-9,-13,-8)..(9,5,10): a block bbox unlike the other two.
+    // Grid 1 (voxel 1, identity transform) has voxels (-9,-13,-8)..(9,5,10), centred on those
+    // integers, so their cells reach world [-9.5, 9.5] x [-13.5, 5.5] x [-8.5, 10.5]; blocks are
+    // floor(world / 1): (-10,-14,-9)..(9,5,10). A block bbox unlike the other two grids'.
     o.grid_index = 1;
     Result<VolumeImport> r = import_volume(path, o);
     ASSERT_TRUE(r.ok());
-    EXPECT_EQ(r->summary.blocks.min, BlockPos(-9, -13, -8));
+    EXPECT_EQ(r->summary.blocks.min, BlockPos(-10, -14, -9));
     EXPECT_EQ(r->summary.blocks.max, BlockPos(9, 5, 10));
     EXPECT_NE(solid[0], solid[1]);
     o.grid_index = 3;
@@ -171,10 +173,13 @@ TEST(VdbVolume, BadPathsAndOptionsGiveOneLineErrors) {
     EXPECT_FALSE(g.ok());
     const std::string path = test_file(TestFile::FogSphere);
     VolumeImportOptions o;
-    o.block_size = 0;
+    o.block_size = -1;
     EXPECT_TRUE(fails_with(import_volume(path, o), "block_size"));
-    o.block_size = 65;
+    o.block_size = 65.0; // 65 voxels of 1: more than the 64 a block may span.
     EXPECT_TRUE(fails_with(import_volume(path, o), "block_size"));
+    o = {};
+    o.voxels_per_block = 65;
+    EXPECT_TRUE(fails_with(import_volume(path, o), "voxels_per_block"));
     o = {};
     o.threshold = 0.f;
     EXPECT_TRUE(fails_with(import_volume(path, o), "threshold"));
@@ -232,12 +237,12 @@ TEST(VdbVolume, LargerBlocksCoverTheSameShape) {
     // Solid volume in voxels stays about the same as B grows: B³ * solid(B) ~ 8 * solid(2).
     const std::string path = test_file(TestFile::LevelSetSphere);
     VolumeImportOptions o;
-    o.block_size = 2;
+    o.voxels_per_block = 2;
     Result<VolumeImport> two = import_volume(path, o);
     ASSERT_TRUE(two.ok());
     const double base = 8.0 * double(two->summary.solid_blocks);
     for (int b : {4, 8}) {
-        o.block_size = b;
+        o.voxels_per_block = b;
         Result<VolumeImport> r = import_volume(path, o);
         ASSERT_TRUE(r.ok()) << r.error();
         const double voxels = double(r->summary.solid_blocks) * b * b * b;
@@ -266,13 +271,14 @@ TEST(VdbVolume, AdaptiveLevelSetMatchesSupersampledReference) {
 namespace vx::vdb {
 namespace {
 
-// Fraction of block b (B voxels per edge) inside the ball |p| < r (index space), from 8³ samples.
+// Fraction of block b (B voxels per edge, cell [B*b, B*b + B) in index space: the grid is a pure
+// scale) inside the ball |p| < r (index space), from 8³ samples.
 double ball_fraction(BlockPos b, int bs, double r) {
     int in = 0;
     for (int z = 0; z < 8; ++z)
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x) {
-                const glm::dvec3 p = glm::dvec3(b * int64_t(bs)) - 0.5 + (glm::dvec3(x, y, z) + 0.5) * (bs / 8.0);
+                const glm::dvec3 p = glm::dvec3(b * int64_t(bs)) + (glm::dvec3(x, y, z) + 0.5) * (bs / 8.0);
                 in += glm::dot(p, p) < r * r;
             }
     return in / 512.0;
@@ -286,7 +292,7 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
     // Block size 1 takes seconds in sanitizer builds; 2, 4 and 8 cover the sampling.
     for (int bs : {2, 4, 8}) {
         VolumeImportOptions o;
-        o.block_size = bs;
+        o.voxels_per_block = bs;
         Result<VolumeImport> imp = import_volume(test_file(TestFile::LevelSetSphere), o);
         ASSERT_TRUE(imp.ok()) << imp.error();
         const int64_t n = int64_t(r / bs) + 2;
@@ -297,7 +303,7 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
                     const BlockPos b(x, y, z);
                     // Blocks whose centre is more than half a diagonal from the sphere lie wholly
                     // on one side; only the shell needs the 8³ estimate.
-                    const double d = glm::length(glm::dvec3(b * int64_t(bs)) + 0.5 * (bs - 1)) - r;
+                    const double d = glm::length(glm::dvec3(b * int64_t(bs)) + 0.5 * bs) - r;
                     const double half_diagonal = 0.5 * std::sqrt(3.0) * bs;
                     const bool truth = std::abs(d) > half_diagonal ? d < 0 : ball_fraction(b, bs, r) > 0.5;
                     const bool got = imp->world.get_block(b) != world::kAir;
@@ -322,7 +328,7 @@ TEST(VdbIsolated, SameResultAsInProcess) {
     const std::string path = test_file(TestFile::ThreeDensities);
     VolumeImportOptions o;
     o.grid_index = 1;
-    o.block_size = 2;
+    o.voxels_per_block = 2;
     o.offset = BlockPos(-(int64_t(1) << 30), 3, 99);
     Result<VolumeImport> a = import_volume(path, o);
     Result<VolumeImport> b = import_volume_isolated(path, o);

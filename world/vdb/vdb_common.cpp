@@ -1,6 +1,9 @@
 #include "world/vdb/vdb_common.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <system_error>
 
@@ -49,4 +52,56 @@ void run_in_calling_thread(const std::function<void()>& f) {
     arena.execute(f);
 }
 
+double uniform_voxel(const glm::dvec3& vs) {
+    const double lo = std::min({vs.x, vs.y, vs.z}), hi = std::max({vs.x, vs.y, vs.z});
+    return lo > 0 && hi - lo <= 1e-6 * hi ? vs.x : 0.0;
+}
+
+std::string format_length(double v) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.6g", v);
+    return s;
+}
+
+Status check_volume_options(const VolumeImportOptions& o) {
+    if (o.voxels_per_block != 0 && o.block_size != 0)
+        return Error{"give block_size (world units) or voxels_per_block, not both"};
+    if (o.voxels_per_block < 0 || o.voxels_per_block > 64)
+        return Error{"voxels_per_block " + std::to_string(o.voxels_per_block) + " is outside 1..64"};
+    if (!(o.block_size >= 0) || !std::isfinite(o.block_size))
+        return Error{"block_size " + format_length(o.block_size) +
+                     " is not a positive, finite length in the file's world units"};
+    if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
+        return Error{"samples_per_axis " + std::to_string(o.samples_per_axis) + " is outside 1..16"};
+    if (o.block == world::kAir)
+        return Error{"block is 0 (air); choose a solid block id"};
+    for (const DensityBlock& d : o.density_blocks)
+        if (d.block == world::kAir)
+            return Error{"density_blocks maps to air (0); use ids > 0"};
+    return {};
+}
+
 } // namespace vx::vdb::detail
+
+namespace vx::vdb {
+
+const char* to_string(VolumeMode mode) {
+    switch (mode) {
+    case VolumeMode::Auto: return "auto";
+    case VolumeMode::LevelSet: return "levelset";
+    case VolumeMode::Fog: return "fog";
+    }
+    return "?";
+}
+
+const char* to_string(VolumeSampling sampling) {
+    switch (sampling) {
+    case VolumeSampling::Adaptive: return "adaptive";
+    case VolumeSampling::CentreOnly: return "centre";
+    case VolumeSampling::VoxelMajority: return "voxels";
+    case VolumeSampling::Supersample: return "supersample";
+    }
+    return "?";
+}
+
+} // namespace vx::vdb

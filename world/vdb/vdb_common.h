@@ -6,9 +6,21 @@
 #include <string>
 #include <string_view>
 
+#include <glm/glm.hpp>
+
 #include "world/base/result.h"
+#include "world/vdb/vdb_volume.h"
 
 namespace vx::vdb::detail {
+
+// A length for messages: "%.6g". Thread-safe.
+std::string format_length(double v);
+
+// Voxel edge of a grid whose voxels are cubes (edges within 1e-6 relative), else 0. Thread-safe.
+double uniform_voxel(const glm::dvec3& voxel_size);
+
+// The checks of VolumeImportOptions that need no grid; one-line errors. Thread-safe.
+Status check_volume_options(const VolumeImportOptions& o);
 
 // `context: what` folded onto one line (OpenVDB messages may hold newlines and colour escapes).
 // Thread-safe.

@@ -91,6 +91,7 @@ void encode(Writer& w, const GridInfo& g) {
     w.put(g.value_type);
     w.put(g.grid_class);
     w.put(g.voxel_size);
+    w.put(g.transform);
     w.put(g.active_voxels);
     w.put(g.empty);
     w.put(g.bbox_min);
@@ -104,6 +105,7 @@ void decode(Reader& r, GridInfo& g) {
     r.get(g.value_type);
     r.get(g.grid_class);
     r.get(g.voxel_size);
+    r.get(g.transform);
     r.get(g.active_voxels);
     r.get(g.empty);
     r.get(g.bbox_min);

@@ -9,6 +9,8 @@
 #include <openvdb/openvdb.h>
 
 #include "world/vdb/vdb_common.h"
+#include "world/vdb/vdb_lattice.h"
+#include "world/vdb/vdb_neighbourhood.h"
 
 namespace vx::vdb {
 namespace {
@@ -18,8 +20,6 @@ using world::BlockPos;
 using world::ChunkCoord;
 using world::kChunkSize;
 using world::kChunkVolume;
-
-int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 std::string quoted_name(const openvdb::GridBase& g, int index) {
     return g.getName().empty() ? "#" + std::to_string(index) + " (unnamed)" : "'" + g.getName() + "'";
@@ -117,59 +117,10 @@ Result<int> select_grid(const openvdb::GridPtrVec& grids, const VolumeImportOpti
     return Error{"no float or double grid to import (grids: " + grid_names(grids) + ")"};
 }
 
-// (B + 2)³ voxel values around one block, fetched once so that many trilinear samples read local
-// memory instead of walking the tree.
-struct Neighbourhood {
-    openvdb::Coord lo; // Index of values[0].
-    int dim = 0;
-    std::vector<double> values;
-    double min = 0, max = 0;
-
-    double at(int x, int y, int z) const { return values[size_t(x + dim * (y + dim * z))]; }
-
-    template <class Acc> void fetch(Acc& acc, openvdb::Coord origin, int size) {
-        lo = origin;
-        dim = size;
-        values.resize(size_t(dim) * dim * dim);
-        min = std::numeric_limits<double>::infinity();
-        max = -min;
-        size_t i = 0;
-        for (int z = 0; z < dim; ++z)
-            for (int y = 0; y < dim; ++y)
-                for (int x = 0; x < dim; ++x) {
-                    const double v = double(acc.getValue(lo.offsetBy(x, y, z)));
-                    values[i++] = v;
-                    min = std::min(min, v);
-                    max = std::max(max, v);
-                }
-    }
-    // Mean of the inner voxels (the block itself, without the one-voxel margin).
-    double inner_mean() const {
-        double sum = 0;
-        for (int z = 1; z < dim - 1; ++z)
-            for (int y = 1; y < dim - 1; ++y)
-                for (int x = 1; x < dim - 1; ++x)
-                    sum += std::isfinite(at(x, y, z)) ? at(x, y, z) : 0.0;
-        return sum / double((dim - 2) * (dim - 2) * (dim - 2));
-    }
-    // Trilinear value at continuous index position p (p - lo must lie in [0, dim - 1]).
-    double sample(const glm::dvec3& p) const {
-        const glm::dvec3 q = p - glm::dvec3(lo.x(), lo.y(), lo.z());
-        const glm::ivec3 i = glm::clamp(glm::ivec3(glm::floor(q)), glm::ivec3(0), glm::ivec3(dim - 2));
-        const glm::dvec3 f = q - glm::dvec3(i);
-        double c[2][2];
-        for (int z = 0; z < 2; ++z)
-            for (int y = 0; y < 2; ++y)
-                c[z][y] = at(i.x, i.y + y, i.z + z) * (1 - f.x) + at(i.x + 1, i.y + y, i.z + z) * f.x;
-        const double c0 = c[0][0] * (1 - f.y) + c[0][1] * f.y, c1 = c[1][0] * (1 - f.y) + c[1][1] * f.y;
-        return c0 * (1 - f.z) + c1 * f.z;
-    }
-};
-
 template <class GridT> class VolumeImporter {
 public:
     VolumeImporter(const GridT& grid, int index, const VolumeImportOptions& o)
-        : m_grid(grid), m_index(index), m_o(o), m_acc(grid.getConstAccessor()), m_b(o.block_size) {}
+        : m_grid(grid), m_index(index), m_o(o), m_acc(grid.getConstAccessor()) {}
 
     Result<VolumeImport> run();
 
@@ -177,12 +128,16 @@ private:
     using ValueT = typename GridT::ValueType;
 
     Status analyse();
+    Status map_blocks(const openvdb::CoordBBox& bbox);
     bool solid(const glm::i64vec3& src, float& mean);
     double sample(const glm::dvec3& p);
+    void fetch_hood(const glm::i64vec3& src);
     bool supersample(const glm::i64vec3& src, bool refine);
-    int count_inside(const glm::i64vec3& org, int s) const;
+    int count_inside(const glm::i64vec3& src, int s) const;
+    double member_mean(const glm::i64vec3& src) const;
     bool inside(double v) const { return m_level_set ? v < 0 : v >= m_threshold; }
     bool voxel_majority(const glm::i64vec3& src, float& mean);
+    glm::dvec3 centre(const glm::i64vec3& src) const { return m_lattice.index_of(glm::dvec3(src) + 0.5); }
     void mark_active_chunks();
     void add_chunks(openvdb::CoordBBox b);
     bool fill_chunk(ChunkCoord c, bool active, std::vector<BlockId>& ids);
@@ -193,14 +148,65 @@ private:
     int m_index;
     const VolumeImportOptions& m_o;
     typename GridT::ConstAccessor m_acc;
-    int m_b;
+    detail::BlockLattice m_lattice;
+    double m_block_size = 1;                // World units.
     bool m_level_set = false;
-    double m_threshold = 0, m_max = 0, m_voxel = 1;
+    double m_threshold = 0, m_max = 0;
+    double m_distance_unit = 1;             // Level set: world units per index unit, at most (largest voxel edge).
+    int m_box_samples = 2;                  // VoxelMajority: samples per block axis.
     glm::i64vec3 m_src_lo{0}, m_src_hi{-1}; // Source block range (inclusive).
     std::unordered_set<ChunkCoord, world::ChunkCoordHash> m_active;
-    Neighbourhood m_hood;
+    detail::Neighbourhood m_hood;
     uint64_t m_supersampled = 0, m_solid = 0;
 };
+
+// Resolves the block size and builds the lattice from the grid's transform; the source block
+// range is every block the active voxels' cells ([min - 1/2, max + 1/2] in index space) reach.
+template <class GridT> Status VolumeImporter<GridT>::map_blocks(const openvdb::CoordBBox& bbox) {
+    const openvdb::math::Transform& xf = m_grid.transform();
+    if (!xf.isLinear())
+        return Error{"grid " + name() + " has a non-linear " + xf.mapType() +
+                     " transform (a frustum: voxels grow with depth), which blocks of one size cannot honour; "
+                     "resample it to a linear transform first"};
+    const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
+    glm::dmat3 m;
+    for (int k = 0; k < 3; ++k) {
+        openvdb::Vec3d e(0.0);
+        e[k] = 1.0;
+        const openvdb::Vec3d w = xf.indexToWorld(e) - o;
+        m[k] = glm::dvec3(w[0], w[1], w[2]);
+    }
+    const glm::dvec3 vs(glm::length(m[0]), glm::length(m[1]), glm::length(m[2]));
+    const openvdb::Vec3d ovs = xf.voxelSize();
+    const double uniform = detail::uniform_voxel(glm::dvec3(ovs[0], ovs[1], ovs[2]));
+    const std::string sizes = detail::format_length(vs.x) + " x " + detail::format_length(vs.y) + " x " + detail::format_length(vs.z);
+    if (m_o.voxels_per_block > 0 || m_o.block_size == 0) {
+        if (uniform == 0)
+            return Error{"grid " + name() + " has non-cubic voxels (" + sizes + " world units), so " +
+                         (m_o.voxels_per_block > 0 ? "voxels_per_block" : "the default block size") +
+                         " is ambiguous; give block_size in world units"};
+        // The same product a caller forms from list_grids' voxel_size, so both spellings agree exactly.
+        m_block_size = m_o.voxels_per_block > 0 ? double(m_o.voxels_per_block) * ovs[0] : ovs[0];
+    } else {
+        m_block_size = m_o.block_size;
+    }
+    const double finest = std::min({vs.x, vs.y, vs.z});
+    if (m_block_size > 64 * finest * (1 + 1e-9))
+        return Error{"block_size " + detail::format_length(m_block_size) + " is " + detail::format_length(m_block_size / finest) +
+                     " voxels of grid " + name() + " (voxel " + sizes + "), more than 64; lower block_size"};
+    Result<detail::BlockLattice> lattice = detail::BlockLattice::create(m, glm::dvec3(o[0], o[1], o[2]), m_block_size);
+    if (!lattice)
+        return Error{"grid " + name() + ": " + lattice.error()};
+    m_lattice = *lattice;
+    m_distance_unit = std::max({vs.x, vs.y, vs.z});
+    // Two samples per voxel spacing make the box filter exact for whole voxels per block on a
+    // grid aligned with the blocks (each voxel cell is covered by whole sample pairs or halves).
+    m_box_samples = std::clamp(int(std::ceil(2 * m_block_size / finest - 1e-9)), 2, 32);
+    const glm::dvec3 lo(bbox.min().x() - 0.5, bbox.min().y() - 0.5, bbox.min().z() - 0.5);
+    const glm::dvec3 hi(bbox.max().x() + 0.5, bbox.max().y() + 0.5, bbox.max().z() + 0.5);
+    m_lattice.blocks_meeting(lo, hi, m_src_lo, m_src_hi);
+    return {};
+}
 
 template <class GridT> Status VolumeImporter<GridT>::analyse() {
     openvdb::CoordBBox bbox;
@@ -210,6 +216,8 @@ template <class GridT> Status VolumeImporter<GridT>::analyse() {
         if (std::abs(int64_t(bbox.min()[a])) > kVdbCoordLimit || std::abs(int64_t(bbox.max()[a])) > kVdbCoordLimit)
             return Error{"grid " + name() + " has voxels beyond index +-" + std::to_string(kVdbCoordLimit) +
                          ", too close to OpenVDB's 32-bit limit"};
+    if (Status s = map_blocks(bbox); !s)
+        return s;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (auto it = m_grid.tree().cbeginValueOn(); it; ++it) {
         const double v = double(*it);
@@ -226,8 +234,6 @@ template <class GridT> Status VolumeImporter<GridT>::analyse() {
     m_level_set = m_o.mode == VolumeMode::LevelSet ||
                   (m_o.mode == VolumeMode::Auto &&
                    (cls == openvdb::GRID_LEVEL_SET || (cls != openvdb::GRID_FOG_VOLUME && bg > 0 && lo < 0)));
-    const openvdb::Vec3d vs = m_grid.voxelSize();
-    m_voxel = std::isfinite(vs[0]) && vs[0] > 0 ? vs[0] : 1.0;
     if (m_level_set) {
         if (!(bg > 0))
             return Error{"level set " + name() + " has background " + std::to_string(bg) +
@@ -242,18 +248,12 @@ template <class GridT> Status VolumeImporter<GridT>::analyse() {
             return Error{"fog grid " + name() + " has background " + std::to_string(bg) +
                          " at or above the density threshold " + std::to_string(m_threshold) + "; raise threshold"};
     }
-    const glm::i64vec3 vlo(bbox.min().x(), bbox.min().y(), bbox.min().z());
-    const glm::i64vec3 vhi(bbox.max().x(), bbox.max().y(), bbox.max().z());
-    for (int a = 0; a < 3; ++a) {
-        m_src_lo[a] = floor_div(vlo[a], m_b);
-        m_src_hi[a] = floor_div(vhi[a], m_b);
-    }
     const glm::u64vec3 n = glm::u64vec3(m_src_hi - m_src_lo + glm::i64vec3(1));
     const long double count = (long double)n.x * n.y * n.z;
     if (count > (long double)m_o.max_blocks)
         return Error{"grid " + name() + " would be " + std::to_string(n.x) + "x" + std::to_string(n.y) + "x" +
-                     std::to_string(n.z) + " blocks at block_size " + std::to_string(m_b) + ", more than max_blocks " +
-                     std::to_string(m_o.max_blocks) + "; raise block_size or max_blocks"};
+                     std::to_string(n.z) + " blocks at block_size " + detail::format_length(m_block_size) +
+                     ", more than max_blocks " + std::to_string(m_o.max_blocks) + "; raise block_size or max_blocks"};
     // Offsets near the world's edge could overflow; the world spans [-2^36, 2^36) (coords.h).
     constexpr int64_t kMaxOffset = int64_t(1) << 40;
     const glm::i64vec3 lim(kMaxOffset);
@@ -280,17 +280,35 @@ template <class GridT> double VolumeImporter<GridT>::sample(const glm::dvec3& p)
     return c0 * (1 - f.z) + c1 * f.z;
 }
 
-// Samples on an s³ grid inside the block at `org` that fall inside (m_hood must hold the block).
-template <class GridT> int VolumeImporter<GridT>::count_inside(const glm::i64vec3& org, int s) const {
-    const double step = double(m_b) / s;
+// Samples on an s³ grid spread evenly over block src's cell that fall inside (m_hood must hold
+// the cell).
+template <class GridT> int VolumeImporter<GridT>::count_inside(const glm::i64vec3& src, int s) const {
+    const glm::dvec3 b(src);
     int votes = 0;
     for (int z = 0; z < s; ++z)
         for (int y = 0; y < s; ++y)
             for (int x = 0; x < s; ++x) {
-                const glm::dvec3 p = glm::dvec3(org) - 0.5 + (glm::dvec3(x, y, z) + 0.5) * step;
+                const glm::dvec3 p = m_lattice.index_of(b + (glm::dvec3(x, y, z) + 0.5) / double(s));
                 votes += inside(m_hood.sample(p)) ? 1 : 0;
             }
     return votes;
+}
+
+// Mean value of the voxels whose centres lie in block src's cell (m_hood must hold the cell);
+// the centre sample when the block is smaller than the voxel spacing and holds none.
+template <class GridT> double VolumeImporter<GridT>::member_mean(const glm::i64vec3& src) const {
+    double sum = 0;
+    int members = 0;
+    for (int z = 0; z < m_hood.dim.z; ++z)
+        for (int y = 0; y < m_hood.dim.y; ++y)
+            for (int x = 0; x < m_hood.dim.x; ++x) {
+                const glm::dvec3 q(m_hood.lo + glm::ivec3(x, y, z));
+                if (glm::i64vec3(glm::floor(m_lattice.block_of(q))) != src)
+                    continue;
+                ++members;
+                sum += std::isfinite(m_hood.at(x, y, z)) ? m_hood.at(x, y, z) : 0.0;
+            }
+    return members ? sum / members : m_hood.sample(centre(src));
 }
 
 // Majority of samples_per_axis³ samples on a regular grid inside the block. Blocks whose whole
@@ -298,48 +316,58 @@ template <class GridT> int VolumeImporter<GridT>::count_inside(const glm::i64vec
 // their corners' values, so that answer is exact). With `refine`, a solid fraction within 0.075
 // of one half is redone at twice the rate per axis: close votes are where a coarse estimate
 // flips.
+// Fetches the voxels under block src's cell into m_hood. Samples lie strictly inside the cell,
+// so floor(p) + 1 <= ceil(hi) for every trilinear corner and every nearest voxel.
+template <class GridT> void VolumeImporter<GridT>::fetch_hood(const glm::i64vec3& src) {
+    glm::dvec3 lo, hi;
+    m_lattice.cell_bounds(src, lo, hi);
+    const glm::dvec3 first = glm::floor(lo), last = glm::ceil(hi);
+    m_hood.fetch(glm::ivec3(first), glm::ivec3(last - first) + 1,
+                 [&](int x, int y, int z) { return double(m_acc.getValue(openvdb::Coord(x, y, z))); });
+}
+
 template <class GridT> bool VolumeImporter<GridT>::supersample(const glm::i64vec3& src, bool refine) {
-    const glm::i64vec3 org = src * int64_t(m_b);
-    m_hood.fetch(m_acc, openvdb::Coord(int32_t(org.x - 1), int32_t(org.y - 1), int32_t(org.z - 1)), m_b + 2);
+    fetch_hood(src);
     if (inside(m_hood.min) == inside(m_hood.max))
         return inside(m_hood.min);
     ++m_supersampled;
     int s = m_o.samples_per_axis;
-    int votes = count_inside(org, s);
+    int votes = count_inside(src, s);
     if (refine && s < 16 && std::abs(2 * votes - s * s * s) * 20 < 3 * s * s * s) {
         s = std::min(2 * s, 16);
-        votes = count_inside(org, s);
+        votes = count_inside(src, s);
     }
     if (2 * votes == s * s * s) // A tie (even sample counts): the centre decides.
-        return inside(sample(glm::dvec3(org) + 0.5 * (m_b - 1)));
+        return inside(sample(centre(src)));
     return 2 * votes > s * s * s;
 }
 
-// More than half of the block's voxels inside (box reconstruction: no interpolation). `mean`
-// gets the block's mean value relative to the grid's max.
+// More than half of the block's cell inside with box reconstruction (each voxel's value fills
+// its cell, no interpolation), estimated from m_box_samples³ points each taking its nearest
+// voxel; exact for whole voxels per block on block-aligned grids. A tie is air. `mean` gets the
+// box-filtered mean relative to the grid's max.
 template <class GridT> bool VolumeImporter<GridT>::voxel_majority(const glm::i64vec3& src, float& mean) {
-    const glm::i64vec3 org = src * int64_t(m_b);
-    const openvdb::Coord o(int32_t(org.x), int32_t(org.y), int32_t(org.z));
+    fetch_hood(src);
+    const int n = m_box_samples;
+    const glm::dvec3 b(src);
     int dense = 0;
     double sum = 0;
-    for (int z = 0; z < m_b; ++z)
-        for (int y = 0; y < m_b; ++y)
-            for (int x = 0; x < m_b; ++x) {
-                const double v = double(m_acc.getValue(o.offsetBy(x, y, z)));
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const double v = m_hood.nearest(m_lattice.index_of(b + (glm::dvec3(x, y, z) + 0.5) / double(n)));
                 dense += inside(v) ? 1 : 0;
                 sum += std::isfinite(v) ? v : 0.0;
             }
-    const int volume = m_b * m_b * m_b;
-    mean = float(sum / volume / m_max);
-    return 2 * dense > volume;
+    mean = float(sum / (n * n * n) / m_max);
+    return 2 * dense > n * n * n;
 }
 
 template <class GridT> bool VolumeImporter<GridT>::solid(const glm::i64vec3& src, float& mean) {
-    const glm::dvec3 centre = glm::dvec3(src * int64_t(m_b)) + 0.5 * (m_b - 1);
     mean = 0.f;
     switch (m_o.sampling) {
     case VolumeSampling::CentreOnly: {
-        const double v = sample(centre);
+        const double v = sample(centre(src));
         mean = float(v / m_max);
         return inside(v);
     }
@@ -347,7 +375,8 @@ template <class GridT> bool VolumeImporter<GridT>::solid(const glm::i64vec3& src
         return voxel_majority(src, mean);
     case VolumeSampling::Supersample: {
         const bool in = supersample(src, false);
-        mean = float(m_hood.inner_mean() / m_max);
+        if (!m_level_set && !m_o.density_blocks.empty())
+            mean = float(member_mean(src) / m_max);
         return in;
     }
     case VolumeSampling::Adaptive:
@@ -355,28 +384,32 @@ template <class GridT> bool VolumeImporter<GridT>::solid(const glm::i64vec3& src
     }
     if (!m_level_set) {
         const bool in = supersample(src, true);
-        mean = float(m_hood.inner_mean() / m_max);
+        if (!m_o.density_blocks.empty())
+            mean = float(member_mean(src) / m_max);
         return in;
     }
-    // Signed distances are in world units; a zero crossing inside the block lies within half a
-    // block diagonal of its centre (distance fields are 1-Lipschitz); one voxel of slack covers
+    // Signed distances are in world units; in index units (divided by the largest voxel edge,
+    // which never overstates the distance) a zero crossing inside the cell lies within its half
+    // diagonal of the centre (distance fields are 1-Lipschitz); one voxel of slack covers
     // interpolation and narrow-band clamping.
-    const double phi = sample(centre) / m_voxel;
-    const double near = 0.5 * std::sqrt(3.0) * m_b + 1.0;
+    const double phi = sample(centre(src)) / m_distance_unit;
+    const double near = m_lattice.half_diagonal() + 1.0;
     if (std::abs(phi) < near)
         return supersample(src, true);
     return phi < 0;
 }
 
 // Chunks (destination coordinates) whose blocks touch a leaf or an active tile, dilated by one
-// voxel for the supersampling footprint. Other chunks are uniform: all one sign (level set) or
-// all background (fog).
+// voxel for the trilinear footprint. Other chunks are uniform: all one sign (level set) or all
+// background (fog).
 template <class GridT> void VolumeImporter<GridT>::add_chunks(openvdb::CoordBBox b) {
     b.expand(1);
     glm::i64vec3 lo, hi;
+    m_lattice.blocks_meeting(glm::dvec3(b.min().x(), b.min().y(), b.min().z()),
+                             glm::dvec3(b.max().x(), b.max().y(), b.max().z()), lo, hi);
     for (int a = 0; a < 3; ++a) {
-        lo[a] = std::max(floor_div(b.min()[a], m_b), m_src_lo[a]) + m_o.offset[a];
-        hi[a] = std::min(floor_div(b.max()[a], m_b), m_src_hi[a]) + m_o.offset[a];
+        lo[a] = std::max(lo[a], m_src_lo[a]) + m_o.offset[a];
+        hi[a] = std::min(hi[a], m_src_hi[a]) + m_o.offset[a];
         if (lo[a] > hi[a])
             return;
     }
@@ -420,8 +453,7 @@ template <class GridT> bool VolumeImporter<GridT>::fill_chunk(ChunkCoord c, bool
     if (!active) {
         if (!m_level_set)
             return false;
-        const glm::dvec3 centre = (glm::dvec3(org - m_o.offset) + 0.5 * kChunkSize) * double(m_b) - 0.5;
-        uniform_inside = sample(centre) < 0;
+        uniform_inside = sample(m_lattice.index_of(glm::dvec3(org - m_o.offset) + 0.5 * kChunkSize)) < 0;
         if (!uniform_inside)
             return false;
     }
@@ -465,26 +497,13 @@ template <class GridT> Result<VolumeImport> VolumeImporter<GridT>::run() {
     s.mode = m_level_set ? VolumeMode::LevelSet : VolumeMode::Fog;
     const openvdb::Vec3d vs = m_grid.voxelSize();
     s.voxel_size = glm::dvec3(vs[0], vs[1], vs[2]);
-    s.block_size = m_b;
+    s.block_size = m_block_size;
     s.threshold_absolute = m_threshold;
     s.max_value = m_max;
     s.solid_blocks = m_solid;
     s.supersampled_blocks = m_supersampled;
     s.blocks = BlockBox{m_src_lo + m_o.offset, m_src_hi + m_o.offset};
     return out;
-}
-
-Status check_options(const VolumeImportOptions& o) {
-    if (o.block_size < 1 || o.block_size > 64)
-        return Error{"block_size " + std::to_string(o.block_size) + " is outside 1..64"};
-    if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
-        return Error{"samples_per_axis " + std::to_string(o.samples_per_axis) + " is outside 1..16"};
-    if (o.block == world::kAir)
-        return Error{"block is 0 (air); choose a solid block id"};
-    for (const DensityBlock& d : o.density_blocks)
-        if (d.block == world::kAir)
-            return Error{"density_blocks maps to air (0); use ids > 0"};
-    return {};
 }
 
 Result<VolumeImport> import_grid(const openvdb::GridBase::Ptr& g, int index, const VolumeImportOptions& o) {
@@ -503,6 +522,7 @@ GridInfo describe(const openvdb::GridBase& g, int index) {
     info.grid_class = openvdb::GridBase::gridClassToString(g.getGridClass());
     const openvdb::Vec3d vs = g.voxelSize();
     info.voxel_size = glm::dvec3(vs[0], vs[1], vs[2]);
+    info.transform = g.transform().mapType();
     info.active_voxels = g.activeVoxelCount();
     const openvdb::CoordBBox b = g.evalActiveVoxelBoundingBox();
     info.empty = info.active_voxels == 0 || b.empty();
@@ -533,7 +553,7 @@ static Result<std::vector<GridInfo>> list_grids_impl(const std::string& path) {
 }
 
 static Result<VolumeImport> import_volume_impl(const std::string& path, const VolumeImportOptions& options) {
-    if (Status s = check_options(options); !s)
+    if (Status s = detail::check_volume_options(options); !s)
         return Error{s.error()};
     try {
         Result<openvdb::GridPtrVecPtr> meta = read_grids(path, false);
@@ -554,25 +574,6 @@ static Result<VolumeImport> import_volume_impl(const std::string& path, const Vo
     } catch (...) {
         return detail::make_error("cannot read '" + path + "'", "unknown error");
     }
-}
-
-const char* to_string(VolumeMode mode) {
-    switch (mode) {
-    case VolumeMode::Auto: return "auto";
-    case VolumeMode::LevelSet: return "levelset";
-    case VolumeMode::Fog: return "fog";
-    }
-    return "?";
-}
-
-const char* to_string(VolumeSampling sampling) {
-    switch (sampling) {
-    case VolumeSampling::Adaptive: return "adaptive";
-    case VolumeSampling::CentreOnly: return "centre";
-    case VolumeSampling::VoxelMajority: return "voxels";
-    case VolumeSampling::Supersample: return "supersample";
-    }
-    return "?";
 }
 
 Result<std::vector<GridInfo>> list_grids(const std::string& path) {
