@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenvdb-dev libopenvdb-tools libboost-iostreams-dev libimath-dev
   xvfb xauth
+  postgresql libpq-dev
 )
 backports_packages=(mesa-vulkan-drivers)
 

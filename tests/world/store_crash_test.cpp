@@ -1,4 +1,4 @@
-// Crash safety of SqliteStore: a forked child saves and flushes chunks in rounds and reports each
+// Crash safety of every store backend (SQLite, PostgreSQL): a forked child saves and flushes chunks in rounds and reports each
 // acknowledged flush through a pipe; the parent SIGKILLs it at a random moment, reopens the store
 // and checks that every record verifies, holds an old or new version of its chunk, and that no
 // acknowledged edit was lost. VX_STORE_CRASH_CYCLES (default 200) and VX_STORE_CRASH_SEED tune it.
@@ -12,10 +12,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "store_backend.h"
 #include "store_test_util.h"
-#include "world/store/sqlite_store.h"
+#include "world/store/store_open.h"
 
 using namespace vx::world;
+using vx::world::test::StoreSuite;
 using vx::world::test::versioned_chunk;
 using vx::world::test::versioned_chunk_version;
 
@@ -32,15 +34,15 @@ uint32_t env_u32(const char* name, uint32_t fallback) {
 
 // Child: round v writes version v of every coordinate in random batches (some commits happen
 // early: tiny queue bound, tick with bound 0), then flush() and report v. Never returns.
-[[noreturn]] void child_main(const std::string& path, uint32_t first_version, int ack_fd, uint32_t seed) {
-    SqliteStoreCreateInfo info;
-    info.path = path;
-    info.max_pending_age = std::chrono::milliseconds(0);
-    info.max_pending_bytes = size_t(12) << 10; // A few commits per round.
-    vx::Result<std::unique_ptr<SqliteStore>> opened = SqliteStore::open(info);
+[[noreturn]] void child_main(test::StoreBackend& backend, const std::string& world, uint32_t first_version,
+                             int ack_fd, uint32_t seed) {
+    test::StoreOptions o;
+    o.max_pending_age = std::chrono::milliseconds(0);
+    o.max_pending_bytes = size_t(12) << 10; // A few commits per round.
+    std::unique_ptr<ChunkStore> opened = backend.open(world, o);
     if (!opened)
         _exit(3);
-    SqliteStore& store = **opened;
+    ChunkStore& store = *opened;
     std::mt19937 rng(seed);
     for (uint32_t v = first_version;; ++v) {
         std::vector<int> order(kCoords);
@@ -73,14 +75,14 @@ struct CycleResult {
 
 // Kills the child `delay_us` after its `acks_before_kill`-th acknowledged flush (counting acks
 // instead of time keeps every cycle meaningful however slow the machine or the sanitizer).
-CycleResult run_and_kill(const std::string& path, uint32_t first_version, uint32_t seed, int acks_before_kill,
+CycleResult run_and_kill(test::StoreBackend& backend, const std::string& path, uint32_t first_version, uint32_t seed, int acks_before_kill,
                          int delay_us) {
     int fds[2];
     EXPECT_EQ(pipe(fds), 0);
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        child_main(path, first_version, fds[1], seed);
+        child_main(backend, path, first_version, fds[1], seed);
     }
     close(fds[1]);
     CycleResult out;
@@ -104,12 +106,11 @@ CycleResult run_and_kill(const std::string& path, uint32_t first_version, uint32
 
 } // namespace
 
-TEST(StoreCrash, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
+TEST_P(StoreSuite, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
     const uint32_t cycles = env_u32("VX_STORE_CRASH_CYCLES", 200);
     const uint32_t seed = env_u32("VX_STORE_CRASH_SEED", 20261122);
     std::mt19937 rng(seed);
-    test::TempDir dir;
-    const std::string path = dir.file("crash.db");
+    const std::string path = backend().new_world();
     uint32_t next_version = 1;
     uint32_t acked = 0; // Every coordinate holds at least this version (0: none acknowledged yet).
     uint64_t total_acks = 0, newer_than_ack = 0;
@@ -118,7 +119,7 @@ TEST(StoreCrash, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
         // between flushes.
         const int acks_before_kill = int(rng() % 3);
         const int delay_us = int(rng() % 10000);
-        const CycleResult r = run_and_kill(path, next_version, rng(), acks_before_kill, delay_us);
+        const CycleResult r = run_and_kill(backend(), path, next_version, rng(), acks_before_kill, delay_us);
         // The version being written when the child died; it is never reused afterwards.
         const uint32_t in_flight = r.any_ack ? r.last_ack + 1 : next_version;
         if (r.any_ack) {
@@ -127,11 +128,9 @@ TEST(StoreCrash, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
         }
         next_version = in_flight + 1;
 
-        SqliteStoreCreateInfo info;
-        info.path = path;
-        vx::Result<std::unique_ptr<SqliteStore>> opened = SqliteStore::open(info);
-        ASSERT_TRUE(opened.ok()) << "cycle " << cycle << ": " << opened.error();
-        SqliteStore& store = **opened;
+        std::unique_ptr<ChunkStore> opened = backend().open(path, {});
+        ASSERT_TRUE(opened) << "cycle " << cycle;
+        ChunkStore& store = *opened;
         for (int k = 0; k < kCoords; ++k) {
             const ChunkCoord c = coord_of(k);
             vx::Result<ChunkLoad> load = store.load(c);
@@ -147,10 +146,12 @@ TEST(StoreCrash, SigkillNeverLosesAcknowledgedEditsOrCorruptsRecords) {
             ASSERT_TRUE(*load->chunk == versioned_chunk(c, uint32_t(v))) << "cycle " << cycle << ": content";
             newer_than_ack += v > int64_t(acked);
         }
-        ASSERT_TRUE(store.verify_database().ok()) << "cycle " << cycle;
-        EXPECT_EQ(*store.quarantine_count(), 0u);
+        if (auto* sqlite = dynamic_cast<SqliteStore*>(&store)) {
+            ASSERT_TRUE(sqlite->verify_database().ok()) << "cycle " << cycle;
+        }
     }
-    vx::Result<StoreCheck> check = check_store(path);
+    EXPECT_EQ(backend().quarantine_count(path), 0u);
+    vx::Result<StoreCheck> check = check_world(path);
     ASSERT_TRUE(check.ok()) << check.error();
     EXPECT_EQ(check->corrupt, 0u);
     // The test must have exercised something: flushes acknowledged, and kills that landed after

@@ -1,8 +1,9 @@
 #pragma once
-// ChunkStore: persistent storage of chunk records (world/chunk_record.h) plus a few metadata
-// strings (seed, block registry names). Implementations: SqliteStore (world/store/sqlite_store.h:
-// read-write, batched, crash-safe) and the read-only VdbStore (world/vdb/vdb_store.h: its save,
-// erase and set_meta return an error, tick and flush succeed with nothing to do).
+// ChunkStore: persistent storage of chunk records (world/store/chunk_record.h) plus a few metadata
+// strings (seed, block registry names). Implementations: SqliteStore (one file, one writing
+// process, batched, crash-safe), PgStore (a PostgreSQL database shared by several processes:
+// versioned writes, change notifications) and VdbStore (world/vdb, read-only: save, erase and
+// set_meta return an error, tick and flush succeed with nothing to do).
 //
 // Thread affinity of every implementation: not thread-safe. The engine calls a store from its one
 // serial I/O lane thread only (one call at a time, all on that thread); main-thread code never
@@ -42,10 +43,31 @@ struct ChunkLoad {
     std::string problem;        // When state == Corrupt: what was wrong, one line.
 };
 
+// One block changed by this process: chunk-local position and its new id.
+struct BlockEdit {
+    LocalPos pos{0};
+    BlockId id = kAir;
+};
+
 // One edit of a save batch. `chunk` == nullptr erases the stored chunk.
 struct ChunkWrite {
     ChunkCoord coord{0};
     const Chunk* chunk = nullptr; // Read during save() only (encoded at once).
+    // The blocks this process changed since it loaded (or last saved) the chunk, oldest first.
+    // A shared store (PgStore) that finds the chunk changed by another process meanwhile
+    // re-applies these to the newer version instead of overwriting it. Empty: `chunk` replaces
+    // whatever is stored (a freshly generated chunk, or a store with one writer). Read during
+    // save() only.
+    std::span<const BlockEdit> edits{};
+};
+
+// How a store's connection to its backing storage is doing (shared stores; files are always up).
+struct StoreHealth {
+    bool connected = true;         // False while the server cannot be reached; edits are kept.
+    uint64_t reconnects = 0;       // Connections re-established after a loss.
+    uint64_t conflicts = 0;        // Writes that found a newer version and re-applied their edits.
+    size_t pending_edits = 0;      // Edits queued in memory, not yet committed.
+    std::string last_error;        // The last connection or write error, one line ("" if none).
 };
 
 class ChunkStore {
@@ -98,6 +120,14 @@ public:
     virtual Status set_meta(std::string_view key, std::string_view value) = 0;
 
     virtual bool read_only() const = 0;
+    // Queued edits (chunks and metadata) not yet committed. Same thread as the calls above.
+    virtual size_t pending_edits() const { return 0; }
+
+    // Chunks that other processes changed since the last call (shared stores: the engine reloads
+    // and remeshes those it holds). Thread-safe, cheap, never blocks: callable from any thread.
+    virtual void poll_changes(std::vector<ChunkCoord>& out) { (void)out; }
+    // Connection state and counters. Thread-safe.
+    virtual StoreHealth health() const { return {}; }
 };
 
 } // namespace vx::world

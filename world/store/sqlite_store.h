@@ -57,7 +57,7 @@ public:
     bool read_only() const override { return m_info.read_only; }
 
     // Queued edits (chunks and metadata) not yet committed.
-    size_t pending_edits() const { return m_pending.size() + m_pending_meta.size(); }
+    size_t pending_edits() const override { return m_pending.size() + m_pending_meta.size(); }
     // Records in the quarantine table.
     Result<uint64_t> quarantine_count();
     // Runs SQLite's PRAGMA quick_check over the whole file (O(size)); the error names the first

@@ -1,0 +1,242 @@
+// PgStore's transactions: the pipelined, versioned commit and its conflict resolution, and the
+// queries that read the whole world (count, list, metadata).
+#include "world/base/log.h"
+#include "world/store/pg_store.h"
+#include "world/store/pg_wire.h"
+
+namespace vx::world {
+
+namespace {
+
+constexpr size_t kNotifyPayloadMax = 7900; // NOTIFY payloads must be shorter than 8000 bytes.
+
+bool result_ok(const PGresult* r) {
+    const ExecStatusType s = PQresultStatus(r);
+    return s == PGRES_COMMAND_OK || s == PGRES_TUPLES_OK;
+}
+
+std::string coord_str(ChunkCoord c) {
+    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
+}
+
+bool send(PGconn* conn, const char* name, const pg::Params& p) {
+    return PQsendQueryPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1) == 1;
+}
+
+// Coordinates as NOTIFY payloads ("x,y,z;x,y,z;..."), each under the size limit.
+std::vector<std::string> notify_payloads(const std::vector<ChunkCoord>& coords) {
+    std::vector<std::string> out(1);
+    for (ChunkCoord c : coords) {
+        std::string item = coord_str(c) + ";";
+        if (out.back().size() + item.size() > kNotifyPayloadMax)
+            out.emplace_back();
+        out.back() += item;
+    }
+    if (out.back().empty())
+        out.pop_back();
+    return out;
+}
+
+// Reads the results of one pipelined command (results up to the NULL that ends it).
+struct PipelineReader {
+    PGconn* conn;
+    std::string first_error;
+
+    // The command's last result (null if the connection failed); records the first error.
+    pg::ResultPtr next() {
+        pg::ResultPtr last;
+        while (PGresult* r = PQgetResult(conn)) {
+            last.reset(r);
+            const ExecStatusType s = PQresultStatus(r);
+            if (s != PGRES_COMMAND_OK && s != PGRES_TUPLES_OK && first_error.empty())
+                first_error = s == PGRES_PIPELINE_ABORTED ? "pipeline aborted" : pg::message(conn, r);
+        }
+        if (!last && first_error.empty())
+            first_error = pg::message(conn);
+        return last;
+    }
+    // Consumes the sync point.
+    bool sync() {
+        pg::ResultPtr r(PQgetResult(conn));
+        return r && PQresultStatus(r.get()) == PGRES_PIPELINE_SYNC;
+    }
+};
+
+} // namespace
+
+// One round trip: BEGIN, every versioned upsert, the metadata and the notifications, pipelined;
+// then COMMIT, or ROLLBACK when any upsert found a newer version (the coordinates are returned
+// and the caller re-applies its edits before the next attempt). True: committed.
+Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
+    std::vector<ChunkCoord> order;
+    order.reserve(m_pending.size());
+    for (const auto& [c, p] : m_pending)
+        order.push_back(c);
+    if (PQenterPipelineMode(m_conn) != 1)
+        return error("cannot start a pipeline");
+    bool sent = PQsendQueryParams(m_conn, "BEGIN", 0, nullptr, nullptr, nullptr, nullptr, 0) == 1;
+    static const uint8_t kEmpty = 0;
+    for (size_t i = 0; sent && i < order.size(); ++i) {
+        const Pending& p = m_pending[order[i]];
+        pg::Params params;
+        params.add_coord(order[i]);
+        params.add_i64(int64_t(known_version(order[i])));
+        if (p.record)
+            params.add_ref(p.record->data(), p.record->size());
+        else
+            params.add_ref(&kEmpty, 0); // A tombstone (see pg_wire.cpp).
+        sent = send(m_conn, "vx_put", params);
+    }
+    for (auto it = m_pending_meta.begin(); sent && it != m_pending_meta.end(); ++it) {
+        pg::Params params;
+        params.add_text(it->first);
+        params.add_ref(it->second.data(), it->second.size());
+        sent = send(m_conn, "vx_meta_put", params);
+    }
+    const std::vector<std::string> payloads = notify_payloads(order);
+    for (size_t i = 0; sent && i < payloads.size(); ++i) {
+        pg::Params params;
+        params.add_text(payloads[i]);
+        sent = send(m_conn, "vx_notify", params);
+    }
+    if (!sent || PQpipelineSync(m_conn) != 1) {
+        Error e = error("cannot send a commit");
+        if (m_conn)
+            PQexitPipelineMode(m_conn);
+        return e;
+    }
+    PipelineReader reader{m_conn, {}};
+    reader.next(); // BEGIN
+    std::vector<uint64_t> versions(order.size(), 0);
+    for (size_t i = 0; i < order.size(); ++i) {
+        pg::ResultPtr r = reader.next();
+        if (r && PQresultStatus(r.get()) == PGRES_TUPLES_OK) {
+            if (PQntuples(r.get()) == 1)
+                versions[i] = uint64_t(pg::get_i64(r.get(), 0, 0));
+            else
+                conflicts.push_back(order[i]);
+        }
+    }
+    for (size_t i = 0; i < m_pending_meta.size() + payloads.size(); ++i)
+        reader.next();
+    const bool synced = reader.sync();
+    if (!synced || PQexitPipelineMode(m_conn) != 1 || !reader.first_error.empty()) {
+        const std::string why = reader.first_error.empty() ? "pipeline out of step" : reader.first_error;
+        Error e = error("cannot write " + std::to_string(order.size()) + " chunks (" + why + ")");
+        if (m_conn)
+            pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
+        return e;
+    }
+    pg::ResultPtr end(PQexec(m_conn, conflicts.empty() ? "COMMIT" : "ROLLBACK"));
+    if (!result_ok(end.get()))
+        return error(conflicts.empty() ? "commit failed; edits kept for a retry" : "rollback failed");
+    if (!conflicts.empty())
+        return false;
+    for (size_t i = 0; i < order.size(); ++i)
+        m_versions[order[i]] = versions[i];
+    return true;
+}
+
+// Another process wrote chunk `c` since this store last saw it: take its version, and where this
+// process recorded its own edits, re-apply them to that version (theirs + ours). A write without
+// edits (a whole chunk) replaces theirs: the last writer wins, as documented in chunk_store.h.
+Status PgStore::resolve_conflict(ChunkCoord c) {
+    pg::Params params;
+    params.add_coord(c);
+    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_load", params.count(), params.values(), params.lengths(),
+                                   params.formats(), 1));
+    if (!result_ok(r.get()))
+        return error("cannot reload chunk " + coord_str(c) + " after a conflict");
+    Pending& p = m_pending[c];
+    std::optional<Chunk> theirs;
+    uint64_t version = 0;
+    if (PQntuples(r.get()) == 1) {
+        version = uint64_t(pg::get_i64(r.get(), 0, 0));
+        const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
+        const size_t n = size_t(PQgetlength(r.get(), 0, 1));
+        if (n > 0) {
+            Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(data, n), c);
+            if (chunk)
+                theirs = std::move(*chunk);
+            else if (Status s = quarantine(c, version, chunk.error()); !s)
+                return s;
+            else
+                version = known_version(c); // The tombstone's version.
+        }
+    }
+    m_versions[c] = version;
+    if (p.whole || !p.record || !theirs)
+        return {};
+    for (const BlockEdit& e : p.edits)
+        theirs->set(e.pos, e.id);
+    m_pending_bytes -= p.record->size();
+    m_codec.encode(c, *theirs, *p.record);
+    m_pending_bytes += p.record->size();
+    std::lock_guard lock(m_health_mutex);
+    m_local_changes.push_back(c); // This process's copy lacks their edits: it should reload.
+    return {};
+}
+
+Result<bool> PgStore::contains(ChunkCoord c) {
+    if (auto it = m_pending.find(c); it != m_pending.end())
+        return it->second.record.has_value();
+    if (Status s = ensure_connected(false); !s)
+        return Error{s.error()};
+    pg::Params p;
+    p.add_coord(c);
+    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_has", p.count(), p.values(), p.lengths(), p.formats(), 1));
+    if (!result_ok(r.get()))
+        return error("cannot look up chunk " + coord_str(c));
+    return PQntuples(r.get()) > 0;
+}
+
+Result<uint64_t> PgStore::count() {
+    if (Status s = commit(); !s)
+        return Error{s.error()};
+    if (Status s = ensure_connected(true); !s)
+        return Error{s.error()};
+    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_count", 0, nullptr, nullptr, nullptr, 1));
+    if (!result_ok(r.get()) || PQntuples(r.get()) != 1)
+        return error("cannot count chunks");
+    return uint64_t(pg::get_i64(r.get(), 0, 0));
+}
+
+Status PgStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
+    if (Status s = commit(); !s)
+        return s;
+    if (Status s = ensure_connected(true); !s)
+        return s;
+    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_list", 0, nullptr, nullptr, nullptr, 1));
+    if (!result_ok(r.get()))
+        return error("cannot list chunks");
+    for (int i = 0, n = PQntuples(r.get()); i < n; ++i)
+        if (!fn(ChunkCoord(pg::get_i32(r.get(), i, 0), pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2))))
+            break;
+    return {};
+}
+
+Result<std::optional<std::string>> PgStore::get_meta(std::string_view key) {
+    if (auto it = m_pending_meta.find(key); it != m_pending_meta.end())
+        return std::optional<std::string>(it->second);
+    if (Status s = ensure_connected(false); !s)
+        return Error{s.error()};
+    pg::Params p;
+    p.add_text(std::string(key));
+    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_meta_get", p.count(), p.values(), p.lengths(), p.formats(), 1));
+    if (!result_ok(r.get()))
+        return error("cannot read metadata '" + std::string(key) + "'");
+    if (PQntuples(r.get()) == 0)
+        return std::optional<std::string>();
+    return std::optional<std::string>(std::string(PQgetvalue(r.get(), 0, 0), size_t(PQgetlength(r.get(), 0, 0))));
+}
+
+Status PgStore::set_meta(std::string_view key, std::string_view value) {
+    if (m_info.read_only)
+        return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
+    if (pending_edits() == 0)
+        m_pending_since = Clock::now();
+    m_pending_meta[std::string(key)] = std::string(value);
+    return {};
+}
+
+} // namespace vx::world

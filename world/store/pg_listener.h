@@ -1,0 +1,46 @@
+#pragma once
+// The change listener of a PgStore: its own connection, LISTEN vx_chunks, and a thread that
+// waits on the socket and collects the chunk coordinates other processes committed. Payloads
+// are "x,y,z;x,y,z;..." sent by the writers' commits (pg_store.cpp); notifications from the
+// writer connection of this same store are skipped (its backend pid).
+// Thread affinity: construct and destroy on one thread; take() and set_own_pid() thread-safe.
+
+#include <atomic>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "world/coords.h"
+
+namespace vx::world::pg {
+
+class ChangeListener {
+public:
+    // Starts the thread; it connects (and reconnects with back-off) by itself.
+    ChangeListener(std::string conninfo, int connect_timeout_s);
+    ~ChangeListener();
+    ChangeListener(const ChangeListener&) = delete;
+    ChangeListener& operator=(const ChangeListener&) = delete;
+
+    // Moves the coordinates collected since the last call into `out` (appended).
+    void take(std::vector<ChunkCoord>& out);
+    // The backend pid of the store's writer connection: its own notifications are skipped.
+    void set_own_pid(int pid) { m_own_pid.store(pid); }
+    // True once the listener's connection is up and listening.
+    bool listening() const { return m_listening.load(); }
+
+private:
+    void run();
+    void parse(const char* payload);
+
+    std::string m_conninfo;
+    int m_timeout_s;
+    std::atomic<bool> m_stop{false}, m_listening{false};
+    std::atomic<int> m_own_pid{0};
+    std::mutex m_mutex;
+    std::vector<ChunkCoord> m_changes; // Guarded by m_mutex.
+    std::thread m_thread;
+};
+
+} // namespace vx::world::pg

@@ -1,0 +1,334 @@
+#include "world/store/pg_store.h"
+
+#include <algorithm>
+
+#include "world/base/log.h"
+#include "world/store/pg_listener.h"
+#include "world/store/pg_wire.h"
+
+namespace vx::world {
+
+namespace {
+
+// Each attempt resolves every conflict it met; more than a few rounds means a hot spot written
+// by many processes at once.
+constexpr int kMaxCommitAttempts = 32;
+constexpr std::chrono::milliseconds kMaxBackoff{8000};
+
+std::string coord_str(ChunkCoord c) {
+    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
+}
+
+bool result_ok(const PGresult* r) {
+    const ExecStatusType s = PQresultStatus(r);
+    return s == PGRES_COMMAND_OK || s == PGRES_TUPLES_OK;
+}
+
+pg::ResultPtr exec_prepared(PGconn* conn, const char* name, const pg::Params& p) {
+    return pg::ResultPtr(PQexecPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1));
+}
+
+} // namespace
+
+bool is_pg_uri(std::string_view s) { return s.starts_with("postgresql://") || s.starts_with("postgres://"); }
+
+std::string redact_pg_uri(std::string_view uri) {
+    std::string s(uri);
+    // scheme://user:password@host/...
+    if (const size_t scheme = s.find("://"); scheme != std::string::npos) {
+        const size_t start = scheme + 3;
+        const size_t at = s.find('@', start), slash = s.find('/', start), colon = s.find(':', start);
+        if (at != std::string::npos && (slash == std::string::npos || at < slash) && colon < at)
+            s.replace(colon + 1, at - colon - 1, "***");
+    }
+    // password=... as a URI parameter or a key=value pair.
+    for (size_t p = s.find("password="); p != std::string::npos; p = s.find("password=", p + 12)) {
+        const size_t end = s.find_first_of("& ", p);
+        s.replace(p + 9, (end == std::string::npos ? s.size() : end) - (p + 9), "***");
+    }
+    return s;
+}
+
+PgStore::PgStore(PgStoreCreateInfo info)
+    : m_info(std::move(info)), m_name(redact_pg_uri(m_info.uri)), m_codec(m_info.zstd_level) {}
+
+PgStore::~PgStore() {
+    if (m_conn && pending_edits() > 0)
+        if (Status s = commit(); !s)
+            VX_LOG_ERROR("%s (%zu edits not saved)", s.error().c_str(), pending_edits());
+    m_listener.reset();
+    if (m_conn)
+        PQfinish(m_conn);
+}
+
+Result<std::unique_ptr<PgStore>> PgStore::open(const PgStoreCreateInfo& info) {
+    std::unique_ptr<PgStore> store(new PgStore(info));
+    if (Status s = store->connect(); !s)
+        return Error{s.error()};
+    if (Status s = store->init_schema(); !s)
+        return Error{s.error()};
+    if (info.listen) {
+        store->m_listener = std::make_unique<pg::ChangeListener>(info.uri, info.connect_timeout_s);
+        store->m_listener->set_own_pid(PQbackendPID(store->m_conn));
+    }
+    return store;
+}
+
+Status PgStore::connect() {
+    if (m_conn)
+        PQfinish(m_conn);
+    m_conn = pg::connect(m_info.uri, m_info.connect_timeout_s);
+    if (PQstatus(m_conn) != CONNECTION_OK) {
+        Error e{"cannot connect to PostgreSQL world '" + m_name + "': " + pg::message(m_conn)};
+        PQfinish(m_conn);
+        m_conn = nullptr;
+        std::lock_guard lock(m_health_mutex);
+        m_health.connected = false;
+        m_health.last_error = e.message;
+        return e;
+    }
+    if (m_listener)
+        m_listener->set_own_pid(PQbackendPID(m_conn));
+    return m_schema_ready ? prepare() : Status{};
+}
+
+Status PgStore::init_schema() {
+    pg::ResultPtr r(PQexec(m_conn, "SELECT to_regclass('vx_meta') IS NOT NULL, "
+                                   "(SELECT count(*) FROM pg_tables WHERE schemaname = current_schema())"));
+    if (!result_ok(r.get()) || PQntuples(r.get()) != 1)
+        return error("cannot read the database's tables");
+    const bool has_world = PQgetvalue(r.get(), 0, 0)[0] == 't';
+    const std::string tables = PQgetvalue(r.get(), 0, 1);
+    if (!has_world) {
+        if (tables != "0")
+            return Error{"database '" + m_name + "' holds " + tables +
+                         " other tables and no vx world: refusing to use it (give vx an empty database)"};
+        if (m_info.read_only || !m_info.create)
+            return Error{"database '" + m_name + "' holds no vx world"};
+        // Several processes may create the world at once: an advisory lock orders them, and
+        // IF NOT EXISTS / ON CONFLICT make the later ones no-ops.
+        const std::string sql = std::string("BEGIN; SELECT pg_advisory_xact_lock(7942519736); ") + pg::kSchemaSql +
+                                "INSERT INTO vx_meta VALUES ('format', convert_to('" + pg::kFormat +
+                                "', 'UTF8')) ON CONFLICT DO NOTHING; COMMIT;";
+        pg::ResultPtr c(PQexec(m_conn, sql.c_str()));
+        if (!result_ok(c.get())) {
+            Error e = error("cannot create the world's tables");
+            pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
+            return e;
+        }
+    }
+    pg::ResultPtr f(PQexec(m_conn, "SELECT convert_from(value, 'UTF8') FROM vx_meta WHERE key = 'format'"));
+    if (!result_ok(f.get()))
+        return error("cannot read the world's format");
+    const std::string format = PQntuples(f.get()) == 1 ? PQgetvalue(f.get(), 0, 0) : "";
+    if (format != pg::kFormat)
+        return Error{"database '" + m_name + "' holds a vx world of format '" + format + "'; this build reads '" +
+                     pg::kFormat + "'"};
+    m_schema_ready = true;
+    return prepare();
+}
+
+Status PgStore::prepare() {
+    for (size_t i = 0; i < pg::kStatementCount; ++i) {
+        pg::ResultPtr r(PQprepare(m_conn, pg::kStatements[i].name, pg::kStatements[i].sql, 0, nullptr));
+        if (!result_ok(r.get()))
+            return error(std::string("cannot prepare ") + pg::kStatements[i].name);
+    }
+    return {};
+}
+
+Error PgStore::error(const std::string& what) {
+    Error e{"PostgreSQL world '" + m_name + "': " + what + ": " + pg::message(m_conn)};
+    if (!m_conn || PQstatus(m_conn) != CONNECTION_OK)
+        lost(e.message);
+    std::lock_guard lock(m_health_mutex);
+    m_health.last_error = e.message;
+    return e;
+}
+
+void PgStore::lost(const std::string& what) {
+    if (m_conn) {
+        PQfinish(m_conn);
+        m_conn = nullptr;
+    }
+    m_next_retry = Clock::now() + m_backoff;
+    std::lock_guard lock(m_health_mutex);
+    if (m_health.connected)
+        VX_LOG_WARN("%s; edits are kept in memory, reconnecting", what.c_str());
+    m_health.connected = false;
+    m_health.last_error = what;
+}
+
+Status PgStore::ensure_connected(bool now) {
+    if (m_conn && PQstatus(m_conn) == CONNECTION_OK)
+        return {};
+    if (m_conn)
+        lost("PostgreSQL world '" + m_name + "': connection lost");
+    if (!now && Clock::now() < m_next_retry)
+        return Error{"PostgreSQL world '" + m_name + "' is not reachable; " + std::to_string(pending_edits()) +
+                     " edits kept in memory"};
+    if (Status s = connect(); !s) {
+        m_backoff = std::min(m_backoff * 2, kMaxBackoff);
+        m_next_retry = Clock::now() + m_backoff;
+        return Error{s.error() + "; " + std::to_string(pending_edits()) + " edits kept in memory"};
+    }
+    m_backoff = std::chrono::milliseconds(250);
+    std::lock_guard lock(m_health_mutex);
+    m_health.connected = true;
+    ++m_health.reconnects;
+    VX_LOG_WARN("PostgreSQL world '%s': reconnected", m_name.c_str());
+    return {};
+}
+
+Result<ChunkLoad> PgStore::load(ChunkCoord c) {
+    ChunkLoad out;
+    if (auto it = m_pending.find(c); it != m_pending.end()) {
+        if (!it->second.record)
+            return out; // Erase queued.
+        Result<Chunk> chunk = m_codec.decode(*it->second.record, c);
+        VX_ASSERT_MSG(chunk.ok(), "a queued record failed to decode");
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    if (Status s = ensure_connected(false); !s)
+        return Error{s.error()};
+    pg::Params p;
+    p.add_coord(c);
+    pg::ResultPtr r = exec_prepared(m_conn, "vx_load", p);
+    if (!result_ok(r.get()))
+        return error("cannot load chunk " + coord_str(c));
+    if (PQntuples(r.get()) == 0) {
+        m_versions.erase(c);
+        return out;
+    }
+    const uint64_t version = uint64_t(pg::get_i64(r.get(), 0, 0));
+    m_versions[c] = version;
+    const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
+    const size_t n = size_t(PQgetlength(r.get(), 0, 1));
+    if (n == 0)
+        return out; // A tombstone: erased.
+    Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(data, n), c);
+    if (chunk) {
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    out.state = LoadState::Corrupt;
+    out.problem = chunk.error();
+    if (Status s = quarantine(c, version, out.problem); !s)
+        return Error{s.error()};
+    return out;
+}
+
+Status PgStore::quarantine(ChunkCoord c, uint64_t version, const std::string& reason) {
+    VX_LOG_WARN("PostgreSQL world '%s': chunk %s: %s%s", m_name.c_str(), coord_str(c).c_str(), reason.c_str(),
+                m_info.read_only ? "" : "; moved to quarantine");
+    if (m_info.read_only)
+        return {};
+    pg::Params p;
+    p.add_coord(c);
+    p.add_i64(int64_t(version));
+    p.add_text(reason);
+    pg::ResultPtr r = exec_prepared(m_conn, "vx_quarantine", p);
+    if (!result_ok(r.get()))
+        return error("cannot quarantine chunk " + coord_str(c));
+    if (PQntuples(r.get()) == 1)
+        m_versions[c] = uint64_t(pg::get_i64(r.get(), 0, 0));
+    return {}; // No row: another process replaced the record meanwhile; nothing to move.
+}
+
+Status PgStore::save(std::span<const ChunkWrite> batch) {
+    if (m_info.read_only)
+        return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
+    if (pending_edits() == 0 && !batch.empty())
+        m_pending_since = Clock::now();
+    for (const ChunkWrite& w : batch) {
+        Pending& p = m_pending[w.coord];
+        if (p.record)
+            m_pending_bytes -= p.record->size();
+        if (!w.chunk) {
+            p.record.reset();
+            p.whole = true;
+            p.edits.clear();
+            continue;
+        }
+        if (!p.record)
+            p.record.emplace();
+        m_codec.encode(w.coord, *w.chunk, *p.record);
+        m_pending_bytes += p.record->size();
+        if (w.edits.empty()) {
+            p.whole = true;
+            p.edits.clear();
+        } else if (!p.whole) {
+            p.edits.insert(p.edits.end(), w.edits.begin(), w.edits.end());
+        }
+    }
+    {
+        std::lock_guard lock(m_health_mutex);
+        m_health.pending_edits = pending_edits();
+    }
+    if (m_pending_bytes > m_info.max_pending_bytes)
+        return commit();
+    return {};
+}
+
+Status PgStore::tick(Clock::time_point now) {
+    if (!m_conn && now >= m_next_retry)
+        (void)ensure_connected(false); // A failure is in health(); the queue waits.
+    if (m_pending_since && now - *m_pending_since >= m_info.max_pending_age)
+        return commit();
+    return {};
+}
+
+Status PgStore::flush() { return commit(); }
+
+Status PgStore::commit() {
+    if (pending_edits() == 0)
+        return {};
+    if (Status s = ensure_connected(true); !s)
+        return s;
+    std::vector<ChunkCoord> conflicts;
+    for (int attempt = 0; attempt < kMaxCommitAttempts; ++attempt) {
+        conflicts.clear();
+        Result<bool> done = try_commit(conflicts);
+        if (!done)
+            return Error{done.error() + "; " + std::to_string(pending_edits()) + " edits kept in memory"};
+        if (*done) {
+            m_pending.clear();
+            m_pending_meta.clear();
+            m_pending_bytes = 0;
+            m_pending_since.reset();
+            std::lock_guard lock(m_health_mutex);
+            m_health.pending_edits = 0;
+            return {};
+        }
+        for (ChunkCoord c : conflicts)
+            if (Status s = resolve_conflict(c); !s)
+                return s;
+        std::lock_guard lock(m_health_mutex);
+        m_health.conflicts += conflicts.size();
+    }
+    return Error{"PostgreSQL world '" + m_name + "': gave up after " + std::to_string(kMaxCommitAttempts) +
+                 " conflicting attempts; edits kept in memory"};
+}
+
+uint64_t PgStore::known_version(ChunkCoord c) const {
+    const auto it = m_versions.find(c);
+    return it == m_versions.end() ? 0 : it->second;
+}
+
+void PgStore::poll_changes(std::vector<ChunkCoord>& out) {
+    if (m_listener)
+        m_listener->take(out);
+    std::lock_guard lock(m_health_mutex);
+    out.insert(out.end(), m_local_changes.begin(), m_local_changes.end());
+    m_local_changes.clear();
+}
+
+StoreHealth PgStore::health() const {
+    std::lock_guard lock(m_health_mutex);
+    return m_health;
+}
+
+} // namespace vx::world

@@ -1,0 +1,131 @@
+#pragma once
+// PgStore: a ChunkStore in a PostgreSQL database, for worlds that several processes use at once
+// (a generation farm, game servers over one map, an editor beside a game). One world per
+// database, named by a libpq connection URI (postgresql://[user@]host[:port]/dbname?...).
+//
+// Tables (created when absent; a database holding other tables and no vx world is refused):
+//   vx_meta(key, value)                       metadata; key 'format' = 'vx-world-1'
+//   vx_chunks(x, y, z, version, data)         one chunk record (chunk_record.h) per coordinate
+//   vx_quarantine(id, x, y, z, version, data, reason, at)  records that failed verification
+//
+// Writes: save() queues records in memory (read back at once, as in every ChunkStore); a commit
+// sends every queued record as one pipelined transaction of versioned upserts (one round trip),
+// so a batch lands whole or not at all and a killed writer leaves no torn record (PostgreSQL's
+// WAL; synchronous_commit on, so a flush() that succeeded survives a server crash too). Each
+// upsert states the version this process last saw; when another process wrote the chunk since,
+// the transaction is rolled back, the newer record is fetched, this process's own edits
+// (ChunkWrite::edits) are re-applied to it, and the batch is retried: no acknowledged edit of
+// either process is lost. A commit also sends NOTIFY vx_chunks with the coordinates; a listener
+// thread (its own connection) collects other processes' notifications for poll_changes().
+//
+// Connection loss: queued edits stay in memory; tick() reconnects with exponential back-off
+// (0.25 s doubling to 8 s), flush() and load() report the error; health() says so.
+//
+// Thread affinity: as every ChunkStore, one thread (the engine's I/O lane) calls everything but
+// poll_changes() and health(), which are thread-safe.
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "world/store/chunk_record.h"
+#include "world/store/chunk_store.h"
+
+struct pg_conn;
+
+namespace vx::world {
+namespace pg {
+class ChangeListener;
+}
+
+struct PgStoreCreateInfo {
+    std::string uri;                                 // libpq connection URI or key=value string.
+    bool read_only = false;                          // Refuse writes (readers still get notified).
+    bool create = true;                              // Create the tables in an empty database.
+    bool listen = true;                              // Run the change listener (poll_changes).
+    std::chrono::milliseconds max_pending_age{1000}; // tick() commits edits older than this.
+    size_t max_pending_bytes = size_t(32) << 20;     // save() commits when the queue holds more.
+    int zstd_level = 1;                              // 1..3.
+    int connect_timeout_s = 3;                       // Per connection attempt.
+};
+
+// True for strings libpq reads as a connection URI ("postgresql://", "postgres://").
+bool is_pg_uri(std::string_view s);
+// The URI with any password replaced by "***", for messages and logs.
+std::string redact_pg_uri(std::string_view uri);
+
+class PgStore final : public ChunkStore {
+public:
+    // Connects, checks (or creates) the schema. Errors, one line naming the database: cannot
+    // connect (server down, no such database, authentication), a database holding something else,
+    // an unsupported format version.
+    static Result<std::unique_ptr<PgStore>> open(const PgStoreCreateInfo& info);
+    // Commits queued edits (errors logged), stops the listener, closes the connections.
+    ~PgStore() override;
+    PgStore(const PgStore&) = delete;
+    PgStore& operator=(const PgStore&) = delete;
+
+    Result<ChunkLoad> load(ChunkCoord c) override;
+    using ChunkStore::save;
+    Status save(std::span<const ChunkWrite> batch) override;
+    Status tick(Clock::time_point now) override;
+    Status flush() override;
+    Result<bool> contains(ChunkCoord c) override;
+    Result<uint64_t> count() override;
+    Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override;
+    Result<std::optional<std::string>> get_meta(std::string_view key) override;
+    Status set_meta(std::string_view key, std::string_view value) override;
+    bool read_only() const override { return m_info.read_only; }
+    void poll_changes(std::vector<ChunkCoord>& out) override;
+    StoreHealth health() const override;
+
+    // Commits queued edits now (a synchronous commit: durable when it returns success).
+    Status commit();
+    size_t pending_edits() const override { return m_pending.size() + m_pending_meta.size(); }
+    // The version of chunk `c` this store last read or wrote (0: absent or never seen).
+    uint64_t known_version(ChunkCoord c) const;
+
+private:
+    struct Pending {
+        std::optional<std::vector<uint8_t>> record; // Nullopt: erase.
+        std::vector<BlockEdit> edits;               // Since the known version.
+        bool whole = false;                         // A write without edits: replaces the chunk.
+    };
+
+    explicit PgStore(PgStoreCreateInfo info);
+    Status connect();
+    Status ensure_connected(bool now); // now: try at once, else only when the back-off elapsed.
+    Status init_schema();
+    Status prepare();
+    void lost(const std::string& what);
+    Status quarantine(ChunkCoord c, uint64_t version, const std::string& reason);
+    Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
+    Status resolve_conflict(ChunkCoord c);
+    Error error(const std::string& what);
+
+    PgStoreCreateInfo m_info;
+    std::string m_name; // Redacted URI for messages.
+    pg_conn* m_conn = nullptr;
+    bool m_schema_ready = false;
+    RecordCodec m_codec;
+    std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> m_versions; // Last version seen.
+    std::unordered_map<ChunkCoord, Pending, ChunkCoordHash> m_pending;
+    std::map<std::string, std::string, std::less<>> m_pending_meta;
+    size_t m_pending_bytes = 0;
+    std::optional<Clock::time_point> m_pending_since;
+    Clock::time_point m_next_retry{};
+    std::chrono::milliseconds m_backoff{250};
+    std::unique_ptr<pg::ChangeListener> m_listener;
+    std::vector<ChunkCoord> m_local_changes; // Merged chunks (poll_changes); m_health_mutex.
+
+    mutable std::mutex m_health_mutex; // Guards m_health and m_local_changes.
+    StoreHealth m_health;
+};
+
+} // namespace vx::world

@@ -1,0 +1,62 @@
+#include "world/store/pg_wire.h"
+
+namespace vx::world::pg {
+
+PGconn* connect(const std::string& conninfo, int connect_timeout_s) {
+    // expand_dbname = 1: `conninfo` is parsed as a URI or key=value string; later keywords
+    // override what it sets.
+    const std::string timeout = std::to_string(connect_timeout_s);
+    const char* keys[] = {"dbname", "connect_timeout", "application_name", nullptr};
+    const char* values[] = {conninfo.c_str(), timeout.c_str(), "vx", nullptr};
+    return PQconnectdbParams(keys, values, 1);
+}
+
+std::string message(PGconn* conn, const PGresult* r) {
+    std::string m = r ? PQresultErrorMessage(r) : "";
+    if (m.empty() && conn)
+        m = PQerrorMessage(conn);
+    // libpq's messages end in a newline and may span lines ("DETAIL: ..."): keep the first line.
+    if (const size_t nl = m.find('\n'); nl != std::string::npos)
+        m.resize(nl);
+    return m.empty() ? "unknown error" : m;
+}
+
+// Versions only ever grow: an erase writes an empty record (a tombstone) with the next version
+// rather than deleting the row, so a version a process remembers can never be reused by a later
+// insert (the ABA case of delete + re-insert).
+const char* const kSchemaSql = R"sql(
+CREATE TABLE IF NOT EXISTS vx_meta(key text PRIMARY KEY, value bytea NOT NULL);
+CREATE TABLE IF NOT EXISTS vx_chunks(
+  x int4 NOT NULL, y int4 NOT NULL, z int4 NOT NULL,
+  version int8 NOT NULL, data bytea NOT NULL,
+  PRIMARY KEY (x, y, z));
+CREATE TABLE IF NOT EXISTS vx_quarantine(
+  id bigserial PRIMARY KEY, x int4, y int4, z int4, version int8, data bytea, reason text,
+  at timestamptz NOT NULL DEFAULT now());
+)sql";
+
+const Statement kStatements[] = {
+    {"vx_load", "SELECT version, data FROM vx_chunks WHERE x = $1 AND y = $2 AND z = $3"},
+    // The versioned upsert: a row is written only when its version is still the one this process
+    // last saw ($4; 0 = "absent"). No row back = another process wrote it first (a conflict).
+    {"vx_put", "INSERT INTO vx_chunks AS c (x, y, z, version, data) VALUES ($1, $2, $3, 1, $5) "
+               "ON CONFLICT (x, y, z) DO UPDATE SET version = c.version + 1, data = EXCLUDED.data "
+               "WHERE c.version = $4 RETURNING version"},
+    {"vx_has", "SELECT 1 FROM vx_chunks WHERE x = $1 AND y = $2 AND z = $3 AND length(data) > 0"},
+    {"vx_count", "SELECT count(*) FROM vx_chunks WHERE length(data) > 0"},
+    {"vx_list", "SELECT x, y, z FROM vx_chunks WHERE length(data) > 0"},
+    {"vx_meta_get", "SELECT value FROM vx_meta WHERE key = $1"},
+    {"vx_meta_put", "INSERT INTO vx_meta (key, value) VALUES ($1, $2) "
+                    "ON CONFLICT (key) DO UPDATE SET value = EXCLUDED.value"},
+    // Moves a record that failed verification aside (verbatim, inside the server) and leaves a
+    // tombstone, in one statement: both or neither.
+    {"vx_quarantine", "WITH q AS (INSERT INTO vx_quarantine (x, y, z, version, data, reason) "
+                      "SELECT x, y, z, version, data, $5 FROM vx_chunks "
+                      "WHERE x = $1 AND y = $2 AND z = $3 AND version = $4 RETURNING 1) "
+                      "UPDATE vx_chunks SET version = version + 1, data = '' "
+                      "WHERE x = $1 AND y = $2 AND z = $3 AND version = $4 RETURNING version"},
+    {"vx_notify", "SELECT pg_notify('vx_chunks', $1)"},
+};
+const size_t kStatementCount = sizeof(kStatements) / sizeof(kStatements[0]);
+
+} // namespace vx::world::pg

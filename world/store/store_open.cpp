@@ -1,0 +1,60 @@
+#include "world/store/store_open.h"
+
+#include "world/store/pg_store.h"
+
+namespace vx::world {
+
+Result<std::unique_ptr<ChunkStore>> open_store(const StoreOpenInfo& info) {
+    if (is_pg_uri(info.name)) {
+        PgStoreCreateInfo pci;
+        pci.uri = info.name;
+        pci.read_only = info.read_only;
+        pci.create = info.create;
+        pci.listen = info.listen;
+        auto store = PgStore::open(pci);
+        if (!store)
+            return Error{store.error()};
+        return std::unique_ptr<ChunkStore>(std::move(*store));
+    }
+    SqliteStoreCreateInfo sci;
+    sci.path = info.name;
+    sci.read_only = info.read_only;
+    sci.create = info.create;
+    auto store = SqliteStore::open(sci);
+    if (!store)
+        return Error{store.error()};
+    return std::unique_ptr<ChunkStore>(std::move(*store));
+}
+
+std::string store_display_name(const std::string& name) { return is_pg_uri(name) ? redact_pg_uri(name) : name; }
+
+Result<StoreCheck> check_world(const std::string& name) {
+    if (!is_pg_uri(name))
+        return check_store(name);
+    PgStoreCreateInfo pci;
+    pci.uri = name;
+    pci.read_only = true;
+    pci.listen = false;
+    auto store = PgStore::open(pci);
+    if (!store)
+        return Error{store.error()};
+    auto coords = (*store)->list_coords();
+    if (!coords)
+        return Error{coords.error()};
+    StoreCheck check;
+    for (ChunkCoord c : *coords) {
+        auto load = (*store)->load(c);
+        if (!load)
+            return Error{load.error()};
+        ++check.records;
+        if (load->state == LoadState::Corrupt) {
+            ++check.corrupt;
+            if (check.problems.size() < 8)
+                check.problems.push_back("chunk " + std::to_string(c.x) + "," + std::to_string(c.y) + "," +
+                                         std::to_string(c.z) + ": " + load->problem);
+        }
+    }
+    return check;
+}
+
+} // namespace vx::world

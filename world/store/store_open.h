@@ -1,0 +1,33 @@
+#pragma once
+// Opening a world by name: a libpq URI (postgresql://...) names a PostgreSQL world (PgStore),
+// anything else a SQLite file (SqliteStore). Every tool and the engine open worlds through here,
+// so each accepts both. Thread affinity: any thread; the store returned is used as ChunkStore
+// says (one thread at a time).
+
+#include <memory>
+#include <string>
+
+#include "world/base/result.h"
+#include "world/store/chunk_store.h"
+#include "world/store/sqlite_store.h"
+
+namespace vx::world {
+
+struct StoreOpenInfo {
+    std::string name;       // A SQLite path or a PostgreSQL URI.
+    bool read_only = false; // Open for reading only.
+    bool create = true;     // Create the world when absent (read-write only).
+    bool listen = true;     // PostgreSQL: collect other processes' changes (poll_changes).
+};
+
+// Opens the world; the error names it (passwords redacted) and says what is wrong.
+Result<std::unique_ptr<ChunkStore>> open_store(const StoreOpenInfo& info);
+
+// A name fit for messages: the path, or the URI with its password redacted.
+std::string store_display_name(const std::string& name);
+
+// Verifies every record of the world `name` (read-only; moves nothing). For SQLite files this
+// is check_store (sqlite_store.h); for PostgreSQL worlds every stored record is read and decoded.
+Result<StoreCheck> check_world(const std::string& name);
+
+} // namespace vx::world
