@@ -148,6 +148,7 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
                            std::chrono::duration_cast<std::chrono::nanoseconds>(
                                t0 + m_settings.frame_budget * 3 / 4 - Clock::now()));
     m_jobs->process_completions(budget);
+    poll_store_changes(now);
     // Meshes stop an eighth early: unloads, evictions and saves after them fit in the budget too.
     schedule_meshes(deadline - m_settings.frame_budget / 8);
     unload_far(now, deadline);
@@ -254,10 +255,23 @@ std::unique_ptr<Job> ChunkStreamer::request_data(ChunkCoord c) {
     return generate;
 }
 
-void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem) {
+void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem,
+                              bool store_failed) {
     auto it = m_chunks.find(c);
     if (it == m_chunks.end() || it->second.data != Data::Requested)
         return; // Unloaded meanwhile.
+    if (store_failed) {
+        // The store could not say what is there (a server away): ask again in a second rather
+        // than generate a chunk that would hide the stored one. Logged once per outage.
+        ++m_load_failures;
+        if (!m_store_failing)
+            VX_LOG_WARN("chunk %d,%d,%d: %s; retrying (further failures are counted, not logged)", c.x, c.y, c.z,
+                        problem.c_str());
+        m_store_failing = true;
+        m_retry.emplace_back(c, Clock::now() + std::chrono::seconds(1));
+        return;
+    }
+    m_store_failing = false;
     if (chunk) {
         put_chunk(c, std::move(*chunk));
         return;
@@ -370,9 +384,77 @@ void ChunkStreamer::set_mesh_flags(ChunkCoord c, ChunkState& s, bool has_mesh, b
         m_view_meshed = is ? m_view_meshed + 1 : m_view_meshed - 1;
 }
 
-void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error) {
+void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error, size_t edits_saved) {
     if (!error.empty())
         VX_LOG_ERROR("saving chunk %d,%d,%d failed: %s", c.x, c.y, c.z, error.c_str());
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || edits_saved == 0)
+        return;
+    std::vector<BlockEdit>& edits = it->second.edits; // The store has these now.
+    edits.erase(edits.begin(), edits.begin() + std::ptrdiff_t(std::min(edits_saved, edits.size())));
+}
+
+void ChunkStreamer::poll_store_changes(Clock::time_point now) {
+    if (!m_store)
+        return;
+    // Loads the store failed to answer, once their second has passed.
+    const Clock::time_point t = Clock::now();
+    std::vector<std::unique_ptr<Job>> jobs;
+    while (!m_retry.empty() && m_retry.front().second <= t) {
+        const ChunkCoord c = m_retry.front().first;
+        m_retry.pop_front();
+        auto it = m_chunks.find(c);
+        if (it != m_chunks.end() && it->second.data == Data::Requested) {
+            --m_requested; // request_data counts it again.
+            jobs.push_back(request_data(c));
+        }
+    }
+    // Chunks other processes changed (a shared store's feed; thread-safe and cheap to ask).
+    m_changed.clear();
+    m_store->poll_changes(m_changed);
+    for (ChunkCoord c : m_changed) {
+        auto it = m_chunks.find(c);
+        if (it != m_chunks.end() && it->second.data == Data::Present)
+            jobs.push_back(std::make_unique<ReloadJob>(events(), c, *m_store));
+    }
+    if (!jobs.empty())
+        m_jobs->submit_batch(std::move(jobs));
+    (void)now;
+}
+
+void ChunkStreamer::on_reloaded(ChunkCoord c, std::optional<Chunk> chunk) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || it->second.data != Data::Present || !chunk)
+        return;
+    ChunkState& s = it->second;
+    for (const BlockEdit& e : s.edits) // This process's edits the store has not seen stay on top.
+        chunk->set(e.pos, e.id);
+    const Chunk* now = m_world.find_chunk(c);
+    if (now && *now == *chunk)
+        return; // Nothing new (our own write, or already merged).
+    m_block_bytes -= s.bytes;
+    s.bytes = chunk->memory_bytes();
+    m_block_bytes += s.bytes;
+    m_world.put_chunk(c, std::move(*chunk));
+    ++m_reloaded;
+    remesh_around(c);
+}
+
+void ChunkStreamer::remesh_around(ChunkCoord c) {
+    // The chunk and its face neighbours (whose aprons hold its border) mesh again; their current
+    // meshes stay with the sink until the new ones replace them, so nothing blinks.
+    for (int f = -1; f < 6; ++f) {
+        const ChunkCoord q = f < 0 ? c : c + face_normal(Face(f));
+        auto it = m_chunks.find(q);
+        if (it == m_chunks.end() || it->second.data != Data::Present)
+            continue;
+        ChunkState& s = it->second;
+        if (s.mesh_pending)
+            s.mesh_stale = true;
+        else if (s.has_mesh)
+            set_mesh_flags(q, s, false, false);
+        m_mesh_candidates.insert(q);
+    }
 }
 
 Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
@@ -402,6 +484,8 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     m_block_bytes -= s.bytes;
     s.bytes = m_world.find_chunk(c)->memory_bytes();
     m_block_bytes += s.bytes;
+    if (m_store && !m_store->read_only())
+        s.edits.push_back({local_of(p), id});
     if (m_store && !m_store->read_only() && !s.dirty) {
         s.dirty = true;
         ++m_dirty_count;
@@ -457,7 +541,7 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     if (s.data == Data::Present) {
         Chunk* chunk = m_world.find_chunk(c);
         if (s.dirty && m_store) { // Saved before it is dropped: the job owns the data now.
-            m_jobs->submit(std::make_unique<SaveJob>(events(), c, std::move(*chunk), *m_store));
+            m_jobs->submit(std::make_unique<SaveJob>(events(), c, std::move(*chunk), *m_store, std::move(s.edits)));
             ++m_saves;
         }
         m_block_bytes -= s.bytes;
@@ -488,7 +572,8 @@ void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
         auto it = m_chunks.find(e.chunk);
         if (it == m_chunks.end() || !it->second.dirty || it->second.dirty_since != e.time)
             continue; // Saved when it was dropped.
-        m_jobs->submit(std::make_unique<SaveJob>(events(), e.chunk, *m_world.find_chunk(e.chunk), *m_store));
+        m_jobs->submit(std::make_unique<SaveJob>(events(), e.chunk, *m_world.find_chunk(e.chunk), *m_store,
+                                                 it->second.edits));
         it->second.dirty = false;
         --m_dirty_count;
         ++m_saves;
@@ -572,6 +657,10 @@ StreamingMetrics ChunkStreamer::metrics() const {
     m.evicted = m_evicted;
     m.saves = m_saves;
     m.regenerated_corrupt = m_regenerated;
+    m.reloaded = m_reloaded;
+    m.load_failures = m_load_failures;
+    if (m_store)
+        m.store = m_store->health();
     m.jobs = m_jobs->metrics();
     m.last_update_time = m_last_update;
     m.last_update_cpu = m_last_update_cpu;

@@ -60,6 +60,9 @@ struct StreamingMetrics {
     size_t dirty = 0;           // Edited chunks not yet handed to the store.
     size_t block_bytes = 0;     // Memory of loaded block data.
     uint64_t unloaded = 0, evicted = 0, saves = 0, regenerated_corrupt = 0;
+    uint64_t reloaded = 0;      // Chunks reloaded because another process changed them.
+    uint64_t load_failures = 0; // Loads the store could not answer (retried; nothing generated).
+    world::StoreHealth store;   // The store's connection and queue (shared stores).
     JobMetrics jobs;
     std::chrono::nanoseconds last_update_time{0}; // Wall time of the last update().
     std::chrono::nanoseconds last_update_cpu{0};  // Main-thread CPU time of it (excludes preemption).
@@ -139,13 +142,20 @@ private:
         std::chrono::steady_clock::time_point outside_since{}, dirty_since{};
         size_t bytes = 0;           // Block data memory accounted for.
         std::unique_ptr<world::ChunkMesh> mesh; // Null while the mesh is empty (air, buried).
+        // Block edits not yet handed to the store, oldest first (a shared store re-applies them
+        // when another process wrote the chunk meanwhile; a reload keeps them on top).
+        std::vector<world::BlockEdit> edits;
     };
 
     // StreamJobEvents: results from jobs (main thread, via complete()).
-    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem) override;
+    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem,
+                   bool store_failed) override;
+    void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk) override;
     void on_generated(world::ChunkCoord c, world::Chunk chunk) override;
     void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) override;
-    void on_saved(world::ChunkCoord c, const std::string& error) override;
+    void on_saved(world::ChunkCoord c, const std::string& error, size_t edits_saved) override;
+    void poll_store_changes(std::chrono::steady_clock::time_point now);
+    void remesh_around(world::ChunkCoord c);
     StreamJobEvents& events() { return *this; } // What jobs report to (a private base).
     void update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,
                        std::chrono::steady_clock::time_point now);
@@ -200,6 +210,11 @@ private:
     size_t m_requested = 0, m_present = 0, m_mesh_pending = 0, m_dirty_count = 0;
     size_t m_view_meshed = 0; // Chunks in the view radius with a current mesh.
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
+    uint64_t m_reloaded = 0, m_load_failures = 0;
+    bool m_store_failing = false; // Loads are failing (logged once until one succeeds).
+    // Loads the store could not answer, asked again from this time on (oldest first).
+    std::deque<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_retry;
+    std::vector<world::ChunkCoord> m_changed; // Scratch for the store's change feed.
     std::chrono::nanoseconds m_last_update{0}, m_last_update_cpu{0};
     // Shared with flush jobs (which report to it) and with whoever asks after the streamer is gone.
     std::shared_ptr<SaveTracker> m_saves_done = std::make_shared<SaveTracker>();

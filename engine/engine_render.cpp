@@ -123,6 +123,11 @@ Stats Engine::stats() const {
         s.dirty_chunks = sm.dirty;
         s.chunks_unloaded = sm.unloaded + sm.evicted;
         s.block_memory_bytes = sm.block_bytes;
+        s.store_connected = sm.store.connected;
+        s.store_pending_edits = sm.store.pending_edits;
+        s.store_conflicts = sm.store.conflicts;
+        s.store_reconnects = sm.store.reconnects;
+        s.chunks_reloaded = sm.reloaded;
     }
     if (m->renderer) {
         const render::GpuHeapStats mem = m->renderer->memory_stats();

@@ -7,7 +7,7 @@
 #include "engine/job_batch.h"
 #include "world/gen/seed_scene.h"
 #include "world/gen/terrain.h"
-#include "world/store/sqlite_store.h"
+#include "world/store/store_open.h"
 
 namespace vx::engine {
 namespace {
@@ -117,7 +117,7 @@ Status load_terrain(JobSystem& jobs, LoadedScene& scene, const SceneLoadInfo& a)
 }
 
 Status load_world(JobSystem& jobs, LoadedScene& scene, const SceneLoadInfo& a) {
-    auto store = SqliteStore::open({.path = a.world_path, .read_only = true, .create = false});
+    auto store = open_store({.name = a.world_path, .read_only = true, .create = false, .listen = false});
     if (!store)
         return Error{store.error()};
     auto coords = (*store)->list_coords();

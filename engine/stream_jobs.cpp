@@ -10,6 +10,7 @@ void LoadJob::run(JobContext& ctx) {
     Result<world::ChunkLoad> r = m_store.load(key().chunk);
     if (!r) {
         m_problem = "store failed: " + r.error();
+        m_failed = true;
         return;
     }
     if (r->state == world::LoadState::Present)
@@ -18,9 +19,19 @@ void LoadJob::run(JobContext& ctx) {
         m_problem = "corrupt record (quarantined): " + r->problem;
 }
 
-std::unique_ptr<Job> LoadJob::take_continuation() { return m_chunk ? nullptr : std::move(m_fallback); }
+std::unique_ptr<Job> LoadJob::take_continuation() { return m_chunk || m_failed ? nullptr : std::move(m_fallback); }
 
-void LoadJob::complete() { m_owner.on_loaded(key().chunk, std::move(m_chunk), m_problem); }
+void LoadJob::complete() { m_owner.on_loaded(key().chunk, std::move(m_chunk), m_problem, m_failed); }
+
+void ReloadJob::run(JobContext& ctx) {
+    if (ctx.is_cancelled())
+        return;
+    Result<world::ChunkLoad> r = m_store.load(key().chunk);
+    if (r && r->state == world::LoadState::Present)
+        m_chunk = std::move(r->chunk);
+}
+
+void ReloadJob::complete() { m_owner.on_reloaded(key().chunk, std::move(m_chunk)); }
 
 void GenerateJob::run(JobContext& ctx) {
     if (!ctx.is_cancelled())
@@ -41,12 +52,13 @@ void MeshJob::complete() { m_owner.on_meshed(key().chunk, std::move(m_mesh)); }
 
 void SaveJob::run(JobContext&) {
     // Saves are never skipped, even when cancelled: the chunk was dropped trusting this job.
-    Status s = m_store.save(key().chunk, m_chunk);
+    const world::ChunkWrite w{key().chunk, &m_chunk, m_edits};
+    Status s = m_store.save(std::span<const world::ChunkWrite>(&w, 1));
     if (!s)
         m_error = s.error();
 }
 
-void SaveJob::complete() { m_owner.on_saved(key().chunk, m_error); }
+void SaveJob::complete() { m_owner.on_saved(key().chunk, m_error, m_error.empty() ? m_edits.size() : 0); }
 
 world::ChunkCoord flush_key(uint64_t sequence) {
     return {INT32_MIN, INT32_MIN + 1, int32_t(sequence & 0x7fffffffu)};
@@ -64,7 +76,7 @@ void StoreSyncJob::run(JobContext&) {
 
 void StoreSyncJob::complete() {
     if (!m_status)
-        m_owner.on_saved(world::ChunkCoord(0), m_status.error());
+        m_owner.on_saved(world::ChunkCoord(0), m_status.error(), 0);
 }
 
 StoreSyncJob::~StoreSyncJob() {

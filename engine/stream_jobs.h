@@ -22,19 +22,27 @@ namespace vx::engine {
 class StreamJobEvents {
 public:
     // A load finished: `chunk` when stored and intact; else `problem` says why (empty: absent).
-    virtual void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem) = 0;
+    // `store_failed`: the store could not answer (a shared store's server away): nothing was
+    // generated in its place, so the caller asks again later.
+    virtual void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem,
+                           bool store_failed) = 0;
+    // Another process changed chunk `c` in a shared store: its stored version (nullopt: erased,
+    // unreadable or the store failed).
+    virtual void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk) = 0;
     virtual void on_generated(world::ChunkCoord c, world::Chunk chunk) = 0;
     virtual void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) = 0;
-    // A save (or a store tick) failed with `error` (empty: it succeeded).
-    virtual void on_saved(world::ChunkCoord c, const std::string& error) = 0;
+    // A save (or a store tick) failed with `error` (empty: it succeeded). `edits_saved`: how many
+    // of the chunk's oldest recorded block edits the save carried to the store.
+    virtual void on_saved(world::ChunkCoord c, const std::string& error, size_t edits_saved) = 0;
 
 protected:
     ~StreamJobEvents() = default;
 };
 
-// I/O lane: reads a chunk record. When the store has none (absent, corrupt or a failed read) the
-// job hands `fallback` (the chunk's GenerateJob) to the job system from the I/O thread: a miss
-// goes to the pool without waiting for the main thread; complete() then only reports problems.
+// I/O lane: reads a chunk record. When the store has none (absent or corrupt) the job hands
+// `fallback` (the chunk's GenerateJob) to the job system from the I/O thread: a miss goes to the
+// pool without waiting for the main thread; complete() then only reports problems. When the store
+// itself fails (a server away), nothing is generated: a generated chunk would hide what is stored.
 class LoadJob final : public Job {
 public:
     LoadJob(StreamJobEvents& owner, world::ChunkCoord c, world::ChunkStore& store, std::unique_ptr<Job> fallback)
@@ -49,6 +57,21 @@ private:
     std::unique_ptr<Job> m_fallback; // Submitted on a miss, destroyed unrun on a hit.
     std::optional<world::Chunk> m_chunk;
     std::string m_problem; // Corrupt record or store failure, for the log.
+    bool m_failed = false; // The store failed: no fallback.
+};
+
+// I/O lane: reads a chunk another process changed (a shared store's change feed).
+class ReloadJob final : public Job {
+public:
+    ReloadJob(StreamJobEvents& owner, world::ChunkCoord c, world::ChunkStore& store)
+        : Job({c, JobKind::Load}), m_owner(owner), m_store(store) {}
+    void run(JobContext& ctx) override;
+    void complete() override;
+
+private:
+    StreamJobEvents& m_owner;
+    world::ChunkStore& m_store;
+    std::optional<world::Chunk> m_chunk;
 };
 
 // Pool: generates a chunk (a pure function of the coordinate).
@@ -86,8 +109,13 @@ private:
 // I/O lane: queues a chunk's record in the store (which commits within its time bound).
 class SaveJob final : public Job {
 public:
-    SaveJob(StreamJobEvents& owner, world::ChunkCoord c, world::Chunk chunk, world::ChunkStore& store)
-        : Job({c, JobKind::Save}), m_owner(owner), m_chunk(std::move(chunk)), m_store(store) {}
+    // `edits`: the block edits since the chunk was last handed to the store (a shared store
+    // re-applies them if another process wrote the chunk meanwhile). A newer SaveJob of the
+    // chunk replaces a queued one, so each carries every edit not yet saved, not only new ones.
+    SaveJob(StreamJobEvents& owner, world::ChunkCoord c, world::Chunk chunk, world::ChunkStore& store,
+            std::vector<world::BlockEdit> edits = {})
+        : Job({c, JobKind::Save}), m_owner(owner), m_chunk(std::move(chunk)), m_store(store),
+          m_edits(std::move(edits)) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
@@ -95,6 +123,7 @@ private:
     StreamJobEvents& m_owner;
     world::Chunk m_chunk;
     world::ChunkStore& m_store;
+    std::vector<world::BlockEdit> m_edits;
     std::string m_error;
 };
 

@@ -4,6 +4,7 @@
 
 #include "world/gen/terrain.h"
 #include "world/store/sqlite_store.h"
+#include "world/store/store_open.h"
 #if VX_WITH_OPENVDB
 #include "world/vdb/vdb_store.h"
 #endif
@@ -84,14 +85,8 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
 Result<std::unique_ptr<world::ChunkStore>> open_store(const WorldSource& source) {
     if (source.path.empty())
         return Error{"the world source needs a path"};
-    if (source.kind == WorldSource::Kind::Sqlite) {
-        world::SqliteStoreCreateInfo info;
-        info.path = source.path;
-        auto store = world::SqliteStore::open(info);
-        if (!store)
-            return Error{store.error()};
-        return std::unique_ptr<world::ChunkStore>(std::move(*store));
-    }
+    if (source.kind == WorldSource::Kind::Sqlite) // A file, or a postgresql:// URI (shared).
+        return world::open_store({source.path});
 #if VX_WITH_OPENVDB
     auto store = vdb::VdbStore::open(source.path);
     if (!store)

@@ -14,6 +14,7 @@
 #include "engine/job_batch.h"
 #include "engine/world_pregen.h"
 #include "world/store/sqlite_store.h"
+#include "world/store/store_open.h"
 #include "world/gen/terrain.h"
 
 namespace vx::tools {
@@ -42,12 +43,13 @@ int run_gen(const GenArgs& a) {
         return bad_input("--radius must be 0..256 chunks");
     if (a.bottom > a.top)
         return bad_input("--bottom must not be above --top");
-    auto store = SqliteStore::open({a.path});
+    auto store = open_store({a.path}); // A SQLite file or a postgresql:// URI.
     if (!store)
         return bad_input(store.error());
     auto old_seed = (*store)->get_meta("seed");
     if (old_seed && *old_seed && **old_seed != std::to_string(a.seed))
-        return bad_input("'" + a.path + "' holds a world of seed " + **old_seed + ", not " + std::to_string(a.seed));
+        return bad_input("'" + store_display_name(a.path) + "' holds a world of seed " + **old_seed + ", not " +
+                         std::to_string(a.seed));
     if (Status s = (*store)->set_meta("seed", std::to_string(a.seed)); !s)
         return bad_input(s.error());
 
@@ -70,13 +72,13 @@ int run_gen(const GenArgs& a) {
     const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
     std::printf("vx world gen: %zu chunks (%" PRIu64 " non-uniform, %" PRIu64 " quads isolated) in %.2f s "
                 "(%.0f chunks/s), seed %" PRIu64 ", saved to %s\n",
-                total, non_uniform, quads, secs, double(total) / secs, a.seed, a.path.c_str());
+                total, non_uniform, quads, secs, double(total) / secs, a.seed, store_display_name(a.path).c_str());
     return kExitOk;
 }
 
 int run_info(const std::string& path, bool check) {
     if (check) {
-        auto r = check_store(path);
+        auto r = check_world(path);
         if (!r)
             return bad_input(r.error());
         for (const std::string& p : r->problems)
@@ -88,7 +90,7 @@ int run_info(const std::string& path, bool check) {
             std::printf("quarantined earlier: %" PRIu64 "\n", r->quarantined);
         return r->corrupt == 0 && r->database_ok ? kExitOk : kExitFailure;
     }
-    auto store = SqliteStore::open({path, /*read_only=*/true, /*create=*/false});
+    auto store = open_store({path, /*read_only=*/true, /*create=*/false, /*listen=*/false});
     if (!store)
         return bad_input(store.error());
     auto count = (*store)->count();
@@ -103,13 +105,14 @@ int run_info(const std::string& path, bool check) {
     if (!s)
         return bad_input(s.error());
     auto seed = (*store)->get_meta("seed");
-    std::printf("world: %s\n", path.c_str());
+    std::printf("world: %s\n", store_display_name(path).c_str());
     std::printf("  chunks stored: %" PRIu64 "\n", *count);
     if (*count)
         std::printf("  chunk bounds: (%d,%d,%d) .. (%d,%d,%d)\n", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
     std::printf("  seed: %s\n", seed && *seed ? (*seed)->c_str() : "(none)");
-    if (auto q = (*store)->quarantine_count(); q)
-        std::printf("  quarantined records: %" PRIu64 "\n", uint64_t(*q));
+    if (auto* sqlite = dynamic_cast<SqliteStore*>(store->get()))
+        if (auto q = sqlite->quarantine_count(); q)
+            std::printf("  quarantined records: %" PRIu64 "\n", uint64_t(*q));
     return kExitOk;
 }
 

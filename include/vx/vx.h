@@ -53,8 +53,11 @@ struct WorldSource {
     enum class Kind : uint8_t {
         Terrain,   // The built-in terrain of `seed`. Nothing persists.
         Generator, // The game's `generator`. Nothing persists.
-        Sqlite,    // A SQLite world file at `path` (created if missing), read-write; chunks it lacks
-                   // come from `generator` if set, else the built-in terrain of `seed`.
+        Sqlite,    // A stored world, read-write, created if missing: `path` is a SQLite file, or a
+                   // PostgreSQL URI (postgresql://[user@]host[:port]/db?...) for a world several
+                   // processes share (their edits of one chunk merge; changes by others reload
+                   // within ~100 ms; a lost server is retried, edits kept). Chunks it lacks come
+                   // from `generator` if set, else the built-in terrain of `seed`.
         Vdb,       // A vx VDB world file at `path` (vx export-vdb), read-only: edits stay in
                    // memory (lost when their chunk unloads); chunks outside it come from
                    // `generator` if set, else are air. Needs a build with VX_WITH_OPENVDB.
@@ -210,6 +213,13 @@ struct Stats {
     uint64_t gpu_memory_bytes = 0; // Device memory the renderer holds (0 without a GPU).
     uint64_t gpu_memory_used_bytes = 0; // Of it, in use.
     uint32_t validation_errors = 0; // Vulkan validation errors so far (validation on).
+    // Stored worlds: the store's state. A shared (PostgreSQL) world can lose its server: edits
+    // then wait in memory (store_pending_edits) and are retried; nothing acknowledged is lost.
+    bool store_connected = true;
+    size_t store_pending_edits = 0; // Handed to the store, not yet committed.
+    uint64_t store_conflicts = 0;   // Writes that met another process's and merged.
+    uint64_t store_reconnects = 0;
+    uint64_t chunks_reloaded = 0;   // Reloaded because another process changed them.
 };
 
 // A save in flight: poll save_state() or block in wait().

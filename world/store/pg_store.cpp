@@ -274,8 +274,10 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
 }
 
 Status PgStore::tick(Clock::time_point now) {
-    if (!m_conn && now >= m_next_retry)
-        (void)ensure_connected(false); // A failure is in health(); the queue waits.
+    // While the server is away ticks stay quiet (health() says so; the queue waits) and try to
+    // reconnect once the back-off has passed; flush() reports the error to whoever waits.
+    if (!m_conn && (now < m_next_retry || !ensure_connected(false)))
+        return {};
     if (m_pending_since && now - *m_pending_since >= m_info.max_pending_age)
         return commit();
     return {};

@@ -8,7 +8,11 @@ PGconn* connect(const std::string& conninfo, int connect_timeout_s) {
     const std::string timeout = std::to_string(connect_timeout_s);
     const char* keys[] = {"dbname", "connect_timeout", "application_name", nullptr};
     const char* values[] = {conninfo.c_str(), timeout.c_str(), "vx", nullptr};
-    return PQconnectdbParams(keys, values, 1);
+    PGconn* conn = PQconnectdbParams(keys, values, 1);
+    // Server notices ("relation already exists, skipping", shutdown notes) are not ours to print:
+    // errors reach the caller through results.
+    PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
+    return conn;
 }
 
 std::string message(PGconn* conn, const PGresult* r) {

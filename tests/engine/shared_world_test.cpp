@@ -1,0 +1,194 @@
+// A world shared across processes through PostgreSQL, end to end through the facade: two
+// processes generate and edit one world at once (blocks of the same chunk included), each sees
+// the other's edits, nothing is lost; and the server restarted under a running engine loses
+// nothing. Uses the throwaway cluster of tests/world/pg_cluster.h (skips, with a line, without
+// PostgreSQL's server binaries). No GPU (RenderTarget::none).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <vx/vx.h>
+
+#include "pg_cluster.h"
+
+using Clock = std::chrono::steady_clock;
+using vx::world::test::PgCluster;
+
+namespace {
+
+constexpr uint64_t kSeed = 11;
+
+vx::EngineCreateInfo shared_info(const std::string& uri) {
+    vx::EngineCreateInfo info;
+    info.world = vx::WorldSource::sqlite(uri, kSeed);
+    info.streaming.view_radius = 1;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.worker_threads = 1;
+    info.streaming.save_delay_s = 0.05;
+    return info;
+}
+
+bool settle(vx::Engine& e) {
+    const auto limit = Clock::now() + std::chrono::minutes(2);
+    while (Clock::now() < limit) {
+        e.update();
+        if (e.settled())
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+// Updates until `p` holds `id` (true) or `timeout_s` passes.
+bool wait_block(vx::Engine& e, vx::BlockPos p, vx::BlockId id, double timeout_s) {
+    const auto limit = Clock::now() + std::chrono::duration<double>(timeout_s);
+    while (Clock::now() < limit) {
+        e.update();
+        if (e.get_block(p) == id)
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+}
+
+// The blocks a process edits: a row in the chunk both use (x 4..11 or 20..27 of chunk (0,0,0),
+// high in the air so the terrain does not hide them) and a chunk of its own.
+std::vector<vx::BlockPos> edits_of(int who) {
+    std::vector<vx::BlockPos> out;
+    for (int i = 0; i < 8; ++i)
+        out.push_back({(who == 0 ? 4 : 20) + i, 30, 5});
+    out.push_back({who == 0 ? -20 : 40, 30, 9});
+    return out;
+}
+
+vx::Viewer viewer() {
+    vx::Viewer v;
+    v.block = {0, 30, 0};
+    v.forward = {1, 0, 0};
+    return v;
+}
+
+PgCluster* cluster_or_skip() {
+    std::string why;
+    PgCluster* c = PgCluster::get(&why);
+    if (!c)
+        std::printf("shared-world tests skipped: %s\n", why.c_str());
+    return c;
+}
+
+} // namespace
+
+TEST(SharedWorld, TwoProcessesEditOneWorldAndSeeEachOther) {
+    PgCluster* cluster = cluster_or_skip();
+    if (!cluster)
+        GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    const std::string uri = cluster->new_database();
+    const vx::BlockId stone = 1, glass = 6;
+    int ready[2], go[2];
+    ASSERT_EQ(pipe(ready), 0);
+    ASSERT_EQ(pipe(go), 0);
+    const pid_t pid = fork();
+    if (pid == 0) { // The other process: edits, then waits to see the parent's edits.
+        auto created = vx::Engine::create(shared_info(uri));
+        if (!created)
+            _exit(10);
+        vx::Engine& e = **created;
+        e.set_viewer(viewer());
+        if (!settle(e))
+            _exit(11);
+        for (vx::BlockPos p : edits_of(1))
+            if (!e.set_block(p, glass))
+                _exit(12);
+        auto t = e.save();
+        if (!t || !e.wait(*t))
+            _exit(13);
+        char byte = 1;
+        if (write(ready[1], &byte, 1) != 1 || read(go[0], &byte, 1) != 1)
+            _exit(14);
+        for (vx::BlockPos p : edits_of(0))
+            if (!wait_block(e, p, stone, 20.0))
+                _exit(15);
+        _exit(e.shutdown() ? 0 : 16);
+    }
+    auto created = vx::Engine::create(shared_info(uri));
+    ASSERT_TRUE(created) << created.error();
+    vx::Engine& e = **created;
+    ASSERT_TRUE(e.set_viewer(viewer()));
+    ASSERT_TRUE(settle(e));
+    for (vx::BlockPos p : edits_of(0)) // The same chunk as the child's row, at the same time.
+        ASSERT_TRUE(e.set_block(p, stone));
+    auto ticket = e.save();
+    ASSERT_TRUE(ticket);
+    ASSERT_TRUE(e.wait(*ticket));
+    char byte = 0;
+    ASSERT_EQ(read(ready[0], &byte, 1), 1);
+    // The child's edits arrive through the change feed (reload + remesh), ours stay.
+    for (vx::BlockPos p : edits_of(1))
+        EXPECT_TRUE(wait_block(e, p, glass, 20.0)) << "child's edit at " << p.x << "," << p.y << "," << p.z;
+    for (vx::BlockPos p : edits_of(0))
+        EXPECT_EQ(e.get_block(p), stone);
+    ASSERT_EQ(write(go[1], &byte, 1), 1);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status)) << "child died";
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "child step " << WEXITSTATUS(status) << " failed";
+    ASSERT_TRUE(e.shutdown());
+
+    // Nothing lost: a third engine reads every edit of both from the server.
+    auto again = vx::Engine::create(shared_info(uri));
+    ASSERT_TRUE(again);
+    ASSERT_TRUE((*again)->set_viewer(viewer()));
+    ASSERT_TRUE(settle(**again));
+    for (vx::BlockPos p : edits_of(0))
+        EXPECT_EQ((*again)->get_block(p), stone);
+    for (vx::BlockPos p : edits_of(1))
+        EXPECT_EQ((*again)->get_block(p), glass);
+}
+
+TEST(SharedWorld, ServerRestartUnderARunningEngineLosesNothing) {
+    PgCluster* cluster = cluster_or_skip();
+    if (!cluster)
+        GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    const std::string uri = cluster->new_database();
+    auto created = vx::Engine::create(shared_info(uri));
+    ASSERT_TRUE(created) << created.error();
+    vx::Engine& e = **created;
+    ASSERT_TRUE(e.set_viewer(viewer()));
+    ASSERT_TRUE(settle(e));
+    ASSERT_TRUE(e.set_block({1, 30, 1}, 3));
+    auto first = e.save();
+    ASSERT_TRUE(first && e.wait(*first));
+
+    ASSERT_TRUE(cluster->stop());
+    ASSERT_TRUE(e.set_block({2, 30, 1}, 4)); // Edits go on while the server is away.
+    auto during = e.save();
+    ASSERT_TRUE(during);
+    EXPECT_FALSE(e.wait(*during)) << "a save cannot be durable without the server";
+    for (int i = 0; i < 20; ++i) { // The engine keeps running.
+        e.update();
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_FALSE(e.stats().store_connected);
+    EXPECT_GE(e.stats().store_pending_edits, 1u);
+    EXPECT_EQ(e.get_block({2, 30, 1}), 4);
+
+    ASSERT_TRUE(cluster->start());
+    auto after = e.save();
+    ASSERT_TRUE(after);
+    vx::Status s = e.wait(*after);
+    ASSERT_TRUE(s) << s.error();
+    EXPECT_TRUE(e.stats().store_connected);
+    ASSERT_TRUE(e.shutdown());
+
+    auto again = vx::Engine::create(shared_info(uri));
+    ASSERT_TRUE(again);
+    ASSERT_TRUE((*again)->set_viewer(viewer()));
+    ASSERT_TRUE(settle(**again));
+    EXPECT_EQ((*again)->get_block({1, 30, 1}), 3);
+    EXPECT_EQ((*again)->get_block({2, 30, 1}), 4);
+}
