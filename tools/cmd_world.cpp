@@ -28,7 +28,18 @@ struct GenArgs {
     uint64_t seed = 1;
     int radius = 8;
     int bottom = -6, top = 5; // Chunk y range: the terrain's caves to its peaks.
+    std::string part = "1/1"; // K/N: this process makes the K-th of N slabs along x (a farm).
 };
+
+// "K/N" with 1 <= K <= N <= 1024, or nullopt.
+std::optional<std::pair<int, int>> parse_part(const std::string& s) {
+    int k = 0, n = 0;
+    char slash = 0, extra = 0;
+    if (std::sscanf(s.c_str(), "%d%c%d%c", &k, &slash, &n, &extra) != 3 || slash != '/' || n < 1 || n > 1024 ||
+        k < 1 || k > n)
+        return std::nullopt;
+    return std::make_pair(k, n);
+}
 
 void progress(size_t done, size_t total, double seconds) {
     const int width = 40, filled = int(double(width) * double(done) / double(total));
@@ -53,9 +64,18 @@ int run_gen(const GenArgs& a) {
     if (Status s = (*store)->set_meta("seed", std::to_string(a.seed)); !s)
         return bad_input(s.error());
 
+    const auto part = parse_part(a.part);
+    if (!part)
+        return bad_input("--part must be K/N with 1 <= K <= N <= 1024");
     const TerrainGenerator gen(a.seed);
     engine::JobSystem jobs(engine::batch_job_system_info());
-    engine::PregenInfo info{ChunkCoord(-a.radius, a.bottom, -a.radius), ChunkCoord(a.radius, a.top, a.radius), {}};
+    // Part K of N: the K-th of N slabs of the box along x, so N processes (or machines) sharing
+    // one PostgreSQL world fill it together without overlap.
+    const int width = 2 * a.radius + 1, k = part->first - 1, n = part->second;
+    const int x0 = -a.radius + width * k / n, x1 = -a.radius + width * (k + 1) / n - 1;
+    if (x1 < x0)
+        return bad_input("--part " + a.part + " is empty: the box is only " + std::to_string(width) + " chunks wide");
+    engine::PregenInfo info{ChunkCoord(x0, a.bottom, -a.radius), ChunkCoord(x1, a.top, a.radius), {}};
     const auto t0 = Clock::now();
     const bool bar = stderr_is_terminal(); // Piped: only the summary line below.
     if (bar)
@@ -124,17 +144,19 @@ void add_world_command(CLI::App& app, std::function<int()>& action) {
 
     auto gen = std::make_shared<GenArgs>();
     CLI::App* g = world->add_subcommand("gen", "Pregenerate (and mesh) the chunks around the origin into a store");
-    g->add_option("path", gen->path, "World store (SQLite file; its folder must exist)")->required();
+    g->add_option("path", gen->path, "World store: a SQLite file (its folder must exist) or a postgresql:// URI")
+        ->required();
     g->add_option("--seed", gen->seed, "Terrain seed");
     g->add_option("--radius", gen->radius, "Horizontal radius in chunks around the origin");
     g->add_option("--bottom", gen->bottom, "Lowest chunk y (default -6: below the caves)");
     g->add_option("--top", gen->top, "Highest chunk y (default 5: above the peaks)");
+    g->add_option("--part", gen->part, "K/N: make only the K-th of N slabs along x (several processes, one world)");
     g->callback([gen, &action] { action = [gen] { return run_gen(*gen); }; });
 
     auto path = std::make_shared<std::string>();
     auto check = std::make_shared<bool>(false);
     CLI::App* i = world->add_subcommand("info", "Print what a world holds; --check verifies every record");
-    i->add_option("path", *path, "World store")->required();
+    i->add_option("path", *path, "World store: a SQLite file or a postgresql:// URI")->required();
     i->add_flag("--check", *check, "Read and verify every record: exit 0 if none is corrupt, 1 otherwise");
     i->callback([path, check, &action] { action = [path, check] { return run_info(*path, *check); }; });
 }
