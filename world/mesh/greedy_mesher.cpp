@@ -15,14 +15,14 @@
 // cgerikj/binary-greedy-meshing): palette indices are unpacked once into rows of 32 entries along
 // x, and transposed per z slab into rows along y; byte compares turn each row into occupancy,
 // opacity and "same entry as the left neighbour" bits. A plane's face mask is then one AND-NOT
-// of two rows per line, and merging runs on bits: runs of one id come from the link bits, 1 x 1
+// of two rows per line, and merging runs on bits: runs of one id come from entry compares, 1 x 1
 // quads (most faces of noisy chunks) are emitted straight from bit tests.
 
 namespace vx::world {
 using namespace mesher_detail;
 namespace {
 
-constexpr int kPad = 32; // Entries before each entry array: link masks read row[-1].
+constexpr int kPad = 32; // Entries before each entry array: merging reads row[-1].
 
 // Rows of one axis's layers l0, l0 + 1, ...: the masks of (layer l, line v) are at index
 // (l - l0) * 32 + v, its entries (multi-id chunks only) at entry row (l - l0) * els + v * ers.
@@ -30,7 +30,6 @@ struct AxisRows {
     const uint32_t* n = nullptr;
     const uint32_t* o = nullptr;
     const uint32_t* t = nullptr;
-    const uint32_t* link = nullptr;
     const void* ent = nullptr; // Entry rows, uint8_t or uint16_t.
     int l0 = 0, els = kChunkSize, ers = 1;
     int row(int l, int v) const { return (l - l0) * kChunkSize + v; }
@@ -153,7 +152,8 @@ Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize]
             }
         } else {
             const E* e = a.entries<E>(l, v);
-            const uint32_t cont = m & (m << 1) & a.link[a.row(l, v)]; // Face u joins the run of u - 1.
+            // Face u joins the run of u - 1: both faces, equal entries.
+            const uint32_t cont = m & (m << 1) & eq_rows(e, e - 1);
             uint32_t lone = m & ~cont & ~(cont >> 1); // Runs of width 1...
             if (lone & next) // ... that cannot grow: no face of the same id below.
                 lone &= ~(next & eq_rows(e, a.entries<E>(l, v + 1)));
@@ -166,12 +166,11 @@ Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize]
             while (m) {
                 const int u0 = std::countr_zero(m);
                 const int w = 1 + std::countr_zero(~(uint64_t(cont) >> (u0 + 1)));
-                const uint32_t run = run_mask(u0, w), inner = run & cont;
+                const uint32_t run = run_mask(u0, w);
                 const E id0 = e[u0];
                 int h = 1;
                 for (; v + h < kChunkSize; ++h) {
-                    if ((F[v + h] & run) != run || (a.link[a.row(l, v + h)] & inner) != inner ||
-                        a.entries<E>(l, v + h)[u0] != id0)
+                    if ((F[v + h] & run) != run || (eq_value(a.entries<E>(l, v + h), id0) & run) != run)
                         break;
                     F[v + h] &= ~run;
                 }
@@ -214,9 +213,9 @@ struct MesherScratch {
     std::vector<uint8_t> flags;
     // Masks per axis, lines of a layer together (index layer * 32 + line); remesh rows likewise.
     struct Masks {
-        uint32_t n[kRows], o[kRows], t[kRows], l[kRows];
+        uint32_t n[kRows], o[kRows], t[kRows];
     } m[3];
-    uint32_t rn[3 * kChunkSize], ro[3 * kChunkSize], rt[3 * kChunkSize], rl[3 * kChunkSize];
+    uint32_t rn[3 * kChunkSize], ro[3 * kChunkSize], rt[3 * kChunkSize];
     uint32_t bits[kRows];
     alignas(64) uint8_t d8[kPad + kChunkVolume], dt8[kPad + kChunkVolume], r8[kPad + 3 * kRows];
     alignas(64) uint16_t d16[kPad + kChunkVolume], dt16[kPad + kChunkVolume], r16[kPad + 3 * kRows];
@@ -264,8 +263,8 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
     AxisRows ax[3];
     for (int a = 0; a < 3; ++a) {
         auto& sm = s.m[a];
-        m[a] = {sm.n, sm.o, sm.t, cv.multi ? sm.l : nullptr, a != 2};
-        ax[a] = {sm.n, sm.o, sm.t, sm.l, nullptr, 0, a == 2 ? kChunkSize : 1, a == 2 ? 1 : kChunkSize};
+        m[a] = {sm.n, sm.o, sm.t, a != 2};
+        ax[a] = {sm.n, sm.o, sm.t, nullptr, 0, a == 2 ? kChunkSize : 1, a == 2 ? 1 : kChunkSize};
     }
     if (!cv.pal) {
         for (const RowMasks& rm : m)
@@ -315,8 +314,8 @@ template <class E> void gather_layers(const E* d, int axis, int l0, int count, E
 // Remeshes planes lo..hi (inclusive, at most two) of one axis from the layers they touch.
 void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int hi, ChunkMesh& mesh) {
     const int l0 = std::max(lo - 1, 0), count = std::min(hi, kChunkSize - 1) - l0 + 1;
-    const RowMasks r{s.rn, s.ro, s.rt, cv.multi ? s.rl : nullptr};
-    AxisRows a{s.rn, s.ro, s.rt, s.rl, nullptr, l0, kChunkSize, 1};
+    const RowMasks r{s.rn, s.ro, s.rt};
+    AxisRows a{s.rn, s.ro, s.rt, nullptr, l0, kChunkSize, 1};
     const uint32_t* bits = s.m[2].n; // prepare_remesh's copy of 1-bit rows.
     if (!cv.pal) {
         uniform_row_masks(cv, count * kChunkSize, r);

@@ -105,8 +105,7 @@ template <class E> using RowOf = std::conditional_t<sizeof(E) == 1, Row8, Row16>
 
 // Writes the masks of the 32 rows of slab z (rows z * 32 ..) in the layout of `m`. Without
 // transparent blocks, o and t are left alone: the mesher reads n for o then, and never reads t.
-void store_slab(const RowMasks& m, bool transparent, int z, const uint32_t* n, const uint32_t* clear,
-                const uint32_t* link) {
+void store_slab(const RowMasks& m, bool transparent, int z, const uint32_t* n, const uint32_t* clear) {
     const int step = m.swap ? kChunkSize : 1;
     const int j0 = m.swap ? z : z * kChunkSize;
     for (int i = 0, j = j0; i < kChunkSize; ++i, j += step)
@@ -116,9 +115,6 @@ void store_slab(const RowMasks& m, bool transparent, int z, const uint32_t* n, c
             m.o[j] = n[i] & ~clear[i];
             m.t[j] = clear[i];
         }
-    if (m.link)
-        for (int i = 0, j = j0; i < kChunkSize; ++i, j += step)
-            m.link[j] = link[i];
 }
 
 // Non-air: the air entry does not match (a palette holds air at most once). Transparent: one
@@ -128,10 +124,9 @@ template <class E>
 void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
     using Row = RowOf<E>;
     const bool few = cv.n_clear <= kMaxClasses;
-    const bool want_link = a.link || (b && b->link);
     const auto air = Row::splat(cv.n_air ? cv.air[0] : 0);
     for (int z0 = 0; z0 < count; z0 += kChunkSize) {
-        uint32_t n[kChunkSize], clear[kChunkSize] = {}, link[kChunkSize] = {};
+        uint32_t n[kChunkSize], clear[kChunkSize] = {};
         for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize) {
             const Row row(rows);
             n[i] = cv.n_air ? ~row.eq(air) : ~0u;
@@ -142,12 +137,10 @@ void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, 
                 for (int x = 0; x < kChunkSize; ++x)
                     clear[i] |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
             }
-            if (want_link)
-                link[i] = row.eq(Row(rows - 1)) & ~1u;
         }
-        store_slab(a, cv.transparent, z0 / kChunkSize, n, clear, link);
+        store_slab(a, cv.transparent, z0 / kChunkSize, n, clear);
         if (b)
-            store_slab(*b, cv.transparent, z0 / kChunkSize, n, clear, link);
+            store_slab(*b, cv.transparent, z0 / kChunkSize, n, clear);
     }
 }
 

@@ -41,26 +41,56 @@ struct ChunkView {
 
 ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags);
 
-// Masks of rows: non-air, opaque and non-air and not opaque (both only kept for chunks with
-// transparent blocks: otherwise opaque = non-air), and link (bit i: entry i equals
-// entry i - 1; bit 0 clear). Row r's masks go to index r, or with `swap` to index
-// (r % 32) * 32 + r / 32 (rows z * 32 + y stored as y * 32 + z: lines of a Y plane in a row).
+// Masks of rows: non-air, then opaque and non-air-not-opaque (both only kept for chunks with
+// transparent blocks: otherwise opaque = non-air). Row r's masks go to index r, or with `swap`
+// to index (r % 32) * 32 + r / 32 (rows z * 32 + y stored as y * 32 + z: a Y plane's lines).
 struct RowMasks {
     uint32_t* n;
     uint32_t* o;
     uint32_t* t;
-    uint32_t* link; // Null when not wanted.
     bool swap = false;
 };
 
-// Masks of `count` entry rows (32 entries each; row[-1] must be readable for the link), written
-// to `a` and, when not null, also to `b` (one pass serves two layouts).
+// Masks of `count` entry rows (32 entries each), written to `a` and, when not null, also to `b`
+// (one pass serves two layouts).
 void entry_row_masks(const ChunkView& cv, const uint8_t* rows, int count, const RowMasks& a, const RowMasks* b);
 void entry_row_masks(const ChunkView& cv, const uint16_t* rows, int count, const RowMasks& a, const RowMasks* b);
 // Masks from rows of 1-bit palette indices (bit set = entry 1); no link.
 void bit_row_masks(const ChunkView& cv, const uint32_t* bits, int count, const RowMasks& out);
 // Masks of a uniform chunk's rows.
 void uniform_row_masks(const ChunkView& cv, int count, const RowMasks& out);
+
+// Bit i set where row[i] == e.
+inline uint32_t eq_value(const uint8_t* row, uint16_t e) {
+#if defined(__SSE2__)
+    const __m128i v = _mm_set1_epi8(char(e));
+    const uint32_t lo = uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_loadu_si128((const __m128i*)row), v)));
+    const uint32_t hi = uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_loadu_si128((const __m128i*)(row + 16)), v)));
+    return lo | hi << 16;
+#else
+    uint32_t m = 0;
+    for (int x = 0; x < kChunkSize; ++x)
+        m |= uint32_t(row[x] == e) << x;
+    return m;
+#endif
+}
+
+inline uint32_t eq_value(const uint16_t* row, uint16_t e) {
+#if defined(__SSE2__)
+    const __m128i v = _mm_set1_epi16(short(e));
+    auto half = [&](const uint16_t* x) {
+        const __m128i p = _mm_cmpeq_epi16(_mm_loadu_si128((const __m128i*)x), v);
+        const __m128i q = _mm_cmpeq_epi16(_mm_loadu_si128((const __m128i*)(x + 8)), v);
+        return uint32_t(_mm_movemask_epi8(_mm_packs_epi16(p, q)));
+    };
+    return half(row) | half(row + 16) << 16;
+#else
+    uint32_t m = 0;
+    for (int x = 0; x < kChunkSize; ++x)
+        m |= uint32_t(row[x] == e) << x;
+    return m;
+#endif
+}
 
 // Bit i set where a[i] == b[i] (two rows of 32 entries).
 inline uint32_t eq_rows(const uint8_t* a, const uint8_t* b) {
