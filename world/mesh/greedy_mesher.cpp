@@ -294,21 +294,52 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
 
 namespace {
 
-// Entry rows of layers l0..l0 + count - 1 on one axis, as rows layer * 32 + line, from the
-// chunk's unpacked rows along x (d).
-template <class E> void gather_layers(const E* d, int axis, int l0, int count, E* out) {
-    for (int k = 0; k < count; ++k) {
-        const int l = l0 + k;
-        for (int v = 0; v < kChunkSize; ++v, out += kChunkSize) {
-            if (axis == 2)
-                std::memcpy(out, d + (l * kChunkSize + v) * kChunkSize, kChunkSize * sizeof(E));
-            else if (axis == 1)
-                std::memcpy(out, d + (v * kChunkSize + l) * kChunkSize, kChunkSize * sizeof(E));
-            else
-                for (int yy = 0; yy < kChunkSize; ++yy)
-                    out[yy] = d[(v * kChunkSize + yy) * kChunkSize + l];
-        }
+// X layers l0.. (at most 3): entries l0.. of each row (z = v, y) go to out[k][v][y]. Every row
+// starts on a byte, so the bit offset of entry l0 is the same in all rows.
+template <int B> void column_entries(const PackedArray& idx, int l0, int count, uint8_t* out) {
+    constexpr uint32_t kMask = (1u << B) - 1;
+    const int off = (l0 * B) & 7;
+    const auto* bytes = reinterpret_cast<const uint8_t*>(idx.words()) + (l0 * B >> 3);
+    for (int r = 0; r < kRows; ++r, bytes += 4 * B) {
+        uint32_t w;
+        std::memcpy(&w, bytes, 4); // 7 + 3 * 8 bits at most; within the array's padding word.
+        w >>= off;
+        uint8_t* o = out + (r & (kChunkSize - 1)) + (r >> kChunkBits) * kChunkSize; // [v = z][y]
+        for (int k = 0; k < count; ++k)
+            o[k * kRows] = uint8_t((w >> (k * B)) & kMask);
     }
+}
+
+// Entry rows of layers l0..l0 + count - 1 on one axis (rows layer * 32 + line), unpacked
+// straight from the packed indices: whole rows for Z and Y layers, a few entries per row for X.
+void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint8_t* out) {
+    if (axis == 2) {
+        unpack_rows8(idx, l0 * kChunkSize, count * kChunkSize, out);
+        return;
+    }
+    if (axis == 1) {
+        for (int k = 0; k < count; ++k)
+            for (int v = 0; v < kChunkSize; ++v)
+                unpack_rows8(idx, v * kChunkSize + l0 + k, 1, out + (k * kChunkSize + v) * kChunkSize);
+        return;
+    }
+    switch (idx.bits()) {
+    case 1: column_entries<1>(idx, l0, count, out); break;
+    case 2: column_entries<2>(idx, l0, count, out); break;
+    case 3: column_entries<3>(idx, l0, count, out); break;
+    case 4: column_entries<4>(idx, l0, count, out); break;
+    case 5: column_entries<5>(idx, l0, count, out); break;
+    case 6: column_entries<6>(idx, l0, count, out); break;
+    case 7: column_entries<7>(idx, l0, count, out); break;
+    default: column_entries<8>(idx, l0, count, out); break;
+    }
+}
+
+void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint16_t* out) {
+    for (int k = 0; k < count; ++k)
+        for (int v = 0; v < kChunkSize; ++v)
+            for (int u = 0; u < kChunkSize; ++u)
+                *out++ = uint16_t(idx.get(uint32_t(local_index(plane_to_local(axis, l0 + k, u, v)))));
 }
 
 // Remeshes planes lo..hi (inclusive, at most two) of one axis from the layers they touch.
@@ -316,28 +347,30 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int 
     const int l0 = std::max(lo - 1, 0), count = std::min(hi, kChunkSize - 1) - l0 + 1;
     const RowMasks r{s.rn, s.ro, s.rt};
     AxisRows a{s.rn, s.ro, s.rt, nullptr, l0, kChunkSize, 1};
-    const uint32_t* bits = s.m[2].n; // prepare_remesh's copy of 1-bit rows.
     if (!cv.pal) {
         uniform_row_masks(cv, count * kChunkSize, r);
     } else if (cv.bits == 1 && !cv.multi) {
         const uint64_t* w = cv.pal->indices.words();
         uint32_t* b = s.bits;
+        uint32_t slab[kChunkSize];
         for (int l = l0; l < l0 + count; ++l)
             for (int v = 0; v < kChunkSize; ++v) {
-                if (axis == 2)
+                if (axis == 2) {
                     *b++ = bit_row(w, l * kChunkSize + v);
-                else if (axis == 1)
+                } else if (axis == 1) {
                     *b++ = bit_row(w, v * kChunkSize + l);
-                else
-                    *b++ = column_bits(bits + v * kChunkSize, l); // Slab z = v.
+                } else {
+                    std::memcpy(slab, w + v * kChunkSize / 2, sizeof slab); // Rows of slab z = v.
+                    *b++ = column_bits(slab, l);
+                }
             }
         bit_row_masks(cv, s.bits, count * kChunkSize, r);
     } else if (!cv.wide()) {
-        gather_layers(s.d8 + kPad, axis, l0, count, s.r8 + kPad);
+        layer_entries(cv.pal->indices, axis, l0, count, s.r8 + kPad);
         entry_row_masks(cv, s.r8 + kPad, count * kChunkSize, r, nullptr);
         a.ent = s.r8 + kPad;
     } else {
-        gather_layers(s.d16 + kPad, axis, l0, count, s.r16 + kPad);
+        layer_entries(cv.pal->indices, axis, l0, count, s.r16 + kPad);
         entry_row_masks(cv, s.r16 + kPad, count * kChunkSize, r, nullptr);
         a.ent = s.r16 + kPad;
     }
@@ -348,30 +381,15 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int 
     }
 }
 
-// What remeshing needs of the whole chunk: unpacked entries, or (1-bit palettes) the rows of
-// bits (in s.m[2].n) for the X planes' column gathers.
-void prepare_remesh(MesherScratch& s, const ChunkView& cv) {
-    if (!cv.pal)
-        return;
-    if (cv.bits == 1 && !cv.multi)
-        std::memcpy(s.m[2].n, cv.pal->indices.words(), sizeof s.m[2].n);
-    else if (!cv.wide())
-        unpack_rows8(cv.pal->indices, 0, kRows, s.d8 + kPad);
-    else
-        unpack_rows16(cv.pal->indices, 0, kRows, s.d16 + kPad);
-}
-
 } // namespace
 
 void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
-    prepare_remesh(*m_scratch, cv);
     remesh_planes(*m_scratch, cv, axis, plane, plane, mesh);
 }
 
 void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
-    prepare_remesh(*m_scratch, cv);
     for (int axis = 0; axis < 3; ++axis)
         remesh_planes(*m_scratch, cv, axis, p[axis], p[axis] + 1, mesh);
 }
