@@ -118,6 +118,33 @@ uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l, bool
 
 inline uint32_t run_mask(int u0, int w) { return uint32_t(((uint64_t(1) << w) - 1) << u0); }
 
+// Faces with no face beside them in the plane are 1 x 1 quads whatever the merge order: emitted
+// first (two lines per 64-bit scan, so sparse planes take few loop exits) and removed from F.
+template <class E, bool kMulti>
+Quad* emit_isolated(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t& lines, int l,
+                    uint32_t base, Quad* q) {
+    uint32_t G[kChunkSize + 2], iso[kChunkSize];
+    G[0] = G[kChunkSize + 1] = 0;
+    std::memcpy(G + 1, F, sizeof iso);
+    uint32_t any = 0;
+    for (int v = 0; v < kChunkSize; ++v) {
+        const uint32_t f = G[v + 1];
+        any |= iso[v] = f & ~(f << 1) & ~(f >> 1) & ~G[v] & ~G[v + 2];
+        F[v] = f & ~iso[v];
+    }
+    if (!any)
+        return q;
+    lines = nonzero_lines(F);
+    for (int v = 0; v < kChunkSize; v += 2) {
+        for (uint64_t b = iso[v] | uint64_t(iso[v + 1]) << 32; b; b &= b - 1) {
+            const int k = std::countr_zero(b), lv = v + (k >> 5), u = k & 31;
+            const BlockId id = kMulti ? cv.pal->ids[a.entries<E>(l, lv)[u]] : cv.single;
+            *q++ = make_quad(base | uint32_t(lv) << 5 | uint32_t(u), id);
+        }
+    }
+    return q;
+}
+
 // Classic greedy merge of one plane's faces F (consumed): line by line, a quad starts at the
 // lowest free face, takes the whole run of equal faces along u, then grows along v while the next
 // line holds the same run. Runs of one line never overlap, so they are independent: width-1 runs
@@ -126,6 +153,8 @@ template <class E, bool kMulti>
 Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t lines, int l, uint32_t base,
                   Quad* q) {
     const BlockId* ids = kMulti ? cv.pal->ids.data() : nullptr;
+    if constexpr (!kMulti) // Pays off on sparse one-id chunks; with ids, per-line tests below are cheaper.
+        q = emit_isolated<E, kMulti>(cv, a, F, lines, l, base, q);
     for (; lines; lines &= lines - 1) {
         const int v = std::countr_zero(lines);
         uint32_t m = F[v]; // Lines below may have been used up by quads from above.
