@@ -36,6 +36,9 @@ struct AxisRows {
     template <class E> const E* entries(int l, int v) const {
         return static_cast<const E*>(ent) + ((l - l0) * els + v * ers) * kChunkSize;
     }
+    // Entries of layer l's line 0 and the step between its lines.
+    template <class E> const E* layer_entries(int l) const { return entries<E>(l, 0); }
+    int line_step() const { return ers * kChunkSize; }
 };
 
 inline Quad make_quad(uint32_t packed, BlockId block) {
@@ -153,6 +156,8 @@ template <class E, bool kMulti>
 Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t lines, int l, uint32_t base,
                   Quad* q) {
     const BlockId* ids = kMulti ? cv.pal->ids.data() : nullptr;
+    const E* ent = kMulti ? a.layer_entries<E>(l) : nullptr;
+    const int step = a.line_step();
     if constexpr (!kMulti) // Pays off on sparse one-id chunks; with ids, per-line tests below are cheaper.
         q = emit_isolated<E, kMulti>(cv, a, F, lines, l, base, q);
     for (; lines; lines &= lines - 1) {
@@ -180,12 +185,12 @@ Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize]
                 *q++ = make_quad(line | uint32_t(u0) | uint32_t(w - 1) << 10 | uint32_t(h - 1) << 15, cv.single);
             }
         } else {
-            const E* e = a.entries<E>(l, v);
+            const E* e = ent + v * step;
             // Face u joins the run of u - 1: both faces, equal entries.
             const uint32_t cont = m & (m << 1) & eq_rows(e, e - 1);
             uint32_t lone = m & ~cont & ~(cont >> 1); // Runs of width 1...
             if (lone & next) // ... that cannot grow: no face of the same id below.
-                lone &= ~(next & eq_rows(e, a.entries<E>(l, v + 1)));
+                lone &= ~(next & eq_rows(e, e + step));
             m &= ~lone;
             while (lone) {
                 const int u = std::countr_zero(lone);
@@ -199,7 +204,7 @@ Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize]
                 const E id0 = e[u0];
                 int h = 1;
                 for (; v + h < kChunkSize; ++h) {
-                    if ((F[v + h] & run) != run || (eq_value(a.entries<E>(l, v + h), id0) & run) != run)
+                    if ((F[v + h] & run) != run || (eq_value(e + h * step, id0) & run) != run)
                         break;
                     F[v + h] &= ~run;
                 }

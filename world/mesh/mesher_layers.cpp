@@ -120,28 +120,42 @@ void store_slab(const RowMasks& m, bool transparent, int z, const uint32_t* n, c
 // Non-air: the air entry does not match (a palette holds air at most once). Transparent: one
 // of the transparent entries matches; with too many of them, flags one by one. Each row is
 // loaded once and compared in registers.
-template <class E>
+// kClear: 0 no transparent entry, 1 a compare per transparent entry, 2 flags one by one.
+template <class E, int kClear>
 void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
     using Row = RowOf<E>;
-    const bool few = cv.n_clear <= kMaxClasses;
     const auto air = Row::splat(cv.n_air ? cv.air[0] : 0);
+    const bool has_air = cv.n_air != 0;
     for (int z0 = 0; z0 < count; z0 += kChunkSize) {
         uint32_t n[kChunkSize], clear[kChunkSize] = {};
         for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize) {
             const Row row(rows);
-            n[i] = cv.n_air ? ~row.eq(air) : ~0u;
-            if (cv.n_clear && few) {
+            n[i] = has_air ? ~row.eq(air) : ~0u;
+            if constexpr (kClear == 1) {
+                uint32_t c = 0;
                 for (int k = 0; k < cv.n_clear; ++k)
-                    clear[i] |= row.eq(Row::splat(cv.clear[k]));
-            } else if (cv.n_clear) {
+                    c |= row.eq(Row::splat(cv.clear[k]));
+                clear[i] = c;
+            } else if constexpr (kClear == 2) {
+                uint32_t c = 0;
                 for (int x = 0; x < kChunkSize; ++x)
-                    clear[i] |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
+                    c |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
+                clear[i] = c;
             }
         }
-        store_slab(a, cv.transparent, z0 / kChunkSize, n, clear);
+        store_slab(a, kClear != 0, z0 / kChunkSize, n, clear);
         if (b)
-            store_slab(*b, cv.transparent, z0 / kChunkSize, n, clear);
+            store_slab(*b, kClear != 0, z0 / kChunkSize, n, clear);
     }
+}
+
+template <class E> void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+    if (cv.n_clear == 0)
+        masks_of<E, 0>(cv, rows, count, a, b);
+    else if (cv.n_clear <= kMaxClasses)
+        masks_of<E, 1>(cv, rows, count, a, b);
+    else
+        masks_of<E, 2>(cv, rows, count, a, b);
 }
 
 } // namespace
