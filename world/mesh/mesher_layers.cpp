@@ -103,18 +103,18 @@ using Row16 = RowScalar<uint16_t>;
 
 template <class E> using RowOf = std::conditional_t<sizeof(E) == 1, Row8, Row16>;
 
-// Writes the masks of the 32 rows of slab z (rows z * 32 ..) in the layout of `m`. Without
-// transparent blocks, o and t are left alone: the mesher reads n for o then, and never reads t.
-void store_slab(const RowMasks& m, bool transparent, int z, const uint32_t* n, const uint32_t* clear) {
-    const int step = m.swap ? kChunkSize : 1;
-    const int j0 = m.swap ? z : z * kChunkSize;
-    for (int i = 0, j = j0; i < kChunkSize; ++i, j += step)
-        m.n[j] = n[i];
-    if (transparent)
-        for (int i = 0, j = j0; i < kChunkSize; ++i, j += step) {
-            m.o[j] = n[i] & ~clear[i];
-            m.t[j] = clear[i];
-        }
+// Where row i of slab z goes in the layout of `m`, and the step to row i + 1.
+inline int slab_base(const RowMasks& m, int z) { return m.swap ? z : z * kChunkSize; }
+inline int slab_step(const RowMasks& m) { return m.swap ? kChunkSize : 1; }
+
+// Stores one row's masks. Without transparent blocks o and t are left alone: the mesher reads n
+// for o then, and never reads t.
+template <bool kClear> inline void store_row(const RowMasks& m, int j, uint32_t n, uint32_t clear) {
+    m.n[j] = n;
+    if constexpr (kClear) {
+        m.o[j] = n & ~clear;
+        m.t[j] = clear;
+    }
 }
 
 // Non-air: the air entry does not match (a palette holds air at most once). Transparent: one
@@ -126,26 +126,24 @@ void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, 
     using Row = RowOf<E>;
     const auto air = Row::splat(cv.n_air ? cv.air[0] : 0);
     const bool has_air = cv.n_air != 0;
-    for (int z0 = 0; z0 < count; z0 += kChunkSize) {
-        uint32_t n[kChunkSize], clear[kChunkSize] = {};
-        for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize) {
+    const RowMasks& bb = b ? *b : a; // Without b, a is simply written twice.
+    const int sa = slab_step(a), sb = slab_step(bb);
+    for (int z = 0; z < count / kChunkSize; ++z) {
+        int ja = slab_base(a, z), jb = slab_base(bb, z);
+        for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize, ja += sa, jb += sb) {
             const Row row(rows);
-            n[i] = has_air ? ~row.eq(air) : ~0u;
+            const uint32_t n = has_air ? ~row.eq(air) : ~0u;
+            uint32_t clear = 0;
             if constexpr (kClear == 1) {
-                uint32_t c = 0;
                 for (int k = 0; k < cv.n_clear; ++k)
-                    c |= row.eq(Row::splat(cv.clear[k]));
-                clear[i] = c;
+                    clear |= row.eq(Row::splat(cv.clear[k]));
             } else if constexpr (kClear == 2) {
-                uint32_t c = 0;
                 for (int x = 0; x < kChunkSize; ++x)
-                    c |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
-                clear[i] = c;
+                    clear |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
             }
+            store_row<kClear != 0>(a, ja, n, clear);
+            store_row<kClear != 0>(bb, jb, n, clear);
         }
-        store_slab(a, kClear != 0, z0 / kChunkSize, n, clear);
-        if (b)
-            store_slab(*b, kClear != 0, z0 / kChunkSize, n, clear);
     }
 }
 
