@@ -328,9 +328,10 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
 
 namespace {
 
-// X layers l0.. (at most 3): entries l0.. of each row (z = v, y) go to out[k][v][y]. Every row
-// starts on a byte, so the bit offset of entry l0 is the same in all rows.
-template <int B> void column_entries(const PackedArray& idx, int l0, int count, uint8_t* out) {
+// X layers l0, l0 + 1, l0 + 2: entries l0.. of row r = z * 32 + y go to out[k * 1024 + r] (line
+// v = z, entry y). Every row starts on a byte, so entry l0 has the same bit offset in all rows.
+// Always three: past the chunk's last layer the values are unused (the buffer holds three).
+template <int B> void column_entries(const PackedArray& idx, int l0, uint8_t* out) {
     constexpr uint32_t kMask = (1u << B) - 1;
     const int off = (l0 * B) & 7;
     const auto* bytes = reinterpret_cast<const uint8_t*>(idx.words()) + (l0 * B >> 3);
@@ -338,9 +339,9 @@ template <int B> void column_entries(const PackedArray& idx, int l0, int count, 
         uint32_t w;
         std::memcpy(&w, bytes, 4); // 7 + 3 * 8 bits at most; within the array's padding word.
         w >>= off;
-        uint8_t* o = out + (r & (kChunkSize - 1)) + (r >> kChunkBits) * kChunkSize; // [v = z][y]
-        for (int k = 0; k < count; ++k)
-            o[k * kRows] = uint8_t((w >> (k * B)) & kMask);
+        out[r] = uint8_t(w & kMask);
+        out[kRows + r] = uint8_t((w >> B) & kMask);
+        out[2 * kRows + r] = uint8_t((w >> (2 * B)) & kMask);
     }
 }
 
@@ -358,14 +359,14 @@ void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint8_t*
         return;
     }
     switch (idx.bits()) {
-    case 1: column_entries<1>(idx, l0, count, out); break;
-    case 2: column_entries<2>(idx, l0, count, out); break;
-    case 3: column_entries<3>(idx, l0, count, out); break;
-    case 4: column_entries<4>(idx, l0, count, out); break;
-    case 5: column_entries<5>(idx, l0, count, out); break;
-    case 6: column_entries<6>(idx, l0, count, out); break;
-    case 7: column_entries<7>(idx, l0, count, out); break;
-    default: column_entries<8>(idx, l0, count, out); break;
+    case 1: column_entries<1>(idx, l0, out); break;
+    case 2: column_entries<2>(idx, l0, out); break;
+    case 3: column_entries<3>(idx, l0, out); break;
+    case 4: column_entries<4>(idx, l0, out); break;
+    case 5: column_entries<5>(idx, l0, out); break;
+    case 6: column_entries<6>(idx, l0, out); break;
+    case 7: column_entries<7>(idx, l0, out); break;
+    default: column_entries<8>(idx, l0, out); break;
     }
 }
 
