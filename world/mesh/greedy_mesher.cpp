@@ -13,10 +13,10 @@
 
 // Data flow (after the bitmask meshers that cull whole columns with shifts, e.g.
 // cgerikj/binary-greedy-meshing): palette indices are unpacked once into rows of 32 entries along
-// x, and transposed per z slab into rows along y; byte compares turn each row into occupancy,
-// opacity and "same entry as the left neighbour" bits. A plane's face mask is then one AND-NOT
-// of two rows per line, and merging runs on bits: runs of one id come from entry compares, 1 x 1
-// quads (most faces of noisy chunks) are emitted straight from bit tests.
+// x, and transposed per z slab into rows along y; byte compares turn each row into non-air and
+// transparent bits, stored in every axis's line layout. A plane's face mask is then one AND-NOT
+// of two rows per line, and merging runs on bits: runs and heights of one id come from 32-entry
+// compares, 1 x 1 quads (most faces of noisy chunks) are emitted straight from bit tests.
 
 namespace vx::world {
 using namespace mesher_detail;
@@ -37,7 +37,7 @@ struct AxisRows {
         return static_cast<const E*>(ent) + ((l - l0) * els + v * ers) * kChunkSize;
     }
     // Entries of layer l's line 0 and the step between its lines.
-    template <class E> const E* layer_entries(int l) const { return entries<E>(l, 0); }
+    template <class E> const E* line0_entries(int l) const { return entries<E>(l, 0); }
     int line_step() const { return ers * kChunkSize; }
 };
 
@@ -156,7 +156,7 @@ template <class E, bool kMulti>
 Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t lines, int l, uint32_t base,
                   Quad* q) {
     const BlockId* ids = kMulti ? cv.pal->ids.data() : nullptr;
-    const E* ent = kMulti ? a.layer_entries<E>(l) : nullptr;
+    const E* ent = kMulti ? a.line0_entries<E>(l) : nullptr;
     const int step = a.line_step();
     if constexpr (!kMulti) // Pays off on sparse one-id chunks; with ids, per-line tests below are cheaper.
         q = emit_isolated<E, kMulti>(cv, a, F, lines, l, base, q);
