@@ -2,7 +2,8 @@
 // `rand() % 10 == 0`), a terrain-like heightmap with a few block types, 50% noise with 3 types,
 // a 3D checkerboard (the worst case), solid and empty; each isolated (air around, as in the
 // thesis) and embedded (opaque neighbours). 32³ chunks: the engine's chunk size.
-// Each benchmark cycles through 16 different chunks so caches see realistic variety.
+// Each benchmark cycles through 16 chunks, distinct wherever the scene allows (solid: 9 ids;
+// empty: air is air), so caches and branch predictors see realistic variety.
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -52,10 +53,16 @@ Chunk noise_chunk(uint64_t seed, int percent, int types) {
     return Chunk::from_dense(ids);
 }
 
-Chunk checker_chunk() {
+// The default registry's opaque ids (water 5 and glass 6 are not).
+constexpr BlockId kOpaqueIds[] = {1, 2, 3, 4, 7, 8, 9, 10, 11};
+constexpr int kOpaqueCount = int(sizeof kOpaqueIds / sizeof kOpaqueIds[0]);
+
+// Chunk i: either parity of the 3D checkerboard, with one of 8 opaque ids (16 distinct chunks).
+Chunk checker_chunk(uint64_t i) {
     std::vector<BlockId> ids(kChunkVolume);
-    for (int i = 0; i < kChunkVolume; ++i)
-        ids[i] = BlockId(((i & 31) + ((i >> 5) & 31) + (i >> 10)) & 1);
+    const BlockId block = kOpaqueIds[(i >> 1) % 8];
+    for (int k = 0; k < kChunkVolume; ++k)
+        ids[k] = (((k & 31) + ((k >> 5) & 31) + (k >> 10) + int(i)) & 1) ? block : kAir;
     return Chunk::from_dense(ids);
 }
 
@@ -69,9 +76,10 @@ const std::vector<Scene>& scenes() {
         {"random10", [](uint64_t i) { return random_fill_chunk(i * 7919 + 1, 10, 1); }},
         {"terrain", [](uint64_t i) { return terrain_chunk(i + 11); }},
         {"noise50x3", [](uint64_t i) { return noise_chunk(i + 101, 50, 3); }},
-        {"checker3d", [](uint64_t) { return checker_chunk(); }},
-        {"solid", [](uint64_t) { return Chunk(1); }},
-        {"empty", [](uint64_t) { return Chunk(); }},
+        {"checker3d", [](uint64_t i) { return checker_chunk(i); }},
+        // A uniform chunk differs from another only by its id: the 9 opaque ids in turn.
+        {"solid", [](uint64_t i) { return Chunk(kOpaqueIds[i % kOpaqueCount]); }},
+        {"empty", [](uint64_t) { return Chunk(); }}, // All air chunks are alike.
     };
     return s;
 }

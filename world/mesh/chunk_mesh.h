@@ -78,10 +78,11 @@ public:
     void replace_slice(int s, std::span<const Quad> quads);
 
     // Writing a whole mesh in slice order (used by meshers): begin, then per slice in order
-    // begin_slice(s) + push(q)..., then end().
+    // begin_slice(s) + push(q) or append(quads)..., then end().
     void begin(size_t expected_quads);
     void begin_slice(int s) { m_start[s] = uint32_t(m_quads.size()); }
     void push(const Quad& q) { m_quads.push_back(q); }
+    void append(std::span<const Quad> quads) { m_quads.insert(m_quads.end(), quads.begin(), quads.end()); }
     void end();
 
     // Every slice holds the same quads (in any order).

@@ -4,256 +4,288 @@
 #include <bit>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "world/mesh/index_unpack.h"
 #include "world/mesh/mesher_layers.h"
+
+// Data flow (after the bitmask meshers that cull whole columns with shifts, e.g.
+// cgerikj/binary-greedy-meshing): palette indices are unpacked once into rows of 32 entries along
+// x, and transposed per z slab into rows along y; byte compares turn each row into non-air and
+// transparent bits, stored in every axis's line layout. A plane's face mask is then one AND-NOT
+// of two rows per line, and merging runs on bits: runs and heights of one id come from 32-entry
+// compares, 1 x 1 quads (most faces of noisy chunks) are emitted straight from bit tests.
 
 namespace vx::world {
 using namespace mesher_detail;
 namespace {
 
-// Removes from `mask` the faces between two blocks of one transparent id.
-void hide_same_transparent(const ChunkView& cv, int axis, int block_layer, const LayerBits* neighbour,
-                           Face apron_face, uint32_t mask[kChunkSize]) {
-    const uint32_t base = uint32_t(block_layer) * kLayerStep[axis];
-    const int nl = block_layer + (face_positive(apron_face) ? 1 : -1);
+constexpr int kPad = 32; // Entries before each entry array: merging reads row[-1].
+
+// Rows of one axis's layers l0, l0 + 1, ...: the masks of (layer l, line v) are at index
+// (l - l0) * 32 + v, its entries (multi-id chunks only) at entry row (l - l0) * els + v * ers.
+struct AxisRows {
+    const uint32_t* n = nullptr;
+    const uint32_t* o = nullptr;
+    const uint32_t* t = nullptr;
+    const void* ent = nullptr; // Entry rows, uint8_t or uint16_t.
+    int l0 = 0, els = kChunkSize, ers = 1;
+    int row(int l, int v) const { return (l - l0) * kChunkSize + v; }
+    template <class E> const E* entries(int l, int v) const {
+        return static_cast<const E*>(ent) + ((l - l0) * els + v * ers) * kChunkSize;
+    }
+    // Entries of layer l's line 0 and the step between its lines.
+    template <class E> const E* line0_entries(int l) const { return entries<E>(l, 0); }
+    int line_step() const { return ers * kChunkSize; }
+};
+
+inline Quad make_quad(uint32_t packed, BlockId block) {
+    Quad q;
+    q.packed = packed;
+    q.block = block;
+    return q;
+}
+
+// Bit v set where F[v] != 0.
+inline uint32_t nonzero_lines(const uint32_t F[kChunkSize]) {
+#if defined(__SSE2__)
+    uint32_t zero = 0;
+    for (int k = 0; k < kChunkSize / 4; ++k) {
+        const __m128i z = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i*)(F + 4 * k)), _mm_setzero_si128());
+        zero |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(z))) << (4 * k);
+    }
+    return ~zero;
+#else
+    uint32_t lines = 0;
+    for (int v = 0; v < kChunkSize; ++v)
+        lines |= uint32_t(F[v] != 0) << v;
+    return lines;
+#endif
+}
+
+// Removes from F the faces between two blocks of one transparent id.
+template <class E>
+void hide_same_transparent(const ChunkView& cv, const AxisRows& a, int l, int nl, Face f, uint32_t F[kChunkSize]) {
+    if (nl >= 0 && nl < kChunkSize) {
+        const uint32_t *t = a.t + a.row(l, 0), *tn = a.t + a.row(nl, 0);
+        uint32_t H[kChunkSize], any = 0;
+        for (int v = 0; v < kChunkSize; ++v)
+            any |= H[v] = t[v] & tn[v]; // With one id, two transparent blocks are equal.
+        if (!any)
+            return;
+        if (cv.multi)
+            for (uint32_t lines = nonzero_lines(H); lines; lines &= lines - 1) {
+                const int v = std::countr_zero(lines);
+                H[v] &= eq_rows(a.entries<E>(l, v), a.entries<E>(nl, v));
+            }
+        for (int v = 0; v < kChunkSize; ++v)
+            F[v] &= ~H[v];
+        return;
+    }
+    if (!cv.apron->any_transparent[int(f)])
+        return;
+    const auto& ids = cv.apron->ids[int(f)];
     for (int v = 0; v < kChunkSize; ++v) {
-        uint32_t cand = neighbour ? (mask[v] & neighbour->t[v])
-                                  : (cv.apron->any_transparent[int(apron_face)] ? mask[v] : 0u);
+        const int r = a.row(l, v);
+        uint32_t cand = F[v] & a.t[r];
         while (cand) {
             const int u = std::countr_zero(cand);
             cand &= cand - 1;
-            const BlockId a = cv.chunk->get(int(base + u * kUStep[axis] + v * kVStep[axis]));
-            const BlockId b = neighbour ? cv.chunk->get(int(uint32_t(nl) * kLayerStep[axis] + u * kUStep[axis] +
-                                                            v * kVStep[axis]))
-                                        : cv.apron->ids[int(apron_face)][u + kChunkSize * v];
-            if (a == b)
-                mask[v] &= ~(1u << u);
+            const BlockId id = cv.multi ? cv.pal->ids[a.entries<E>(l, v)[u]] : cv.single;
+            if (id == ids[u + kChunkSize * v])
+                F[v] &= ~(1u << u);
         }
     }
 }
 
-// Greedy merge of one plane's face mask (consumed). Width first along u, then height along v.
-template <bool kMulti, class Sink>
-void merge_plane(const ChunkView& cv, uint32_t mask[kChunkSize], int axis, int plane, bool positive,
-                 int block_layer, Sink& sink) {
-    const uint32_t base = uint32_t(block_layer) * kLayerStep[axis];
-    const uint32_t su = kUStep[axis], sv = kVStep[axis];
+// Faces of layer l towards l + 1 (positive) or l - 1: non-air here, not opaque there (the apron
+// past the chunk's border). Returns the lines holding faces (bit v).
+template <class E>
+uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l, bool positive, uint32_t F[kChunkSize]) {
+    const int nl = positive ? l + 1 : l - 1;
+    const Face f = make_face(axis, positive);
+    const uint32_t* here = a.n + a.row(l, 0);
+    const uint32_t* occ = cv.transparent ? a.o : a.n; // Without transparent blocks, opaque = non-air.
+    const uint32_t* there = nl >= 0 && nl < kChunkSize ? occ + a.row(nl, 0) : cv.apron->opaque[int(f)].data();
+    uint32_t any = 0;
+    for (int v = 0; v < kChunkSize; ++v)
+        any |= F[v] = here[v] & ~there[v];
+    if (!any)
+        return 0;
+    if (cv.transparent)
+        hide_same_transparent<E>(cv, a, l, nl, f, F);
+    return nonzero_lines(F);
+}
+
+inline uint32_t run_mask(int u0, int w) { return uint32_t(((uint64_t(1) << w) - 1) << u0); }
+
+// Faces with no face beside them in the plane are 1 x 1 quads whatever the merge order: emitted
+// first (two lines per 64-bit scan, so sparse planes take few loop exits) and removed from F.
+template <class E, bool kMulti>
+Quad* emit_isolated(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t& lines, int l,
+                    uint32_t base, Quad* q) {
+    uint32_t G[kChunkSize + 2], iso[kChunkSize];
+    G[0] = G[kChunkSize + 1] = 0;
+    std::memcpy(G + 1, F, sizeof iso);
+    uint32_t any = 0;
     for (int v = 0; v < kChunkSize; ++v) {
-        while (mask[v]) {
-            const uint32_t m = mask[v];
-            const int u0 = std::countr_zero(m);
-            int w = std::countr_zero(~(uint64_t(m) >> u0)); // Run of ones from u0.
-            uint32_t id0 = 0;
-            const uint32_t row0 = base + uint32_t(v) * sv;
-            if constexpr (kMulti) {
-                id0 = cv.entry(row0 + uint32_t(u0) * su);
-                for (int k = 1; k < w; ++k)
-                    if (cv.entry(row0 + uint32_t(u0 + k) * su) != id0) {
-                        w = k;
-                        break;
-                    }
-            }
-            const uint32_t run = uint32_t((uint64_t(1) << w) - 1) << u0;
-            int h = 1;
-            for (; v + h < kChunkSize && (mask[v + h] & run) == run; ++h) {
-                if constexpr (kMulti) {
-                    const uint32_t row = base + uint32_t(v + h) * sv;
-                    bool same = true;
-                    for (int k = 0; k < w && same; ++k)
-                        same = cv.entry(row + uint32_t(u0 + k) * su) == id0;
-                    if (!same)
-                        break;
-                }
-                mask[v + h] &= ~run;
-            }
-            mask[v] &= ~run;
-            const BlockId block = kMulti ? cv.pal->ids[id0] : cv.single;
-            sink(Quad::make(axis, plane, positive, u0, v, w, h, block));
+        const uint32_t f = G[v + 1];
+        any |= iso[v] = f & ~(f << 1) & ~(f >> 1) & ~G[v] & ~G[v + 2];
+        F[v] = f & ~iso[v];
+    }
+    if (!any)
+        return q;
+    lines = nonzero_lines(F);
+    for (int v = 0; v < kChunkSize; v += 2) {
+        for (uint64_t b = iso[v] | uint64_t(iso[v + 1]) << 32; b; b &= b - 1) {
+            const int k = std::countr_zero(b), lv = v + (k >> 5), u = k & 31;
+            const BlockId id = kMulti ? cv.pal->ids[a.entries<E>(l, lv)[u]] : cv.single;
+            *q++ = make_quad(base | uint32_t(lv) << 5 | uint32_t(u), id);
         }
     }
+    return q;
 }
 
-// Emits slice (axis, plane): negative faces of layer `plane`, then positive faces of layer
-// `plane - 1`. `layer(l)` returns the bits of layer l (0..31) on this axis.
-template <class LayerFn, class Sink>
-void emit_slice(const ChunkView& cv, int axis, int plane, LayerFn&& layer, Sink& sink) {
-    uint32_t mask[kChunkSize];
-    auto merge = [&](bool positive, int block_layer) {
-        if (cv.split_count) {
-            // Faces of different ids never merge, so merging each id's faces alone gives the
-            // same quads as merging all with id compares (only the order within a slice differs).
-            ChunkView one = cv;
-            for (int k = 0; k < cv.split_count; ++k) {
-                const uint32_t* occ = cv.split_layers[k][axis][block_layer];
-                uint32_t part[kChunkSize], any = 0;
-                for (int v = 0; v < kChunkSize; ++v)
-                    any |= part[v] = mask[v] & occ[v];
-                if (!any)
-                    continue;
-                one.single = cv.pal->ids[cv.split_entries[k]];
-                merge_plane<false>(one, part, axis, plane, positive, block_layer, sink);
+// Classic greedy merge of one plane's faces F (consumed): line by line, a quad starts at the
+// lowest free face, takes the whole run of equal faces along u, then grows along v while the next
+// line holds the same run. Runs of one line never overlap, so they are independent: width-1 runs
+// that cannot grow are emitted first, straight from bit tests. Returns the end of the output.
+template <class E, bool kMulti>
+Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t lines, int l, uint32_t base,
+                  Quad* q) {
+    const BlockId* ids = kMulti ? cv.pal->ids.data() : nullptr;
+    const E* ent = kMulti ? a.line0_entries<E>(l) : nullptr;
+    const int step = a.line_step();
+    if constexpr (!kMulti) // Pays off on sparse one-id chunks; with ids, per-line tests below are cheaper.
+        q = emit_isolated<E, kMulti>(cv, a, F, lines, l, base, q);
+    for (; lines; lines &= lines - 1) {
+        const int v = std::countr_zero(lines);
+        uint32_t m = F[v]; // Lines below may have been used up by quads from above.
+        if (!m)
+            continue;
+        const uint32_t next = v + 1 < kChunkSize ? F[v + 1] : 0u;
+        const uint32_t line = base | uint32_t(v) << 5;
+        if constexpr (!kMulti) {
+            uint32_t lone = m & ~(m << 1) & ~(m >> 1) & ~next;
+            m &= ~lone;
+            while (lone) {
+                *q++ = make_quad(line | uint32_t(std::countr_zero(lone)), cv.single);
+                lone &= lone - 1;
             }
-        } else if (cv.multi)
-            merge_plane<true>(cv, mask, axis, plane, positive, block_layer, sink);
-        else
-            merge_plane<false>(cv, mask, axis, plane, positive, block_layer, sink);
-    };
-    if (plane < kChunkSize) {
-        const LayerBits& b = layer(plane);
-        const Face nf = make_face(axis, false);
-        const LayerBits* nb = plane > 0 ? &layer(plane - 1) : nullptr;
-        const uint32_t* occ = nb ? nb->o : cv.apron->opaque[int(nf)].data();
-        uint32_t any = 0;
-        for (int v = 0; v < kChunkSize; ++v)
-            any |= mask[v] = b.n[v] & ~occ[v];
-        if (any && cv.transparent)
-            hide_same_transparent(cv, axis, plane, nb, nf, mask);
-        if (any)
-            merge(false, plane);
+            while (m) {
+                const int u0 = std::countr_zero(m);
+                const int w = std::countr_zero(~(uint64_t(m) >> u0));
+                const uint32_t run = run_mask(u0, w);
+                int h = 1;
+                for (; v + h < kChunkSize && (F[v + h] & run) == run; ++h)
+                    F[v + h] &= ~run;
+                m &= ~run;
+                *q++ = make_quad(line | uint32_t(u0) | uint32_t(w - 1) << 10 | uint32_t(h - 1) << 15, cv.single);
+            }
+        } else {
+            const E* e = ent + v * step;
+            // Face u joins the run of u - 1: both faces, equal entries.
+            const uint32_t cont = m & (m << 1) & eq_rows(e, e - 1);
+            uint32_t lone = m & ~cont & ~(cont >> 1); // Runs of width 1...
+            if (lone & next) // ... that cannot grow: no face of the same id below.
+                lone &= ~(next & eq_rows(e, e + step));
+            m &= ~lone;
+            while (lone) {
+                const int u = std::countr_zero(lone);
+                *q++ = make_quad(line | uint32_t(u), ids[e[u]]);
+                lone &= lone - 1;
+            }
+            while (m) {
+                const int u0 = std::countr_zero(m);
+                const int w = 1 + std::countr_zero(~(uint64_t(cont) >> (u0 + 1)));
+                const uint32_t run = run_mask(u0, w);
+                const E id0 = e[u0];
+                int h = 1;
+                for (; v + h < kChunkSize; ++h) {
+                    if ((F[v + h] & run) != run || (eq_value(e + h * step, id0) & run) != run)
+                        break;
+                    F[v + h] &= ~run;
+                }
+                m &= ~run;
+                *q++ = make_quad(line | uint32_t(u0) | uint32_t(w - 1) << 10 | uint32_t(h - 1) << 15, ids[id0]);
+            }
+        }
     }
-    if (plane > 0) {
-        const LayerBits& b = layer(plane - 1);
-        const Face pf = make_face(axis, true);
-        const LayerBits* nb = plane < kChunkSize ? &layer(plane) : nullptr;
-        const uint32_t* occ = nb ? nb->o : cv.apron->opaque[int(pf)].data();
-        uint32_t any = 0;
-        for (int v = 0; v < kChunkSize; ++v)
-            any |= mask[v] = b.n[v] & ~occ[v];
-        if (any && cv.transparent)
-            hide_same_transparent(cv, axis, plane - 1, nb, pf, mask);
-        if (any)
-            merge(true, plane - 1);
-    }
+    return q;
+}
+
+// Slice (axis, plane): negative faces of layer `plane`, then positive faces of layer plane - 1.
+template <class E, bool kMulti> Quad* emit_slice(const ChunkView& cv, const AxisRows& a, int axis, int plane, Quad* q) {
+    uint32_t F[kChunkSize];
+    const uint32_t base = uint32_t(plane) << 20 | uint32_t(axis) << 26;
+    if (plane < kChunkSize)
+        if (const uint32_t lines = face_mask<E>(cv, a, axis, plane, false, F))
+            q = merge_plane<E, kMulti>(cv, a, F, lines, plane, base, q);
+    if (plane > 0)
+        if (const uint32_t lines = face_mask<E>(cv, a, axis, plane - 1, true, F))
+            q = merge_plane<E, kMulti>(cv, a, F, lines, plane - 1, base | 1u << 28, q);
+    return q;
+}
+
+using SliceFn = Quad* (*)(const ChunkView&, const AxisRows&, int, int, Quad*);
+
+SliceFn slice_fn(const ChunkView& cv) {
+    if (!cv.multi)
+        return emit_slice<uint8_t, false>; // Entries are never read.
+    return cv.wide() ? emit_slice<uint16_t, true> : emit_slice<uint8_t, true>;
+}
+
+// Row r of 1-bit palette indices.
+inline uint32_t bit_row(const uint64_t* words, int r) { return uint32_t(words[r >> 1] >> ((r & 1) * 32)); }
+
+} // namespace
+
+namespace mesher_detail {
+struct MesherScratch {
+    std::vector<uint8_t> flags;
+    // Masks per axis, lines of a layer together (index layer * 32 + line); remesh rows likewise.
+    struct Masks {
+        uint32_t n[kRows], o[kRows], t[kRows];
+    } m[3];
+    uint32_t rn[3 * kChunkSize], ro[3 * kChunkSize], rt[3 * kChunkSize];
+    uint32_t bits[kRows];
+    alignas(64) uint8_t d8[kPad + kChunkVolume], dt8[kPad + kChunkVolume], r8[kPad + 3 * kRows];
+    alignas(64) uint16_t d16[kPad + kChunkVolume], dt16[kPad + kChunkVolume], r16[kPad + 3 * kRows];
+    Quad quads[2 * kRows]; // One slice: at most a negative and a positive face per position.
+};
+} // namespace mesher_detail
+
+struct GreedyMesher::Scratch : MesherScratch {};
+
+GreedyMesher::GreedyMesher() : m_scratch(new Scratch) {
+    std::memset(m_scratch->d8, 0, kPad), std::memset(m_scratch->dt8, 0, kPad), std::memset(m_scratch->r8, 0, kPad);
+    std::fill_n(m_scratch->d16, kPad, 0), std::fill_n(m_scratch->dt16, kPad, 0), std::fill_n(m_scratch->r16, kPad, 0);
+}
+GreedyMesher::~GreedyMesher() { delete m_scratch; }
+
+namespace {
+
+// Rows of the whole chunk on all three axes: [2] Z planes (layer z, line y) and [1] Y planes
+// (layer y, line z) from the rows along x; [0] X planes (layer x, line z) from rows along y.
+template <class E> void entry_axes(const ChunkView& cv, E* d, E* dt, const RowMasks m[3], AxisRows ax[3]) {
+    if constexpr (sizeof(E) == 1)
+        unpack_rows8(cv.pal->indices, 0, kRows, d);
+    else
+        unpack_rows16(cv.pal->indices, 0, kRows, d);
+    transpose_slabs(d, dt);
+    entry_row_masks(cv, d, kRows, m[2], &m[1]);
+    entry_row_masks(cv, dt, kRows, m[0], nullptr);
+    ax[2].ent = ax[1].ent = d;
+    ax[0].ent = dt;
 }
 
 } // namespace
 
-// Up to this many non-air ids, full meshes merge per id (split mode).
-constexpr int kMaxSplit = 12;
-
-// Per-entry occupancy layers on all three axes, from the unpacked indices.
-void build_split_layers(ChunkView& cv, uint8_t* entries, uint32_t (*layers)[3][kChunkSize][kChunkSize]) {
-    int n = 0;
-    for (size_t e = 0; e < cv.pal->ids.size(); ++e)
-        if (cv.pal->counts[e] && (cv.flags[e] & kNonAir))
-            entries[n++] = uint8_t(e);
-    for (int k = 0; k < n; ++k) {
-        auto& L = layers[k];
-        for (int z = 0; z < kChunkSize; ++z) {
-            uint32_t rows[kChunkSize];
-            for (int y = 0; y < kChunkSize; ++y) {
-                rows[y] = eq_mask(cv.dense + z * kChunkSize * kChunkSize + y * kChunkSize, entries[k]);
-                L[2][z][y] = rows[y];
-                L[1][y][z] = rows[y];
-            }
-            transpose32(rows);
-            for (int x = 0; x < kChunkSize; ++x)
-                L[0][x][z] = rows[x];
-        }
-    }
-    cv.split_count = n;
-    cv.split_entries = entries;
-    cv.split_layers = layers;
-}
-
-// Split mode costs ~4 µs per id up front and saves ~5 ns per face merged. Solid-air transitions
-// along x estimate the face count; measured break-even on terrain vs 50% noise lies near 4096.
-bool split_pays_off(const ChunkView& cv, const LayerBits* lz) {
-    int non_air = 0;
-    for (size_t e = 0; e < cv.pal->ids.size(); ++e)
-        non_air += cv.pal->counts[e] && (cv.flags[e] & kNonAir);
-    if (non_air > kMaxSplit)
-        return false;
-    int transitions = 0;
-    for (int z = 0; z < kChunkSize; ++z)
-        for (int y = 0; y < kChunkSize; ++y)
-            transitions += std::popcount(lz[z].n[y] ^ (lz[z].n[y] << 1));
-    return transitions > 4096;
-}
-
-struct GreedyMesher::Scratch {
-    LayerBits layers[3][kChunkSize];
-    std::vector<uint8_t> flags;
-    std::vector<Quad> quads;
-    alignas(64) uint8_t dense[kChunkVolume];
-    uint8_t air[256], opaque[256];
-    uint8_t split_entries[kMaxSplit];
-    uint32_t split_layers[kMaxSplit][3][kChunkSize][kChunkSize];
-    LayerBits cache[3];
-    int cache_layer[3];
-};
-
-// Layer extraction for incremental remeshing: unpacking (2..8-bit indices) or generic.
-struct LayerLoader {
-    ChunkView& cv;
-    uint8_t* dense;
-    ExtractFn fixed = nullptr;
-    LayerLoader(ChunkView& view, uint8_t* dense_scratch) : cv(view), dense(dense_scratch) {
-        if (cv.pal && cv.air_entries)
-            fixed = extract_fixed_for(cv.pal->indices.bits());
-        if (fixed)
-            cv.dense = dense; // Merges read ids only from layers loaded here.
-    }
-    void load(int axis, int layer, LayerBits& out) const {
-        if (fixed)
-            fixed(cv, axis, layer, dense, out);
-        else
-            extract_layer(cv, axis, layer, out);
-    }
-};
-
-GreedyMesher::GreedyMesher() : m_scratch(new Scratch) {}
-GreedyMesher::~GreedyMesher() { delete m_scratch; }
-
-static ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags, uint8_t* air, uint8_t* opaque) {
-    ChunkView cv;
-    cv.chunk = &in.chunk;
-    cv.apron = &in.apron;
-    cv.pal = in.chunk.palette();
-    if (!cv.pal) {
-        cv.uniform_flags = block_flags(in.chunk.uniform_id(), in.registry);
-        cv.single = in.chunk.uniform_id();
-        cv.transparent = (cv.uniform_flags & kTransparent) != 0;
-        return cv;
-    }
-    const ChunkPalette& p = *cv.pal;
-    flags.resize(p.ids.size());
-    int non_air = 0;
-    for (size_t e = 0; e < p.ids.size(); ++e) {
-        flags[e] = block_flags(p.ids[e], in.registry);
-        if (p.counts[e] == 0)
-            continue;
-        if (flags[e] & kNonAir) {
-            ++non_air;
-            cv.single = p.ids[e];
-        }
-        cv.transparent |= (flags[e] & kTransparent) != 0;
-    }
-    cv.flags = flags.data();
-    cv.multi = non_air > 1;
-    if (p.ids.size() <= 256) {
-        for (size_t e = 0; e < p.ids.size(); ++e) {
-            if (p.counts[e] == 0)
-                continue;
-            if (!(flags[e] & kNonAir))
-                air[cv.n_air++] = uint8_t(e);
-            else if (flags[e] & kOpaque)
-                opaque[cv.n_opaque++] = uint8_t(e);
-            else
-                cv.all_opaque = false;
-        }
-        cv.air_entries = air;
-        cv.opaque_entries = opaque;
-    }
-    return cv;
-}
-
 void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
     Scratch& s = *m_scratch;
-    ChunkView cv = make_view(in, s.flags, s.air, s.opaque);
-    // One-bit palettes build masks straight from the packed words; wider ones unpack once so
-    // masks come from byte compares and merging compares bytes.
-    if (cv.pal && cv.pal->indices.bits() > 1 && unpack_indices(cv.pal->indices, s.dense))
-        cv.dense = s.dense;
+    const ChunkView cv = make_view(in, s.flags);
     out.begin(0);
     if (cv.chunk->is_empty()) {
         for (int i = 0; i < kSliceCount; ++i)
@@ -261,63 +293,140 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
         out.end();
         return;
     }
-    extract_all_layers(cv, s.layers);
-    if (cv.dense && cv.multi && split_pays_off(cv, s.layers[2]))
-        build_split_layers(cv, s.split_entries, s.split_layers);
-    auto sink = [&out](const Quad& q) { out.push(q); };
-    for (int axis = 0; axis < 3; ++axis) {
-        auto layer = [&](int l) -> const LayerBits& { return s.layers[axis][l]; };
+    RowMasks m[3];
+    AxisRows ax[3];
+    for (int a = 0; a < 3; ++a) {
+        auto& sm = s.m[a];
+        m[a] = {sm.n, sm.o, sm.t, a != 2};
+        ax[a] = {sm.n, sm.o, sm.t, nullptr, 0, a == 2 ? kChunkSize : 1, a == 2 ? 1 : kChunkSize};
+    }
+    if (!cv.pal) {
+        for (const RowMasks& rm : m)
+            uniform_row_masks(cv, kRows, rm);
+    } else if (cv.bits == 1 && !cv.multi) {
+        // One-bit palettes: the packed words are the rows; transposed per slab for the X planes.
+        std::memcpy(s.bits, cv.pal->indices.words(), sizeof s.bits);
+        bit_row_masks(cv, s.bits, kRows, m[2]);
+        bit_row_masks(cv, s.bits, kRows, m[1]);
+        for (int z = 0; z < kChunkSize; ++z)
+            transpose32(s.bits + z * kChunkSize);
+        bit_row_masks(cv, s.bits, kRows, m[0]);
+    } else if (!cv.wide()) {
+        entry_axes(cv, s.d8 + kPad, s.dt8 + kPad, m, ax);
+    } else {
+        entry_axes(cv, s.d16 + kPad, s.dt16 + kPad, m, ax);
+    }
+    const SliceFn emit = slice_fn(cv);
+    for (int axis = 0; axis < 3; ++axis)
         for (int plane = 0; plane < kPlanesPerAxis; ++plane) {
             out.begin_slice(slice_index(axis, plane));
-            emit_slice(cv, axis, plane, layer, sink);
+            const Quad* end = emit(cv, ax[axis], axis, plane, s.quads);
+            out.append({s.quads, size_t(end - s.quads)});
         }
-    }
     out.end();
 }
 
+namespace {
+
+// X layers l0, l0 + 1, l0 + 2: entries l0.. of row r = z * 32 + y go to out[k * 1024 + r] (line
+// v = z, entry y). Every row starts on a byte, so entry l0 has the same bit offset in all rows.
+// Always three: past the chunk's last layer the values are unused (the buffer holds three).
+template <int B> void column_entries(const PackedArray& idx, int l0, uint8_t* out) {
+    constexpr uint32_t kMask = (1u << B) - 1;
+    const int off = (l0 * B) & 7;
+    const auto* bytes = reinterpret_cast<const uint8_t*>(idx.words()) + (l0 * B >> 3);
+    for (int r = 0; r < kRows; ++r, bytes += 4 * B) {
+        uint32_t w;
+        std::memcpy(&w, bytes, 4); // 7 + 3 * 8 bits at most; within the array's padding word.
+        w >>= off;
+        out[r] = uint8_t(w & kMask);
+        out[kRows + r] = uint8_t((w >> B) & kMask);
+        out[2 * kRows + r] = uint8_t((w >> (2 * B)) & kMask);
+    }
+}
+
+// Entry rows of layers l0..l0 + count - 1 on one axis (rows layer * 32 + line), unpacked
+// straight from the packed indices: whole rows for Z and Y layers, a few entries per row for X.
+void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint8_t* out) {
+    if (axis == 2) {
+        unpack_rows8(idx, l0 * kChunkSize, count * kChunkSize, out);
+        return;
+    }
+    if (axis == 1) {
+        for (int k = 0; k < count; ++k)
+            for (int v = 0; v < kChunkSize; ++v)
+                unpack_rows8(idx, v * kChunkSize + l0 + k, 1, out + (k * kChunkSize + v) * kChunkSize);
+        return;
+    }
+    switch (idx.bits()) {
+    case 1: column_entries<1>(idx, l0, out); break;
+    case 2: column_entries<2>(idx, l0, out); break;
+    case 3: column_entries<3>(idx, l0, out); break;
+    case 4: column_entries<4>(idx, l0, out); break;
+    case 5: column_entries<5>(idx, l0, out); break;
+    case 6: column_entries<6>(idx, l0, out); break;
+    case 7: column_entries<7>(idx, l0, out); break;
+    default: column_entries<8>(idx, l0, out); break;
+    }
+}
+
+void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint16_t* out) {
+    for (int k = 0; k < count; ++k)
+        for (int v = 0; v < kChunkSize; ++v)
+            for (int u = 0; u < kChunkSize; ++u)
+                *out++ = uint16_t(idx.get(uint32_t(local_index(plane_to_local(axis, l0 + k, u, v)))));
+}
+
+// Remeshes planes lo..hi (inclusive, at most two) of one axis from the layers they touch.
+void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int hi, ChunkMesh& mesh) {
+    const int l0 = std::max(lo - 1, 0), count = std::min(hi, kChunkSize - 1) - l0 + 1;
+    const RowMasks r{s.rn, s.ro, s.rt};
+    AxisRows a{s.rn, s.ro, s.rt, nullptr, l0, kChunkSize, 1};
+    if (!cv.pal) {
+        uniform_row_masks(cv, count * kChunkSize, r);
+    } else if (cv.bits == 1 && !cv.multi) {
+        const uint64_t* w = cv.pal->indices.words();
+        uint32_t* b = s.bits;
+        uint32_t slab[kChunkSize];
+        for (int l = l0; l < l0 + count; ++l)
+            for (int v = 0; v < kChunkSize; ++v) {
+                if (axis == 2) {
+                    *b++ = bit_row(w, l * kChunkSize + v);
+                } else if (axis == 1) {
+                    *b++ = bit_row(w, v * kChunkSize + l);
+                } else {
+                    std::memcpy(slab, w + v * kChunkSize / 2, sizeof slab); // Rows of slab z = v.
+                    *b++ = column_bits(slab, l);
+                }
+            }
+        bit_row_masks(cv, s.bits, count * kChunkSize, r);
+    } else if (!cv.wide()) {
+        layer_entries(cv.pal->indices, axis, l0, count, s.r8 + kPad);
+        entry_row_masks(cv, s.r8 + kPad, count * kChunkSize, r, nullptr);
+        a.ent = s.r8 + kPad;
+    } else {
+        layer_entries(cv.pal->indices, axis, l0, count, s.r16 + kPad);
+        entry_row_masks(cv, s.r16 + kPad, count * kChunkSize, r, nullptr);
+        a.ent = s.r16 + kPad;
+    }
+    const SliceFn emit = slice_fn(cv);
+    for (int plane = lo; plane <= hi; ++plane) {
+        const Quad* end = emit(cv, a, axis, plane, s.quads);
+        mesh.replace_slice(slice_index(axis, plane), {s.quads, size_t(end - s.quads)});
+    }
+}
+
+} // namespace
+
 void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh) {
-    Scratch& s = *m_scratch;
-    ChunkView cv = make_view(in, s.flags, s.air, s.opaque);
-    const LayerLoader loader(cv, s.dense);
-    LayerBits* cache = s.cache;
-    int loaded[2] = {-1, -1};
-    auto layer = [&](int l) -> const LayerBits& {
-        const int slot = l == plane ? 0 : 1;
-        if (loaded[slot] != l) {
-            loader.load(axis, l, cache[slot]);
-            loaded[slot] = l;
-        }
-        return cache[slot];
-    };
-    s.quads.clear();
-    auto sink = [&s](const Quad& q) { s.quads.push_back(q); };
-    emit_slice(cv, axis, plane, layer, sink);
-    mesh.replace_slice(slice_index(axis, plane), s.quads);
+    const ChunkView cv = make_view(in, m_scratch->flags);
+    remesh_planes(*m_scratch, cv, axis, plane, plane, mesh);
 }
 
 void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh) {
-    Scratch& s = *m_scratch;
-    ChunkView cv = make_view(in, s.flags, s.air, s.opaque);
-    const LayerLoader loader(cv, s.dense);
-    auto sink = [&s](const Quad& q) { s.quads.push_back(q); };
-    for (int axis = 0; axis < 3; ++axis) {
-        // Planes c and c + 1 read layers c - 1, c and c + 1: extract each once.
-        const int c = p[axis];
-        int loaded[3] = {-1, -1, -1};
-        auto layer = [&](int l) -> const LayerBits& {
-            const int slot = l - c + 1;
-            if (loaded[slot] != l) {
-                loader.load(axis, l, s.cache[slot]);
-                loaded[slot] = l;
-            }
-            return s.cache[slot];
-        };
-        for (int plane = c; plane <= c + 1; ++plane) {
-            s.quads.clear();
-            emit_slice(cv, axis, plane, layer, sink);
-            mesh.replace_slice(slice_index(axis, plane), s.quads);
-        }
-    }
+    const ChunkView cv = make_view(in, m_scratch->flags);
+    for (int axis = 0; axis < 3; ++axis)
+        remesh_planes(*m_scratch, cv, axis, p[axis], p[axis] + 1, mesh);
 }
 
 } // namespace vx::world

@@ -1,7 +1,7 @@
 #include "world/mesh/mesher_layers.h"
 
 #include <algorithm>
-#include <bit>
+#include <type_traits>
 
 namespace vx::world::mesher_detail {
 
@@ -11,238 +11,178 @@ uint8_t block_flags(BlockId id, const BlockRegistry& r) {
     return r.is_opaque(id) ? uint8_t(kNonAir | kOpaque) : uint8_t(kNonAir | kTransparent);
 }
 
-// 32×32 bit-matrix transpose, bit j of row i moves to bit i of row j (LSB-first variant of
-// Hacker's Delight 7-3: swap ever smaller off-diagonal blocks).
-void transpose32(uint32_t a[32]) {
-    uint32_t m = 0x0000FFFFu;
-    for (int j = 16; j != 0; j >>= 1, m ^= m << j) {
-        for (int k = 0; k < 32; k = (k + j + 1) & ~j) {
-            const uint32_t t = ((a[k] >> j) ^ a[k + j]) & m;
-            a[k] ^= t << j;
-            a[k + j] ^= t;
-        }
-    }
-}
-
-// Bits of 32 consecutive entries (along x) starting at local index i0.
-inline void row_bits_x(const ChunkView& cv, uint32_t i0, uint32_t& n, uint32_t& o, uint32_t& t) {
-    const PackedArray& idx = cv.pal->indices;
-    if (idx.bits() == 1) {
-        // One bit per block: the 32 indices are the row itself.
-        const uint32_t row = uint32_t(idx.words()[i0 >> 6] >> (i0 & 63));
-        const uint8_t f0 = cv.flags[0], f1 = cv.flags[1];
-        auto sel = [&](uint8_t bit) {
-            return ((f0 & bit) ? ~row : 0u) | ((f1 & bit) ? row : 0u);
-        };
-        n = sel(kNonAir), o = sel(kOpaque), t = sel(kTransparent);
-        return;
-    }
-    // Stream the packed bits through a 64-bit window.
-    const uint32_t bits = idx.bits();
-    const uint64_t mask = (uint64_t(1) << bits) - 1;
-    const uint64_t* w = idx.words();
-    uint64_t pos = uint64_t(i0) * bits;
-    uint32_t rn = 0, ro = 0, rt = 0;
-    for (uint32_t x = 0; x < uint32_t(kChunkSize); ++x, pos += bits) {
-        const uint64_t* p = w + (pos >> 6);
-        const uint32_t off = uint32_t(pos & 63);
-        const uint32_t e = uint32_t(((p[0] >> off) | ((p[1] << 1) << (63 - off))) & mask);
-        const uint32_t f = cv.flags[e];
-        rn |= (f & 1u) << x;
-        ro |= ((f >> 1) & 1u) << x;
-        rt |= ((f >> 2) & 1u) << x;
-    }
-    n = rn, o = ro, t = rt;
-}
-
-// One layer's bits read straight from the chunk (for incremental remeshing).
-void extract_layer(const ChunkView& cv, int axis, int layer, LayerBits& out) {
+ChunkView make_view(const MesherInput& in, std::vector<uint8_t>& flags) {
+    ChunkView cv;
+    cv.chunk = &in.chunk;
+    cv.apron = &in.apron;
+    cv.pal = in.chunk.palette();
     if (!cv.pal) {
-        const uint8_t f = cv.uniform_flags;
-        std::fill_n(out.n, kChunkSize, (f & kNonAir) ? ~0u : 0u);
-        std::fill_n(out.o, kChunkSize, (f & kOpaque) ? ~0u : 0u);
-        std::fill_n(out.t, kChunkSize, (f & kTransparent) ? ~0u : 0u);
-        return;
+        cv.uniform_flags = block_flags(in.chunk.uniform_id(), in.registry);
+        cv.single = in.chunk.uniform_id();
+        cv.transparent = (cv.uniform_flags & kTransparent) != 0;
+        return cv;
     }
-    if (axis != 0) {
-        // Rows run along x (u = x): contiguous indices.
-        for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v)
-            row_bits_x(cv, uint32_t(layer) * kLayerStep[axis] + v * kVStep[axis], out.n[v], out.o[v], out.t[v]);
-        return;
-    }
-    const PackedArray& idx = cv.pal->indices;
-    for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v) {
-        uint32_t rn = 0, ro = 0, rt = 0;
-        uint32_t i = uint32_t(layer) + v * kVStep[0];
-        for (uint32_t u = 0; u < uint32_t(kChunkSize); ++u, i += kUStep[0]) {
-            const uint32_t f = cv.flags[idx.get(i)];
-            rn |= (f & 1u) << u;
-            ro |= ((f >> 1) & 1u) << u;
-            rt |= ((f >> 2) & 1u) << u;
+    const ChunkPalette& p = *cv.pal;
+    cv.bits = p.indices.bits();
+    flags.resize(p.ids.size());
+    int non_air = 0;
+    for (size_t e = 0; e < p.ids.size(); ++e) {
+        flags[e] = block_flags(p.ids[e], in.registry);
+        if (p.counts[e] == 0)
+            continue;
+        if (!(flags[e] & kNonAir)) {
+            if (cv.n_air < kMaxClasses)
+                cv.air[cv.n_air] = uint16_t(e);
+            ++cv.n_air;
+            continue;
         }
-        out.n[v] = rn, out.o[v] = ro, out.t[v] = rt;
-    }
-}
-
-// Unpacks B-bit palette indices to bytes. 64 entries of B bits fill exactly B words, so every
-// shift below is a compile-time constant once the inner loop is unrolled.
-template <int B> void unpack_fixed(const uint64_t* w, uint8_t* out) {
-    constexpr uint64_t kMask = (uint64_t(1) << B) - 1;
-    for (int g = 0; g < kChunkVolume / 64; ++g, w += B, out += 64) {
-#pragma GCC unroll 64
-        for (int k = 0; k < 64; ++k) {
-            const int bit = k * B, word = bit >> 6, off = bit & 63;
-            uint64_t v = w[word] >> off;
-            if (off + B > 64)
-                v |= w[word + 1] << (64 - off);
-            out[k] = uint8_t(v & kMask);
+        ++non_air;
+        cv.single = p.ids[e];
+        if (flags[e] & kTransparent) {
+            cv.transparent = true;
+            if (cv.n_clear < kMaxClasses)
+                cv.clear[cv.n_clear] = uint16_t(e);
+            ++cv.n_clear;
         }
     }
+    cv.flags = flags.data();
+    cv.multi = non_air > 1;
+    return cv;
 }
 
-bool unpack_indices(const PackedArray& a, uint8_t* out) {
-    switch (a.bits()) {
-    case 1: unpack_fixed<1>(a.words(), out); return true;
-    case 2: unpack_fixed<2>(a.words(), out); return true;
-    case 3: unpack_fixed<3>(a.words(), out); return true;
-    case 4: unpack_fixed<4>(a.words(), out); return true;
-    case 5: unpack_fixed<5>(a.words(), out); return true;
-    case 6: unpack_fixed<6>(a.words(), out); return true;
-    case 7: unpack_fixed<7>(a.words(), out); return true;
-    case 8: unpack_fixed<8>(a.words(), out); return true;
-    default: return false;
+namespace {
+
+#if defined(__SSE2__)
+// A row of 32 entries in registers, compared as a whole.
+struct Row8 {
+    __m128i v[2];
+    explicit Row8(const uint8_t* p) : v{_mm_loadu_si128((const __m128i*)p), _mm_loadu_si128((const __m128i*)(p + 16))} {}
+    static __m128i splat(uint16_t e) { return _mm_set1_epi8(char(e)); }
+    uint32_t eq(__m128i e) const {
+        return uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(v[0], e))) |
+               uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(v[1], e))) << 16;
+    }
+    uint32_t eq(const Row8& o) const {
+        return uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(v[0], o.v[0]))) |
+               uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(v[1], o.v[1]))) << 16;
+    }
+};
+struct Row16 {
+    __m128i v[4];
+    explicit Row16(const uint16_t* p) {
+        for (int i = 0; i < 4; ++i)
+            v[i] = _mm_loadu_si128((const __m128i*)(p + 8 * i));
+    }
+    static __m128i splat(uint16_t e) { return _mm_set1_epi16(short(e)); }
+    static uint32_t pack(__m128i a, __m128i b) { return uint32_t(_mm_movemask_epi8(_mm_packs_epi16(a, b))); }
+    uint32_t eq(__m128i e) const {
+        return pack(_mm_cmpeq_epi16(v[0], e), _mm_cmpeq_epi16(v[1], e)) |
+               pack(_mm_cmpeq_epi16(v[2], e), _mm_cmpeq_epi16(v[3], e)) << 16;
+    }
+    uint32_t eq(const Row16& o) const {
+        return pack(_mm_cmpeq_epi16(v[0], o.v[0]), _mm_cmpeq_epi16(v[1], o.v[1])) |
+               pack(_mm_cmpeq_epi16(v[2], o.v[2]), _mm_cmpeq_epi16(v[3], o.v[3])) << 16;
+    }
+};
+#else
+template <class E> struct RowScalar {
+    const E* p;
+    explicit RowScalar(const E* q) : p(q) {}
+    static E splat(uint16_t e) { return E(e); }
+    uint32_t eq(E e) const {
+        uint32_t m = 0;
+        for (int i = 0; i < kChunkSize; ++i)
+            m |= uint32_t(p[i] == e) << i;
+        return m;
+    }
+    uint32_t eq(const RowScalar& o) const { return eq_rows(p, o.p); }
+};
+using Row8 = RowScalar<uint8_t>;
+using Row16 = RowScalar<uint16_t>;
+#endif
+
+template <class E> using RowOf = std::conditional_t<sizeof(E) == 1, Row8, Row16>;
+
+// Where row i of slab z goes in the layout of `m`, and the step to row i + 1.
+inline int slab_base(const RowMasks& m, int z) { return m.swap ? z : z * kChunkSize; }
+inline int slab_step(const RowMasks& m) { return m.swap ? kChunkSize : 1; }
+
+// Stores one row's masks. Without transparent blocks o and t are left alone: the mesher reads n
+// for o then, and never reads t.
+template <bool kClear> inline void store_row(const RowMasks& m, int j, uint32_t n, uint32_t clear) {
+    m.n[j] = n;
+    if constexpr (kClear) {
+        m.o[j] = n & ~clear;
+        m.t[j] = clear;
     }
 }
 
-
-
-// Masks of one row of 32 unpacked indices: a compare per air entry (non-air = none of them)
-// and, only when some non-air entry is not opaque, a compare per opaque entry.
-inline void row_bits_dense(const ChunkView& cv, const uint8_t* row, uint32_t& n, uint32_t& o, uint32_t& t) {
-    uint32_t a = 0;
-    for (int k = 0; k < cv.n_air; ++k)
-        a |= eq_mask(row, cv.air_entries[k]);
-    n = ~a;
-    o = n;
-    if (!cv.all_opaque) {
-        o = 0;
-        for (int k = 0; k < cv.n_opaque; ++k)
-            o |= eq_mask(row, cv.opaque_entries[k]);
-    }
-    t = n & ~o;
-}
-
-void dense_rows(const ChunkView& cv, LayerBits* lz) {
-    for (int z = 0; z < kChunkSize; ++z)
-        for (int y = 0; y < kChunkSize; ++y)
-            row_bits_dense(cv, cv.dense + z * kChunkSize * kChunkSize + y * kChunkSize, lz[z].n[y], lz[z].o[y],
-                           lz[z].t[y]);
-}
-
-static_assert(std::endian::native == std::endian::little, "row unpacking reads packed words as bytes");
-
-// Unpacks the 32 B-bit indices of the row starting at i0 (a multiple of 32, so the row starts
-// on a 32-bit boundary and all shifts are constants).
-template <int B> inline void unpack_row(const uint64_t* w, uint32_t i0, uint8_t* out) {
-    uint64_t buf[6] = {};
-    // 4B bytes of row plus 8 bytes: within the array's padding word at the very end.
-    std::memcpy(buf, reinterpret_cast<const char*>(w) + size_t(i0) * B / 8, 4 * B + 8);
-    constexpr uint64_t kMask = (uint64_t(1) << B) - 1;
-#pragma GCC unroll 32
-    for (int k = 0; k < kChunkSize; ++k) {
-        const int bit = k * B, word = bit >> 6, off = bit & 63;
-        uint64_t v = buf[word] >> off;
-        if (off + B > 64)
-            v |= buf[word + 1] << (64 - off);
-        out[k] = uint8_t(v & kMask);
-    }
-}
-
-template <int B> inline uint32_t get_fixed(const uint64_t* w, uint32_t i) {
-    const uint32_t pos = i * B, off = pos & 63;
-    const uint64_t* p = w + (pos >> 6);
-    return uint32_t(((p[0] >> off) | ((p[1] << 1) << (63 - off))) & ((uint64_t(1) << B) - 1));
-}
-
-// One layer for incremental remeshing: unpacks its indices into `dense` (at their chunk
-// indices, for the merge's id compares) and builds its bits.
-template <int B> void extract_layer_fixed(const ChunkView& cv, int axis, int layer, uint8_t* dense, LayerBits& out) {
-    const uint64_t* w = cv.pal->indices.words();
-    if (axis != 0) {
-        for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v) {
-            const uint32_t i0 = uint32_t(layer) * kLayerStep[axis] + v * kVStep[axis];
-            unpack_row<B>(w, i0, dense + i0);
-            row_bits_dense(cv, dense + i0, out.n[v], out.o[v], out.t[v]);
-        }
-        return;
-    }
-    for (uint32_t v = 0; v < uint32_t(kChunkSize); ++v) {
-        uint32_t rn = 0, ro = 0, rt = 0;
-        uint32_t i = uint32_t(layer) + v * kVStep[0];
-        for (uint32_t u = 0; u < uint32_t(kChunkSize); ++u, i += kUStep[0]) {
-            const uint32_t e = get_fixed<B>(w, i);
-            dense[i] = uint8_t(e);
-            const uint32_t f = cv.flags[e];
-            rn |= (f & 1u) << u;
-            ro |= ((f >> 1) & 1u) << u;
-            rt |= ((f >> 2) & 1u) << u;
-        }
-        out.n[v] = rn, out.o[v] = ro, out.t[v] = rt;
-    }
-}
-
-using ExtractFn = void (*)(const ChunkView&, int, int, uint8_t*, LayerBits&);
-ExtractFn extract_fixed_for(uint32_t bits) {
-    switch (bits) {
-    case 1: return extract_layer_fixed<1>;
-    case 2: return extract_layer_fixed<2>;
-    case 3: return extract_layer_fixed<3>;
-    case 4: return extract_layer_fixed<4>;
-    case 5: return extract_layer_fixed<5>;
-    case 6: return extract_layer_fixed<6>;
-    case 7: return extract_layer_fixed<7>;
-    case 8: return extract_layer_fixed<8>;
-    default: return nullptr;
-    }
-}
-
-// All 3×32 layers at once: rows along x are read once, the X layers come from transposes.
-void extract_all_layers(const ChunkView& cv, LayerBits (*layers)[kChunkSize]) {
-    LayerBits* lz = layers[2];
-    if (!cv.pal) {
-        for (int l = 0; l < kChunkSize; ++l)
-            extract_layer(cv, 2, l, lz[l]);
-    } else if (cv.dense) {
-        dense_rows(cv, lz);
-    } else {
-        for (uint32_t z = 0; z < uint32_t(kChunkSize); ++z)
-            for (uint32_t y = 0; y < uint32_t(kChunkSize); ++y)
-                row_bits_x(cv, z * kVStep[1] + y * kChunkSize, lz[z].n[y], lz[z].o[y], lz[z].t[y]);
-    }
-    // Y layer y, row z = Z layer z, row y (both have u = x).
-    for (int y = 0; y < kChunkSize; ++y)
-        for (int z = 0; z < kChunkSize; ++z) {
-            layers[1][y].n[z] = lz[z].n[y];
-            layers[1][y].o[z] = lz[z].o[y];
-            layers[1][y].t[z] = lz[z].t[y];
-        }
-    // X layer x, row z, bit y = Z layer z, row y, bit x: a bit transpose per z.
-    uint32_t tn[kChunkSize], to[kChunkSize], tt[kChunkSize];
-    for (int z = 0; z < kChunkSize; ++z) {
-        std::memcpy(tn, lz[z].n, sizeof tn);
-        std::memcpy(to, lz[z].o, sizeof to);
-        transpose32(tn);
-        transpose32(to);
-        if (cv.transparent) {
-            std::memcpy(tt, lz[z].t, sizeof tt);
-            transpose32(tt);
-        }
-        for (int x = 0; x < kChunkSize; ++x) {
-            layers[0][x].n[z] = tn[x];
-            layers[0][x].o[z] = to[x];
-            layers[0][x].t[z] = cv.transparent ? tt[x] : 0u;
+// Non-air: the air entry does not match (a palette holds air at most once). Transparent: one
+// of the transparent entries matches; with too many of them, flags one by one. Each row is
+// loaded once and compared in registers.
+// kClear: 0 no transparent entry, 1 a compare per transparent entry, 2 flags one by one.
+template <class E, int kClear>
+void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+    using Row = RowOf<E>;
+    const auto air = Row::splat(cv.n_air ? cv.air[0] : 0);
+    const bool has_air = cv.n_air != 0;
+    const RowMasks& bb = b ? *b : a; // Without b, a is simply written twice.
+    const int sa = slab_step(a), sb = slab_step(bb);
+    for (int z = 0; z < count / kChunkSize; ++z) {
+        int ja = slab_base(a, z), jb = slab_base(bb, z);
+        for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize, ja += sa, jb += sb) {
+            const Row row(rows);
+            const uint32_t n = has_air ? ~row.eq(air) : ~0u;
+            uint32_t clear = 0;
+            if constexpr (kClear == 1) {
+                for (int k = 0; k < cv.n_clear; ++k)
+                    clear |= row.eq(Row::splat(cv.clear[k]));
+            } else if constexpr (kClear == 2) {
+                for (int x = 0; x < kChunkSize; ++x)
+                    clear |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
+            }
+            store_row<kClear != 0>(a, ja, n, clear);
+            store_row<kClear != 0>(bb, jb, n, clear);
         }
     }
+}
+
+template <class E> void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+    if (cv.n_clear == 0)
+        masks_of<E, 0>(cv, rows, count, a, b);
+    else if (cv.n_clear <= kMaxClasses)
+        masks_of<E, 1>(cv, rows, count, a, b);
+    else
+        masks_of<E, 2>(cv, rows, count, a, b);
+}
+
+} // namespace
+
+void entry_row_masks(const ChunkView& cv, const uint8_t* rows, int count, const RowMasks& a, const RowMasks* b) {
+    masks_of(cv, rows, count, a, b);
+}
+
+void entry_row_masks(const ChunkView& cv, const uint16_t* rows, int count, const RowMasks& a, const RowMasks* b) {
+    masks_of(cv, rows, count, a, b);
+}
+
+void bit_row_masks(const ChunkView& cv, const uint32_t* bits, int count, const RowMasks& out) {
+    const uint8_t f0 = cv.flags[0], f1 = cv.flags[1];
+    for (int r = 0; r < count; ++r) {
+        const uint32_t row = bits[r];
+        auto sel = [&](uint8_t bit) { return ((f0 & bit) ? ~row : 0u) | ((f1 & bit) ? row : 0u); };
+        const int i = out.swap ? (r & (kChunkSize - 1)) * kChunkSize + (r >> kChunkBits) : r;
+        out.n[i] = sel(kNonAir);
+        out.o[i] = sel(kOpaque);
+        out.t[i] = sel(kTransparent);
+    }
+}
+
+void uniform_row_masks(const ChunkView& cv, int count, const RowMasks& out) {
+    const uint8_t f = cv.uniform_flags;
+    std::fill_n(out.n, count, (f & kNonAir) ? ~0u : 0u);
+    std::fill_n(out.o, count, (f & kOpaque) ? ~0u : 0u);
+    std::fill_n(out.t, count, (f & kTransparent) ? ~0u : 0u);
 }
 
 } // namespace vx::world::mesher_detail
