@@ -18,8 +18,10 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <libpq-fe.h>
 
 #include "world/gen/terrain.h"
+#include "world/store/chunk_record.h"
 #include "world/store/pg_store.h"
 
 namespace vx::world {
@@ -86,6 +88,89 @@ void bench_write(benchmark::State& state) {
         benchmark::Counter(double(encode_chunk_record({0, 0, 0}, chunks[0]).size()), benchmark::Counter::kAvgThreads);
 }
 
+const std::vector<std::vector<uint8_t>>& sample_records() {
+    static const std::vector<std::vector<uint8_t>> records = [] {
+        std::vector<std::vector<uint8_t>> out;
+        for (size_t i = 0; i < sample_chunks().size(); ++i)
+            out.push_back(encode_chunk_record({kBaseX + 200, 0, int32_t(i)}, sample_chunks()[i]));
+        return out;
+    }();
+    return records;
+}
+
+// As bench_write, with records encoded beforehand (ChunkWrite::record): the store's own path to
+// the server, without zstd on the calling thread (the engine can encode on its workers).
+void bench_write_encoded(benchmark::State& state) {
+    auto store = open_bench_store(state);
+    if (!store)
+        return;
+    const std::vector<Chunk>& chunks = sample_chunks();
+    const auto& records = sample_records();
+    static std::atomic<int32_t> run{0};
+    const int32_t y = 5000 + run.fetch_add(1) * 64 + state.thread_index();
+    int32_t z = 0;
+    std::vector<ChunkWrite> batch(kBatch);
+    for (auto _ : state) {
+        for (int i = 0; i < kBatch; ++i, ++z) {
+            const size_t k = size_t(z) % chunks.size();
+            batch[size_t(i)] = {ChunkCoord(kBaseX + 200, y, z), &chunks[k], {}, records[k]};
+        }
+        if (!store->save(batch) || !store->flush()) {
+            state.SkipWithError("write failed");
+            return;
+        }
+    }
+    state.SetItemsProcessed(state.iterations() * kBatch);
+}
+
+// The baseline, side by side: plain 64-row transactions (BEGIN, one INSERT ... ON CONFLICT round
+// trip per row, COMMIT) of the same encoded records into a table of the same shape, as a
+// straightforward client would write them.
+void bench_write_plain(benchmark::State& state) {
+    const char* uri = std::getenv("VX_BENCH_PG_URI");
+    if (!uri || !*uri) {
+        state.SkipWithError("set VX_BENCH_PG_URI");
+        return;
+    }
+    PGconn* conn = PQconnectdb(uri);
+    PQclear(PQexec(conn, "CREATE TABLE IF NOT EXISTS bench_plain(x int4, y int4, z int4, data bytea, "
+                         "PRIMARY KEY (x, y, z))"));
+    PGresult* prep = PQprepare(conn, "plain_put",
+                               "INSERT INTO bench_plain VALUES ($1::int4, $2::int4, $3::int4, $4) "
+                               "ON CONFLICT (x, y, z) DO UPDATE SET data = EXCLUDED.data",
+                               0, nullptr);
+    const bool prepared = PQresultStatus(prep) == PGRES_COMMAND_OK;
+    PQclear(prep);
+    if (PQstatus(conn) != CONNECTION_OK || !prepared) {
+        state.SkipWithError(PQerrorMessage(conn));
+        PQfinish(conn);
+        return;
+    }
+    const auto& records = sample_records();
+    static std::atomic<int32_t> run{0};
+    const std::string x = std::to_string(run.fetch_add(1)), y = std::to_string(state.thread_index());
+    int32_t z = 0;
+    for (auto _ : state) {
+        PQclear(PQexec(conn, "BEGIN"));
+        for (int i = 0; i < kBatch; ++i, ++z) {
+            const std::string zs = std::to_string(z);
+            const auto& rec = records[size_t(z) % records.size()];
+            const char* values[] = {x.c_str(), y.c_str(), zs.c_str(), reinterpret_cast<const char*>(rec.data())};
+            const int lengths[] = {0, 0, 0, int(rec.size())}, formats[] = {0, 0, 0, 1};
+            PQclear(PQexecPrepared(conn, "plain_put", 4, values, lengths, formats, 0));
+        }
+        PGresult* r = PQexec(conn, "COMMIT");
+        const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK;
+        PQclear(r);
+        if (!ok) {
+            state.SkipWithError("commit failed");
+            break;
+        }
+    }
+    state.SetItemsProcessed(state.iterations() * kBatch);
+    PQfinish(conn);
+}
+
 // Point reads of stored chunks in random order, one connection per thread.
 void bench_read(benchmark::State& state) {
     auto store = open_bench_store(state);
@@ -145,6 +230,8 @@ void bench_visibility(benchmark::State& state) {
     }
 }
 
+BENCHMARK(bench_write_plain)->Name("pg/write_plain_baseline")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
+BENCHMARK(bench_write_encoded)->Name("pg/write_encoded")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_write)->Name("pg/write")->ThreadRange(1, 4)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_read)->Name("pg/read")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_visibility)->Name("pg/commit_to_visible")->UseManualTime()->Iterations(200)->Unit(benchmark::kMillisecond);

@@ -59,6 +59,10 @@ struct ChunkWrite {
     // whatever is stored (a freshly generated chunk, or a store with one writer). Read during
     // save() only.
     std::span<const BlockEdit> edits{};
+    // The chunk's record already encoded (encode_chunk_record / RecordCodec, e.g. on a worker
+    // thread so the store's thread only writes): stored as is, `chunk` is then not read. The
+    // caller vouches that it encodes `chunk` at `coord` (`chunk` stays non-null: null erases).
+    std::span<const uint8_t> record{};
 };
 
 // How a store's connection to its backing storage is doing (shared stores; files are always up).

@@ -255,7 +255,10 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
         }
         if (!p.record)
             p.record.emplace();
-        m_codec.encode(w.coord, *w.chunk, *p.record);
+        if (w.record.empty())
+            m_codec.encode(w.coord, *w.chunk, *p.record);
+        else
+            p.record->assign(w.record.begin(), w.record.end());
         m_pending_bytes += p.record->size();
         if (w.edits.empty()) {
             p.whole = true;

@@ -257,7 +257,10 @@ Status SqliteStore::save(std::span<const ChunkWrite> batch) {
         }
         if (!it->second)
             it->second.emplace();
-        m_codec.encode(w.coord, *w.chunk, *it->second);
+        if (w.record.empty())
+            m_codec.encode(w.coord, *w.chunk, *it->second);
+        else
+            it->second->assign(w.record.begin(), w.record.end());
         m_pending_bytes += it->second->size();
     }
     if (m_pending_bytes > m_info.max_pending_bytes)
