@@ -6,6 +6,8 @@
 #include <cstring>
 #include <unordered_set>
 
+#include <glm/gtc/packing.hpp>
+
 #include "render/commands.h"
 #include "render/context.h"
 #include "render/gbuffer.h"
@@ -39,6 +41,7 @@ struct Renderer::Impl {
     bool any_emitter = false; // Some material emits: sky rays also look for emitters.
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
+    Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
     RenderStats stats;
     std::unique_ptr<Presenter> presenter; // With a window.
     std::chrono::steady_clock::time_point last_present{};
@@ -86,6 +89,8 @@ struct Renderer::Impl {
     void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
     void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const;
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {}
@@ -334,7 +339,61 @@ void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera) {
+// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
+constexpr VkDeviceSize kGBufferPixelBytes[3] = {8, 4, 8};
+
+void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+    const VkDeviceSize pixels = VkDeviceSize(width) * height;
+    const VkDeviceSize bytes = pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]);
+    if (!gbuffer_readback.valid() || gbuffer_readback.size() != bytes) {
+        gbuffer_readback =
+            Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "gbuffer readback"});
+        VX_ASSERT_MSG(gbuffer_readback.valid(), "out of GPU memory for the G-buffer read-back");
+    }
+    // Last use of the frame's G-buffer (the next frame starts it from UNDEFINED).
+    const GBuffer& g = gbuffers[ctx->frame_slot()];
+    const VkImage images[3] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()};
+    VkDeviceSize offset = 0;
+    for (int i = 0; i < 3; ++i) {
+        image_barrier(cmd, images[i], VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.bufferOffset = offset;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {width, height, 1};
+        vkCmdCopyImageToBuffer(cmd, images[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, gbuffer_readback.handle(), 1,
+                               &region);
+        offset += pixels * kGBufferPixelBytes[i];
+    }
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                   VK_ACCESS_2_HOST_READ_BIT);
+}
+
+void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const {
+    const size_t pixels = size_t(width) * height;
+    const auto* src = static_cast<const uint8_t*>(gbuffer_readback.mapped());
+    auto halves = [&](std::vector<glm::vec4>& dst, const uint8_t* p) {
+        dst.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            uint16_t h[4];
+            std::memcpy(h, p + i * 8, sizeof h);
+            dst[i] = {glm::unpackHalf1x16(h[0]), glm::unpackHalf1x16(h[1]), glm::unpackHalf1x16(h[2]),
+                      glm::unpackHalf1x16(h[3])};
+        }
+    };
+    out.width = width;
+    out.height = height;
+    halves(out.radiance, src);
+    src += pixels * kGBufferPixelBytes[0];
+    out.albedo.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i)
+        out.albedo[i] = glm::vec4(src[i * 4], src[i * 4 + 1], src[i * 4 + 2], src[i * 4 + 3]) / 255.f;
+    src += pixels * kGBufferPixelBytes[1];
+    halves(out.normal_depth, src);
+}
+
+RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
     using Clock = std::chrono::steady_clock;
     VX_ASSERT(settings.width > 0 && settings.height > 0);
     const auto t0 = Clock::now();
@@ -342,6 +401,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     VkCommandBuffer cmd = d.ctx->begin_frame();
     d.record_frame(cmd, settings, camera);
     d.record_readback(cmd, settings.width, settings.height);
+    if (gbuffer)
+        d.record_gbuffer_readback(cmd, settings.width, settings.height);
     const auto t1 = Clock::now();
     d.ctx->end_frame();
     d.ctx->wait_frame();
@@ -352,6 +413,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     img.height = settings.height;
     img.rgba.resize(size_t(settings.width) * settings.height * 4);
     std::memcpy(img.rgba.data(), d.readback.mapped(), img.rgba.size());
+    if (gbuffer)
+        d.read_gbuffer(*gbuffer, settings.width, settings.height);
 
     d.stats = RenderStats{};
     d.fill_accel_stats(d.stats);

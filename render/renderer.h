@@ -96,6 +96,16 @@ struct RenderImage {
     }
 };
 
+// The ray tracer's G-buffer of one frame, read back (render/gbuffer.h describes the images).
+// Row 0 at the top; width x height values each, converted to float.
+struct GBufferImage {
+    uint32_t width = 0, height = 0;
+    std::vector<glm::vec4> radiance;     // Linear HDR radiance, before tone mapping (RGBA16F).
+    std::vector<glm::vec4> albedo;       // Linear first-hit albedo; a = 1 on a hit, 0 on a miss (RGBA8).
+    std::vector<glm::vec4> normal_depth; // World normal xyz, w: distance along the primary ray; 0 on a miss.
+    glm::vec4 at(const std::vector<glm::vec4>& image, uint32_t x, uint32_t y) const { return image[size_t(y) * width + x]; }
+};
+
 // Device memory the scene's acceleration structures hold, bytes by kind (buffer sizes as
 // created, before the allocator's rounding to 16 bytes), after the last frame's builds.
 struct GpuMemoryStats {
@@ -193,8 +203,9 @@ public:
     void remove_chunk(world::ChunkCoord c);
     void clear_chunks();
 
-    // Renders one image and reads it back (waits for the GPU).
-    RenderImage render(const RenderSettings& settings, const Camera& camera);
+    // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
+    // that frame's G-buffer into *gbuffer (tests, tools; costs three more copies).
+    RenderImage render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);
     // One call: makes `scene` the renderer's scene, then renders. Chunks absent from `scene` are
     // dropped; every chunk in it is re-sent (a refit when its slots fit), so for small edits
     // prefer set_chunk + render.

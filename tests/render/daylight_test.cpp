@@ -162,6 +162,41 @@ TEST_F(RendererTest, GlassRoofLetsSunlightThrough) {
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), full_output(radiance)));
 }
 
+// The G-buffer (render/gbuffer.h) of a floor seen from above with sky in the top rows: the
+// camera at y = 5 over a stone slab (top y = 1) looks down 30 degrees below the horizon along -z.
+TEST_F(RendererTest, GBufferHoldsFirstHitAlbedoNormalDepthAndRadiance) {
+    world::World w;
+    test::fill_box(w, {-16, 0, -32}, {16, 1, 16}, test::block_id("stone"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s = daylight();
+    const glm::dvec3 eye(0.5, 5.0, 10.5);
+    const glm::dvec3 dir(0.0, -std::sin(glm::radians(30.0)), -std::cos(glm::radians(30.0)));
+    GBufferImage g;
+    const RenderImage img = m_renderer->render(s, Camera::look_at(eye, eye + dir), &g);
+    ASSERT_EQ(g.width, s.width);
+    ASSERT_EQ(g.normal_depth.size(), size_t(s.width) * s.height);
+    // Centre ray (pixel 16, 16 is half a pixel off the axis): along dir, it meets the top face
+    // y = 1 after 4 / sin 30 = 8 blocks.
+    const glm::vec4 nd = g.at(g.normal_depth, 16, 16);
+    EXPECT_NEAR(nd.x, 0.f, 1e-3f);
+    EXPECT_NEAR(nd.y, 1.f, 1e-3f);
+    EXPECT_NEAR(nd.z, 0.f, 1e-3f);
+    EXPECT_NEAR(nd.w, 8.f, 0.25f); // Half a pixel of 60/32 degrees moves the hit by < 0.25.
+    const glm::vec3 stone = reg().info(test::block_id("stone")).albedo;
+    const glm::vec4 al = g.at(g.albedo, 16, 16);
+    EXPECT_NEAR(al.r, stone.r, 1.f / 255.f);
+    EXPECT_NEAR(al.b, stone.b, 1.f / 255.f);
+    EXPECT_EQ(al.a, 1.f);
+    // The top row looks up to 30 - 30 = 0 degrees below the horizon, over a floor ending 26
+    // blocks ahead, whose top it would meet only after 4 / tan(0.9 deg) > 250 blocks: a miss.
+    EXPECT_EQ(g.at(g.normal_depth, 16, 0), glm::vec4(0.f));
+    EXPECT_EQ(g.at(g.albedo, 16, 0).a, 0.f);
+    // The output is the tone-mapped radiance, pixel by pixel (half floats: +-1 byte).
+    for (uint32_t y = 0; y < s.height; y += 5)
+        for (uint32_t x = 0; x < s.width; x += 5)
+            EXPECT_TRUE(test::rgb_near(img.at(x, y), full_output(glm::vec3(g.at(g.radiance, x, y)))));
+}
+
 // HDR radiance above 1 is rolled off below 255 in distinct steps; colours below the knee keep
 // their sRGB bytes (the empty scene shows the sky: every pixel is the sky's radiance).
 TEST_F(RendererTest, ToneMappingKeepsBrightSkiesBelowWhite) {
