@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <glm/gtc/packing.hpp>
@@ -38,7 +39,12 @@ struct Renderer::Impl {
         Image radiance, albedo, normal_depth;
     };
     std::array<GBuffer, kFramesInFlight> gbuffers;
-    bool any_emitter = false; // Some material emits: sky rays also look for emitters.
+    // Emissive blocks light the scene only where they are: sky rays look for emitters when some
+    // drawn chunk holds a block whose material emits. The block ids of each chunk's quads:
+    std::unordered_map<world::ChunkCoord, std::vector<world::BlockId>, world::ChunkCoordHash> chunk_blocks;
+    bool any_emitter = false;   // Some drawn chunk holds an emissive block.
+    bool emitters_dirty = true; // Chunks or materials changed since any_emitter was found.
+    void update_emitters();
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
@@ -182,19 +188,29 @@ void Renderer::Impl::update_materials() {
     if (!materials_dirty && count <= material_count)
         return;
     std::vector<gpu::Material> table(count);
-    any_emitter = false;
     for (uint32_t id = 0; id < count; ++id) {
         const world::BlockInfo b = registry.info(world::BlockId(id));
         table[id].albedo_reflectivity = glm::vec4(b.albedo, b.reflectivity);
         // w: transparent (the shaders' vx_transparent); air never reaches a shader.
         table[id].emission = glm::vec4(b.emission, registry.is_opaque(world::BlockId(id)) ? 0.f : 1.f);
-        any_emitter |= b.emission.r > 0.f || b.emission.g > 0.f || b.emission.b > 0.f;
     }
     materials = upload_buffer(*ctx, table.data(), table.size() * sizeof(gpu::Material),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "materials");
     VX_ASSERT_MSG(materials.valid(), "out of GPU memory for materials");
     material_count = count;
     materials_dirty = false;
+}
+
+void Renderer::Impl::update_emitters() {
+    if (!emitters_dirty)
+        return;
+    any_emitter = false;
+    for (const auto& [c, ids] : chunk_blocks)
+        for (world::BlockId id : ids) {
+            const glm::vec3 e = registry.info(id).emission;
+            any_emitter |= e.r > 0.f || e.g > 0.f || e.b > 0.f;
+        }
+    emitters_dirty = false;
 }
 
 void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
@@ -283,6 +299,7 @@ void Renderer::Impl::write_descriptors() {
 // target in TRANSFER_SRC_OPTIMAL, readable by transfers.
 void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
     update_materials();
+    update_emitters();
     ensure_target(s.width, s.height);
     if (queries)
         vkCmdResetQueryPool(cmd, queries, ctx->frame_slot() * kStamps, kStamps);
@@ -481,21 +498,38 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
         set_chunk(c, *mesh);
     }
     m->accel->retain_only(keep);
+    std::erase_if(m->chunk_blocks, [&](const auto& kv) { return !keep.contains(kv.first); });
     return render(settings, camera);
 }
 
 void Renderer::set_registry(const world::BlockRegistry& registry) {
     m->registry = registry;
     m->materials_dirty = true;
+    m->emitters_dirty = true;
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
-    mesh.for_each_quad([&](const world::Quad& q) { m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block); });
+    std::vector<world::BlockId>& ids = m->chunk_blocks[c];
+    ids.clear();
+    mesh.for_each_quad([&](const world::Quad& q) {
+        m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block);
+        if (std::find(ids.begin(), ids.end(), q.block) == ids.end()) // Few ids per chunk.
+            ids.push_back(q.block);
+    });
+    m->emitters_dirty = true;
     m->accel->set_chunk(c, mesh, changed_slices);
 }
 
-void Renderer::remove_chunk(world::ChunkCoord c) { m->accel->remove_chunk(c); }
-void Renderer::clear_chunks() { m->accel->clear(); }
+void Renderer::remove_chunk(world::ChunkCoord c) {
+    m->accel->remove_chunk(c);
+    m->chunk_blocks.erase(c);
+    m->emitters_dirty = true;
+}
+void Renderer::clear_chunks() {
+    m->accel->clear();
+    m->chunk_blocks.clear();
+    m->emitters_dirty = true;
+}
 const DeviceReport& Renderer::device() const { return m->ctx->report(); }
 uint32_t Renderer::validation_errors() const { return m->ctx->validation_errors(); }
 const RenderStats& Renderer::last_stats() const { return m->stats; }

@@ -79,7 +79,7 @@ struct RenderSettings {
     // Whether the view can see the sky at all. The caller decides (the renderer holds meshes, not
     // the world): false when it knows the camera is sealed off from the open air, e.g. the
     // engine's camera is in a cave below its column's surface. Then no sun or sky ray is traced
-    // (they could only hit rock); sky rays still run to find emissive blocks if any block emits.
+    // (they could only hit rock); sky rays still run to find emissive blocks if a drawn chunk holds one.
     // true is always correct, only slower underground.
     bool sky_access = true;
     SunLight sun;

@@ -64,7 +64,7 @@ struct FrameParams {
     uvec4 size_samples;  // width, height, shadow samples per pixel (first hit), max bounces.
     uvec4 mode_seed;     // mode, seed, material count, shadow samples on reflection bounces.
     uvec4 flags;         // x: 1 = trace sun and sky rays (0: skipped, sealed off from the sky);
-                         // y: 1 = some material emits (sky/gather rays also find emitters).
+                         // y: 1 = a drawn chunk holds an emissive block (sky rays find it).
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
 };
