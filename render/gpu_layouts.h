@@ -5,7 +5,8 @@
 
 namespace vx::render::gpu {
 
-static_assert(sizeof(FrameParams) == 15 * 16 + 16, "FrameParams: 15 vec4 + 2 uint64");
+static_assert(sizeof(FrameParams) == 15 * 16 + 32, "FrameParams: 15 vec4 + 4 uint64");
+static_assert(offsetof(FrameParams, emitter_chunks) == 15 * 16 + 16);
 static_assert(offsetof(FrameParams, sun_direction) == 9 * 16);
 static_assert(offsetof(FrameParams, size_samples) == 12 * 16);
 static_assert(offsetof(FrameParams, mode_seed) == 13 * 16);

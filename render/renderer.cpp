@@ -42,9 +42,11 @@ struct Renderer::Impl {
     // Emissive blocks light the scene only where they are: sky rays look for emitters when some
     // drawn chunk holds a block whose material emits. The block ids of each chunk's quads:
     std::unordered_map<world::ChunkCoord, std::vector<world::BlockId>, world::ChunkCoordHash> chunk_blocks;
-    bool any_emitter = false;   // Some drawn chunk holds an emissive block.
-    bool emitters_dirty = true; // Chunks or materials changed since any_emitter was found.
+    std::vector<world::ChunkCoord> emitter_chunks; // Drawn chunks holding an emissive block.
+    bool emitters_dirty = true; // Chunks or materials changed since emitter_chunks was made.
+    std::array<Buffer, kFramesInFlight> emitter_lists; // vec4[kMaxEmitterChunks] per frame slot.
     void update_emitters();
+    uint32_t write_emitter_list(world::BlockPos camera_block);
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
@@ -204,13 +206,41 @@ void Renderer::Impl::update_materials() {
 void Renderer::Impl::update_emitters() {
     if (!emitters_dirty)
         return;
-    any_emitter = false;
+    emitter_chunks.clear();
     for (const auto& [c, ids] : chunk_blocks)
         for (world::BlockId id : ids) {
             const glm::vec3 e = registry.info(id).emission;
-            any_emitter |= e.r > 0.f || e.g > 0.f || e.b > 0.f;
+            if (e.r > 0.f || e.g > 0.f || e.b > 0.f) {
+                emitter_chunks.push_back(c);
+                break;
+            }
         }
     emitters_dirty = false;
+}
+
+// The kMaxEmitterChunks emissive chunks nearest the camera, camera-relative, into this frame
+// slot's list; returns how many.
+uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
+    Buffer& list = emitter_lists[ctx->frame_slot()];
+    if (!list.valid()) {
+        list = Buffer::create(*ctx, {gpu::kMaxEmitterChunks * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                     MemoryUse::Upload, 0, "emitter chunks"});
+        VX_ASSERT_MSG(list.valid(), "out of GPU memory for the emitter list");
+    }
+    auto origin = [&](world::ChunkCoord c) {
+        const world::BlockPos o = world::chunk_origin(c) - camera_block;
+        return glm::dvec3(o);
+    };
+    const size_t n = std::min<size_t>(emitter_chunks.size(), gpu::kMaxEmitterChunks);
+    std::partial_sort(emitter_chunks.begin(), emitter_chunks.begin() + ptrdiff_t(n), emitter_chunks.end(),
+                      [&](world::ChunkCoord a, world::ChunkCoord b) {
+                          const glm::dvec3 da = origin(a), db = origin(b);
+                          return glm::dot(da, da) < glm::dot(db, db);
+                      });
+    auto* dst = static_cast<glm::vec4*>(list.mapped());
+    for (size_t i = 0; i < n; ++i)
+        dst[i] = glm::vec4(glm::vec3(origin(emitter_chunks[i])), 0.f);
+    return uint32_t(n);
 }
 
 void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
@@ -254,7 +284,8 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
                           : s.mode == ShadingMode::Full ? gpu::kModeFull
                                                         : gpu::kModeVisibility;
     p.mode_seed = glm::uvec4(mode, s.seed, material_count, s.bounce_shadow_samples.value_or(s.shadow_samples));
-    p.flags = glm::uvec4(s.sky_access ? 1u : 0u, any_emitter ? 1u : 0u, 0u, 0u);
+    p.flags = glm::uvec4(s.sky_access ? 1u : 0u, write_emitter_list(cam.block), 0u, 0u);
+    p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);

@@ -31,6 +31,13 @@ VX_CONST uint kShadowMiss = 1;
 // before it counts as blocked: deep water or a stack of glass panes ends there.
 VX_CONST uint kMaxTransparentLayers = 8;
 
+// Emissive blocks light points within this many blocks of their chunk's box (farther, a lamp
+// block's light is under 1% of its emission: solid angle < 1/kEmitterRange^2). Sky rays look
+// for emitters only at hits that near one of the kMaxEmitterChunks emissive chunks nearest the
+// camera (FrameParams::emitter_chunks); farther emissive chunks light nothing.
+VX_CONST float kEmitterRange = 16.0f;
+VX_CONST uint kMaxEmitterChunks = 64;
+
 // Secondary rays start this far off the hit's face plane, along the face normal, in chunk-local
 // block units (64 ulps at 32.0). It survives the move to camera-relative space only near the
 // camera: it is 32 ulps at 256 blocks and less than one beyond 8,192.
@@ -64,9 +71,11 @@ struct FrameParams {
     uvec4 size_samples;  // width, height, shadow samples per pixel (first hit), max bounces.
     uvec4 mode_seed;     // mode, seed, material count, shadow samples on reflection bounces.
     uvec4 flags;         // x: 1 = trace sun and sky rays (0: skipped, sealed off from the sky);
-                         // y: 1 = a drawn chunk holds an emissive block (sky rays find it).
+                         // y: emitter_chunks entries (0..kMaxEmitterChunks).
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
+    uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz camera-relative chunk origin, w 0.
+    uint64_t pad;            // std140 rounds the struct to 16 bytes.
 };
 
 // One block type's material (std430 array element).

@@ -11,6 +11,7 @@ layout(set = 0, binding = 2, std140) uniform FrameBlock { FrameParams frame; };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer ChunkTable { uint64_t quads[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer QuadSlots { uvec2 slot[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterChunks { vec4 origin[]; };
 
 // Primary/reflection ray result, written by the closest-hit shader.
 struct HitPayload {
