@@ -162,6 +162,39 @@ TEST_F(RendererTest, GlassRoofLetsSunlightThrough) {
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), full_output(radiance)));
 }
 
+// bounce_shadow_samples applies to reflection bounces only. A mirror wall (x in [-1, 0), facing
+// +x) under a stone roof (y in [3, 4), x in [0, 16)) over a stone floor; the sun straight above.
+// The camera looks at the mirror, which shows the floor under the roof: in shadow.
+TEST_F(RendererTest, BounceShadowSamplesApplyToBouncesOnly) {
+    world::World w;
+    test::fill_box(w, {-1, 0, -8}, {16, 1, 8}, test::block_id("stone"));
+    test::fill_box(w, {0, 3, -8}, {16, 4, 8}, test::block_id("stone"));
+    test::fill_box(w, {-1, 1, -8}, {0, 3, 8}, test::block_id("mirror"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s = daylight(4);
+    s.sky_light = 0.f;
+    s.sun.direction = {0.f, 1.f, 0.f};
+    s.max_bounces = 1;
+    // Eye (8, 2.5, 0.5) towards (-1, 1.5, 0.5): the centre ray meets the mirror at y = 1.61 and
+    // reflects down onto the floor top (y = 1) at x = 5.5, under the roof.
+    const Camera mirror_view = Camera::look_at({8.0, 2.5, 0.5}, {-1.0, 1.5, 0.5}, {0, 1, 0}, 20.f);
+    s.bounce_shadow_samples = 4;
+    const glm::u8vec4 shadowed = m_renderer->render(s, mirror_view).at(16, 16);
+    EXPECT_LT(brightness(shadowed), 6);
+    // Zero samples on bounces: shadows off there, the floor in the mirror is sunlit (0.9 x
+    // 0.45 x 3 / pi ~ 0.39 linear).
+    s.bounce_shadow_samples = 0;
+    const RenderImage unshadowed = m_renderer->render(s, mirror_view);
+    test::maybe_save(unshadowed, "bounce_spp");
+    EXPECT_GT(brightness(unshadowed.at(16, 16)), 3 * 100);
+    // The first hit does not depend on it: the floor seen directly is the same image.
+    const Camera floor_view = Camera::look_at({8.0, 2.5, 0.5}, {6.0, 1.0, 0.5}, {0, 1, 0}, 20.f);
+    s.bounce_shadow_samples = 4;
+    const RenderImage a4 = m_renderer->render(s, floor_view);
+    s.bounce_shadow_samples = 0;
+    EXPECT_EQ(test::differing_bytes(a4, m_renderer->render(s, floor_view)), 0);
+}
+
 // The G-buffer (render/gbuffer.h) of a floor seen from above with sky in the top rows: the
 // camera at y = 5 over a stone slab (top y = 1) looks down 30 degrees below the horizon along -z.
 TEST_F(RendererTest, GBufferHoldsFirstHitAlbedoNormalDepthAndRadiance) {
