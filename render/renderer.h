@@ -68,8 +68,8 @@ struct RenderSettings {
     // At the first hit, per pixel (correlated multi-jittered): shadow samples of the area light,
     // of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky unoccluded).
     uint32_t shadow_samples = 4;
-    // The same on each reflection bounce; unset: shadow_samples. Bounces cost most (FIELD-NOTES:
-    // two thirds of a 5-bounce frame), so 1 here keeps reflections cheap.
+    // The same on each reflection bounce; unset: shadow_samples (0: unshadowed on bounces).
+    // Bounces cost most (FIELD-NOTES: two thirds of a 5-bounce frame); 1 keeps them cheap.
     std::optional<uint32_t> bounce_shadow_samples;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.
@@ -79,8 +79,9 @@ struct RenderSettings {
     // Whether the view can see the sky at all. The caller decides (the renderer holds meshes, not
     // the world): false when it knows the camera is sealed off from the open air, e.g. the
     // engine's camera is in a cave below its column's surface. Then no sun or sky ray is traced
-    // (they could only hit rock); sky rays still run to find emissive blocks if a drawn chunk holds one.
-    // true is always correct, only slower underground.
+    // (they could only hit rock); sky rays still run near emissive blocks, to find them.
+    // true is always correct, only slower underground. Per pixel, the sun is also skipped where
+    // its disc lies behind the face.
     bool sky_access = true;
     SunLight sun;
     AreaLight light;
