@@ -4,10 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 #include <unordered_set>
+
+#include <glm/gtc/packing.hpp>
 
 #include "render/commands.h"
 #include "render/context.h"
+#include "render/gbuffer.h"
 #include "render/gpu_layouts.h"
 #include "render/present.h"
 #include "render/rt_pipeline.h"
@@ -30,8 +34,22 @@ struct Renderer::Impl {
     // Trace targets, one per frame slot (the previous frame may still blit its own). With an
     // sRGB swapchain they are R8G8B8A8_SRGB written through a UNORM view (present.h says why).
     std::array<Image, kFramesInFlight> targets;
+    // The G-buffer of each frame slot (render/gbuffer.h), the size of its target.
+    struct GBuffer {
+        Image radiance, albedo, normal_depth;
+    };
+    std::array<GBuffer, kFramesInFlight> gbuffers;
+    // Emissive blocks light the scene only where they are: sky rays look for emitters when some
+    // drawn chunk holds a block whose material emits. The block ids of each chunk's quads:
+    std::unordered_map<world::ChunkCoord, std::vector<world::BlockId>, world::ChunkCoordHash> chunk_blocks;
+    std::vector<world::ChunkCoord> emitter_chunks; // Drawn chunks holding an emissive block.
+    bool emitters_dirty = true; // Chunks or materials changed since emitter_chunks was made.
+    std::array<Buffer, kFramesInFlight> emitter_lists; // vec4[kMaxEmitterChunks] per frame slot.
+    void update_emitters();
+    uint32_t write_emitter_list(world::BlockPos camera_block);
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
+    Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
     RenderStats stats;
     std::unique_ptr<Presenter> presenter; // With a window.
     std::chrono::steady_clock::time_point last_present{};
@@ -79,6 +97,8 @@ struct Renderer::Impl {
     void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
     void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const;
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {}
@@ -110,7 +130,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
 void Renderer::Impl::create_descriptors() {
     const VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, kFramesInFlight},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kFramesInFlight},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4 * kFramesInFlight}, // Output + 3 G-buffer images.
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight},
     };
     VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -173,13 +193,54 @@ void Renderer::Impl::update_materials() {
     for (uint32_t id = 0; id < count; ++id) {
         const world::BlockInfo b = registry.info(world::BlockId(id));
         table[id].albedo_reflectivity = glm::vec4(b.albedo, b.reflectivity);
-        table[id].emission = glm::vec4(b.emission, 0.f);
+        // w: transparent (the shaders' vx_transparent); air never reaches a shader.
+        table[id].emission = glm::vec4(b.emission, registry.is_opaque(world::BlockId(id)) ? 0.f : 1.f);
     }
     materials = upload_buffer(*ctx, table.data(), table.size() * sizeof(gpu::Material),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "materials");
     VX_ASSERT_MSG(materials.valid(), "out of GPU memory for materials");
     material_count = count;
     materials_dirty = false;
+}
+
+void Renderer::Impl::update_emitters() {
+    if (!emitters_dirty)
+        return;
+    emitter_chunks.clear();
+    for (const auto& [c, ids] : chunk_blocks)
+        for (world::BlockId id : ids) {
+            const glm::vec3 e = registry.info(id).emission;
+            if (e.r > 0.f || e.g > 0.f || e.b > 0.f) {
+                emitter_chunks.push_back(c);
+                break;
+            }
+        }
+    emitters_dirty = false;
+}
+
+// The kMaxEmitterChunks emissive chunks nearest the camera, camera-relative, into this frame
+// slot's list; returns how many.
+uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
+    Buffer& list = emitter_lists[ctx->frame_slot()];
+    if (!list.valid()) {
+        list = Buffer::create(*ctx, {gpu::kMaxEmitterChunks * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                     MemoryUse::Upload, 0, "emitter chunks"});
+        VX_ASSERT_MSG(list.valid(), "out of GPU memory for the emitter list");
+    }
+    auto origin = [&](world::ChunkCoord c) {
+        const world::BlockPos o = world::chunk_origin(c) - camera_block;
+        return glm::dvec3(o);
+    };
+    const size_t n = std::min<size_t>(emitter_chunks.size(), gpu::kMaxEmitterChunks);
+    std::partial_sort(emitter_chunks.begin(), emitter_chunks.begin() + ptrdiff_t(n), emitter_chunks.end(),
+                      [&](world::ChunkCoord a, world::ChunkCoord b) {
+                          const glm::dvec3 da = origin(a), db = origin(b);
+                          return glm::dot(da, da) < glm::dot(db, db);
+                      });
+    auto* dst = static_cast<glm::vec4*>(list.mapped());
+    for (size_t i = 0; i < n; ++i)
+        dst[i] = glm::vec4(glm::vec3(origin(emitter_chunks[i])), 0.f);
+    return uint32_t(n);
 }
 
 void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
@@ -190,6 +251,11 @@ void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     t = Image::create(*ctx, {width, height, target_format, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              "render target", VK_FORMAT_R8G8B8A8_UNORM});
     VX_ASSERT_MSG(t.valid(), "out of GPU memory for the render target");
+    GBuffer& g = gbuffers[ctx->frame_slot()];
+    g.radiance = Image::create(*ctx, {width, height, kRadianceFormat, kGBufferUsage, "gbuffer radiance"});
+    g.albedo = Image::create(*ctx, {width, height, kAlbedoFormat, kGBufferUsage, "gbuffer albedo"});
+    g.normal_depth = Image::create(*ctx, {width, height, kNormalDepthFormat, kGBufferUsage, "gbuffer normal depth"});
+    VX_ASSERT_MSG(g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid(), "out of GPU memory for the G-buffer");
 }
 
 void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
@@ -208,11 +274,18 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.light_edge_u = glm::vec4(s.light.edge_u, 0.f);
     p.light_edge_v = glm::vec4(s.light.edge_v, 0.f);
     p.light_emission = glm::vec4(s.light.emission, 0.f);
+    const float sun_len = glm::length(s.sun.direction);
+    p.sun_direction = glm::vec4(sun_len > 0.f ? s.sun.direction / sun_len : glm::vec3(0, 1, 0),
+                                std::cos(glm::radians(s.sun.angular_radius_degrees)));
+    p.sun_irradiance = glm::vec4(sun_len > 0.f ? s.sun.irradiance : glm::vec3(0.f), 0.f);
+    p.sky_light = glm::vec4(s.sky * std::max(s.sky_light, 0.f), 0.f);
     p.size_samples = glm::uvec4(s.width, s.height, s.shadow_samples, s.max_bounces);
     const uint32_t mode = s.mode == ShadingMode::Flat ? gpu::kModeFlat
                           : s.mode == ShadingMode::Full ? gpu::kModeFull
                                                         : gpu::kModeVisibility;
-    p.mode_seed = glm::uvec4(mode, s.seed, material_count, 0);
+    p.mode_seed = glm::uvec4(mode, s.seed, material_count, s.bounce_shadow_samples.value_or(s.shadow_samples));
+    p.flags = glm::uvec4(s.sky_access ? 1u : 0u, write_emitter_list(cam.block), 0u, 0u);
+    p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
@@ -224,28 +297,40 @@ void Renderer::Impl::write_descriptors() {
     VkWriteDescriptorSetAccelerationStructureKHR as_info{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
     as_info.accelerationStructureCount = 1;
     as_info.pAccelerationStructures = &tlas;
-    VkDescriptorImageInfo image_info{VK_NULL_HANDLE, target().view(), VK_IMAGE_LAYOUT_GENERAL};
+    const GBuffer& g = gbuffers[slot];
+    const VkDescriptorImageInfo images[] = {
+        {VK_NULL_HANDLE, target().view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.radiance.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.albedo.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.normal_depth.view(), VK_IMAGE_LAYOUT_GENERAL},
+    };
+    const uint32_t image_bindings[] = {kBindingOutput, kBindingRadiance, kBindingAlbedo, kBindingNormalDepth};
     VkDescriptorBufferInfo buffer_info{params[slot].handle(), 0, sizeof(gpu::FrameParams)};
-    VkWriteDescriptorSet w[3];
-    for (uint32_t i = 0; i < 3; ++i) {
+    VkWriteDescriptorSet w[6];
+    for (uint32_t i = 0; i < 6; ++i) {
         w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w[i].dstSet = sets[slot];
-        w[i].dstBinding = i;
         w[i].descriptorCount = 1;
     }
+    w[0].dstBinding = kBindingTlas;
     w[0].pNext = &as_info;
     w[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-    w[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-    w[1].pImageInfo = &image_info;
-    w[2].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    w[2].pBufferInfo = &buffer_info;
-    vkUpdateDescriptorSets(ctx->device(), 3, w, 0, nullptr);
+    w[1].dstBinding = kBindingParams;
+    w[1].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w[1].pBufferInfo = &buffer_info;
+    for (uint32_t i = 0; i < 4; ++i) {
+        w[2 + i].dstBinding = image_bindings[i];
+        w[2 + i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        w[2 + i].pImageInfo = &images[i];
+    }
+    vkUpdateDescriptorSets(ctx->device(), 6, w, 0, nullptr);
 }
 
 // Everything render() and present() share: uploads, BLAS and TLAS builds, the trace. Leaves the
 // target in TRANSFER_SRC_OPTIMAL, readable by transfers.
 void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
     update_materials();
+    update_emitters();
     ensure_target(s.width, s.height);
     if (queries)
         vkCmdResetQueryPool(cmd, queries, ctx->frame_slot() * kStamps, kStamps);
@@ -269,6 +354,12 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    // The G-buffer is rewritten whole each frame; readers of the slot's last frame are done
+    // (the frame-start barrier orders all earlier commands before this one).
+    const GBuffer& g = gbuffers[ctx->frame_slot()];
+    for (VkImage im : {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()})
+        image_barrier(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                      0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
@@ -296,7 +387,61 @@ void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera) {
+// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
+constexpr VkDeviceSize kGBufferPixelBytes[3] = {8, 4, 8};
+
+void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+    const VkDeviceSize pixels = VkDeviceSize(width) * height;
+    const VkDeviceSize bytes = pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]);
+    if (!gbuffer_readback.valid() || gbuffer_readback.size() != bytes) {
+        gbuffer_readback =
+            Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "gbuffer readback"});
+        VX_ASSERT_MSG(gbuffer_readback.valid(), "out of GPU memory for the G-buffer read-back");
+    }
+    // Last use of the frame's G-buffer (the next frame starts it from UNDEFINED).
+    const GBuffer& g = gbuffers[ctx->frame_slot()];
+    const VkImage images[3] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()};
+    VkDeviceSize offset = 0;
+    for (int i = 0; i < 3; ++i) {
+        image_barrier(cmd, images[i], VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.bufferOffset = offset;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {width, height, 1};
+        vkCmdCopyImageToBuffer(cmd, images[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, gbuffer_readback.handle(), 1,
+                               &region);
+        offset += pixels * kGBufferPixelBytes[i];
+    }
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                   VK_ACCESS_2_HOST_READ_BIT);
+}
+
+void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const {
+    const size_t pixels = size_t(width) * height;
+    const auto* src = static_cast<const uint8_t*>(gbuffer_readback.mapped());
+    auto halves = [&](std::vector<glm::vec4>& dst, const uint8_t* p) {
+        dst.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            uint16_t h[4];
+            std::memcpy(h, p + i * 8, sizeof h);
+            dst[i] = {glm::unpackHalf1x16(h[0]), glm::unpackHalf1x16(h[1]), glm::unpackHalf1x16(h[2]),
+                      glm::unpackHalf1x16(h[3])};
+        }
+    };
+    out.width = width;
+    out.height = height;
+    halves(out.radiance, src);
+    src += pixels * kGBufferPixelBytes[0];
+    out.albedo.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i)
+        out.albedo[i] = glm::vec4(src[i * 4], src[i * 4 + 1], src[i * 4 + 2], src[i * 4 + 3]) / 255.f;
+    src += pixels * kGBufferPixelBytes[1];
+    halves(out.normal_depth, src);
+}
+
+RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
     using Clock = std::chrono::steady_clock;
     VX_ASSERT(settings.width > 0 && settings.height > 0);
     const auto t0 = Clock::now();
@@ -304,6 +449,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     VkCommandBuffer cmd = d.ctx->begin_frame();
     d.record_frame(cmd, settings, camera);
     d.record_readback(cmd, settings.width, settings.height);
+    if (gbuffer)
+        d.record_gbuffer_readback(cmd, settings.width, settings.height);
     const auto t1 = Clock::now();
     d.ctx->end_frame();
     d.ctx->wait_frame();
@@ -314,6 +461,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     img.height = settings.height;
     img.rgba.resize(size_t(settings.width) * settings.height * 4);
     std::memcpy(img.rgba.data(), d.readback.mapped(), img.rgba.size());
+    if (gbuffer)
+        d.read_gbuffer(*gbuffer, settings.width, settings.height);
 
     d.stats = RenderStats{};
     d.fill_accel_stats(d.stats);
@@ -380,21 +529,38 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
         set_chunk(c, *mesh);
     }
     m->accel->retain_only(keep);
+    std::erase_if(m->chunk_blocks, [&](const auto& kv) { return !keep.contains(kv.first); });
     return render(settings, camera);
 }
 
 void Renderer::set_registry(const world::BlockRegistry& registry) {
     m->registry = registry;
     m->materials_dirty = true;
+    m->emitters_dirty = true;
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
-    mesh.for_each_quad([&](const world::Quad& q) { m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block); });
+    std::vector<world::BlockId>& ids = m->chunk_blocks[c];
+    ids.clear();
+    mesh.for_each_quad([&](const world::Quad& q) {
+        m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block);
+        if (std::find(ids.begin(), ids.end(), q.block) == ids.end()) // Few ids per chunk.
+            ids.push_back(q.block);
+    });
+    m->emitters_dirty = true;
     m->accel->set_chunk(c, mesh, changed_slices);
 }
 
-void Renderer::remove_chunk(world::ChunkCoord c) { m->accel->remove_chunk(c); }
-void Renderer::clear_chunks() { m->accel->clear(); }
+void Renderer::remove_chunk(world::ChunkCoord c) {
+    m->accel->remove_chunk(c);
+    m->chunk_blocks.erase(c);
+    m->emitters_dirty = true;
+}
+void Renderer::clear_chunks() {
+    m->accel->clear();
+    m->chunk_blocks.clear();
+    m->emitters_dirty = true;
+}
 const DeviceReport& Renderer::device() const { return m->ctx->report(); }
 uint32_t Renderer::validation_errors() const { return m->ctx->validation_errors(); }
 const RenderStats& Renderer::last_stats() const { return m->stats; }

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,19 +47,43 @@ struct AreaLight {
     glm::vec3 emission{20.f}; // Radiance, linear RGB.
 };
 
+// The sun: a directional light with a soft disc (its shadows are sampled over the disc).
+struct SunLight {
+    glm::vec3 direction{0.35f, 1.f, 0.2f}; // World space, towards the sun; need not be unit.
+    float angular_radius_degrees = 0.27f;  // Half the disc's apparent size (the real sun: 0.27).
+    glm::vec3 irradiance{3.f, 2.9f, 2.7f}; // Linear RGB on a surface facing the sun; 0: no sun.
+};
+
 enum class ShadingMode : uint8_t {
     Flat,       // Block albedo (linear, unencoded) at the primary hit, sky colour on a miss.
-    Full,       // Area light + soft shadows + emission + mirror reflections; sRGB encoded.
+    // Sun + sky term + area light with soft shadows + emissive blocks + mirror reflections,
+    // accumulated as HDR radiance, tone-mapped (shaders/shared/tonemap.h) and sRGB encoded.
+    Full,
     Visibility, // Fraction of unoccluded shadow samples at the primary hit (grey), sky on a miss.
 };
 
 struct RenderSettings {
     uint32_t width = 64, height = 64;
     ShadingMode mode = ShadingMode::Full;
-    uint32_t shadow_samples = 4; // Per pixel and bounce (correlated multi-jittered); 0: no shadows.
+    // At the first hit, per pixel (correlated multi-jittered): shadow samples of the area light,
+    // of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky unoccluded).
+    uint32_t shadow_samples = 4;
+    // The same on each reflection bounce; unset: shadow_samples (0: unshadowed on bounces).
+    // Bounces cost most (FIELD-NOTES: two thirds of a 5-bounce frame); 1 keeps them cheap.
+    std::optional<uint32_t> bounce_shadow_samples;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.
-    glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky.
+    glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).
+    // Sky term: sky rays that escape see sky * sky_light (ambient light with occlusion). 0: none.
+    float sky_light = 1.f;
+    // Whether the view can see the sky at all. The caller decides (the renderer holds meshes, not
+    // the world): false when it knows the camera is sealed off from the open air, e.g. the
+    // engine's camera is in a cave below its column's surface. Then no sun or sky ray is traced
+    // (they could only hit rock); sky rays still run near emissive blocks, to find them.
+    // true is always correct, only slower underground. Per pixel, the sun is also skipped where
+    // its disc lies behind the face.
+    bool sky_access = true;
+    SunLight sun;
     AreaLight light;
 };
 
@@ -70,6 +95,16 @@ struct RenderImage {
         const uint8_t* p = &rgba[(size_t(y) * width + x) * 4];
         return {p[0], p[1], p[2], p[3]};
     }
+};
+
+// The ray tracer's G-buffer of one frame, read back (render/gbuffer.h describes the images).
+// Row 0 at the top; width x height values each, converted to float.
+struct GBufferImage {
+    uint32_t width = 0, height = 0;
+    std::vector<glm::vec4> radiance;     // Linear HDR radiance, before tone mapping (RGBA16F).
+    std::vector<glm::vec4> albedo;       // Linear first-hit albedo; a = 1 on a hit, 0 on a miss (RGBA8).
+    std::vector<glm::vec4> normal_depth; // World normal xyz, w: distance along the primary ray; 0 on a miss.
+    glm::vec4 at(const std::vector<glm::vec4>& image, uint32_t x, uint32_t y) const { return image[size_t(y) * width + x]; }
 };
 
 // Device memory the scene's acceleration structures hold, bytes by kind (buffer sizes as
@@ -169,8 +204,9 @@ public:
     void remove_chunk(world::ChunkCoord c);
     void clear_chunks();
 
-    // Renders one image and reads it back (waits for the GPU).
-    RenderImage render(const RenderSettings& settings, const Camera& camera);
+    // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
+    // that frame's G-buffer into *gbuffer (tests, tools; costs three more copies).
+    RenderImage render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);
     // One call: makes `scene` the renderer's scene, then renders. Chunks absent from `scene` are
     // dropped; every chunk in it is re-sent (a refit when its slots fit), so for small edits
     // prefer set_chunk + render.

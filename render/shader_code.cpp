@@ -7,11 +7,13 @@ namespace {
 #include "shaders/primary_rmiss.h"
 #include "shaders/shadow_rmiss.h"
 #include "shaders/closest_hit_rchit.h"
+#include "shaders/shadow_rahit.h"
 } // namespace
 
 std::span<const uint32_t> raygen() { return k_raygen_rgen; }
 std::span<const uint32_t> primary_miss() { return k_primary_rmiss; }
 std::span<const uint32_t> shadow_miss() { return k_shadow_rmiss; }
 std::span<const uint32_t> closest_hit() { return k_closest_hit_rchit; }
+std::span<const uint32_t> shadow_any_hit() { return k_shadow_rahit; }
 
 } // namespace vx::render::spirv

@@ -11,5 +11,6 @@ std::span<const uint32_t> raygen();
 std::span<const uint32_t> primary_miss();
 std::span<const uint32_t> shadow_miss();
 std::span<const uint32_t> closest_hit();
+std::span<const uint32_t> shadow_any_hit();
 
 } // namespace vx::render::spirv

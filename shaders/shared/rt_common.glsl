@@ -11,6 +11,7 @@ layout(set = 0, binding = 2, std140) uniform FrameBlock { FrameParams frame; };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer ChunkTable { uint64_t quads[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer QuadSlots { uvec2 slot[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterChunks { vec4 origin[]; };
 
 // Primary/reflection ray result, written by the closest-hit shader.
 struct HitPayload {
@@ -18,7 +19,26 @@ struct HitPayload {
     float t;       // Hit distance, < 0 on a miss.
     uint block;    // Block id.
     uint face;     // world::Face: axis * 2 + positive.
+    vec3 through;  // Origin to continue the ray past this face (its far side along the ray).
 };
+
+// Shadow ray result: visible is set by the shadow miss shader (nothing opaque in the way);
+// transmittance is the product of the tints of the transparent faces crossed (any-hit shader).
+struct ShadowPayload {
+    vec3 transmittance;
+    uint visible;
+};
+
+Material vx_material(uint block) {
+    if (block < frame.mode_seed.z)
+        return Materials(frame.materials).m[block];
+    Material m;
+    m.albedo_reflectivity = vec4(1.0, 0.0, 1.0, 0.0);
+    m.emission = vec4(0.0);
+    return m;
+}
+
+bool vx_transparent(Material m) { return m.emission.w > 0.5; }
 
 // Moves p[axis] kOffsetUlps ulps towards + (positive) or - along that axis: a robust secondary-ray
 // origin far from the camera, where the chunk-local kSurfaceOffset is lost in rounding

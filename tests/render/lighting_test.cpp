@@ -34,6 +34,7 @@ RenderSettings box_settings() {
     s.light.edge_u = {60, 0, 0};
     s.light.edge_v = {0, 0, 60};
     s.light.emission = glm::vec3(100.f);
+    // The defaults also turn on the sun and the sky term (issue 10): neither may leak in either.
     return s;
 }
 
