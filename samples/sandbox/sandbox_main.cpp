@@ -295,6 +295,9 @@ int finish(App& app, int code) {
     }
     if (app.csv)
         std::fclose(app.csv);
+    const glm::dvec3 feet = app.game->player().feet();
+    std::printf("vx_sandbox: player's feet at %.2f %.2f %.2f (%s)\n", feet.x, feet.y, feet.z,
+                app.game->player().walking() ? "walk" : "fly");
     std::printf("vx_sandbox: %llu frames, edit->screen %d frames, frames inside a block %llu, validation errors: %u\n",
                 (unsigned long long)app.frame, app.game->last_edit_to_screen(),
                 (unsigned long long)app.game->frames_inside_block(), errors);
