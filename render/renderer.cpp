@@ -34,6 +34,7 @@ struct Renderer::Impl {
     Buffer readback;
     RenderStats stats;
     std::unique_ptr<Presenter> presenter; // With a window.
+    std::unique_ptr<OverlayPass> overlay; // With a window: the game's HUD (set_overlay).
     std::chrono::steady_clock::time_point last_present{};
     // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
     // the trace, after the copy. Null when the queue family has no timestamps.
@@ -46,6 +47,7 @@ struct Renderer::Impl {
         if (!ctx)
             return;
         ctx->wait_idle();
+        overlay.reset();
         presenter.reset();
         vkDestroyDescriptorPool(ctx->device(), pool, nullptr);
         if (queries)
@@ -103,6 +105,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
         r->m->target_format = r->m->presenter->target_format();
+        r->m->overlay = std::make_unique<OverlayPass>(*r->m->ctx, r->m->target_format);
     }
     return r;
 }
@@ -323,6 +326,11 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     return img;
 }
 
+void Renderer::set_overlay(OverlayData overlay) {
+    if (m->overlay)
+        m->overlay->set(std::move(overlay));
+}
+
 Result<PresentResult> Renderer::present(const RenderSettings& settings, const Camera& camera, RenderImage* capture) {
     using Clock = std::chrono::steady_clock;
     using Ms = std::chrono::duration<double, std::milli>;
@@ -348,7 +356,7 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     s.width = extent->width;
     s.height = extent->height;
     d.record_frame(cmd, s, camera);
-    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr);
+    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr, d.overlay.get());
     d.stamp(cmd, 4);
     d.ctx->end_frame(d.presenter->submit_sync());
     const auto t2 = Clock::now();

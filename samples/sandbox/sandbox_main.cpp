@@ -18,6 +18,7 @@
 #include <vx/vx.h>
 
 #include "game.h"
+#include "hud.h"
 #include "options.h"
 #include "replay.h"
 
@@ -28,11 +29,11 @@ using Clock = std::chrono::steady_clock;
 constexpr double kReplayStep = 1.0 / 60.0; // Seconds of game time per replay frame.
 constexpr double kMouseDegreesPerPixel = 0.1;
 
-const char* kHelp =
-    "vx_sandbox controls: mouse look, WASD move, space/shift rise/sink (fly) or jump (walk),\n"
-    "F walk/fly, left click remove, right click place, middle click pick, 1-9 and wheel hotbar,\n"
-    "F1 help, F2 screenshot, F3 stats in the title, G shadows, R reflections, Esc menu\n"
-    "(Esc again or Q quits, a click resumes).\n";
+const char* const kHelpLines[] = {
+    "mouse look, WASD move, space/shift rise/sink (fly) or jump (walk), F walk/fly",
+    "left click remove, right click place, middle click pick, 1-9 and wheel: hotbar",
+    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, Esc menu",
+};
 
 struct App {
     Options opt;
@@ -43,7 +44,10 @@ struct App {
     size_t next_command = 0;
     uint64_t frame = 0;
     std::FILE* csv = nullptr;
-    bool captured = false, menu = false, show_stats = false, quit = false;
+    bool captured = false, menu = false, show_stats = false, show_help = false, quit = false;
+    std::vector<std::string> stats;       // F3 lines, refreshed 4 times a second.
+    std::vector<std::string> block_names; // Id i + 1 = block_names[i].
+    std::unique_ptr<Hud> hud;
     bool screenshot_now = false;
     std::string screenshot_path;
     std::string message;
@@ -93,8 +97,7 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
     } else if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
         app.game->hotbar().select(key - GLFW_KEY_1);
     } else if (key == GLFW_KEY_F1) {
-        std::printf("%s", kHelp);
-        app.message = "help printed to the terminal";
+        app.show_help = !app.show_help;
     } else if (key == GLFW_KEY_F2) {
         app.screenshot_now = true;
         app.screenshot_path = "vx_sandbox_" + std::to_string(app.frame) + ".png";
@@ -184,26 +187,34 @@ bool run_replay_commands(App& app, Clock::time_point game_now) {
     return true;
 }
 
-void update_title(App& app) {
+// The F3 lines, refreshed a few times a second (the HUD's atlas re-uploads when text changes).
+std::vector<std::string> stats_lines(const App& app) {
     const vx::Stats s = app.engine->stats();
+    char l[3][256];
+    std::snprintf(l[0], sizeof l[0], "%.0f fps %.1f ms: update %.1f, render %.1f (wait %.1f, present %.1f)",
+                  1000.0 / app.fps_ms, app.fps_ms, s.update_wall_ms, s.render_wall_ms, s.wait_ms, s.present_ms);
+    std::snprintf(l[1], sizeof l[1], "chunks %zu loaded, %zu queued, %zu/%zu meshed; BLAS %u builds %u refits",
+                  s.chunks_loaded, s.chunks_queued, s.chunks_meshed, s.chunks_in_view, s.blas_builds, s.blas_refits);
+    std::snprintf(l[2], sizeof l[2], "edit to screen %d frames; blocks %.0f MB, GPU %.0f/%.0f MB",
+                  app.game->last_edit_to_screen(), s.block_memory_bytes / 1048576.0, s.gpu_memory_used_bytes / 1048576.0,
+                  s.gpu_memory_bytes / 1048576.0);
+    return {l[0], l[1], l[2]};
+}
+
+std::vector<std::string> hud_lines(const App& app) {
     const Game& g = *app.game;
-    char text[512];
-    if (app.show_stats) {
-        std::snprintf(text, sizeof text,
-                      "vx_sandbox | %.0f fps %.1f ms (update %.1f, render %.1f, wait %.1f, present %.1f) | chunks %zu "
-                      "loaded %zu queued %zu/%zu meshed | BLAS %u builds %u refits | edit->screen %d | blocks %.0f MB "
-                      "gpu %.0f MB",
-                      1000.0 / app.fps_ms, app.fps_ms, s.update_wall_ms, s.render_wall_ms, s.wait_ms, s.present_ms,
-                      s.chunks_loaded, s.chunks_queued, s.chunks_meshed, s.chunks_in_view, s.blas_builds, s.blas_refits,
-                      g.last_edit_to_screen(), s.block_memory_bytes / 1048576.0, s.gpu_memory_used_bytes / 1048576.0);
-    } else {
-        const glm::dvec3 p = g.player().feet();
-        std::snprintf(text, sizeof text, "vx_sandbox | %s | %s | block %u (slot %d) | %.0f %.0f %.0f | %s%s%s",
-                      app.menu ? "MENU: Esc/Q quit, click resume" : (g.player().walking() ? "walk" : "fly"),
-                      g.save_text().c_str(), unsigned(g.hotbar().selected_block()), g.hotbar().selected_slot() + 1, p.x,
-                      p.y, p.z, app.message.c_str(), app.message.empty() ? "" : " | ", "F1 help, F3 stats");
-    }
-    glfwSetWindowTitle(app.window, text);
+    const vx::BlockId id = g.hotbar().selected_block();
+    const std::string name = id >= 1 && id <= app.block_names.size() ? app.block_names[id - 1u] : std::to_string(id);
+    std::vector<std::string> lines{std::string(g.player().walking() ? "walk" : "fly") + " | " + name + " | " +
+                                   g.save_text() + (app.message.empty() ? "" : " | " + app.message)};
+    if (app.show_stats)
+        lines.insert(lines.end(), app.stats.begin(), app.stats.end());
+    if (app.show_help)
+        for (const char* l : kHelpLines)
+            lines.push_back(l);
+    if (app.menu && app.opt.replay.empty())
+        lines.push_back("PAUSED: Esc or Q quits, a click resumes");
+    return lines;
 }
 
 vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwindow* window) {
@@ -253,6 +264,10 @@ int run(App& app) {
         }
         app.game->step(app.menu && !replaying ? 0.0 : dt);
         app.engine->update(game_now);
+        int fb_w = 0, fb_h = 0;
+        glfwGetFramebufferSize(app.window, &fb_w, &fb_h);
+        if (fb_w > 0 && fb_h > 0)
+            (void)app.engine->set_overlay(app.hud->build(uint32_t(fb_w), uint32_t(fb_h), app.game->hotbar(), hud_lines(app)));
         vx::Image shot;
         const bool capture = app.screenshot_now;
         if (vx::Status s = app.engine->render_to_window(capture ? &shot : nullptr); !s) {
@@ -277,7 +292,7 @@ int run(App& app) {
         app.game->maybe_save(game_s);
         const double real_s = std::chrono::duration<double>(now - start).count();
         if (real_s >= next_title_s) {
-            update_title(app);
+            app.stats = stats_lines(app);
             next_title_s = real_s + 0.25;
         }
         ++app.frame;
@@ -352,6 +367,9 @@ int main_with(const Options& opt) {
             return 2;
         }
         app.engine = std::move(*engine);
+        for (const vx::BlockType& b : vx::default_blocks())
+            app.block_names.push_back(b.name);
+        app.hud = std::make_unique<Hud>(vx::default_blocks());
         app.game = std::make_unique<Game>(*app.engine, opt.vdb.empty(), opt.fly_speed);
         const int64_t ground = vx::terrain_height(opt.seed, 0, 0);
         app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
@@ -371,10 +389,12 @@ int main_with(const Options& opt) {
         glfwSetScrollCallback(app.window, on_scroll);
         if (opt.replay.empty()) {
             set_captured(app, true);
-            std::printf("%s", kHelp);
+            for (const char* l : kHelpLines)
+                std::printf("%s\n", l);
         }
         code = code ? finish(app, code) : finish(app, run(app));
         app.game.reset();
+        app.hud.reset();
         app.engine.reset();
     }
     glfwDestroyWindow(app.window);
