@@ -337,12 +337,13 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     Impl& d = *m;
     if (!d.presenter)
         return Error{"present() needs a renderer created with a window (RendererCreateInfo::glfw_window)"};
-    if (capture && !d.presenter->can_capture())
-        return Error{"present(): this surface's images cannot be read back (no TRANSFER_SRC usage)"};
     const auto t0 = Clock::now();
     const std::optional<VkExtent2D> extent = d.presenter->prepare();
     if (!extent)
         return PresentResult::Skipped;
+    // After prepare(): the first call creates the swapchain, whose usage decides this.
+    if (capture && !d.presenter->can_capture())
+        return Error{"present(): this surface's images cannot be read back (no TRANSFER_SRC usage)"};
     VkCommandBuffer cmd = d.ctx->begin_frame(); // Waits for the frame kFramesInFlight back.
     RenderStats st;
     d.read_stamps(st);
