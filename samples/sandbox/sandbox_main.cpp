@@ -351,6 +351,11 @@ int main_with(const Options& opt) {
         std::fprintf(stderr, "vx_sandbox: cannot open a window (GLFW: no display?)\n");
         return 2;
     }
+    if (glfwVulkanSupported() != GLFW_TRUE) {
+        std::fprintf(stderr, "vx_sandbox: no Vulkan driver found, so no device can ray trace here\n");
+        glfwTerminate();
+        return 2;
+    }
     app.window = create_window(opt);
     if (!app.window) {
         std::fprintf(stderr, "vx_sandbox: cannot create a %ux%u window\n", opt.width, opt.height);
@@ -361,7 +366,7 @@ int main_with(const Options& opt) {
     {
         auto engine = create_engine(opt, app.window);
         if (!engine) {
-            std::fprintf(stderr, "vx_sandbox: no device can ray trace here: %s\n", engine.error().c_str());
+            std::fprintf(stderr, "vx_sandbox: %s\n", engine.error().c_str()); // E.g. no device that can ray trace.
             glfwDestroyWindow(app.window);
             glfwTerminate();
             return 2;
