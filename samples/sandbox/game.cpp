@@ -6,9 +6,17 @@
 namespace sandbox {
 
 Game::Game(vx::Engine& engine, bool persistent, double fly_speed)
-    : m_engine(engine), m_persistent(persistent) {
+    : m_engine(&engine), m_persistent(persistent) {
     m_player.params().fly_speed = fly_speed;
-    m_engine.set_render_settings(m_settings);
+    m_engine->set_render_settings(m_settings);
+}
+
+void Game::attach(vx::Engine& engine) {
+    m_engine = &engine;
+    m_engine->set_render_settings(m_settings);
+    m_save.reset(); // Tickets belong to the old engine, whose shutdown made everything durable.
+    m_edited_since_save = false;
+    m_edit_frames = -1;
 }
 
 void Game::set_pose(glm::dvec3 eye, double yaw, double pitch) {
@@ -44,7 +52,7 @@ vx::Viewer Game::viewer() const {
 
 std::optional<vx::RayHit> Game::crosshair() const {
     const vx::Viewer v = viewer();
-    auto hit = m_engine.raycast(v.block, v.offset, v.forward, kReach);
+    auto hit = m_engine->raycast(v.block, v.offset, v.forward, kReach);
     if (!hit || hit->kind != vx::RayHit::Kind::Hit)
         return std::nullopt;
     return *hit;
@@ -60,11 +68,11 @@ std::string Game::click(Button button) {
         return "";
     }
     if (button == Button::Left)
-        s = m_engine.set_block(hit->block, vx::kAir);
+        s = m_engine->set_block(hit->block, vx::kAir);
     else if (m_player.overlaps_block(hit->previous) || hit->inside)
         return "cannot place a block inside the player";
     else
-        s = m_engine.set_block(hit->previous, m_hotbar.selected_block());
+        s = m_engine->set_block(hit->previous, m_hotbar.selected_block());
     if (!s)
         return s.error();
     m_edit_frames = 0;
@@ -87,7 +95,7 @@ std::string Game::toggle(const std::string& name) {
     } else {
         return name + ": not available in this build";
     }
-    m_engine.set_render_settings(m_settings);
+    m_engine->set_render_settings(m_settings);
     return name + (name == "shadows" ? (shadows() ? " on" : " off") : (reflections() ? " on" : " off"));
 }
 
@@ -100,17 +108,17 @@ void Game::step(double dt) {
     in.wish.y = double(m_keys.space - m_keys.shift);
     in.jump = m_keys.space;
     const SolidQuery solid = [this](vx::BlockPos p) {
-        const auto id = m_engine.get_block(p);
+        const auto id = m_engine->get_block(p);
         return !id || *id != vx::kAir; // Unloaded counts as solid: never fall out of the world.
     };
     m_player.step(dt, in, solid);
     if (m_player.walking() && m_player.inside_solid(solid))
         ++m_frames_inside;
-    (void)m_engine.set_viewer(viewer()); // Fails only outside the world: the camera stays put.
+    (void)m_engine->set_viewer(viewer()); // Fails only outside the world: the camera stays put.
 }
 
 FrameFigures Game::after_frame(uint64_t frame, double frame_ms) {
-    const vx::Stats s = m_engine.stats();
+    const vx::Stats s = m_engine->stats();
     FrameFigures f;
     f.frame = frame;
     f.frame_ms = frame_ms;
@@ -134,9 +142,9 @@ void Game::maybe_save(double now_s) {
     constexpr double kSaveInterval = 5.0;
     if (!m_persistent || !m_edited_since_save || now_s - m_last_save_s < kSaveInterval)
         return;
-    if (m_save && m_engine.save_state(*m_save) == vx::SaveState::Pending)
+    if (m_save && m_engine->save_state(*m_save) == vx::SaveState::Pending)
         return;
-    auto ticket = m_engine.save();
+    auto ticket = m_engine->save();
     if (ticket) {
         m_save = *ticket;
         m_edited_since_save = false;
@@ -151,7 +159,7 @@ std::string Game::save_text() const {
         return "unsaved edits";
     if (!m_save)
         return "saved";
-    switch (m_engine.save_state(*m_save)) {
+    switch (m_engine->save_state(*m_save)) {
     case vx::SaveState::Pending: return "saving";
     case vx::SaveState::Durable: return "saved";
     case vx::SaveState::Failed: return "save failed";

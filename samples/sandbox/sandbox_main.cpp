@@ -32,7 +32,7 @@ constexpr double kMouseDegreesPerPixel = 0.1;
 const char* const kHelpLines[] = {
     "mouse look, WASD move, space/shift rise/sink (fly) or jump (walk), F walk/fly",
     "left click remove, right click place, middle click pick, 1-9 and wheel: hotbar",
-    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, Esc menu",
+    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, V vsync, Esc menu",
 };
 
 struct App {
@@ -45,6 +45,7 @@ struct App {
     uint64_t frame = 0;
     std::FILE* csv = nullptr;
     bool captured = false, menu = false, show_stats = false, show_help = false, quit = false;
+    bool restart_vsync = false; // V: restart the engine with vsync toggled (chosen at creation).
     std::vector<std::string> stats;       // F3 lines, refreshed 4 times a second.
     std::vector<std::string> block_names; // Id i + 1 = block_names[i].
     std::unique_ptr<Hud> hud;
@@ -105,6 +106,8 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
         app.show_stats = !app.show_stats;
     } else if (key == GLFW_KEY_G) {
         say(app, app.game->toggle("shadows"));
+    } else if (key == GLFW_KEY_V) {
+        app.restart_vsync = true;
     } else if (key == GLFW_KEY_R) {
         say(app, app.game->toggle("reflections"));
     }
@@ -240,6 +243,27 @@ bool write_csv_row(std::FILE* f, const FrameFigures& r) {
                         r.update_ms, r.render_ms, r.gpu_ms, r.chunks_loaded, r.builds, r.refits, r.edit_to_screen) > 0;
 }
 
+// V: shuts the engine down (saving every edit) and creates it again with vsync toggled; the view
+// reloads from the world. Returns false (and says why) when the new engine cannot start.
+bool restart_with_vsync(App& app) {
+    app.restart_vsync = false;
+    if (vx::Status s = app.engine->shutdown(); !s) {
+        std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());
+        return false;
+    }
+    app.opt.vsync = !app.opt.vsync;
+    app.engine.reset();
+    auto engine = create_engine(app.opt, app.window);
+    if (!engine) {
+        std::fprintf(stderr, "vx_sandbox: %s\n", engine.error().c_str());
+        return false;
+    }
+    app.engine = std::move(*engine);
+    app.game->attach(*app.engine);
+    say(app, app.opt.vsync ? "vsync on" : "vsync off");
+    return true;
+}
+
 // The frame loop. Returns the exit code.
 int run(App& app) {
     const Clock::time_point start = Clock::now();
@@ -258,6 +282,8 @@ int run(App& app) {
             return 1;
         if (app.quit)
             break;
+        if (app.restart_vsync && !restart_with_vsync(app))
+            return 1;
         if (app.opt.frames > 0 && app.frame + 1 == app.opt.frames && !app.opt.screenshot.empty()) {
             app.screenshot_now = true;
             app.screenshot_path = app.opt.screenshot;
@@ -303,6 +329,8 @@ int run(App& app) {
 }
 
 int finish(App& app, int code) {
+    if (!app.engine) // A vsync restart failed (said so).
+        return code ? code : 1;
     const uint32_t errors = app.engine->stats().validation_errors;
     if (vx::Status s = app.engine->shutdown(); !s) {
         std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());
