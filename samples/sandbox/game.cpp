@@ -126,6 +126,8 @@ FrameFigures Game::after_frame(uint64_t frame, double frame_ms) {
     f.render_ms = s.render_wall_ms;
     f.gpu_ms = s.gpu_ms;
     f.chunks_loaded = s.chunks_loaded;
+    f.chunks_in_view = s.chunks_in_view;
+    f.chunks_meshed = s.chunks_meshed;
     f.builds = s.blas_builds;
     f.refits = s.blas_refits;
     if (m_edit_frames >= 0) {

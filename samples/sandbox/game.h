@@ -26,6 +26,7 @@ struct FrameFigures {
     uint64_t frame = 0;
     double frame_ms = 0, update_ms = 0, render_ms = 0, gpu_ms = -1;
     size_t chunks_loaded = 0;
+    size_t chunks_in_view = 0, chunks_meshed = 0; // Equal: no holes in the view.
     uint32_t builds = 0, refits = 0;
     int edit_to_screen = -1; // Frames from an edit call to the frame that uploaded it; -1: none ended here.
 };

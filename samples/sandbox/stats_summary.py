@@ -23,6 +23,9 @@ def main():
           f"update median {pct(up, 50):.2f} p99 {pct(up, 99):.2f}; render median {pct(rd, 50):.1f}; "
           f"BLAS builds {sum(int(r['builds']) for r in rows)} refits {sum(int(r['refits']) for r in rows)}; "
           f"edits {len(e2s)}, edit-to-screen frames max {max(e2s) if e2s else '-'}")
+    if rows and "in_view" in rows[0]:
+        holes = [int(r["in_view"]) - int(r["meshed"]) for r in rows]
+        print(f"  frames with unmeshed chunks in view: {sum(h > 0 for h in holes)}, most at once: {max(holes)}")
 
 
 main()
