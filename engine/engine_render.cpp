@@ -111,6 +111,26 @@ Status Engine::render_to_window(Image* capture) {
     return {};
 }
 
+Status Engine::set_overlay(const Overlay& overlay) {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
+        return Error{"set_overlay needs a window render target (RenderTarget::glfw_window)"};
+    const Image& a = overlay.atlas;
+    if (a.rgba.size() != size_t(a.width) * a.height * 4 || a.width > 16384 || a.height > 16384)
+        return Error{"set_overlay: the atlas must be width * height * 4 bytes, at most 16384 pixels a side"};
+    render::OverlayData d;
+    d.width = a.width;
+    d.height = a.height;
+    d.rgba = a.rgba;
+    d.version = overlay.atlas_version;
+    d.rects.reserve(overlay.rects.size());
+    for (const OverlayRect& r : overlay.rects)
+        d.rects.push_back({r.src_x, r.src_y, r.src_w, r.src_h, r.dst_x, r.dst_y, r.dst_w, r.dst_h});
+    m->renderer->set_overlay(std::move(d));
+    return {};
+}
+
 Stats Engine::stats() const {
     Stats s = m->frame;
     if (m->streamer) {

@@ -52,6 +52,7 @@ struct Renderer::Impl {
     Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
     RenderStats stats;
     std::unique_ptr<Presenter> presenter; // With a window.
+    std::unique_ptr<OverlayPass> overlay; // With a window: the game's HUD (set_overlay).
     std::chrono::steady_clock::time_point last_present{};
     // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
     // the trace, after the copy. Null when the queue family has no timestamps.
@@ -64,6 +65,7 @@ struct Renderer::Impl {
         if (!ctx)
             return;
         ctx->wait_idle();
+        overlay.reset();
         presenter.reset();
         vkDestroyDescriptorPool(ctx->device(), pool, nullptr);
         if (queries)
@@ -123,6 +125,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
         r->m->target_format = r->m->presenter->target_format();
+        r->m->overlay = std::make_unique<OverlayPass>(*r->m->ctx, r->m->target_format);
     }
     return r;
 }
@@ -472,18 +475,24 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     return img;
 }
 
+void Renderer::set_overlay(OverlayData overlay) {
+    if (m->overlay)
+        m->overlay->set(std::move(overlay));
+}
+
 Result<PresentResult> Renderer::present(const RenderSettings& settings, const Camera& camera, RenderImage* capture) {
     using Clock = std::chrono::steady_clock;
     using Ms = std::chrono::duration<double, std::milli>;
     Impl& d = *m;
     if (!d.presenter)
         return Error{"present() needs a renderer created with a window (RendererCreateInfo::glfw_window)"};
-    if (capture && !d.presenter->can_capture())
-        return Error{"present(): this surface's images cannot be read back (no TRANSFER_SRC usage)"};
     const auto t0 = Clock::now();
     const std::optional<VkExtent2D> extent = d.presenter->prepare();
     if (!extent)
         return PresentResult::Skipped;
+    // After prepare(): the first call creates the swapchain, whose usage decides this.
+    if (capture && !d.presenter->can_capture())
+        return Error{"present(): this surface's images cannot be read back (no TRANSFER_SRC usage)"};
     VkCommandBuffer cmd = d.ctx->begin_frame(); // Waits for the frame kFramesInFlight back.
     RenderStats st;
     d.read_stamps(st);
@@ -497,7 +506,7 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     s.width = extent->width;
     s.height = extent->height;
     d.record_frame(cmd, s, camera);
-    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr);
+    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr, d.overlay.get());
     d.stamp(cmd, 4);
     d.ctx->end_frame(d.presenter->submit_sync());
     const auto t2 = Clock::now();

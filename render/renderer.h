@@ -165,6 +165,21 @@ struct GpuHeapStats {
     uint64_t used_bytes = 0; // Of them, handed out to resources.
 };
 
+// A 2D overlay over presented frames (a HUD): see render/overlay.h.
+// One rectangle: atlas pixels [src, src + src_size) to framebuffer pixels [dst, dst + dst_size),
+// both with row 0 at the top.
+struct OverlayRect {
+    int32_t src_x = 0, src_y = 0, src_w = 0, src_h = 0;
+    int32_t dst_x = 0, dst_y = 0, dst_w = 0, dst_h = 0;
+};
+
+struct OverlayData {
+    uint32_t width = 0, height = 0;  // Atlas size in pixels (0: no overlay).
+    std::vector<uint8_t> rgba;       // width * height * 4 bytes.
+    uint64_t version = 0;            // Re-uploaded when it differs from the last upload.
+    std::vector<OverlayRect> rects;  // Drawn in order.
+};
+
 struct RendererCreateInfo {
     bool validation = false;
     bool sync_validation = false; // With validation: synchronization validation too (slow).
@@ -223,6 +238,9 @@ public:
     // and waits for this frame (written only when Presented); needs a surface whose images
     // allow TRANSFER_SRC.
     Result<PresentResult> present(const RenderSettings& settings, const Camera& camera, RenderImage* capture = nullptr);
+    // With a window: the 2D overlay drawn over later presented frames (render/overlay.h; an
+    // empty OverlayData removes it). Ignored by a headless renderer.
+    void set_overlay(OverlayData overlay);
 
     const DeviceReport& device() const;
     uint32_t validation_errors() const;

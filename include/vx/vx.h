@@ -222,6 +222,24 @@ struct Stats {
     uint64_t chunks_reloaded = 0;   // Reloaded because another process changed them.
 };
 
+// A game's 2D overlay (HUD) over presented frames, without exposing a graphics API: the game
+// draws its panels (text, hotbar, crosshair) into one RGBA8 `atlas` on the CPU, and every
+// presented frame copies the rectangles `rects` from the atlas onto the frame, in order, scaled
+// with nearest filtering. Opaque: no blending with the traced image. The atlas is uploaded to the
+// GPU only when `atlas_version` changes (bump it when its pixels change). Captures
+// (render_to_window(&image)) include the overlay. Pixels: row 0 at the top; atlas bytes are
+// what the screen shows (sRGB encoded, as render_to_window's capture).
+struct OverlayRect {
+    int32_t src_x = 0, src_y = 0, src_w = 0, src_h = 0; // In the atlas.
+    int32_t dst_x = 0, dst_y = 0, dst_w = 0, dst_h = 0; // In the window's framebuffer; a rect not
+                                                        // wholly inside it is skipped.
+};
+struct Overlay {
+    Image atlas;
+    uint64_t atlas_version = 0;
+    std::vector<OverlayRect> rects;
+};
+
 // A save in flight: poll save_state() or block in wait().
 struct SaveTicket {
     uint64_t sequence = 0;
@@ -280,6 +298,9 @@ public:
     // of that frame. A minimised window presents nothing (ok). `capture`, if given, receives the
     // presented image (RGBA8; the call then waits for this frame): screenshots, tests.
     Status render_to_window(Image* capture = nullptr);
+    // Main thread. Window target: the overlay drawn over later presented frames (see Overlay;
+    // an empty one removes it). Errors: no window target, a malformed atlas (size mismatch).
+    Status set_overlay(const Overlay& overlay);
 
     // Main thread. Figures of the last frame and gauges now (see Stats).
     Stats stats() const;

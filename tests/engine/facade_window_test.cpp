@@ -2,6 +2,7 @@
 // the window, an edit shows in the very next presented frame and its removal in the one after,
 // a resize is followed, and the validation layer reports nothing. CTest label vulkan.
 #include <chrono>
+#include <cstdlib>
 #include <thread>
 
 #define GLFW_INCLUDE_NONE
@@ -27,11 +28,16 @@ bool settle(vx::Engine& e) {
 
 glm::u8vec4 centre(const vx::Image& img) { return img.at(img.width / 2, img.height / 2); }
 
+// GLFW once per process: under Xvfb a second glfwInit after glfwTerminate finds no display.
 struct Glfw {
-    Glfw() { ok = glfwInit() == GLFW_TRUE; }
-    ~Glfw() {
-        if (ok)
-            glfwTerminate();
+    Glfw() {
+        static const bool init = [] {
+            const bool done = glfwInit() == GLFW_TRUE;
+            if (done)
+                std::atexit(glfwTerminate);
+            return done;
+        }();
+        ok = init;
     }
     bool ok = false;
 };
@@ -105,6 +111,73 @@ TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
         EXPECT_EQ(resized.width, 64u);
         EXPECT_EQ(resized.height, 40u);
         EXPECT_GE(e.stats().frame_ms, 0.0);
+        EXPECT_EQ(e.stats().validation_errors, 0u);
+        ASSERT_TRUE(e.shutdown());
+    }
+    glfwDestroyWindow(window);
+}
+
+// Engine::set_overlay: atlas rectangles land on the presented frame (and in its capture) at
+// their framebuffer positions, scaled with nearest filtering; outside them the traced image is
+// untouched; an empty overlay removes them; a malformed atlas is refused.
+TEST(FacadeWindow, OverlayRectanglesAreDrawnOverTheFrame) {
+    Glfw glfw;
+    if (!glfw.ok)
+        GTEST_SKIP() << "no X display for GLFW (run under xvfb-run)";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(64, 48, "vx overlay test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    vx::EngineCreateInfo info;
+    info.world = vx::WorldSource::terrain(5);
+    info.streaming.view_radius = 1;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.worker_threads = 2;
+    info.render.target = vx::RenderTarget::glfw_window(window);
+    info.render.device = "cpu";
+    info.render.validation = true;
+    info.render.vsync = false;
+    {
+        auto created = vx::Engine::create(info);
+        if (!created) {
+            glfwDestroyWindow(window);
+            GTEST_SKIP() << "no ray-tracing device that can present: " << created.error();
+        }
+        vx::Engine& e = **created;
+        vx::Viewer v;
+        v.block = {0, vx::terrain_height(5, 0, 0) + 200, 0}; // Sky only: a flat background.
+        v.forward = {0, 1, -0.2};
+        ASSERT_TRUE(e.set_viewer(v));
+        ASSERT_TRUE(settle(e));
+        vx::Image plain, drawn, removed;
+        glfwPollEvents();
+        vx::Status first = e.render_to_window(&plain);
+        ASSERT_TRUE(first) << first.error();
+
+        vx::Overlay o;
+        o.atlas.width = 2;
+        o.atlas.height = 1;
+        o.atlas.rgba = {250, 10, 20, 255, 5, 240, 30, 255}; // A red and a green texel.
+        o.atlas_version = 1;
+        o.rects.push_back({0, 0, 1, 1, 4, 6, 10, 5});     // Red: x 4..13, y 6..10.
+        o.rects.push_back({1, 0, 1, 1, 40, 30, 3, 3});    // Green: x 40..42, y 30..32.
+        o.rects.push_back({0, 0, 1, 1, 60, 40, 10, 10});  // Not inside 64×48: skipped.
+        ASSERT_TRUE(e.set_overlay(o));
+        ASSERT_TRUE(e.render_to_window(&drawn));
+        ASSERT_EQ(drawn.width, 64u);
+        EXPECT_EQ(drawn.at(4, 6), glm::u8vec4(250, 10, 20, 255));
+        EXPECT_EQ(drawn.at(13, 10), glm::u8vec4(250, 10, 20, 255));
+        EXPECT_EQ(drawn.at(41, 31), glm::u8vec4(5, 240, 30, 255));
+        EXPECT_EQ(drawn.at(14, 10), plain.at(14, 10)); // Just outside the red rectangle.
+        EXPECT_EQ(drawn.at(62, 46), plain.at(62, 46)); // The skipped rectangle drew nothing.
+
+        ASSERT_TRUE(e.set_overlay(vx::Overlay{}));
+        ASSERT_TRUE(e.render_to_window(&removed));
+        EXPECT_EQ(removed.at(4, 6), plain.at(4, 6));
+
+        vx::Overlay bad;
+        bad.atlas.width = 4;
+        bad.atlas.height = 4;
+        EXPECT_FALSE(e.set_overlay(bad));
         EXPECT_EQ(e.stats().validation_errors, 0u);
         ASSERT_TRUE(e.shutdown());
     }

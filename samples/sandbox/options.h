@@ -1,0 +1,35 @@
+#pragma once
+// The sandbox's command line. Pure parsing (no window): unit-testable.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <vx/result.h>
+
+namespace sandbox {
+
+struct Options {
+    uint32_t width = 1280, height = 720; // --size WxH: window size in screen pixels.
+    bool fullscreen = false;             // --fullscreen: the primary monitor's mode.
+    bool vsync = true;                   // --no-vsync (V toggles it while playing).
+    std::string world;                   // --world PATH (SQLite; default under XDG_DATA_HOME).
+    uint64_t seed = 1;                   // --seed S: terrain of new worlds.
+    std::string vdb;                     // --vdb FILE: explore a VDB world read-only.
+    std::string replay;                  // --replay FILE: scripted play at fixed 1/60 s steps.
+    uint64_t frames = 0;                 // --frames N: stop (save, exit 0) after N frames (0: no limit).
+    std::string screenshot;              // --screenshot PATH: PNG of the last frame on exit.
+    std::string stats_out;               // --stats-out FILE: CSV, one row per frame.
+    int view_radius = 8;                 // --view-radius R (chunks).
+    double fly_speed = 10.0;             // --fly-speed B: blocks per second in fly mode.
+    std::string device = "auto";         // --device auto|cpu|gpu|N.
+    bool validation = false;             // --validation: exit 1 if the layer reports errors.
+};
+
+// Parses argv[1..]. Error: one line naming the bad argument (the caller prints usage, exits 2).
+vx::Result<Options> parse_options(const std::vector<std::string>& args);
+// The default world path: $XDG_DATA_HOME/vx/worlds/default.sqlite (fallback ~/.local/share).
+std::string default_world_path();
+// Usage text for --help and errors.
+const char* usage();
+
+} // namespace sandbox

@@ -1,0 +1,454 @@
+// vx_sandbox: a block game on <vx/vx.h> — fly or walk through the ray-traced world streaming
+// around you, remove and place blocks, scripted play (--replay) for tests and benchmarks.
+// This file is the GLFW glue: window, input callbacks, the frame loop, the replay driver,
+// screenshots and the per-frame CSV. The game logic lives in game.*, player_physics.*,
+// hotbar.*, replay.* and options.*.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <vx/vx.h>
+
+#include "game.h"
+#include "hud.h"
+#include "options.h"
+#include "replay.h"
+
+namespace sandbox {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kReplayStep = 1.0 / 60.0; // Seconds of game time per replay frame.
+constexpr double kMouseDegreesPerPixel = 0.1;
+
+const char* const kHelpLines[] = {
+    "mouse look, WASD move, space/shift rise/sink (fly) or jump (walk), F walk/fly",
+    "left click remove, right click place, middle click pick, 1-9 and wheel: hotbar",
+    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, V vsync, Esc menu",
+};
+
+struct App {
+    Options opt;
+    GLFWwindow* window = nullptr;
+    std::unique_ptr<vx::Engine> engine;
+    std::unique_ptr<Game> game;
+    std::vector<ReplayCommand> replay;
+    size_t next_command = 0;
+    uint64_t frame = 0;
+    std::FILE* csv = nullptr;
+    bool captured = false, menu = false, show_stats = false, show_help = false, quit = false;
+    bool restart_vsync = false; // V: restart the engine with vsync toggled (chosen at creation).
+    std::vector<std::string> stats;       // F3 lines, refreshed 4 times a second.
+    std::vector<std::string> block_names; // Id i + 1 = block_names[i].
+    std::unique_ptr<Hud> hud;
+    bool screenshot_now = false;
+    std::string screenshot_path;
+    std::string message;
+    double last_x = 0, last_y = 0;
+    bool have_last = false;
+    double fps_ms = 16.7;
+};
+
+App* app_of(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
+
+void set_captured(App& app, bool captured) {
+    app.captured = captured;
+    app.menu = !captured;
+    app.have_last = false;
+    glfwSetInputMode(app.window, GLFW_CURSOR, captured ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
+}
+
+void say(App& app, const std::string& text) {
+    if (text.empty())
+        return;
+    app.message = text;
+    std::printf("vx_sandbox: %s\n", text.c_str());
+}
+
+void on_key(GLFWwindow* w, int key, int, int action, int) {
+    App& app = *app_of(w);
+    if (action == GLFW_REPEAT)
+        return;
+    const bool down = action == GLFW_PRESS;
+    static const std::pair<int, const char*> kMove[] = {{GLFW_KEY_W, "w"},         {GLFW_KEY_A, "a"},
+                                                        {GLFW_KEY_S, "s"},         {GLFW_KEY_D, "d"},
+                                                        {GLFW_KEY_SPACE, "space"}, {GLFW_KEY_LEFT_SHIFT, "shift"}};
+    for (auto [k, name] : kMove)
+        if (key == k)
+            app.game->key(name, down && app.captured);
+    if (!down)
+        return;
+    if (key == GLFW_KEY_ESCAPE) {
+        if (app.menu)
+            app.quit = true;
+        else
+            set_captured(app, false);
+    } else if (key == GLFW_KEY_Q && app.menu) {
+        app.quit = true;
+    } else if (key == GLFW_KEY_F) {
+        say(app, app.game->toggle("walk"));
+    } else if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
+        app.game->hotbar().select(key - GLFW_KEY_1);
+    } else if (key == GLFW_KEY_F1) {
+        app.show_help = !app.show_help;
+    } else if (key == GLFW_KEY_F2) {
+        app.screenshot_now = true;
+        app.screenshot_path = "vx_sandbox_" + std::to_string(app.frame) + ".png";
+    } else if (key == GLFW_KEY_F3) {
+        app.show_stats = !app.show_stats;
+    } else if (key == GLFW_KEY_G) {
+        say(app, app.game->toggle("shadows"));
+    } else if (key == GLFW_KEY_V) {
+        app.restart_vsync = true;
+    } else if (key == GLFW_KEY_R) {
+        say(app, app.game->toggle("reflections"));
+    }
+}
+
+void on_mouse_button(GLFWwindow* w, int button, int action, int) {
+    App& app = *app_of(w);
+    if (action != GLFW_PRESS)
+        return;
+    if (!app.captured) {
+        set_captured(app, true);
+        return;
+    }
+    const Button b = button == GLFW_MOUSE_BUTTON_LEFT ? Button::Left
+                     : button == GLFW_MOUSE_BUTTON_RIGHT ? Button::Right : Button::Middle;
+    say(app, app.game->click(b));
+}
+
+void on_cursor(GLFWwindow* w, double x, double y) {
+    App& app = *app_of(w);
+    if (app.captured && app.have_last)
+        app.game->look(-(x - app.last_x) * kMouseDegreesPerPixel, -(y - app.last_y) * kMouseDegreesPerPixel);
+    app.last_x = x;
+    app.last_y = y;
+    app.have_last = true;
+}
+
+void on_scroll(GLFWwindow* w, double, double dy) {
+    App& app = *app_of(w);
+    if (dy != 0)
+        app.game->hotbar().scroll(dy > 0 ? -1 : 1);
+}
+
+// Runs until every chunk in view is meshed, without advancing game time. False after 10 minutes.
+bool wait_loaded(App& app, Clock::time_point game_now) {
+    const auto limit = Clock::now() + std::chrono::minutes(10);
+    while (Clock::now() < limit) {
+        app.engine->update(game_now);
+        if (app.engine->settled())
+            return true;
+        glfwPollEvents();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+// Runs this frame's replay commands. Returns false when the game must stop with an error.
+bool run_replay_commands(App& app, Clock::time_point game_now) {
+    while (app.next_command < app.replay.size() && app.replay[app.next_command].frame <= app.frame) {
+        const ReplayCommand& c = app.replay[app.next_command++];
+        using K = ReplayCommand::Kind;
+        switch (c.kind) {
+        case K::Pose: app.game->set_pose({c.pose[0], c.pose[1], c.pose[2]}, c.pose[3], c.pose[4]); break;
+        case K::Key:
+            if (c.name == "escape")
+                app.menu = c.down ? !app.menu : app.menu;
+            else
+                app.game->key(c.name, c.down);
+            break;
+        case K::Click:
+            say(app, app.game->click(c.name == "left" ? Button::Left : c.name == "right" ? Button::Right : Button::Middle));
+            break;
+        case K::Select: app.game->hotbar().select(c.value - 1); break;
+        case K::Block: app.game->select_block(vx::BlockId(c.value)); break;
+        case K::Toggle: say(app, app.game->toggle(c.name)); break;
+        case K::WaitLoaded:
+            app.game->step(0.0); // Hand the current pose to the engine first.
+            if (!wait_loaded(app, game_now)) {
+                std::fprintf(stderr, "vx_sandbox: replay line %d: the view did not load within 10 minutes\n", c.line);
+                return false;
+            }
+            break;
+        case K::Screenshot:
+            app.screenshot_now = true;
+            app.screenshot_path = c.name;
+            break;
+        case K::Quit: app.quit = true; break;
+        }
+    }
+    return true;
+}
+
+// The F3 lines, refreshed a few times a second (the HUD's atlas re-uploads when text changes).
+std::vector<std::string> stats_lines(const App& app) {
+    const vx::Stats s = app.engine->stats();
+    char l[3][256];
+    std::snprintf(l[0], sizeof l[0], "%.0f fps %.1f ms: update %.1f, render %.1f (wait %.1f, present %.1f)",
+                  1000.0 / app.fps_ms, app.fps_ms, s.update_wall_ms, s.render_wall_ms, s.wait_ms, s.present_ms);
+    std::snprintf(l[1], sizeof l[1], "chunks %zu loaded, %zu queued, %zu/%zu meshed; BLAS %u builds %u refits",
+                  s.chunks_loaded, s.chunks_queued, s.chunks_meshed, s.chunks_in_view, s.blas_builds, s.blas_refits);
+    std::snprintf(l[2], sizeof l[2], "edit to screen %d frames; blocks %.0f MB, GPU %.0f/%.0f MB",
+                  app.game->last_edit_to_screen(), s.block_memory_bytes / 1048576.0, s.gpu_memory_used_bytes / 1048576.0,
+                  s.gpu_memory_bytes / 1048576.0);
+    return {l[0], l[1], l[2]};
+}
+
+std::vector<std::string> hud_lines(const App& app) {
+    const Game& g = *app.game;
+    const vx::BlockId id = g.hotbar().selected_block();
+    const std::string name = id >= 1 && id <= app.block_names.size() ? app.block_names[id - 1u] : std::to_string(id);
+    std::vector<std::string> lines{std::string(g.player().walking() ? "walk" : "fly") + " | " + name + " | " +
+                                   g.save_text() + (app.message.empty() ? "" : " | " + app.message)};
+    if (app.show_stats)
+        lines.insert(lines.end(), app.stats.begin(), app.stats.end());
+    if (app.show_help)
+        for (const char* l : kHelpLines)
+            lines.push_back(l);
+    if (app.menu && app.opt.replay.empty())
+        lines.push_back("PAUSED: Esc or Q quits, a click resumes");
+    return lines;
+}
+
+vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwindow* window) {
+    vx::EngineCreateInfo info;
+    if (!o.vdb.empty()) {
+        info.world = vx::WorldSource::vdb(o.vdb);
+    } else {
+        std::error_code ec;
+        std::filesystem::create_directories(std::filesystem::path(o.world).parent_path(), ec);
+        info.world = vx::WorldSource::sqlite(o.world, o.seed);
+    }
+    info.streaming.view_radius = o.view_radius;
+    info.streaming.view_radius_vertical = std::max(1, std::min(o.view_radius, 4));
+    info.render.target = vx::RenderTarget::glfw_window(window);
+    info.render.device = o.device;
+    info.render.validation = o.validation;
+    info.render.vsync = o.vsync && o.replay.empty(); // Replays run as fast as they can.
+    return vx::Engine::create(info);
+}
+
+bool write_csv_row(std::FILE* f, const FrameFigures& r) {
+    return std::fprintf(f, "%llu,%.3f,%.3f,%.3f,%.3f,%zu,%u,%u,%d,%zu,%zu\n", (unsigned long long)r.frame, r.frame_ms,
+                        r.update_ms, r.render_ms, r.gpu_ms, r.chunks_loaded, r.builds, r.refits, r.edit_to_screen,
+                        r.chunks_in_view, r.chunks_meshed) > 0;
+}
+
+// V: shuts the engine down (saving every edit) and creates it again with vsync toggled; the view
+// reloads from the world. Returns false (and says why) when the new engine cannot start.
+bool restart_with_vsync(App& app) {
+    app.restart_vsync = false;
+    if (vx::Status s = app.engine->shutdown(); !s) {
+        std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());
+        return false;
+    }
+    app.opt.vsync = !app.opt.vsync;
+    app.engine.reset();
+    auto engine = create_engine(app.opt, app.window);
+    if (!engine) {
+        std::fprintf(stderr, "vx_sandbox: %s\n", engine.error().c_str());
+        return false;
+    }
+    app.engine = std::move(*engine);
+    app.game->attach(*app.engine);
+    say(app, app.opt.vsync ? "vsync on" : "vsync off");
+    return true;
+}
+
+// The frame loop. Returns the exit code.
+int run(App& app) {
+    const Clock::time_point start = Clock::now();
+    Clock::time_point last = start;
+    double next_title_s = 0;
+    const bool replaying = !app.opt.replay.empty();
+    while (!glfwWindowShouldClose(app.window) && !app.quit) {
+        glfwPollEvents();
+        const Clock::time_point now = Clock::now();
+        const double real_dt = std::chrono::duration<double>(now - last).count();
+        last = now;
+        const double dt = replaying ? kReplayStep : std::min(real_dt, 0.1);
+        const double game_s = replaying ? double(app.frame) * kReplayStep : std::chrono::duration<double>(now - start).count();
+        const Clock::time_point game_now = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(game_s));
+        if (replaying && !run_replay_commands(app, game_now))
+            return 1;
+        if (app.quit)
+            break;
+        if (app.restart_vsync && !restart_with_vsync(app))
+            return 1;
+        if (app.opt.frames > 0 && app.frame + 1 == app.opt.frames && !app.opt.screenshot.empty()) {
+            app.screenshot_now = true;
+            app.screenshot_path = app.opt.screenshot;
+        }
+        app.game->step(app.menu && !replaying ? 0.0 : dt);
+        app.engine->update(game_now);
+        int fb_w = 0, fb_h = 0;
+        glfwGetFramebufferSize(app.window, &fb_w, &fb_h);
+        if (fb_w > 0 && fb_h > 0)
+            (void)app.engine->set_overlay(app.hud->build(uint32_t(fb_w), uint32_t(fb_h), app.game->hotbar(), hud_lines(app)));
+        vx::Image shot;
+        const bool capture = app.screenshot_now;
+        if (vx::Status s = app.engine->render_to_window(capture ? &shot : nullptr); !s) {
+            std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
+            return 1;
+        }
+        if (capture) {
+            app.screenshot_now = false;
+            if (vx::Status s = vx::write_png(app.screenshot_path, shot); !s)
+                say(app, s.error());
+            else { // The crosshair pixel too: tests and demos compare it across screenshots.
+                const glm::u8vec4 c = shot.at(shot.width / 2, shot.height / 2);
+                say(app, "screenshot " + app.screenshot_path + " centre " + std::to_string(c.r) + " " +
+                             std::to_string(c.g) + " " + std::to_string(c.b));
+            }
+        }
+        const double frame_ms = real_dt * 1000.0;
+        app.fps_ms = app.fps_ms * 0.9 + frame_ms * 0.1;
+        const FrameFigures fig = app.game->after_frame(app.frame, frame_ms);
+        if (app.csv)
+            write_csv_row(app.csv, fig);
+        app.game->maybe_save(game_s);
+        const double real_s = std::chrono::duration<double>(now - start).count();
+        if (real_s >= next_title_s) {
+            app.stats = stats_lines(app);
+            next_title_s = real_s + 0.25;
+        }
+        ++app.frame;
+        if (app.opt.frames > 0 && app.frame >= app.opt.frames)
+            break;
+    }
+    return 0;
+}
+
+int finish(App& app, int code) {
+    if (!app.engine) // A vsync restart failed (said so).
+        return code ? code : 1;
+    const uint32_t errors = app.engine->stats().validation_errors;
+    if (vx::Status s = app.engine->shutdown(); !s) {
+        std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());
+        code = code ? code : 1;
+    }
+    if (app.csv)
+        std::fclose(app.csv);
+    const glm::dvec3 feet = app.game->player().feet();
+    std::printf("vx_sandbox: player's feet at %.2f %.2f %.2f (%s)\n", feet.x, feet.y, feet.z,
+                app.game->player().walking() ? "walk" : "fly");
+    std::printf("vx_sandbox: %llu frames, edit->screen %d frames, frames inside a block %llu, validation errors: %u\n",
+                (unsigned long long)app.frame, app.game->last_edit_to_screen(),
+                (unsigned long long)app.game->frames_inside_block(), errors);
+    if (app.opt.validation && errors > 0)
+        code = code ? code : 1;
+    return code;
+}
+
+GLFWwindow* create_window(const Options& o) {
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+    GLFWmonitor* monitor = o.fullscreen ? glfwGetPrimaryMonitor() : nullptr;
+    int w = int(o.width), h = int(o.height);
+    if (monitor) {
+        const GLFWvidmode* mode = glfwGetVideoMode(monitor);
+        w = mode->width;
+        h = mode->height;
+    }
+    return glfwCreateWindow(w, h, "vx_sandbox", monitor, nullptr);
+}
+
+} // namespace
+
+int main_with(const Options& opt) {
+    App app;
+    app.opt = opt;
+    if (!opt.replay.empty()) {
+        auto parsed = load_replay(opt.replay);
+        if (!parsed) {
+            std::fprintf(stderr, "vx_sandbox: %s\n", parsed.error().c_str());
+            return 2;
+        }
+        app.replay = std::move(*parsed);
+    }
+    if (glfwInit() != GLFW_TRUE) {
+        std::fprintf(stderr, "vx_sandbox: cannot open a window (GLFW: no display?)\n");
+        return 2;
+    }
+    if (glfwVulkanSupported() != GLFW_TRUE) {
+        std::fprintf(stderr, "vx_sandbox: no Vulkan driver found, so no device can ray trace here\n");
+        glfwTerminate();
+        return 2;
+    }
+    app.window = create_window(opt);
+    if (!app.window) {
+        std::fprintf(stderr, "vx_sandbox: cannot create a %ux%u window\n", opt.width, opt.height);
+        glfwTerminate();
+        return 2;
+    }
+    int code = 0;
+    {
+        auto engine = create_engine(opt, app.window);
+        if (!engine) {
+            std::fprintf(stderr, "vx_sandbox: %s\n", engine.error().c_str()); // E.g. no device that can ray trace.
+            glfwDestroyWindow(app.window);
+            glfwTerminate();
+            return 2;
+        }
+        app.engine = std::move(*engine);
+        for (const vx::BlockType& b : vx::default_blocks())
+            app.block_names.push_back(b.name);
+        app.hud = std::make_unique<Hud>(vx::default_blocks());
+        app.game = std::make_unique<Game>(*app.engine, opt.vdb.empty(), opt.fly_speed);
+        const int64_t ground = vx::terrain_height(opt.seed, 0, 0);
+        app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
+        std::printf("vx_sandbox: seed %llu, terrain top at (0, %lld, 0)\n", (unsigned long long)opt.seed, (long long)ground);
+        if (!opt.stats_out.empty()) {
+            app.csv = std::fopen(opt.stats_out.c_str(), "w");
+            if (!app.csv) {
+                std::fprintf(stderr, "vx_sandbox: cannot write %s\n", opt.stats_out.c_str());
+                code = 2;
+            } else
+                std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed\n");
+        }
+        glfwSetWindowUserPointer(app.window, &app);
+        glfwSetKeyCallback(app.window, on_key);
+        glfwSetMouseButtonCallback(app.window, on_mouse_button);
+        glfwSetCursorPosCallback(app.window, on_cursor);
+        glfwSetScrollCallback(app.window, on_scroll);
+        if (opt.replay.empty()) {
+            set_captured(app, true);
+            for (const char* l : kHelpLines)
+                std::printf("%s\n", l);
+        }
+        code = code ? finish(app, code) : finish(app, run(app));
+        app.game.reset();
+        app.hud.reset();
+        app.engine.reset();
+    }
+    glfwDestroyWindow(app.window);
+    glfwTerminate();
+    return code;
+}
+
+} // namespace sandbox
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    for (const std::string& a : args)
+        if (a == "--help" || a == "-h") {
+            std::printf("%s", sandbox::usage());
+            return 0;
+        }
+    auto opt = sandbox::parse_options(args);
+    if (!opt) {
+        std::fprintf(stderr, "%s\n%s", opt.error().c_str(), sandbox::usage());
+        return 2;
+    }
+    return sandbox::main_with(*opt);
+}

@@ -1,0 +1,60 @@
+// The hotbar (select, wheel wrap, pick) and the command line.
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "hotbar.h"
+#include "options.h"
+
+TEST(Hotbar, SelectScrollPick) {
+    sandbox::Hotbar h; // Slots hold ids 1..9.
+    EXPECT_EQ(h.selected_block(), 1);
+    h.select(4);
+    EXPECT_EQ(h.selected_block(), 5);
+    h.select(9); // Out of range: ignored.
+    EXPECT_EQ(h.selected_slot(), 4);
+    h.scroll(5); // 4 + 5 = 9 wraps to 0.
+    EXPECT_EQ(h.selected_slot(), 0);
+    h.scroll(-1);
+    EXPECT_EQ(h.selected_slot(), 8);
+    h.pick(3); // Held in slot 2: select it.
+    EXPECT_EQ(h.selected_slot(), 2);
+    h.pick(42); // Not held: replaces the selected slot.
+    EXPECT_EQ(h.selected_slot(), 2);
+    EXPECT_EQ(h.selected_block(), 42);
+    EXPECT_EQ(h.slot(3), 4);
+    h.pick(0); // Air is never picked.
+    EXPECT_EQ(h.selected_block(), 42);
+}
+
+TEST(Options, ParsesAndRejects) {
+    auto o = sandbox::parse_options({"--size", "160x120", "--world", "/tmp/w.sqlite", "--seed", "7", "--replay",
+                                     "r.txt", "--frames", "30", "--view-radius", "2", "--no-vsync", "--validation"});
+    ASSERT_TRUE(o) << o.error();
+    EXPECT_EQ(o->width, 160u);
+    EXPECT_EQ(o->height, 120u);
+    EXPECT_EQ(o->world, "/tmp/w.sqlite");
+    EXPECT_EQ(o->seed, 7u);
+    EXPECT_EQ(o->frames, 30u);
+    EXPECT_EQ(o->view_radius, 2);
+    EXPECT_FALSE(o->vsync);
+    EXPECT_TRUE(o->validation);
+    for (auto bad : std::vector<std::vector<std::string>>{{"--size", "160"},
+                                                          {"--size", "0x5"},
+                                                          {"--seed", "-1"},
+                                                          {"--view-radius", "0"},
+                                                          {"--frames"},
+                                                          {"--bogus", "1"},
+                                                          {"--world", "a", "--vdb", "b"}}) {
+        auto r = sandbox::parse_options(bad);
+        EXPECT_FALSE(r) << bad[0];
+    }
+}
+
+TEST(Options, DefaultWorldUnderXdgDataHome) {
+    setenv("XDG_DATA_HOME", "/data/x", 1);
+    EXPECT_EQ(sandbox::default_world_path(), "/data/x/vx/worlds/default.sqlite");
+    unsetenv("XDG_DATA_HOME");
+    setenv("HOME", "/home/p", 1);
+    EXPECT_EQ(sandbox::default_world_path(), "/home/p/.local/share/vx/worlds/default.sqlite");
+}
