@@ -14,6 +14,8 @@ case "$kind" in
   *) echo "usage: scripts/build.sh [release|asan|tsan|debug]" >&2; exit 2 ;;
 esac
 jobs=$(nproc)
+# ccache (when installed) keys on paths relative to the repository, so clones elsewhere share hits.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
 cmake -S . -B "build/$kind" -G Ninja -DVX_WERROR=ON "${args[@]}" "$@" >/dev/null
 # shellcheck disable=SC2086
 ninja -C "build/$kind" -j "$jobs" ${VX_TARGETS:-}
