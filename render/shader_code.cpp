@@ -7,11 +7,15 @@ namespace {
 #include "shaders/primary_rmiss.h"
 #include "shaders/shadow_rmiss.h"
 #include "shaders/closest_hit_rchit.h"
+#include "shaders/denoise_temporal_comp.h"
+#include "shaders/denoise_atrous_comp.h"
 } // namespace
 
 std::span<const uint32_t> raygen() { return k_raygen_rgen; }
 std::span<const uint32_t> primary_miss() { return k_primary_rmiss; }
 std::span<const uint32_t> shadow_miss() { return k_shadow_rmiss; }
 std::span<const uint32_t> closest_hit() { return k_closest_hit_rchit; }
+std::span<const uint32_t> denoise_temporal() { return k_denoise_temporal_comp; }
+std::span<const uint32_t> denoise_atrous() { return k_denoise_atrous_comp; }
 
 } // namespace vx::render::spirv

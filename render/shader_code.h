@@ -1,5 +1,5 @@
 #pragma once
-// SPIR-V of the ray-tracing stages, compiled from shaders/ at build time and embedded in the
+// SPIR-V of the ray-tracing and denoiser stages, compiled from shaders/ at build time and embedded in the
 // library (so binaries work from any directory). Thread-safe (constant data).
 
 #include <cstdint>
@@ -11,5 +11,7 @@ std::span<const uint32_t> raygen();
 std::span<const uint32_t> primary_miss();
 std::span<const uint32_t> shadow_miss();
 std::span<const uint32_t> closest_hit();
+std::span<const uint32_t> denoise_temporal(); // Compute stages of render/denoiser.
+std::span<const uint32_t> denoise_atrous();
 
 } // namespace vx::render::spirv

@@ -1,0 +1,17 @@
+// Helpers of the denoiser's compute shaders.
+#ifndef VX_DENOISE_COMMON_GLSL
+#define VX_DENOISE_COMMON_GLSL
+
+#include "shared/denoise_types.h"
+
+layout(push_constant) uniform Push { DenoisePush pc; };
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// Albedo used to demodulate: black albedo (sky, emitters without a colour) divides by 1.
+vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }
+
+// A pixel with geometry: view depth > 0 (misses store 0 or a negative depth).
+bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0; }
+
+#endif
