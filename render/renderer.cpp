@@ -10,6 +10,7 @@
 #include "render/context.h"
 #include "render/gpu_layouts.h"
 #include "render/present.h"
+#include "render/raster_pipeline.h"
 #include "render/rt_pipeline.h"
 #include "render/scene_accel.h"
 
@@ -19,6 +20,7 @@ struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
     std::unique_ptr<SceneAccel> accel;
     std::unique_ptr<RtPipeline> pipeline;
+    std::unique_ptr<RasterPipeline> raster; // Made at the first raster frame.
     VkDescriptorPool pool = VK_NULL_HANDLE;
     std::array<VkDescriptorSet, kFramesInFlight> sets{};
     std::array<Buffer, kFramesInFlight> params;
@@ -78,6 +80,7 @@ struct Renderer::Impl {
     void write_descriptors();
     void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 };
 
@@ -187,7 +190,10 @@ void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     if (t.valid() && t.width() == width && t.height() == height)
         return;
     // Resized: the old image goes to this frame's retire list; the slot's last frame is done.
-    t = Image::create(*ctx, {width, height, target_format, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    t = Image::create(*ctx, {width, height, target_format,
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, // The raster pipeline draws into it.
+
                              "render target", VK_FORMAT_R8G8B8A8_UNORM});
     VX_ASSERT_MSG(t.valid(), "out of GPU memory for the render target");
 }
@@ -259,9 +265,13 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
     stamp(cmd, 1);
     accel->record_tlas_build(cmd, cam.block);
     stamp(cmd, 2);
-    write_params(s, cam);
-    write_descriptors();
-    record_trace(cmd, s.width, s.height);
+    if (s.pipeline == PipelineKind::Raster) {
+        record_raster(cmd, s, cam);
+    } else {
+        write_params(s, cam);
+        write_descriptors();
+        record_trace(cmd, s.width, s.height);
+    }
     stamped[ctx->frame_slot()] = queries != VK_NULL_HANDLE;
 }
 
@@ -277,6 +287,32 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+// The raster baseline in place of the trace: same target, same layout afterwards.
+void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
+    if (!raster)
+        raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
+    RasterFrame f;
+    f.target = target().handle();
+    f.target_view = target().view();
+    f.width = s.width;
+    f.height = s.height;
+    f.camera_block = cam.block;
+    f.camera_offset = cam.offset;
+    f.clip_from_eye = raster_clip_from_eye(cam.forward, cam.up, cam.fov_y_degrees, float(s.width) / float(s.height));
+    f.mode = s.mode == ShadingMode::Flat ? gpu::kModeFlat : s.mode == ShadingMode::Full ? gpu::kModeFull : gpu::kModeVisibility;
+    // The area light's centre as a point light of the intensity it has face-on (radiance x area).
+    const glm::vec3 centre = s.light.offset + 0.5f * (s.light.edge_u + s.light.edge_v);
+    f.light_position = glm::dvec3(s.light.block - cam.block) + glm::dvec3(centre);
+    f.light_power = s.light.emission * glm::length(glm::cross(s.light.edge_u, s.light.edge_v));
+    f.sky = s.mode == ShadingMode::Full ? glm::vec3(0.f) : s.sky; // Full: encoded below.
+    if (s.mode == ShadingMode::Full)
+        for (int c = 0; c < 3; ++c) // The clear colour is written as is: sRGB-encode the sky here.
+            f.sky[c] = s.sky[c] <= 0.0031308f ? s.sky[c] * 12.92f : 1.055f * std::pow(std::min(s.sky[c], 1.f), 1.f / 2.4f) - 0.055f;
+    f.materials = materials.address();
+    raster->record(cmd, f, accel->draw_list());
+    stamp(cmd, 3);
 }
 
 // The copy of the target into the host-visible read-back buffer (render() waits for it). The

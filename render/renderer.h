@@ -52,8 +52,17 @@ enum class ShadingMode : uint8_t {
     Visibility, // Fraction of unoccluded shadow samples at the primary hit (grey), sky on a miss.
 };
 
+// Which pipeline draws the image.
+enum class PipelineKind : uint8_t {
+    RayTraced, // The ray tracer (render/rt_pipeline.h).
+    Raster,    // The raster baseline (render/raster_pipeline.h): the same chunks and camera, a
+               // depth buffer; Flat as the ray tracer's, Full is Phong with the area light's
+               // centre as a point light and no shadows or reflections, Visibility all lit.
+};
+
 struct RenderSettings {
     uint32_t width = 64, height = 64;
+    PipelineKind pipeline = PipelineKind::RayTraced;
     ShadingMode mode = ShadingMode::Full;
     uint32_t shadow_samples = 4; // Per pixel and bounce (correlated multi-jittered); 0: no shadows.
     uint32_t max_bounces = 2;    // Mirror reflection depth.
@@ -98,7 +107,8 @@ struct RenderStats {
     double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
     // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
-    // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace, the image read-back copy.
+    // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace (or the raster pass),
+    // the image read-back copy.
     // The read-back copy for render(), the blit into the swapchain image for present().
     double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1, gpu_copy_ms = -1;
     double gpu_frame_ms = -1; // The whole frame on the GPU (first to last timestamp).
