@@ -1,5 +1,6 @@
 #include "render/denoiser.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -12,7 +13,7 @@
 
 namespace vx::render {
 
-static_assert(sizeof(gpu::DenoisePush) == 96, "DenoisePush must match its std430 layout");
+static_assert(sizeof(gpu::DenoisePush) == 112, "DenoisePush must match its std430 layout");
 
 namespace {
 
@@ -185,6 +186,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     push.sigmas = {settings.sigma_normal, settings.sigma_depth, settings.sigma_luminance,
                    float(std::max(settings.max_history, 1u))};
     push.params = {m_width, m_height, 1, m_history_valid ? gpu::kDenoiseHistoryValid : 0u};
+    push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height), 0.f, 0.f};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     const uint32_t gy = (m_height + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     // Earlier work on these images (the previous frame's passes, a read-back copy) finishes first.
@@ -259,7 +261,8 @@ void copy_buffer_to_image(VkCommandBuffer cmd, VkBuffer src, VkDeviceSize offset
 } // namespace
 
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
-                       const ImageF& normal_depth, const DenoiseSettings& settings, const glm::mat4& reproject) {
+                       const ImageF& normal_depth, const DenoiseSettings& settings, const glm::mat4& reproject,
+                       float fov_y_degrees) {
     const uint32_t w = denoiser.width(), h = denoiser.height();
     for (const ImageF* img : {&colour, &albedo, &normal_depth})
         VX_ASSERT_MSG(img->width == w && img->height == h && img->rgba.size() == size_t(w) * h * 4,
@@ -287,7 +290,7 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
     VkCommandBuffer cmd = ctx.begin_frame();
     for (int i = 0; i < 3; ++i)
         copy_buffer_to_image(cmd, staging.handle(), offsets[i], inputs[i]);
-    denoiser.record(cmd, {inputs[0].view(), inputs[1].view(), inputs[2].view(), reproject}, settings);
+    denoiser.record(cmd, {inputs[0].view(), inputs[1].view(), inputs[2].view(), reproject, fov_y_degrees}, settings);
     const VkImage output = denoiser.output().handle();
     image_barrier(cmd, output, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kCompute,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);

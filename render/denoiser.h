@@ -9,8 +9,9 @@
 // barrier to compute-shader reads the caller records:
 //   colour        RGBA16F  noisy linear HDR radiance,
 //   albedo        RGBA8    linear albedo of the primary hit (UNORM),
-//   normal_depth  RGBA16F  world-space unit normal (xyz) and view depth in blocks along the
-//                          camera's forward axis (w); w <= 0 marks a miss (sky: passed through).
+//   normal_depth  RGBA16F  world-space unit normal (xyz) and the distance along the primary
+//                          ray to the hit in blocks (w); w <= 0 marks a miss (sky: passed
+//                          through). The ray tracer's G-buffer (render/gbuffer.h) as is.
 // Output: output(), RGBA16F linear HDR radiance in GENERAL layout, written by compute shaders
 // (the caller barriers before tone mapping or copying it).
 // Main thread only.
@@ -45,6 +46,8 @@ struct DenoiseInputs {
     // view depth d to (x' d', y' d', d', 1) of the previous frame: identity for a still camera.
     // See reprojection_matrix().
     glm::mat4 reproject{1.f};
+    float fov_y_degrees = 60.f; // The camera's (with the image's aspect: distances to depths).
+
 };
 
 class Denoiser {
@@ -98,6 +101,6 @@ glm::mat4 reprojection_matrix(const glm::dmat4& prev_view_from_world, const glm:
 // between calls) and reads the output back. Waits for the GPU. Sizes must match the denoiser.
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings,
-                       const glm::mat4& reproject = glm::mat4(1.f));
+                       const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f);
 
 } // namespace vx::render

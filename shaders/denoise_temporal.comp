@@ -42,9 +42,17 @@ float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
     return max(m2 / n - m1 * m1, 0.0);
 }
 
-bool history_matches(vec4 nd, vec4 hist_nd, float expected_depth) {
+// Length of the unnormalised primary ray direction (view depth 1) through `pixel`: a distance
+// along the ray divided by it is the view depth.
+float ray_scale(vec2 pixel) {
+    const vec2 ndc = pixel / vec2(pc.params.xy) * 2.0 - 1.0;
+    return length(vec3(ndc.x * pc.camera.x * pc.camera.y, ndc.y * pc.camera.x, 1.0));
+}
+
+// expected_distance: along the previous frame's primary ray.
+bool history_matches(vec4 nd, vec4 hist_nd, float expected_distance) {
     return has_surface(hist_nd) && dot(nd.xyz, hist_nd.xyz) > 0.9 &&
-           abs(hist_nd.w - expected_depth) <= 0.02 * expected_depth + 1e-3;
+           abs(hist_nd.w - expected_distance) <= 0.02 * expected_distance + 1e-3;
 }
 
 void main() {
@@ -64,11 +72,13 @@ void main() {
     vec3 history = vec3(0);
     if ((pc.params.w & kDenoiseHistoryValid) != 0) {
         const vec2 centre = vec2(p) + 0.5;
-        const vec4 prev = pc.reproject * vec4(centre * nd.w, nd.w, 1);
+        const float depth = nd.w / ray_scale(centre);
+        const vec4 prev = pc.reproject * vec4(centre * depth, depth, 1);
         if (prev.z > 0) {
-            const ivec2 q = ivec2(floor(prev.xy / prev.z));
+            const vec2 prev_pixel = prev.xy / prev.z;
+            const ivec2 q = ivec2(floor(prev_pixel));
             if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)) &&
-                history_matches(nd, imageLoad(u_hist_nd_in, q), prev.z)) {
+                history_matches(nd, imageLoad(u_hist_nd_in, q), prev.z * ray_scale(prev_pixel))) {
                 const vec4 h = imageLoad(u_hist_in, q);
                 history = h.rgb;
                 frames = h.a;

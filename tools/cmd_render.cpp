@@ -37,6 +37,7 @@ struct RenderArgs {
     float fov = 60.f;
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
     bool validation = false;
+    std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
 };
 
 double median(std::vector<double> v) {
@@ -56,6 +57,11 @@ struct Settings {
     render::RenderSettings settings;
     render::Camera camera;
 };
+
+// --pipeline: the ray tracer or the raster baseline (same chunks and camera).
+void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
+    s.pipeline = a.pipeline == "raster" ? render::PipelineKind::Raster : render::PipelineKind::RayTraced;
+}
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
 std::optional<std::string> make_settings(const RenderArgs& a, const engine::LoadedScene& scene, Settings& out) {
@@ -258,6 +264,7 @@ int run_render(RenderArgs a) {
     Settings s;
     if (auto err = make_settings(a, *scene, s))
         return bad_input(*err);
+    apply_pipeline_args(a, s.settings);
     const char* env = std::getenv("VX_VALIDATION");
     const bool validation = a.validation || (env && std::strcmp(env, "0") != 0 && *env);
     auto renderer = render::Renderer::create({.validation = validation, .device = *choice, .allow_refit = a.blas_update == "on"});
@@ -278,9 +285,9 @@ int run_render(RenderArgs a) {
     const render::DeviceReport& dev = r.device();
     std::printf("  device: %s (%s, %s)%s\n", dev.name.c_str(), render::device_type_name(dev.type),
                 dev.driver_info.c_str(), validation ? ", validation on" : "");
-    std::printf("  image: %ux%u, %s shading, shadows %s (%u samples), reflections %u\n", s.settings.width,
-                s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
-                s.settings.max_bounces);
+    std::printf("  image: %ux%u, %s pipeline, %s shading, shadows %s (%u samples), reflections %u\n",
+                s.settings.width, s.settings.height, a.pipeline.c_str(), a.shading.c_str(), a.shadows.c_str(),
+                s.settings.shadow_samples, s.settings.max_bounces);
     render::RenderImage image;
     const double first = timed_render(r, s, &image);
     print_frame("frame 1", r.last_stats(), first);
@@ -338,6 +345,10 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "refits and rebuilds (--repeat rounds)");
     cmd->add_option("--blas-update", a->blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
         ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--pipeline", a->pipeline,
+                    "rt: ray tracer; raster: the baseline (Phong, one point light at the area light's centre, depth "
+                    "buffer, no shadows or reflections)")
+        ->check(CLI::IsMember({"rt", "raster"}));
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
     cmd->callback([a, seed, seed_opt, &action] {
         if (seed_opt->count() > 0)

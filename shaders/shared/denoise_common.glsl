@@ -11,7 +11,7 @@ float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 // Albedo used to demodulate: black albedo (sky, emitters without a colour) divides by 1.
 vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }
 
-// A pixel with geometry: view depth > 0 (misses store 0 or a negative depth).
+// A pixel with geometry: distance > 0 (render/gbuffer.h: a miss stores 0).
 bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0; }
 
 #endif

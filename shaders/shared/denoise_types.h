@@ -32,6 +32,9 @@ struct DenoisePush {
     vec4 sigmas;
     // x, y: image size in pixels; z: a-trous step in pixels (1, 2, 4, ...); w: flags.
     uvec4 params;
+    // x: tan(vertical fov / 2), y: aspect (width / height) of the pinhole camera
+    // (shaders/raygen.rgen): turns distances along primary rays into view depths.
+    vec4 camera;
 };
 
 #ifdef __cplusplus
