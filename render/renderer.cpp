@@ -8,6 +8,7 @@
 
 #include "render/commands.h"
 #include "render/context.h"
+#include "render/gbuffer.h"
 #include "render/gpu_layouts.h"
 #include "render/present.h"
 #include "render/raster_pipeline.h"
@@ -32,6 +33,12 @@ struct Renderer::Impl {
     // Trace targets, one per frame slot (the previous frame may still blit its own). With an
     // sRGB swapchain they are R8G8B8A8_SRGB written through a UNORM view (present.h says why).
     std::array<Image, kFramesInFlight> targets;
+    // The G-buffer of each frame slot (render/gbuffer.h), the size of its target.
+    struct GBuffer {
+        Image radiance, albedo, normal_depth;
+    };
+    std::array<GBuffer, kFramesInFlight> gbuffers;
+    bool any_emitter = false; // Some material emits: sky rays also look for emitters.
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     RenderStats stats;
@@ -113,7 +120,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
 void Renderer::Impl::create_descriptors() {
     const VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, kFramesInFlight},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kFramesInFlight},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4 * kFramesInFlight}, // Output + 3 G-buffer images.
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight},
     };
     VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -173,10 +180,13 @@ void Renderer::Impl::update_materials() {
     if (!materials_dirty && count <= material_count)
         return;
     std::vector<gpu::Material> table(count);
+    any_emitter = false;
     for (uint32_t id = 0; id < count; ++id) {
         const world::BlockInfo b = registry.info(world::BlockId(id));
         table[id].albedo_reflectivity = glm::vec4(b.albedo, b.reflectivity);
-        table[id].emission = glm::vec4(b.emission, 0.f);
+        // w: transparent (the shaders' vx_transparent); air never reaches a shader.
+        table[id].emission = glm::vec4(b.emission, registry.is_opaque(world::BlockId(id)) ? 0.f : 1.f);
+        any_emitter |= b.emission.r > 0.f || b.emission.g > 0.f || b.emission.b > 0.f;
     }
     materials = upload_buffer(*ctx, table.data(), table.size() * sizeof(gpu::Material),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "materials");
@@ -193,9 +203,13 @@ void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     t = Image::create(*ctx, {width, height, target_format,
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, // The raster pipeline draws into it.
-
                              "render target", VK_FORMAT_R8G8B8A8_UNORM});
     VX_ASSERT_MSG(t.valid(), "out of GPU memory for the render target");
+    GBuffer& g = gbuffers[ctx->frame_slot()];
+    g.radiance = Image::create(*ctx, {width, height, kRadianceFormat, kGBufferUsage, "gbuffer radiance"});
+    g.albedo = Image::create(*ctx, {width, height, kAlbedoFormat, kGBufferUsage, "gbuffer albedo"});
+    g.normal_depth = Image::create(*ctx, {width, height, kNormalDepthFormat, kGBufferUsage, "gbuffer normal depth"});
+    VX_ASSERT_MSG(g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid(), "out of GPU memory for the G-buffer");
 }
 
 void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
@@ -214,11 +228,17 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.light_edge_u = glm::vec4(s.light.edge_u, 0.f);
     p.light_edge_v = glm::vec4(s.light.edge_v, 0.f);
     p.light_emission = glm::vec4(s.light.emission, 0.f);
+    const float sun_len = glm::length(s.sun.direction);
+    p.sun_direction = glm::vec4(sun_len > 0.f ? s.sun.direction / sun_len : glm::vec3(0, 1, 0),
+                                std::cos(glm::radians(s.sun.angular_radius_degrees)));
+    p.sun_irradiance = glm::vec4(sun_len > 0.f ? s.sun.irradiance : glm::vec3(0.f), 0.f);
+    p.sky_light = glm::vec4(s.sky * std::max(s.sky_light, 0.f), 0.f);
     p.size_samples = glm::uvec4(s.width, s.height, s.shadow_samples, s.max_bounces);
     const uint32_t mode = s.mode == ShadingMode::Flat ? gpu::kModeFlat
                           : s.mode == ShadingMode::Full ? gpu::kModeFull
                                                         : gpu::kModeVisibility;
-    p.mode_seed = glm::uvec4(mode, s.seed, material_count, 0);
+    p.mode_seed = glm::uvec4(mode, s.seed, material_count, s.bounce_shadow_samples.value_or(s.shadow_samples));
+    p.flags = glm::uvec4(s.sky_access ? 1u : 0u, any_emitter ? 1u : 0u, 0u, 0u);
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
@@ -230,22 +250,33 @@ void Renderer::Impl::write_descriptors() {
     VkWriteDescriptorSetAccelerationStructureKHR as_info{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
     as_info.accelerationStructureCount = 1;
     as_info.pAccelerationStructures = &tlas;
-    VkDescriptorImageInfo image_info{VK_NULL_HANDLE, target().view(), VK_IMAGE_LAYOUT_GENERAL};
+    const GBuffer& g = gbuffers[slot];
+    const VkDescriptorImageInfo images[] = {
+        {VK_NULL_HANDLE, target().view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.radiance.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.albedo.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.normal_depth.view(), VK_IMAGE_LAYOUT_GENERAL},
+    };
+    const uint32_t image_bindings[] = {kBindingOutput, kBindingRadiance, kBindingAlbedo, kBindingNormalDepth};
     VkDescriptorBufferInfo buffer_info{params[slot].handle(), 0, sizeof(gpu::FrameParams)};
-    VkWriteDescriptorSet w[3];
-    for (uint32_t i = 0; i < 3; ++i) {
+    VkWriteDescriptorSet w[6];
+    for (uint32_t i = 0; i < 6; ++i) {
         w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w[i].dstSet = sets[slot];
-        w[i].dstBinding = i;
         w[i].descriptorCount = 1;
     }
+    w[0].dstBinding = kBindingTlas;
     w[0].pNext = &as_info;
     w[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-    w[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-    w[1].pImageInfo = &image_info;
-    w[2].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    w[2].pBufferInfo = &buffer_info;
-    vkUpdateDescriptorSets(ctx->device(), 3, w, 0, nullptr);
+    w[1].dstBinding = kBindingParams;
+    w[1].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w[1].pBufferInfo = &buffer_info;
+    for (uint32_t i = 0; i < 4; ++i) {
+        w[2 + i].dstBinding = image_bindings[i];
+        w[2 + i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        w[2 + i].pImageInfo = &images[i];
+    }
+    vkUpdateDescriptorSets(ctx->device(), 6, w, 0, nullptr);
 }
 
 // Everything render() and present() share: uploads, BLAS and TLAS builds, the trace. Leaves the
@@ -279,6 +310,12 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    // The G-buffer is rewritten whole each frame; readers of the slot's last frame are done
+    // (the frame-start barrier orders all earlier commands before this one).
+    const GBuffer& g = gbuffers[ctx->frame_slot()];
+    for (VkImage im : {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()})
+        image_barrier(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                      0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,9 +47,18 @@ struct AreaLight {
     glm::vec3 emission{20.f}; // Radiance, linear RGB.
 };
 
+// The sun: a directional light with a soft disc (its shadows are sampled over the disc).
+struct SunLight {
+    glm::vec3 direction{0.35f, 1.f, 0.2f}; // World space, towards the sun; need not be unit.
+    float angular_radius_degrees = 0.27f;  // Half the disc's apparent size (the real sun: 0.27).
+    glm::vec3 irradiance{3.f, 2.9f, 2.7f}; // Linear RGB on a surface facing the sun; 0: no sun.
+};
+
 enum class ShadingMode : uint8_t {
     Flat,       // Block albedo (linear, unencoded) at the primary hit, sky colour on a miss.
-    Full,       // Area light + soft shadows + emission + mirror reflections; sRGB encoded.
+    // Sun + sky term + area light with soft shadows + emissive blocks + mirror reflections,
+    // accumulated as HDR radiance, tone-mapped (shaders/shared/tonemap.h) and sRGB encoded.
+    Full,
     Visibility, // Fraction of unoccluded shadow samples at the primary hit (grey), sky on a miss.
 };
 
@@ -64,10 +74,24 @@ struct RenderSettings {
     uint32_t width = 64, height = 64;
     PipelineKind pipeline = PipelineKind::RayTraced;
     ShadingMode mode = ShadingMode::Full;
-    uint32_t shadow_samples = 4; // Per pixel and bounce (correlated multi-jittered); 0: no shadows.
+    // At the first hit, per pixel (correlated multi-jittered): shadow samples of the area light,
+    // of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky unoccluded).
+    uint32_t shadow_samples = 4;
+    // The same on each reflection bounce; unset: shadow_samples. Bounces cost most (FIELD-NOTES:
+    // two thirds of a 5-bounce frame), so 1 here keeps reflections cheap.
+    std::optional<uint32_t> bounce_shadow_samples;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.
-    glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky.
+    glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).
+    // Sky term: sky rays that escape see sky * sky_light (ambient light with occlusion). 0: none.
+    float sky_light = 1.f;
+    // Whether the view can see the sky at all. The caller decides (the renderer holds meshes, not
+    // the world): false when it knows the camera is sealed off from the open air, e.g. the
+    // engine's camera is in a cave below its column's surface. Then no sun or sky ray is traced
+    // (they could only hit rock); sky rays still run to find emissive blocks if any block emits.
+    // true is always correct, only slower underground.
+    bool sky_access = true;
+    SunLight sun;
     AreaLight light;
 };
 

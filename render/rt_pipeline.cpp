@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "render/commands.h"
+#include "render/gbuffer.h"
 #include "render/shader_code.h"
 
 namespace vx::render {
@@ -26,10 +27,14 @@ RtPipeline::~RtPipeline() {
 
 void RtPipeline::create_layouts() {
     const VkShaderStageFlags rgen = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+    const VkShaderStageFlags hits = VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR;
     const VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rgen, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, rgen | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, nullptr},
+        {kBindingTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rgen, nullptr},
+        {kBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, rgen | hits, nullptr},
+        {kBindingRadiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingAlbedo, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingNormalDepth, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     ci.bindingCount = uint32_t(std::size(bindings));
@@ -54,12 +59,12 @@ static VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, 
 }
 
 static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR type, uint32_t general,
-                                                  uint32_t closest_hit) {
+                                                  uint32_t closest_hit, uint32_t any_hit = VK_SHADER_UNUSED_KHR) {
     VkRayTracingShaderGroupCreateInfoKHR g{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
     g.type = type;
     g.generalShader = general;
     g.closestHitShader = closest_hit;
-    g.anyHitShader = VK_SHADER_UNUSED_KHR;
+    g.anyHitShader = any_hit;
     g.intersectionShader = VK_SHADER_UNUSED_KHR;
     return g;
 }
@@ -70,11 +75,14 @@ void RtPipeline::create_pipeline() {
         make_module(*m_ctx, spirv::primary_miss(), "primary.rmiss"),
         make_module(*m_ctx, spirv::shadow_miss(), "shadow.rmiss"),
         make_module(*m_ctx, spirv::closest_hit(), "closest_hit.rchit"),
+        make_module(*m_ctx, spirv::shadow_any_hit(), "shadow.rahit"),
     };
     const VkShaderStageFlagBits stage_bits[] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
-                                                VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR};
-    VkPipelineShaderStageCreateInfo stages[4];
-    for (int i = 0; i < 4; ++i) {
+                                                VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
+                                                VK_SHADER_STAGE_ANY_HIT_BIT_KHR};
+    constexpr uint32_t kStages = uint32_t(std::size(stage_bits));
+    VkPipelineShaderStageCreateInfo stages[kStages];
+    for (uint32_t i = 0; i < kStages; ++i) {
         stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
         stages[i].stage = stage_bits[i];
         stages[i].module = modules[i];
@@ -84,10 +92,10 @@ void RtPipeline::create_pipeline() {
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 0, VK_SHADER_UNUSED_KHR),
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 1, VK_SHADER_UNUSED_KHR),
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 2, VK_SHADER_UNUSED_KHR),
-        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, 3),
+        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, 3, 4),
     };
     VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-    ci.stageCount = 4;
+    ci.stageCount = kStages;
     ci.pStages = stages;
     ci.groupCount = kGroupCount;
     ci.pGroups = groups;

@@ -1,7 +1,8 @@
 #pragma once
 // The ray-tracing pipeline (raygen, primary miss, shadow miss, one triangle hit group with a
-// closest-hit shader) and its shader binding table, with handle size and alignments read from the
-// device. Descriptor set 0: binding 0 TLAS, 1 storage image (rgba8), 2 FrameParams uniform.
+// closest-hit shader and the shadow any-hit shader) and its shader binding table, with handle
+// size and alignments read from the device. Descriptor set 0: binding 0 TLAS, 1 output storage
+// image (rgba8), 2 FrameParams uniform, 3-5 the G-buffer storage images (render/gbuffer.h).
 // Main thread only.
 
 #include "render/resources.h"

@@ -123,7 +123,10 @@ static VkAccelerationStructureGeometryKHR triangle_geometry(VkDeviceAddress vert
                                                             uint32_t slots) {
     VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
     g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+    // Not OPAQUE: shadow rays run the any-hit shader (shaders/shadow.rahit) so transparent blocks
+    // pass light; an opaque block's face ends the ray at its first any-hit call. Primary rays
+    // are traced with gl_RayFlagsOpaqueEXT and never run it. No duplicate calls: each face tints once.
+    g.flags = VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR;
     auto& t = g.geometry.triangles;
     t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
     t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;

@@ -11,6 +11,7 @@ std::span<const uint32_t> raygen();
 std::span<const uint32_t> primary_miss();
 std::span<const uint32_t> shadow_miss();
 std::span<const uint32_t> closest_hit();
+std::span<const uint32_t> shadow_any_hit();
 std::span<const uint32_t> denoise_temporal(); // Compute stages of render/denoiser.
 std::span<const uint32_t> denoise_atrous();
 std::span<const uint32_t> raster_vert(); // The raster baseline (render/raster_pipeline).

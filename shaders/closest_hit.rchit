@@ -6,7 +6,9 @@
 // offset by kSurfaceOffset along the face normal, then moved to camera-relative space and pushed
 // kOffsetUlps ulps further along the normal (far from the camera the rounding of that move is
 // larger than kSurfaceOffset). No tMin is needed: the origin is strictly on the air side of the
-// face it left, also after the traversal moves it back into the instance's space.
+// face it left, also after the traversal moves it back into the instance's space. `through` is
+// the same point on the face's other side along the ray: where a ray that passes a transparent
+// face continues.
 #include "shared/rt_common.glsl"
 
 layout(location = 0) rayPayloadInEXT HitPayload payload;
@@ -24,11 +26,15 @@ void main() {
     uint va = axis == 2u ? 1u : 2u;
 
     vec3 local = gl_ObjectRayOriginEXT + gl_ObjectRayDirectionEXT * gl_HitTEXT;
-    local[axis] = float(plane) + (positive ? kSurfaceOffset : -kSurfaceOffset);
     local[ua] = clamp(local[ua], float(u0) + kSurfaceOffset, float(u0 + w) - kSurfaceOffset);
     local[va] = clamp(local[va], float(v0) + kSurfaceOffset, float(v0 + h) - kSurfaceOffset);
+    vec3 far_side = local;
+    bool ahead = gl_ObjectRayDirectionEXT[axis] > 0.0;
+    local[axis] = float(plane) + (positive ? kSurfaceOffset : -kSurfaceOffset);
+    far_side[axis] = float(plane) + (ahead ? kSurfaceOffset : -kSurfaceOffset);
 
     payload.position = vx_push_off_ulps(gl_ObjectToWorldEXT * vec4(local, 1.0), axis, positive);
+    payload.through = vx_push_off_ulps(gl_ObjectToWorldEXT * vec4(far_side, 1.0), axis, ahead);
     payload.t = gl_HitTEXT;
     payload.block = q.y & 0xffffu;
     payload.face = axis * 2u + (positive ? 1u : 0u);

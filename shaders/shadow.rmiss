@@ -3,8 +3,8 @@
 // A shadow ray that reaches its end unblocked: the light sample is visible.
 #include "shared/rt_common.glsl"
 
-layout(location = 1) rayPayloadInEXT uint visible;
+layout(location = 1) rayPayloadInEXT ShadowPayload shadow;
 
 void main() {
-    visible = 1u;
+    shadow.visible = 1u;
 }

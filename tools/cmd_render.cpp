@@ -36,6 +36,9 @@ struct RenderArgs {
     std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
+    int64_t bounce_spp = -1; // -1: as --spp.
+    std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
+    float sun_radius = 0.27f, sky_light = 1.f;
     bool validation = false;
     std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
 };
@@ -71,7 +74,26 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
         return "--size must be WxH (1..16384), got '" + a.size + "'";
     s.mode = a.shading == "flat" ? render::ShadingMode::Flat : render::ShadingMode::Full;
     s.shadow_samples = a.shadows == "off" ? 0 : a.spp;
+    if (a.bounce_spp >= 0)
+        s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.max_bounces = a.reflections;
+    if (a.sun == "off") {
+        s.sun.irradiance = glm::vec3(0.f);
+    } else {
+        const auto sun = parse_dvec3(a.sun);
+        if (!sun || glm::length(*sun) == 0.0)
+            return "--sun must be a non-zero direction X,Y,Z towards the sun, or off; got '" + a.sun + "'";
+        s.sun.direction = glm::vec3(*sun);
+    }
+    if (!(a.sun_radius >= 0.f && a.sun_radius <= 45.f))
+        return "--sun-radius must be within 0..45 degrees";
+    s.sun.angular_radius_degrees = a.sun_radius;
+    if (!(a.sky_light >= 0.f && a.sky_light <= 1000.f))
+        return "--sky-light must be within 0..1000";
+    s.sky_light = a.sky_light;
+    s.sky_access = a.sky_access == "on";
+    if (a.area_light == "off")
+        s.light.emission = glm::vec3(0.f);
     if (!(a.fov > 1.f && a.fov < 179.f))
         return "--fov must be within 1..179 degrees";
     const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
@@ -285,9 +307,13 @@ int run_render(RenderArgs a) {
     const render::DeviceReport& dev = r.device();
     std::printf("  device: %s (%s, %s)%s\n", dev.name.c_str(), render::device_type_name(dev.type),
                 dev.driver_info.c_str(), validation ? ", validation on" : "");
-    std::printf("  image: %ux%u, %s pipeline, %s shading, shadows %s (%u samples), reflections %u\n",
-                s.settings.width, s.settings.height, a.pipeline.c_str(), a.shading.c_str(), a.shadows.c_str(),
-                s.settings.shadow_samples, s.settings.max_bounces);
+    std::printf("  image: %ux%u, %s shading, shadows %s (%u samples, %u on bounces), reflections %u\n",
+                s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
+                s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples), s.settings.max_bounces);
+    std::printf("  lights: sun %s, sky term x%g%s, area light %s\n", a.sun.c_str(), double(a.sky_light),
+                a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());
+    if (s.settings.pipeline == render::PipelineKind::Raster)
+        std::printf("  pipeline: raster (Phong, point light at the area light's centre, no shadows)\n");
     render::RenderImage image;
     const double first = timed_render(r, s, &image);
     print_frame("frame 1", r.last_stats(), first);
@@ -332,9 +358,20 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--up", a->up, "Up vector X,Y,Z");
     cmd->add_option("--fov", a->fov, "Vertical field of view, degrees");
     cmd->add_option("--size", a->size, "Image size WxH");
-    cmd->add_option("--spp", a->spp, "Shadow samples per pixel and bounce (one primary ray per pixel)");
+    cmd->add_option("--spp", a->spp,
+                    "Shadow samples per pixel at the first hit, per light, and as many sky rays (one primary ray "
+                    "per pixel)");
+    cmd->add_option("--bounce-spp", a->bounce_spp, "The same on reflection bounces (default: as --spp)")
+        ->check(CLI::Range(int64_t(0), int64_t(65536)));
+    cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
+    cmd->add_option("--sun-radius", a->sun_radius, "Angular radius of the sun's disc, degrees (soft shadows)");
+    cmd->add_option("--sky-light", a->sky_light, "Sky term: scale of the sky's light on surfaces (0: none)");
+    cmd->add_option("--sky-access", a->sky_access, "off: the view is sealed from the sky (no sun or sky rays)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--area-light", a->area_light, "The rectangular area light above the scene")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--shading", a->shading, "Shading")->check(CLI::IsMember({"flat", "full"}));
-    cmd->add_option("--shadows", a->shadows, "Area-light shadows")->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--shadows", a->shadows, "Shadows of all lights and sky occlusion")->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--reflections", a->reflections, "Mirror reflection depth");
     cmd->add_option("--light", a->light, "Centre of the area light X,Y,Z (default: above the scene)");
     cmd->add_option("--device", a->device, "auto, cpu, gpu or a device index (see vx info)");

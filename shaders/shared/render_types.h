@@ -18,7 +18,7 @@ using uint = uint32_t;
 
 // Shading modes (FrameParams.mode_seed.x).
 VX_CONST uint kModeFlat = 0;       // Albedo of the hit block, sky colour on a miss; no lighting.
-VX_CONST uint kModeFull = 1;       // Area light with soft shadows, emission, mirror reflections.
+VX_CONST uint kModeFull = 1;       // Sun, sky, area light, emitters, reflections; HDR, tone-mapped.
 VX_CONST uint kModeVisibility = 2; // Fraction of unoccluded shadow samples at the primary hit.
 
 // Ray payload locations and miss shader indices.
@@ -26,6 +26,10 @@ VX_CONST int kPrimaryPayload = 0;
 VX_CONST int kShadowPayload = 1;
 VX_CONST uint kPrimaryMiss = 0;
 VX_CONST uint kShadowMiss = 1;
+
+// Transparent (non-opaque registry) blocks a primary, reflection or sky ray passes through
+// before it counts as blocked: deep water or a stack of glass panes ends there.
+VX_CONST uint kMaxTransparentLayers = 8;
 
 // Secondary rays start this far off the hit's face plane, along the face normal, in chunk-local
 // block units (64 ulps at 32.0). It survives the move to camera-relative space only near the
@@ -53,9 +57,14 @@ struct FrameParams {
     vec4 light_corner;   // xyz: one corner of the rectangular area light.
     vec4 light_edge_u;   // xyz: first edge from the corner.
     vec4 light_edge_v;   // xyz: second edge from the corner.
-    vec4 light_emission; // xyz: radiance of the light (two-sided).
-    uvec4 size_samples;  // width, height, shadow samples per pixel, max reflection bounces.
-    uvec4 mode_seed;     // mode, seed, material count, 0.
+    vec4 light_emission; // xyz: radiance of the light (two-sided); 0: no area light.
+    vec4 sun_direction;  // xyz: unit world direction towards the sun; w: cos(angular radius).
+    vec4 sun_irradiance; // xyz: irradiance on a surface facing the sun (linear RGB); 0: no sun.
+    vec4 sky_light;      // xyz: radiance of the sky seen by sky rays (0: no sky term); w: 0.
+    uvec4 size_samples;  // width, height, shadow samples per pixel (first hit), max bounces.
+    uvec4 mode_seed;     // mode, seed, material count, shadow samples on reflection bounces.
+    uvec4 flags;         // x: 1 = trace sun and sky rays (0: skipped, sealed off from the sky);
+                         // y: 1 = some material emits (sky/gather rays also find emitters).
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
 };
@@ -63,7 +72,7 @@ struct FrameParams {
 // One block type's material (std430 array element).
 struct Material {
     vec4 albedo_reflectivity; // xyz: linear albedo; w: mirror reflectivity 0..1.
-    vec4 emission;            // xyz: emitted radiance.
+    vec4 emission;            // xyz: emitted radiance; w: 1 = transparent (registry opacity false).
 };
 
 // A quad slot of a chunk BLAS is world::Quad verbatim (uint packed, uint16 block, uint16 spare),

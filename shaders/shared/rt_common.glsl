@@ -18,7 +18,26 @@ struct HitPayload {
     float t;       // Hit distance, < 0 on a miss.
     uint block;    // Block id.
     uint face;     // world::Face: axis * 2 + positive.
+    vec3 through;  // Origin to continue the ray past this face (its far side along the ray).
 };
+
+// Shadow ray result: visible is set by the shadow miss shader (nothing opaque in the way);
+// transmittance is the product of the tints of the transparent faces crossed (any-hit shader).
+struct ShadowPayload {
+    vec3 transmittance;
+    uint visible;
+};
+
+Material vx_material(uint block) {
+    if (block < frame.mode_seed.z)
+        return Materials(frame.materials).m[block];
+    Material m;
+    m.albedo_reflectivity = vec4(1.0, 0.0, 1.0, 0.0);
+    m.emission = vec4(0.0);
+    return m;
+}
+
+bool vx_transparent(Material m) { return m.emission.w > 0.5; }
 
 // Moves p[axis] kOffsetUlps ulps towards + (positive) or - along that axis: a robust secondary-ray
 // origin far from the camera, where the chunk-local kSurfaceOffset is lost in rounding

@@ -69,6 +69,9 @@ TEST_F(RendererTest, FullRenderLightsTheFloor) {
     s.height = 96;
     s.mode = ShadingMode::Full;
     s.light.block = {0, 30, 0};
+    // This test is about the area light alone: no sun, no sky term (lighting_test.cpp has those).
+    s.sun.irradiance = glm::vec3(0.f);
+    s.sky_light = 0.f;
     const RenderImage img = m_renderer->render(s, Camera::look_at({16.0, 10.5, 40.5}, {16.0, 0.0, 10.0}));
     test::maybe_save(img, "full_floor");
     // The image centre looks at the floor top near (16, 4, 18), which faces the light: lit.
@@ -76,6 +79,10 @@ TEST_F(RendererTest, FullRenderLightsTheFloor) {
     EXPECT_GT(int(px.r) + px.g + px.b, 100);
     // The bottom rows see the slab's +z side (y 0..4 at z = 32), facing away from the light: black.
     EXPECT_EQ(img.at(64, 94), glm::u8vec4(0, 0, 0, 255));
+    // With the sky term that side is lit by the sky (it sees half of it), no longer black.
+    s.sky_light = 1.f;
+    const glm::u8vec4 sky_lit = m_renderer->render(s, Camera::look_at({16.0, 10.5, 40.5}, {16.0, 0.0, 10.0})).at(64, 94);
+    EXPECT_GT(int(sky_lit.r) + sky_lit.g + sky_lit.b, 60);
 }
 
 } // namespace

@@ -1,0 +1,49 @@
+#pragma once
+// The ray tracer's outputs (the G-buffer): the interface a denoiser or raster pass reads.
+//
+// One set per frame slot (kFramesInFlight), sized like the frame, all in VK_IMAGE_LAYOUT_GENERAL
+// after the trace, written by VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR with
+// VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT (a reader adds its own barrier from there). Usage:
+// STORAGE | SAMPLED | TRANSFER_SRC. Descriptor set 0 of the RT pipeline (render/rt_pipeline.h):
+//
+//   binding 1  output        RGBA8 (UNORM view)  what render()/present() return: Full mode
+//                                                 vx_tonemap(radiance) sRGB-encoded; Flat and
+//                                                 Visibility modes unchanged (linear albedo /
+//                                                 visible fraction, no tone mapping)
+//   binding 3  radiance      RGBA16F  linear HDR radiance of the pixel before tone mapping, rgb;
+//                                     a = 1. What a denoiser filters (Full mode; in Flat and
+//                                     Visibility modes it holds the same values as the output).
+//   binding 4  albedo        RGBA8 UNORM  linear albedo of the first visible (opaque) block hit
+//                                     by the primary ray, rgb (no sRGB encoding); the sky colour
+//                                     (clamped to 0..1) on a miss; a = 1 on a hit, 0 on a miss.
+//   binding 5  normal_depth  RGBA16F  xyz: unit world-space normal of the face the primary ray
+//                                     hit (axis-aligned); w: distance along the primary ray from
+//                                     the eye to that hit, in blocks (> 0). A miss: (0, 0, 0, 0)
+//                                     (w = 0 is the sentinel).
+//
+// The tone-map step: today the last thing raygen does (it writes the output from radiance with
+// vx_tonemap + sRGB, shaders/shared/tonemap.h). A denoiser that filters radiance writes the
+// output itself with the same shared function, so both paths give the same bytes for the same
+// radiance. Main thread only (GPU objects owned by the Renderer).
+
+#include "render/vk_common.h"
+
+namespace vx::render {
+
+inline constexpr VkFormat kRadianceFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+inline constexpr VkFormat kAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
+inline constexpr VkFormat kNormalDepthFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+inline constexpr VkImageUsageFlags kGBufferUsage =
+    VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+
+// Descriptor bindings of the RT pipeline's set 0.
+enum RtBinding : uint32_t {
+    kBindingTlas = 0,
+    kBindingOutput = 1,
+    kBindingParams = 2,
+    kBindingRadiance = 3,
+    kBindingAlbedo = 4,
+    kBindingNormalDepth = 5,
+};
+
+} // namespace vx::render
