@@ -18,7 +18,7 @@ static_assert(sizeof(gpu::DenoisePush) == 112, "DenoisePush must match its std43
 namespace {
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr uint32_t kTemporalBindings = 8, kAtrousBindings = 5;
+constexpr uint32_t kTemporalBindings = 10, kAtrousBindings = 6;
 constexpr VkPipelineStageFlags2 kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 
 VkDescriptorSetLayout make_set_layout(Context& ctx, uint32_t bindings, const char* name) {
@@ -97,9 +97,7 @@ Denoiser::Denoiser(Context& ctx, uint32_t width, uint32_t height) : m_ctx(&ctx),
 }
 
 Denoiser::~Denoiser() {
-    // Pipelines retire with the frame; layouts, sets and the pool are not used once recorded,
-    // but the sets are, so the pool waits for the GPU like the renderer's does.
-    m_ctx->wait_idle();
+    // Pipelines retire with the frame; the pool (its sets) must be idle: see the header.
     m_ctx->retire_list().pipelines.push_back(m_temporal);
     m_ctx->retire_list().pipelines.push_back(m_atrous);
     const VkDevice d = m_ctx->device();
@@ -108,6 +106,15 @@ Denoiser::~Denoiser() {
     vkDestroyPipelineLayout(d, m_atrous_pl, nullptr);
     vkDestroyDescriptorSetLayout(d, m_temporal_layout, nullptr);
     vkDestroyDescriptorSetLayout(d, m_atrous_layout, nullptr);
+}
+
+void Denoiser::resize(uint32_t width, uint32_t height) {
+    VX_ASSERT(width > 0 && height > 0);
+    m_width = width;
+    m_height = height;
+    create_images(); // The old images retire with this frame.
+    m_initialised = false;
+    m_history_valid = false;
 }
 
 void Denoiser::create_images() {
@@ -126,6 +133,14 @@ void Denoiser::create_images() {
     m_history_nd = {make("denoise history normal_depth 0"), make("denoise history normal_depth 1")};
     m_ping = {make("denoise ping"), make("denoise pong")};
     m_output = make("denoise output");
+    ImageCreateInfo ldr;
+    ldr.width = m_width;
+    ldr.height = m_height;
+    ldr.format = VK_FORMAT_R8G8B8A8_UNORM;
+    ldr.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    ldr.name = "denoise ldr output";
+    m_ldr = Image::create(*m_ctx, ldr);
+    VX_ASSERT_MSG(m_ldr.valid(), "out of GPU memory for the denoiser's images");
 }
 
 void Denoiser::create_pipelines() {
@@ -156,26 +171,26 @@ void Denoiser::create_pipelines() {
 }
 
 void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {
+    const VkImageView ldr = in.ldr_target ? in.ldr_target : m_ldr.view();
     for (uint32_t p = 0; p < 2; ++p) {
         const uint32_t q = 1 - p; // History read from [p], written to [q].
         const VkImageView temporal[kTemporalBindings] = {
             in.colour, in.albedo, in.normal_depth, m_history[p].view(), m_history_nd[p].view(),
-            m_history[q].view(), m_history_nd[q].view(), m_ping[0].view()};
+            m_history[q].view(), m_history_nd[q].view(), m_ping[0].view(), m_output.view(), ldr};
         write_images(*m_ctx, m_temporal_sets[slot][p], temporal);
         const VkImageView atrous[kAtrousBindings] = {m_ping[p].view(), in.albedo, in.normal_depth, m_ping[q].view(),
-                                                     m_output.view()};
+                                                     m_output.view(), ldr};
         write_images(*m_ctx, m_atrous_sets[slot][p], atrous);
     }
 }
 
 void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const DenoiseSettings& settings) {
     VX_ASSERT(inputs.colour && inputs.albedo && inputs.normal_depth);
-    VX_ASSERT(settings.iterations >= 1);
     const uint32_t slot = m_ctx->frame_slot();
     write_sets(inputs, slot);
     if (!m_initialised) {
         for (const Image* img : {&m_history[0], &m_history[1], &m_history_nd[0], &m_history_nd[1], &m_ping[0],
-                                 &m_ping[1], &m_output})
+                                 &m_ping[1], &m_output, &m_ldr})
             image_barrier(cmd, img->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                           VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, kCompute,
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -185,7 +200,9 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     push.reproject = inputs.reproject;
     push.sigmas = {settings.sigma_normal, settings.sigma_depth, settings.sigma_luminance,
                    float(std::max(settings.max_history, 1u))};
-    push.params = {m_width, m_height, 1, m_history_valid ? gpu::kDenoiseHistoryValid : 0u};
+    push.params = {m_width, m_height, 1,
+                   (m_history_valid ? gpu::kDenoiseHistoryValid : 0u) |
+                       (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height), 0.f, 0.f};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     const uint32_t gy = (m_height + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;

@@ -12,8 +12,9 @@
 //   normal_depth  RGBA16F  world-space unit normal (xyz) and the distance along the primary
 //                          ray to the hit in blocks (w); w <= 0 marks a miss (sky: passed
 //                          through). The ray tracer's G-buffer (render/gbuffer.h) as is.
-// Output: output(), RGBA16F linear HDR radiance in GENERAL layout, written by compute shaders
-// (the caller barriers before tone mapping or copying it).
+// Outputs, in GENERAL layout, written by compute shaders (the caller barriers before reading):
+// output(), RGBA16F linear HDR radiance, and the 8-bit image as the ray tracer would write it
+// (vx_tonemap + sRGB, shaders/shared/tonemap.h) into DenoiseInputs::ldr_target, or ldr().
 // Main thread only.
 
 #include <array>
@@ -27,7 +28,7 @@
 namespace vx::render {
 
 struct DenoiseSettings {
-    uint32_t iterations = 5;        // A-trous passes (steps 1, 2, 4, 8, 16 pixels).
+    uint32_t iterations = 5;        // A-trous passes (steps 1, 2, 4, 8, 16 pixels); 0: temporal only.
     float sigma_normal = 128.f;     // Exponent of the normal weight.
     float sigma_depth = 1.f;        // Scale of the depth weight against the depth gradient.
     float sigma_luminance = 4.f;    // Scale of the luminance weight against the std deviation.
@@ -47,6 +48,8 @@ struct DenoiseInputs {
     // See reprojection_matrix().
     glm::mat4 reproject{1.f};
     float fov_y_degrees = 60.f; // The camera's (with the image's aspect: distances to depths).
+    // RGBA8 UNORM storage view (GENERAL layout) for the 8-bit output; null: ldr().
+    VkImageView ldr_target = VK_NULL_HANDLE;
 
 };
 
@@ -54,10 +57,14 @@ class Denoiser {
 public:
     // Images for width x height frames. Aborts with a log line when memory runs out.
     Denoiser(Context& ctx, uint32_t width, uint32_t height);
+    // Only once no frame that recorded it is in flight (e.g. after Context::wait_idle): its
+    // descriptor sets are freed at once.
     ~Denoiser();
     Denoiser(const Denoiser&) = delete;
     Denoiser& operator=(const Denoiser&) = delete;
 
+    // New images for width x height frames (the old ones retire with the frame); drops the history.
+    void resize(uint32_t width, uint32_t height);
     uint32_t width() const { return m_width; }
     uint32_t height() const { return m_height; }
 
@@ -68,6 +75,7 @@ public:
     // The next record() starts without history (a cut, a new scene).
     void reset_history() { m_history_valid = false; }
     const Image& output() const { return m_output; }
+    const Image& ldr() const { return m_ldr; }
 
 private:
     void create_images();
@@ -78,7 +86,7 @@ private:
     uint32_t m_width, m_height;
     std::array<Image, 2> m_history, m_history_nd; // Ping-pong: read [m_parity], write the other.
     std::array<Image, 2> m_ping;                  // A-trous iterations alternate between these.
-    Image m_output;
+    Image m_output, m_ldr;
     uint32_t m_parity = 0;
     bool m_history_valid = false;
     bool m_initialised = false; // Images moved to GENERAL.

@@ -93,6 +93,13 @@ struct RenderSettings {
     bool sky_access = true;
     SunLight sun;
     AreaLight light;
+    // The guided denoiser (render/denoiser.h) on the ray tracer's Full-mode radiance; other
+    // modes and the raster pipeline ignore these two. denoise: the edge-aware a-trous filter.
+    // accumulate: frames of a still (or moving: reprojected) camera the temporal pass averages at
+    // most; 1: none. While it is above 1 each frame traces with seed + frame number, so frames
+    // differ and the average converges.
+    bool denoise = false;
+    uint32_t accumulate = 1;
 };
 
 // 8-bit RGBA pixels, row 0 at the top.
@@ -135,6 +142,7 @@ struct RenderStats {
     // the image read-back copy.
     // The read-back copy for render(), the blit into the swapchain image for present().
     double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1, gpu_copy_ms = -1;
+    double gpu_denoise_ms = -1; // The denoiser's passes (0 when it did not run).
     double gpu_frame_ms = -1; // The whole frame on the GPU (first to last timestamp).
     // present() only (-1 after render()). Nothing waits for the frame just submitted, so its gpu_*
     // fields are those of the frame kFramesInFlight (2) presents back, read once its fence has

@@ -6,7 +6,7 @@
 // (against the filtered variance). It filters albedo-demodulated illumination, so block colours
 // stay sharp; the last pass multiplies the albedo back in.
 
-#include "shared/denoise_common.glsl"
+#include "shared/denoise_types.h"
 
 layout(local_size_x = kDenoiseGroupSize, local_size_y = kDenoiseGroupSize) in;
 
@@ -14,7 +14,10 @@ layout(binding = 0, rgba16f) readonly uniform image2D u_in;           // rgb ill
 layout(binding = 1, rgba8) readonly uniform image2D u_albedo;
 layout(binding = 2, rgba16f) readonly uniform image2D u_normal_depth;
 layout(binding = 3, rgba16f) writeonly uniform image2D u_out;         // Next iteration's input.
-layout(binding = 4, rgba16f) writeonly uniform image2D u_result;      // Last pass: radiance.
+layout(binding = 4, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
+layout(binding = 5, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
+
+#include "shared/denoise_common.glsl"
 
 const float kKernel[3] = float[](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
 
@@ -61,8 +64,6 @@ void main() {
         result = vec4(sum / w_sum, var_sum / (w_sum * w_sum));
     }
     imageStore(u_out, p, result);
-    if ((pc.params.w & kDenoiseLastPass) != 0) {
-        const vec3 albedo = has_surface(nd) ? demod_albedo(imageLoad(u_albedo, p).rgb) : vec3(1);
-        imageStore(u_result, p, vec4(result.rgb * albedo, 1));
-    }
+    if ((pc.params.w & kDenoiseLastPass) != 0)
+        store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(nd));
 }

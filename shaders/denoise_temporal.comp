@@ -6,7 +6,7 @@
 // block) is dropped. Writes the accumulated illumination + a variance estimate for the a-trous
 // passes, and the new history.
 
-#include "shared/denoise_common.glsl"
+#include "shared/denoise_types.h"
 
 layout(local_size_x = kDenoiseGroupSize, local_size_y = kDenoiseGroupSize) in;
 
@@ -18,12 +18,17 @@ layout(binding = 4, rgba16f) readonly uniform image2D u_hist_nd_in;   // normal_
 layout(binding = 5, rgba16f) writeonly uniform image2D u_hist_out;
 layout(binding = 6, rgba16f) writeonly uniform image2D u_hist_nd_out;
 layout(binding = 7, rgba16f) writeonly uniform image2D u_filter_out;  // rgb illumination, a variance.
+layout(binding = 8, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
+layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
+
+#include "shared/denoise_common.glsl"
 
 vec3 illumination(ivec2 p) {
     return imageLoad(u_color, p).rgb / demod_albedo(imageLoad(u_albedo, p).rgb);
 }
 
-// Variance of the luminance over the 3x3 neighbourhood on the same surface (SVGF's spatial
+// Variance of the luminance over the 3x3 neighbourhood on the same surface (same normal, depth
+// within 5%; SVGF's spatial
 // fallback; used for every history length here, divided by the frames averaged).
 float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
     float m1 = 0, m2 = 0, n = 0;
@@ -31,7 +36,7 @@ float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
         for (int dx = -1; dx <= 1; ++dx) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
             const vec4 nq = imageLoad(u_normal_depth, q);
-            if (!has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9)
+            if (!has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9 || abs(nq.w - nd.w) > 0.05 * nd.w)
                 continue;
             const float l = luminance(illumination(q));
             m1 += l;
@@ -65,6 +70,8 @@ void main() {
     if (!has_surface(nd)) { // Sky: nothing to filter or accumulate.
         imageStore(u_hist_out, p, vec4(imageLoad(u_color, p).rgb, 0));
         imageStore(u_filter_out, p, vec4(imageLoad(u_color, p).rgb, 0));
+        if ((pc.params.w & kDenoiseLastPass) != 0)
+            store_result(p, imageLoad(u_color, p).rgb, vec3(1), false);
         return;
     }
     const vec3 illum = illumination(p);
@@ -89,4 +96,6 @@ void main() {
     const vec3 accumulated = mix(history, illum, 1.0 / frames);
     imageStore(u_hist_out, p, vec4(accumulated, frames));
     imageStore(u_filter_out, p, vec4(accumulated, spatial_variance(p, size, nd) / frames));
+    if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
+        store_result(p, accumulated, imageLoad(u_albedo, p).rgb, true);
 }

@@ -21,7 +21,7 @@ VX_CONST uint kDenoiseGroupSize = 8; // Threads per workgroup side (8 x 8).
 
 // flags (DenoisePush.params.w bits).
 VX_CONST uint kDenoiseHistoryValid = 1u; // Temporal: the history images hold a previous frame.
-VX_CONST uint kDenoiseLastPass = 2u;     // A-trous: remodulate by albedo into the output.
+VX_CONST uint kDenoiseLastPass = 2u;     // Remodulate by albedo into the outputs (the last pass).
 
 struct DenoisePush {
     // Temporal pass: maps (x d, y d, d, 1) of the current pixel centre (x, y) at view depth d to
