@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenvdb-dev libopenvdb-tools libboost-iostreams-dev libimath-dev
   xvfb xauth
+  python3-matplotlib
 )
 backports_packages=(mesa-vulkan-drivers)
 
