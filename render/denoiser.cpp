@@ -18,7 +18,7 @@ static_assert(sizeof(gpu::DenoisePush) == 112, "DenoisePush must match its std43
 namespace {
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr uint32_t kTemporalBindings = 10, kAtrousBindings = 6;
+constexpr uint32_t kTemporalBindings = 12, kAtrousBindings = 6;
 constexpr VkPipelineStageFlags2 kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 
 VkDescriptorSetLayout make_set_layout(Context& ctx, uint32_t bindings, const char* name) {
@@ -132,6 +132,7 @@ void Denoiser::create_images() {
     m_history = {make("denoise history 0"), make("denoise history 1")};
     m_history_nd = {make("denoise history normal_depth 0"), make("denoise history normal_depth 1")};
     m_ping = {make("denoise ping"), make("denoise pong")};
+    m_moments = {make("denoise moments 0"), make("denoise moments 1")};
     m_output = make("denoise output");
     ImageCreateInfo ldr;
     ldr.width = m_width;
@@ -176,7 +177,8 @@ void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {
         const uint32_t q = 1 - p; // History read from [p], written to [q].
         const VkImageView temporal[kTemporalBindings] = {
             in.colour, in.albedo, in.normal_depth, m_history[p].view(), m_history_nd[p].view(),
-            m_history[q].view(), m_history_nd[q].view(), m_ping[0].view(), m_output.view(), ldr};
+            m_history[q].view(), m_history_nd[q].view(), m_ping[0].view(), m_output.view(), ldr,
+            m_moments[p].view(), m_moments[q].view()};
         write_images(*m_ctx, m_temporal_sets[slot][p], temporal);
         const VkImageView atrous[kAtrousBindings] = {m_ping[p].view(), in.albedo, in.normal_depth, m_ping[q].view(),
                                                      m_output.view(), ldr};
@@ -190,7 +192,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     write_sets(inputs, slot);
     if (!m_initialised) {
         for (const Image* img : {&m_history[0], &m_history[1], &m_history_nd[0], &m_history_nd[1], &m_ping[0],
-                                 &m_ping[1], &m_output, &m_ldr})
+                                 &m_ping[1], &m_output, &m_ldr, &m_moments[0], &m_moments[1]})
             image_barrier(cmd, img->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                           VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, kCompute,
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);

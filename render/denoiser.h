@@ -1,7 +1,10 @@
 #pragma once
-// The guided denoiser: temporal accumulation with reprojection, then an edge-avoiding a-trous
-// wavelet filter guided by normal, depth and luminance variance, on albedo-demodulated
-// illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et al. 2010). Compute shaders
+// The guided denoiser: temporal accumulation with reprojection (and luminance moments for the
+// variance), then an edge-avoiding a-trous wavelet filter guided by normal, depth and luminance
+// variance, on albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
+// al. 2010). Before 4 frames of history the variance is spatial (3x3), which also counts
+// pixel-sized shading detail as noise: single frames above ~2 spp get blurrier, not better
+// (docs/render_report.md). Compute shaders
 // shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
 //
 // Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by
@@ -84,7 +87,8 @@ private:
 
     Context* m_ctx;
     uint32_t m_width, m_height;
-    std::array<Image, 2> m_history, m_history_nd; // Ping-pong: read [m_parity], write the other.
+    // Ping-pong: read [m_parity], write the other. Moments: luminance m1, m2 (SVGF's variance).
+    std::array<Image, 2> m_history, m_history_nd, m_moments;
     std::array<Image, 2> m_ping;                  // A-trous iterations alternate between these.
     Image m_output, m_ldr;
     uint32_t m_parity = 0;

@@ -20,6 +20,8 @@ layout(binding = 6, rgba16f) writeonly uniform image2D u_hist_nd_out;
 layout(binding = 7, rgba16f) writeonly uniform image2D u_filter_out;  // rgb illumination, a variance.
 layout(binding = 8, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
+layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance moments m1, m2.
+layout(binding = 11, rgba16f) writeonly uniform image2D u_moments_out;
 
 #include "shared/denoise_common.glsl"
 
@@ -69,6 +71,7 @@ void main() {
     imageStore(u_hist_nd_out, p, nd);
     if (!has_surface(nd)) { // Sky: nothing to filter or accumulate.
         imageStore(u_hist_out, p, vec4(imageLoad(u_color, p).rgb, 0));
+        imageStore(u_moments_out, p, vec4(0));
         imageStore(u_filter_out, p, vec4(imageLoad(u_color, p).rgb, 0));
         if ((pc.params.w & kDenoiseLastPass) != 0)
             store_result(p, imageLoad(u_color, p).rgb, vec3(1), false);
@@ -77,6 +80,7 @@ void main() {
     const vec3 illum = illumination(p);
     float frames = 0;
     vec3 history = vec3(0);
+    vec2 moments = vec2(0);
     if ((pc.params.w & kDenoiseHistoryValid) != 0) {
         const vec2 centre = vec2(p) + 0.5;
         const float depth = nd.w / ray_scale(centre);
@@ -89,13 +93,21 @@ void main() {
                 const vec4 h = imageLoad(u_hist_in, q);
                 history = h.rgb;
                 frames = h.a;
+                moments = imageLoad(u_moments_in, q).xy;
             }
         }
     }
     frames = min(frames + 1, max(pc.sigmas.w, 1.0));
     const vec3 accumulated = mix(history, illum, 1.0 / frames);
+    const float lum = luminance(illum);
+    moments = mix(moments, vec2(lum, lum * lum), 1.0 / frames);
+    // Variance of the accumulated mean: from the temporal moments once 4 frames are in (SVGF),
+    // else from the 3x3 neighbourhood (which also counts pixel-sized detail as noise).
+    const float sample_variance = frames >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0)
+                                                : spatial_variance(p, size, nd);
     imageStore(u_hist_out, p, vec4(accumulated, frames));
-    imageStore(u_filter_out, p, vec4(accumulated, spatial_variance(p, size, nd) / frames));
+    imageStore(u_moments_out, p, vec4(moments, 0, 0));
+    imageStore(u_filter_out, p, vec4(accumulated, sample_variance / frames));
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
         store_result(p, accumulated, imageLoad(u_albedo, p).rgb, true);
 }

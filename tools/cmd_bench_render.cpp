@@ -196,6 +196,27 @@ int run_bench_render(const BenchRenderArgs& a) {
                 (void)render::write_png(png, img);
             }
     }
+    // 3. A still camera: frames accumulated by the temporal pass (SVGF moments once 4 are in).
+    md += "\n## Still camera, 8 frames accumulated\n\n| spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n"
+          "|---|---|---|---|---|---|\n";
+    for (uint32_t spp : {1u, 4u})
+        for (bool denoise : {false, true}) {
+            render::RenderSettings s = base;
+            s.max_bounces = a.reflections;
+            s.shadow_samples = spp;
+            s.denoise = denoise;
+            s.accumulate = 8;
+            std::vector<double> frame;
+            for (uint32_t i = 0; i < 8; ++i) {
+                img = r.render(s, cam);
+                frame.push_back(r.last_stats().gpu_frame_ms);
+            }
+            const render::ImageError e = render::compare(render::to_float(img), reference);
+            std::snprintf(line, sizeof line, "| %u | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, denoise ? "on" : "off",
+                          median_of(frame), e.rmse, e.psnr, e.ssim);
+            md += line;
+            std::printf("  accumulated %s", line);
+        }
     md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
           "frame time (PNG) next to the CSV.\n";
     std::ofstream(a.out + "/render_report.md") << md;
