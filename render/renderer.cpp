@@ -9,11 +9,15 @@
 
 #include <glm/gtc/packing.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "render/commands.h"
 #include "render/context.h"
+#include "render/denoiser.h"
 #include "render/gbuffer.h"
 #include "render/gpu_layouts.h"
 #include "render/present.h"
+#include "render/raster_pipeline.h"
 #include "render/rt_pipeline.h"
 #include "render/scene_accel.h"
 
@@ -23,6 +27,7 @@ struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
     std::unique_ptr<SceneAccel> accel;
     std::unique_ptr<RtPipeline> pipeline;
+    std::unique_ptr<RasterPipeline> raster; // Made at the first raster frame.
     VkDescriptorPool pool = VK_NULL_HANDLE;
     std::array<VkDescriptorSet, kFramesInFlight> sets{};
     std::array<Buffer, kFramesInFlight> params;
@@ -55,8 +60,14 @@ struct Renderer::Impl {
     std::unique_ptr<OverlayPass> overlay; // With a window: the game's HUD (set_overlay).
     std::chrono::steady_clock::time_point last_present{};
     // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
-    // the trace, after the copy. Null when the queue family has no timestamps.
-    static constexpr uint32_t kStamps = 5;
+    // the trace, after the copy, after the denoiser (written between trace and copy, always).
+    // Null when the queue family has no timestamps.
+    static constexpr uint32_t kStamps = 6;
+    // The denoiser (render/denoiser.h), made at the first frame that uses it, and the camera of
+    // the last frame it ran on (its history's; reprojection).
+    std::unique_ptr<Denoiser> denoiser;
+    Camera denoised_camera;
+    bool denoised_last_frame = false;
     VkQueryPool queries = VK_NULL_HANDLE;
     double ms_per_tick = 0;
     std::array<bool, kFramesInFlight> stamped{}; // The slot's last frame wrote its timestamps.
@@ -98,6 +109,11 @@ struct Renderer::Impl {
     void write_descriptors();
     void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
+    static bool denoise_active(const RenderSettings& s) {
+        return s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full && (s.denoise || s.accumulate > 1);
+    }
+    void record_denoise(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
     void record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
     void read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const;
@@ -184,8 +200,9 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     out.gpu_blas_ms = ms(0);
     out.gpu_tlas_ms = ms(1);
     out.gpu_trace_ms = ms(2);
-    out.gpu_copy_ms = ms(3);
-    out.gpu_frame_ms = double(t[kStamps - 1] - t[0]) * ms_per_tick;
+    out.gpu_denoise_ms = double(t[5] - t[3]) * ms_per_tick;
+    out.gpu_copy_ms = double(t[4] - t[5]) * ms_per_tick;
+    out.gpu_frame_ms = double(t[4] - t[0]) * ms_per_tick;
 }
 
 void Renderer::Impl::update_materials() {
@@ -251,7 +268,9 @@ void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     if (t.valid() && t.width() == width && t.height() == height)
         return;
     // Resized: the old image goes to this frame's retire list; the slot's last frame is done.
-    t = Image::create(*ctx, {width, height, target_format, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    t = Image::create(*ctx, {width, height, target_format,
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, // The raster pipeline draws into it.
                              "render target", VK_FORMAT_R8G8B8A8_UNORM});
     VX_ASSERT_MSG(t.valid(), "out of GPU memory for the render target");
     GBuffer& g = gbuffers[ctx->frame_slot()];
@@ -347,9 +366,20 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
     stamp(cmd, 1);
     accel->record_tlas_build(cmd, cam.block);
     stamp(cmd, 2);
-    write_params(s, cam);
-    write_descriptors();
-    record_trace(cmd, s.width, s.height);
+    if (s.pipeline == PipelineKind::Raster) {
+        record_raster(cmd, s, cam);
+    } else {
+        RenderSettings traced = s;
+        if (denoise_active(s) && s.accumulate > 1) // Accumulated frames must differ.
+            traced.seed = s.seed + uint32_t(ctx->frame_number());
+        write_params(traced, cam);
+        write_descriptors();
+        record_trace(cmd, s.width, s.height);
+    }
+    if (denoise_active(s))
+        record_denoise(cmd, s, cam);
+    denoised_last_frame = denoise_active(s);
+    stamp(cmd, 5);
     stamped[ctx->frame_slot()] = queries != VK_NULL_HANDLE;
 }
 
@@ -371,6 +401,70 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+// View matrix of `cam` in the frame of the block `origin` (double precision).
+static glm::dmat4 view_from_world(const Camera& cam, world::BlockPos origin) {
+    const glm::dvec3 eye = glm::dvec3(cam.block - origin) + glm::dvec3(cam.offset);
+    return glm::lookAt(eye, eye + glm::dvec3(glm::normalize(cam.forward)), glm::dvec3(cam.up));
+}
+
+// The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
+void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
+    if (!denoiser)
+        denoiser = std::make_unique<Denoiser>(*ctx, s.width, s.height);
+    else if (denoiser->width() != s.width || denoiser->height() != s.height)
+        denoiser->resize(s.width, s.height);
+    else if (!denoised_last_frame || denoised_camera.fov_y_degrees != cam.fov_y_degrees)
+        denoiser->reset_history();
+    const GBuffer& g = gbuffers[ctx->frame_slot()];
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                  VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    DenoiseInputs in;
+    in.colour = g.radiance.view();
+    in.albedo = g.albedo.view();
+    in.normal_depth = g.normal_depth.view();
+    in.reproject = reprojection_matrix(view_from_world(denoised_camera, cam.block), view_from_world(cam, cam.block),
+                                       cam.fov_y_degrees, s.width, s.height);
+    in.fov_y_degrees = cam.fov_y_degrees;
+    in.ldr_target = target().view();
+    DenoiseSettings ds;
+    ds.iterations = s.denoise ? ds.iterations : 0;
+    ds.max_history = std::max(s.accumulate, 1u);
+    denoiser->record(cmd, in, ds);
+    denoised_camera = cam;
+    image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+// The raster baseline in place of the trace: same target, same layout afterwards.
+void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
+    if (!raster)
+        raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
+    RasterFrame f;
+    f.target = target().handle();
+    f.target_view = target().view();
+    f.width = s.width;
+    f.height = s.height;
+    f.camera_block = cam.block;
+    f.camera_offset = cam.offset;
+    f.clip_from_eye = raster_clip_from_eye(cam.forward, cam.up, cam.fov_y_degrees, float(s.width) / float(s.height));
+    f.mode = s.mode == ShadingMode::Flat ? gpu::kModeFlat : s.mode == ShadingMode::Full ? gpu::kModeFull : gpu::kModeVisibility;
+    // The area light's centre as a point light of the intensity it has face-on (radiance x area).
+    const glm::vec3 centre = s.light.offset + 0.5f * (s.light.edge_u + s.light.edge_v);
+    f.light_position = glm::dvec3(s.light.block - cam.block) + glm::dvec3(centre);
+    f.light_power = s.light.emission * glm::length(glm::cross(s.light.edge_u, s.light.edge_v));
+    f.sky = s.mode == ShadingMode::Full ? glm::vec3(0.f) : s.sky; // Full: encoded below.
+    if (s.mode == ShadingMode::Full)
+        for (int c = 0; c < 3; ++c) // The clear colour is written as is: sRGB-encode the sky here.
+            f.sky[c] = s.sky[c] <= 0.0031308f ? s.sky[c] * 12.92f : 1.055f * std::pow(std::min(s.sky[c], 1.f), 1.f / 2.4f) - 0.055f;
+    f.materials = materials.address();
+    raster->record(cmd, f, accel->draw_list());
+    stamp(cmd, 3);
 }
 
 // The copy of the target into the host-visible read-back buffer (render() waits for it). The

@@ -62,8 +62,17 @@ enum class ShadingMode : uint8_t {
     Visibility, // Fraction of unoccluded shadow samples at the primary hit (grey), sky on a miss.
 };
 
+// Which pipeline draws the image.
+enum class PipelineKind : uint8_t {
+    RayTraced, // The ray tracer (render/rt_pipeline.h).
+    Raster,    // The raster baseline (render/raster_pipeline.h): the same chunks and camera, a
+               // depth buffer; Flat as the ray tracer's, Full is Phong with the area light's
+               // centre as a point light and no shadows or reflections, Visibility all lit.
+};
+
 struct RenderSettings {
     uint32_t width = 64, height = 64;
+    PipelineKind pipeline = PipelineKind::RayTraced;
     ShadingMode mode = ShadingMode::Full;
     // At the first hit, per pixel (correlated multi-jittered): shadow samples of the area light,
     // of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky unoccluded).
@@ -85,6 +94,13 @@ struct RenderSettings {
     bool sky_access = true;
     SunLight sun;
     AreaLight light;
+    // The guided denoiser (render/denoiser.h) on the ray tracer's Full-mode radiance; other
+    // modes and the raster pipeline ignore these two. denoise: the edge-aware a-trous filter.
+    // accumulate: frames of a still (or moving: reprojected) camera the temporal pass averages at
+    // most; 1: none. While it is above 1 each frame traces with seed + frame number, so frames
+    // differ and the average converges.
+    bool denoise = false;
+    uint32_t accumulate = 1;
 };
 
 // 8-bit RGBA pixels, row 0 at the top.
@@ -133,9 +149,11 @@ struct RenderStats {
     double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
     // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
-    // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace, the image read-back copy.
+    // timestamps. Upload + BLAS builds/refits, the TLAS build, the trace (or the raster pass),
+    // the image read-back copy.
     // The read-back copy for render(), the blit into the swapchain image for present().
     double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1, gpu_copy_ms = -1;
+    double gpu_denoise_ms = -1; // The denoiser's passes (0 when it did not run).
     double gpu_frame_ms = -1; // The whole frame on the GPU (first to last timestamp).
     // present() only (-1 after render()). Nothing waits for the frame just submitted, so its gpu_*
     // fields are those of the frame kFramesInFlight (2) presents back, read once its fence has

@@ -116,7 +116,7 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
     vi.image = img.m_image;
     vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vi.format = other_view ? info.view_format : info.format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vi.subresourceRange = {info.aspect, 0, 1, 0, 1};
     VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &img.m_view));
     ctx.set_name(img.m_image, VK_OBJECT_TYPE_IMAGE, info.name);
     ctx.set_name(img.m_view, VK_OBJECT_TYPE_IMAGE_VIEW, info.name);

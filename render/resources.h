@@ -54,6 +54,7 @@ struct ImageCreateInfo {
     // Format of the view; UNDEFINED: `format`. Another (compatible) format makes the image
     // MUTABLE_FORMAT + EXTENDED_USAGE (e.g. an _SRGB image written as UNORM storage).
     VkFormat view_format = VK_FORMAT_UNDEFINED;
+    VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT; // DEPTH for a depth buffer.
 };
 
 // A 2D, single-mip image in device memory with one colour view.

@@ -86,6 +86,14 @@ public:
     VkAccelerationStructureKHR tlas() const { return m_frames[m_ctx->frame_slot()].tlas.handle(); }
     // Address of uint64[instance]: the Quad slot buffer of each TLAS instance.
     VkDeviceAddress chunk_table() const { return m_frames[m_ctx->frame_slot()].table.address(); }
+    // The chunks the last record_tlas_build() drew, in TLAS instance order (the raster
+    // pipeline draws them from their quad records: render/raster_pipeline.h).
+    struct DrawChunk {
+        world::ChunkCoord coord;
+        VkDeviceAddress quads = 0; // Quad records, one per slot (Quad{} in spare slots).
+        uint32_t slots = 0;
+    };
+    std::span<const DrawChunk> draw_list() const { return m_draw_list; }
     const AccelStats& stats() const { return m_stats; }
     const AccelMemory& memory() const { return m_memory; }
 
@@ -144,6 +152,7 @@ private:
     std::array<FrameData, kFramesInFlight> m_frames;
     std::array<CompactionQueries, kFramesInFlight> m_queries;
     std::vector<world::ChunkCoord> m_built_cold; // Chunks built cold this frame (to query).
+    std::vector<DrawChunk> m_draw_list;
     AccelStats m_stats;
     AccelMemory m_memory;
     SceneAccelCreateInfo m_info;

@@ -71,6 +71,9 @@ void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
         d.accelerationStructureReference = chunks[i].second->blas.address();
         table[i] = chunks[i].second->quads.address();
     }
+    m_draw_list.clear();
+    for (const auto& [c, g] : chunks)
+        m_draw_list.push_back({c, g->quads.address(), g->layout.total});
     geom = instance_geometry(f.instances.address());
     info.dstAccelerationStructure = f.tlas.handle();
     info.scratchData.deviceAddress = scratch(f.tlas_scratch + m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment);

@@ -8,6 +8,10 @@ namespace {
 #include "shaders/shadow_rmiss.h"
 #include "shaders/closest_hit_rchit.h"
 #include "shaders/shadow_rahit.h"
+#include "shaders/denoise_temporal_comp.h"
+#include "shaders/denoise_atrous_comp.h"
+#include "shaders/raster_vert.h"
+#include "shaders/raster_frag.h"
 } // namespace
 
 std::span<const uint32_t> raygen() { return k_raygen_rgen; }
@@ -15,5 +19,9 @@ std::span<const uint32_t> primary_miss() { return k_primary_rmiss; }
 std::span<const uint32_t> shadow_miss() { return k_shadow_rmiss; }
 std::span<const uint32_t> closest_hit() { return k_closest_hit_rchit; }
 std::span<const uint32_t> shadow_any_hit() { return k_shadow_rahit; }
+std::span<const uint32_t> denoise_temporal() { return k_denoise_temporal_comp; }
+std::span<const uint32_t> denoise_atrous() { return k_denoise_atrous_comp; }
+std::span<const uint32_t> raster_vert() { return k_raster_vert; }
+std::span<const uint32_t> raster_frag() { return k_raster_frag; }
 
 } // namespace vx::render::spirv

@@ -1,5 +1,5 @@
 #pragma once
-// SPIR-V of the ray-tracing stages, compiled from shaders/ at build time and embedded in the
+// SPIR-V of the ray-tracing, raster and denoiser stages, compiled from shaders/ at build time and embedded in the
 // library (so binaries work from any directory). Thread-safe (constant data).
 
 #include <cstdint>
@@ -12,5 +12,9 @@ std::span<const uint32_t> primary_miss();
 std::span<const uint32_t> shadow_miss();
 std::span<const uint32_t> closest_hit();
 std::span<const uint32_t> shadow_any_hit();
+std::span<const uint32_t> denoise_temporal(); // Compute stages of render/denoiser.
+std::span<const uint32_t> denoise_atrous();
+std::span<const uint32_t> raster_vert(); // The raster baseline (render/raster_pipeline).
+std::span<const uint32_t> raster_frag();
 
 } // namespace vx::render::spirv

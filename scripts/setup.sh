@@ -12,6 +12,7 @@ packages=(
   libopenvdb-dev libopenvdb-tools libboost-iostreams-dev libimath-dev
   xvfb xauth
   postgresql libpq-dev
+  python3-matplotlib
 )
 backports_packages=(mesa-vulkan-drivers)
 

@@ -40,6 +40,9 @@ struct RenderArgs {
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
     bool validation = false;
+    std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
+    std::string denoise = "off"; // --denoise (render/denoiser.h).
+    uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
 };
 
 double median(std::vector<double> v) {
@@ -59,6 +62,14 @@ struct Settings {
     render::RenderSettings settings;
     render::Camera camera;
 };
+
+// --pipeline: the ray tracer or the raster baseline (same chunks and camera).
+// --denoise, --accumulate: the denoiser on the ray tracer's Full-mode radiance.
+void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
+    s.pipeline = a.pipeline == "raster" ? render::PipelineKind::Raster : render::PipelineKind::RayTraced;
+    s.denoise = a.denoise == "on";
+    s.accumulate = std::max<uint32_t>(a.accumulate, 1);
+}
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
 std::optional<std::string> make_settings(const RenderArgs& a, const engine::LoadedScene& scene, Settings& out) {
@@ -165,6 +176,27 @@ double timed_render(render::Renderer& r, const Settings& s, render::RenderImage*
     if (image)
         *image = std::move(img);
     return wall;
+}
+
+// --accumulate N: frames 2..N of the still camera, averaged by the denoiser's temporal pass;
+// `image` becomes the last (the average). Prints the denoiser's GPU time (median) when it ran.
+void accumulate_frames(render::Renderer& r, const Settings& s, render::RenderImage* image) {
+    const render::RenderSettings& rs = s.settings;
+    if (rs.denoise || rs.accumulate > 1)
+        std::printf("  denoiser: %s, accumulate %u (%s)\n", rs.denoise ? "on" : "off", rs.accumulate,
+                    rs.pipeline == render::PipelineKind::RayTraced && rs.mode == render::ShadingMode::Full
+                        ? "on the ray tracer's radiance"
+                        : "ignored: only the ray tracer's full shading is denoised");
+    std::vector<double> denoise_ms{r.last_stats().gpu_denoise_ms}, wall;
+    for (uint32_t i = 1; i < rs.accumulate; ++i) {
+        wall.push_back(timed_render(r, s, image));
+        denoise_ms.push_back(r.last_stats().gpu_denoise_ms);
+    }
+    if (rs.accumulate > 1)
+        std::printf("  accumulated frames 2..%u: frame %s wall, denoiser %s GPU (medians)\n", rs.accumulate,
+                    ms(median(wall)).c_str(), ms(median(denoise_ms)).c_str());
+    else if (rs.denoise)
+        std::printf("  denoiser: %s GPU\n", ms(denoise_ms[0]).c_str());
 }
 
 // Frames 2..N of the same view: medians of the GPU phases and the wall time.
@@ -280,6 +312,7 @@ int run_render(RenderArgs a) {
     Settings s;
     if (auto err = make_settings(a, *scene, s))
         return bad_input(*err);
+    apply_pipeline_args(a, s.settings);
     const char* env = std::getenv("VX_VALIDATION");
     const bool validation = a.validation || (env && std::strcmp(env, "0") != 0 && *env);
     auto renderer = render::Renderer::create({.validation = validation, .device = *choice, .allow_refit = a.blas_update == "on"});
@@ -305,9 +338,12 @@ int run_render(RenderArgs a) {
                 s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples), s.settings.max_bounces);
     std::printf("  lights: sun %s, sky term x%g%s, area light %s\n", a.sun.c_str(), double(a.sky_light),
                 a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());
+    if (s.settings.pipeline == render::PipelineKind::Raster)
+        std::printf("  pipeline: raster (Phong, point light at the area light's centre, no shadows)\n");
     render::RenderImage image;
     const double first = timed_render(r, s, &image);
     print_frame("frame 1", r.last_stats(), first);
+    accumulate_frames(r, s, &image);
     if (a.repeat > 1)
         repeat_frames(r, s, a.repeat);
     for (uint32_t i = std::max<uint32_t>(a.repeat, 1); i < 3; ++i)
@@ -373,6 +409,17 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "refits and rebuilds (--repeat rounds)");
     cmd->add_option("--blas-update", a->blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
         ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--pipeline", a->pipeline,
+                    "rt: ray tracer; raster: the baseline (Phong, one point light at the area light's centre, depth "
+                    "buffer, no shadows or reflections)")
+        ->check(CLI::IsMember({"rt", "raster"}));
+    cmd->add_option("--denoise", a->denoise,
+                    "Guided a-trous denoiser on the ray tracer's full-shading radiance (SVGF-style)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--accumulate", a->accumulate,
+                    "Render N frames of the still camera and average them (temporal pass; with --denoise on, "
+                    "filtered too); the PNG is the last")
+        ->check(CLI::Range(1u, 65536u));
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
     cmd->callback([a, seed, seed_opt, &action] {
         if (seed_opt->count() > 0)

@@ -85,6 +85,27 @@ TEST(CliRender, RawVolumeToPng) {
     EXPECT_GT(other, png.w * png.h / 10);
 }
 
+// --pipeline raster draws the same flat image as the ray tracer (coverage and block colours of
+// this simple view agree except at most a few edge pixels); --denoise and --accumulate run.
+TEST(CliRender, RasterPipelineAndDenoiser) {
+    const std::string vol = write_volume(), rt = dir() + "/flat_rt.png", raster = dir() + "/flat_raster.png";
+    const std::string view = "--raw " + vol + " --dims 24,12,20 --size 48x32 --shading flat ";
+    render(view + "--out " + rt);
+    const CliRun r = render(view + "--pipeline raster --out " + raster);
+    EXPECT_NE(r.out.find("pipeline: raster"), std::string::npos) << r.out;
+    const Png a = read_png(rt), b = read_png(raster);
+    ASSERT_EQ(a.w, 48);
+    ASSERT_EQ(b.w, 48);
+    int differ = 0;
+    for (int y = 0; y < a.h; ++y)
+        for (int x = 0; x < a.w; ++x)
+            differ += a.at(x, y) != b.at(x, y);
+    EXPECT_LE(differ, 8);
+    const CliRun d = render("--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 1 --denoise on --accumulate 3 --out " +
+                            dir() + "/denoised.png");
+    EXPECT_NE(d.out.find("accumulated frames 2..3"), std::string::npos) << d.out;
+}
+
 // Flat shading is exact, so the same volume and camera up to 2^36 blocks from the origin give the
 // same image bit for bit: camera and volume positions are parsed as 64-bit integers + fraction.
 TEST(CliRender, FarFromOriginRendersIdentically) {

@@ -1,0 +1,118 @@
+#pragma once
+// The guided denoiser: temporal accumulation with reprojection (and luminance moments for the
+// variance), then an edge-avoiding a-trous wavelet filter guided by normal, depth and luminance
+// variance, on albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
+// al. 2010). Before 4 frames of history the variance is spatial (3x3), which also counts
+// pixel-sized shading detail as noise: single frames above ~2 spp get blurrier, not better
+// (docs/render_report.md). Compute shaders
+// shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
+//
+// Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by
+// denoise_on_host): storage images in VK_IMAGE_LAYOUT_GENERAL, written before record() with a
+// barrier to compute-shader reads the caller records:
+//   colour        RGBA16F  noisy linear HDR radiance,
+//   albedo        RGBA8    linear albedo of the primary hit (UNORM),
+//   normal_depth  RGBA16F  world-space unit normal (xyz) and the distance along the primary
+//                          ray to the hit in blocks (w); w <= 0 marks a miss (sky: passed
+//                          through). The ray tracer's G-buffer (render/gbuffer.h) as is.
+// Outputs, in GENERAL layout, written by compute shaders (the caller barriers before reading):
+// output(), RGBA16F linear HDR radiance, and the 8-bit image as the ray tracer would write it
+// (vx_tonemap + sRGB, shaders/shared/tonemap.h) into DenoiseInputs::ldr_target, or ldr().
+// Main thread only.
+
+#include <array>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "render/image_metrics.h"
+#include "render/resources.h"
+
+namespace vx::render {
+
+struct DenoiseSettings {
+    uint32_t iterations = 5;        // A-trous passes (steps 1, 2, 4, 8, 16 pixels); 0: temporal only.
+    float sigma_normal = 128.f;     // Exponent of the normal weight.
+    float sigma_depth = 1.f;        // Scale of the depth weight against the depth gradient.
+    float sigma_luminance = 4.f;    // Scale of the luminance weight against the std deviation.
+    // Frames averaged at most by the temporal pass (a still camera converges to a running mean
+    // of this many frames, then an exponential average with alpha 1/max_history). 1: no
+    // temporal accumulation.
+    uint32_t max_history = 32;
+};
+
+// Image views of one frame's G-buffer (see the file comment for formats and layouts).
+struct DenoiseInputs {
+    VkImageView colour = VK_NULL_HANDLE;
+    VkImageView albedo = VK_NULL_HANDLE;
+    VkImageView normal_depth = VK_NULL_HANDLE;
+    // Maps (x d, y d, d, 1) of this frame's pixel centre (x, y) (pixels, row 0 at the top) at
+    // view depth d to (x' d', y' d', d', 1) of the previous frame: identity for a still camera.
+    // See reprojection_matrix().
+    glm::mat4 reproject{1.f};
+    float fov_y_degrees = 60.f; // The camera's (with the image's aspect: distances to depths).
+    // RGBA8 UNORM storage view (GENERAL layout) for the 8-bit output; null: ldr().
+    VkImageView ldr_target = VK_NULL_HANDLE;
+
+};
+
+class Denoiser {
+public:
+    // Images for width x height frames. Aborts with a log line when memory runs out.
+    Denoiser(Context& ctx, uint32_t width, uint32_t height);
+    // Only once no frame that recorded it is in flight (e.g. after Context::wait_idle): its
+    // descriptor sets are freed at once.
+    ~Denoiser();
+    Denoiser(const Denoiser&) = delete;
+    Denoiser& operator=(const Denoiser&) = delete;
+
+    // New images for width x height frames (the old ones retire with the frame); drops the history.
+    void resize(uint32_t width, uint32_t height);
+    uint32_t width() const { return m_width; }
+    uint32_t height() const { return m_height; }
+
+    // Records the temporal pass and settings.iterations a-trous passes into `cmd` (a frame's
+    // command buffer: descriptor sets are per frame slot, so at most kFramesInFlight frames may
+    // be in flight). The inputs must stay alive until the frame completes.
+    void record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const DenoiseSettings& settings);
+    // The next record() starts without history (a cut, a new scene).
+    void reset_history() { m_history_valid = false; }
+    const Image& output() const { return m_output; }
+    const Image& ldr() const { return m_ldr; }
+
+private:
+    void create_images();
+    void create_pipelines();
+    void write_sets(const DenoiseInputs& inputs, uint32_t slot);
+
+    Context* m_ctx;
+    uint32_t m_width, m_height;
+    // Ping-pong: read [m_parity], write the other. Moments: luminance m1, m2 (SVGF's variance).
+    std::array<Image, 2> m_history, m_history_nd, m_moments;
+    std::array<Image, 2> m_ping;                  // A-trous iterations alternate between these.
+    Image m_output, m_ldr;
+    uint32_t m_parity = 0;
+    bool m_history_valid = false;
+    bool m_initialised = false; // Images moved to GENERAL.
+    VkDescriptorSetLayout m_temporal_layout = VK_NULL_HANDLE, m_atrous_layout = VK_NULL_HANDLE;
+    VkPipelineLayout m_temporal_pl = VK_NULL_HANDLE, m_atrous_pl = VK_NULL_HANDLE;
+    VkPipeline m_temporal = VK_NULL_HANDLE, m_atrous = VK_NULL_HANDLE;
+    VkDescriptorPool m_pool = VK_NULL_HANDLE;
+    // Per frame slot: temporal set for each history parity, a-trous set for each ping direction.
+    std::array<std::array<VkDescriptorSet, 2>, kFramesInFlight> m_temporal_sets{}, m_atrous_sets{};
+};
+
+// Reprojection for a pinhole camera: `prev_view_from_world` and `view_from_world` are the
+// cameras' view matrices (right-handed, looking down -z, any common world frame, e.g. relative
+// to the current camera's block), fov_y in degrees, images width x height.
+glm::mat4 reprojection_matrix(const glm::dmat4& prev_view_from_world, const glm::dmat4& view_from_world,
+                              float fov_y_degrees, uint32_t width, uint32_t height);
+
+// Host round trip for tests and benchmarks: uploads the three images (colour and normal_depth
+// as RGBA16F, albedo as RGBA8 from 0..1 floats), runs `denoiser` once (it keeps its history
+// between calls) and reads the output back. Waits for the GPU. Sizes must match the denoiser.
+ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
+                       const ImageF& normal_depth, const DenoiseSettings& settings,
+                       const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f);
+
+} // namespace vx::render

@@ -1,0 +1,204 @@
+#include "render/raster_pipeline.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render/commands.h"
+#include "render/shader_code.h"
+#include "shaders/shared/raster_types.h"
+#include "shaders/shared/render_types.h"
+
+namespace vx::render {
+
+static_assert(sizeof(gpu::RasterPush) == 128, "RasterPush: the guaranteed push-constant size");
+
+namespace {
+
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, const char* name) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = code.size_bytes();
+    ci.pCode = code.data();
+    VkShaderModule m = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
+    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
+    return m;
+}
+
+} // namespace
+
+RasterPipeline::RasterPipeline(Context& ctx, VkFormat color_format) : m_ctx(&ctx) { create_pipeline(color_format); }
+
+RasterPipeline::~RasterPipeline() {
+    if (m_pipeline)
+        m_ctx->retire_list().pipelines.push_back(m_pipeline);
+    vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
+}
+
+void RasterPipeline::create_pipeline(VkFormat color_format) {
+    const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                    sizeof(gpu::RasterPush)};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
+    m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "raster pipeline layout");
+
+    const VkShaderModule vert = make_module(*m_ctx, spirv::raster_vert(), "raster.vert");
+    const VkShaderModule frag = make_module(*m_ctx, spirv::raster_frag(), "raster.frag");
+    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vert;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = frag;
+    stages[1].pName = "main";
+    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE; // As the ray tracer (TRIANGLE_FACING_CULL_DISABLE).
+    raster.lineWidth = 1.f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState attachment{};
+    attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                                VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &attachment;
+    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamic_states;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &color_format;
+    rendering.depthAttachmentFormat = kDepthFormat;
+
+    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    ci.stageCount = 2;
+    ci.pStages = stages;
+    ci.pVertexInputState = &vertex_input;
+    ci.pInputAssemblyState = &assembly;
+    ci.pViewportState = &viewport;
+    ci.pRasterizationState = &raster;
+    ci.pMultisampleState = &multisample;
+    ci.pDepthStencilState = &depth;
+    ci.pColorBlendState = &blend;
+    ci.pDynamicState = &dynamic;
+    ci.layout = m_layout;
+    VK_CHECK(vkCreateGraphicsPipelines(m_ctx->device(), VK_NULL_HANDLE, 1, &ci, nullptr, &m_pipeline));
+    m_ctx->set_name(m_pipeline, VK_OBJECT_TYPE_PIPELINE, "raster pipeline");
+    vkDestroyShaderModule(m_ctx->device(), vert, nullptr);
+    vkDestroyShaderModule(m_ctx->device(), frag, nullptr);
+}
+
+void RasterPipeline::ensure_depth(uint32_t width, uint32_t height) {
+    Image& d = m_depth[m_ctx->frame_slot()];
+    if (d.valid() && d.width() == width && d.height() == height)
+        return;
+    ImageCreateInfo ci;
+    ci.width = width;
+    ci.height = height;
+    ci.format = kDepthFormat;
+    ci.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    ci.name = "raster depth";
+    ci.aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
+    d = Image::create(*m_ctx, ci);
+    VX_ASSERT_MSG(d.valid(), "out of GPU memory for the raster depth buffer");
+}
+
+static void depth_barrier(VkCommandBuffer cmd, VkImage image) {
+    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    b.srcStageMask = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    b.srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    b.dstStageMask = b.srcStageMask;
+    b.dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    b.newLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    di.imageMemoryBarrierCount = 1;
+    di.pImageMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd, &di);
+}
+
+void RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f, std::span<const SceneAccel::DrawChunk> chunks) {
+    ensure_depth(f.width, f.height);
+    const Image& depth = m_depth[m_ctx->frame_slot()];
+    image_barrier(cmd, f.target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    depth_barrier(cmd, depth.handle());
+    // Quad records uploaded this frame (transfer) are read by the vertex shader.
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = f.target_view;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{f.sky.x, f.sky.y, f.sky.z, 1.f}};
+    VkRenderingAttachmentInfo depth_info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth_info.imageView = depth.view();
+    depth_info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth_info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth_info.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth_info.clearValue.depthStencil = {1.f, 0};
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {f.width, f.height}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = 1;
+    ri.pColorAttachments = &color;
+    ri.pDepthAttachment = &depth_info;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m_pipeline);
+    const VkViewport viewport{0.f, 0.f, float(f.width), float(f.height), 0.f, 1.f};
+    const VkRect2D scissor{{0, 0}, {f.width, f.height}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+
+    gpu::RasterPush push{};
+    push.clip_from_eye = f.clip_from_eye;
+    push.light_position = glm::vec4(glm::vec3(f.light_position - glm::dvec3(f.camera_offset)), float(f.mode));
+    push.light_power = glm::vec4(f.light_power, f.ambient);
+    push.materials = f.materials;
+    for (const SceneAccel::DrawChunk& c : chunks) {
+        // 64-bit difference first, then float, as the TLAS transforms.
+        const world::BlockPos rel = world::chunk_origin(c.coord) - f.camera_block;
+        push.chunk_origin = glm::vec4(glm::vec3(rel) - f.camera_offset, 0.f);
+        push.quads = c.quads;
+        vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
+                           &push);
+        vkCmdDraw(cmd, 6 * c.slots, 1, 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+    image_barrier(cmd, f.target, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+glm::mat4 raster_clip_from_eye(glm::vec3 forward, glm::vec3 up, float fov_y_degrees, float aspect, float near_plane,
+                               float far_plane) {
+    // The ray tracer's basis (renderer.cpp write_params): right = fwd x up, up' = right x fwd.
+    const glm::mat4 view = glm::lookAtRH(glm::vec3(0.f), glm::normalize(forward), up);
+    glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(fov_y_degrees), aspect, near_plane, far_plane);
+    proj[1][1] = -proj[1][1]; // Vulkan's y points down, as the image rows.
+    return proj * view;
+}
+
+} // namespace vx::render

@@ -1,0 +1,64 @@
+#pragma once
+// The raster baseline (the thesis's comparison): the scene's chunks drawn with a graphics
+// pipeline straight from their quad records (vertex pulling in shaders/raster.vert, no vertex
+// buffers, so cold chunks that dropped their BLAS vertices draw too), a depth buffer, and Phong
+// shading with one point light (shaders/raster.frag). Same camera model as the ray tracer's
+// (pixel centres, y down), so a Flat image covers the pixels the ray tracer's does.
+// Dynamic rendering (Vulkan 1.3). Main thread only.
+
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "render/renderer.h"
+#include "render/resources.h"
+#include "render/scene_accel.h"
+
+namespace vx::render {
+
+// What a raster frame needs besides the chunks.
+struct RasterFrame {
+    VkImage target = VK_NULL_HANDLE; // Colour target (any layout: its contents are cleared).
+    VkImageView target_view = VK_NULL_HANDLE; // A view of format `color_format` (see the ctor).
+    uint32_t width = 0, height = 0;
+    world::BlockPos camera_block{0};
+    glm::vec3 camera_offset{0.5f};
+    glm::mat4 clip_from_eye{1.f}; // raster_clip_from_eye().
+    uint32_t mode = 0;            // gpu::kModeFlat / kModeFull / kModeVisibility.
+    glm::dvec3 light_position{0}; // Relative to the camera's block (the area light's centre).
+    glm::vec3 light_power{0};     // Point-light intensity, linear RGB.
+    float ambient = 0;            // Grey ambient radiance.
+    glm::vec3 sky{0};             // Clear colour (the ray tracer's sky on a miss), written as is.
+    VkDeviceAddress materials = 0;
+};
+
+class RasterPipeline {
+public:
+    // `color_format`: the format of the target views record() draws into.
+    RasterPipeline(Context& ctx, VkFormat color_format);
+    ~RasterPipeline();
+    RasterPipeline(const RasterPipeline&) = delete;
+    RasterPipeline& operator=(const RasterPipeline&) = delete;
+
+    // Records the clear and one draw per chunk into `cmd`, leaving the target in
+    // TRANSFER_SRC_OPTIMAL (as the ray tracer's trace does). The chunks' quad buffers must have
+    // been uploaded earlier in `cmd` or before (SceneAccel::record_builds).
+    void record(VkCommandBuffer cmd, const RasterFrame& frame, std::span<const SceneAccel::DrawChunk> chunks);
+
+private:
+    void create_pipeline(VkFormat color_format);
+    void ensure_depth(uint32_t width, uint32_t height);
+
+    Context* m_ctx;
+    VkPipelineLayout m_layout = VK_NULL_HANDLE;
+    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    std::array<Image, kFramesInFlight> m_depth;
+};
+
+// Vulkan clip space (y down, depth 0..1, near `near_plane` blocks) of a camera looking along
+// `forward` with `up` and a vertical field of view in degrees, for positions relative to the eye.
+// Rows of pixels match the ray tracer's primary rays (shaders/raygen.rgen).
+glm::mat4 raster_clip_from_eye(glm::vec3 forward, glm::vec3 up, float fov_y_degrees, float aspect,
+                               float near_plane = 0.02f, float far_plane = 8192.f);
+
+} // namespace vx::render

@@ -1,0 +1,69 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// One iteration of the edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
+// edge-stopping functions (Schied et al. 2017, section 4.2): a 5x5 B3-spline kernel with holes
+// (step 1, 2, 4, ...) weighted by normal, depth (against the local depth gradient) and luminance
+// (against the filtered variance). It filters albedo-demodulated illumination, so block colours
+// stay sharp; the last pass multiplies the albedo back in.
+
+#include "shared/denoise_types.h"
+
+layout(local_size_x = kDenoiseGroupSize, local_size_y = kDenoiseGroupSize) in;
+
+layout(binding = 0, rgba16f) readonly uniform image2D u_in;           // rgb illumination, a variance.
+layout(binding = 1, rgba8) readonly uniform image2D u_albedo;
+layout(binding = 2, rgba16f) readonly uniform image2D u_normal_depth;
+layout(binding = 3, rgba16f) writeonly uniform image2D u_out;         // Next iteration's input.
+layout(binding = 4, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
+layout(binding = 5, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
+
+#include "shared/denoise_common.glsl"
+
+const float kKernel[3] = float[](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
+
+float depth_at(ivec2 q, ivec2 size) { return imageLoad(u_normal_depth, clamp(q, ivec2(0), size - 1)).w; }
+
+void main() {
+    const ivec2 size = ivec2(pc.params.xy);
+    const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, size)))
+        return;
+    const int step = int(pc.params.z);
+    const vec4 centre = imageLoad(u_in, p);
+    const vec4 nd = imageLoad(u_normal_depth, p);
+    vec4 result = centre;
+    if (has_surface(nd)) {
+        // Screen-space depth gradient (central differences, same-surface neighbours only).
+        const float d = nd.w;
+        vec2 grad = vec2(depth_at(p + ivec2(1, 0), size) - depth_at(p - ivec2(1, 0), size),
+                         depth_at(p + ivec2(0, 1), size) - depth_at(p - ivec2(0, 1), size)) * 0.5;
+        grad = clamp(grad, vec2(-d), vec2(d));
+        const float lum = luminance(centre.rgb);
+        const float lum_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
+        vec3 sum = vec3(0);
+        float var_sum = 0, w_sum = 0;
+        for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx) {
+                const ivec2 q = p + ivec2(dx, dy) * step;
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
+                    continue;
+                const vec4 ndq = imageLoad(u_normal_depth, q);
+                if (!has_surface(ndq))
+                    continue;
+                const vec4 cq = imageLoad(u_in, q);
+                const float w_normal = pow(max(dot(nd.xyz, ndq.xyz), 0.0), pc.sigmas.x);
+                const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
+                const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
+                const float w_lum = exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
+                const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum;
+                sum += w * cq.rgb;
+                var_sum += w * w * cq.a;
+                w_sum += w;
+            }
+        // The centre tap always has weight kKernel[0]^2 > 0.
+        result = vec4(sum / w_sum, var_sum / (w_sum * w_sum));
+    }
+    imageStore(u_out, p, result);
+    if ((pc.params.w & kDenoiseLastPass) != 0)
+        store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(nd));
+}

@@ -1,0 +1,50 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+// The raster baseline's shading: Flat mode writes the block albedo (linear, unencoded, as the ray
+// tracer's Flat mode); Full mode is Phong with one point light and no shadows (the thesis's
+// baseline), sRGB encoded; Visibility mode has no shadows to show: every surface is lit (1).
+
+#include "shared/raster_types.h"
+#include "shared/render_types.h"
+
+layout(push_constant) uniform Push { RasterPush pc; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
+
+layout(location = 0) in vec3 v_position;
+layout(location = 1) flat in uint v_block;
+layout(location = 2) flat in uint v_face;
+layout(location = 0) out vec4 o_color;
+
+vec3 srgb_encode(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+void main() {
+    const Material mat = Materials(pc.materials).m[v_block];
+    const vec3 albedo = mat.albedo_reflectivity.xyz;
+    const uint mode = uint(pc.light_position.w);
+    if (mode == kModeFlat) {
+        o_color = vec4(albedo, 1.0);
+        return;
+    }
+    if (mode == kModeVisibility) {
+        o_color = vec4(1.0);
+        return;
+    }
+    vec3 n = vec3(0);
+    n[v_face >> 1u] = (v_face & 1u) != 0u ? 1.0 : -1.0;
+    const vec3 to_light = pc.light_position.xyz - v_position;
+    const float d2 = max(dot(to_light, to_light), 1e-4);
+    const vec3 l = to_light * inversesqrt(d2);
+    const vec3 v = normalize(-v_position);
+    const vec3 irradiance = pc.light_power.xyz * max(dot(n, l), 0.0) / d2;
+    const float shininess = 64.0;
+    const float specular = mat.albedo_reflectivity.w * (shininess + 8.0) / 8.0 *
+                           pow(max(dot(n, normalize(l + v)), 0.0), shininess);
+    const vec3 radiance = (albedo + vec3(specular)) / 3.14159265 * irradiance + albedo * pc.light_power.w +
+                          mat.emission.xyz;
+    o_color = vec4(srgb_encode(radiance), 1.0);
+}

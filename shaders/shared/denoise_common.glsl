@@ -1,0 +1,26 @@
+// Helpers of the denoiser's compute shaders.
+#ifndef VX_DENOISE_COMMON_GLSL
+#define VX_DENOISE_COMMON_GLSL
+
+#include "shared/denoise_types.h"
+#include "shared/tonemap.h"
+
+layout(push_constant) uniform Push { DenoisePush pc; };
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// Albedo used to demodulate: black albedo (sky, emitters without a colour) divides by 1.
+vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }
+
+// A pixel with geometry: distance > 0 (render/gbuffer.h: a miss stores 0).
+bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0; }
+
+// The last pass's outputs: HDR radiance, and the 8-bit image as the ray tracer writes it
+// (render/gbuffer.h: tone-mapped, sRGB encoded).
+void store_result(ivec2 p, vec3 illumination, vec3 albedo, bool surface) {
+    const vec3 radiance = illumination * (surface ? demod_albedo(albedo) : vec3(1));
+    imageStore(u_result, p, vec4(radiance, 1));
+    imageStore(u_ldr, p, vec4(vx_srgb_encode(vx_tonemap(radiance)), 1));
+}
+
+#endif

@@ -1,0 +1,45 @@
+// Push constants of the denoiser's compute shaders (denoise_temporal.comp, denoise_atrous.comp),
+// shared with render/denoiser.cpp. Made of 16-byte vectors so std430 and C++ agree;
+// render/denoiser.cpp checks the size with static_assert.
+#ifndef VX_SHADERS_DENOISE_TYPES_H
+#define VX_SHADERS_DENOISE_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace vx::render::gpu {
+using mat4 = glm::mat4;
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = uint32_t;
+#define VX_CONST inline constexpr
+#else
+#define VX_CONST const
+#endif
+
+VX_CONST uint kDenoiseGroupSize = 8; // Threads per workgroup side (8 x 8).
+
+// flags (DenoisePush.params.w bits).
+VX_CONST uint kDenoiseHistoryValid = 1u; // Temporal: the history images hold a previous frame.
+VX_CONST uint kDenoiseLastPass = 2u;     // Remodulate by albedo into the outputs (the last pass).
+
+struct DenoisePush {
+    // Temporal pass: maps (x d, y d, d, 1) of the current pixel centre (x, y) at view depth d to
+    // (x' d', y' d', d', 1) of the previous frame's pixel (x', y') and view depth d'.
+    // Identity for a still camera.
+    mat4 reproject;
+    // x: sigma_normal (exponent), y: sigma_depth, z: sigma_luminance, w: max history frames.
+    vec4 sigmas;
+    // x, y: image size in pixels; z: a-trous step in pixels (1, 2, 4, ...); w: flags.
+    uvec4 params;
+    // x: tan(vertical fov / 2), y: aspect (width / height) of the pinhole camera
+    // (shaders/raygen.rgen): turns distances along primary rays into view depths.
+    vec4 camera;
+};
+
+#ifdef __cplusplus
+} // namespace vx::render::gpu
+#undef VX_CONST
+#endif
+
+#endif

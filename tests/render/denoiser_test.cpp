@@ -1,0 +1,161 @@
+// The guided denoiser on a synthetic G-buffer with a known noise-free image: two surfaces (a
+// floor seen at a slant and a wall), 4x4-pixel albedo tiles, sky rows, smooth illumination.
+// Monte Carlo noise is imitated by visibility samples of 0 or 2 (mean 1, variance 1 per sample),
+// so n samples per pixel have relative standard deviation 1/sqrt(n).
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render/denoiser.h"
+#include "render_test_util.h"
+
+namespace vx::render {
+namespace {
+
+constexpr uint32_t kW = 48, kH = 32, kSkyRows = 6;
+
+struct GBuffer {
+    ImageF reference, albedo, normal_depth, illumination;
+};
+
+// `wall_from_x`: columns from here on are the wall (moving it changes the blocks).
+GBuffer make_scene(uint32_t wall_from_x = 24) {
+    static const glm::vec3 kPalette[5] = {
+        {0.8f, 0.2f, 0.2f}, {0.2f, 0.7f, 0.3f}, {0.3f, 0.3f, 0.9f}, {0.9f, 0.8f, 0.3f}, {0.6f, 0.6f, 0.6f}};
+    GBuffer g{ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH)};
+    for (uint32_t y = 0; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            float *ref = g.reference.at(x, y), *alb = g.albedo.at(x, y), *nd = g.normal_depth.at(x, y);
+            float* ill = g.illumination.at(x, y);
+            if (y < kSkyRows) {
+                const glm::vec3 sky{0.5f, 0.7f, 0.9f};
+                for (int c = 0; c < 3; ++c)
+                    ref[c] = ill[c] = sky[c];
+                continue; // Albedo 0, depth 0: a miss.
+            }
+            const bool wall = x >= wall_from_x;
+            const glm::vec3 a = kPalette[((x / 4) * 3 + (y / 4) * 7) % 5];
+            const float light = wall ? 0.3f + 0.2f * float(y) / kH : 0.8f + 0.4f * float(x) / kW;
+            const glm::vec3 n = wall ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+            const float depth = wall ? 6.f : 2.f + 20.f * float(kH - y) / kH;
+            for (int c = 0; c < 3; ++c) {
+                alb[c] = a[c];
+                ill[c] = light;
+                ref[c] = a[c] * light;
+                nd[c] = n[c];
+            }
+            alb[3] = 1.f;
+            nd[3] = depth;
+            ref[3] = 1.f;
+        }
+    return g;
+}
+
+// The reference with `spp` visibility samples of 0 or 2 per surface pixel (sky stays exact).
+ImageF noisy(const GBuffer& g, uint32_t spp, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::bernoulli_distribution visible(0.5);
+    ImageF out = g.reference;
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            uint32_t hits = 0;
+            for (uint32_t s = 0; s < spp; ++s)
+                hits += visible(rng);
+            const float v = 2.f * float(hits) / float(spp);
+            for (int c = 0; c < 3; ++c)
+                out.at(x, y)[c] *= v;
+        }
+    return out;
+}
+
+DenoiseSettings spatial_only() {
+    DenoiseSettings s;
+    s.max_history = 1;
+    return s;
+}
+
+using DenoiserTest = test::RenderTest;
+
+TEST_F(DenoiserTest, LeavesANoiseFreeImageUnchanged) {
+    const GBuffer g = make_scene();
+    Denoiser denoiser(*m_ctx, kW, kH);
+    const ImageF out = denoise_on_host(*m_ctx, denoiser, g.reference, g.albedo, g.normal_depth, spatial_only());
+    // Half floats (11-bit mantissa) and 8-bit albedo bound the round trip at about 0.004.
+    EXPECT_LT(rmse(out, g.reference), 0.01);
+    EXPECT_GT(ssim(out, g.reference), 0.99);
+}
+
+TEST_F(DenoiserTest, LowersTheErrorAt1And4Spp) {
+    const GBuffer g = make_scene();
+    Denoiser denoiser(*m_ctx, kW, kH);
+    for (uint32_t spp : {1u, 4u}) {
+        const ImageF in = noisy(g, spp, 7 + spp);
+        denoiser.reset_history();
+        const ImageF out = denoise_on_host(*m_ctx, denoiser, in, g.albedo, g.normal_depth, spatial_only());
+        const double before = rmse(in, g.reference), after = rmse(out, g.reference);
+        std::printf("denoiser %u spp: RMSE %.4f -> %.4f, SSIM %.3f -> %.3f\n", spp, before, after,
+                    ssim(in, g.reference), ssim(out, g.reference));
+        EXPECT_LT(after, 0.5 * before) << spp << " spp: RMSE " << before << " -> " << after;
+        EXPECT_GT(ssim(out, g.reference), ssim(in, g.reference)) << spp << " spp";
+    }
+}
+
+TEST_F(DenoiserTest, AccumulationOfAStillCameraLowersTheErrorFurther) {
+    const GBuffer g = make_scene();
+    Denoiser denoiser(*m_ctx, kW, kH);
+    DenoiseSettings s;
+    s.max_history = 16;
+    const ImageF first = denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 100), g.albedo, g.normal_depth, s);
+    ImageF last = first;
+    for (uint32_t frame = 1; frame < 8; ++frame)
+        last = denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 100 + frame), g.albedo, g.normal_depth, s);
+    std::printf("denoiser 1 spp, still camera: RMSE frame 1 %.4f, frame 8 %.4f\n", rmse(first, g.reference),
+                rmse(last, g.reference));
+    EXPECT_LT(rmse(last, g.reference), 0.7 * rmse(first, g.reference));
+}
+
+TEST_F(DenoiserTest, ChangedBlocksDropTheirHistory) {
+    // Accumulate a noise-free scene, then move the wall's edge 8 columns left: those pixels turn
+    // from floor (normal +y) to wall (+z), so their history must be rejected and the next frame
+    // show the new image, not a blend with the old one.
+    const GBuffer before = make_scene(24), after = make_scene(16);
+    Denoiser denoiser(*m_ctx, kW, kH);
+    DenoiseSettings s;
+    s.max_history = 16;
+    for (int frame = 0; frame < 4; ++frame)
+        denoise_on_host(*m_ctx, denoiser, before.reference, before.albedo, before.normal_depth, s);
+    const ImageF out = denoise_on_host(*m_ctx, denoiser, after.reference, after.albedo, after.normal_depth, s);
+    EXPECT_LT(rmse(out, after.reference), 0.01);
+    // Without rejection the changed columns would average old and new illumination (floor ~1.0,
+    // wall ~0.4): an error of about 0.1 there.
+    double worst = 0;
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 16; x < 24; ++x)
+            for (int c = 0; c < 3; ++c)
+                worst = std::max(worst, double(std::abs(out.at(x, y)[c] - after.reference.at(x, y)[c])));
+    EXPECT_LT(worst, 0.03);
+}
+
+TEST(DenoiserReprojection, StillCameraIsIdentityAndMovedCameraShiftsPixels) {
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(1, 2, 3), glm::dvec3(1, 2, -5), glm::dvec3(0, 1, 0));
+    const glm::mat4 still = reprojection_matrix(view, view, 60.f, 64, 32);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            EXPECT_NEAR(still[c][r], c == r ? 1.f : 0.f, 1e-5);
+    // The camera moved 1 block right since the previous frame (looking down -z, fov 90 degrees,
+    // 64x64): a point at depth 4 seen at the centre pixel column 32 was seen by the previous
+    // camera 1 block to its right, i.e. at 32 + (1 / (4 tan 45)) * 32 = 40.
+    const glm::dmat4 prev = glm::lookAt(glm::dvec3(0, 0, 0), glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0));
+    const glm::dmat4 cur = glm::lookAt(glm::dvec3(1, 0, 0), glm::dvec3(1, 0, -1), glm::dvec3(0, 1, 0));
+    const glm::mat4 m = reprojection_matrix(prev, cur, 90.f, 64, 64);
+    const float d = 4.f;
+    const glm::vec4 p = m * glm::vec4(32.f * d, 32.f * d, d, 1.f);
+    EXPECT_NEAR(p.x / p.z, 40.f, 1e-3);
+    EXPECT_NEAR(p.y / p.z, 32.f, 1e-3);
+    EXPECT_NEAR(p.z, d, 1e-4);
+}
+
+} // namespace
+} // namespace vx::render

@@ -1,0 +1,256 @@
+// `vx bench render`: the renderer's report. One scene and view (terrain of --seed, or any scene
+// `vx render` takes via --scene/--world), rendered
+//   1. by each pipeline and feature set (raster, RT flat, RT full with everything off,
+//      reflections only, shadows only, denoising only, all on), medians of GPU phase timestamps;
+//   2. for speed against error: a converged reference (--reference-spp samples per pixel,
+//      accumulated frames of 8 samples, no filter), then spp in {1, 2, 4, 8, 16, 25, 64},
+//      bounce spp in {1, spp}, denoiser off and on: median GPU frame time and RMSE, PSNR, SSIM
+//      against the reference (render/image_metrics.h).
+// Writes DIR/render_report.md (tables), DIR/render_bench.csv, PNGs of the reference and of
+// each sweep image; scripts/plot_render_bench.py draws error against frame time from the CSV.
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "engine/job_batch.h"
+#include "engine/scene_loader.h"
+#include "render/image_metrics.h"
+#include "render/renderer.h"
+#include "scene_args.h"
+
+namespace vx::tools {
+namespace {
+
+struct BenchRenderArgs {
+    SceneArgs scene;
+    std::string size = "160x90", out = "render_bench", device = "auto";
+    uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
+};
+
+struct Config {
+    std::string name;
+    render::RenderSettings s;
+};
+
+double median_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? -1 : v[v.size() / 2];
+}
+
+struct Timing {
+    double frame = -1, trace = -1, denoise = -1; // GPU ms (medians); -1 without timestamps.
+};
+
+// Renders `repeat` frames (after one warm-up) and returns the medians and the last image.
+Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
+                   render::RenderImage* image) {
+    r.render(s, cam);
+    std::vector<double> frame, trace, denoise;
+    for (uint32_t i = 0; i < repeat; ++i) {
+        *image = r.render(s, cam);
+        const render::RenderStats& st = r.last_stats();
+        frame.push_back(st.gpu_frame_ms);
+        trace.push_back(st.gpu_trace_ms);
+        denoise.push_back(st.gpu_denoise_ms);
+    }
+    return {median_of(frame), median_of(trace), median_of(denoise)};
+}
+
+// The view `vx render` picks by default: over the scene's box from (-1, 0.9, -1), light above.
+render::Camera default_view(const engine::LoadedScene& scene, render::RenderSettings& s) {
+    const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
+    const double dist = 0.35 * glm::length(ext) / std::tan(glm::radians(30.0));
+    const glm::dvec3 eye = centre + dist * glm::normalize(glm::dvec3(-1.0, 0.9, -1.0));
+    const double above = std::max(32.0, 0.25 * std::max(ext.x, ext.z));
+    const float side = float(above * 0.5);
+    s.light.edge_u = {side, 0, 0};
+    s.light.edge_v = {0, 0, side};
+    const glm::dvec3 corner = glm::dvec3(centre.x, hi.y + above, centre.z) - 0.5 * glm::dvec3(side, 0, side);
+    const glm::dvec3 cell = glm::floor(corner);
+    s.light.block = world::BlockPos(cell);
+    s.light.offset = glm::vec3(corner - cell);
+    return render::Camera::look_at(eye, centre);
+}
+
+std::vector<Config> feature_configs(const render::RenderSettings& base, uint32_t reflections) {
+    using render::ShadingMode;
+    auto make = [&](const char* name, ShadingMode mode, uint32_t spp, uint32_t bounces, bool denoise) {
+        Config c{name, base};
+        c.s.mode = mode;
+        c.s.shadow_samples = spp;
+        c.s.max_bounces = bounces;
+        c.s.denoise = denoise;
+        return c;
+    };
+    std::vector<Config> v = {
+        make("raster (Phong, point light)", ShadingMode::Full, 0, 0, false),
+        make("RT flat", ShadingMode::Flat, 0, 0, false),
+        make("RT full, all off", ShadingMode::Full, 0, 0, false),
+        make("RT reflections only", ShadingMode::Full, 0, reflections, false),
+        make("RT shadows only (25 spp)", ShadingMode::Full, 25, 0, false),
+        make("RT denoising only (1 spp)", ShadingMode::Full, 1, 0, true),
+        make("RT shadows 25 spp + reflections", ShadingMode::Full, 25, reflections, false),
+        make("RT 4 spp + reflections + denoiser", ShadingMode::Full, 4, reflections, true),
+    };
+    v[0].s.pipeline = render::PipelineKind::Raster;
+    return v;
+}
+
+int run_bench_render(const BenchRenderArgs& a) {
+    render::RenderSettings base;
+    if (std::sscanf(a.size.c_str(), "%ux%u", &base.width, &base.height) != 2 || base.width == 0 || base.height == 0 ||
+        base.width > 16384 || base.height > 16384)
+        return bad_input("--size must be WxH, got '" + a.size + "'");
+    const auto choice = render::parse_device_choice(a.device);
+    if (!choice)
+        return bad_input(choice.error());
+    SceneArgs sa = a.scene;
+    if (!sa.seed && sa.world_path.empty() && sa.scene.empty() && sa.raw.empty()) {
+        sa.seed = 1;
+        if (sa.radius < 0)
+            sa.radius = 2;
+    }
+    const auto info = scene_load_info(sa);
+    if (!info)
+        return bad_input(info.error());
+    engine::JobSystem jobs(engine::batch_job_system_info(sa.threads));
+    auto scene = engine::load_scene(jobs, *info);
+    if (!scene)
+        return bad_input(scene.error());
+    auto renderer = render::Renderer::create({.device = *choice});
+    if (!renderer)
+        return bad_input("cannot render: " + renderer.error());
+    render::Renderer& r = **renderer;
+    r.set_registry(scene->world->registry());
+    for (const auto& [c, mc] : scene->meshes)
+        if (mc.mesh.quad_count() > 0)
+            r.set_chunk(c, mc.mesh);
+    const render::Camera cam = default_view(*scene, base);
+    std::error_code ec;
+    std::filesystem::create_directories(a.out, ec);
+    if (ec)
+        return bad_input("cannot create --out directory '" + a.out + "': " + ec.message());
+    std::printf("vx bench render: %s; %ux%u on %s\n", scene->description.c_str(), base.width, base.height,
+                r.device().name.c_str());
+    std::string md = "# Renderer report (`vx bench render`)\n\nScene: " + scene->description + ", " +
+                     std::to_string(base.width) + "x" + std::to_string(base.height) + ", device " + r.device().name +
+                     ". GPU times are medians of " + std::to_string(a.repeat) +
+                     " frames (timestamps); the machine may be shared: read them side by side.\n\n";
+    char line[512];
+
+    // 1. Pipelines and features.
+    md += "## Pipelines and features\n\n| configuration | frame ms | trace/raster ms | denoise ms |\n|---|---|---|---|\n";
+    render::RenderImage img;
+    for (const Config& c : feature_configs(base, a.reflections)) {
+        const Timing t = time_frames(r, c.s, cam, a.repeat, &img);
+        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.3f |\n", c.name.c_str(), t.frame, t.trace, t.denoise);
+        md += line;
+        std::printf("  %s", line);
+    }
+
+    // 2. Speed against error.
+    render::RenderSettings ref_s = base;
+    ref_s.max_bounces = a.reflections;
+    ref_s.shadow_samples = 8;
+    ref_s.accumulate = std::max(1u, a.reference_spp / 8);
+    for (uint32_t i = 0; i < ref_s.accumulate; ++i)
+        img = r.render(ref_s, cam);
+    const render::ImageF reference = render::to_float(img);
+    (void)render::write_png(a.out + "/reference.png", img);
+    std::snprintf(line, sizeof line,
+                  "\n## Speed against error\n\nReference: %u samples per pixel (%u frames of 8, accumulated, no "
+                  "filter), %u reflection bounces.\n\n",
+                  ref_s.accumulate * 8, ref_s.accumulate, a.reflections);
+    md += line;
+    md += "| spp | bounce spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n|---|---|---|---|---|---|---|\n";
+    std::ofstream csv(a.out + "/render_bench.csv");
+    csv << "spp,bounce_spp,denoise,frame_ms,rmse,psnr,ssim\n";
+    for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, 25u, 64u}) {
+        const std::vector<uint32_t> bounce_spps = spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp};
+        for (uint32_t bounce : bounce_spps)
+            for (bool denoise : {false, true}) {
+                render::RenderSettings s = base;
+                s.max_bounces = a.reflections;
+                s.shadow_samples = spp;
+                s.bounce_shadow_samples = bounce;
+                s.denoise = denoise;
+                const Timing t = time_frames(r, s, cam, a.repeat, &img);
+                const render::ImageError e = render::compare(render::to_float(img), reference);
+                std::snprintf(line, sizeof line, "| %u | %u | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, bounce,
+                              denoise ? "on" : "off", t.frame, e.rmse, e.psnr, e.ssim);
+                md += line;
+                std::printf("  %s", line);
+                csv << spp << ',' << bounce << ',' << (denoise ? 1 : 0) << ',' << t.frame << ',' << e.rmse << ','
+                    << e.psnr << ',' << e.ssim << '\n';
+                const std::string png = a.out + "/spp" + std::to_string(spp) + "_b" + std::to_string(bounce) +
+                                        (denoise ? "_denoised" : "") + ".png";
+                (void)render::write_png(png, img);
+            }
+    }
+    // 3. A still camera: frames accumulated by the temporal pass (SVGF moments once 4 are in).
+    md += "\n## Still camera, 8 frames accumulated\n\n| spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n"
+          "|---|---|---|---|---|---|\n";
+    for (uint32_t spp : {1u, 4u})
+        for (bool denoise : {false, true}) {
+            render::RenderSettings s = base;
+            s.max_bounces = a.reflections;
+            s.shadow_samples = spp;
+            s.denoise = denoise;
+            s.accumulate = 8;
+            std::vector<double> frame;
+            for (uint32_t i = 0; i < 8; ++i) {
+                img = r.render(s, cam);
+                frame.push_back(r.last_stats().gpu_frame_ms);
+            }
+            const render::ImageError e = render::compare(render::to_float(img), reference);
+            std::snprintf(line, sizeof line, "| %u | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, denoise ? "on" : "off",
+                          median_of(frame), e.rmse, e.psnr, e.ssim);
+            md += line;
+            std::printf("  accumulated %s", line);
+        }
+    md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
+          "frame time (PNG) next to the CSV.\n";
+    std::ofstream(a.out + "/render_report.md") << md;
+    std::printf("  wrote %s/render_report.md, render_bench.csv and PNGs\n", a.out.c_str());
+    return kExitOk;
+}
+
+} // namespace
+
+int run_bench_render_command(int argc, char** argv) {
+    CLI::App app{"vx bench render: pipelines, features, and speed against error"};
+    BenchRenderArgs a;
+    uint64_t seed = 0;
+    CLI::Option* seed_opt = app.add_option("--seed", seed, "Terrain of this seed (default 1, radius 2)");
+    app.add_option("--scene", a.scene.scene, "Built-in scene: 'seed' (thesis)");
+    app.add_option("--scene-block", a.scene.scene_block, "Block of the seed scene (e.g. mirror: reflections)");
+    app.add_option("--world", a.scene.world_path, "A stored world (SQLite)");
+    app.add_option("--radius", a.scene.radius, "Chunks around the camera, horizontal");
+    app.add_option("--vradius", a.scene.vradius, "Chunks around the camera, vertical");
+    app.add_option("--size", a.size, "Image size WxH (lavapipe: keep it small, e.g. 160x90)");
+    app.add_option("--reference-spp", a.reference_spp, "Samples per pixel of the converged reference")
+        ->check(CLI::Range(8u, 1u << 20));
+    app.add_option("--repeat", a.repeat, "Frames per configuration (medians)")->check(CLI::Range(1u, 10000u));
+    app.add_option("--reflections", a.reflections, "Reflection bounces of the full-shading rows");
+    app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
+    app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? kExitOk : kExitBadInput;
+    }
+    if (seed_opt->count() > 0)
+        a.scene.seed = seed;
+    return run_bench_render(a);
+}
+
+} // namespace vx::tools
