@@ -651,7 +651,8 @@ void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std:
             ids.push_back(q.block);
     });
     m->emitters_dirty = true;
-    m->accel->set_chunk(c, mesh, changed_slices);
+    const bool opaque = std::all_of(ids.begin(), ids.end(), [&](world::BlockId id) { return m->registry.is_opaque(id); });
+    m->accel->set_chunk(c, mesh, changed_slices, opaque);
 }
 
 void Renderer::remove_chunk(world::ChunkCoord c) {

@@ -64,7 +64,8 @@ public:
     // a full upload when it fits, a cold one is rebuilt; a mesh equal to the current one is
     // ignored). A chunk whose GPU memory cannot be allocated is not drawn and is counted in
     // AccelStats::failed_chunks until it is set again or removed.
-    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {});
+    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {},
+                   bool opaque = false);
     void remove_chunk(world::ChunkCoord c);
     void clear();
     // Removes every chunk not in `keep`.
@@ -108,6 +109,8 @@ private:
         VkDeviceSize update_scratch = 0;
         Pending pending = Pending::None;
         bool hot = false;
+        bool opaque = false;           // Only opaque blocks: OPAQUE geometry (no any-hit calls,
+                                       // and the builder may split primitives: faster traversal).
         bool failed = false;           // Out of memory at its last build: not drawn.
         uint32_t refits_since_build = 0;
         uint32_t quad_count = 0;
