@@ -53,7 +53,7 @@ endif()
 run("consumer configure" ${CMAKE_COMMAND} -S "${work}/consumer" -B "${work}/build" -G "${VX_GENERATOR}"
     -DCMAKE_BUILD_TYPE=${VX_BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${prefix}")
 run("consumer build" ${CMAKE_COMMAND} --build "${work}/build")
-run("consumer run" "${work}/build/vx_consumer")
+run("consumer run" "${work}/build/vx_consumer" "${work}/world.db")
 message(STATUS "${run_output}")
 if(NOT run_output MATCHES "vx_consumer: ok")
   message(FATAL_ERROR "consumer printed no 'vx_consumer: ok':\n${run_output}")
