@@ -24,7 +24,7 @@ const char* usage() {
     return "usage: vx_sandbox [--world PATH] [--seed S] [--vdb FILE] [--size WxH] [--fullscreen]\n"
            "                  [--no-vsync] [--view-radius R] [--fly-speed B] [--device auto|cpu|gpu|N]\n"
            "                  [--validation] [--replay FILE [--frames N] [--screenshot PATH]]\n"
-           "                  [--stats-out FILE.csv]\n";
+           "                  [--stats-out FILE.csv] [--headless (with --replay: no window)]\n";
 }
 
 std::string default_world_path() {
@@ -53,6 +53,8 @@ vx::Result<Options> parse_options(const std::vector<std::string>& args) {
             o.vsync = false;
         else if (a == "--validation")
             o.validation = true;
+        else if (a == "--headless")
+            o.headless = true;
         else if (!has_value)
             return bad(a.rfind("--", 0) == 0 ? "unknown option or missing value" : "unexpected argument");
         else if (a == "--size") {
@@ -89,6 +91,8 @@ vx::Result<Options> parse_options(const std::vector<std::string>& args) {
         return vx::Error{"vx_sandbox: --world and --vdb exclude each other"};
     if (o.world.empty() && o.vdb.empty())
         o.world = default_world_path();
+    if (o.headless && o.replay.empty())
+        return vx::Error{"vx_sandbox: --headless needs --replay (nobody can play without a window)"};
     return o;
 }
 

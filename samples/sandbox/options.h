@@ -23,6 +23,8 @@ struct Options {
     double fly_speed = 10.0;             // --fly-speed B: blocks per second in fly mode.
     std::string device = "auto";         // --device auto|cpu|gpu|N.
     bool validation = false;             // --validation: exit 1 if the layer reports errors.
+    bool headless = false;               // --headless: no window (replays only): frames are traced
+                                         // at --size into memory (a GPU host without a display).
 };
 
 // Parses argv[1..]. Error: one line naming the bad argument (the caller prints usage, exits 2).

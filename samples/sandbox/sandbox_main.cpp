@@ -60,6 +60,8 @@ struct App {
 App* app_of(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
 
 void set_captured(App& app, bool captured) {
+    if (!app.window) // Headless: no cursor to capture.
+        return;
     app.captured = captured;
     app.menu = !captured;
     app.have_last = false;
@@ -231,7 +233,8 @@ vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwind
     }
     info.streaming.view_radius = o.view_radius;
     info.streaming.view_radius_vertical = std::max(1, std::min(o.view_radius, 4));
-    info.render.target = vx::RenderTarget::glfw_window(window);
+    info.render.target =
+        window ? vx::RenderTarget::glfw_window(window) : vx::RenderTarget::headless(o.width, o.height);
     info.render.device = o.device;
     info.render.validation = o.validation;
     info.render.vsync = o.vsync && o.replay.empty(); // Replays run as fast as they can.
@@ -271,8 +274,9 @@ int run(App& app) {
     Clock::time_point last = start;
     double next_title_s = 0;
     const bool replaying = !app.opt.replay.empty();
-    while (!glfwWindowShouldClose(app.window) && !app.quit) {
-        glfwPollEvents();
+    while ((!app.window || !glfwWindowShouldClose(app.window)) && !app.quit) {
+        if (app.window)
+            glfwPollEvents();
         const Clock::time_point now = Clock::now();
         const double real_dt = std::chrono::duration<double>(now - last).count();
         last = now;
@@ -292,12 +296,16 @@ int run(App& app) {
         app.game->step(app.menu && !replaying ? 0.0 : dt);
         app.engine->update(game_now);
         int fb_w = 0, fb_h = 0;
-        glfwGetFramebufferSize(app.window, &fb_w, &fb_h);
+        if (app.window)
+            glfwGetFramebufferSize(app.window, &fb_w, &fb_h);
         if (fb_w > 0 && fb_h > 0)
             (void)app.engine->set_overlay(app.hud->build(uint32_t(fb_w), uint32_t(fb_h), app.game->hotbar(), hud_lines(app)));
         vx::Image shot;
         const bool capture = app.screenshot_now;
-        if (vx::Status s = app.engine->render_to_window(capture ? &shot : nullptr); !s) {
+        // Headless (--headless): traced into memory every frame; the HUD is not drawn there.
+        vx::Status drawn = app.window ? app.engine->render_to_window(capture ? &shot : nullptr)
+                                      : app.engine->render_to_image(shot);
+        if (vx::Status s = drawn; !s) {
             std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
             return 1;
         }
@@ -365,6 +373,31 @@ GLFWwindow* create_window(const Options& o) {
 
 } // namespace
 
+// --headless: the replay without a window or GLFW (figures on a GPU host with no display).
+int main_headless(App& app) {
+    auto engine = create_engine(app.opt, nullptr);
+    if (!engine) {
+        std::fprintf(stderr, "vx_sandbox: %s\n", engine.error().c_str());
+        return 2;
+    }
+    app.engine = std::move(*engine);
+    for (const vx::BlockType& b : vx::default_blocks())
+        app.block_names.push_back(b.name);
+    app.hud = std::make_unique<Hud>(vx::default_blocks());
+    app.game = std::make_unique<Game>(*app.engine, app.opt.vdb.empty(), app.opt.fly_speed);
+    const int64_t ground = vx::terrain_height(app.opt.seed, 0, 0);
+    app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
+    if (!app.opt.stats_out.empty()) {
+        app.csv = std::fopen(app.opt.stats_out.c_str(), "w");
+        if (!app.csv) {
+            std::fprintf(stderr, "vx_sandbox: cannot write %s\n", app.opt.stats_out.c_str());
+            return 2;
+        }
+        std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed\n");
+    }
+    return finish(app, run(app));
+}
+
 int main_with(const Options& opt) {
     App app;
     app.opt = opt;
@@ -376,6 +409,8 @@ int main_with(const Options& opt) {
         }
         app.replay = std::move(*parsed);
     }
+    if (opt.headless)
+        return main_headless(app);
     if (glfwInit() != GLFW_TRUE) {
         std::fprintf(stderr, "vx_sandbox: cannot open a window (GLFW: no display?)\n");
         return 2;
