@@ -9,20 +9,13 @@
 
 #include <vx/vx.h>
 
+#include "facade_test_util.h"
+
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-bool settle(vx::Engine& e) {
-    const auto limit = Clock::now() + std::chrono::minutes(3);
-    while (Clock::now() < limit) {
-        e.update();
-        if (e.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
-}
+using vx::test::settle;
 
 vx::EngineCreateInfo render_info(vx::WorldSource source, uint32_t w, uint32_t h) {
     vx::EngineCreateInfo info;

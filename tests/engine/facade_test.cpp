@@ -15,6 +15,8 @@
 
 #include <vx/vx.h>
 
+#include "facade_test_util.h"
+
 #include "world/gen/terrain.h"
 #if VX_WITH_OPENVDB
 #include "world/vdb/vdb_world.h"
@@ -23,6 +25,8 @@
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+using vx::test::settle;
 
 constexpr uint64_t kSeed = 7;
 
@@ -36,18 +40,6 @@ vx::EngineCreateInfo small_info(vx::WorldSource source) {
     info.streaming.worker_threads = 2;
     info.chunk_events = true;
     return info;
-}
-
-// Updates until the view is complete (or three minutes pass on a very slow machine).
-bool settle(vx::Engine& e) {
-    const auto limit = Clock::now() + std::chrono::minutes(3);
-    while (Clock::now() < limit) {
-        e.update();
-        if (e.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
 }
 
 // A column of the seed's terrain above the sea, so the sky over it is air.

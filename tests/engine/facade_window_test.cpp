@@ -11,20 +11,13 @@
 
 #include <vx/vx.h>
 
+#include "facade_test_util.h"
+
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-bool settle(vx::Engine& e) {
-    const auto limit = Clock::now() + std::chrono::minutes(3);
-    while (Clock::now() < limit) {
-        e.update();
-        if (e.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
-}
+using vx::test::settle;
 
 glm::u8vec4 centre(const vx::Image& img) { return img.at(img.width / 2, img.height / 2); }
 
@@ -42,6 +35,20 @@ struct Glfw {
     bool ok = false;
 };
 
+// Terrain of seed 5 around a small view, presented to `window` on lavapipe with validation.
+vx::EngineCreateInfo window_info(GLFWwindow* window, int view_radius) {
+    vx::EngineCreateInfo info;
+    info.world = vx::WorldSource::terrain(5);
+    info.streaming.view_radius = view_radius;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.worker_threads = 2;
+    info.render.target = vx::RenderTarget::glfw_window(window);
+    info.render.device = "cpu";
+    info.render.validation = true;
+    info.render.vsync = false;
+    return info;
+}
+
 } // namespace
 
 TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
@@ -52,15 +59,7 @@ TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
     GLFWwindow* window = glfwCreateWindow(96, 64, "vx facade test", nullptr, nullptr);
     ASSERT_NE(window, nullptr);
 
-    vx::EngineCreateInfo info;
-    info.world = vx::WorldSource::terrain(5);
-    info.streaming.view_radius = 2;
-    info.streaming.view_radius_vertical = 1;
-    info.streaming.worker_threads = 2;
-    info.render.target = vx::RenderTarget::glfw_window(window);
-    info.render.device = "cpu";
-    info.render.validation = true;
-    info.render.vsync = false;
+    const vx::EngineCreateInfo info = window_info(window, 2);
     {
         auto created = vx::Engine::create(info);
         if (!created) {
@@ -127,15 +126,7 @@ TEST(FacadeWindow, OverlayRectanglesAreDrawnOverTheFrame) {
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     GLFWwindow* window = glfwCreateWindow(64, 48, "vx overlay test", nullptr, nullptr);
     ASSERT_NE(window, nullptr);
-    vx::EngineCreateInfo info;
-    info.world = vx::WorldSource::terrain(5);
-    info.streaming.view_radius = 1;
-    info.streaming.view_radius_vertical = 1;
-    info.streaming.worker_threads = 2;
-    info.render.target = vx::RenderTarget::glfw_window(window);
-    info.render.device = "cpu";
-    info.render.validation = true;
-    info.render.vsync = false;
+    const vx::EngineCreateInfo info = window_info(window, 1);
     {
         auto created = vx::Engine::create(info);
         if (!created) {

@@ -14,12 +14,16 @@
 
 #include <vx/vx.h>
 
+#include "facade_test_util.h"
+
 #include "pg_cluster.h"
 
 using Clock = std::chrono::steady_clock;
 using vx::world::test::PgCluster;
 
 namespace {
+
+using vx::test::settle;
 
 constexpr uint64_t kSeed = 11;
 
@@ -31,17 +35,6 @@ vx::EngineCreateInfo shared_info(const std::string& uri) {
     info.streaming.worker_threads = 1;
     info.streaming.save_delay_s = 0.05;
     return info;
-}
-
-bool settle(vx::Engine& e) {
-    const auto limit = Clock::now() + std::chrono::minutes(2);
-    while (Clock::now() < limit) {
-        e.update();
-        if (e.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
 }
 
 // Updates until `p` holds `id` (true) or `timeout_s` passes.

@@ -11,9 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include "facade_test_util.h"
 #include "game.h"
 
 namespace {
+
+using vx::test::settle;
 
 using Clock = std::chrono::steady_clock;
 constexpr uint64_t kSeed = 3;
@@ -27,17 +30,6 @@ std::unique_ptr<vx::Engine> make_engine(vx::WorldSource world) {
     auto e = vx::Engine::create(info);
     EXPECT_TRUE(e) << (e ? "" : e.error());
     return e ? std::move(*e) : nullptr;
-}
-
-bool settle(vx::Engine& e) {
-    const auto limit = Clock::now() + std::chrono::minutes(2);
-    while (Clock::now() < limit) {
-        e.update();
-        if (e.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
 }
 
 // Eye 4.5 blocks above the terrain top at (0, 0), looking straight down.
