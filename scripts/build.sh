@@ -15,7 +15,7 @@ case "$kind" in
 esac
 jobs=$(nproc)
 # ccache (when installed) keys on paths relative to the repository, so clones elsewhere share hits.
-export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 cmake -S . -B "build/$kind" -G Ninja -DVX_WERROR=ON "${args[@]}" "$@" >/dev/null
 # shellcheck disable=SC2086
 ninja -C "build/$kind" -j "$jobs" ${VX_TARGETS:-}
