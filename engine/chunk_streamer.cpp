@@ -150,7 +150,7 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
                            std::chrono::duration_cast<std::chrono::nanoseconds>(
                                t0 + m_settings.frame_budget * 7 / 10 - Clock::now()));
     m_jobs->process_completions(budget);
-    poll_store_changes(now);
+    poll_store_changes();
     // Meshes stop an eighth early: unloads, evictions and saves after them fit in the budget too.
     schedule_meshes(deadline - m_settings.frame_budget / 8);
     unload_far(now, deadline);
@@ -396,7 +396,7 @@ void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error, size_t edit
     edits.erase(edits.begin(), edits.begin() + std::ptrdiff_t(std::min(edits_saved, edits.size())));
 }
 
-void ChunkStreamer::poll_store_changes(Clock::time_point now) {
+void ChunkStreamer::poll_store_changes() {
     if (!m_store)
         return;
     // Loads the store failed to answer, once their second has passed.
@@ -421,7 +421,6 @@ void ChunkStreamer::poll_store_changes(Clock::time_point now) {
     }
     if (!jobs.empty())
         m_jobs->submit_batch(std::move(jobs));
-    (void)now;
 }
 
 void ChunkStreamer::on_reloaded(ChunkCoord c, std::optional<Chunk> chunk) {

@@ -154,7 +154,7 @@ private:
     void on_generated(world::ChunkCoord c, world::Chunk chunk) override;
     void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) override;
     void on_saved(world::ChunkCoord c, const std::string& error, size_t edits_saved) override;
-    void poll_store_changes(std::chrono::steady_clock::time_point now);
+    void poll_store_changes();
     void remesh_around(world::ChunkCoord c);
     StreamJobEvents& events() { return *this; } // What jobs report to (a private base).
     void update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,

@@ -10,15 +10,6 @@ namespace {
 
 constexpr size_t kNotifyPayloadMax = 7900; // NOTIFY payloads must be shorter than 8000 bytes.
 
-bool result_ok(const PGresult* r) {
-    const ExecStatusType s = PQresultStatus(r);
-    return s == PGRES_COMMAND_OK || s == PGRES_TUPLES_OK;
-}
-
-std::string coord_str(ChunkCoord c) {
-    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
-}
-
 bool send(PGconn* conn, const char* name, const pg::Params& p) {
     return PQsendQueryPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1) == 1;
 }
@@ -27,7 +18,7 @@ bool send(PGconn* conn, const char* name, const pg::Params& p) {
 std::vector<std::string> notify_payloads(const std::vector<ChunkCoord>& coords) {
     std::vector<std::string> out(1);
     for (ChunkCoord c : coords) {
-        std::string item = coord_str(c) + ";";
+        std::string item = pg::coord_str(c) + ";";
         if (out.back().size() + item.size() > kNotifyPayloadMax)
             out.emplace_back();
         out.back() += item;
@@ -128,7 +119,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
         return e;
     }
     pg::ResultPtr end(PQexec(m_conn, conflicts.empty() ? "COMMIT" : "ROLLBACK"));
-    if (!result_ok(end.get()))
+    if (!pg::ok(end.get()))
         return error(conflicts.empty() ? "commit failed; edits kept for a retry" : "rollback failed");
     if (!conflicts.empty())
         return false;
@@ -143,10 +134,9 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
 Status PgStore::resolve_conflict(ChunkCoord c) {
     pg::Params params;
     params.add_coord(c);
-    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_load", params.count(), params.values(), params.lengths(),
-                                   params.formats(), 1));
-    if (!result_ok(r.get()))
-        return error("cannot reload chunk " + coord_str(c) + " after a conflict");
+    pg::ResultPtr r = pg::exec(m_conn, "vx_load", params);
+    if (!pg::ok(r.get()))
+        return error("cannot reload chunk " + pg::coord_str(c) + " after a conflict");
     Pending& p = m_pending[c];
     std::optional<Chunk> theirs;
     uint64_t version = 0;
@@ -184,9 +174,9 @@ Result<bool> PgStore::contains(ChunkCoord c) {
         return Error{s.error()};
     pg::Params p;
     p.add_coord(c);
-    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_has", p.count(), p.values(), p.lengths(), p.formats(), 1));
-    if (!result_ok(r.get()))
-        return error("cannot look up chunk " + coord_str(c));
+    pg::ResultPtr r = pg::exec(m_conn, "vx_has", p);
+    if (!pg::ok(r.get()))
+        return error("cannot look up chunk " + pg::coord_str(c));
     return PQntuples(r.get()) > 0;
 }
 
@@ -195,8 +185,8 @@ Result<uint64_t> PgStore::count() {
         return Error{s.error()};
     if (Status s = ensure_connected(true); !s)
         return Error{s.error()};
-    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_count", 0, nullptr, nullptr, nullptr, 1));
-    if (!result_ok(r.get()) || PQntuples(r.get()) != 1)
+    pg::ResultPtr r = pg::exec(m_conn, "vx_count");
+    if (!pg::ok(r.get()) || PQntuples(r.get()) != 1)
         return error("cannot count chunks");
     return uint64_t(pg::get_i64(r.get(), 0, 0));
 }
@@ -206,8 +196,8 @@ Status PgStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
         return s;
     if (Status s = ensure_connected(true); !s)
         return s;
-    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_list", 0, nullptr, nullptr, nullptr, 1));
-    if (!result_ok(r.get()))
+    pg::ResultPtr r = pg::exec(m_conn, "vx_list");
+    if (!pg::ok(r.get()))
         return error("cannot list chunks");
     for (int i = 0, n = PQntuples(r.get()); i < n; ++i)
         if (!fn(ChunkCoord(pg::get_i32(r.get(), i, 0), pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2))))
@@ -222,8 +212,8 @@ Result<std::optional<std::string>> PgStore::get_meta(std::string_view key) {
         return Error{s.error()};
     pg::Params p;
     p.add_text(std::string(key));
-    pg::ResultPtr r(PQexecPrepared(m_conn, "vx_meta_get", p.count(), p.values(), p.lengths(), p.formats(), 1));
-    if (!result_ok(r.get()))
+    pg::ResultPtr r = pg::exec(m_conn, "vx_meta_get", p);
+    if (!pg::ok(r.get()))
         return error("cannot read metadata '" + std::string(key) + "'");
     if (PQntuples(r.get()) == 0)
         return std::optional<std::string>();

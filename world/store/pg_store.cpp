@@ -15,19 +15,6 @@ namespace {
 constexpr int kMaxCommitAttempts = 32;
 constexpr std::chrono::milliseconds kMaxBackoff{8000};
 
-std::string coord_str(ChunkCoord c) {
-    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
-}
-
-bool result_ok(const PGresult* r) {
-    const ExecStatusType s = PQresultStatus(r);
-    return s == PGRES_COMMAND_OK || s == PGRES_TUPLES_OK;
-}
-
-pg::ResultPtr exec_prepared(PGconn* conn, const char* name, const pg::Params& p) {
-    return pg::ResultPtr(PQexecPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1));
-}
-
 } // namespace
 
 bool is_pg_uri(std::string_view s) { return s.starts_with("postgresql://") || s.starts_with("postgres://"); }
@@ -95,7 +82,7 @@ Status PgStore::connect() {
 Status PgStore::init_schema() {
     pg::ResultPtr r(PQexec(m_conn, "SELECT to_regclass('vx_meta') IS NOT NULL, "
                                    "(SELECT count(*) FROM pg_tables WHERE schemaname = current_schema())"));
-    if (!result_ok(r.get()) || PQntuples(r.get()) != 1)
+    if (!pg::ok(r.get()) || PQntuples(r.get()) != 1)
         return error("cannot read the database's tables");
     const bool has_world = PQgetvalue(r.get(), 0, 0)[0] == 't';
     const std::string tables = PQgetvalue(r.get(), 0, 1);
@@ -111,14 +98,14 @@ Status PgStore::init_schema() {
                                 "INSERT INTO vx_meta VALUES ('format', convert_to('" + pg::kFormat +
                                 "', 'UTF8')) ON CONFLICT DO NOTHING; COMMIT;";
         pg::ResultPtr c(PQexec(m_conn, sql.c_str()));
-        if (!result_ok(c.get())) {
+        if (!pg::ok(c.get())) {
             Error e = error("cannot create the world's tables");
             pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
             return e;
         }
     }
     pg::ResultPtr f(PQexec(m_conn, "SELECT convert_from(value, 'UTF8') FROM vx_meta WHERE key = 'format'"));
-    if (!result_ok(f.get()))
+    if (!pg::ok(f.get()))
         return error("cannot read the world's format");
     const std::string format = PQntuples(f.get()) == 1 ? PQgetvalue(f.get(), 0, 0) : "";
     if (format != pg::kFormat)
@@ -131,7 +118,7 @@ Status PgStore::init_schema() {
 Status PgStore::prepare() {
     for (size_t i = 0; i < pg::kStatementCount; ++i) {
         pg::ResultPtr r(PQprepare(m_conn, pg::kStatements[i].name, pg::kStatements[i].sql, 0, nullptr));
-        if (!result_ok(r.get()))
+        if (!pg::ok(r.get()))
             return error(std::string("cannot prepare ") + pg::kStatements[i].name);
     }
     return {};
@@ -195,9 +182,9 @@ Result<ChunkLoad> PgStore::load(ChunkCoord c) {
         return Error{s.error()};
     pg::Params p;
     p.add_coord(c);
-    pg::ResultPtr r = exec_prepared(m_conn, "vx_load", p);
-    if (!result_ok(r.get()))
-        return error("cannot load chunk " + coord_str(c));
+    pg::ResultPtr r = pg::exec(m_conn, "vx_load", p);
+    if (!pg::ok(r.get()))
+        return error("cannot load chunk " + pg::coord_str(c));
     if (PQntuples(r.get()) == 0) {
         m_versions.erase(c);
         return out;
@@ -222,7 +209,7 @@ Result<ChunkLoad> PgStore::load(ChunkCoord c) {
 }
 
 Status PgStore::quarantine(ChunkCoord c, uint64_t version, const std::string& reason) {
-    VX_LOG_WARN("PostgreSQL world '%s': chunk %s: %s%s", m_name.c_str(), coord_str(c).c_str(), reason.c_str(),
+    VX_LOG_WARN("PostgreSQL world '%s': chunk %s: %s%s", m_name.c_str(), pg::coord_str(c).c_str(), reason.c_str(),
                 m_info.read_only ? "" : "; moved to quarantine");
     if (m_info.read_only)
         return {};
@@ -230,9 +217,9 @@ Status PgStore::quarantine(ChunkCoord c, uint64_t version, const std::string& re
     p.add_coord(c);
     p.add_i64(int64_t(version));
     p.add_text(reason);
-    pg::ResultPtr r = exec_prepared(m_conn, "vx_quarantine", p);
-    if (!result_ok(r.get()))
-        return error("cannot quarantine chunk " + coord_str(c));
+    pg::ResultPtr r = pg::exec(m_conn, "vx_quarantine", p);
+    if (!pg::ok(r.get()))
+        return error("cannot quarantine chunk " + pg::coord_str(c));
     if (PQntuples(r.get()) == 1)
         m_versions[c] = uint64_t(pg::get_i64(r.get(), 0, 0));
     return {}; // No row: another process replaced the record meanwhile; nothing to move.

@@ -80,6 +80,22 @@ inline int32_t get_i32(const PGresult* r, int row, int col) {
 // null; check PQstatus.
 PGconn* connect(const std::string& conninfo, int connect_timeout_s);
 
+// Whether a result is a success (a command, or rows).
+inline bool ok(const PGresult* r) {
+    const ExecStatusType s = PQresultStatus(r);
+    return s == PGRES_COMMAND_OK || s == PGRES_TUPLES_OK;
+}
+
+// Runs prepared statement `name` (blocking), results in binary format.
+inline ResultPtr exec(PGconn* conn, const char* name, const Params& p = {}) {
+    return ResultPtr(PQexecPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1));
+}
+
+// "x,y,z": chunk coordinates in messages and NOTIFY payloads.
+inline std::string coord_str(ChunkCoord c) {
+    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
+}
+
 // The message of a failed result or connection, one line.
 std::string message(PGconn* conn, const PGresult* r = nullptr);
 
