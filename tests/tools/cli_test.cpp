@@ -207,6 +207,30 @@ TEST(Cli, WorldGenInfoAndCheck) {
     EXPECT_EQ(r.code, 2) << r.out;
 }
 
+// --part K/N splits the box into N slabs along x: the parts together are the whole box, and a
+// malformed or empty part is one line and exit 2, before any store is touched.
+TEST(Cli, WorldGenPartsCoverTheBox) {
+    const auto dir = temp_dir() / "parts";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = (dir / "w.db").string();
+    CliRun r = run_vx("world gen " + db + " --seed 9 --radius 1 --bottom 0 --top 0 --part 1/2");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find(" 3 chunks"), std::string::npos) << r.out; // x = -1 (3 of width 3 * 1 / 2).
+    r = run_vx("world gen " + db + " --seed 9 --radius 1 --bottom 0 --top 0 --part 2/2");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find(" 6 chunks"), std::string::npos) << r.out; // x = 0 and 1.
+    r = run_vx("world info " + db);
+    EXPECT_NE(r.out.find("chunks stored: 9"), std::string::npos) << r.out;
+    for (const char* bad : {"0/2", "3/2", "1/0", "a/b", "1/2/3"}) {
+        r = run_vx("world gen " + db + " --seed 9 --radius 1 --part " + bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--part"), std::string::npos) << r.out;
+    }
+    r = run_vx("world gen " + db + " --seed 9 --radius 0 --part 1/2"); // Width 1: the first half is empty.
+    EXPECT_EQ(r.code, 2) << r.out;
+}
+
 // Progress bars draw only on a terminal: piped (as here, and into CI logs) `vx world gen` prints
 // no carriage-return frames, just its one summary line.
 TEST(Cli, PipedWorldGenPrintsOneSummaryLine) {
