@@ -124,7 +124,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     if (!conflicts.empty())
         return false;
     for (size_t i = 0; i < order.size(); ++i)
-        m_versions[order[i]] = versions[i];
+        note_version(order[i], versions[i]);
     return true;
 }
 
@@ -154,7 +154,7 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
                 version = known_version(c); // The tombstone's version.
         }
     }
-    m_versions[c] = version;
+    note_version(c, version);
     if (p.whole || !p.record || !theirs)
         return {};
     for (const BlockEdit& e : p.edits)

@@ -190,7 +190,7 @@ Result<ChunkLoad> PgStore::load(ChunkCoord c) {
         return out;
     }
     const uint64_t version = uint64_t(pg::get_i64(r.get(), 0, 0));
-    m_versions[c] = version;
+    note_version(c, version);
     const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
     const size_t n = size_t(PQgetlength(r.get(), 0, 1));
     if (n == 0)
@@ -221,7 +221,7 @@ Status PgStore::quarantine(ChunkCoord c, uint64_t version, const std::string& re
     if (!pg::ok(r.get()))
         return error("cannot quarantine chunk " + pg::coord_str(c));
     if (PQntuples(r.get()) == 1)
-        m_versions[c] = uint64_t(pg::get_i64(r.get(), 0, 0));
+        note_version(c, uint64_t(pg::get_i64(r.get(), 0, 0)));
     return {}; // No row: another process replaced the record meanwhile; nothing to move.
 }
 
@@ -291,6 +291,7 @@ Status PgStore::commit() {
             m_pending_meta.clear();
             m_pending_bytes = 0;
             m_pending_since.reset();
+            trim_versions();
             std::lock_guard lock(m_health_mutex);
             m_health.pending_edits = 0;
             return {};
@@ -303,6 +304,21 @@ Status PgStore::commit() {
     }
     return Error{"PostgreSQL world '" + m_name + "': gave up after " + std::to_string(kMaxCommitAttempts) +
                  " conflicting attempts; edits kept in memory"};
+}
+
+void PgStore::note_version(ChunkCoord c, uint64_t version) {
+    m_versions.erase(c);
+    trim_versions(); // Before inserting, so `c` itself is kept.
+    m_versions[c] = version;
+}
+
+void PgStore::trim_versions() {
+    const size_t keep = m_info.max_known_versions / 2;
+    if (m_versions.size() <= m_info.max_known_versions || m_pending.size() >= keep)
+        return; // (A commit of more than `keep` chunks trims once it is done.)
+    // Forget (in hash order: no recency is kept, forgetting is only slower) until half remain.
+    for (auto it = m_versions.begin(); it != m_versions.end() && m_versions.size() > keep;)
+        it = m_pending.count(it->first) ? std::next(it) : m_versions.erase(it);
 }
 
 uint64_t PgStore::known_version(ChunkCoord c) const {

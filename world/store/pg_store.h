@@ -53,6 +53,10 @@ struct PgStoreCreateInfo {
     size_t max_pending_bytes = size_t(32) << 20;     // save() commits when the queue holds more.
     int zstd_level = 1;                              // 1..3.
     int connect_timeout_s = 3;                       // Per connection attempt.
+    // Chunk versions remembered (about 60 B each). Past this, versions of chunks with no queued
+    // edit are forgotten down to half: a later commit of such a chunk costs one conflict round
+    // trip (reload, re-apply edits) but stays correct, so a long session's memory stays bounded.
+    size_t max_known_versions = size_t(1) << 18;
 };
 
 // True for strings libpq reads as a connection URI ("postgresql://", "postgres://").
@@ -108,6 +112,8 @@ private:
     Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
     Status resolve_conflict(ChunkCoord c);
     Error error(const std::string& what);
+    void note_version(ChunkCoord c, uint64_t version); // Remembers, then trim_versions().
+    void trim_versions();
 
     PgStoreCreateInfo m_info;
     std::string m_name; // Redacted URI for messages.
