@@ -4,9 +4,10 @@
 //               [--reads all|import] [--out FILE.csv] [--stall-seconds T] [--child-stderr]
 //   vx_vdb_fuzz --only I [--seed S] [--reads ...] [--keep FILE.vdb]
 //
-// The readers' own stderr (OpenVDB warnings, glibc's abort messages) goes to /dev/null unless
+// The readers' own output (OpenVDB warnings, glibc's abort messages) goes to /dev/null unless
 // --child-stderr or --only. --inject-escape I makes the worker kill itself (SIGSEGV) on input I,
-// as an uncontained crash would: the driver's test checks that it is counted and named.
+// as an uncontained crash would, and --inject-hang I makes it wait forever there, as a deadlocked
+// reader would: the driver's tests check that both are counted and named.
 //
 // Inputs first..first+N-1 of vdb_fuzz_input.h (input i depends only on seed and i), each written
 // to a temporary file and read through the isolated API. J worker processes take every J-th input;
@@ -61,6 +62,7 @@ struct Options {
     bool only = false;
     bool child_stderr = false;
     uint64_t inject_escape = UINT64_MAX;
+    uint64_t inject_hang = UINT64_MAX;
     int stall_seconds = 300; // Children have 20 s of CPU; wall time on a loaded machine is longer.
 };
 
@@ -107,6 +109,8 @@ bool parse_args(int argc, char** argv, Options& o) {
             o.jobs = int(n);
         else if (a == "--inject-escape" && number(0, UINT64_MAX / 2))
             o.inject_escape = n;
+        else if (a == "--inject-hang" && number(0, UINT64_MAX / 2))
+            o.inject_hang = n;
         else if (a == "--child-stderr")
             o.child_stderr = true;
         else if (a == "--stall-seconds" && number(1, 86400))
@@ -139,30 +143,40 @@ bool write_record(int fd, const Record& r) {
     }
 }
 
+// A worker's folder for its input file; the coordinator removes it when the worker is killed.
+std::filesystem::path worker_dir(pid_t pid) {
+    return std::filesystem::temp_directory_path() / ("vx_vdb_fuzz_" + std::to_string(pid));
+}
+
 // ---- a worker: inputs begin, begin + stride, ... below end ----
 
 [[noreturn]] void worker_main(const Options& o, const fuzz::Corpus& corpus, uint32_t id, uint64_t begin,
                               uint64_t stride, uint64_t end, int fd) {
     ::setpgid(0, 0); // Its isolated readers join its group, so a stalled worker is killed whole.
-    const std::filesystem::path dir =
-        std::filesystem::temp_directory_path() / ("vx_vdb_fuzz_" + std::to_string(::getpid()));
+    const std::filesystem::path dir = worker_dir(::getpid());
     std::filesystem::create_directories(dir);
     const std::string path = o.keep.empty() ? (dir / "input.vdb").string() : o.keep;
     const vx::vdb::IsolationOptions iso = fuzz::fuzz_isolation();
     std::FILE* err = stderr;
-    if (!o.child_stderr) { // The readers inherit fd 2; this worker keeps a copy for its messages.
+    if (!o.child_stderr) {
+        // The readers inherit fds 1 and 2 (OpenVDB logs warnings to stdout); this worker keeps a
+        // copy of 2 for its own messages.
         const int null_fd = ::open("/dev/null", O_WRONLY);
         const int keep = ::dup(2);
-        if (null_fd >= 0 && keep >= 0 && (err = ::fdopen(keep, "w")) != nullptr)
+        if (null_fd >= 0 && keep >= 0 && (err = ::fdopen(keep, "w")) != nullptr) {
+            ::dup2(null_fd, 1);
             ::dup2(null_fd, 2);
-        else
+        } else {
             err = stderr;
+        }
         if (null_fd >= 0)
             ::close(null_fd);
     }
     for (uint64_t i = begin; i < end; i += stride) {
         if (i == o.inject_escape)
             ::raise(SIGSEGV);
+        while (i == o.inject_hang)
+            ::pause();
         const auto t0 = std::chrono::steady_clock::now();
         const fuzz::Input in = fuzz::make_input(corpus, o.seed, i);
         std::ofstream(path, std::ios::binary | std::ios::trunc) << in.bytes;
@@ -321,7 +335,7 @@ private:
             ++m_t.deaths;
             const std::string how = WIFSIGNALED(status) ? std::string("killed by ") + ::strsignal(WTERMSIG(status))
                                                         : "exit " + std::to_string(WEXITSTATUS(status));
-            escape(*it, "worker " + how);
+            escape(*it, pid, "worker " + how);
         }
     }
 
@@ -343,17 +357,20 @@ private:
         for (Worker& w : m_workers) {
             if (w.pid <= 0 || now - w.last < std::chrono::seconds(m_o.stall_seconds))
                 continue;
-            ::kill(-w.pid, SIGKILL); // Its process group: the worker and its reader, both ours.
+            const pid_t pid = w.pid;
+            ::kill(-pid, SIGKILL); // Its process group: the worker and its reader, both ours.
             int status = 0;
-            ::waitpid(w.pid, &status, 0);
+            ::waitpid(pid, &status, 0);
             w.pid = -1;
             drain();
             ++m_t.hangs;
-            escape(w, "no input finished in " + std::to_string(m_o.stall_seconds) + " s (hang)");
+            escape(w, pid, "no input finished in " + std::to_string(m_o.stall_seconds) + " s (hang)");
         }
     }
 
-    void escape(Worker& w, const std::string& what) {
+    void escape(Worker& w, pid_t pid, const std::string& what) {
+        std::error_code ec;
+        std::filesystem::remove_all(worker_dir(pid), ec);
         const uint64_t input = w.next;
         std::fprintf(stderr, "vx_vdb_fuzz: ESCAPE at input %llu (%s): %s; rerun: vx_vdb_fuzz --seed %u --only %llu\n",
                      (unsigned long long)input, m_corpus.names[size_t(fuzz::make_input(m_corpus, m_o.seed, input).file)].c_str(),
