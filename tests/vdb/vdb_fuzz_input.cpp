@@ -8,8 +8,9 @@ namespace vx::vdb::fuzz {
 namespace {
 
 // Small files (30–245 KB) so an input costs a few tens of ms per read; the level set apart.
-constexpr const char* kSmallFiles[] = {"gaffer_arnoldtest_sphere.vdb", "oiio_sphere.vdb", "arnoldusd_torus01.vdb",
-                                       "arnoldusd_grids.vdb",          "gaffer_points.vdb", "oiio_sphereCd.vdb"};
+constexpr const char* kSmallFiles[] = {"gaffer_arnoldtest_sphere.vdb", "oiio_sphere.vdb",
+                                       "arnoldusd_torus01.vdb",        "arnoldusd_grids.vdb",
+                                       "gaffer_points.vdb",            "oiio_sphereCd.vdb"};
 constexpr const char* kLargeFile = "gaffer_vdbtest_sphere.vdb";
 constexpr uint64_t kLargeEvery = 25;
 
@@ -25,7 +26,8 @@ Result<Corpus> load_corpus(const std::string& dir) {
         const std::string path = dir + "/" + name;
         std::ifstream f(path, std::ios::binary);
         if (!f)
-            return Error{"cannot open '" + path + "' (the folder of the real VDB files: --data DIR or VX_VDB_DATA_DIR)"};
+            return Error{"cannot open '" + path +
+                         "' (the folder of the real VDB files: --data DIR or VX_VDB_DATA_DIR)"};
         std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
         if (bytes.empty() || f.bad())
             return Error{"cannot read '" + path + "': empty or unreadable"};
@@ -117,7 +119,8 @@ void check_error(ReadReport& rep, const std::string& what, const std::string& er
         rep.malformed.push_back(std::string(what) + ": error is not one line: '" + error + "'");
 }
 
-void volume_read(ReadReport& rep, const std::string& path, int voxels_per_block, const IsolationOptions& iso) {
+void volume_read(ReadReport& rep, const std::string& path, int voxels_per_block,
+                 const IsolationOptions& iso) {
     VolumeImportOptions o;
     o.voxels_per_block = voxels_per_block;
     o.max_blocks = uint64_t(1) << 24; // Bounds the work a corrupt bbox can ask for.

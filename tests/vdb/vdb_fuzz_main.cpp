@@ -148,6 +148,50 @@ std::filesystem::path worker_dir(pid_t pid) {
     return std::filesystem::temp_directory_path() / ("vx_vdb_fuzz_" + std::to_string(pid));
 }
 
+// Points fds 1 and 2 at /dev/null for the readers this worker forks (OpenVDB logs warnings to
+// stdout, glibc its abort messages to stderr) and returns a stream on a copy of stderr for the
+// worker's own messages.
+std::FILE* silence_readers() {
+    const int null_fd = ::open("/dev/null", O_WRONLY);
+    const int keep = ::dup(2);
+    std::FILE* err = null_fd >= 0 && keep >= 0 ? ::fdopen(keep, "w") : nullptr;
+    if (err) {
+        ::dup2(null_fd, 1);
+        ::dup2(null_fd, 2);
+    }
+    if (null_fd >= 0)
+        ::close(null_fd);
+    return err ? err : stderr;
+}
+
+Record make_record(uint32_t worker, uint64_t index, const fuzz::Input& in, const fuzz::ReadReport& rep,
+                   float ms) {
+    Record r;
+    r.index = index;
+    r.worker = worker;
+    r.file = uint8_t(in.file);
+    r.mutation = uint8_t(in.mutation);
+    r.reads = uint16_t(rep.reads);
+    std::copy(std::begin(rep.outcomes), std::end(rep.outcomes), r.outcomes);
+    r.malformed = uint32_t(rep.malformed.size());
+    r.ms = ms;
+    return r;
+}
+
+// --only: the input and every read's outcome with its message.
+void print_details(std::FILE* err, const Options& o, const fuzz::Corpus& corpus, uint64_t index,
+                   const fuzz::Input& in, const fuzz::ReadReport& rep) {
+    std::fprintf(err, "input %llu (seed %u): %s, %s, %zu bytes%s%s\n", (unsigned long long)index, o.seed,
+                 corpus.names[size_t(in.file)].c_str(), fuzz::mutation_name(in.mutation), in.bytes.size(),
+                 o.keep.empty() ? "" : ", kept as ", o.keep.c_str());
+    for (const std::string& line : rep.lines)
+        std::fprintf(err, "  %s\n", line.c_str());
+}
+
+std::string rerun(uint32_t seed, uint64_t index) {
+    return "vx_vdb_fuzz --seed " + std::to_string(seed) + " --only " + std::to_string(index);
+}
+
 // ---- a worker: inputs begin, begin + stride, ... below end ----
 
 [[noreturn]] void worker_main(const Options& o, const fuzz::Corpus& corpus, uint32_t id, uint64_t begin,
@@ -157,21 +201,7 @@ std::filesystem::path worker_dir(pid_t pid) {
     std::filesystem::create_directories(dir);
     const std::string path = o.keep.empty() ? (dir / "input.vdb").string() : o.keep;
     const vx::vdb::IsolationOptions iso = fuzz::fuzz_isolation();
-    std::FILE* err = stderr;
-    if (!o.child_stderr) {
-        // The readers inherit fds 1 and 2 (OpenVDB logs warnings to stdout); this worker keeps a
-        // copy of 2 for its own messages.
-        const int null_fd = ::open("/dev/null", O_WRONLY);
-        const int keep = ::dup(2);
-        if (null_fd >= 0 && keep >= 0 && (err = ::fdopen(keep, "w")) != nullptr) {
-            ::dup2(null_fd, 1);
-            ::dup2(null_fd, 2);
-        } else {
-            err = stderr;
-        }
-        if (null_fd >= 0)
-            ::close(null_fd);
-    }
+    std::FILE* err = o.child_stderr ? stderr : silence_readers();
     for (uint64_t i = begin; i < end; i += stride) {
         if (i == o.inject_escape)
             ::raise(SIGSEGV);
@@ -181,32 +211,18 @@ std::filesystem::path worker_dir(pid_t pid) {
         const fuzz::Input in = fuzz::make_input(corpus, o.seed, i);
         std::ofstream(path, std::ios::binary | std::ios::trunc) << in.bytes;
         const fuzz::ReadReport rep = fuzz::run_reads(path, o.reads, iso);
-        Record r;
-        r.index = i;
-        r.worker = id;
-        r.file = uint8_t(in.file);
-        r.mutation = uint8_t(in.mutation);
-        r.reads = uint16_t(rep.reads);
-        std::copy(std::begin(rep.outcomes), std::end(rep.outcomes), r.outcomes);
-        r.malformed = uint32_t(rep.malformed.size());
-        r.ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const float ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
         for (const std::string& m : rep.malformed)
-            std::fprintf(err, "vx_vdb_fuzz: input %llu (seed %u): malformed result: %s\n", (unsigned long long)i,
-                         o.seed, m.c_str());
-        if (o.only) {
-            std::fprintf(err, "input %llu (seed %u): %s, %s, %zu bytes%s%s\n", (unsigned long long)i, o.seed,
-                         corpus.names[size_t(in.file)].c_str(), fuzz::mutation_name(in.mutation), in.bytes.size(),
-                         o.keep.empty() ? "" : ", kept as ", o.keep.c_str());
-            for (const std::string& line : rep.lines)
-                std::fprintf(err, "  %s\n", line.c_str());
-        }
+            std::fprintf(err, "vx_vdb_fuzz: ESCAPE at input %llu: malformed result: %s; rerun: %s\n",
+                         (unsigned long long)i, m.c_str(), rerun(o.seed, i).c_str());
+        if (o.only)
+            print_details(err, o, corpus, i, in, rep);
         std::fflush(err);
-        if (!write_record(fd, r))
+        if (!write_record(fd, make_record(id, i, in, rep, ms)))
             ::_exit(3);
     }
     std::error_code ec;
-    if (o.keep.empty())
-        std::filesystem::remove_all(dir, ec);
+    std::filesystem::remove_all(dir, ec);
     std::fflush(err);
     ::_exit(0);
 }
@@ -372,9 +388,9 @@ private:
         std::error_code ec;
         std::filesystem::remove_all(worker_dir(pid), ec);
         const uint64_t input = w.next;
-        std::fprintf(stderr, "vx_vdb_fuzz: ESCAPE at input %llu (%s): %s; rerun: vx_vdb_fuzz --seed %u --only %llu\n",
-                     (unsigned long long)input, m_corpus.names[size_t(fuzz::make_input(m_corpus, m_o.seed, input).file)].c_str(),
-                     what.c_str(), m_o.seed, (unsigned long long)input);
+        const std::string& file = m_corpus.names[size_t(fuzz::make_input(m_corpus, m_o.seed, input).file)];
+        std::fprintf(stderr, "vx_vdb_fuzz: ESCAPE at input %llu (%s): %s; rerun: %s\n", (unsigned long long)input,
+                     file.c_str(), what.c_str(), rerun(m_o.seed, input).c_str());
         spawn(uint32_t(&w - m_workers.data()), input + m_workers.size());
     }
 
@@ -386,7 +402,8 @@ private:
         const double s = std::chrono::duration<double>(now - m_start).count();
         const double rate = m_t.inputs / std::max(s, 1e-9);
         const double eta = rate > 0 ? double(m_o.iterations - m_t.inputs) / rate : 0;
-        std::fprintf(stderr, "vx_vdb_fuzz: %llu/%llu inputs, %llu reads, %.0f s, %.1f inputs/s, eta %.0f s, escapes %llu\n",
+        std::fprintf(stderr,
+                     "vx_vdb_fuzz: %llu/%llu inputs, %llu reads, %.0f s, %.1f inputs/s, eta %.0f s, escapes %llu\n",
                      (unsigned long long)m_t.inputs, (unsigned long long)m_o.iterations,
                      (unsigned long long)m_t.reads, s, rate, eta, (unsigned long long)m_t.escapes());
     }
