@@ -11,7 +11,6 @@
 // vdb_isolated.h: call it from a single-threaded process).
 
 #include <cstdint>
-#include <map>
 #include <random>
 #include <string>
 #include <vector>
