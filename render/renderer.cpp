@@ -133,7 +133,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
     r->m->ctx->allocator().set_budget(info.gpu_memory_budget_bytes);
-    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames});
+    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames, info.max_refits});
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
     r->m->create_queries();
