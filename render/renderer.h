@@ -144,6 +144,7 @@ struct RenderStats {
     uint32_t hot_chunks = 0;       // Chunks kept refittable (edited within hot_frames frames).
     uint32_t failed_chunks = 0;    // Chunks not drawn: their GPU memory could not be allocated.
     uint64_t triangles = 0;  // Of the drawn chunks, including spare (degenerate) slots.
+    uint32_t raster_chunks = 0; // Raster pipeline: chunks drawn (inside the view frustum); 0 when ray traced.
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     GpuMemoryStats memory;
     double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).

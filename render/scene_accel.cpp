@@ -105,7 +105,8 @@ void SceneAccel::ensure_indices(uint32_t slots) {
     m_index_slots = std::max(slots, m_index_slots * 2);
     const std::vector<uint32_t> idx = slot_indices(m_index_slots);
     m_indices = upload_buffer(*m_ctx, idx.data(), idx.size() * sizeof(uint32_t),
-                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                                  VK_BUFFER_USAGE_INDEX_BUFFER_BIT, // The raster pipeline draws with it too.
                               "slot index pattern");
     VX_ASSERT_MSG(m_indices.valid(), "out of GPU memory for the index pattern");
 }

@@ -98,6 +98,9 @@ public:
         uint32_t slots = 0;
     };
     std::span<const DrawChunk> draw_list() const { return m_draw_list; }
+    // The shared slot index pattern (chunk_geometry.h), uint32, at least as many slots as the
+    // largest chunk's after record_builds(); also an index buffer for the raster pipeline.
+    VkBuffer index_buffer() const { return m_indices.handle(); }
     const AccelStats& stats() const { return m_stats; }
     const AccelMemory& memory() const { return m_memory; }
 
