@@ -135,7 +135,8 @@ static void depth_barrier(VkCommandBuffer cmd, VkImage image) {
     vkCmdPipelineBarrier2(cmd, &di);
 }
 
-void RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f, std::span<const SceneAccel::DrawChunk> chunks) {
+uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
+                                std::span<const SceneAccel::DrawChunk> chunks, VkBuffer indices) {
     ensure_depth(f.width, f.height);
     const Image& depth = m_depth[m_ctx->frame_slot()];
     image_barrier(cmd, f.target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
@@ -177,19 +178,42 @@ void RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f, std::span
     push.light_position = glm::vec4(glm::vec3(f.light_position - glm::dvec3(f.camera_offset)), float(f.mode));
     push.light_power = glm::vec4(f.light_power, f.ambient);
     push.materials = f.materials;
+    uint32_t drawn = 0;
+    if (!chunks.empty())
+        vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
     for (const SceneAccel::DrawChunk& c : chunks) {
         // 64-bit difference first, then float, as the TLAS transforms.
         const world::BlockPos rel = world::chunk_origin(c.coord) - f.camera_block;
-        push.chunk_origin = glm::vec4(glm::vec3(rel) - f.camera_offset, 0.f);
+        const glm::vec3 origin = glm::vec3(rel) - f.camera_offset;
+        if (!raster_box_visible(f.clip_from_eye, origin, origin + float(world::kChunkSize)))
+            continue;
+        push.chunk_origin = glm::vec4(origin, 0.f);
         push.quads = c.quads;
         vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                            &push);
-        vkCmdDraw(cmd, 6 * c.slots, 1, 0, 0);
+        vkCmdDrawIndexed(cmd, 6 * c.slots, 1, 0, 0, 0); // Slot k: vertices 4k..4k+3 (raster.vert).
+        ++drawn;
     }
     vkCmdEndRendering(cmd);
     image_barrier(cmd, f.target, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    return drawn;
+}
+
+bool raster_box_visible(const glm::mat4& m, glm::vec3 lo, glm::vec3 hi) {
+    // Planes of the clip volume -w <= x, y <= w, 0 <= z <= w as rows of m (Gribb and Hartmann,
+    // "Fast extraction of viewing frustum planes", 2001): a point p is inside plane n when
+    // dot(n, (p, 1)) >= 0. A box is outside when its corner furthest along n is outside.
+    const glm::vec4 r0(m[0][0], m[1][0], m[2][0], m[3][0]), r1(m[0][1], m[1][1], m[2][1], m[3][1]),
+        r2(m[0][2], m[1][2], m[2][2], m[3][2]), r3(m[0][3], m[1][3], m[2][3], m[3][3]);
+    const glm::vec4 planes[6] = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2};
+    for (const glm::vec4& n : planes) {
+        const glm::vec3 far_corner(n.x >= 0.f ? hi.x : lo.x, n.y >= 0.f ? hi.y : lo.y, n.z >= 0.f ? hi.z : lo.z);
+        if (glm::dot(glm::vec3(n), far_corner) + n.w < 0.f)
+            return false;
+    }
+    return true;
 }
 
 glm::mat4 raster_clip_from_eye(glm::vec3 forward, glm::vec3 up, float fov_y_degrees, float aspect, float near_plane,

@@ -4,6 +4,10 @@
 // buffers, so cold chunks that dropped their BLAS vertices draw too), a depth buffer, and Phong
 // shading with one point light (shaders/raster.frag). Same camera model as the ray tracer's
 // (pixel centres, y down), so a Flat image covers the pixels the ray tracer's does.
+// Work kept proportionate: chunks outside the view frustum are skipped on the CPU; each chunk is
+// one indexed draw over the shared slot index pattern (4 vertex shader runs per quad, not 6);
+// the vertex shader drops spare slots and back faces of opaque blocks (never the first thing a
+// ray from outside the blocks hits) before rasterisation.
 // Dynamic rendering (Vulkan 1.3). Main thread only.
 
 #include <span>
@@ -40,10 +44,13 @@ public:
     RasterPipeline(const RasterPipeline&) = delete;
     RasterPipeline& operator=(const RasterPipeline&) = delete;
 
-    // Records the clear and one draw per chunk into `cmd`, leaving the target in
-    // TRANSFER_SRC_OPTIMAL (as the ray tracer's trace does). The chunks' quad buffers must have
-    // been uploaded earlier in `cmd` or before (SceneAccel::record_builds).
-    void record(VkCommandBuffer cmd, const RasterFrame& frame, std::span<const SceneAccel::DrawChunk> chunks);
+    // Records the clear and one draw per chunk inside the view frustum into `cmd`, leaving the
+    // target in TRANSFER_SRC_OPTIMAL (as the ray tracer's trace does). The chunks' quad buffers
+    // must have been uploaded earlier in `cmd` or before (SceneAccel::record_builds);
+    // `indices` is SceneAccel::index_buffer(), covering every chunk's slots. Returns the number
+    // of chunks drawn.
+    uint32_t record(VkCommandBuffer cmd, const RasterFrame& frame, std::span<const SceneAccel::DrawChunk> chunks,
+                    VkBuffer indices);
 
 private:
     void create_pipeline(VkFormat color_format);
@@ -54,6 +61,10 @@ private:
     VkPipeline m_pipeline = VK_NULL_HANDLE;
     std::array<Image, kFramesInFlight> m_depth;
 };
+
+// Whether the axis-aligned box [lo, hi] (positions relative to the eye) may intersect the view
+// volume of `clip_from_eye` (its six planes; conservative: a box near a frustum corner may pass).
+bool raster_box_visible(const glm::mat4& clip_from_eye, glm::vec3 lo, glm::vec3 hi);
 
 // Vulkan clip space (y down, depth 0..1, near `near_plane` blocks) of a camera looking along
 // `forward` with `up` and a vertical field of view in degrees, for positions relative to the eye.

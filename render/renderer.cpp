@@ -101,6 +101,7 @@ struct Renderer::Impl {
         out.triangles = a.triangles;
         out.upload_bytes = a.upload_bytes;
         out.memory = accel->memory();
+        out.raster_chunks = raster_chunks;
     }
     void update_materials();
     Image& target() { return targets[ctx->frame_slot()]; }
@@ -110,6 +111,7 @@ struct Renderer::Impl {
     void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
     void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
+    uint32_t raster_chunks = 0; // Chunks the last frame's raster pass drew.
     static bool denoise_active(const RenderSettings& s) {
         return s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full && (s.denoise || s.accumulate > 1);
     }
@@ -133,7 +135,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
     r->m->ctx->allocator().set_budget(info.gpu_memory_budget_bytes);
-    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames});
+    r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames, info.max_refits});
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
     r->m->create_queries();
@@ -366,6 +368,7 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
     stamp(cmd, 1);
     accel->record_tlas_build(cmd, cam.block);
     stamp(cmd, 2);
+    raster_chunks = 0;
     if (s.pipeline == PipelineKind::Raster) {
         record_raster(cmd, s, cam);
     } else {
@@ -463,7 +466,7 @@ void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s,
         for (int c = 0; c < 3; ++c) // The clear colour is written as is: sRGB-encode the sky here.
             f.sky[c] = s.sky[c] <= 0.0031308f ? s.sky[c] * 12.92f : 1.055f * std::pow(std::min(s.sky[c], 1.f), 1.f / 2.4f) - 0.055f;
     f.materials = materials.address();
-    raster->record(cmd, f, accel->draw_list());
+    raster_chunks = raster->record(cmd, f, accel->draw_list(), accel->index_buffer());
     stamp(cmd, 3);
 }
 

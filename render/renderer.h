@@ -144,6 +144,7 @@ struct RenderStats {
     uint32_t hot_chunks = 0;       // Chunks kept refittable (edited within hot_frames frames).
     uint32_t failed_chunks = 0;    // Chunks not drawn: their GPU memory could not be allocated.
     uint64_t triangles = 0;  // Of the drawn chunks, including spare (degenerate) slots.
+    uint32_t raster_chunks = 0; // Raster pipeline: chunks drawn (inside the view frustum); 0 when ray traced.
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     GpuMemoryStats memory;
     double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
@@ -208,6 +209,9 @@ struct RendererCreateInfo {
     // Frames an edited ("hot": spare slots, ALLOW_UPDATE) chunk stays hot after its last edit
     // before it is rebuilt cold (exact size, compacted). See render/scene_accel.h.
     uint32_t hot_frames = 600;
+    // Refits of a hot chunk in a row before its next edit rebuilds it (render/scene_accel.h).
+    // 0: every edit of a hot chunk rebuilds it (benchmarks: refit against rebuild).
+    uint32_t max_refits = 16;
     // Test knob: chunk geometry and BLAS allocations fail once they would hold more than this
     // many bytes, as on a full device (those chunks are not drawn and are counted in
     // RenderStats::failed_chunks). 0: no limit.

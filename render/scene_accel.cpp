@@ -15,10 +15,10 @@ struct SceneAccel::BuildBatch {
 };
 
 // A refit keeps the tree built for the old geometry, whose boxes loosen as edits pile up, so
-// every kMaxRefits-th update of a chunk is a rebuild. On the H200 a 64-chunk refit costs 2.9 ms
-// against 15.4 ms rebuilt (docs/benchmarks.md): one rebuild in 16 adds about a third to the
-// update cost. The trace-time loss after k refits is not measured yet.
-static constexpr uint32_t kMaxRefits = 16;
+// every max_refits-th update of a chunk is a rebuild (SceneAccelCreateInfo; default 16). On the
+// H200 a 64-chunk refit costs 2.9 ms against 15.4 ms rebuilt (docs/benchmarks.md): one rebuild
+// in 16 adds about a third to the update cost. `vx bench render --sections geometry` measures
+// the trace-time loss after k refits.
 
 template <class G> static void mark_dirty(G& g, int slice) {
     VX_ASSERT(slice >= 0 && slice < world::kSliceCount);
@@ -71,7 +71,7 @@ void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, st
         g.last_edit_frame = m_frame;
         // A cold BLAS has neither spare slots nor ALLOW_UPDATE: its first edit rebuilds it hot.
         const bool refit = g.hot && !flags_changed && g.blas.valid() && g.pending != Pending::Build && g.layout.fits(mesh) &&
-                           g.refits_since_build < kMaxRefits;
+                           g.refits_since_build < m_info.max_refits;
         g.hot = true;
         if (refit) {
             g.pending = Pending::Refit;
@@ -105,7 +105,8 @@ void SceneAccel::ensure_indices(uint32_t slots) {
     m_index_slots = std::max(slots, m_index_slots * 2);
     const std::vector<uint32_t> idx = slot_indices(m_index_slots);
     m_indices = upload_buffer(*m_ctx, idx.data(), idx.size() * sizeof(uint32_t),
-                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                                  VK_BUFFER_USAGE_INDEX_BUFFER_BIT, // The raster pipeline draws with it too.
                               "slot index pattern");
     VX_ASSERT_MSG(m_indices.valid(), "out of GPU memory for the index pattern");
 }

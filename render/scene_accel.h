@@ -41,6 +41,9 @@ struct SceneAccelCreateInfo {
     bool allow_refit = true;
     // Frames after its last edit a hot chunk stays refittable before it is rebuilt cold.
     uint32_t hot_frames = 600;
+    // Refits of a hot chunk in a row; the next fitting edit rebuilds it (a refit keeps the old
+    // tree, whose boxes loosen). 0: every edit rebuilds (hot layout, ALLOW_UPDATE kept).
+    uint32_t max_refits = 16;
 };
 
 // Chunks are "cold" (built exact-size, PREFER_FAST_TRACE, without ALLOW_UPDATE, then compacted;
@@ -95,6 +98,9 @@ public:
         uint32_t slots = 0;
     };
     std::span<const DrawChunk> draw_list() const { return m_draw_list; }
+    // The shared slot index pattern (chunk_geometry.h), uint32, at least as many slots as the
+    // largest chunk's after record_builds(); also an index buffer for the raster pipeline.
+    VkBuffer index_buffer() const { return m_indices.handle(); }
     const AccelStats& stats() const { return m_stats; }
     const AccelMemory& memory() const { return m_memory; }
 

@@ -6,6 +6,9 @@
 //      accumulated frames of 8 samples, no filter), then spp in {1, 2, 4, 8, 16, 25, 64},
 //      bounce spp in {1, spp}, denoiser off and on: median GPU frame time and RMSE, PSNR, SSIM
 //      against the reference (render/image_metrics.h).
+//   4. geometry (tools/bench_render_geometry.h): naive, culled and greedy meshes; refit against
+//      rebuild over k edits.
+// --sections picks them: all (default), report (1-3) or geometry (4).
 // Writes DIR/render_report.md (tables), DIR/render_bench.csv, PNGs of the reference and of
 // each sweep image; scripts/plot_render_bench.py draws error against frame time from the CSV.
 #include <algorithm>
@@ -19,6 +22,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_render_geometry.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "engine/job_batch.h"
@@ -32,7 +36,7 @@ namespace {
 
 struct BenchRenderArgs {
     SceneArgs scene;
-    std::string size = "160x90", out = "render_bench", device = "auto";
+    std::string size = "160x90", out = "render_bench", device = "auto", sections = "all";
     uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
 };
 
@@ -146,6 +150,14 @@ int run_bench_render(const BenchRenderArgs& a) {
                      ". GPU times are medians of " + std::to_string(a.repeat) +
                      " frames (timestamps); the machine may be shared: read them side by side.\n\n";
     char line[512];
+    const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
+    if (a.sections == "geometry") { // Only section 4.
+        renderer->reset(); // Its renderers are made one at a time (volk loads one device's entry points).
+        md += run_geometry_bench(*scene, geometry);
+        std::ofstream(a.out + "/render_report.md") << md;
+        std::printf("  wrote %s/render_report.md and geometry.csv\n", a.out.c_str());
+        return kExitOk;
+    }
 
     // 1. Pipelines and features.
     md += "## Pipelines and features\n\n| configuration | frame ms | trace/raster ms | denoise ms |\n|---|---|---|---|\n";
@@ -219,6 +231,10 @@ int run_bench_render(const BenchRenderArgs& a) {
         }
     md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
           "frame time (PNG) next to the CSV.\n";
+    if (a.sections == "all") {
+        renderer->reset();
+        md += run_geometry_bench(*scene, geometry);
+    }
     std::ofstream(a.out + "/render_report.md") << md;
     std::printf("  wrote %s/render_report.md, render_bench.csv and PNGs\n", a.out.c_str());
     return kExitOk;
@@ -243,6 +259,9 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--reflections", a.reflections, "Reflection bounces of the full-shading rows");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
+    app.add_option("--sections", a.sections,
+                   "all; report: pipelines, features, speed against error; geometry: meshers, refit against rebuild")
+        ->check(CLI::IsMember({"all", "report", "geometry"}));
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,6 +2,7 @@
 // with the slices each edit changed (those slices uploaded and the BLAS refitted when the slots
 // fit, rebuilds otherwise) render the same bytes as the same world loaded from scratch.
 #include <random>
+#include <string>
 
 #include "scene_util.h"
 
@@ -72,31 +73,46 @@ TEST_F(RendererTest, IncrementalEditsRenderLikeScratch) {
 // A chunk edited over and over: its first edit rebuilds it hot (it was loaded cold: exact size,
 // no ALLOW_UPDATE), then it is refitted 16 times, then rebuilt (its boxes would loosen), and the
 // count starts again.
-TEST_F(RendererTest, RepeatedRefitsEndInARebuild) {
+// Edits of one chunk, each rendered: 'r' for a refit, 'b' for a build, per edit.
+std::string edit_kinds(Renderer& r, int edits) {
     world::World w = hills();
     world::EditMesher em;
     world::MeshMap meshes = test::mesh_world(w);
-    test::load_meshes(*m_renderer, meshes);
+    test::load_meshes(r, meshes);
     RenderSettings flat;
     flat.mode = ShadingMode::Flat;
     const Camera cam = Camera::look_at({30.3, 24.6, 29.1}, {-4.0, 4.0, -6.0});
-    m_renderer->render(flat, cam);
-    std::vector<char> kinds; // 'r' refit, 'b' build, per edit.
-    for (int i = 0; i < 34; ++i) {
+    r.render(flat, cam);
+    std::string kinds;
+    for (int i = 0; i < edits; ++i) {
         // Place and remove one block on the ground inside chunk (0,0,0) (the surface there is at
         // y = 9): the first edit (place) sets the hot layout, and both states fit it.
-        const world::BlockPos p(10, 9, 10);
-        const world::EditResult e = em.apply(w, p, i % 2 ? world::kAir : test::block_id("stone"), meshes);
-        ASSERT_EQ(e.updates.size(), 1u);
-        m_renderer->set_chunk(world::ChunkCoord(0), meshes[world::ChunkCoord(0)].mesh,
-                              test::changed_slices(e.updates[0]));
-        m_renderer->render(flat, cam);
-        const auto& st = m_renderer->last_stats();
-        ASSERT_EQ(st.blas_refits + st.blas_builds, 1u) << "edit " << i;
+        const world::EditResult e = em.apply(w, {10, 9, 10}, i % 2 ? world::kAir : test::block_id("stone"), meshes);
+        EXPECT_EQ(e.updates.size(), 1u);
+        r.set_chunk(world::ChunkCoord(0), meshes[world::ChunkCoord(0)].mesh, test::changed_slices(e.updates[0]));
+        r.render(flat, cam);
+        const auto& st = r.last_stats();
+        EXPECT_EQ(st.blas_refits + st.blas_builds, 1u) << "edit " << i;
         kinds.push_back(st.blas_builds ? 'b' : 'r');
     }
+    return kinds;
+}
+
+// RendererCreateInfo::max_refits: 0 rebuilds on every edit; 3 refits three times in a row.
+TEST(RendererMaxRefits, BoundsTheRefitsInARow) {
+    for (uint32_t max_refits : {0u, 3u}) {
+        auto r = test::make_renderer({.max_refits = max_refits});
+        ASSERT_NE(r, nullptr);
+        const std::string kinds = edit_kinds(*r, 9);
+        EXPECT_EQ(kinds, max_refits == 0 ? std::string(9, 'b') : "brrrbrrrb") << "max_refits " << max_refits;
+        EXPECT_EQ(r->validation_errors(), 0u);
+    }
+}
+
+TEST_F(RendererTest, RepeatedRefitsEndInARebuild) {
+    // Default max_refits (16): a rebuild after every 16 refits in a row.
     const std::string expect = "b" + std::string(16, 'r') + "b" + std::string(16, 'r');
-    EXPECT_EQ(std::string(kinds.begin(), kinds.end()), expect);
+    EXPECT_EQ(edit_kinds(*m_renderer, 34), expect);
 }
 
 } // namespace

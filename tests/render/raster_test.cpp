@@ -4,6 +4,7 @@
 #include "scene_util.h"
 
 #include "render/image_metrics.h"
+#include "render/raster_pipeline.h"
 
 namespace vx::render {
 namespace {
@@ -65,6 +66,53 @@ TEST_F(RendererTest, RasterFullIsLitByThePointLight) {
         for (uint32_t x = 0; x < s.width; ++x)
             brighter += int(lit.at(x, y).r) + lit.at(x, y).g > int(dark.at(x, y).r) + dark.at(x, y).g + 20;
     EXPECT_GT(brighter, s.width * s.height / 10);
+}
+
+// A close view of the hills' corner: chunks leave the frustum and are not drawn, yet raster
+// and ray tracer still cover the same pixels (no visible chunk culled).
+TEST_F(RendererTest, RasterSkipsChunksOutsideTheFrustumAndKeepsCoverage) {
+    world::World w = test::hills();
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s;
+    s.width = 80;
+    s.height = 48;
+    s.mode = ShadingMode::Flat;
+    // Over chunk (0, 0, 0) (x, z in [0, 32)), looking down and away from chunk (-1, 0, -1).
+    const Camera cam = Camera::look_at({12.5, 20.2, 12.3}, {20.0, 3.0, 21.0});
+    const RenderImage rt = m_renderer->render(s, cam);
+    const uint32_t instances = m_renderer->last_stats().instances;
+    EXPECT_EQ(m_renderer->last_stats().raster_chunks, 0u); // Ray traced: no raster pass.
+    s.pipeline = PipelineKind::Raster;
+    const RenderImage raster = m_renderer->render(s, cam);
+    const uint32_t drawn = m_renderer->last_stats().raster_chunks;
+    test::maybe_save(rt, "raster_frustum_rt");
+    test::maybe_save(raster, "raster_frustum_raster");
+    uint32_t sky = 0, coverage_diff = 0;
+    for (uint32_t y = 0; y < s.height; ++y)
+        for (uint32_t x = 0; x < s.width; ++x) {
+            const bool a = is_sky(rt.at(x, y), s.sky), b = is_sky(raster.at(x, y), s.sky);
+            sky += a;
+            coverage_diff += a != b;
+        }
+    std::printf("frustum: %u of %u chunks drawn, %u sky pixels, %u differ in coverage\n", drawn, instances, sky,
+                coverage_diff);
+    EXPECT_GE(drawn, 1u);
+    EXPECT_LT(drawn, instances); // Chunk (-1, 0, -1) lies behind the camera.
+    EXPECT_LT(sky, s.width * s.height / 2); // Terrain fills much of the view.
+    EXPECT_LE(coverage_diff, s.width * s.height / 200) << coverage_diff << " pixels differ in coverage";
+}
+
+// The frustum test on its own (no GPU): boxes in front, behind, beside and beyond the far plane.
+TEST(RasterBoxVisible, CullsBoxesOutsideTheViewVolume) {
+    // Looking along -z (fov 60, aspect 1): x, y within |z| tan(30°) are in view.
+    const glm::mat4 m = raster_clip_from_eye({0, 0, -1}, {0, 1, 0}, 60.f, 1.f, 0.02f, 1000.f);
+    EXPECT_TRUE(raster_box_visible(m, {-1, -1, -11}, {1, 1, -9}));     // Straight ahead.
+    EXPECT_FALSE(raster_box_visible(m, {-1, -1, 9}, {1, 1, 11}));      // Behind.
+    EXPECT_FALSE(raster_box_visible(m, {20, -1, -11}, {22, 1, -9}));   // Right of the view: 10 tan 30° ≈ 5.8.
+    EXPECT_FALSE(raster_box_visible(m, {-1, 20, -11}, {1, 22, -9}));   // Above.
+    EXPECT_TRUE(raster_box_visible(m, {5, -1, -11}, {7, 1, -9}));      // Straddles the right plane.
+    EXPECT_FALSE(raster_box_visible(m, {-1, -1, -1200}, {1, 1, -1100})); // Beyond the far plane.
+    EXPECT_TRUE(raster_box_visible(m, {-4, -4, -4}, {4, 4, 4}));       // Around the eye.
 }
 
 } // namespace

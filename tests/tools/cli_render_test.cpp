@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -173,6 +176,46 @@ TEST(CliRender, DeviceOutOfRangeIsAClearError) {
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("99"), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+}
+
+// `vx bench render --sections geometry`: three mesher rows (naive > culled > greedy triangles),
+// the refit run refits and the rebuild run only builds, trace rows after k = 0, 1, 10, 100.
+TEST(CliRender, BenchRenderGeometrySection) {
+    const std::string out = dir() + "/bench_geometry";
+    const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 32x24 --repeat 1 --sections geometry "
+                        "--out " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream csv(out + "/geometry.csv");
+    std::map<std::string, std::vector<std::string>> rows; // "mesher,greedy" -> its fields.
+    std::vector<std::string> ks;
+    for (std::string line; std::getline(csv, line);) {
+        if (line.empty() || line[0] == '#')
+            continue;
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        for (std::string x; std::getline(ss, x, ',');)
+            f.push_back(x);
+        ASSERT_GE(f.size(), 4u) << line;
+        if (f[0] == "trace")
+            ks.push_back(f[1]);
+        rows[f[0] + "," + f[1]] = f;
+    }
+    ASSERT_TRUE(rows.count("mesher,greedy") && rows.count("mesher,culled") && rows.count("mesher,naive")) << r.out;
+    const double greedy = std::stod(rows["mesher,greedy"][2]), culled = std::stod(rows["mesher,culled"][2]),
+                 naive = std::stod(rows["mesher,naive"][2]);
+    EXPECT_GT(greedy, 0.0);
+    EXPECT_LT(greedy, culled);
+    EXPECT_LT(culled, naive);
+    ASSERT_TRUE(rows.count("burst,refit") && rows.count("burst,rebuild")) << r.out;
+    // Fields: burst, run, median ms, refits, builds.
+    EXPECT_GT(std::stoi(rows["burst,refit"][3]), std::stoi(rows["burst,refit"][4]));
+    EXPECT_EQ(std::stoi(rows["burst,rebuild"][3]), 0);
+    EXPECT_GT(std::stoi(rows["burst,rebuild"][4]), 0);
+    EXPECT_EQ(ks, (std::vector<std::string>{"0", "1", "10", "100"}));
+    std::ifstream md(out + "/render_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("## Geometry"), std::string::npos);
+    EXPECT_EQ(vx("bench render --sections everything").code, 2);
 }
 
 TEST(CliRender, InfoListsTheRayTracingDevice) {
