@@ -177,6 +177,10 @@ bool run_replay_commands(App& app, Clock::time_point game_now) {
         case K::Key:
             if (c.name == "escape")
                 app.menu = c.down ? !app.menu : app.menu;
+            else if (c.name == "f1")
+                app.show_help = c.down ? !app.show_help : app.show_help;
+            else if (c.name == "f3")
+                app.show_stats = c.down ? !app.show_stats : app.show_stats;
             else
                 app.game->key(c.name, c.down);
             break;
@@ -231,7 +235,7 @@ UiView ui_view(const App& app) {
         v.stats = app.stats;
     if (app.show_help)
         v.help.assign(std::begin(kHelpLines), std::end(kHelpLines));
-    v.menu = app.menu && app.opt.replay.empty();
+    v.menu = app.menu;
     v.shadows = g.shadows();
     v.reflections = g.reflections();
     v.denoise = g.denoise();

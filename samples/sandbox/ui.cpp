@@ -73,6 +73,7 @@ void Ui::draw_crosshair_and_hotbar(const UiInput& in, const Hotbar& hotbar) {
     ImDrawList* bg = ImGui::GetBackgroundDrawList();
     const int slot = std::max(6, std::min(20 * scale, (W - 20) / Hotbar::kSlots)), gap = std::max(1, slot / 8);
     const int bar_w = Hotbar::kSlots * slot, x0 = (W - bar_w) / 2, y0 = H - slot - 2 * gap;
+    m_hotbar_top = y0 - gap;
     pixels(bg, x0 - gap, y0 - gap, x0 + bar_w + gap, y0 + slot + gap, kSlotFrame);
     for (int i = 0; i < Hotbar::kSlots; ++i) {
         const int x = x0 + i * slot;
@@ -92,8 +93,8 @@ UiActions Ui::draw_windows(const UiInput& in, const UiView& v) {
             ImGui::TextUnformatted(l.c_str());
     }
     ImGui::End();
-    if (!v.help.empty()) { // F1: top right.
-        ImGui::SetNextWindowPos(ImVec2(float(in.width) - 4, 4), ImGuiCond_Always, ImVec2(1, 0));
+    if (!v.help.empty()) { // F1: bottom left, above the hotbar (the stats are top left).
+        ImGui::SetNextWindowPos(ImVec2(4, float(m_hotbar_top - 4)), ImGuiCond_Always, ImVec2(0, 1));
         ImGui::SetNextWindowBgAlpha(0.7f);
         if (ImGui::Begin("Help (F1)", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing))

@@ -70,6 +70,7 @@ private:
     int m_tex_w = 0, m_tex_h = 0;
     std::vector<uint8_t> m_texture; // RGBA8 font atlas.
     vx::UiDrawList m_list;
+    int m_hotbar_top = 0; // Pixels: the hotbar's frame's top row this frame.
 };
 
 } // namespace sandbox
