@@ -59,16 +59,19 @@ uint32_t Ui::block_colour(vx::BlockId id) const {
     return IM_COL32(srgb_encode(c.r), srgb_encode(c.g), srgb_encode(c.b), 255);
 }
 
-void Ui::draw_crosshair_and_hotbar(const UiInput& in, const Hotbar& hotbar) {
+void Ui::draw_crosshair_and_hotbar(const UiInput& in, const Hotbar& hotbar, bool menu) {
     const int W = int(in.width), H = int(in.height);
     const int scale = std::max(1, std::min(W, H) / 400); // Bigger on big windows.
-    // Crosshair: four arms with a one-pixel gap around the centre pixel (W/2, H/2), left free.
-    ImDrawList* fg = ImGui::GetForegroundDrawList();
-    const int cx = W / 2, cy = H / 2, arm = 4 * scale, t = scale;
-    pixels(fg, cx - arm - 1, cy, cx - 1, cy + t, kCrosshair);
-    pixels(fg, cx + 2, cy, cx + 2 + arm, cy + t, kCrosshair);
-    pixels(fg, cx, cy - arm - 1, cx + t, cy - 1, kCrosshair);
-    pixels(fg, cx, cy + 2, cx + t, cy + 2 + arm, kCrosshair);
+    // Crosshair (not over the menu): four arms with a one-pixel gap around the centre pixel
+    // (W/2, H/2), left free.
+    if (!menu) {
+        ImDrawList* fg = ImGui::GetForegroundDrawList();
+        const int cx = W / 2, cy = H / 2, arm = 4 * scale, t = scale;
+        pixels(fg, cx - arm - 1, cy, cx - 1, cy + t, kCrosshair);
+        pixels(fg, cx + 2, cy, cx + 2 + arm, cy + t, kCrosshair);
+        pixels(fg, cx, cy - arm - 1, cx + t, cy - 1, kCrosshair);
+        pixels(fg, cx, cy + 2, cx + t, cy + 2 + arm, kCrosshair);
+    }
     // Hotbar: bottom centre, the block colours, the selected slot framed in white.
     ImDrawList* bg = ImGui::GetBackgroundDrawList();
     const int slot = std::max(6, std::min(20 * scale, (W - 20) / Hotbar::kSlots)), gap = std::max(1, slot / 8);
@@ -160,7 +163,7 @@ UiActions Ui::frame(const UiInput& in, const Hotbar& hotbar, const UiView& view)
     for (int b = 0; b < 3; ++b)
         io.MouseDown[b] = in.mouse_free && in.mouse_down[size_t(b)];
     ImGui::NewFrame();
-    draw_crosshair_and_hotbar(in, hotbar);
+    draw_crosshair_and_hotbar(in, hotbar, view.menu);
     const UiActions act = draw_windows(in, view);
     ImGui::Render();
     convert();

@@ -60,7 +60,7 @@ public:
     bool wants_mouse() const;
 
 private:
-    void draw_crosshair_and_hotbar(const UiInput& input, const Hotbar& hotbar);
+    void draw_crosshair_and_hotbar(const UiInput& input, const Hotbar& hotbar, bool menu);
     UiActions draw_windows(const UiInput& input, const UiView& view);
     void convert();
     uint32_t block_colour(vx::BlockId id) const;
