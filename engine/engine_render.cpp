@@ -1,4 +1,5 @@
 // vx::Engine: frames (the viewer's view traced by render::Renderer) and stats.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -26,10 +27,19 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     render::RenderSettings r;
     r.width = width;
     r.height = height;
+    r.pipeline = s.pipeline == RenderSettings::Pipeline::Raster ? render::PipelineKind::Raster
+                                                                 : render::PipelineKind::RayTraced;
     r.mode = s.shading == RenderSettings::Shading::Flat ? render::ShadingMode::Flat : render::ShadingMode::Full;
     r.shadow_samples = s.shadow_samples;
+    r.bounce_shadow_samples = s.bounce_shadow_samples;
     r.max_bounces = s.max_bounces;
     r.sky = s.sky;
+    r.sky_light = s.sky_light;
+    r.sun.direction = s.sun.direction;
+    r.sun.angular_radius_degrees = s.sun.angular_radius_degrees;
+    r.sun.irradiance = s.sun.irradiance;
+    r.denoise = s.denoise;
+    r.accumulate = std::max(s.accumulate, 1u);
     r.light.block = s.light.follow_viewer ? v.block + s.light.corner : s.light.corner;
     r.light.offset = glm::vec3(0.f);
     r.light.edge_u = s.light.edge_u;
@@ -111,23 +121,33 @@ Status Engine::render_to_window(Image* capture) {
     return {};
 }
 
-Status Engine::set_overlay(const Overlay& overlay) {
+Status Engine::set_ui(const UiDrawList& ui) {
     if (Status s = m->alive(); !s)
         return s;
-    if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
-        return Error{"set_overlay needs a window render target (RenderTarget::glfw_window)"};
-    const Image& a = overlay.atlas;
-    if (a.rgba.size() != size_t(a.width) * a.height * 4 || a.width > 16384 || a.height > 16384)
-        return Error{"set_overlay: the atlas must be width * height * 4 bytes, at most 16384 pixels a side"};
-    render::OverlayData d;
-    d.width = a.width;
-    d.height = a.height;
-    d.rgba = a.rgba;
-    d.version = overlay.atlas_version;
-    d.rects.reserve(overlay.rects.size());
-    for (const OverlayRect& r : overlay.rects)
-        d.rects.push_back({r.src_x, r.src_y, r.src_w, r.src_h, r.dst_x, r.dst_y, r.dst_w, r.dst_h});
-    m->renderer->set_overlay(std::move(d));
+    if (!m->renderer)
+        return Error{"set_ui needs a render target (headless or window)"};
+    render::UiDrawList list;
+    list.vertices.reserve(ui.vertices.size());
+    for (const UiVertex& v : ui.vertices)
+        list.vertices.push_back({v.pos, v.uv, v.rgba});
+    list.indices = ui.indices;
+    list.cmds.reserve(ui.cmds.size());
+    for (const UiDrawCmd& c : ui.cmds)
+        list.cmds.push_back({c.index_offset, c.index_count, c.clip_rect});
+    if (std::string why = render::ui_draw_list_error(list); !why.empty())
+        return Error{"set_ui: " + why};
+    m->renderer->set_ui(std::move(list));
+    return {};
+}
+
+Status Engine::set_ui_texture(uint32_t width, uint32_t height, std::span<const uint8_t> rgba) {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (!m->renderer)
+        return Error{"set_ui_texture needs a render target (headless or window)"};
+    if (width == 0 || height == 0 || width > 16384 || height > 16384 || rgba.size() != size_t(width) * height * 4)
+        return Error{"set_ui_texture: the texture must be 1..16384 texels a side and width * height * 4 bytes"};
+    m->renderer->set_ui_texture(width, height, std::vector<uint8_t>(rgba.begin(), rgba.end()));
     return {};
 }
 

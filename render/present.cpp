@@ -38,7 +38,7 @@ bool Presenter::acquire() {
     return m_swapchain.acquire(m_acquired[m_ctx->frame_slot()], &m_image) != VK_ERROR_OUT_OF_DATE_KHR;
 }
 
-void Presenter::record_blit(VkCommandBuffer cmd, VkImage target, bool capture, OverlayPass* overlay) {
+void Presenter::record_blit(VkCommandBuffer cmd, VkImage target, bool capture) {
     const VkExtent2D e = m_swapchain.extent();
     const VkImage image = m_swapchain.image(m_image);
     // The submission waits on the acquire semaphore at the transfer stage; this barrier chains
@@ -53,8 +53,6 @@ void Presenter::record_blit(VkCommandBuffer cmd, VkImage target, bool capture, O
     region.dstOffsets[1] = region.srcOffsets[1];
     vkCmdBlitImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
                    &region, VK_FILTER_NEAREST);
-    if (overlay)
-        overlay->record(cmd, image, e);
     VkImageLayout layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
     if (capture) {
         VX_ASSERT_MSG(m_swapchain.can_capture(), "this surface's images cannot be read back");

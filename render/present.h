@@ -13,7 +13,6 @@
 
 #include <optional>
 
-#include "render/overlay.h"
 #include "render/renderer.h"
 #include "render/resources.h"
 #include "render/swapchain.h"
@@ -41,9 +40,8 @@ public:
     // Records target -> acquired image. `target` is in TRANSFER_SRC_OPTIMAL with the trace's
     // writes made visible to transfers, sized extent() with format target_format(). The image
     // ends in PRESENT_SRC_KHR. With `capture`, also copies the presented image into a host buffer
-    // (the swapchain must allow it: can_capture()). `overlay`, if given, is drawn over the frame
-    // before the capture (overlay.h).
-    void record_blit(VkCommandBuffer cmd, VkImage target, bool capture, OverlayPass* overlay = nullptr);
+    // (the swapchain must allow it: can_capture()).
+    void record_blit(VkCommandBuffer cmd, VkImage target, bool capture);
     // Semaphores of the frame's submission: wait for the acquire before the blit, signal the
     // image's "done" semaphore.
     FrameSubmitSync submit_sync() const;

@@ -20,6 +20,7 @@
 #include "render/raster_pipeline.h"
 #include "render/rt_pipeline.h"
 #include "render/scene_accel.h"
+#include "render/ui_pass.h"
 
 namespace vx::render {
 
@@ -57,7 +58,16 @@ struct Renderer::Impl {
     Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
     RenderStats stats;
     std::unique_ptr<Presenter> presenter; // With a window.
-    std::unique_ptr<OverlayPass> overlay; // With a window: the game's HUD (set_overlay).
+    std::unique_ptr<UiPass> ui; // The game's UI (set_ui), made at the first set_ui / set_ui_texture.
+    UiPass& ui_pass() {
+        if (!ui)
+            ui = std::make_unique<UiPass>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
+        return *ui;
+    }
+    void record_ui(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+        if (ui && !ui->empty())
+            ui->record(cmd, target().handle(), target().view(), width, height);
+    }
     std::chrono::steady_clock::time_point last_present{};
     // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
     // the trace, after the copy, after the denoiser (written between trace and copy, always).
@@ -76,7 +86,7 @@ struct Renderer::Impl {
         if (!ctx)
             return;
         ctx->wait_idle();
-        overlay.reset();
+        ui.reset();
         presenter.reset();
         vkDestroyDescriptorPool(ctx->device(), pool, nullptr);
         if (queries)
@@ -143,7 +153,6 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
         r->m->target_format = r->m->presenter->target_format();
-        r->m->overlay = std::make_unique<OverlayPass>(*r->m->ctx, r->m->target_format);
     }
     return r;
 }
@@ -548,6 +557,7 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     Impl& d = *m;
     VkCommandBuffer cmd = d.ctx->begin_frame();
     d.record_frame(cmd, settings, camera);
+    d.record_ui(cmd, settings.width, settings.height);
     d.record_readback(cmd, settings.width, settings.height);
     if (gbuffer)
         d.record_gbuffer_readback(cmd, settings.width, settings.height);
@@ -572,9 +582,15 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     return img;
 }
 
-void Renderer::set_overlay(OverlayData overlay) {
-    if (m->overlay)
-        m->overlay->set(std::move(overlay));
+void Renderer::set_ui(UiDrawList list) {
+    VX_ASSERT_MSG(ui_draw_list_error(list).empty(), "set_ui: a malformed UI draw list");
+    if (list.cmds.empty() && !m->ui)
+        return;
+    m->ui_pass().set(std::move(list));
+}
+
+void Renderer::set_ui_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
+    m->ui_pass().set_texture(width, height, std::move(rgba));
 }
 
 Result<PresentResult> Renderer::present(const RenderSettings& settings, const Camera& camera, RenderImage* capture) {
@@ -603,7 +619,8 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     s.width = extent->width;
     s.height = extent->height;
     d.record_frame(cmd, s, camera);
-    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr, d.overlay.get());
+    d.record_ui(cmd, s.width, s.height);
+    d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr);
     d.stamp(cmd, 4);
     d.ctx->end_frame(d.presenter->submit_sync());
     const auto t2 = Clock::now();

@@ -184,20 +184,28 @@ struct GpuHeapStats {
     uint64_t used_bytes = 0; // Of them, handed out to resources.
 };
 
-// A 2D overlay over presented frames (a HUD): see render/overlay.h.
-// One rectangle: atlas pixels [src, src + src_size) to framebuffer pixels [dst, dst + dst_size),
-// both with row 0 at the top.
-struct OverlayRect {
-    int32_t src_x = 0, src_y = 0, src_w = 0, src_h = 0;
-    int32_t dst_x = 0, dst_y = 0, dst_w = 0, dst_h = 0;
+// A game's 2D UI (a HUD, menus: Dear ImGui's output or any triangles), drawn over every later
+// frame after the trace and the denoiser, before the read-back (render()) or the present
+// (present(): so captures include it). See render/ui_pass.h.
+// Pixels: framebuffer coordinates, (0, 0) the top-left corner of the top-left pixel, y down.
+struct UiVertex {
+    glm::vec2 pos{0.f}; // Pixels.
+    glm::vec2 uv{0.f};  // Texture coordinates, 0..1 over the UI texture (bilinear, clamped).
+    uint32_t rgba = 0;  // Colour, R in the low byte (Dear ImGui's IM_COL32), straight alpha.
 };
-
-struct OverlayData {
-    uint32_t width = 0, height = 0;  // Atlas size in pixels (0: no overlay).
-    std::vector<uint8_t> rgba;       // width * height * 4 bytes.
-    uint64_t version = 0;            // Re-uploaded when it differs from the last upload.
-    std::vector<OverlayRect> rects;  // Drawn in order.
+// Triangles indices[index_offset, + index_count) clipped to clip_rect = (x0, y0, x1, y1), pixels.
+struct UiDrawCmd {
+    uint32_t index_offset = 0, index_count = 0;
+    glm::ivec4 clip_rect{0};
 };
+struct UiDrawList {
+    std::vector<UiVertex> vertices;
+    std::vector<uint32_t> indices; // Into vertices; a multiple of 3 per command.
+    std::vector<UiDrawCmd> cmds;   // Drawn in order, each blended over what is below.
+};
+// Why `list` cannot be drawn (an index past the vertices, a command past the indices or not a
+// whole number of triangles), or "" when it can. Thread-safe.
+std::string ui_draw_list_error(const UiDrawList& list);
 
 struct RendererCreateInfo {
     bool validation = false;
@@ -260,9 +268,13 @@ public:
     // and waits for this frame (written only when Presented); needs a surface whose images
     // allow TRANSFER_SRC.
     Result<PresentResult> present(const RenderSettings& settings, const Camera& camera, RenderImage* capture = nullptr);
-    // With a window: the 2D overlay drawn over later presented frames (render/overlay.h; an
-    // empty OverlayData removes it). Ignored by a headless renderer.
-    void set_overlay(OverlayData overlay);
+    // The UI drawn over later frames of render() and present() (see UiDrawList; an empty list
+    // removes it). `list` must be valid (ui_draw_list_error() empty).
+    void set_ui(UiDrawList list);
+    // The UI's texture: width x height RGBA8 texels (straight alpha, what the screen shows), row 0
+    // at the top; uploaded at the next frame. Until one is set the texture is one white texel.
+    // Needs rgba.size() == width * height * 4 and both sizes in 1..16384.
+    void set_ui_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba);
 
     const DeviceReport& device() const;
     uint32_t validation_errors() const;

@@ -12,6 +12,8 @@ namespace {
 #include "shaders/denoise_atrous_comp.h"
 #include "shaders/raster_vert.h"
 #include "shaders/raster_frag.h"
+#include "shaders/ui_vert.h"
+#include "shaders/ui_frag.h"
 } // namespace
 
 std::span<const uint32_t> raygen() { return k_raygen_rgen; }
@@ -23,5 +25,7 @@ std::span<const uint32_t> denoise_temporal() { return k_denoise_temporal_comp; }
 std::span<const uint32_t> denoise_atrous() { return k_denoise_atrous_comp; }
 std::span<const uint32_t> raster_vert() { return k_raster_vert; }
 std::span<const uint32_t> raster_frag() { return k_raster_frag; }
+std::span<const uint32_t> ui_vert() { return k_ui_vert; }
+std::span<const uint32_t> ui_frag() { return k_ui_frag; }
 
 } // namespace vx::render::spirv

@@ -16,5 +16,7 @@ std::span<const uint32_t> denoise_temporal(); // Compute stages of render/denois
 std::span<const uint32_t> denoise_atrous();
 std::span<const uint32_t> raster_vert(); // The raster baseline (render/raster_pipeline).
 std::span<const uint32_t> raster_frag();
+std::span<const uint32_t> ui_vert(); // A game's 2D UI (render/ui_pass).
+std::span<const uint32_t> ui_frag();
 
 } // namespace vx::render::spirv

@@ -143,16 +143,39 @@ struct Light {
     glm::vec3 emission{20.f};        // Radiance, linear RGB.
 };
 
+// The sun: a directional light with a soft disc (its shadows are sampled over the disc).
+struct Sun {
+    glm::vec3 direction{0.35f, 1.f, 0.2f}; // World space, towards the sun; need not be unit.
+    float angular_radius_degrees = 0.27f;  // Half the disc's apparent size (the real sun: 0.27).
+    glm::vec3 irradiance{3.f, 2.9f, 2.7f}; // Linear RGB on a surface facing the sun; 0: no sun.
+};
+
 struct RenderSettings {
     enum class Shading : uint8_t {
         Flat, // Block albedo at the first hit, sky on a miss; linear, no lighting.
-        Full, // Area light, soft shadows, emission, mirrors; sRGB encoded.
+        Full, // Sun, sky light, area light, soft shadows, emission, mirrors; sRGB encoded.
     };
+    enum class Pipeline : uint8_t {
+        RayTraced, // The ray tracer: everything below.
+        Raster,    // The raster baseline: the same chunks and camera with a depth buffer; Full is
+                   // Phong lit by the area light's centre, no shadows, reflections or denoiser.
+    };
+    Pipeline pipeline = Pipeline::RayTraced;
     Shading shading = Shading::Full;
-    uint32_t shadow_samples = 4; // Per pixel and bounce; 0: no shadows.
+    uint32_t shadow_samples = 4; // Per pixel at the first hit (area light, sun, sky); 0: no shadows.
+    // The same on each reflection bounce; unset: shadow_samples. Bounces cost most; 1 is cheap.
+    std::optional<uint32_t> bounce_shadow_samples;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance.
+    float sky_light = 1.f;       // Ambient light from the sky (occluded by sky rays); 0: none.
+    Sun sun;
     Light light;
+    // Ray tracer, Full shading: the edge-aware denoiser over the traced radiance (off by default:
+    // it costs two compute passes a frame and softens edges; a game at 1-4 samples wants it).
+    bool denoise = false;
+    // Ray tracer, Full shading: at most this many frames averaged (reprojected when the camera
+    // moves); 1: none. Above 1 each frame traces with a new seed so the average converges.
+    uint32_t accumulate = 1;
 };
 
 struct BlockEdit {
@@ -222,22 +245,29 @@ struct Stats {
     uint64_t chunks_reloaded = 0;   // Reloaded because another process changed them.
 };
 
-// A game's 2D overlay (HUD) over presented frames, without exposing a graphics API: the game
-// draws its panels (text, hotbar, crosshair) into one RGBA8 `atlas` on the CPU, and every
-// presented frame copies the rectangles `rects` from the atlas onto the frame, in order, scaled
-// with nearest filtering. Opaque: no blending with the traced image. The atlas is uploaded to the
-// GPU only when `atlas_version` changes (bump it when its pixels change). Captures
-// (render_to_window(&image)) include the overlay. Pixels: row 0 at the top; atlas bytes are
-// what the screen shows (sRGB encoded, as render_to_window's capture).
-struct OverlayRect {
-    int32_t src_x = 0, src_y = 0, src_w = 0, src_h = 0; // In the atlas.
-    int32_t dst_x = 0, dst_y = 0, dst_w = 0, dst_h = 0; // In the window's framebuffer; a rect not
-                                                        // wholly inside it is skipped.
+// A game's 2D UI (HUD, menus) over the rendered frames, without exposing a graphics API: each
+// frame (or when it changes) the game hands the engine a list of textured, coloured triangles,
+// e.g. Dear ImGui's ImDrawData converted (docs/embedding.md shows how), and once a texture (the
+// font atlas). The engine draws the list over every later frame, after the trace and the
+// denoiser, with alpha blending (straight alpha: colour * a + frame * (1 - a), blended on the
+// bytes the screen shows, as Dear ImGui expects) and a scissor rectangle per command. Both
+// render_to_image and render_to_window draw it, and captures include it.
+// Pixels: framebuffer coordinates, (0, 0) the top-left corner of the top-left pixel, y down.
+struct UiVertex {
+    glm::vec2 pos{0.f}; // Pixels.
+    glm::vec2 uv{0.f};  // 0..1 over the UI texture (bilinear, clamped to the edge).
+    uint32_t rgba = 0;  // Colour, R in the low byte (as Dear ImGui's IM_COL32), straight alpha.
 };
-struct Overlay {
-    Image atlas;
-    uint64_t atlas_version = 0;
-    std::vector<OverlayRect> rects;
+// Triangles indices[index_offset, index_offset + index_count), drawn only inside clip_rect =
+// (x0, y0, x1, y1) in pixels (x1, y1 exclusive; clamped to the frame).
+struct UiDrawCmd {
+    uint32_t index_offset = 0, index_count = 0;
+    glm::ivec4 clip_rect{0};
+};
+struct UiDrawList {
+    std::vector<UiVertex> vertices;
+    std::vector<uint32_t> indices; // Into vertices, three per triangle.
+    std::vector<UiDrawCmd> cmds;   // Drawn in order, each over the ones before.
 };
 
 // A save in flight: poll save_state() or block in wait().
@@ -298,9 +328,15 @@ public:
     // of that frame. A minimised window presents nothing (ok). `capture`, if given, receives the
     // presented image (RGBA8; the call then waits for this frame): screenshots, tests.
     Status render_to_window(Image* capture = nullptr);
-    // Main thread. Window target: the overlay drawn over later presented frames (see Overlay;
-    // an empty one removes it). Errors: no window target, a malformed atlas (size mismatch).
-    Status set_overlay(const Overlay& overlay);
+    // Main thread. The UI drawn over later frames (see UiDrawList; copied; an empty list removes
+    // it). Errors: no GPU target, shut down, an index past the vertices, a command past the
+    // indices or not whole triangles (the previous UI stays).
+    Status set_ui(const UiDrawList& ui);
+    // Main thread. The UI's texture: width x height RGBA8 texels (straight alpha, sRGB encoded:
+    // what the screen shows), row 0 at the top; uv (0, 0) is its top-left corner. Set it once
+    // (e.g. Dear ImGui's font atlas) or when it changes; until then it is one white texel.
+    // Errors: no GPU target, shut down, a size of 0 or over 16384 a side, rgba not w * h * 4 bytes.
+    Status set_ui_texture(uint32_t width, uint32_t height, std::span<const uint8_t> rgba);
 
     // Main thread. Figures of the last frame and gauges now (see Stats).
     Stats stats() const;

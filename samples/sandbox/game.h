@@ -53,7 +53,8 @@ public:
     // Left removes, right places (never inside the player), middle picks. Returns a message for
     // the screen ("" when nothing to say).
     std::string click(Button button);
-    // shadows, reflections, walk (denoise, raster: not in this build). Returns the message.
+    // shadows, reflections, denoise (the ray tracer's denoiser), raster (the raster pipeline in
+    // place of the ray tracer), walk. Returns the message ("shadows off", "walk mode").
     std::string toggle(const std::string& name);
     Hotbar& hotbar() { return m_hotbar; }
     const Hotbar& hotbar() const { return m_hotbar; }
@@ -73,6 +74,8 @@ public:
     int last_edit_to_screen() const { return m_last_edit_to_screen; }
     bool shadows() const { return m_settings.shadow_samples > 0; }
     bool reflections() const { return m_settings.max_bounces > 0; }
+    bool denoise() const { return m_settings.denoise; }
+    bool raster() const { return m_settings.pipeline == vx::RenderSettings::Pipeline::Raster; }
 
 private:
     vx::Viewer viewer() const;

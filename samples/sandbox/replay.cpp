@@ -67,7 +67,7 @@ std::string parse_command(const std::vector<std::string_view>& w, ReplayCommand&
         if (auto e = want(2); !e.empty())
             return e;
         if (!is_replay_key(w[2]))
-            return "unknown key '" + std::string(w[2]) + "' (w a s d space shift f escape)";
+            return "unknown key '" + std::string(w[2]) + "' (w a s d space shift f escape f1 f3)";
         if (!one_of(w[3], {"down", "up"}))
             return "key state must be down or up";
         c.name = w[2];
@@ -121,7 +121,7 @@ std::string parse_command(const std::vector<std::string_view>& w, ReplayCommand&
 } // namespace
 
 bool is_replay_key(std::string_view name) {
-    return one_of(name, {"w", "a", "s", "d", "space", "shift", "f", "escape"});
+    return one_of(name, {"w", "a", "s", "d", "space", "shift", "f", "escape", "f1", "f3"});
 }
 
 vx::Result<std::vector<ReplayCommand>> parse_replay(std::string_view text) {

@@ -38,7 +38,8 @@ vx::Result<std::vector<ReplayCommand>> parse_replay(std::string_view text);
 // Reads and parses a replay file. Error: unreadable file or a bad line (as above).
 vx::Result<std::vector<ReplayCommand>> load_replay(const std::string& path);
 
-// Key names a replay may press: w a s d space shift f escape.
+// Key names a replay may press: w a s d space shift f escape f1 f3 (escape, f1, f3 toggle the
+// menu, help and stats on `down`, as the keys do).
 bool is_replay_key(std::string_view name);
 
 } // namespace sandbox

@@ -3,6 +3,7 @@
 // This file is the GLFW glue: window, input callbacks, the frame loop, the replay driver,
 // screenshots and the per-frame CSV. The game logic lives in game.*, player_physics.*,
 // hotbar.*, replay.* and options.*.
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,9 +19,9 @@
 #include <vx/vx.h>
 
 #include "game.h"
-#include "hud.h"
 #include "options.h"
 #include "replay.h"
+#include "ui.h"
 
 namespace sandbox {
 namespace {
@@ -32,7 +33,8 @@ constexpr double kMouseDegreesPerPixel = 0.1;
 const char* const kHelpLines[] = {
     "mouse look, WASD move, space/shift rise/sink (fly) or jump (walk), F walk/fly",
     "left click remove, right click place, middle click pick, 1-9 and wheel: hotbar",
-    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, V vsync, Esc menu",
+    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, N denoiser, P raster, V vsync",
+    "Esc menu",
 };
 
 struct App {
@@ -48,7 +50,10 @@ struct App {
     bool restart_vsync = false; // V: restart the engine with vsync toggled (chosen at creation).
     std::vector<std::string> stats;       // F3 lines, refreshed 4 times a second.
     std::vector<std::string> block_names; // Id i + 1 = block_names[i].
-    std::unique_ptr<Hud> hud;
+    std::unique_ptr<Ui> ui;
+    // Mouse buttons for the UI (left, right, middle): held, and pressed since the last frame (a
+    // press and release within one poll still reaches ImGui as a click).
+    std::array<bool, 3> mouse_down{}, mouse_pressed{};
     bool screenshot_now = false;
     std::string screenshot_path;
     std::string message;
@@ -89,10 +94,7 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
     if (!down)
         return;
     if (key == GLFW_KEY_ESCAPE) {
-        if (app.menu)
-            app.quit = true;
-        else
-            set_captured(app, false);
+        set_captured(app, app.menu); // The menu open: Esc resumes (Quit is in the menu, or Q).
     } else if (key == GLFW_KEY_Q && app.menu) {
         app.quit = true;
     } else if (key == GLFW_KEY_F) {
@@ -112,15 +114,24 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
         app.restart_vsync = true;
     } else if (key == GLFW_KEY_R) {
         say(app, app.game->toggle("reflections"));
+    } else if (key == GLFW_KEY_N) {
+        say(app, app.game->toggle("denoise"));
+    } else if (key == GLFW_KEY_P) {
+        say(app, app.game->toggle("raster"));
     }
 }
 
 void on_mouse_button(GLFWwindow* w, int button, int action, int) {
     App& app = *app_of(w);
+    if (button >= 0 && button < 3) {
+        app.mouse_down[size_t(button)] = action == GLFW_PRESS;
+        app.mouse_pressed[size_t(button)] |= action == GLFW_PRESS;
+    }
     if (action != GLFW_PRESS)
         return;
     if (!app.captured) {
-        set_captured(app, true);
+        if (!app.ui->wants_mouse()) // A click beside the menu resumes; on it, the menu has it.
+            set_captured(app, true);
         return;
     }
     const Button b = button == GLFW_MOUSE_BUTTON_LEFT ? Button::Left
@@ -166,6 +177,10 @@ bool run_replay_commands(App& app, Clock::time_point game_now) {
         case K::Key:
             if (c.name == "escape")
                 app.menu = c.down ? !app.menu : app.menu;
+            else if (c.name == "f1")
+                app.show_help = c.down ? !app.show_help : app.show_help;
+            else if (c.name == "f3")
+                app.show_stats = c.down ? !app.show_stats : app.show_stats;
             else
                 app.game->key(c.name, c.down);
             break;
@@ -192,34 +207,69 @@ bool run_replay_commands(App& app, Clock::time_point game_now) {
     return true;
 }
 
-// The F3 lines, refreshed a few times a second (the HUD's atlas re-uploads when text changes).
+// The F3 lines, refreshed a few times a second.
 std::vector<std::string> stats_lines(const App& app) {
     const vx::Stats s = app.engine->stats();
-    char l[3][256];
-    std::snprintf(l[0], sizeof l[0], "%.0f fps %.1f ms: update %.1f, render %.1f (wait %.1f, present %.1f)",
+    char l[5][256];
+    std::snprintf(l[0], sizeof l[0], "%.0f fps, %.1f ms a frame: update %.1f, render %.1f (wait %.1f, present %.1f)",
                   1000.0 / app.fps_ms, app.fps_ms, s.update_wall_ms, s.render_wall_ms, s.wait_ms, s.present_ms);
-    std::snprintf(l[1], sizeof l[1], "chunks %zu loaded, %zu queued, %zu/%zu meshed; BLAS %u builds %u refits",
-                  s.chunks_loaded, s.chunks_queued, s.chunks_meshed, s.chunks_in_view, s.blas_builds, s.blas_refits);
-    std::snprintf(l[2], sizeof l[2], "edit to screen %d frames; blocks %.0f MB, GPU %.0f/%.0f MB",
-                  app.game->last_edit_to_screen(), s.block_memory_bytes / 1048576.0, s.gpu_memory_used_bytes / 1048576.0,
-                  s.gpu_memory_bytes / 1048576.0);
-    return {l[0], l[1], l[2]};
+    std::snprintf(l[1], sizeof l[1], "GPU ms: BLAS %.2f, TLAS %.2f, trace %.2f (-1: no timestamps)", s.gpu_blas_ms,
+                  s.gpu_tlas_ms, s.gpu_trace_ms);
+    std::snprintf(l[2], sizeof l[2], "chunks %zu loaded, %zu queued, %zu/%zu meshed (%zu mesh jobs)", s.chunks_loaded,
+                  s.chunks_queued, s.chunks_meshed, s.chunks_in_view, s.meshes_queued);
+    std::snprintf(l[3], sizeof l[3], "BLAS this frame: %u builds, %u refits; %u chunks drawn; edit to screen %d frames",
+                  s.blas_builds, s.blas_refits, s.instances, app.game->last_edit_to_screen());
+    std::snprintf(l[4], sizeof l[4], "memory: blocks %.0f MB, GPU %.0f / %.0f MB", s.block_memory_bytes / 1048576.0,
+                  s.gpu_memory_used_bytes / 1048576.0, s.gpu_memory_bytes / 1048576.0);
+    return {l[0], l[1], l[2], l[3], l[4]};
 }
 
-std::vector<std::string> hud_lines(const App& app) {
+UiView ui_view(const App& app) {
     const Game& g = *app.game;
     const vx::BlockId id = g.hotbar().selected_block();
     const std::string name = id >= 1 && id <= app.block_names.size() ? app.block_names[id - 1u] : std::to_string(id);
-    std::vector<std::string> lines{std::string(g.player().walking() ? "walk" : "fly") + " | " + name + " | " +
-                                   g.save_text() + (app.message.empty() ? "" : " | " + app.message)};
+    UiView v;
+    v.status = std::string(g.player().walking() ? "walk" : "fly") + " | " + name + " | " + g.save_text() +
+               (app.message.empty() ? "" : " | " + app.message);
     if (app.show_stats)
-        lines.insert(lines.end(), app.stats.begin(), app.stats.end());
+        v.stats = app.stats;
     if (app.show_help)
-        for (const char* l : kHelpLines)
-            lines.push_back(l);
-    if (app.menu && app.opt.replay.empty())
-        lines.push_back("PAUSED: Esc or Q quits, a click resumes");
-    return lines;
+        v.help.assign(std::begin(kHelpLines), std::end(kHelpLines));
+    v.menu = app.menu;
+    v.shadows = g.shadows();
+    v.reflections = g.reflections();
+    v.denoise = g.denoise();
+    v.raster = g.raster();
+    return v;
+}
+
+// This frame's UI: ImGui's input from the window, the menu's actions applied, the draw list to
+// the engine.
+void update_ui(App& app, uint32_t fb_w, uint32_t fb_h, double dt) {
+    UiInput in;
+    in.width = fb_w;
+    in.height = fb_h;
+    in.dt = dt;
+    in.mouse_free = app.window && !app.captured;
+    if (in.mouse_free) {
+        int win_w = 0, win_h = 0;
+        glfwGetWindowSize(app.window, &win_w, &win_h); // Cursor: screen units; UI: pixels.
+        double x = 0, y = 0;
+        glfwGetCursorPos(app.window, &x, &y);
+        in.mouse = {float(x * (win_w > 0 ? double(fb_w) / win_w : 1.0)), float(y * (win_h > 0 ? double(fb_h) / win_h : 1.0))};
+    }
+    for (size_t b = 0; b < 3; ++b)
+        in.mouse_down[b] = app.mouse_down[b] || app.mouse_pressed[b];
+    app.mouse_pressed = {};
+    const UiActions act = app.ui->frame(in, app.game->hotbar(), ui_view(app));
+    for (const std::string& t : act.toggles)
+        say(app, app.game->toggle(t));
+    if (act.resume)
+        set_captured(app, true);
+    if (act.quit)
+        app.quit = true;
+    if (vx::Status s = app.engine->set_ui(app.ui->draw_list()); !s)
+        say(app, s.error());
 }
 
 vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwindow* window) {
@@ -264,6 +314,8 @@ bool restart_with_vsync(App& app) {
     }
     app.engine = std::move(*engine);
     app.game->attach(*app.engine);
+    if (vx::Status s = app.ui->attach(*app.engine); !s)
+        say(app, s.error());
     say(app, app.opt.vsync ? "vsync on" : "vsync off");
     return true;
 }
@@ -295,14 +347,16 @@ int run(App& app) {
         }
         app.game->step(app.menu && !replaying ? 0.0 : dt);
         app.engine->update(game_now);
-        int fb_w = 0, fb_h = 0;
+        int fb_w = int(app.opt.width), fb_h = int(app.opt.height); // Headless: the image size.
         if (app.window)
             glfwGetFramebufferSize(app.window, &fb_w, &fb_h);
         if (fb_w > 0 && fb_h > 0)
-            (void)app.engine->set_overlay(app.hud->build(uint32_t(fb_w), uint32_t(fb_h), app.game->hotbar(), hud_lines(app)));
+            update_ui(app, uint32_t(fb_w), uint32_t(fb_h), replaying ? kReplayStep : real_dt);
+        if (app.quit)
+            break;
         vx::Image shot;
         const bool capture = app.screenshot_now;
-        // Headless (--headless): traced into memory every frame; the HUD is not drawn there.
+        // Headless (--headless): traced into memory every frame, the UI drawn over it as well.
         vx::Status drawn = app.window ? app.engine->render_to_window(capture ? &shot : nullptr)
                                       : app.engine->render_to_image(shot);
         if (vx::Status s = drawn; !s) {
@@ -383,7 +437,11 @@ int main_headless(App& app) {
     app.engine = std::move(*engine);
     for (const vx::BlockType& b : vx::default_blocks())
         app.block_names.push_back(b.name);
-    app.hud = std::make_unique<Hud>(vx::default_blocks());
+    app.ui = std::make_unique<Ui>(vx::default_blocks());
+    if (vx::Status s = app.ui->attach(*app.engine); !s) {
+        std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
+        return 2;
+    }
     app.game = std::make_unique<Game>(*app.engine, app.opt.vdb.empty(), app.opt.fly_speed);
     const int64_t ground = vx::terrain_height(app.opt.seed, 0, 0);
     app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
@@ -438,7 +496,8 @@ int main_with(const Options& opt) {
         app.engine = std::move(*engine);
         for (const vx::BlockType& b : vx::default_blocks())
             app.block_names.push_back(b.name);
-        app.hud = std::make_unique<Hud>(vx::default_blocks());
+        app.ui = std::make_unique<Ui>(vx::default_blocks());
+        (void)app.ui->attach(*app.engine); // Cannot fail: a window target and a valid atlas.
         app.game = std::make_unique<Game>(*app.engine, opt.vdb.empty(), opt.fly_speed);
         const int64_t ground = vx::terrain_height(opt.seed, 0, 0);
         app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
@@ -463,7 +522,7 @@ int main_with(const Options& opt) {
         }
         code = code ? finish(app, code) : finish(app, run(app));
         app.game.reset();
-        app.hud.reset();
+        app.ui.reset();
         app.engine.reset();
     }
     glfwDestroyWindow(app.window);

@@ -2,6 +2,7 @@
 // terrain view into memory (a real picture, BLAS builds then refits after an edit, GPU memory
 // reported), and a game's transparent block that shows the block behind it. CTest label vulkan.
 #include <chrono>
+#include <cstdlib>
 #include <set>
 #include <thread>
 
@@ -77,6 +78,86 @@ TEST(FacadeRender, TerrainToMemory) {
     ASSERT_TRUE(e.shutdown());
     EXPECT_EQ(e.stats().validation_errors, 0u);
     EXPECT_FALSE(e.render_to_image(img)); // Shut down.
+}
+
+// Sum over pixels of |difference| of the RGB channels, per pixel (0..765).
+double mean_abs_diff(const vx::Image& a, const vx::Image& b) {
+    double sum = 0;
+    for (size_t i = 0; i < a.rgba.size(); i += 4)
+        for (size_t c = 0; c < 3; ++c)
+            sum += std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c]));
+    return sum / double(a.rgba.size() / 4);
+}
+
+// Mean |difference| between horizontal neighbours: the image's pixel noise (plus its edges).
+double roughness(const vx::Image& img) {
+    double sum = 0;
+    for (uint32_t y = 0; y < img.height; ++y)
+        for (uint32_t x = 1; x < img.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                sum += std::abs(int(img.at(x, y)[c]) - int(img.at(x - 1, y)[c]));
+    return sum / double(img.height * (img.width - 1));
+}
+
+// The facade's RenderSettings reach the renderer: the raster pipeline covers the pixels the ray
+// tracer covers (Flat) but shades differently (Full: no shadows); the denoiser smooths a
+// one-sample image; the sun's irradiance lights the scene.
+TEST(FacadeRender, SettingsReachTheRenderer) {
+    auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 48, 32));
+    if (!engine)
+        GTEST_SKIP() << "no ray-tracing device: " << engine.error();
+    vx::Engine& e = **engine;
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(3, 0, 0) + 12, 0};
+    v.forward = {1, -0.35, 0.2};
+    ASSERT_TRUE(e.set_viewer(v));
+    ASSERT_TRUE(settle(e));
+    auto render = [&](const vx::RenderSettings& rs) {
+        e.set_render_settings(rs);
+        vx::Image img;
+        EXPECT_TRUE(e.render_to_image(img));
+        return img;
+    };
+    using P = vx::RenderSettings::Pipeline;
+    vx::RenderSettings flat;
+    flat.shading = vx::RenderSettings::Shading::Flat;
+    const vx::Image rt_flat = render(flat);
+    flat.pipeline = P::Raster;
+    const vx::Image raster_flat = render(flat);
+    // Flat writes the sky colour unencoded on a miss: (0.55, 0.7, 0.95) * 255 = (140, 179, 242).
+    auto is_sky = [](glm::u8vec4 p) { return std::abs(int(p.r) - 140) <= 1 && std::abs(int(p.b) - 242) <= 1; };
+    size_t sky = 0, agree = 0;
+    for (uint32_t y = 0; y < 32; ++y)
+        for (uint32_t x = 0; x < 48; ++x) {
+            sky += is_sky(rt_flat.at(x, y));
+            agree += is_sky(rt_flat.at(x, y)) == is_sky(raster_flat.at(x, y));
+        }
+    EXPECT_GT(sky, 48u);             // Some sky (the top rows)...
+    EXPECT_LT(sky, 48u * 32u - 48u); // ...and some ground.
+    EXPECT_GE(agree, 48u * 32u * 97 / 100); // The same coverage but for edge pixels.
+
+    vx::RenderSettings full;
+    full.shadow_samples = 1; // Noisy, so the denoiser has work.
+    full.max_bounces = 0;
+    const vx::Image rt_full = render(full);
+    full.pipeline = P::Raster;
+    const vx::Image raster_full = render(full);
+    EXPECT_GT(mean_abs_diff(rt_full, raster_full), 10.0); // Phong and no shadows vs the tracer.
+    full.pipeline = P::RayTraced;
+    full.denoise = true;
+    const vx::Image denoised = render(full);
+    EXPECT_GT(mean_abs_diff(rt_full, denoised), 1.0);
+    EXPECT_LT(roughness(denoised), roughness(rt_full));
+    full.denoise = false;
+    full.sun.irradiance = glm::vec3(0.f);
+    const vx::Image no_sun = render(full);
+    double lit = 0, dark = 0;
+    for (size_t i = 0; i < rt_full.rgba.size(); i += 4) {
+        lit += rt_full.rgba[i] + rt_full.rgba[i + 1] + rt_full.rgba[i + 2];
+        dark += no_sun.rgba[i] + no_sun.rgba[i + 1] + no_sun.rgba[i + 2];
+    }
+    EXPECT_LT(dark, lit * 0.95);
+    EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 
 // A cube of a game's block W (8³ blocks) with an opaque block O against its -z side and another

@@ -116,15 +116,15 @@ TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
     glfwDestroyWindow(window);
 }
 
-// Engine::set_overlay: atlas rectangles land on the presented frame (and in its capture) at
-// their framebuffer positions, scaled with nearest filtering; outside them the traced image is
-// untouched; an empty overlay removes them; a malformed atlas is refused.
-TEST(FacadeWindow, OverlayRectanglesAreDrawnOverTheFrame) {
+// Engine::set_ui: a half-transparent red quad blends over the presented frame (and its capture)
+// inside its clip rectangle only, a textured quad shows the UI texture's texel, an empty list
+// removes them, and a malformed list is refused.
+TEST(FacadeWindow, UiIsBlendedOverTheFrame) {
     Glfw glfw;
     if (!glfw.ok)
         GTEST_SKIP() << "no X display for GLFW (run under xvfb-run)";
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-    GLFWwindow* window = glfwCreateWindow(64, 48, "vx overlay test", nullptr, nullptr);
+    GLFWwindow* window = glfwCreateWindow(64, 48, "vx ui test", nullptr, nullptr);
     ASSERT_NE(window, nullptr);
     const vx::EngineCreateInfo info = window_info(window, 1);
     {
@@ -144,31 +144,48 @@ TEST(FacadeWindow, OverlayRectanglesAreDrawnOverTheFrame) {
         vx::Status first = e.render_to_window(&plain);
         ASSERT_TRUE(first) << first.error();
 
-        vx::Overlay o;
-        o.atlas.width = 2;
-        o.atlas.height = 1;
-        o.atlas.rgba = {250, 10, 20, 255, 5, 240, 30, 255}; // A red and a green texel.
-        o.atlas_version = 1;
-        o.rects.push_back({0, 0, 1, 1, 4, 6, 10, 5});     // Red: x 4..13, y 6..10.
-        o.rects.push_back({1, 0, 1, 1, 40, 30, 3, 3});    // Green: x 40..42, y 30..32.
-        o.rects.push_back({0, 0, 1, 1, 60, 40, 10, 10});  // Not inside 64×48: skipped.
-        ASSERT_TRUE(e.set_overlay(o));
+        // One texel, green; uv (0.5, 0.5) of it on the second quad, the white default nowhere.
+        const uint8_t texel[4] = {5, 240, 30, 255};
+        ASSERT_TRUE(e.set_ui_texture(1, 1, texel));
+        vx::UiDrawList ui;
+        auto quad = [&](glm::vec2 p0, glm::vec2 p1, glm::vec2 uv, uint32_t rgba) {
+            const uint32_t b = uint32_t(ui.vertices.size());
+            ui.vertices.push_back({p0, uv, rgba});
+            ui.vertices.push_back({{p1.x, p0.y}, uv, rgba});
+            ui.vertices.push_back({p1, uv, rgba});
+            ui.vertices.push_back({{p0.x, p1.y}, uv, rgba});
+            for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u})
+                ui.indices.push_back(b + i);
+        };
+        quad({4, 6}, {14, 11}, {0.5f, 0.5f}, 0x80ffffffu); // White x green texel, alpha 128.
+        quad({40, 30}, {43, 33}, {0.5f, 0.5f}, 0xff0000ffu); // Red x green = (5, 0, 0), opaque.
+        ui.cmds.push_back({0, 6, {0, 0, 64, 8}});  // The first quad clipped to rows 0..7.
+        ui.cmds.push_back({6, 6, {0, 0, 64, 48}});
+        ASSERT_TRUE(e.set_ui(ui));
         ASSERT_TRUE(e.render_to_window(&drawn));
         ASSERT_EQ(drawn.width, 64u);
-        EXPECT_EQ(drawn.at(4, 6), glm::u8vec4(250, 10, 20, 255));
-        EXPECT_EQ(drawn.at(13, 10), glm::u8vec4(250, 10, 20, 255));
-        EXPECT_EQ(drawn.at(41, 31), glm::u8vec4(5, 240, 30, 255));
-        EXPECT_EQ(drawn.at(14, 10), plain.at(14, 10)); // Just outside the red rectangle.
-        EXPECT_EQ(drawn.at(62, 46), plain.at(62, 46)); // The skipped rectangle drew nothing.
+        // Blended: texel * a + frame * (1 - a), a = 128 / 255, per 8-bit channel (+-1 rounding).
+        const glm::u8vec4 sky = plain.at(5, 7), got = drawn.at(5, 7);
+        for (int c = 0; c < 3; ++c) {
+            const float want = texel[c] * (128.f / 255.f) + sky[c] * (127.f / 255.f);
+            EXPECT_NEAR(float(got[c]), want, 1.5f) << "channel " << c;
+        }
+        EXPECT_EQ(got.a, sky.a);
+        EXPECT_EQ(drawn.at(5, 8), plain.at(5, 8));   // Below the clip rectangle: untouched.
+        EXPECT_EQ(drawn.at(14, 7), plain.at(14, 7)); // Right of the quad.
+        EXPECT_EQ(drawn.at(41, 31), glm::u8vec4(5, 0, 0, 255));
 
-        ASSERT_TRUE(e.set_overlay(vx::Overlay{}));
+        ASSERT_TRUE(e.set_ui(vx::UiDrawList{}));
         ASSERT_TRUE(e.render_to_window(&removed));
-        EXPECT_EQ(removed.at(4, 6), plain.at(4, 6));
+        EXPECT_EQ(removed.at(5, 7), plain.at(5, 7));
 
-        vx::Overlay bad;
-        bad.atlas.width = 4;
-        bad.atlas.height = 4;
-        EXPECT_FALSE(e.set_overlay(bad));
+        vx::UiDrawList bad = ui;
+        bad.indices[3] = 99; // Past the 8 vertices.
+        EXPECT_FALSE(e.set_ui(bad));
+        bad = ui;
+        bad.cmds[1].index_count = 7;
+        EXPECT_FALSE(e.set_ui(bad));
+        EXPECT_FALSE(e.set_ui_texture(2, 2, texel));
         EXPECT_EQ(e.stats().validation_errors, 0u);
         ASSERT_TRUE(e.shutdown());
     }

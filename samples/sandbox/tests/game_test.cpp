@@ -61,7 +61,13 @@ TEST(Game, PlacesRemovesAndPicksAtTheCrosshair) {
     EXPECT_EQ(g.click(sandbox::Button::Left), "");
     EXPECT_EQ(e->get_block(above), std::optional<vx::BlockId>(vx::kAir));
 
-    EXPECT_EQ(g.toggle("denoise"), "denoise: not available in this build");
+    EXPECT_TRUE(g.denoise()); // The game's default.
+    EXPECT_EQ(g.toggle("denoise"), "denoise off");
+    EXPECT_FALSE(g.denoise());
+    EXPECT_EQ(g.toggle("raster"), "raster on");
+    EXPECT_TRUE(g.raster());
+    EXPECT_EQ(g.toggle("raster"), "raster off");
+    EXPECT_EQ(g.toggle("fog"), "fog: unknown toggle");
     EXPECT_EQ(g.toggle("shadows"), "shadows off");
     EXPECT_EQ(g.toggle("shadows"), "shadows on");
     EXPECT_EQ(g.save_text(), "read-only");

@@ -4,6 +4,7 @@
 
 #include "replay.h"
 
+using sandbox::is_replay_key;
 using sandbox::parse_replay;
 using Kind = sandbox::ReplayCommand::Kind;
 
@@ -62,6 +63,7 @@ TEST(Replay, BadLinesNameTheLine) {
         {"x pose 1 2 3 4 5\n", "replay line 1: expected FRAME"},
         {"-1 quit\n", "replay line 1"},
         {"0 key q down\n", "unknown key 'q'"},
+        {"0 key f2 down\n", "unknown key 'f2'"},
         {"0 key w pressed\n", "down or up"},
         {"0 click up\n", "left, right or middle"},
         {"0 select 0\n", "slot 1..9"},
@@ -78,6 +80,16 @@ TEST(Replay, BadLinesNameTheLine) {
         ASSERT_FALSE(r) << c.text;
         EXPECT_NE(r.error().find(c.expect), std::string::npos) << r.error();
     }
+}
+
+TEST(Replay, UiKeysAreReplayKeys) {
+    for (const char* k : {"escape", "f1", "f3"})
+        EXPECT_TRUE(is_replay_key(k)) << k;
+    EXPECT_FALSE(is_replay_key("f2")); // Screenshots have their own command.
+    auto r = parse_replay("0 key f3 down\n0 key f1 up\n");
+    ASSERT_TRUE(r) << r.error();
+    EXPECT_EQ((*r)[0].name, "f3");
+    EXPECT_FALSE((*r)[1].down);
 }
 
 TEST(Replay, EmptyAndCommentOnlyFilesAreEmptyReplays) {

@@ -2,7 +2,7 @@
 # The sandbox playing replays in a window (run under scripts/with_xvfb.sh, lavapipe, validation
 # on): an edit replay flies, places and removes a block at the crosshair with screenshots; the
 # crosshair pixel changes when the block is placed and returns when it is removed; a second run
-# on the same world shows the placed block again (saved); a walk replay never ends a frame inside
+# on the same world shows the placed block again (saved); the Esc menu covers the centre; a walk replay never ends a frame inside
 # a block; a bad replay line exits 2 naming the line. Usage: sandbox_replay_test.sh EXE SRC WORK
 set -euo pipefail
 exe=$1 src=$2 work=$3
@@ -29,6 +29,10 @@ for f in before placed removed placed_again; do [[ -s $f.png ]] || fail "$f.png 
 close "$before" "$placed" 40 && fail "the placed block does not show at the crosshair ($before vs $placed)"
 close "$before" "$removed" 2 || fail "the removed block still shows ($before vs $removed)"
 close "$placed" "$again" 2 || fail "placing again differs ($placed vs $again)"
+# The Esc menu, an ImGui window, covers the centre: its dark background, blended in the capture.
+menu=($(centre menu.png edit.log))
+[[ ${#menu[@]} == 3 ]] || fail "the menu screenshot is missing"
+((menu[0] < 60 && menu[1] < 60 && menu[2] < 60)) || fail "the menu does not cover the centre (${menu[*]})"
 grep -q "edit->screen 1 frames" edit.log || fail "an edit took more than one frame to reach the screen"
 
 "$exe" --replay "$src/reload_replay.txt" "${common[@]}" >reload.log 2>&1 || { cat reload.log; fail "reload replay exited $?"; }

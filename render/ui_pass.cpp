@@ -1,0 +1,213 @@
+#include "render/ui_pass.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+
+#include "render/commands.h"
+#include "render/shader_code.h"
+#include "shaders/shared/ui_types.h"
+
+namespace vx::render {
+
+static_assert(sizeof(UiVertex) == 20 && offsetof(UiVertex, uv) == 8 && offsetof(UiVertex, rgba) == 16,
+              "UiVertex: the 5-word layout ui.vert reads");
+static_assert(sizeof(gpu::UiPush) == 32 && offsetof(gpu::UiPush, pixel_to_clip) == 16, "UiPush layout");
+
+std::string ui_draw_list_error(const UiDrawList& list) {
+    for (uint32_t i : list.indices)
+        if (i >= list.vertices.size())
+            return "UI draw list: index " + std::to_string(i) + " past its " + std::to_string(list.vertices.size()) +
+                   " vertices";
+    for (const UiDrawCmd& c : list.cmds)
+        if (uint64_t(c.index_offset) + c.index_count > list.indices.size() || c.index_count % 3 != 0)
+            return "UI draw list: a command's indices are past the index list or not whole triangles";
+    return {};
+}
+
+namespace {
+
+VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, const char* name) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = code.size_bytes();
+    ci.pCode = code.data();
+    VkShaderModule m = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
+    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
+    return m;
+}
+
+} // namespace
+
+UiPass::UiPass(Context& ctx, VkFormat color_format) : m_ctx(&ctx) { create_pipeline(color_format); }
+
+UiPass::~UiPass() {
+    if (m_pipeline)
+        m_ctx->retire_list().pipelines.push_back(m_pipeline);
+    vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
+}
+
+void UiPass::create_pipeline(VkFormat color_format) {
+    const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::UiPush)};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
+    m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "ui pipeline layout");
+
+    const VkShaderModule vert = make_module(*m_ctx, spirv::ui_vert(), "ui.vert");
+    const VkShaderModule frag = make_module(*m_ctx, spirv::ui_frag(), "ui.frag");
+    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vert;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = frag;
+    stages[1].pName = "main";
+    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE; // Dear ImGui's winding is not fixed.
+    raster.lineWidth = 1.f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineColorBlendAttachmentState attachment{};
+    attachment.blendEnable = VK_TRUE;
+    attachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    attachment.colorBlendOp = VK_BLEND_OP_ADD;
+    attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO; // The frame's alpha stays.
+    attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+    attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                                VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &attachment;
+    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamic_states;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &color_format;
+
+    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    ci.stageCount = 2;
+    ci.pStages = stages;
+    ci.pVertexInputState = &vertex_input;
+    ci.pInputAssemblyState = &assembly;
+    ci.pViewportState = &viewport;
+    ci.pRasterizationState = &raster;
+    ci.pMultisampleState = &multisample;
+    ci.pDepthStencilState = &depth;
+    ci.pColorBlendState = &blend;
+    ci.pDynamicState = &dynamic;
+    ci.layout = m_layout;
+    VK_CHECK(vkCreateGraphicsPipelines(m_ctx->device(), VK_NULL_HANDLE, 1, &ci, nullptr, &m_pipeline));
+    m_ctx->set_name(m_pipeline, VK_OBJECT_TYPE_PIPELINE, "ui pipeline");
+    vkDestroyShaderModule(m_ctx->device(), vert, nullptr);
+    vkDestroyShaderModule(m_ctx->device(), frag, nullptr);
+}
+
+void UiPass::set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
+    VX_ASSERT(width > 0 && height > 0 && rgba.size() == size_t(width) * height * 4);
+    m_tex_width = width;
+    m_tex_height = height;
+    m_tex_rgba = std::move(rgba);
+    m_tex_dirty = true;
+}
+
+// A new device buffer (frames in flight keep reading the old one, which retires with this frame)
+// filled from a staging buffer that retires with this frame too.
+void UiPass::upload_texture(VkCommandBuffer cmd) {
+    const VkDeviceSize bytes = m_tex_rgba.size();
+    Buffer staging = Buffer::create(*m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, 0, "ui texture staging"});
+    Buffer texture = Buffer::create(*m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                             MemoryUse::Device, 0, "ui texture"});
+    VX_ASSERT_MSG(staging.valid() && texture.valid(), "out of GPU memory for the UI texture");
+    std::memcpy(staging.mapped(), m_tex_rgba.data(), bytes);
+    const VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(cmd, staging.handle(), texture.handle(), 1, &region);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    m_texture = std::move(texture);
+    m_tex_dirty = false;
+}
+
+// Copies the list's vertices and indices into this frame slot's buffer (grown when too small).
+bool UiPass::upload_geometry(VkDeviceSize* index_offset) {
+    const VkDeviceSize vbytes = m_list.vertices.size() * sizeof(UiVertex);
+    const VkDeviceSize bytes = vbytes + m_list.indices.size() * sizeof(uint32_t);
+    Buffer& g = m_geometry[m_ctx->frame_slot()];
+    if (!g.valid() || g.size() < bytes) {
+        g = Buffer::create(*m_ctx, {std::max<VkDeviceSize>(bytes * 3 / 2, 4096),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+                                    MemoryUse::Upload, 0, "ui geometry"});
+        if (!g.valid())
+            return false;
+    }
+    auto* dst = static_cast<uint8_t*>(g.mapped());
+    std::memcpy(dst, m_list.vertices.data(), vbytes);
+    std::memcpy(dst + vbytes, m_list.indices.data(), m_list.indices.size() * sizeof(uint32_t));
+    *index_offset = vbytes;
+    return true;
+}
+
+void UiPass::record(VkCommandBuffer cmd, VkImage target, VkImageView view, uint32_t width, uint32_t height) {
+    if (m_list.cmds.empty() || m_list.indices.empty())
+        return;
+    if (m_tex_dirty || !m_texture.valid())
+        upload_texture(cmd);
+    VkDeviceSize index_offset = 0;
+    if (!upload_geometry(&index_offset))
+        return; // Out of memory: the frame goes out without its UI.
+    const Buffer& g = m_geometry[m_ctx->frame_slot()];
+    // After the trace/denoiser/raster writes, which were made visible to transfers.
+    image_barrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = view;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {width, height}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = 1;
+    ri.pColorAttachments = &color;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m_pipeline);
+    const VkViewport viewport{0.f, 0.f, float(width), float(height), 0.f, 1.f};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdBindIndexBuffer(cmd, g.handle(), index_offset, VK_INDEX_TYPE_UINT32);
+    gpu::UiPush push{};
+    push.vertices = g.address();
+    push.texture = m_texture.address();
+    push.pixel_to_clip = {2.f / float(width), 2.f / float(height)};
+    push.texture_size = {m_tex_width, m_tex_height};
+    vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
+    for (const UiDrawCmd& c : m_list.cmds) {
+        const int32_t x0 = std::clamp(c.clip_rect.x, 0, int32_t(width)), y0 = std::clamp(c.clip_rect.y, 0, int32_t(height));
+        const int32_t x1 = std::clamp(c.clip_rect.z, 0, int32_t(width)), y1 = std::clamp(c.clip_rect.w, 0, int32_t(height));
+        if (x1 <= x0 || y1 <= y0 || c.index_count == 0)
+            continue;
+        const VkRect2D scissor{{x0, y0}, {uint32_t(x1 - x0), uint32_t(y1 - y0)}};
+        vkCmdSetScissor(cmd, 0, 1, &scissor);
+        vkCmdDrawIndexed(cmd, c.index_count, 1, c.index_offset, 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+    image_barrier(cmd, target, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+} // namespace vx::render
