@@ -107,6 +107,40 @@ TEST(GreedyMesher, HandMadeCases) {
     EXPECT_EQ(greedy_of(stripes, air, reg).quad_count(), 2u + 4u * 32u);
 }
 
+// remesh_block with the old id merges only the plane sides whose face at the edited block
+// changed; after every edit (and its undo) the mesh must equal a full mesh of the new state, on
+// one-id chunks (1-bit palettes), noise, transparent blocks, wide palettes and solid aprons.
+TEST(GreedyMesher, RemeshBlockWithOldIdEqualsFullMesh) {
+    std::mt19937 rng(11);
+    const Case cases[] = {{0.5, 1, 0}, {0.5, 3, 0}, {0.5, 5, 2}, {0.9, 2, 1}, {0.6, 300, 20}};
+    GreedyMesher mesher, full;
+    for (const Case& c : cases) {
+        const BlockRegistry reg = make_registry(c.types - c.transparent, c.transparent);
+        for (int rep = 0; rep < 3; ++rep) {
+            Chunk chunk = rep == 0 && c.types == 1
+                              ? chunk_from([](int x, int y, int z) { return BlockId((x + y + z) & 1); })
+                              : random_chunk(rng, c.fill, c.types);
+            const Apron apron = rep == 0 ? Apron::air() : random_apron(rng, rep == 1 ? 0.5 : 1.0, c.types, reg);
+            ChunkMesh mesh, expect;
+            mesher.mesh({chunk, apron, reg}, mesh);
+            for (int i = 0; i < 300; ++i) {
+                // Borders often, so apron faces are read too.
+                auto coord = [&] { return rng() % 4 == 0 ? (rng() % 2 ? 31 : 0) : int(rng() % 32); };
+                const LocalPos p(coord(), coord(), coord());
+                const BlockId id = rng() % 3 == 0 ? kAir : BlockId(1 + rng() % c.types);
+                const BlockId old = chunk.set(p, id);
+                mesher.remesh_block({chunk, apron, reg}, p, old, mesh);
+                full.mesh({chunk, apron, reg}, expect);
+                ASSERT_TRUE(mesh == expect) << "types " << c.types << " edit " << i;
+                if (i % 50 == 0) {
+                    mesh_classic_greedy({chunk, apron, reg}, expect);
+                    ASSERT_TRUE(mesh == expect);
+                }
+            }
+        }
+    }
+}
+
 TEST(SimpleMeshers, NaiveEmitsEveryFaceCulledOnlyVisible) {
     const BlockRegistry reg = make_registry(1, 0);
     const Apron air = Apron::air();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <span>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -216,20 +217,25 @@ Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize]
     return q;
 }
 
-// Slice (axis, plane): negative faces of layer `plane`, then positive faces of layer plane - 1.
-template <class E, bool kMulti> Quad* emit_slice(const ChunkView& cv, const AxisRows& a, int axis, int plane, Quad* q) {
+// Which faces of a slice to emit: bit 0 the negative faces, bit 1 the positive ones.
+constexpr uint32_t kNegative = 1, kPositive = 2, kBoth = 3;
+
+// Slice (axis, plane): negative faces of layer `plane`, then positive faces of layer plane - 1
+// (always in this order: remeshing finds where the positive faces start by a binary search).
+template <class E, bool kMulti>
+Quad* emit_slice(const ChunkView& cv, const AxisRows& a, int axis, int plane, uint32_t dirs, Quad* q) {
     uint32_t F[kChunkSize];
     const uint32_t base = uint32_t(plane) << 20 | uint32_t(axis) << 26;
-    if (plane < kChunkSize)
+    if (plane < kChunkSize && (dirs & kNegative))
         if (const uint32_t lines = face_mask<E>(cv, a, axis, plane, false, F))
             q = merge_plane<E, kMulti>(cv, a, F, lines, plane, base, q);
-    if (plane > 0)
+    if (plane > 0 && (dirs & kPositive))
         if (const uint32_t lines = face_mask<E>(cv, a, axis, plane - 1, true, F))
             q = merge_plane<E, kMulti>(cv, a, F, lines, plane - 1, base | 1u << 28, q);
     return q;
 }
 
-using SliceFn = Quad* (*)(const ChunkView&, const AxisRows&, int, int, Quad*);
+using SliceFn = Quad* (*)(const ChunkView&, const AxisRows&, int, int, uint32_t, Quad*);
 
 SliceFn slice_fn(const ChunkView& cv) {
     if (!cv.multi)
@@ -320,7 +326,7 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
     for (int axis = 0; axis < 3; ++axis)
         for (int plane = 0; plane < kPlanesPerAxis; ++plane) {
             out.begin_slice(slice_index(axis, plane));
-            const Quad* end = emit(cv, ax[axis], axis, plane, s.quads);
+            const Quad* end = emit(cv, ax[axis], axis, plane, kBoth, s.quads);
             out.append({s.quads, size_t(end - s.quads)});
         }
     out.end();
@@ -377,9 +383,14 @@ void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint16_t
                 *out++ = uint16_t(idx.get(uint32_t(local_index(plane_to_local(axis, l0 + k, u, v)))));
 }
 
-// Remeshes planes lo..hi (inclusive, at most two) of one axis from the layers they touch.
-void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int hi, ChunkMesh& mesh) {
-    const int l0 = std::max(lo - 1, 0), count = std::min(hi, kChunkSize - 1) - l0 + 1;
+// Remeshes planes lo..lo + 1 (or lo alone) of one axis from the layers they touch: of plane
+// lo + k only the faces that bits 2k (negative) and 2k + 1 (positive) of `dirs` select; the other
+// faces of a slice it touches are kept from `mesh`.
+void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, uint32_t dirs, ChunkMesh& mesh) {
+    if (!dirs)
+        return;
+    const int first = lo + ((dirs & kBoth) ? 0 : 1), last = lo + ((dirs >> 2) ? 1 : 0);
+    const int l0 = std::max(first - 1, 0), count = std::min(last, kChunkSize - 1) - l0 + 1;
     const RowMasks r{s.rn, s.ro, s.rt};
     AxisRows a{s.rn, s.ro, s.rt, nullptr, l0, kChunkSize, 1};
     if (!cv.pal) {
@@ -410,23 +421,84 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int 
         a.ent = s.r16 + kPad;
     }
     const SliceFn emit = slice_fn(cv);
-    for (int plane = lo; plane <= hi; ++plane) {
-        const Quad* end = emit(cv, a, axis, plane, s.quads);
-        mesh.replace_slice(slice_index(axis, plane), {s.quads, size_t(end - s.quads)});
+    for (int plane = first; plane <= last; ++plane) {
+        const uint32_t d = (dirs >> (2 * (plane - lo))) & kBoth;
+        if (!d)
+            continue;
+        const int si = slice_index(axis, plane);
+        Quad* q = s.quads;
+        if (d == kBoth) {
+            q = emit(cv, a, axis, plane, kBoth, q);
+        } else {
+            // The slice holds its negative faces first (emit_slice); keep the unchanged side.
+            const std::span<const Quad> old = mesh.slice(si);
+            const auto pos = std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); });
+            if (d == kPositive)
+                q = std::copy(old.begin(), pos, q);
+            q = emit(cv, a, axis, plane, d, q);
+            if (d == kNegative)
+                q = std::copy(pos, old.end(), q);
+        }
+        mesh.replace_slice(si, {s.quads, size_t(q - s.quads)});
     }
+}
+
+bool visible(BlockId a, BlockId b, const BlockRegistry& r) { return face_visible(a, b, r); }
+
+// The faces of planes p[axis] and p[axis] + 1 that setting block p from `old` to its id in the
+// chunk can change, as remesh_planes' `dirs`. Only the faces of p and towards p change, one per
+// plane side: a plane side whose face there keeps its presence and its block id keeps its quads.
+uint32_t changed_dirs(const MesherInput& in, LocalPos p, BlockId old, int axis) {
+    const BlockRegistry& r = in.registry;
+    const BlockId now = in.chunk.get(p);
+    const int l = p[axis];
+    const int u = p[plane_u_axis(axis)], v = p[plane_v_axis(axis)];
+    LocalPos step(0);
+    step[axis] = 1;
+    // The block across p's face on side `positive`: in the chunk or in the apron.
+    auto across = [&](bool positive) -> BlockId {
+        const int nl = positive ? l + 1 : l - 1;
+        if (nl >= 0 && nl < kChunkSize)
+            return in.chunk.get(positive ? p + step : p - step);
+        return in.apron.ids[int(make_face(axis, positive))][u + kChunkSize * v];
+    };
+    // p's own face towards b: changes when it appears, vanishes or shows another id.
+    auto own = [&](BlockId b) {
+        const bool was = visible(old, b, r), is = visible(now, b, r);
+        return was != is || (is && old != now);
+    };
+    // Face of neighbour b (same id before and after) towards p.
+    auto theirs = [&](BlockId b) { return visible(b, old, r) != visible(b, now, r); };
+    uint32_t dirs = 0;
+    const BlockId below = across(false), above = across(true);
+    if (own(below)) // Plane l, negative faces of layer l.
+        dirs |= kNegative;
+    if (l > 0 && theirs(below)) // Plane l, positive faces of layer l - 1.
+        dirs |= kPositive;
+    if (own(above)) // Plane l + 1, positive faces of layer l.
+        dirs |= kPositive << 2;
+    if (l + 1 < kChunkSize && theirs(above)) // Plane l + 1, negative faces of layer l + 1.
+        dirs |= kNegative << 2;
+    return dirs;
 }
 
 } // namespace
 
 void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
-    remesh_planes(*m_scratch, cv, axis, plane, plane, mesh);
+    remesh_planes(*m_scratch, cv, axis, plane, kBoth, mesh);
 }
 
 void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
     for (int axis = 0; axis < 3; ++axis)
-        remesh_planes(*m_scratch, cv, axis, p[axis], p[axis] + 1, mesh);
+        remesh_planes(*m_scratch, cv, axis, p[axis], kBoth | kBoth << 2, mesh);
+}
+
+void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh) {
+    const ChunkView cv = make_view(in, m_scratch->flags);
+    for (int axis = 0; axis < 3; ++axis)
+        remesh_planes(*m_scratch, cv, axis, p[axis], changed_dirs(in, p, old, axis), mesh);
 }
 
 } // namespace vx::world
