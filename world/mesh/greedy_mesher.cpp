@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstring>
 #include <span>
 
@@ -42,11 +43,11 @@ struct AxisRows {
     int line_step() const { return ers * kChunkSize; }
 };
 
+// Built as one 64-bit word (packed, block, reserved 0: the little-endian layout of Quad), so a
+// quad is one store, not three.
 inline Quad make_quad(uint32_t packed, BlockId block) {
-    Quad q;
-    q.packed = packed;
-    q.block = block;
-    return q;
+    static_assert(std::endian::native == std::endian::little && offsetof(Quad, block) == 4);
+    return std::bit_cast<Quad>(packed | uint64_t(block) << 32);
 }
 
 // Bit v set where F[v] != 0.
@@ -359,9 +360,8 @@ void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint8_t*
         return;
     }
     if (axis == 1) {
-        for (int k = 0; k < count; ++k)
-            for (int v = 0; v < kChunkSize; ++v)
-                unpack_rows8(idx, v * kChunkSize + l0 + k, 1, out + (k * kChunkSize + v) * kChunkSize);
+        for (int k = 0; k < count; ++k) // Layer y: rows z * 32 + y.
+            unpack_rows8(idx, l0 + k, kChunkSize, out + k * kRows, kChunkSize);
         return;
     }
     switch (idx.bits()) {
@@ -426,20 +426,19 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, uint
         if (!d)
             continue;
         const int si = slice_index(axis, plane);
-        Quad* q = s.quads;
+        const std::span<const Quad> quads{s.quads, size_t(emit(cv, a, axis, plane, d, s.quads) - s.quads)};
         if (d == kBoth) {
-            q = emit(cv, a, axis, plane, kBoth, q);
-        } else {
-            // The slice holds its negative faces first (emit_slice); keep the unchanged side.
-            const std::span<const Quad> old = mesh.slice(si);
-            const auto pos = std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); });
-            if (d == kPositive)
-                q = std::copy(old.begin(), pos, q);
-            q = emit(cv, a, axis, plane, d, q);
-            if (d == kNegative)
-                q = std::copy(pos, old.end(), q);
+            mesh.replace_slice(si, quads);
+            continue;
         }
-        mesh.replace_slice(si, {s.quads, size_t(q - s.quads)});
+        // The slice holds its negative faces first (emit_slice); the unchanged side stays.
+        const std::span<const Quad> old = mesh.slice(si);
+        const uint32_t split = uint32_t(
+            std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); }) - old.begin());
+        if (d == kNegative)
+            mesh.replace_slice_range(si, 0, split, quads);
+        else
+            mesh.replace_slice_range(si, split, uint32_t(old.size()), quads);
     }
 }
 
