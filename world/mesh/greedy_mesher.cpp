@@ -141,10 +141,14 @@ Quad* emit_isolated(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSiz
         return q;
     lines = nonzero_lines(F);
     for (int v = 0; v < kChunkSize; v += 2) {
+        // Bit k of the scan is line v + k / 32, u = k % 32: packed bits (v << 5) + k (v is even).
+        const uint32_t line = base | uint32_t(v) << 5;
         for (uint64_t b = iso[v] | uint64_t(iso[v + 1]) << 32; b; b &= b - 1) {
-            const int k = std::countr_zero(b), lv = v + (k >> 5), u = k & 31;
-            const BlockId id = kMulti ? cv.pal->ids[a.entries<E>(l, lv)[u]] : cv.single;
-            *q++ = make_quad(base | uint32_t(lv) << 5 | uint32_t(u), id);
+            const int k = std::countr_zero(b);
+            if constexpr (kMulti)
+                *q++ = make_quad(line + uint32_t(k), cv.pal->ids[a.entries<E>(l, v + (k >> 5))[k & 31]]);
+            else
+                *q++ = make_quad(line + uint32_t(k), cv.single);
         }
     }
     return q;
