@@ -446,8 +446,6 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, uint
     }
 }
 
-bool visible(BlockId a, BlockId b, const BlockRegistry& r) { return face_visible(a, b, r); }
-
 // The faces of planes p[axis] and p[axis] + 1 that setting block p from `old` to its id in the
 // chunk can change, as remesh_planes' `dirs`. Only the faces of p and towards p change, one per
 // plane side: a plane side whose face there keeps its presence and its block id keeps its quads.
@@ -467,11 +465,11 @@ uint32_t changed_dirs(const MesherInput& in, LocalPos p, BlockId old, int axis) 
     };
     // p's own face towards b: changes when it appears, vanishes or shows another id.
     auto own = [&](BlockId b) {
-        const bool was = visible(old, b, r), is = visible(now, b, r);
+        const bool was = face_visible(old, b, r), is = face_visible(now, b, r);
         return was != is || (is && old != now);
     };
     // Face of neighbour b (same id before and after) towards p.
-    auto theirs = [&](BlockId b) { return visible(b, old, r) != visible(b, now, r); };
+    auto theirs = [&](BlockId b) { return face_visible(b, old, r) != face_visible(b, now, r); };
     uint32_t dirs = 0;
     const BlockId below = across(false), above = across(true);
     if (own(below)) // Plane l, negative faces of layer l.
