@@ -141,6 +141,44 @@ TEST(GreedyMesher, RemeshBlockWithOldIdEqualsFullMesh) {
     }
 }
 
+// replace_slice_range keeps the quads before `first` and after `last` in order, whether the
+// range shrinks, grows within the slice's spare room or past it (the storage is laid out again),
+// and leaves the other slices alone.
+TEST(ChunkMesh, ReplaceSliceRangeKeepsTheRestInOrder) {
+    auto q = [](int u, BlockId id) { return Quad::make(2, 5, false, u, 0, 1, 1, id); };
+    auto ids_of = [](std::span<const Quad> s) {
+        std::vector<int> out;
+        for (const Quad& x : s)
+            out.push_back(x.u0() * 100 + x.block);
+        return out;
+    };
+    ChunkMesh mesh;
+    mesh.begin(0);
+    for (int s = 0; s < kSliceCount; ++s) {
+        mesh.begin_slice(s);
+        for (int i = 0; i < (s % 3) + 2; ++i)
+            mesh.push(q(i, BlockId(s % 7 + 1)));
+    }
+    mesh.end();
+    const ChunkMesh before = mesh;
+    const int s = slice_index(2, 5); // 71: 4 quads, ids 2.
+    const Quad two[] = {q(10, 9), q(11, 9)};
+    mesh.replace_slice_range(s, 1, 3, {two, 1}); // Shrinks: 0, 10, 3.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{2, 1009, 302}));
+    mesh.replace_slice_range(s, 0, 1, two); // Grows past the exact-size capacity: 10, 11, 10, 3.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{1009, 1109, 1009, 302}));
+    mesh.replace_slice_range(s, 3, 4, two); // Grows at the end, within the new headroom.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{1009, 1109, 1009, 1009, 1109}));
+    mesh.replace_slice_range(s, 1, 2, {}); // Removes one in the middle.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{1009, 1009, 1009, 1109}));
+    EXPECT_EQ(mesh.quad_count(), before.quad_count());
+    for (int t = 0; t < kSliceCount; ++t) {
+        if (t != s) {
+            EXPECT_EQ(ids_of(mesh.slice(t)), ids_of(before.slice(t))) << "slice " << t;
+        }
+    }
+}
+
 TEST(SimpleMeshers, NaiveEmitsEveryFaceCulledOnlyVisible) {
     const BlockRegistry reg = make_registry(1, 0);
     const Apron air = Apron::air();
