@@ -446,40 +446,93 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, uint
     }
 }
 
-// The faces of planes p[axis] and p[axis] + 1 that setting block p from `old` to its id in the
-// chunk can change, as remesh_planes' `dirs`. Only the faces of p and towards p change, one per
-// plane side: a plane side whose face there keeps its presence and its block id keeps its quads.
-uint32_t changed_dirs(const MesherInput& in, LocalPos p, BlockId old, int axis) {
+// The block at (layer, u, v) of planes perpendicular to `axis`; layers -1 and 32 are the apron.
+BlockId block_at(const MesherInput& in, int axis, int layer, int u, int v) {
+    if (layer >= 0 && layer < kChunkSize)
+        return in.chunk.get(plane_to_local(axis, layer, u, v));
+    return in.apron.ids[int(make_face(axis, layer >= kChunkSize))][u + kChunkSize * v];
+}
+
+// One face of a plane side: shown or not, and the block it belongs to.
+struct Cell {
+    bool shown = false;
+    BlockId id = kAir;
+};
+
+// Whether a face `c` shown at (u, v) on the side of layer `layer` facing layer + d has no face of
+// its id beside it in the plane: then the greedy merge makes it a 1 x 1 quad and no other quad
+// depends on it (no run reaches through it, none grows into or out of it).
+bool alone(const MesherInput& in, int axis, int layer, int d, int u, int v, Cell c) {
+    const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
+    for (int k = 0; k < 4; ++k) {
+        const int nu = u + du[k], nv = v + dv[k];
+        if (nu < 0 || nu >= kChunkSize || nv < 0 || nv >= kChunkSize)
+            continue;
+        if (block_at(in, axis, layer, nu, nv) == c.id &&
+            face_visible(c.id, block_at(in, axis, layer + d, nu, nv), in.registry))
+            return false;
+    }
+    return true;
+}
+
+// Replaces the 1 x 1 quad of face (u, v) on one side of slice (axis, plane): `was` out, `is` in.
+// False (nothing changed) when the mesh lacks the quad `was` says it holds.
+bool replace_cell(ChunkMesh& mesh, int axis, int plane, bool positive, int u, int v, Cell was, Cell is) {
+    const int si = slice_index(axis, plane);
+    const uint32_t packed = uint32_t(u) | uint32_t(v) << 5 | uint32_t(plane) << 20 | uint32_t(axis) << 26 |
+                            uint32_t(positive) << 28;
+    const std::span<const Quad> old = mesh.slice(si);
+    // The slice holds its negative faces first (emit_slice).
+    const uint32_t split = uint32_t(
+        std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); }) - old.begin());
+    const uint32_t begin = positive ? split : 0, end = positive ? uint32_t(old.size()) : split;
+    const Quad add = make_quad(packed, is.id);
+    if (!was.shown) { // Appended to its side.
+        mesh.replace_slice_range(si, end, end, {&add, is.shown ? 1u : 0u});
+        return true;
+    }
+    const Quad gone = make_quad(packed, was.id);
+    for (uint32_t k = begin; k < end; ++k)
+        if (old[k] == gone) {
+            mesh.replace_slice_range(si, k, k + 1, {&add, is.shown ? 1u : 0u});
+            return true;
+        }
+    return false;
+}
+
+// After block p changed from `old` to its id in the chunk, updates the sides of planes p[axis]
+// and p[axis] + 1 whose face at or towards p changed and stays alone in the plane (one quad in or
+// out: most faces of noisy or checkered chunks), and returns the sides that changed otherwise, as
+// remesh_planes' `dirs`. Only p's faces and the faces towards p change, one per plane side; a
+// side whose face there keeps its presence and its block id keeps its quads.
+uint32_t update_cells(const MesherInput& in, LocalPos p, BlockId old, int axis, ChunkMesh& mesh) {
     const BlockRegistry& r = in.registry;
     const BlockId now = in.chunk.get(p);
-    const int l = p[axis];
-    const int u = p[plane_u_axis(axis)], v = p[plane_v_axis(axis)];
-    LocalPos step(0);
-    step[axis] = 1;
-    // The block across p's face on side `positive`: in the chunk or in the apron.
-    auto across = [&](bool positive) -> BlockId {
-        const int nl = positive ? l + 1 : l - 1;
-        if (nl >= 0 && nl < kChunkSize)
-            return in.chunk.get(positive ? p + step : p - step);
-        return in.apron.ids[int(make_face(axis, positive))][u + kChunkSize * v];
-    };
-    // p's own face towards b: changes when it appears, vanishes or shows another id.
-    auto own = [&](BlockId b) {
-        const bool was = face_visible(old, b, r), is = face_visible(now, b, r);
-        return was != is || (is && old != now);
-    };
-    // Face of neighbour b (same id before and after) towards p.
-    auto theirs = [&](BlockId b) { return face_visible(b, old, r) != face_visible(b, now, r); };
+    const int l = p[axis], u = p[plane_u_axis(axis)], v = p[plane_v_axis(axis)];
     uint32_t dirs = 0;
-    const BlockId below = across(false), above = across(true);
-    if (own(below)) // Plane l, negative faces of layer l.
-        dirs |= kNegative;
-    if (l > 0 && theirs(below)) // Plane l, positive faces of layer l - 1.
-        dirs |= kPositive;
-    if (own(above)) // Plane l + 1, positive faces of layer l.
-        dirs |= kPositive << 2;
-    if (l + 1 < kChunkSize && theirs(above)) // Plane l + 1, negative faces of layer l + 1.
-        dirs |= kNegative << 2;
+    for (uint32_t b = 0; b < 4; ++b) {
+        // Side b: plane l + b / 2, faces of `layer` towards layer + d (positive when b is odd).
+        const bool positive = b & 1;
+        const int plane = l + int(b >> 1), layer = positive ? plane - 1 : plane, d = positive ? 1 : -1;
+        if (layer < 0 || layer >= kChunkSize)
+            continue;
+        Cell was, is;
+        if (layer == l) { // p's own face.
+            const BlockId across = block_at(in, axis, layer + d, u, v);
+            was = {face_visible(old, across, r), old};
+            is = {face_visible(now, across, r), now};
+        } else { // The neighbour's face towards p.
+            const BlockId id = block_at(in, axis, layer, u, v);
+            was = {face_visible(id, old, r), id};
+            is = {face_visible(id, now, r), id};
+        }
+        if (was.shown == is.shown && (!is.shown || was.id == is.id))
+            continue;
+        const bool local = (!was.shown || alone(in, axis, layer, d, u, v, was)) &&
+                           (!is.shown || alone(in, axis, layer, d, u, v, is));
+        if (!local || !replace_cell(mesh, axis, plane, positive, u, v, was, is))
+            dirs |= 1u << b;
+    }
     return dirs;
 }
 
@@ -499,7 +552,7 @@ void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& me
 void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
     for (int axis = 0; axis < 3; ++axis)
-        remesh_planes(*m_scratch, cv, axis, p[axis], changed_dirs(in, p, old, axis), mesh);
+        remesh_planes(*m_scratch, cv, axis, p[axis], update_cells(in, p, old, axis, mesh), mesh);
 }
 
 } // namespace vx::world
