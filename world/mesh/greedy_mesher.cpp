@@ -123,49 +123,18 @@ uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l, bool
 
 inline uint32_t run_mask(int u0, int w) { return uint32_t(((uint64_t(1) << w) - 1) << u0); }
 
-// Faces with no face beside them in the plane are 1 x 1 quads whatever the merge order: emitted
-// first (two lines per 64-bit scan, so sparse planes take few loop exits) and removed from F.
-template <class E, bool kMulti>
-Quad* emit_isolated(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t& lines, int l,
-                    uint32_t base, Quad* q) {
-    uint32_t G[kChunkSize + 2], iso[kChunkSize];
-    G[0] = G[kChunkSize + 1] = 0;
-    std::memcpy(G + 1, F, sizeof iso);
-    uint32_t any = 0;
-    for (int v = 0; v < kChunkSize; ++v) {
-        const uint32_t f = G[v + 1];
-        any |= iso[v] = f & ~(f << 1) & ~(f >> 1) & ~G[v] & ~G[v + 2];
-        F[v] = f & ~iso[v];
-    }
-    if (!any)
-        return q;
-    lines = nonzero_lines(F);
-    for (int v = 0; v < kChunkSize; v += 2) {
-        // Bit k of the scan is line v + k / 32, u = k % 32: packed bits (v << 5) + k (v is even).
-        const uint32_t line = base | uint32_t(v) << 5;
-        for (uint64_t b = iso[v] | uint64_t(iso[v + 1]) << 32; b; b &= b - 1) {
-            const int k = std::countr_zero(b);
-            if constexpr (kMulti)
-                *q++ = make_quad(line + uint32_t(k), cv.pal->ids[a.entries<E>(l, v + (k >> 5))[k & 31]]);
-            else
-                *q++ = make_quad(line + uint32_t(k), cv.single);
-        }
-    }
-    return q;
-}
-
 // Classic greedy merge of one plane's faces F (consumed): line by line, a quad starts at the
 // lowest free face, takes the whole run of equal faces along u, then grows along v while the next
 // line holds the same run. Runs of one line never overlap, so they are independent: width-1 runs
 // that cannot grow are emitted first, straight from bit tests. Returns the end of the output.
+// Output order (edits rely on it to put a 1 x 1 quad back where a merge would): by line, then
+// 1 x 1 quads before larger ones, then by u (see quad_order).
 template <class E, bool kMulti>
 Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t lines, int l, uint32_t base,
                   Quad* q) {
     const BlockId* ids = kMulti ? cv.pal->ids.data() : nullptr;
     const E* ent = kMulti ? a.line0_entries<E>(l) : nullptr;
     const int step = a.line_step();
-    if constexpr (!kMulti) // Pays off on sparse one-id chunks; with ids, per-line tests below are cheaper.
-        q = emit_isolated<E, kMulti>(cv, a, F, lines, l, base, q);
     for (; lines; lines &= lines - 1) {
         const int v = std::countr_zero(lines);
         uint32_t m = F[v]; // Lines below may have been used up by quads from above.
@@ -475,29 +444,36 @@ bool alone(const MesherInput& in, int axis, int layer, int d, int u, int v, Cell
     return true;
 }
 
-// Replaces the 1 x 1 quad of face (u, v) on one side of slice (axis, plane): `was` out, `is` in.
+// The order merge_plane emits one side's quads in: by line v, 1 x 1 quads first, then by u.
+inline uint32_t quad_order(const Quad& q) {
+    const bool big = (q.packed & (0x3ffu << 10)) != 0; // Width or height above 1.
+    return uint32_t(q.v0()) << 6 | uint32_t(big) << 5 | uint32_t(q.u0());
+}
+
+// Replaces the 1 x 1 quad of face (u, v) on one side of slice (axis, plane): `was` out, `is` in,
+// at the place a merge would give it (so an edit and its undo restore the slice exactly).
 // False (nothing changed) when the mesh lacks the quad `was` says it holds.
 bool replace_cell(ChunkMesh& mesh, int axis, int plane, bool positive, int u, int v, Cell was, Cell is) {
     const int si = slice_index(axis, plane);
     const uint32_t packed = uint32_t(u) | uint32_t(v) << 5 | uint32_t(plane) << 20 | uint32_t(axis) << 26 |
                             uint32_t(positive) << 28;
     const std::span<const Quad> old = mesh.slice(si);
-    // The slice holds its negative faces first (emit_slice).
-    const uint32_t split = uint32_t(
-        std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); }) - old.begin());
-    const uint32_t begin = positive ? split : 0, end = positive ? uint32_t(old.size()) : split;
+    // The slice holds its negative faces first (emit_slice), each side in quad_order.
+    const auto split = std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); });
+    const auto begin = positive ? split : old.begin(), end = positive ? old.end() : split;
+    const uint32_t key = uint32_t(v) << 6 | uint32_t(u);
+    const auto at = std::partition_point(begin, end, [key](const Quad& x) { return quad_order(x) < key; });
+    const uint32_t k = uint32_t(at - old.begin());
     const Quad add = make_quad(packed, is.id);
-    if (!was.shown) { // Appended to its side.
-        mesh.replace_slice_range(si, end, end, {&add, is.shown ? 1u : 0u});
+    const uint32_t n_add = is.shown ? 1u : 0u;
+    if (!was.shown) {
+        mesh.replace_slice_range(si, k, k, {&add, n_add});
         return true;
     }
-    const Quad gone = make_quad(packed, was.id);
-    for (uint32_t k = begin; k < end; ++k)
-        if (old[k] == gone) {
-            mesh.replace_slice_range(si, k, k + 1, {&add, is.shown ? 1u : 0u});
-            return true;
-        }
-    return false;
+    if (at == end || !(*at == make_quad(packed, was.id)))
+        return false;
+    mesh.replace_slice_range(si, k, k + 1, {&add, n_add});
+    return true;
 }
 
 // After block p changed from `old` to its id in the chunk, updates the sides of planes p[axis]
