@@ -107,6 +107,93 @@ TEST(GreedyMesher, HandMadeCases) {
     EXPECT_EQ(greedy_of(stripes, air, reg).quad_count(), 2u + 4u * 32u);
 }
 
+namespace {
+
+// The same quads in the same order in every slice (what a renderer's mesh hash sees).
+bool same_order(const ChunkMesh& a, const ChunkMesh& b) {
+    for (int s = 0; s < kSliceCount; ++s) {
+        auto sa = a.slice(s), sb = b.slice(s);
+        if (!std::equal(sa.begin(), sa.end(), sb.begin(), sb.end()))
+            return false;
+    }
+    return true;
+}
+
+} // namespace
+
+// remesh_block with the old id merges only the plane sides whose face at the edited block
+// changed, and swaps lone 1 x 1 quads in place; after every edit the mesh must equal a full mesh
+// of the new state, quad for quad in the same order (so an edit and its undo restore it exactly),
+// on one-id chunks (1-bit palettes), noise, transparent blocks, wide palettes and solid aprons.
+TEST(GreedyMesher, RemeshBlockWithOldIdEqualsFullMesh) {
+    std::mt19937 rng(11);
+    const Case cases[] = {{0.5, 1, 0}, {0.5, 3, 0}, {0.5, 5, 2}, {0.9, 2, 1}, {0.6, 300, 20}};
+    GreedyMesher mesher, full;
+    for (const Case& c : cases) {
+        const BlockRegistry reg = make_registry(c.types - c.transparent, c.transparent);
+        for (int rep = 0; rep < 3; ++rep) {
+            Chunk chunk = rep == 0 && c.types == 1
+                              ? chunk_from([](int x, int y, int z) { return BlockId((x + y + z) & 1); })
+                              : random_chunk(rng, c.fill, c.types);
+            const Apron apron = rep == 0 ? Apron::air() : random_apron(rng, rep == 1 ? 0.5 : 1.0, c.types, reg);
+            ChunkMesh mesh, expect;
+            mesher.mesh({chunk, apron, reg}, mesh);
+            for (int i = 0; i < 300; ++i) {
+                // Borders often, so apron faces are read too.
+                auto coord = [&] { return rng() % 4 == 0 ? (rng() % 2 ? 31 : 0) : int(rng() % 32); };
+                const LocalPos p(coord(), coord(), coord());
+                const BlockId id = rng() % 3 == 0 ? kAir : BlockId(1 + rng() % c.types);
+                const BlockId old = chunk.set(p, id);
+                mesher.remesh_block({chunk, apron, reg}, p, old, mesh);
+                full.mesh({chunk, apron, reg}, expect);
+                ASSERT_TRUE(same_order(mesh, expect)) << "types " << c.types << " edit " << i;
+                if (i % 50 == 0) {
+                    mesh_classic_greedy({chunk, apron, reg}, expect);
+                    ASSERT_TRUE(mesh == expect);
+                }
+            }
+        }
+    }
+}
+
+// replace_slice_range keeps the quads before `first` and after `last` in order, whether the
+// range shrinks, grows within the slice's spare room or past it (the storage is laid out again),
+// and leaves the other slices alone.
+TEST(ChunkMesh, ReplaceSliceRangeKeepsTheRestInOrder) {
+    auto q = [](int u, BlockId id) { return Quad::make(2, 5, false, u, 0, 1, 1, id); };
+    auto ids_of = [](std::span<const Quad> s) {
+        std::vector<int> out;
+        for (const Quad& x : s)
+            out.push_back(x.u0() * 100 + x.block);
+        return out;
+    };
+    ChunkMesh mesh;
+    mesh.begin(0);
+    for (int s = 0; s < kSliceCount; ++s) {
+        mesh.begin_slice(s);
+        for (int i = 0; i < (s % 3) + 2; ++i)
+            mesh.push(q(i, BlockId(s % 7 + 1)));
+    }
+    mesh.end();
+    const ChunkMesh before = mesh;
+    const int s = slice_index(2, 5); // 71: 4 quads, ids 2.
+    const Quad two[] = {q(10, 9), q(11, 9)};
+    mesh.replace_slice_range(s, 1, 3, {two, 1}); // Shrinks: 0, 10, 3.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{2, 1009, 302}));
+    mesh.replace_slice_range(s, 0, 1, two); // Grows past the exact-size capacity: 10, 11, 10, 3.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{1009, 1109, 1009, 302}));
+    mesh.replace_slice_range(s, 3, 4, two); // Grows at the end, within the new headroom.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{1009, 1109, 1009, 1009, 1109}));
+    mesh.replace_slice_range(s, 1, 2, {}); // Removes one in the middle.
+    EXPECT_EQ(ids_of(mesh.slice(s)), (std::vector<int>{1009, 1009, 1009, 1109}));
+    EXPECT_EQ(mesh.quad_count(), before.quad_count());
+    for (int t = 0; t < kSliceCount; ++t) {
+        if (t != s) {
+            EXPECT_EQ(ids_of(mesh.slice(t)), ids_of(before.slice(t))) << "slice " << t;
+        }
+    }
+}
+
 TEST(SimpleMeshers, NaiveEmitsEveryFaceCulledOnlyVisible) {
     const BlockRegistry reg = make_registry(1, 0);
     const Apron air = Apron::air();

@@ -108,8 +108,10 @@ void bench_mesher(benchmark::State& state, const Scene& scene, bool embedded, Me
 }
 
 // One edit and its undo per iteration, so the chunk stays the scene it started as (toggling
-// blocks forever would turn any chunk into noise).
-void bench_remesh_edit(benchmark::State& state, const Scene& scene) {
+// blocks forever would turn any chunk into noise). `with_old`: remesh_block is told the block's
+// previous id and merges only the plane sides that changed (the edit path); without it, all six
+// slices are merged again (same process: the ratio of the two is what skipping saves).
+void bench_remesh_edit(benchmark::State& state, const Scene& scene, bool with_old) {
     const BlockRegistry& reg = BlockRegistry::default_registry();
     Chunk chunk = scene.make(3);
     const Apron apron = Apron::air();
@@ -120,10 +122,17 @@ void bench_remesh_edit(benchmark::State& state, const Scene& scene) {
     for (auto _ : state) {
         const LocalPos p(int(rng() % 32), int(rng() % 32), int(rng() % 32));
         const BlockId old = chunk.get(p);
-        chunk.set(p, old == kAir ? BlockId(1) : kAir); // Place stone, or dig.
-        mesher.remesh_block({chunk, apron, reg}, p, mesh);
+        const BlockId now = old == kAir ? BlockId(1) : kAir; // Place stone, or dig.
+        chunk.set(p, now);
+        if (with_old)
+            mesher.remesh_block({chunk, apron, reg}, p, old, mesh);
+        else
+            mesher.remesh_block({chunk, apron, reg}, p, mesh);
         chunk.set(p, old);
-        mesher.remesh_block({chunk, apron, reg}, p, mesh);
+        if (with_old)
+            mesher.remesh_block({chunk, apron, reg}, p, now, mesh);
+        else
+            mesher.remesh_block({chunk, apron, reg}, p, mesh);
         benchmark::DoNotOptimize(mesh.quad_count());
     }
     state.counters["per_edit"] = benchmark::Counter(double(state.iterations()) * 2,
@@ -171,9 +180,11 @@ const bool registered = [] {
         }
     for (const Scene& s : scenes())
         if (std::string(s.name) != "empty" && std::string(s.name) != "solid")
-            benchmark::RegisterBenchmark(("mesh/remesh_edit/" + std::string(s.name)).c_str(),
-                                         [&s](benchmark::State& st) { bench_remesh_edit(st, s); })
-                ->Unit(benchmark::kMicrosecond);
+            for (const bool with_old : {true, false})
+                benchmark::RegisterBenchmark(
+                    ((with_old ? "mesh/remesh_edit/" : "mesh/remesh_all_six/") + std::string(s.name)).c_str(),
+                    [&s, with_old](benchmark::State& st) { bench_remesh_edit(st, s, with_old); })
+                    ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark("mesh/seed_scene_all_cores", bench_seed_scene)->UseManualTime()->Unit(benchmark::kMillisecond);
     return true;
 }();

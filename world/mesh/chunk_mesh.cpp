@@ -55,10 +55,20 @@ void ChunkMesh::end() {
 
 void ChunkMesh::replace_slice(int s, std::span<const Quad> quads) {
     VX_ASSERT(s >= 0 && s < kSliceCount);
-    const uint32_t n = uint32_t(quads.size());
+    replace_slice_range(s, 0, m_count[s], quads);
+}
+
+void ChunkMesh::replace_slice_range(int s, uint32_t first, uint32_t last, std::span<const Quad> quads) {
+    VX_ASSERT(s >= 0 && s < kSliceCount && first <= last && last <= m_count[s]);
+    const uint32_t k = uint32_t(quads.size()), n = m_count[s] - (last - first) + k;
     if (n > m_capacity[s])
         relayout(s, n);
-    std::copy(quads.begin(), quads.end(), m_quads.begin() + m_start[s]);
+    Quad* at = m_quads.data() + m_start[s];
+    if (first + k < last) // The quads after `last` move left or right (overlapping ranges).
+        std::copy(at + last, at + m_count[s], at + first + k);
+    else if (first + k > last)
+        std::copy_backward(at + last, at + m_count[s], at + m_count[s] + (first + k - last));
+    std::copy(quads.begin(), quads.end(), at + first);
     m_total = m_total - m_count[s] + n;
     m_count[s] = n;
 }

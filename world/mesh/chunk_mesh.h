@@ -76,6 +76,9 @@ public:
     // Replaces one slice's quads. Fits in place when the slice's capacity allows; otherwise the
     // storage is laid out again with headroom in every slice.
     void replace_slice(int s, std::span<const Quad> quads);
+    // Replaces quads [first, last) of slice s, keeping the others in order (those after last
+    // move); grows like replace_slice.
+    void replace_slice_range(int s, uint32_t first, uint32_t last, std::span<const Quad> quads);
 
     // Writing a whole mesh in slice order (used by meshers): begin, then per slice in order
     // begin_slice(s) + push(q) or append(quads)..., then end().

@@ -19,7 +19,8 @@ void EditMesher::mesh_chunk(const World& world, ChunkCoord c, MeshMap& meshes) {
 
 EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLookup& lookup) {
     EditResult r;
-    if (world.set_block(p, id) == id)
+    const BlockId old = world.set_block(p, id);
+    if (old == id)
         return r;
     r.changed = true;
     const ChunkCoord c = chunk_of(p);
@@ -32,7 +33,7 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLoo
             if (l[face_axis(face)] == (face_positive(face) ? kChunkSize - 1 : 0))
                 m_apron.copy_face(face, world.find_chunk(c + face_normal(face)), reg);
         }
-        m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, *mesh);
+        m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, old, *mesh);
         SliceUpdate u{c, false, 6, {}};
         for (int a = 0; a < 3; ++a)
             u.slices[2 * a] = slice_index(a, l[a]), u.slices[2 * a + 1] = slice_index(a, l[a] + 1);

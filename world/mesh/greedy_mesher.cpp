@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstring>
+#include <span>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -41,11 +43,11 @@ struct AxisRows {
     int line_step() const { return ers * kChunkSize; }
 };
 
+// Built as one 64-bit word (packed, block, reserved 0: the little-endian layout of Quad), so a
+// quad is one store, not three.
 inline Quad make_quad(uint32_t packed, BlockId block) {
-    Quad q;
-    q.packed = packed;
-    q.block = block;
-    return q;
+    static_assert(std::endian::native == std::endian::little && offsetof(Quad, block) == 4);
+    return std::bit_cast<Quad>(packed | uint64_t(block) << 32);
 }
 
 // Bit v set where F[v] != 0.
@@ -121,45 +123,18 @@ uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l, bool
 
 inline uint32_t run_mask(int u0, int w) { return uint32_t(((uint64_t(1) << w) - 1) << u0); }
 
-// Faces with no face beside them in the plane are 1 x 1 quads whatever the merge order: emitted
-// first (two lines per 64-bit scan, so sparse planes take few loop exits) and removed from F.
-template <class E, bool kMulti>
-Quad* emit_isolated(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t& lines, int l,
-                    uint32_t base, Quad* q) {
-    uint32_t G[kChunkSize + 2], iso[kChunkSize];
-    G[0] = G[kChunkSize + 1] = 0;
-    std::memcpy(G + 1, F, sizeof iso);
-    uint32_t any = 0;
-    for (int v = 0; v < kChunkSize; ++v) {
-        const uint32_t f = G[v + 1];
-        any |= iso[v] = f & ~(f << 1) & ~(f >> 1) & ~G[v] & ~G[v + 2];
-        F[v] = f & ~iso[v];
-    }
-    if (!any)
-        return q;
-    lines = nonzero_lines(F);
-    for (int v = 0; v < kChunkSize; v += 2) {
-        for (uint64_t b = iso[v] | uint64_t(iso[v + 1]) << 32; b; b &= b - 1) {
-            const int k = std::countr_zero(b), lv = v + (k >> 5), u = k & 31;
-            const BlockId id = kMulti ? cv.pal->ids[a.entries<E>(l, lv)[u]] : cv.single;
-            *q++ = make_quad(base | uint32_t(lv) << 5 | uint32_t(u), id);
-        }
-    }
-    return q;
-}
-
 // Classic greedy merge of one plane's faces F (consumed): line by line, a quad starts at the
 // lowest free face, takes the whole run of equal faces along u, then grows along v while the next
 // line holds the same run. Runs of one line never overlap, so they are independent: width-1 runs
 // that cannot grow are emitted first, straight from bit tests. Returns the end of the output.
+// Output order (edits rely on it to put a 1 x 1 quad back where a merge would): by line, then
+// 1 x 1 quads before larger ones, then by u (see quad_order).
 template <class E, bool kMulti>
 Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize], uint32_t lines, int l, uint32_t base,
                   Quad* q) {
     const BlockId* ids = kMulti ? cv.pal->ids.data() : nullptr;
     const E* ent = kMulti ? a.line0_entries<E>(l) : nullptr;
     const int step = a.line_step();
-    if constexpr (!kMulti) // Pays off on sparse one-id chunks; with ids, per-line tests below are cheaper.
-        q = emit_isolated<E, kMulti>(cv, a, F, lines, l, base, q);
     for (; lines; lines &= lines - 1) {
         const int v = std::countr_zero(lines);
         uint32_t m = F[v]; // Lines below may have been used up by quads from above.
@@ -216,20 +191,25 @@ Quad* merge_plane(const ChunkView& cv, const AxisRows& a, uint32_t F[kChunkSize]
     return q;
 }
 
-// Slice (axis, plane): negative faces of layer `plane`, then positive faces of layer plane - 1.
-template <class E, bool kMulti> Quad* emit_slice(const ChunkView& cv, const AxisRows& a, int axis, int plane, Quad* q) {
+// Which faces of a slice to emit: bit 0 the negative faces, bit 1 the positive ones.
+constexpr uint32_t kNegative = 1, kPositive = 2, kBoth = 3;
+
+// Slice (axis, plane): negative faces of layer `plane`, then positive faces of layer plane - 1
+// (always in this order: remeshing finds where the positive faces start by a binary search).
+template <class E, bool kMulti>
+Quad* emit_slice(const ChunkView& cv, const AxisRows& a, int axis, int plane, uint32_t dirs, Quad* q) {
     uint32_t F[kChunkSize];
     const uint32_t base = uint32_t(plane) << 20 | uint32_t(axis) << 26;
-    if (plane < kChunkSize)
+    if (plane < kChunkSize && (dirs & kNegative))
         if (const uint32_t lines = face_mask<E>(cv, a, axis, plane, false, F))
             q = merge_plane<E, kMulti>(cv, a, F, lines, plane, base, q);
-    if (plane > 0)
+    if (plane > 0 && (dirs & kPositive))
         if (const uint32_t lines = face_mask<E>(cv, a, axis, plane - 1, true, F))
             q = merge_plane<E, kMulti>(cv, a, F, lines, plane - 1, base | 1u << 28, q);
     return q;
 }
 
-using SliceFn = Quad* (*)(const ChunkView&, const AxisRows&, int, int, Quad*);
+using SliceFn = Quad* (*)(const ChunkView&, const AxisRows&, int, int, uint32_t, Quad*);
 
 SliceFn slice_fn(const ChunkView& cv) {
     if (!cv.multi)
@@ -320,7 +300,7 @@ void GreedyMesher::mesh(const MesherInput& in, ChunkMesh& out) {
     for (int axis = 0; axis < 3; ++axis)
         for (int plane = 0; plane < kPlanesPerAxis; ++plane) {
             out.begin_slice(slice_index(axis, plane));
-            const Quad* end = emit(cv, ax[axis], axis, plane, s.quads);
+            const Quad* end = emit(cv, ax[axis], axis, plane, kBoth, s.quads);
             out.append({s.quads, size_t(end - s.quads)});
         }
     out.end();
@@ -353,9 +333,8 @@ void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint8_t*
         return;
     }
     if (axis == 1) {
-        for (int k = 0; k < count; ++k)
-            for (int v = 0; v < kChunkSize; ++v)
-                unpack_rows8(idx, v * kChunkSize + l0 + k, 1, out + (k * kChunkSize + v) * kChunkSize);
+        for (int k = 0; k < count; ++k) // Layer y: rows z * 32 + y.
+            unpack_rows8(idx, l0 + k, kChunkSize, out + k * kRows, kChunkSize);
         return;
     }
     switch (idx.bits()) {
@@ -377,9 +356,14 @@ void layer_entries(const PackedArray& idx, int axis, int l0, int count, uint16_t
                 *out++ = uint16_t(idx.get(uint32_t(local_index(plane_to_local(axis, l0 + k, u, v)))));
 }
 
-// Remeshes planes lo..hi (inclusive, at most two) of one axis from the layers they touch.
-void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int hi, ChunkMesh& mesh) {
-    const int l0 = std::max(lo - 1, 0), count = std::min(hi, kChunkSize - 1) - l0 + 1;
+// Remeshes planes lo..lo + 1 (or lo alone) of one axis from the layers they touch: of plane
+// lo + k only the faces that bits 2k (negative) and 2k + 1 (positive) of `dirs` select; the other
+// faces of a slice it touches are kept from `mesh`.
+void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, uint32_t dirs, ChunkMesh& mesh) {
+    if (!dirs)
+        return;
+    const int first = lo + ((dirs & kBoth) ? 0 : 1), last = lo + ((dirs >> 2) ? 1 : 0);
+    const int l0 = std::max(first - 1, 0), count = std::min(last, kChunkSize - 1) - l0 + 1;
     const RowMasks r{s.rn, s.ro, s.rt};
     AxisRows a{s.rn, s.ro, s.rt, nullptr, l0, kChunkSize, 1};
     if (!cv.pal) {
@@ -410,23 +394,141 @@ void remesh_planes(MesherScratch& s, const ChunkView& cv, int axis, int lo, int 
         a.ent = s.r16 + kPad;
     }
     const SliceFn emit = slice_fn(cv);
-    for (int plane = lo; plane <= hi; ++plane) {
-        const Quad* end = emit(cv, a, axis, plane, s.quads);
-        mesh.replace_slice(slice_index(axis, plane), {s.quads, size_t(end - s.quads)});
+    for (int plane = first; plane <= last; ++plane) {
+        const uint32_t d = (dirs >> (2 * (plane - lo))) & kBoth;
+        if (!d)
+            continue;
+        const int si = slice_index(axis, plane);
+        const std::span<const Quad> quads{s.quads, size_t(emit(cv, a, axis, plane, d, s.quads) - s.quads)};
+        if (d == kBoth) {
+            mesh.replace_slice(si, quads);
+            continue;
+        }
+        // The slice holds its negative faces first (emit_slice); the unchanged side stays.
+        const std::span<const Quad> old = mesh.slice(si);
+        const uint32_t split = uint32_t(
+            std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); }) - old.begin());
+        if (d == kNegative)
+            mesh.replace_slice_range(si, 0, split, quads);
+        else
+            mesh.replace_slice_range(si, split, uint32_t(old.size()), quads);
     }
+}
+
+// The block at (layer, u, v) of planes perpendicular to `axis`; layers -1 and 32 are the apron.
+BlockId block_at(const MesherInput& in, int axis, int layer, int u, int v) {
+    if (layer >= 0 && layer < kChunkSize)
+        return in.chunk.get(plane_to_local(axis, layer, u, v));
+    return in.apron.ids[int(make_face(axis, layer >= kChunkSize))][u + kChunkSize * v];
+}
+
+// One face of a plane side: shown or not, and the block it belongs to.
+struct Cell {
+    bool shown = false;
+    BlockId id = kAir;
+};
+
+// Whether a face `c` shown at (u, v) on the side of layer `layer` facing layer + d has no face of
+// its id beside it in the plane: then the greedy merge makes it a 1 x 1 quad and no other quad
+// depends on it (no run reaches through it, none grows into or out of it).
+bool alone(const MesherInput& in, int axis, int layer, int d, int u, int v, Cell c) {
+    const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
+    for (int k = 0; k < 4; ++k) {
+        const int nu = u + du[k], nv = v + dv[k];
+        if (nu < 0 || nu >= kChunkSize || nv < 0 || nv >= kChunkSize)
+            continue;
+        if (block_at(in, axis, layer, nu, nv) == c.id &&
+            face_visible(c.id, block_at(in, axis, layer + d, nu, nv), in.registry))
+            return false;
+    }
+    return true;
+}
+
+// The order merge_plane emits one side's quads in: by line v, 1 x 1 quads first, then by u.
+inline uint32_t quad_order(const Quad& q) {
+    const bool big = (q.packed & (0x3ffu << 10)) != 0; // Width or height above 1.
+    return uint32_t(q.v0()) << 6 | uint32_t(big) << 5 | uint32_t(q.u0());
+}
+
+// Replaces the 1 x 1 quad of face (u, v) on one side of slice (axis, plane): `was` out, `is` in,
+// at the place a merge would give it (so an edit and its undo restore the slice exactly).
+// False (nothing changed) when the mesh lacks the quad `was` says it holds.
+bool replace_cell(ChunkMesh& mesh, int axis, int plane, bool positive, int u, int v, Cell was, Cell is) {
+    const int si = slice_index(axis, plane);
+    const uint32_t packed = uint32_t(u) | uint32_t(v) << 5 | uint32_t(plane) << 20 | uint32_t(axis) << 26 |
+                            uint32_t(positive) << 28;
+    const std::span<const Quad> old = mesh.slice(si);
+    // The slice holds its negative faces first (emit_slice), each side in quad_order.
+    const auto split = std::partition_point(old.begin(), old.end(), [](const Quad& x) { return !x.positive(); });
+    const auto begin = positive ? split : old.begin(), end = positive ? old.end() : split;
+    const uint32_t key = uint32_t(v) << 6 | uint32_t(u);
+    const auto at = std::partition_point(begin, end, [key](const Quad& x) { return quad_order(x) < key; });
+    const uint32_t k = uint32_t(at - old.begin());
+    const Quad add = make_quad(packed, is.id);
+    const uint32_t n_add = is.shown ? 1u : 0u;
+    if (!was.shown) {
+        mesh.replace_slice_range(si, k, k, {&add, n_add});
+        return true;
+    }
+    if (at == end || !(*at == make_quad(packed, was.id)))
+        return false;
+    mesh.replace_slice_range(si, k, k + 1, {&add, n_add});
+    return true;
+}
+
+// After block p changed from `old` to its id in the chunk, updates the sides of planes p[axis]
+// and p[axis] + 1 whose face at or towards p changed and stays alone in the plane (one quad in or
+// out: most faces of noisy or checkered chunks), and returns the sides that changed otherwise, as
+// remesh_planes' `dirs`. Only p's faces and the faces towards p change, one per plane side; a
+// side whose face there keeps its presence and its block id keeps its quads.
+uint32_t update_cells(const MesherInput& in, LocalPos p, BlockId old, int axis, ChunkMesh& mesh) {
+    const BlockRegistry& r = in.registry;
+    const BlockId now = in.chunk.get(p);
+    const int l = p[axis], u = p[plane_u_axis(axis)], v = p[plane_v_axis(axis)];
+    uint32_t dirs = 0;
+    for (uint32_t b = 0; b < 4; ++b) {
+        // Side b: plane l + b / 2, faces of `layer` towards layer + d (positive when b is odd).
+        const bool positive = b & 1;
+        const int plane = l + int(b >> 1), layer = positive ? plane - 1 : plane, d = positive ? 1 : -1;
+        if (layer < 0 || layer >= kChunkSize)
+            continue;
+        Cell was, is;
+        if (layer == l) { // p's own face.
+            const BlockId across = block_at(in, axis, layer + d, u, v);
+            was = {face_visible(old, across, r), old};
+            is = {face_visible(now, across, r), now};
+        } else { // The neighbour's face towards p.
+            const BlockId id = block_at(in, axis, layer, u, v);
+            was = {face_visible(id, old, r), id};
+            is = {face_visible(id, now, r), id};
+        }
+        if (was.shown == is.shown && (!is.shown || was.id == is.id))
+            continue;
+        const bool local = (!was.shown || alone(in, axis, layer, d, u, v, was)) &&
+                           (!is.shown || alone(in, axis, layer, d, u, v, is));
+        if (!local || !replace_cell(mesh, axis, plane, positive, u, v, was, is))
+            dirs |= 1u << b;
+    }
+    return dirs;
 }
 
 } // namespace
 
 void GreedyMesher::remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
-    remesh_planes(*m_scratch, cv, axis, plane, plane, mesh);
+    remesh_planes(*m_scratch, cv, axis, plane, kBoth, mesh);
 }
 
 void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
     for (int axis = 0; axis < 3; ++axis)
-        remesh_planes(*m_scratch, cv, axis, p[axis], p[axis] + 1, mesh);
+        remesh_planes(*m_scratch, cv, axis, p[axis], kBoth | kBoth << 2, mesh);
+}
+
+void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh) {
+    const ChunkView cv = make_view(in, m_scratch->flags);
+    for (int axis = 0; axis < 3; ++axis)
+        remesh_planes(*m_scratch, cv, axis, p[axis], update_cells(in, p, old, axis, mesh), mesh);
 }
 
 } // namespace vx::world

@@ -97,24 +97,24 @@ template <int B> inline void unpack_row(const uint8_t* src, uint8_t* out) {
     }
 }
 
-template <int B> void unpack_rows_fixed(const uint64_t* words, int row0, int count, uint8_t* out) {
+template <int B> void unpack_rows_fixed(const uint64_t* words, int row0, int count, int step, uint8_t* out) {
     const uint8_t* src = reinterpret_cast<const uint8_t*>(words) + size_t(row0) * 4 * B;
-    for (int r = 0; r < count; ++r, src += 4 * B, out += kChunkSize)
+    for (int r = 0; r < count; ++r, src += size_t(step) * 4 * B, out += kChunkSize)
         unpack_row<B>(src, out);
 }
 
 } // namespace
 
-void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out) {
+void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out, int step) {
     switch (a.bits()) {
-    case 1: unpack_rows_fixed<1>(a.words(), row0, count, out); break;
-    case 2: unpack_rows_fixed<2>(a.words(), row0, count, out); break;
-    case 3: unpack_rows_fixed<3>(a.words(), row0, count, out); break;
-    case 4: unpack_rows_fixed<4>(a.words(), row0, count, out); break;
-    case 5: unpack_rows_fixed<5>(a.words(), row0, count, out); break;
-    case 6: unpack_rows_fixed<6>(a.words(), row0, count, out); break;
-    case 7: unpack_rows_fixed<7>(a.words(), row0, count, out); break;
-    case 8: unpack_rows_fixed<8>(a.words(), row0, count, out); break;
+    case 1: unpack_rows_fixed<1>(a.words(), row0, count, step, out); break;
+    case 2: unpack_rows_fixed<2>(a.words(), row0, count, step, out); break;
+    case 3: unpack_rows_fixed<3>(a.words(), row0, count, step, out); break;
+    case 4: unpack_rows_fixed<4>(a.words(), row0, count, step, out); break;
+    case 5: unpack_rows_fixed<5>(a.words(), row0, count, step, out); break;
+    case 6: unpack_rows_fixed<6>(a.words(), row0, count, step, out); break;
+    case 7: unpack_rows_fixed<7>(a.words(), row0, count, step, out); break;
+    case 8: unpack_rows_fixed<8>(a.words(), row0, count, step, out); break;
     default: VX_ASSERT(false && "unpack_rows8: more than 8 bits");
     }
 }

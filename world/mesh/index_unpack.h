@@ -11,9 +11,10 @@
 
 namespace vx::world::mesher_detail {
 
-// Unpacks rows [row0, row0 + count) of B-bit palette indices (B = a.bits() <= 8) to one byte per
-// block at out[(r - row0) * 32 + x]. SIMD or shift-and-mask spreading, no per-entry loop.
-void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out);
+// Unpacks rows row0, row0 + step, ... (count of them) of B-bit palette indices (B = a.bits() <=
+// 8) to one byte per block, row i at out[i * 32 + x]. SIMD or shift-and-mask spreading, no
+// per-entry loop. Step 32 reads the rows of one y layer (rows z * 32 + y, z = 0..31).
+void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out, int step = 1);
 // The same for any width (palettes of more than 256 entries), 16 bits per block.
 void unpack_rows16(const PackedArray& a, int row0, int count, uint16_t* out);
 

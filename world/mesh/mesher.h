@@ -49,6 +49,14 @@ public:
     // face f, call remesh_slice on the neighbour across f (after updating its apron).
     void remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& mesh);
 
+    // The same when block p was `old` before the edit (its id in the mesh): only the plane sides
+    // whose face at p or towards p changed (appeared, vanished or changed id) are touched (an
+    // edit leaves about half of them alone); a changed face with no face of its id beside it in
+    // the plane is one 1 x 1 quad in or out, swapped in place; the other changed sides are merged
+    // again. `mesh` must come from this class (each slice's negative faces first, each side in
+    // merge order, as mesh() writes them); the result equals mesh()'s quad for quad, in order.
+    void remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh);
+
     // Remeshes one slice (axis 0..2, plane 0..32).
     void remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh);
 
