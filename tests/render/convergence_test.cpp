@@ -31,8 +31,7 @@ world::World mirror_field() {
     return w;
 }
 
-TEST_F(RendererTest, SingleFrameErrorFallsWithSamplesOnMirrors) {
-    test::load_meshes(*m_renderer, test::mesh_world(mirror_field()));
+RenderSettings mirror_settings() {
     RenderSettings s;
     s.width = 64;
     s.height = 48;
@@ -41,7 +40,15 @@ TEST_F(RendererTest, SingleFrameErrorFallsWithSamplesOnMirrors) {
     s.light.block = {-6, 20, -6};
     s.light.edge_u = {12, 0, 0};
     s.light.edge_v = {0, 0, 12};
-    const Camera view = Camera::look_at({-26.0, 20.0, -22.0}, {0.0, 2.0, 0.0});
+    return s;
+}
+
+const Camera kView = Camera::look_at({-26.0, 20.0, -22.0}, {0.0, 2.0, 0.0});
+
+TEST_F(RendererTest, SingleFrameErrorFallsWithSamplesOnMirrors) {
+    test::load_meshes(*m_renderer, test::mesh_world(mirror_field()));
+    RenderSettings s = mirror_settings();
+    const Camera& view = kView;
     // Reference: 32 accumulated frames of 8 samples (256 per pixel, every frame another seed).
     s.shadow_samples = 8;
     s.accumulate = 32;
@@ -64,6 +71,28 @@ TEST_F(RendererTest, SingleFrameErrorFallsWithSamplesOnMirrors) {
     // once per frame would not fall at all.
     EXPECT_GT(e1, 0.01); // The view has noise to lose at 1 spp.
     EXPECT_LT(e16, 0.5 * e1);
+}
+
+// Accumulation restarts when the sample counts change: a history of other settings is not
+// blended into the new frames (a sweep's rows would otherwise inherit the previous row's).
+TEST_F(RendererTest, AccumulationRestartsWhenSamplesChange) {
+    test::load_meshes(*m_renderer, test::mesh_world(mirror_field()));
+    RenderSettings s = mirror_settings();
+    s.max_bounces = 1;
+    s.shadow_samples = 16;
+    s.accumulate = 8;
+    RenderImage converged;
+    for (uint32_t i = 0; i < s.accumulate; ++i)
+        converged = m_renderer->render(s, kView);
+    const ImageF ref = to_float(converged);
+    s.shadow_samples = 1; // First frame of a new accumulation: 1 spp alone.
+    const double switched = rmse(to_float(m_renderer->render(s, kView)), ref);
+    s.accumulate = 1;
+    const double plain = rmse(to_float(m_renderer->render(s, kView)), ref);
+    std::printf("1 spp after 8 frames of 16 spp: RMSE %.4f; a plain 1 spp frame: %.4f\n", switched, plain);
+    // Kept history would weigh the new frame 1/8 and land near the converged image.
+    EXPECT_GT(switched, 0.7 * plain);
+    EXPECT_LT(switched, 1.3 * plain);
 }
 
 } // namespace
