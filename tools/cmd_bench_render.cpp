@@ -119,27 +119,40 @@ struct SweepRow {
     double frame_ms = -1, rmse = -1;
 };
 
-// Issue 10's goal, computed from the rows: the cheapest row (other than the thesis-style one)
-// whose RMSE is at most the thesis-style row's, and how much less frame time it takes.
+// Issue 10's goal, computed from the rows: the cheapest row faster than the thesis-style one
+// whose RMSE is at most the thesis-style row's, and its frame-time ratio; and the lowest RMSE
+// among the rows at >= 4x less frame time (what the goal's budget buys).
 std::string goal_line(const SweepRow& thesis, const std::vector<SweepRow>& rows) {
-    const SweepRow* best = nullptr;
-    for (const SweepRow& r : rows)
-        if (r.rmse <= thesis.rmse && r.frame_ms > 0 && (!best || r.frame_ms < best->frame_ms))
+    const SweepRow *best = nullptr, *at4 = nullptr;
+    for (const SweepRow& r : rows) {
+        if (r.frame_ms <= 0 || r.frame_ms >= thesis.frame_ms)
+            continue;
+        if (r.rmse <= thesis.rmse && (!best || r.frame_ms < best->frame_ms))
             best = &r;
-    char line[512];
-    if (!best) {
-        std::snprintf(line, sizeof line,
-                      "Goal (issue 10): the thesis-style frame (%s) has RMSE %.4f at %.3f ms; no other row reaches "
-                      "that error.\n",
-                      thesis.name.c_str(), thesis.rmse, thesis.frame_ms);
-        return line;
+        if (4.0 * r.frame_ms <= thesis.frame_ms && (!at4 || r.rmse < at4->rmse))
+            at4 = &r;
     }
-    const double ratio = thesis.frame_ms / best->frame_ms;
-    std::snprintf(line, sizeof line,
-                  "Goal (issue 10): the thesis-style frame (%s) has RMSE %.4f at %.3f ms; the cheapest row with "
-                  "RMSE <= that is %s: RMSE %.4f at %.3f ms, %.2fx less frame time (goal >= 4x: %s).\n",
-                  thesis.name.c_str(), thesis.rmse, thesis.frame_ms, best->name.c_str(), best->rmse, best->frame_ms,
-                  ratio, ratio >= 4.0 ? "met" : "not met");
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "Goal (issue 10): the thesis-style frame (%s) has RMSE %.4f at %.3f ms; ",
+                  thesis.name.c_str(), thesis.rmse, thesis.frame_ms);
+    std::string line = buf;
+    if (best) {
+        const double ratio = thesis.frame_ms / best->frame_ms;
+        std::snprintf(buf, sizeof buf,
+                      "the cheapest row with RMSE <= that is %s: RMSE %.4f at %.3f ms, %.2fx less frame time "
+                      "(goal >= 4x: %s). ",
+                      best->name.c_str(), best->rmse, best->frame_ms, ratio, ratio >= 4.0 ? "met" : "not met");
+        line += buf;
+    } else {
+        line += "no faster row reaches that error (goal not met). ";
+    }
+    if (at4) {
+        std::snprintf(buf, sizeof buf, "Lowest RMSE at >= 4x less frame time: %s, RMSE %.4f at %.3f ms.\n",
+                      at4->name.c_str(), at4->rmse, at4->frame_ms);
+        line += buf;
+    } else {
+        line += "No row is 4x faster.\n";
+    }
     return line;
 }
 
