@@ -277,9 +277,9 @@ int run_bench_render(const BenchRenderArgs& a) {
                               denoise ? "on" : "off", median_of(frame), e.rmse, e.psnr, e.ssim);
                 md += line;
                 std::printf("  accumulated %s", line);
-                candidates.push_back({std::to_string(spp) + " spp, bounce spp " + std::to_string(bounce) + ", denoiser " +
-                                          (denoise ? "on" : "off") + ", still camera after 8 frames",
-                                      median_of(frame), e.rmse});
+                const std::string row = std::to_string(spp) + " spp, bounce spp " + std::to_string(bounce) +
+                                        ", denoiser " + (denoise ? "on" : "off") + ", still camera after 8 frames";
+                candidates.push_back({row, median_of(frame), e.rmse});
             }
     const std::string goal = goal_line(thesis, candidates);
     md += "\n" + goal;
