@@ -133,13 +133,13 @@ std::string goal_line(const SweepRow& thesis, const std::vector<SweepRow>& rows)
             at4 = &r;
     }
     char buf[512];
-    std::snprintf(buf, sizeof buf, "Goal (issue 10): the thesis-style frame (%s) has RMSE %.4f at %.3f ms; ",
+    std::snprintf(buf, sizeof buf, "Goal (issue 10): the thesis-style frame (%s) has RMSE %.5f at %.3f ms; ",
                   thesis.name.c_str(), thesis.rmse, thesis.frame_ms);
     std::string line = buf;
     if (best) {
         const double ratio = thesis.frame_ms / best->frame_ms;
         std::snprintf(buf, sizeof buf,
-                      "the cheapest row with RMSE <= that is %s: RMSE %.4f at %.3f ms, %.2fx less frame time "
+                      "the cheapest row with RMSE <= that is %s: RMSE %.5f at %.3f ms, %.2fx less frame time "
                       "(goal >= 4x: %s). ",
                       best->name.c_str(), best->rmse, best->frame_ms, ratio, ratio >= 4.0 ? "met" : "not met");
         line += buf;
@@ -147,7 +147,7 @@ std::string goal_line(const SweepRow& thesis, const std::vector<SweepRow>& rows)
         line += "no faster row reaches that error (goal not met). ";
     }
     if (at4) {
-        std::snprintf(buf, sizeof buf, "Lowest RMSE at >= 4x less frame time: %s, RMSE %.4f at %.3f ms.\n",
+        std::snprintf(buf, sizeof buf, "Lowest RMSE at >= 4x less frame time: %s, RMSE %.5f at %.3f ms.\n",
                       at4->name.c_str(), at4->rmse, at4->frame_ms);
         line += buf;
     } else {
