@@ -39,7 +39,9 @@ bool sky_access(const world::World& world, world::BlockPos eye, size_t max_cells
     }
     // The eye's pocket (the eye's own block counts as clear: a camera inside a block still
     // looks out of it).
-    static const world::BlockPos kSteps[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    // Depth first, up last so it is taken first: out from under a roof the walk climbs straight
+    // to the unloaded chunks above instead of filling the loaded air around.
+    static const world::BlockPos kSteps[6] = {{0, -1, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 0, 1}, {0, 0, -1}, {0, 1, 0}};
     std::unordered_set<uint64_t> seen{key_of(world::BlockPos(0))};
     std::vector<world::BlockPos> todo{world::BlockPos(0)};
     while (!todo.empty()) {
