@@ -6,6 +6,7 @@
 #include <vx/vx.h>
 
 #include "engine/engine_impl.h"
+#include "engine/sky_access.h"
 
 namespace vx {
 
@@ -48,6 +49,12 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     return r;
 }
 
+// The renderer's settings with sky_access from the world around the viewer (engine/sky_access.h).
+render::RenderSettings with_sky_access(render::RenderSettings r, const world::World& w, const Viewer& v) {
+    r.sky_access = engine::sky_access(w, v.block);
+    return r;
+}
+
 void record_frame_stats(Stats& f, const render::RenderStats& rs) {
     f.render_cpu_ms = rs.cpu_ms;
     f.gpu_ms = rs.gpu_ms;
@@ -85,8 +92,9 @@ Status Engine::render_to_image(Image& out) {
         return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
     const RenderTarget& t = m->info.render.target;
     const Clock::time_point t0 = Clock::now();
+    const render::RenderSettings rs = settings_of(m->render_settings, m->viewer, t.width, t.height);
     render::RenderImage img =
-        m->renderer->render(settings_of(m->render_settings, m->viewer, t.width, t.height), camera_of(m->viewer));
+        m->renderer->render(with_sky_access(rs, m->streamer->world(), m->viewer), camera_of(m->viewer));
     m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     out.width = img.width;
     out.height = img.height;
@@ -105,7 +113,8 @@ Status Engine::render_to_window(Image* capture) {
     const Clock::time_point t0 = Clock::now();
     render::RenderImage img;
     // The size comes from the swapchain; settings' width and height are ignored there.
-    auto done = m->renderer->present(settings_of(m->render_settings, m->viewer, 1, 1), camera_of(m->viewer),
+    const render::RenderSettings rs = settings_of(m->render_settings, m->viewer, 1, 1);
+    auto done = m->renderer->present(with_sky_access(rs, m->streamer->world(), m->viewer), camera_of(m->viewer),
                                      capture ? &img : nullptr);
     if (!done)
         return Error{done.error()};

@@ -78,6 +78,9 @@ struct Renderer::Impl {
     std::unique_ptr<Denoiser> denoiser;
     Camera denoised_camera;
     bool denoised_last_frame = false;
+    // The sampling settings of the history: frames of other counts are not averaged together
+    // (a sweep's accumulated rows would start from the previous configuration's frames).
+    RenderSettings denoised_settings;
     VkQueryPool queries = VK_NULL_HANDLE;
     double ms_per_tick = 0;
     std::array<bool, kFramesInFlight> stamped{}; // The slot's last frame wrote its timestamps.
@@ -421,14 +424,24 @@ static glm::dmat4 view_from_world(const Camera& cam, world::BlockPos origin) {
     return glm::lookAt(eye, eye + glm::dvec3(glm::normalize(cam.forward)), glm::dvec3(cam.up));
 }
 
+// Whether frames of `a` and `b` estimate the same image with the same samples (the history of
+// one may be averaged with the other). Lights and sky may change under a kept history.
+static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
+    return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
+           a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
+           a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise;
+}
+
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
 void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
     if (!denoiser)
         denoiser = std::make_unique<Denoiser>(*ctx, s.width, s.height);
     else if (denoiser->width() != s.width || denoiser->height() != s.height)
         denoiser->resize(s.width, s.height);
-    else if (!denoised_last_frame || denoised_camera.fov_y_degrees != cam.fov_y_degrees)
+    else if (!denoised_last_frame || denoised_camera.fov_y_degrees != cam.fov_y_degrees ||
+             !same_sampling(denoised_settings, s))
         denoiser->reset_history();
+    denoised_settings = s;
     const GBuffer& g = gbuffers[ctx->frame_slot()];
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);

@@ -98,7 +98,8 @@ struct RenderSettings {
     // modes and the raster pipeline ignore these two. denoise: the edge-aware a-trous filter.
     // accumulate: frames of a still (or moving: reprojected) camera the temporal pass averages at
     // most; 1: none. While it is above 1 each frame traces with seed + frame number, so frames
-    // differ and the average converges.
+    // differ and the average converges. A change of mode, sample counts, bounces, accumulate or
+    // denoise restarts the history.
     bool denoise = false;
     uint32_t accumulate = 1;
 };
