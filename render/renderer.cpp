@@ -122,7 +122,7 @@ struct Renderer::Impl {
     void write_params(const RenderSettings& s, const Camera& cam);
     void write_descriptors();
     void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
-    void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat);
     void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     uint32_t raster_chunks = 0; // Chunks the last frame's raster pass drew.
     static bool denoise_active(const RenderSettings& s) {
@@ -389,7 +389,7 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
             traced.seed = s.seed + uint32_t(ctx->frame_number());
         write_params(traced, cam);
         write_descriptors();
-        record_trace(cmd, s.width, s.height);
+        record_trace(cmd, s.width, s.height, s.mode == ShadingMode::Flat);
     }
     if (denoise_active(s))
         record_denoise(cmd, s, cam);
@@ -398,7 +398,7 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
     stamped[ctx->frame_slot()] = queries != VK_NULL_HANDLE;
 }
 
-void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
+void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat) {
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -411,7 +411,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
-    pipeline->trace(cmd, width, height);
+    pipeline->trace(cmd, width, height, flat);
     stamp(cmd, 3);
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

@@ -9,7 +9,7 @@
 
 namespace vx::render {
 
-enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, kGroupCount };
+enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, kGroupRaygenFlat, kGroupCount };
 
 RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
     create_layouts();
@@ -76,10 +76,11 @@ void RtPipeline::create_pipeline() {
         make_module(*m_ctx, spirv::shadow_miss(), "shadow.rmiss"),
         make_module(*m_ctx, spirv::closest_hit(), "closest_hit.rchit"),
         make_module(*m_ctx, spirv::shadow_any_hit(), "shadow.rahit"),
+        make_module(*m_ctx, spirv::raygen_flat(), "raygen_flat.rgen"),
     };
     const VkShaderStageFlagBits stage_bits[] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
                                                 VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
-                                                VK_SHADER_STAGE_ANY_HIT_BIT_KHR};
+                                                VK_SHADER_STAGE_ANY_HIT_BIT_KHR, VK_SHADER_STAGE_RAYGEN_BIT_KHR};
     constexpr uint32_t kStages = uint32_t(std::size(stage_bits));
     VkPipelineShaderStageCreateInfo stages[kStages];
     for (uint32_t i = 0; i < kStages; ++i) {
@@ -93,6 +94,7 @@ void RtPipeline::create_pipeline() {
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 1, VK_SHADER_UNUSED_KHR),
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 2, VK_SHADER_UNUSED_KHR),
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, 3, 4),
+        group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 5, VK_SHADER_UNUSED_KHR),
     };
     VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
     ci.stageCount = kStages;
@@ -116,12 +118,13 @@ void RtPipeline::create_sbt() {
     std::vector<uint8_t> handles(size_t(handle) * kGroupCount);
     VK_CHECK(vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), m_pipeline, 0, kGroupCount, handles.size(),
                                                   handles.data()));
-    // Regions start at base-aligned offsets: [raygen][miss primary, miss shadow][hit].
+    // Regions start at base-aligned offsets: [raygen][raygen flat][miss primary, miss shadow][hit].
     const VkDeviceSize raygen_size = align_up(stride, base);
     const VkDeviceSize miss_size = align_up(2 * stride, base);
     const VkDeviceSize hit_size = align_up(stride, base);
+    const VkDeviceSize miss_at = 2 * raygen_size, hit_at = miss_at + miss_size;
     BufferCreateInfo bi;
-    bi.size = raygen_size + miss_size + hit_size;
+    bi.size = hit_at + hit_size;
     bi.usage = VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR;
     bi.memory = MemoryUse::Upload;
     bi.alignment = base;
@@ -134,17 +137,19 @@ void RtPipeline::create_sbt() {
         std::memcpy(dst + offset, handles.data() + size_t(group_index) * handle, handle);
     };
     put(kGroupRaygen, 0);
-    put(kGroupPrimaryMiss, raygen_size);
-    put(kGroupShadowMiss, raygen_size + stride);
-    put(kGroupHit, raygen_size + miss_size);
+    put(kGroupRaygenFlat, raygen_size);
+    put(kGroupPrimaryMiss, miss_at);
+    put(kGroupShadowMiss, miss_at + stride);
+    put(kGroupHit, hit_at);
     const VkDeviceAddress a = m_sbt.address();
     m_raygen = {a, raygen_size, raygen_size}; // Raygen: stride must equal size.
-    m_miss = {a + raygen_size, stride, miss_size};
-    m_hit = {a + raygen_size + miss_size, stride, hit_size};
+    m_raygen_flat = {a + raygen_size, raygen_size, raygen_size};
+    m_miss = {a + miss_at, stride, miss_size};
+    m_hit = {a + hit_at, stride, hit_size};
 }
 
-void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) const {
-    vkCmdTraceRaysKHR(cmd, &m_raygen, &m_miss, &m_hit, &m_callable, width, height, 1);
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat) const {
+    vkCmdTraceRaysKHR(cmd, flat ? &m_raygen_flat : &m_raygen, &m_miss, &m_hit, &m_callable, width, height, 1);
 }
 
 } // namespace vx::render

@@ -8,6 +8,7 @@
 namespace vx::render::spirv {
 
 std::span<const uint32_t> raygen();
+std::span<const uint32_t> raygen_flat();
 std::span<const uint32_t> primary_miss();
 std::span<const uint32_t> shadow_miss();
 std::span<const uint32_t> closest_hit();
