@@ -170,6 +170,7 @@ void SceneAccel::fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes
     g.quads.reset();
     g.blas.reset();
     g.mesh = world::ChunkMesh{};
+    g.slots.clear();
     g.failed = true;
     g.hot = false;
     g.pending = Pending::None;
@@ -204,17 +205,31 @@ bool SceneAccel::allocate_chunk(world::ChunkCoord c, ChunkGpu& g,
 void SceneAccel::upload_chunk(ChunkGpu& g, bool whole) {
     const SlotLayout& l = g.layout;
     if (whole || g.dirty.all()) {
-        fill_slots(l, g.mesh, static_cast<float*>(m_staging.add(g.vertices, 0, l.total * kSlotVertexBytes)),
-                   static_cast<world::Quad*>(m_staging.add(g.quads, 0, l.total * kSlotQuadBytes)));
+        auto* v = static_cast<float*>(m_staging.add(g.vertices, 0, l.total * kSlotVertexBytes));
+        auto* q = static_cast<world::Quad*>(m_staging.add(g.quads, 0, l.total * kSlotQuadBytes));
+        if (!g.hot) {
+            g.slots.clear();
+            fill_slots(l, g.mesh, v, q);
+        } else {
+            // A build lays the slots out afresh; a refit of every slice keeps what it can.
+            if (whole || g.slots.empty())
+                g.slots.assign(l, g.mesh);
+            else
+                for (int s = 0; s < world::kSliceCount; ++s)
+                    g.slots.update_slice(l, g.mesh, s);
+            g.slots.write_all(l, v, q);
+        }
         m_stats.upload_bytes += l.total * kSlotBytes;
         return;
     }
+    VX_ASSERT(g.hot && !g.slots.empty()); // Only a refit uploads part of a chunk.
     for (int s = 0; s < world::kSliceCount; ++s) {
         if (!g.dirty.test(size_t(s)) || l.capacity[s] == 0)
             continue;
         void* v = m_staging.add(g.vertices, l.start[s] * kSlotVertexBytes, l.capacity[s] * kSlotVertexBytes);
         void* q = m_staging.add(g.quads, l.start[s] * kSlotQuadBytes, l.capacity[s] * kSlotQuadBytes);
-        fill_slice(l, g.mesh, s, static_cast<float*>(v), static_cast<world::Quad*>(q));
+        g.slots.update_slice(l, g.mesh, s);
+        g.slots.write_slice(l, s, static_cast<float*>(v), static_cast<world::Quad*>(q));
         m_stats.upload_bytes += l.capacity[s] * kSlotBytes;
     }
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "render/chunk_geometry.h"
+#include "render/slot_map.h"
 #include "render/commands.h"
 #include "render/renderer.h"
 #include "world/coords.h"
@@ -110,6 +111,7 @@ private:
         SlotLayout layout;
         world::ChunkMesh mesh; // Hot chunks: the current mesh (to rebuild cold later); cold: until uploaded.
         std::bitset<world::kSliceCount> dirty; // Slices a pending refit uploads.
+        SlotMap slots;         // Hot chunks: which quad each slot holds (stable across refits).
         Buffer vertices, quads;
         AccelStruct blas;
         VkDeviceSize update_scratch = 0;
