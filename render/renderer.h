@@ -220,7 +220,7 @@ struct RendererCreateInfo {
     uint32_t hot_frames = 600;
     // Refits of a hot chunk in a row before its next edit rebuilds it (render/scene_accel.h).
     // 0: every edit of a hot chunk rebuilds it (benchmarks: refit against rebuild).
-    uint32_t max_refits = 16;
+    uint32_t max_refits = 8;
     // Test knob: chunk geometry and BLAS allocations fail once they would hold more than this
     // many bytes, as on a full device (those chunks are not drawn and are counted in
     // RenderStats::failed_chunks). 0: no limit.

@@ -15,10 +15,12 @@ struct SceneAccel::BuildBatch {
 };
 
 // A refit keeps the tree built for the old geometry, whose boxes loosen as edits pile up, so
-// every max_refits-th update of a chunk is a rebuild (SceneAccelCreateInfo; default 16). On the
-// H200 a 64-chunk refit costs 2.9 ms against 15.4 ms rebuilt (docs/benchmarks.md): one rebuild
-// in 16 adds about a third to the update cost. `vx bench render --sections geometry` measures
-// the trace-time loss after k refits.
+// every max_refits-th update of a chunk is a rebuild (SceneAccelCreateInfo; default 8). On the
+// H200 (`vx bench render --scene seed --sections geometry`, every chunk toggling a block per
+// burst, slots kept stable by SlotMap) the traced frame was 1.07x the rebuilt one's after 1
+// refit, 1.47x after 10 and 2.7x after 100, while a refit cost 75 us per chunk against 92.5 us
+// rebuilt (1024 at once; 64 at once: 2.6 against 5.7 ms, docs/benchmarks.md): 8 keeps the loss
+// under about 1.4x for an eighth more update cost.
 
 template <class G> static void mark_dirty(G& g, int slice) {
     VX_ASSERT(slice >= 0 && slice < world::kSliceCount);

@@ -44,7 +44,7 @@ struct SceneAccelCreateInfo {
     uint32_t hot_frames = 600;
     // Refits of a hot chunk in a row; the next fitting edit rebuilds it (a refit keeps the old
     // tree, whose boxes loosen). 0: every edit rebuilds (hot layout, ALLOW_UPDATE kept).
-    uint32_t max_refits = 16;
+    uint32_t max_refits = 8;
 };
 
 // Chunks are "cold" (built exact-size, PREFER_FAST_TRACE, without ALLOW_UPDATE, then compacted;
