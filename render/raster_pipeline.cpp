@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/commands.h"
+#include "render/graphics_pipeline.h"
 #include "render/shader_code.h"
 #include "shaders/shared/raster_types.h"
 #include "shaders/shared/render_types.h"
@@ -15,16 +16,6 @@ namespace {
 
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
-VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, const char* name) {
-    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    ci.codeSize = code.size_bytes();
-    ci.pCode = code.data();
-    VkShaderModule m = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
-    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
-    return m;
-}
-
 } // namespace
 
 RasterPipeline::RasterPipeline(Context& ctx, VkFormat color_format) : m_ctx(&ctx) { create_pipeline(color_format); }
@@ -36,71 +27,17 @@ RasterPipeline::~RasterPipeline() {
 }
 
 void RasterPipeline::create_pipeline(VkFormat color_format) {
-    const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                                    sizeof(gpu::RasterPush)};
-    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pl.pushConstantRangeCount = 1;
-    pl.pPushConstantRanges = &range;
-    VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
-    m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "raster pipeline layout");
-
-    const VkShaderModule vert = make_module(*m_ctx, spirv::raster_vert(), "raster.vert");
-    const VkShaderModule frag = make_module(*m_ctx, spirv::raster_frag(), "raster.frag");
-    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vert;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = frag;
-    stages[1].pName = "main";
-    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE; // As the ray tracer (TRIANGLE_FACING_CULL_DISABLE).
-    raster.lineWidth = 1.f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState attachment{};
-    attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                                VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &attachment;
-    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamic_states;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &color_format;
-    rendering.depthAttachmentFormat = kDepthFormat;
-
-    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    ci.stageCount = 2;
-    ci.pStages = stages;
-    ci.pVertexInputState = &vertex_input;
-    ci.pInputAssemblyState = &assembly;
-    ci.pViewportState = &viewport;
-    ci.pRasterizationState = &raster;
-    ci.pMultisampleState = &multisample;
-    ci.pDepthStencilState = &depth;
-    ci.pColorBlendState = &blend;
-    ci.pDynamicState = &dynamic;
-    ci.layout = m_layout;
-    VK_CHECK(vkCreateGraphicsPipelines(m_ctx->device(), VK_NULL_HANDLE, 1, &ci, nullptr, &m_pipeline));
-    m_ctx->set_name(m_pipeline, VK_OBJECT_TYPE_PIPELINE, "raster pipeline");
-    vkDestroyShaderModule(m_ctx->device(), vert, nullptr);
-    vkDestroyShaderModule(m_ctx->device(), frag, nullptr);
+    m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::RasterPush), "raster pipeline layout");
+    // No face culling here, as the ray tracer (TRIANGLE_FACING_CULL_DISABLE): raster.vert drops
+    // the back faces of opaque blocks itself.
+    m_pipeline = make_graphics_pipeline(*m_ctx, {.vert = spirv::raster_vert(),
+                                                 .frag = spirv::raster_frag(),
+                                                 .vert_name = "raster.vert",
+                                                 .frag_name = "raster.frag",
+                                                 .name = "raster pipeline",
+                                                 .layout = m_layout,
+                                                 .color_format = color_format,
+                                                 .depth_format = kDepthFormat});
 }
 
 void RasterPipeline::ensure_depth(uint32_t width, uint32_t height) {

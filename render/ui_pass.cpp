@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "render/commands.h"
+#include "render/graphics_pipeline.h"
 #include "render/shader_code.h"
 #include "shaders/shared/ui_types.h"
 
@@ -25,20 +26,6 @@ std::string ui_draw_list_error(const UiDrawList& list) {
     return {};
 }
 
-namespace {
-
-VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, const char* name) {
-    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    ci.codeSize = code.size_bytes();
-    ci.pCode = code.data();
-    VkShaderModule m = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
-    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
-    return m;
-}
-
-} // namespace
-
 UiPass::UiPass(Context& ctx, VkFormat color_format) : m_ctx(&ctx) { create_pipeline(color_format); }
 
 UiPass::~UiPass() {
@@ -48,73 +35,16 @@ UiPass::~UiPass() {
 }
 
 void UiPass::create_pipeline(VkFormat color_format) {
-    const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::UiPush)};
-    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pl.pushConstantRangeCount = 1;
-    pl.pPushConstantRanges = &range;
-    VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
-    m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "ui pipeline layout");
-
-    const VkShaderModule vert = make_module(*m_ctx, spirv::ui_vert(), "ui.vert");
-    const VkShaderModule frag = make_module(*m_ctx, spirv::ui_frag(), "ui.frag");
-    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vert;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = frag;
-    stages[1].pName = "main";
-    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE; // Dear ImGui's winding is not fixed.
-    raster.lineWidth = 1.f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    VkPipelineColorBlendAttachmentState attachment{};
-    attachment.blendEnable = VK_TRUE;
-    attachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
-    attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    attachment.colorBlendOp = VK_BLEND_OP_ADD;
-    attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO; // The frame's alpha stays.
-    attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    attachment.alphaBlendOp = VK_BLEND_OP_ADD;
-    attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                                VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &attachment;
-    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamic_states;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &color_format;
-
-    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    ci.stageCount = 2;
-    ci.pStages = stages;
-    ci.pVertexInputState = &vertex_input;
-    ci.pInputAssemblyState = &assembly;
-    ci.pViewportState = &viewport;
-    ci.pRasterizationState = &raster;
-    ci.pMultisampleState = &multisample;
-    ci.pDepthStencilState = &depth;
-    ci.pColorBlendState = &blend;
-    ci.pDynamicState = &dynamic;
-    ci.layout = m_layout;
-    VK_CHECK(vkCreateGraphicsPipelines(m_ctx->device(), VK_NULL_HANDLE, 1, &ci, nullptr, &m_pipeline));
-    m_ctx->set_name(m_pipeline, VK_OBJECT_TYPE_PIPELINE, "ui pipeline");
-    vkDestroyShaderModule(m_ctx->device(), vert, nullptr);
-    vkDestroyShaderModule(m_ctx->device(), frag, nullptr);
+    m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::UiPush), "ui pipeline layout");
+    // No culling: Dear ImGui's winding is not fixed.
+    m_pipeline = make_graphics_pipeline(*m_ctx, {.vert = spirv::ui_vert(),
+                                                 .frag = spirv::ui_frag(),
+                                                 .vert_name = "ui.vert",
+                                                 .frag_name = "ui.frag",
+                                                 .name = "ui pipeline",
+                                                 .layout = m_layout,
+                                                 .color_format = color_format,
+                                                 .alpha_blend = true});
 }
 
 void UiPass::set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {

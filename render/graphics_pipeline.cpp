@@ -1,0 +1,108 @@
+#include "render/graphics_pipeline.h"
+
+namespace vx::render {
+
+VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv, const char* name) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = spirv.size_bytes();
+    ci.pCode = spirv.data();
+    VkShaderModule m = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
+    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
+    return m;
+}
+
+VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const char* name) {
+    const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, bytes};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &range;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &pl, nullptr, &layout));
+    ctx.set_name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
+    return layout;
+}
+
+namespace {
+
+VkPipelineColorBlendAttachmentState blend_attachment(bool alpha_blend) {
+    VkPipelineColorBlendAttachmentState a{};
+    a.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    if (!alpha_blend)
+        return a;
+    a.blendEnable = VK_TRUE;
+    a.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    a.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    a.colorBlendOp = VK_BLEND_OP_ADD;
+    a.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO; // The attachment's alpha stays.
+    a.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    a.alphaBlendOp = VK_BLEND_OP_ADD;
+    return a;
+}
+
+} // namespace
+
+VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
+    const VkShaderModule vert = make_shader_module(ctx, d.vert, d.vert_name);
+    const VkShaderModule frag = make_shader_module(ctx, d.frag, d.frag_name);
+    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vert;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = frag;
+    stages[1].pName = "main";
+    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.lineWidth = 1.f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    if (d.depth_format != VK_FORMAT_UNDEFINED) {
+        depth.depthTestEnable = VK_TRUE;
+        depth.depthWriteEnable = VK_TRUE;
+        depth.depthCompareOp = VK_COMPARE_OP_LESS;
+    }
+    const VkPipelineColorBlendAttachmentState attachment = blend_attachment(d.alpha_blend);
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &attachment;
+    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamic_states;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &d.color_format;
+    rendering.depthAttachmentFormat = d.depth_format;
+
+    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    ci.stageCount = 2;
+    ci.pStages = stages;
+    ci.pVertexInputState = &vertex_input;
+    ci.pInputAssemblyState = &assembly;
+    ci.pViewportState = &viewport;
+    ci.pRasterizationState = &raster;
+    ci.pMultisampleState = &multisample;
+    ci.pDepthStencilState = &depth;
+    ci.pColorBlendState = &blend;
+    ci.pDynamicState = &dynamic;
+    ci.layout = d.layout;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
+    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, d.name);
+    vkDestroyShaderModule(ctx.device(), vert, nullptr);
+    vkDestroyShaderModule(ctx.device(), frag, nullptr);
+    return pipeline;
+}
+
+} // namespace vx::render

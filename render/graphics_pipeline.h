@@ -1,0 +1,33 @@
+#pragma once
+// What the small graphics pipelines share (render/raster_pipeline.h, render/ui_pass.h): shader
+// modules, a push-constant-only layout, and a pipeline for dynamic rendering into one colour
+// attachment with dynamic viewport and scissor and no vertex input (vertex shaders pull their
+// data through buffer device addresses). Main thread.
+
+#include <span>
+
+#include "render/context.h"
+
+namespace vx::render {
+
+// A shader module with a debug name; the caller destroys it once the pipeline exists.
+VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv, const char* name);
+
+// A pipeline layout with one push-constant range of `bytes` for the vertex and fragment stages.
+VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const char* name);
+
+struct GraphicsPipelineDesc {
+    std::span<const uint32_t> vert, frag; // SPIR-V (render/shader_code.h).
+    const char* vert_name = "";
+    const char* frag_name = "";
+    const char* name = "";                // The pipeline's debug name.
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkFormat color_format = VK_FORMAT_UNDEFINED;
+    VkFormat depth_format = VK_FORMAT_UNDEFINED; // Set: depth test LESS with writes.
+    bool alpha_blend = false; // Straight alpha over the attachment; the attachment's alpha stays.
+};
+
+// Triangle lists, no culling (the shaders reject what they must), one sample.
+VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& desc);
+
+} // namespace vx::render
