@@ -89,6 +89,17 @@ render::Camera default_view(const engine::LoadedScene& scene, render::RenderSett
 
 // The thesis's Table 6.3: every combination of shadows (25 samples) x reflections (`reflections`
 // bounces) x denoiser, after the raster baseline and RT flat.
+// One row of the speed-against-error sweep: full shading with `reflections` bounces.
+render::RenderSettings sweep_settings(const render::RenderSettings& base, uint32_t reflections, uint32_t spp,
+                                      uint32_t bounce_spp, bool denoise) {
+    render::RenderSettings s = base;
+    s.max_bounces = reflections;
+    s.shadow_samples = spp;
+    s.bounce_shadow_samples = bounce_spp;
+    s.denoise = denoise;
+    return s;
+}
+
 std::vector<Config> feature_configs(const render::RenderSettings& base, uint32_t reflections) {
     using render::ShadingMode;
     auto make = [&](std::string name, ShadingMode mode, uint32_t spp, uint32_t bounces, bool denoise) {
@@ -243,11 +254,7 @@ int run_bench_render(const BenchRenderArgs& a) {
         const std::vector<uint32_t> bounce_spps = spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp};
         for (uint32_t bounce : bounce_spps)
             for (bool denoise : {false, true}) {
-                render::RenderSettings s = base;
-                s.max_bounces = a.reflections;
-                s.shadow_samples = spp;
-                s.bounce_shadow_samples = bounce;
-                s.denoise = denoise;
+                const render::RenderSettings s = sweep_settings(base, a.reflections, spp, bounce, denoise);
                 const Timing t = time_frames(r, s, cam, a.repeat, &img);
                 const render::ImageError e = render::compare(render::to_float(img), reference);
                 std::snprintf(line, sizeof line, "| %u | %u | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, bounce,
@@ -273,11 +280,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     for (uint32_t spp : {1u, 2u, 4u})
         for (uint32_t bounce : spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp})
             for (bool denoise : {false, true}) {
-                render::RenderSettings s = base;
-                s.max_bounces = a.reflections;
-                s.shadow_samples = spp;
-                s.bounce_shadow_samples = bounce;
-                s.denoise = denoise;
+                render::RenderSettings s = sweep_settings(base, a.reflections, spp, bounce, denoise);
                 s.accumulate = 8;
                 std::vector<double> frame;
                 for (uint32_t i = 0; i < 8; ++i) {
