@@ -30,14 +30,20 @@ vx::EngineCreateInfo render_info(vx::WorldSource source, uint32_t w, uint32_t h)
     return info;
 }
 
+// 12 blocks above terrain seed 3 at the origin, looking down the slope.
+vx::Viewer terrain_view() {
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(3, 0, 0) + 12, 0};
+    v.forward = {1, -0.35, 0.2};
+    return v;
+}
+
 TEST(FacadeRender, TerrainToMemory) {
     auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 64, 48));
     if (!engine)
         GTEST_SKIP() << "no ray-tracing device: " << engine.error();
     vx::Engine& e = **engine;
-    vx::Viewer v;
-    v.block = {0, vx::terrain_height(3, 0, 0) + 12, 0};
-    v.forward = {1, -0.35, 0.2};
+    const vx::Viewer v = terrain_view();
     ASSERT_TRUE(e.set_viewer(v));
     ASSERT_TRUE(settle(e));
 
@@ -107,10 +113,7 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     if (!engine)
         GTEST_SKIP() << "no ray-tracing device: " << engine.error();
     vx::Engine& e = **engine;
-    vx::Viewer v;
-    v.block = {0, vx::terrain_height(3, 0, 0) + 12, 0};
-    v.forward = {1, -0.35, 0.2};
-    ASSERT_TRUE(e.set_viewer(v));
+    ASSERT_TRUE(e.set_viewer(terrain_view()));
     ASSERT_TRUE(settle(e));
     auto render = [&](const vx::RenderSettings& rs) {
         e.set_render_settings(rs);
