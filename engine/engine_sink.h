@@ -19,9 +19,11 @@ public:
     // `renderer` may be null (no GPU); it must outlive the sink's use.
     EngineSink(render::Renderer* renderer, bool record_events) : m_renderer(renderer), m_record(record_events) {}
 
-    void on_mesh(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int>) override {
+    void on_mesh(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) override {
+        // The edit's slices go on: only they are uploaded and the chunk's BLAS refitted (without
+        // them every edit re-sent the whole mesh and rebuilt the BLAS). An empty mesh removes it.
         if (m_renderer)
-            m_renderer->set_chunk(c, mesh); // An empty mesh removes the chunk's BLAS.
+            m_renderer->set_chunk(c, mesh, changed_slices);
         record(ChunkEvent::Kind::Meshed, c);
     }
     void on_unload(world::ChunkCoord c) override {
