@@ -3,10 +3,11 @@
 // variance), then an edge-avoiding a-trous wavelet filter guided by normal, depth and luminance
 // variance, on albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
 // al. 2010). Only the primary hit's diffuse lighting is filtered; the reflected part (mirror
-// bounces, emission) is accumulated over frames and added back. Before 4 frames of history the
-// variance is the pixel's own (from its light samples, render/gbuffer.h), so the filter fades as
-// samples grow; without it (1 sample) the 3x3 spatial estimate, which also counts pixel-sized
-// detail as noise (docs/render_report.md). Compute shaders
+// bounces, emission) is accumulated over frames and added back. The luminance weight's variance
+// is the pixels' own (from their light samples, render/gbuffer.h; averaged over the history), so
+// the filter fades as samples grow; at 1 sample it is unknown: the 3x3 spatial estimate, which
+// also counts pixel-sized detail as noise (docs/render_report.md), then from 4 frames of history
+// SVGF's temporal moments. Compute shaders
 // shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
 //
 // Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by

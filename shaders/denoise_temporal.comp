@@ -22,7 +22,7 @@ layout(binding = 6, rgba16f) writeonly uniform image2D u_hist_nd_out;
 layout(binding = 7, rgba16f) writeonly uniform image2D u_filter_out;  // rgb illumination, a variance.
 layout(binding = 8, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
-layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance moments m1, m2.
+layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance m1, m2, own variance.
 layout(binding = 11, rgba16f) writeonly uniform image2D u_moments_out;
 layout(binding = 12, rgba16f) readonly uniform image2D u_reflected;   // Not filtered: see above.
 layout(binding = 13, rgba16f) readonly uniform image2D u_hist_refl_in;
@@ -109,7 +109,7 @@ void main() {
     const vec3 illum = illumination(p);
     float frames = 0;
     vec3 history = vec3(0), history_reflected = vec3(0);
-    vec2 moments = vec2(0);
+    vec3 moments = vec3(0);
     if ((pc.params.w & kDenoiseHistoryValid) != 0) {
         const vec2 centre = vec2(p) + 0.5;
         const float depth = nd.w / ray_scale(centre);
@@ -122,7 +122,7 @@ void main() {
                 const vec4 h = imageLoad(u_hist_in, q);
                 history = h.rgb;
                 frames = h.a;
-                moments = imageLoad(u_moments_in, q).xy;
+                moments = imageLoad(u_moments_in, q).xyz;
                 history_reflected = imageLoad(u_hist_refl_in, q).rgb;
             }
         }
@@ -130,19 +130,19 @@ void main() {
     frames = min(frames + 1, max(pc.sigmas.w, 1.0));
     const vec3 accumulated = mix(history, illum, 1.0 / frames);
     const float lum = luminance(illum);
-    moments = mix(moments, vec2(lum, lum * lum), 1.0 / frames);
+    const float own = own_variance(p, size, nd);
+    moments = mix(moments, vec3(lum, lum * lum, own), 1.0 / frames);
     const vec3 reflected = mix(history_reflected, imageLoad(u_reflected, p).rgb, 1.0 / frames);
-    // Variance of one frame's estimate: from the temporal moments once 4 frames are in (SVGF),
-    // else the pixel's own from its light samples (render/gbuffer.h), else (1 sample: unknown)
-    // from the 3x3 neighbourhood (which also counts pixel-sized detail as noise).
-    float sample_variance = max(moments.y - moments.x * moments.x, 0.0);
-    if (frames < 4.0) {
-        sample_variance = own_variance(p, size, nd);
-        if (sample_variance < 0.0)
-            sample_variance = spatial_variance(p, size, nd);
-    }
+    // Variance of one frame's estimate: the pixels' own from their light samples
+    // (render/gbuffer.h; the sample counts are the same in every frame of the history, so it is
+    // averaged over it); unknown (1 sample): from the temporal moments once 4 frames are in
+    // (SVGF), else from the 3x3 neighbourhood (which also counts pixel-sized detail as noise).
+    float sample_variance = moments.z;
+    if (own < 0.0)
+        sample_variance = frames >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0)
+                                        : spatial_variance(p, size, nd);
     imageStore(u_hist_out, p, vec4(accumulated, frames));
-    imageStore(u_moments_out, p, vec4(moments, 0, 0));
+    imageStore(u_moments_out, p, vec4(moments, 0));
     imageStore(u_hist_refl_out, p, vec4(reflected, 0));
     imageStore(u_refl_out, p, vec4(reflected, 0));
     imageStore(u_filter_out, p, vec4(accumulated, sample_variance / frames));
