@@ -18,7 +18,7 @@ static_assert(sizeof(gpu::DenoisePush) == 112, "DenoisePush must match its std43
 namespace {
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr uint32_t kTemporalBindings = 12, kAtrousBindings = 6;
+constexpr uint32_t kTemporalBindings = 16, kAtrousBindings = 7;
 constexpr VkPipelineStageFlags2 kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 
 VkDescriptorSetLayout make_set_layout(Context& ctx, uint32_t bindings, const char* name) {
@@ -133,6 +133,8 @@ void Denoiser::create_images() {
     m_history_nd = {make("denoise history normal_depth 0"), make("denoise history normal_depth 1")};
     m_ping = {make("denoise ping"), make("denoise pong")};
     m_moments = {make("denoise moments 0"), make("denoise moments 1")};
+    m_history_reflected = {make("denoise history reflected 0"), make("denoise history reflected 1")};
+    m_reflected = make("denoise reflected");
     m_output = make("denoise output");
     ImageCreateInfo ldr;
     ldr.width = m_width;
@@ -178,21 +180,23 @@ void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {
         const VkImageView temporal[kTemporalBindings] = {
             in.colour, in.albedo, in.normal_depth, m_history[p].view(), m_history_nd[p].view(),
             m_history[q].view(), m_history_nd[q].view(), m_ping[0].view(), m_output.view(), ldr,
-            m_moments[p].view(), m_moments[q].view()};
+            m_moments[p].view(), m_moments[q].view(), in.reflected, m_history_reflected[p].view(),
+            m_history_reflected[q].view(), m_reflected.view()};
         write_images(*m_ctx, m_temporal_sets[slot][p], temporal);
         const VkImageView atrous[kAtrousBindings] = {m_ping[p].view(), in.albedo, in.normal_depth, m_ping[q].view(),
-                                                     m_output.view(), ldr};
+                                                     m_output.view(), ldr, m_reflected.view()};
         write_images(*m_ctx, m_atrous_sets[slot][p], atrous);
     }
 }
 
 void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const DenoiseSettings& settings) {
-    VX_ASSERT(inputs.colour && inputs.albedo && inputs.normal_depth);
+    VX_ASSERT(inputs.colour && inputs.albedo && inputs.normal_depth && inputs.reflected);
     const uint32_t slot = m_ctx->frame_slot();
     write_sets(inputs, slot);
     if (!m_initialised) {
         for (const Image* img : {&m_history[0], &m_history[1], &m_history_nd[0], &m_history_nd[1], &m_ping[0],
-                                 &m_ping[1], &m_output, &m_ldr, &m_moments[0], &m_moments[1]})
+                                 &m_ping[1], &m_output, &m_ldr, &m_moments[0], &m_moments[1],
+                                 &m_history_reflected[0], &m_history_reflected[1], &m_reflected})
             image_barrier(cmd, img->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                           VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, kCompute,
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -281,24 +285,29 @@ void copy_buffer_to_image(VkCommandBuffer cmd, VkBuffer src, VkDeviceSize offset
 
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings, const glm::mat4& reproject,
-                       float fov_y_degrees) {
+                       float fov_y_degrees, const ImageF* reflected) {
     const uint32_t w = denoiser.width(), h = denoiser.height();
-    for (const ImageF* img : {&colour, &albedo, &normal_depth})
+    const ImageF zero = reflected ? ImageF{} : ImageF::make(w, h);
+    const ImageF& refl = reflected ? *reflected : zero;
+    for (const ImageF* img : {&colour, &albedo, &normal_depth, &refl})
         VX_ASSERT_MSG(img->width == w && img->height == h && img->rgba.size() == size_t(w) * h * 4,
                       "denoise_on_host: image size differs from the denoiser's");
-    const std::vector<uint8_t> bytes[3] = {pack(colour, true), pack(albedo, false), pack(normal_depth, true)};
-    const VkFormat formats[3] = {kHdrFormat, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat};
-    const char* names[3] = {"denoise input colour", "denoise input albedo", "denoise input normal_depth"};
+    constexpr int kInputs = 4;
+    const std::vector<uint8_t> bytes[kInputs] = {pack(colour, true), pack(albedo, false),
+                                                 pack(normal_depth, true), pack(refl, true)};
+    const VkFormat formats[kInputs] = {kHdrFormat, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat, kHdrFormat};
+    const char* names[kInputs] = {"denoise input colour", "denoise input albedo",
+                                  "denoise input normal_depth", "denoise input reflected"};
     const VkDeviceSize out_bytes = VkDeviceSize(w) * h * 8;
+    const VkDeviceSize in_bytes = bytes[0].size() + bytes[1].size() + bytes[2].size() + bytes[3].size();
     Buffer staging = Buffer::create(
-        ctx, {bytes[0].size() + bytes[1].size() + bytes[2].size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload,
-              16, "denoise input staging"});
+        ctx, {in_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, 16, "denoise input staging"});
     Buffer readback =
         Buffer::create(ctx, {out_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "denoise readback"});
     VX_ASSERT_MSG(staging.valid() && readback.valid(), "out of memory for denoise_on_host's buffers");
-    Image inputs[3];
-    VkDeviceSize offsets[3], at = 0;
-    for (int i = 0; i < 3; ++i) {
+    Image inputs[kInputs];
+    VkDeviceSize offsets[kInputs], at = 0;
+    for (int i = 0; i < kInputs; ++i) {
         inputs[i] = Image::create(ctx, {w, h, formats[i], VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                         names[i]});
         VX_ASSERT_MSG(inputs[i].valid(), "out of GPU memory for denoise_on_host's images");
@@ -307,9 +316,11 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
         at += bytes[i].size();
     }
     VkCommandBuffer cmd = ctx.begin_frame();
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < kInputs; ++i)
         copy_buffer_to_image(cmd, staging.handle(), offsets[i], inputs[i]);
-    denoiser.record(cmd, {inputs[0].view(), inputs[1].view(), inputs[2].view(), reproject, fov_y_degrees}, settings);
+    const DenoiseInputs in{inputs[0].view(), inputs[1].view(), inputs[2].view(),
+                           inputs[3].view(), reproject, fov_y_degrees};
+    denoiser.record(cmd, in, settings);
     const VkImage output = denoiser.output().handle();
     image_barrier(cmd, output, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kCompute,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);

@@ -2,15 +2,22 @@
 // The guided denoiser: temporal accumulation with reprojection (and luminance moments for the
 // variance), then an edge-avoiding a-trous wavelet filter guided by normal, depth and luminance
 // variance, on albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
-// al. 2010). Before 4 frames of history the variance is spatial (3x3), which also counts
-// pixel-sized shading detail as noise: single frames above ~2 spp get blurrier, not better
-// (docs/render_report.md). Compute shaders
+// al. 2010). Only the primary hit's diffuse lighting is filtered; the reflected part (mirror
+// bounces, emission) is accumulated over frames and added back. The luminance weight's variance
+// is the pixels' own (from their light samples, render/gbuffer.h; averaged over the history), so
+// the filter fades as samples grow; at 1 sample it is unknown: the 3x3 spatial estimate, which
+// also counts pixel-sized detail as noise (docs/render_report.md), then from 4 frames of history
+// SVGF's temporal moments. Compute shaders
 // shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
 //
 // Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by
 // denoise_on_host): storage images in VK_IMAGE_LAYOUT_GENERAL, written before record() with a
 // barrier to compute-shader reads the caller records:
-//   colour        RGBA16F  noisy linear HDR radiance,
+//   colour        RGBA16F  noisy linear HDR radiance (rgb) and the variance of the luminance of
+//                          its diffuse part (colour - reflected) over albedo (a; < 0: unknown,
+//                          estimated from the 3x3 neighbourhood),
+//   reflected     RGBA16F  the part of colour not filtered with the primary hit's guides
+//                          (emission, mirror bounces; rgb): accumulated over frames only,
 //   albedo        RGBA8    linear albedo of the primary hit (UNORM),
 //   normal_depth  RGBA16F  world-space unit normal (xyz) and the distance along the primary
 //                          ray to the hit in blocks (w); w <= 0 marks a miss (sky: passed
@@ -46,6 +53,7 @@ struct DenoiseInputs {
     VkImageView colour = VK_NULL_HANDLE;
     VkImageView albedo = VK_NULL_HANDLE;
     VkImageView normal_depth = VK_NULL_HANDLE;
+    VkImageView reflected = VK_NULL_HANDLE;
     // Maps (x d, y d, d, 1) of this frame's pixel centre (x, y) (pixels, row 0 at the top) at
     // view depth d to (x' d', y' d', d', 1) of the previous frame: identity for a still camera.
     // See reprojection_matrix().
@@ -88,8 +96,10 @@ private:
     Context* m_ctx;
     uint32_t m_width, m_height;
     // Ping-pong: read [m_parity], write the other. Moments: luminance m1, m2 (SVGF's variance).
-    std::array<Image, 2> m_history, m_history_nd, m_moments;
+    // Reflected: the reflected part's running mean.
+    std::array<Image, 2> m_history, m_history_nd, m_moments, m_history_reflected;
     std::array<Image, 2> m_ping;                  // A-trous iterations alternate between these.
+    Image m_reflected; // This frame's accumulated reflected part (temporal pass -> last pass).
     Image m_output, m_ldr;
     uint32_t m_parity = 0;
     bool m_history_valid = false;
@@ -108,11 +118,13 @@ private:
 glm::mat4 reprojection_matrix(const glm::dmat4& prev_view_from_world, const glm::dmat4& view_from_world,
                               float fov_y_degrees, uint32_t width, uint32_t height);
 
-// Host round trip for tests and benchmarks: uploads the three images (colour and normal_depth
-// as RGBA16F, albedo as RGBA8 from 0..1 floats), runs `denoiser` once (it keeps its history
-// between calls) and reads the output back. Waits for the GPU. Sizes must match the denoiser.
+// Host round trip for tests and benchmarks: uploads the images (colour, normal_depth and
+// reflected as RGBA16F, albedo as RGBA8 from 0..1 floats; no `reflected`: zero), runs
+// `denoiser` once (it keeps its history between calls) and reads the output back. Waits for
+// the GPU. Sizes must match the denoiser.
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings,
-                       const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f);
+                       const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f,
+                       const ImageF* reflected = nullptr);
 
 } // namespace vx::render

@@ -10,9 +10,14 @@
 //                                                 vx_tonemap(radiance) sRGB-encoded; Flat and
 //                                                 Visibility modes unchanged (linear albedo /
 //                                                 visible fraction, no tone mapping)
-//   binding 3  radiance      RGBA16F  linear HDR radiance of the pixel before tone mapping, rgb;
-//                                     a = 1. What a denoiser filters (Full mode; in Flat and
-//                                     Visibility modes it holds the same values as the output).
+//   binding 3  radiance      RGBA16F  linear HDR radiance of the pixel before tone mapping, rgb
+//                                     (Flat and Visibility modes: the same values as the
+//                                     output). a (Full mode): the variance of the luminance of
+//                                     the primary hit's diffuse lighting (radiance - reflected)
+//                                     divided by its albedo, as estimated from the pixel's light
+//                                     samples (sample variance / samples, / 16 for their
+//                                     stratification: shaders/raygen.rgen); 0 with shadows off
+//                                     (no sampling), -1 at 1 sample (unknown); 1 in Flat mode.
 //   binding 4  albedo        RGBA8 UNORM  linear albedo of the first visible (opaque) block hit
 //                                     by the primary ray, rgb (no sRGB encoding); the sky colour
 //                                     (clamped to 0..1) on a miss; a = 1 on a hit, 0 on a miss.
@@ -20,6 +25,11 @@
 //                                     hit (axis-aligned); w: distance along the primary ray from
 //                                     the eye to that hit, in blocks (> 0). A miss: (0, 0, 0, 0)
 //                                     (w = 0 is the sentinel).
+//   binding 6  reflected     RGBA16F  the part of radiance that is not the primary hit's diffuse
+//                                     lighting, rgb: its emission plus the radiance from mirror
+//                                     bounces (the sky colour on a miss); a = 1. The denoiser
+//                                     filters radiance - reflected with the primary hit's guides
+//                                     and adds this back unfiltered. Flat mode: 0.
 //
 // The tone-map step: today the last thing raygen does (it writes the output from radiance with
 // vx_tonemap + sRGB, shaders/shared/tonemap.h). A denoiser that filters radiance writes the
@@ -33,6 +43,7 @@ namespace vx::render {
 inline constexpr VkFormat kRadianceFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 inline constexpr VkFormat kAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
 inline constexpr VkFormat kNormalDepthFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+inline constexpr VkFormat kReflectedFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 inline constexpr VkImageUsageFlags kGBufferUsage =
     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
 
@@ -44,6 +55,7 @@ enum RtBinding : uint32_t {
     kBindingRadiance = 3,
     kBindingAlbedo = 4,
     kBindingNormalDepth = 5,
+    kBindingReflected = 6,
 };
 
 } // namespace vx::render

@@ -42,7 +42,7 @@ struct Renderer::Impl {
     std::array<Image, kFramesInFlight> targets;
     // The G-buffer of each frame slot (render/gbuffer.h), the size of its target.
     struct GBuffer {
-        Image radiance, albedo, normal_depth;
+        Image radiance, albedo, normal_depth, reflected;
     };
     std::array<GBuffer, kFramesInFlight> gbuffers;
     // Emissive blocks light the scene only where they are: sky rays look for emitters when some
@@ -163,7 +163,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
 void Renderer::Impl::create_descriptors() {
     const VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, kFramesInFlight},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4 * kFramesInFlight}, // Output + 3 G-buffer images.
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 5 * kFramesInFlight}, // Output + 4 G-buffer images.
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight},
     };
     VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -291,7 +291,9 @@ void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     g.radiance = Image::create(*ctx, {width, height, kRadianceFormat, kGBufferUsage, "gbuffer radiance"});
     g.albedo = Image::create(*ctx, {width, height, kAlbedoFormat, kGBufferUsage, "gbuffer albedo"});
     g.normal_depth = Image::create(*ctx, {width, height, kNormalDepthFormat, kGBufferUsage, "gbuffer normal depth"});
-    VX_ASSERT_MSG(g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid(), "out of GPU memory for the G-buffer");
+    g.reflected = Image::create(*ctx, {width, height, kReflectedFormat, kGBufferUsage, "gbuffer reflected"});
+    VX_ASSERT_MSG(g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid() && g.reflected.valid(),
+                  "out of GPU memory for the G-buffer");
 }
 
 void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
@@ -339,11 +341,13 @@ void Renderer::Impl::write_descriptors() {
         {VK_NULL_HANDLE, g.radiance.view(), VK_IMAGE_LAYOUT_GENERAL},
         {VK_NULL_HANDLE, g.albedo.view(), VK_IMAGE_LAYOUT_GENERAL},
         {VK_NULL_HANDLE, g.normal_depth.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.reflected.view(), VK_IMAGE_LAYOUT_GENERAL},
     };
-    const uint32_t image_bindings[] = {kBindingOutput, kBindingRadiance, kBindingAlbedo, kBindingNormalDepth};
+    const uint32_t image_bindings[] = {kBindingOutput, kBindingRadiance, kBindingAlbedo, kBindingNormalDepth,
+                                       kBindingReflected};
     VkDescriptorBufferInfo buffer_info{params[slot].handle(), 0, sizeof(gpu::FrameParams)};
-    VkWriteDescriptorSet w[6];
-    for (uint32_t i = 0; i < 6; ++i) {
+    VkWriteDescriptorSet w[7];
+    for (uint32_t i = 0; i < 7; ++i) {
         w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w[i].dstSet = sets[slot];
         w[i].descriptorCount = 1;
@@ -354,12 +358,12 @@ void Renderer::Impl::write_descriptors() {
     w[1].dstBinding = kBindingParams;
     w[1].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     w[1].pBufferInfo = &buffer_info;
-    for (uint32_t i = 0; i < 4; ++i) {
+    for (uint32_t i = 0; i < 5; ++i) {
         w[2 + i].dstBinding = image_bindings[i];
         w[2 + i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         w[2 + i].pImageInfo = &images[i];
     }
-    vkUpdateDescriptorSets(ctx->device(), 6, w, 0, nullptr);
+    vkUpdateDescriptorSets(ctx->device(), 7, w, 0, nullptr);
 }
 
 // Everything render() and present() share: uploads, BLAS and TLAS builds, the trace. Leaves the
@@ -405,7 +409,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     // The G-buffer is rewritten whole each frame; readers of the slot's last frame are done
     // (the frame-start barrier orders all earlier commands before this one).
     const GBuffer& g = gbuffers[ctx->frame_slot()];
-    for (VkImage im : {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()})
+    for (VkImage im : {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle(), g.reflected.handle()})
         image_barrier(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                       0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
@@ -452,6 +456,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
     in.colour = g.radiance.view();
     in.albedo = g.albedo.view();
     in.normal_depth = g.normal_depth.view();
+    in.reflected = g.reflected.view();
     in.reproject = reprojection_matrix(view_from_world(denoised_camera, cam.block), view_from_world(cam, cam.block),
                                        cam.fov_y_degrees, s.width, s.height);
     in.fov_y_degrees = cam.fov_y_degrees;

@@ -35,6 +35,7 @@ void RtPipeline::create_layouts() {
         {kBindingRadiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
         {kBindingAlbedo, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
         {kBindingNormalDepth, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingReflected, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     ci.bindingCount = uint32_t(std::size(bindings));

@@ -4,7 +4,7 @@
 // edge-stopping functions (Schied et al. 2017, section 4.2): a 5x5 B3-spline kernel with holes
 // (step 1, 2, 4, ...) weighted by normal, depth (against the local depth gradient) and luminance
 // (against the filtered variance). It filters albedo-demodulated illumination, so block colours
-// stay sharp; the last pass multiplies the albedo back in.
+// stay sharp; the last pass multiplies the albedo back in and adds the (unfiltered) reflected part.
 
 #include "shared/denoise_types.h"
 
@@ -16,6 +16,7 @@ layout(binding = 2, rgba16f) readonly uniform image2D u_normal_depth;
 layout(binding = 3, rgba16f) writeonly uniform image2D u_out;         // Next iteration's input.
 layout(binding = 4, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 5, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
+layout(binding = 6, rgba16f) readonly uniform image2D u_reflected;    // The temporal pass's.
 
 #include "shared/denoise_common.glsl"
 
@@ -65,5 +66,6 @@ void main() {
     }
     imageStore(u_out, p, result);
     if ((pc.params.w & kDenoiseLastPass) != 0)
-        store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(nd));
+        store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(nd),
+                     imageLoad(u_reflected, p).rgb);
 }

@@ -7,6 +7,7 @@ layout(set = 0, binding = 1, rgba8) uniform writeonly image2D out_image;
 layout(set = 0, binding = 3, rgba16f) uniform writeonly image2D radiance_image;
 layout(set = 0, binding = 4, rgba8) uniform writeonly image2D albedo_image;
 layout(set = 0, binding = 5, rgba16f) uniform writeonly image2D normal_depth_image;
+layout(set = 0, binding = 6, rgba16f) uniform writeonly image2D reflected_image;
 
 layout(location = 0) rayPayloadEXT HitPayload payload;
 const float kTMax = 1.0e7;

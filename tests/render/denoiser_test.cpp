@@ -1,7 +1,8 @@
 // The guided denoiser on a synthetic G-buffer with a known noise-free image: two surfaces (a
 // floor seen at a slant and a wall), 4x4-pixel albedo tiles, sky rows, smooth illumination.
 // Monte Carlo noise is imitated by visibility samples of 0 or 2 (mean 1, variance 1 per sample),
-// so n samples per pixel have relative standard deviation 1/sqrt(n).
+// so n samples per pixel have relative standard deviation 1/sqrt(n). The colour's alpha is the
+// pixel's variance as the ray tracer writes it (render/gbuffer.h): 0 noise-free, -1 at 1 sample.
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -48,7 +49,7 @@ GBuffer make_scene(uint32_t wall_from_x = 24) {
             }
             alb[3] = 1.f;
             nd[3] = depth;
-            ref[3] = 1.f;
+            ref[3] = 0.f; // Noise-free.
         }
     return g;
 }
@@ -66,6 +67,9 @@ ImageF noisy(const GBuffer& g, uint32_t spp, uint32_t seed) {
             const float v = 2.f * float(hits) / float(spp);
             for (int c = 0; c < 3; ++c)
                 out.at(x, y)[c] *= v;
+            // Variance of the mean illumination: light^2 per sample over spp; unknown at 1 sample.
+            const float light = g.illumination.at(x, y)[0];
+            out.at(x, y)[3] = spp > 1 ? light * light / float(spp) : -1.f;
         }
     return out;
 }
@@ -100,6 +104,56 @@ TEST_F(DenoiserTest, LowersTheErrorAt1And4Spp) {
         EXPECT_LT(after, 0.5 * before) << spp << " spp: RMSE " << before << " -> " << after;
         EXPECT_GT(ssim(out, g.reference), ssim(in, g.reference)) << spp << " spp";
     }
+}
+
+// Pixel-sized detail that the pixel's own variance (0) says is no noise survives; the 3x3
+// spatial estimate (variance unknown, -1) takes it for noise and blurs it.
+TEST_F(DenoiserTest, KnownNoiseFreeDetailIsKept) {
+    GBuffer g = make_scene();
+    ImageF unknown = g.reference;
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            const float f = (x + y) % 2 ? 0.5f : 1.5f; // A one-pixel checkerboard of light.
+            for (int c = 0; c < 3; ++c)
+                g.reference.at(x, y)[c] *= f;
+            for (int c = 0; c < 4; ++c)
+                unknown.at(x, y)[c] = c < 3 ? g.reference.at(x, y)[c] : -1.f;
+        }
+    Denoiser denoiser(*m_ctx, kW, kH);
+    const DenoiseSettings s = spatial_only();
+    const ImageF known = denoise_on_host(*m_ctx, denoiser, g.reference, g.albedo, g.normal_depth, s);
+    denoiser.reset_history();
+    const ImageF spatial = denoise_on_host(*m_ctx, denoiser, unknown, g.albedo, g.normal_depth, s);
+    const double known_error = rmse(known, g.reference), spatial_error = rmse(spatial, g.reference);
+    std::printf("checkerboard detail: RMSE %.4f (variance 0), %.4f (spatial estimate)\n", known_error,
+                spatial_error);
+    EXPECT_LT(known_error, 0.01);
+    EXPECT_GT(spatial_error, 0.05);
+}
+
+// The reflected part (mirror bounces) is added back unfiltered: a pixel-sized pattern in it stays
+// sharp while the noisy diffuse part around it is filtered.
+TEST_F(DenoiserTest, ReflectedPartIsNotBlurred) {
+    const GBuffer g = make_scene();
+    ImageF reflected = ImageF::make(kW, kH), reference = g.reference;
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            const float r = (x + 2 * y) % 3 == 0 ? 0.8f : 0.1f;
+            for (int c = 0; c < 3; ++c) {
+                reflected.at(x, y)[c] = r;
+                reference.at(x, y)[c] += r;
+            }
+        }
+    ImageF in = noisy(g, 4, 21);
+    for (size_t i = 0; i < in.rgba.size(); ++i)
+        if (i % 4 != 3)
+            in.rgba[i] += reflected.rgba[i];
+    Denoiser denoiser(*m_ctx, kW, kH);
+    const ImageF out = denoise_on_host(*m_ctx, denoiser, in, g.albedo, g.normal_depth, spatial_only(),
+                                       glm::mat4(1.f), 60.f, &reflected);
+    const double before = rmse(in, reference), after = rmse(out, reference);
+    std::printf("with a reflected pattern, 4 spp: RMSE %.4f -> %.4f\n", before, after);
+    EXPECT_LT(after, 0.5 * before);
 }
 
 TEST_F(DenoiserTest, AccumulationOfAStillCameraLowersTheErrorFurther) {
