@@ -8,6 +8,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "render/commands.h"
+#include "render/graphics_pipeline.h"
 #include "render/shader_code.h"
 #include "shaders/shared/denoise_types.h"
 
@@ -48,12 +49,7 @@ VkPipelineLayout make_pipeline_layout(Context& ctx, VkDescriptorSetLayout set, c
 }
 
 VkPipeline make_compute(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> code, const char* name) {
-    VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    mi.codeSize = code.size_bytes();
-    mi.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &mi, nullptr, &module));
-    ctx.set_name(module, VK_OBJECT_TYPE_SHADER_MODULE, name);
+    const VkShaderModule module = make_shader_module(ctx, code, name);
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

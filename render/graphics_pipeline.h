@@ -1,8 +1,8 @@
 #pragma once
-// What the small graphics pipelines share (render/raster_pipeline.h, render/ui_pass.h): shader
-// modules, a push-constant-only layout, and a pipeline for dynamic rendering into one colour
-// attachment with dynamic viewport and scissor and no vertex input (vertex shaders pull their
-// data through buffer device addresses). Main thread.
+// Shader modules (every pipeline), and what the small graphics pipelines share
+// (render/raster_pipeline.h, render/ui_pass.h): a push-constant-only layout, and a pipeline for
+// dynamic rendering into one colour attachment with dynamic viewport and scissor and no vertex
+// input (vertex shaders pull their data through buffer device addresses). Main thread.
 
 #include <span>
 

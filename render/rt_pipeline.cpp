@@ -5,6 +5,7 @@
 
 #include "render/commands.h"
 #include "render/gbuffer.h"
+#include "render/graphics_pipeline.h"
 #include "render/shader_code.h"
 
 namespace vx::render {
@@ -49,16 +50,6 @@ void RtPipeline::create_layouts() {
     m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "rt pipeline layout");
 }
 
-static VkShaderModule make_module(Context& ctx, std::span<const uint32_t> code, const char* name) {
-    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    ci.codeSize = code.size_bytes();
-    ci.pCode = code.data();
-    VkShaderModule m = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
-    ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
-    return m;
-}
-
 static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR type, uint32_t general,
                                                   uint32_t closest_hit, uint32_t any_hit = VK_SHADER_UNUSED_KHR) {
     VkRayTracingShaderGroupCreateInfoKHR g{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
@@ -72,12 +63,12 @@ static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR
 
 void RtPipeline::create_pipeline() {
     const VkShaderModule modules[] = {
-        make_module(*m_ctx, spirv::raygen(), "raygen.rgen"),
-        make_module(*m_ctx, spirv::primary_miss(), "primary.rmiss"),
-        make_module(*m_ctx, spirv::shadow_miss(), "shadow.rmiss"),
-        make_module(*m_ctx, spirv::closest_hit(), "closest_hit.rchit"),
-        make_module(*m_ctx, spirv::shadow_any_hit(), "shadow.rahit"),
-        make_module(*m_ctx, spirv::raygen_flat(), "raygen_flat.rgen"),
+        make_shader_module(*m_ctx, spirv::raygen(), "raygen.rgen"),
+        make_shader_module(*m_ctx, spirv::primary_miss(), "primary.rmiss"),
+        make_shader_module(*m_ctx, spirv::shadow_miss(), "shadow.rmiss"),
+        make_shader_module(*m_ctx, spirv::closest_hit(), "closest_hit.rchit"),
+        make_shader_module(*m_ctx, spirv::shadow_any_hit(), "shadow.rahit"),
+        make_shader_module(*m_ctx, spirv::raygen_flat(), "raygen_flat.rgen"),
     };
     const VkShaderStageFlagBits stage_bits[] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
                                                 VK_SHADER_STAGE_MISS_BIT_KHR, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
