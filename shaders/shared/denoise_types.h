@@ -4,18 +4,8 @@
 #ifndef VX_SHADERS_DENOISE_TYPES_H
 #define VX_SHADERS_DENOISE_TYPES_H
 
-#ifdef __cplusplus
-#include <cstdint>
-#include <glm/glm.hpp>
-namespace vx::render::gpu {
-using mat4 = glm::mat4;
-using vec4 = glm::vec4;
-using uvec4 = glm::uvec4;
-using uint = uint32_t;
-#define VX_CONST inline constexpr
-#else
-#define VX_CONST const
-#endif
+#include "glsl_types.h"
+VX_GPU_BEGIN
 
 VX_CONST uint kDenoiseGroupSize = 8; // Threads per workgroup side (8 x 8).
 
@@ -37,9 +27,6 @@ struct DenoisePush {
     vec4 camera;
 };
 
-#ifdef __cplusplus
-} // namespace vx::render::gpu
-#undef VX_CONST
-#endif
+VX_GPU_END
 
 #endif

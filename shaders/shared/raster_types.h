@@ -3,13 +3,8 @@
 #ifndef VX_SHADERS_RASTER_TYPES_H
 #define VX_SHADERS_RASTER_TYPES_H
 
-#ifdef __cplusplus
-#include <cstdint>
-#include <glm/glm.hpp>
-namespace vx::render::gpu {
-using mat4 = glm::mat4;
-using vec4 = glm::vec4;
-#endif
+#include "glsl_types.h"
+VX_GPU_BEGIN
 
 // Positions are relative to the eye (the camera's block and its offset in it, subtracted in
 // 64-bit on the CPU), in block units.
@@ -23,7 +18,5 @@ struct RasterPush {
     uint64_t materials;  // Address of Material[] (render_types.h), indexed by block id.
 };
 
-#ifdef __cplusplus
-} // namespace vx::render::gpu
-#endif
+VX_GPU_END
 #endif

@@ -4,17 +4,8 @@
 #ifndef VX_SHADERS_RENDER_TYPES_H
 #define VX_SHADERS_RENDER_TYPES_H
 
-#ifdef __cplusplus
-#include <cstdint>
-#include <glm/glm.hpp>
-namespace vx::render::gpu {
-using vec4 = glm::vec4;
-using uvec4 = glm::uvec4;
-using uint = uint32_t;
-#define VX_CONST inline constexpr
-#else
-#define VX_CONST const
-#endif
+#include "glsl_types.h"
+VX_GPU_BEGIN
 
 // Shading modes (FrameParams.mode_seed.x).
 VX_CONST uint kModeFlat = 0;       // Albedo of the hit block, sky colour on a miss; no lighting.
@@ -87,7 +78,5 @@ struct Material {
 // A quad slot of a chunk BLAS is world::Quad verbatim (uint packed, uint16 block, uint16 spare),
 // read as a uvec2: x = packed (u0:5 v0:5 w-1:5 h-1:5 plane:6 axis:2 positive:1), y & 0xffff = block.
 
-#ifdef __cplusplus
-} // namespace vx::render::gpu
-#endif
+VX_GPU_END
 #endif

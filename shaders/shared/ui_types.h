@@ -3,13 +3,8 @@
 #ifndef VX_SHADERS_UI_TYPES_H
 #define VX_SHADERS_UI_TYPES_H
 
-#ifdef __cplusplus
-#include <cstdint>
-#include <glm/glm.hpp>
-namespace vx::render::gpu {
-using vec2 = glm::vec2;
-using uvec2 = glm::uvec2;
-#endif
+#include "glsl_types.h"
+VX_GPU_BEGIN
 
 // Vertices are 5 words each (render::UiVertex): pos.x, pos.y (framebuffer pixels, y down), uv.x,
 // uv.y (0..1 over the texture), colour (RGBA8, R in the low byte).
@@ -20,7 +15,5 @@ struct UiPush {
     uvec2 texture_size;  // Texels.
 };
 
-#ifdef __cplusplus
-} // namespace vx::render::gpu
-#endif
+VX_GPU_END
 #endif
