@@ -33,11 +33,14 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLoo
             if (l[face_axis(face)] == (face_positive(face) ? kChunkSize - 1 : 0))
                 m_apron.copy_face(face, world.find_chunk(c + face_normal(face)), reg);
         }
-        m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, old, *mesh);
-        SliceUpdate u{c, false, 6, {}};
+        const uint32_t changed = m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, old, *mesh);
+        SliceUpdate u{c, false, 0, {}};
         for (int a = 0; a < 3; ++a)
-            u.slices[2 * a] = slice_index(a, l[a]), u.slices[2 * a + 1] = slice_index(a, l[a] + 1);
-        r.updates.push_back(u);
+            for (int k = 0; k < 2; ++k)
+                if (changed >> (2 * a + k) & 1u)
+                    u.slices[size_t(u.count++)] = slice_index(a, l[a] + k);
+        if (u.count > 0) // None: the edit changed no visible face (e.g. stone to dirt inside rock).
+            r.updates.push_back(u);
         r.slices_remeshed += 6;
     }
     for (int f = 0; f < 6; ++f) {

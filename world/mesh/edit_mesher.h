@@ -22,7 +22,8 @@ struct MeshedChunk {
 
 using MeshMap = std::unordered_map<ChunkCoord, MeshedChunk, ChunkCoordHash>;
 
-// The slices of one chunk's mesh an edit replaced (full: the whole mesh was made anew).
+// The slices of one chunk's mesh an edit changed (full: the whole mesh was made anew). Slices
+// not listed are exactly as before the edit.
 struct SliceUpdate {
     ChunkCoord chunk{0};
     bool full = false;
@@ -45,7 +46,8 @@ public:
     void mesh_chunk(const World& world, ChunkCoord c, MeshMap& meshes);
 
     // Sets block `p` to `id` and updates the meshes `lookup` finds: the edited chunk's six
-    // slices and the border plane of each face neighbour the block touches. Neighbour blocks
+    // slices (reported: those that changed; no update when none did) and the border plane of each
+    // face neighbour the block touches. Neighbour blocks
     // are read from `world` (only the apron faces those slices use), so no apron is stored.
     // A chunk without a mesh is not meshed here; the caller decides (see full below).
     EditResult apply(World& world, BlockPos p, BlockId id, const MeshLookup& lookup);

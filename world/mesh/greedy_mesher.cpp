@@ -481,7 +481,8 @@ bool replace_cell(ChunkMesh& mesh, int axis, int plane, bool positive, int u, in
 // out: most faces of noisy or checkered chunks), and returns the sides that changed otherwise, as
 // remesh_planes' `dirs`. Only p's faces and the faces towards p change, one per plane side; a
 // side whose face there keeps its presence and its block id keeps its quads.
-uint32_t update_cells(const MesherInput& in, LocalPos p, BlockId old, int axis, ChunkMesh& mesh) {
+// `changed` gets every side whose face changed (swapped in place or returned for a merge).
+uint32_t update_cells(const MesherInput& in, LocalPos p, BlockId old, int axis, ChunkMesh& mesh, uint32_t* changed) {
     const BlockRegistry& r = in.registry;
     const BlockId now = in.chunk.get(p);
     const int l = p[axis], u = p[plane_u_axis(axis)], v = p[plane_v_axis(axis)];
@@ -504,6 +505,7 @@ uint32_t update_cells(const MesherInput& in, LocalPos p, BlockId old, int axis, 
         }
         if (was.shown == is.shown && (!is.shown || was.id == is.id))
             continue;
+        *changed |= 1u << b;
         const bool local = (!was.shown || alone(in, axis, layer, d, u, v, was)) &&
                            (!is.shown || alone(in, axis, layer, d, u, v, is));
         if (!local || !replace_cell(mesh, axis, plane, positive, u, v, was, is))
@@ -525,10 +527,16 @@ void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, ChunkMesh& me
         remesh_planes(*m_scratch, cv, axis, p[axis], kBoth | kBoth << 2, mesh);
 }
 
-void GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh) {
+uint32_t GreedyMesher::remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh) {
     const ChunkView cv = make_view(in, m_scratch->flags);
-    for (int axis = 0; axis < 3; ++axis)
-        remesh_planes(*m_scratch, cv, axis, p[axis], update_cells(in, p, old, axis, mesh), mesh);
+    uint32_t changed = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        uint32_t sides = 0; // Sides (as update_cells' bits) that changed, in place or merged again.
+        const uint32_t dirs = update_cells(in, p, old, axis, mesh, &sides);
+        remesh_planes(*m_scratch, cv, axis, p[axis], dirs, mesh);
+        changed |= ((sides & 3u) != 0 ? 1u : 0u) << (2 * axis) | ((sides & 12u) != 0 ? 1u : 0u) << (2 * axis + 1);
+    }
+    return changed;
 }
 
 } // namespace vx::world

@@ -55,7 +55,9 @@ public:
     // the plane is one 1 x 1 quad in or out, swapped in place; the other changed sides are merged
     // again. `mesh` must come from this class (each slice's negative faces first, each side in
     // merge order, as mesh() writes them); the result equals mesh()'s quad for quad, in order.
-    void remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh);
+    // Returns the slices that may have changed: bit 2 * axis + k for plane p[axis] + k (the
+    // others are untouched, so a renderer need not upload them).
+    uint32_t remesh_block(const MesherInput& in, LocalPos p, BlockId old, ChunkMesh& mesh);
 
     // Remeshes one slice (axis 0..2, plane 0..32).
     void remesh_slice(const MesherInput& in, int axis, int plane, ChunkMesh& mesh);
