@@ -12,17 +12,12 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <unistd.h>
 
 #include "world/vdb/vdb_accuracy.h"
 #include "world/vdb/vdb_analytic.h"
 
 namespace {
-
-glm::dmat3 rotation(double degrees, glm::dvec3 axis) {
-    return glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(axis)));
-}
 
 struct AnalyticCase {
     std::string title;
@@ -34,6 +29,7 @@ struct AnalyticCase {
 // grid for comparison. Voxel 0.1 (fog: 0.05 x 0.025 x 0.075), radius/half edges 2-3 world units.
 std::vector<AnalyticCase> analytic_cases() {
     using vx::vdb::AnalyticShape;
+    using vx::vdb::axis_rotation;
     std::vector<AnalyticCase> out;
     vx::vdb::AnalyticVolume v;
     v.name = "sphere_axis_aligned";
@@ -42,7 +38,7 @@ std::vector<AnalyticCase> analytic_cases() {
     v.index_to_world = glm::dmat3(0.1);
     out.push_back({"level-set sphere r 3, voxel 0.1, axis-aligned grid, no translation", v});
     v.name = "sphere_rotated";
-    v.index_to_world = rotation(35, {1, 2, 3}) * 0.1;
+    v.index_to_world = axis_rotation(35, {1, 2, 3}) * 0.1;
     v.translation = {9.87, -4.01, 7.13};
     out.push_back({"level-set sphere r 3, grid rotated 35 deg about (1,2,3) and translated", v});
     v = {};
@@ -50,7 +46,7 @@ std::vector<AnalyticCase> analytic_cases() {
     v.shape = AnalyticShape::Box;
     v.centre = {-3.05, 1.63, 2.35};
     v.half_extent = glm::dvec3(2.0);
-    v.rotation = rotation(45, {0, 1, 0});
+    v.rotation = axis_rotation(45, {0, 1, 0});
     v.index_to_world = v.rotation * 0.1;
     v.translation = {-3.0, 1.5, 2.0};
     out.push_back({"level-set cube edge 4 rotated 45 deg about y, grid rotated with it", v});

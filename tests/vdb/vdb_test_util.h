@@ -31,6 +31,16 @@ inline bool have_data() { return std::filesystem::is_directory(data_dir()); }
                          << " (clone shared/ beside the repository, or set VX_VDB_DATA_DIR)";           \
     } while (0)
 
+// Non-air blocks in every chunk of `w`.
+inline uint64_t count_solid(const world::World& w) {
+    uint64_t n = 0;
+    w.for_each_chunk([&](world::ChunkCoord, const world::Chunk& c) {
+        for (int i = 0; i < world::kChunkVolume; ++i)
+            n += c.get(i) != world::kAir;
+    });
+    return n;
+}
+
 // A fresh directory under the system temp dir, removed with the object.
 class TempDir {
 public:

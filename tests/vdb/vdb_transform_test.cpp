@@ -7,7 +7,6 @@
 #include <limits>
 #include <string>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "tests/vdb/vdb_test_util.h"
@@ -19,19 +18,6 @@ namespace vx::vdb {
 namespace {
 
 using world::BlockPos;
-
-glm::dmat3 rotation(double degrees, glm::dvec3 axis) {
-    return glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(axis)));
-}
-
-uint64_t count_solid(const world::World& w) {
-    uint64_t n = 0;
-    w.for_each_chunk([&](world::ChunkCoord, const world::Chunk& c) {
-        for (int i = 0; i < world::kChunkVolume; ++i)
-            n += c.get(i) != world::kAir;
-    });
-    return n;
-}
 
 Result<VolumeImport> write_and_import(const test::TempDir& dir, const AnalyticVolume& v, const VolumeImportOptions& o) {
     const std::string path = dir.file(v.name + ".vdb");
@@ -47,7 +33,7 @@ AnalyticVolume rotated_sphere() {
     v.name = "rotated_sphere";
     v.centre = {10.3, -4.2, 7.7};
     v.half_extent = glm::dvec3(3.0);
-    v.index_to_world = rotation(35, {1, 2, 3}) * 0.1;
+    v.index_to_world = axis_rotation(35, {1, 2, 3}) * 0.1;
     v.translation = {9.87, -4.01, 7.13};
     return v;
 }
@@ -61,7 +47,7 @@ AnalyticVolume rotated_box() {
     v.shape = AnalyticShape::Box;
     v.centre = {-3.05, 1.63, 2.35};
     v.half_extent = glm::dvec3(2.0);
-    v.rotation = rotation(45, {0, 1, 0});
+    v.rotation = axis_rotation(45, {0, 1, 0});
     v.index_to_world = v.rotation * 0.1;
     v.translation = {-3.0, 1.5, 2.0};
     return v;
@@ -276,7 +262,7 @@ TEST(VdbTransform, HalfVoxelTranslationGivesTheFormerVoxelLattice) {
     v.shape = AnalyticShape::Box;
     v.centre = {0.4, -0.3, 0.2};
     v.half_extent = {9.3, 6.2, 7.7};
-    v.rotation = rotation(20, {1, 1, 0});
+    v.rotation = axis_rotation(20, {1, 1, 0});
     v.translation = glm::dvec3(0.5);
     const std::string path = dir.file("b.vdb");
     ASSERT_TRUE(write_analytic_vdb(path, v).ok());
@@ -297,7 +283,7 @@ TEST(VdbTransform, HalfVoxelTranslationGivesTheFormerVoxelLattice) {
                 solid += expect;
                 ASSERT_EQ(three->world.get_block(BlockPos(x, y, z)) != world::kAir, expect) << x << "," << y << "," << z;
             }
-    EXPECT_EQ(solid, count_solid(three->world)); // And nothing beyond +-6 blocks (the box is < 13 voxels out).
+    EXPECT_EQ(solid, test::count_solid(three->world)); // And nothing beyond +-6 blocks (the box is < 13 voxels out).
     EXPECT_GT(solid, 0u);
 }
 

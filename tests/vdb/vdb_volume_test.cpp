@@ -21,15 +21,6 @@ using test::test_file;
 using test::TestFile;
 using world::BlockPos;
 
-uint64_t count_solid(const world::World& w) {
-    uint64_t n = 0;
-    w.for_each_chunk([&](world::ChunkCoord, const world::Chunk& c) {
-        for (int i = 0; i < world::kChunkVolume; ++i)
-            n += c.get(i) != world::kAir;
-    });
-    return n;
-}
-
 ::testing::AssertionResult fails_with(const Result<VolumeImport>& r, const std::string& words) {
     if (r.ok())
         return ::testing::AssertionFailure() << "import succeeded; expected an error with '" << words << "'";
@@ -89,7 +80,7 @@ TEST(VdbVolume, LevelSetSphereFromOldFormatHalfFloats) {
     // radius R has 4/3 pi R^3 blocks: 882,347 at R = 59.5; allow +-3% for the exact radius.
     const double r3 = 4.0 / 3.0 * M_PI * std::pow(59.5, 3);
     EXPECT_NEAR(double(r->summary.solid_blocks), r3, 0.03 * r3);
-    EXPECT_EQ(count_solid(r->world), r->summary.solid_blocks);
+    EXPECT_EQ(test::count_solid(r->world), r->summary.solid_blocks);
     EXPECT_NE(r->world.get_block(BlockPos(0)), world::kAir);          // Deep interior (inactive tile).
     EXPECT_NE(r->world.get_block(BlockPos(0, 0, -55)), world::kAir);  // Inside, near the band.
     EXPECT_EQ(r->world.get_block(BlockPos(0, 62, 0)), world::kAir);   // Outside, in the band.
@@ -132,7 +123,7 @@ TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
             ASSERT_TRUE(r.ok()) << r.error();
             EXPECT_EQ(r->summary.mode, c.mode);
             EXPECT_GT(r->summary.solid_blocks, 0u);
-            EXPECT_EQ(count_solid(r->world), r->summary.solid_blocks);
+            EXPECT_EQ(test::count_solid(r->world), r->summary.solid_blocks);
         }
     }
 }
@@ -310,7 +301,7 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
                     both += truth && got;
                     either += truth || got;
                 }
-        EXPECT_EQ(count_solid(imp->world), imp->summary.solid_blocks); // Nothing outside the ball's box.
+        EXPECT_EQ(test::count_solid(imp->world), imp->summary.solid_blocks); // Nothing outside the ball's box.
         EXPECT_GE(double(both) / double(either), 0.99) << "block size " << bs;
         std::printf("block size %d: IoU vs analytic sphere %.5f\n", bs, double(both) / double(either));
     }

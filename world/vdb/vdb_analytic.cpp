@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <openvdb/openvdb.h>
 
 #include "world/vdb/vdb_common.h"
@@ -127,6 +128,10 @@ Status write_analytic_vdb(const std::string& path, const AnalyticVolume& v) {
     } catch (...) {
         return detail::make_error("cannot write '" + path + "'", "unknown error");
     }
+}
+
+glm::dmat3 axis_rotation(double degrees, glm::dvec3 axis) {
+    return glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(degrees), glm::normalize(axis)));
 }
 
 } // namespace vx::vdb

@@ -29,6 +29,10 @@ struct AnalyticVolume {
     double band_voxels = 3.0;        // Level set: half width of the narrow band, in largest voxel edges.
 };
 
+// The rotation by `degrees` about `axis` (any length), for AnalyticVolume::rotation and
+// index_to_world. Thread-safe.
+glm::dmat3 axis_rotation(double degrees, glm::dvec3 axis);
+
 // Signed distance to the shape's surface at world point p (negative inside), world units: exact
 // for boxes and spheres; for ellipsoids (|p / a| - 1) * min(a), negative exactly inside. Thread-safe.
 double analytic_distance(const AnalyticVolume& v, const glm::dvec3& p);
