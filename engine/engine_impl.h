@@ -11,6 +11,7 @@
 #include "engine/chunk_streamer.h"
 #include "engine/engine_sink.h"
 #include "engine/save_tracker.h"
+#include "engine/sky_access.h"
 #include "engine/world_setup.h"
 #include "render/renderer.h"
 
@@ -25,6 +26,7 @@ struct Engine::Impl {
     Viewer viewer;
     RenderSettings render_settings;
     Stats frame;                                     // Timings of the last update and frame.
+    engine::SkyAccessCache sky;                      // render settings' sky_access (engine_render.cpp).
     bool shut_down = false;
     // Declared last: destroyed first, while everything it points to still exists.
     std::unique_ptr<engine::ChunkStreamer> streamer;
@@ -38,6 +40,9 @@ struct Engine::Impl {
         return {};
     }
     Status shutdown();
+    // The renderer's settings for this frame (engine_render.cpp): the game's, with sky_access
+    // from the world around the viewer (kept while neither the eye's block nor the world moves).
+    render::RenderSettings frame_settings(uint32_t width, uint32_t height);
 };
 
 } // namespace vx

@@ -6,7 +6,6 @@
 #include <vx/vx.h>
 
 #include "engine/engine_impl.h"
-#include "engine/sky_access.h"
 
 namespace vx {
 
@@ -49,11 +48,6 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     return r;
 }
 
-// The renderer's settings with sky_access from the world around the viewer (engine/sky_access.h).
-render::RenderSettings with_sky_access(render::RenderSettings r, const world::World& w, const Viewer& v) {
-    r.sky_access = engine::sky_access(w, v.block);
-    return r;
-}
 
 void record_frame_stats(Stats& f, const render::RenderStats& rs) {
     f.render_cpu_ms = rs.cpu_ms;
@@ -81,6 +75,12 @@ bool usable_view(const Viewer& v) {
 
 } // namespace
 
+render::RenderSettings Engine::Impl::frame_settings(uint32_t width, uint32_t height) {
+    render::RenderSettings r = settings_of(render_settings, viewer, width, height);
+    r.sky_access = sky.get(streamer->world(), viewer.block, sink->world_changes());
+    return r;
+}
+
 void Engine::set_render_settings(const RenderSettings& settings) { m->render_settings = settings; }
 
 Status Engine::render_to_image(Image& out) {
@@ -92,9 +92,7 @@ Status Engine::render_to_image(Image& out) {
         return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
     const RenderTarget& t = m->info.render.target;
     const Clock::time_point t0 = Clock::now();
-    const render::RenderSettings rs = settings_of(m->render_settings, m->viewer, t.width, t.height);
-    render::RenderImage img =
-        m->renderer->render(with_sky_access(rs, m->streamer->world(), m->viewer), camera_of(m->viewer));
+    render::RenderImage img = m->renderer->render(m->frame_settings(t.width, t.height), camera_of(m->viewer));
     m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     out.width = img.width;
     out.height = img.height;
@@ -113,9 +111,7 @@ Status Engine::render_to_window(Image* capture) {
     const Clock::time_point t0 = Clock::now();
     render::RenderImage img;
     // The size comes from the swapchain; settings' width and height are ignored there.
-    const render::RenderSettings rs = settings_of(m->render_settings, m->viewer, 1, 1);
-    auto done = m->renderer->present(with_sky_access(rs, m->streamer->world(), m->viewer), camera_of(m->viewer),
-                                     capture ? &img : nullptr);
+    auto done = m->renderer->present(m->frame_settings(1, 1), camera_of(m->viewer), capture ? &img : nullptr);
     if (!done)
         return Error{done.error()};
     m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

@@ -20,6 +20,7 @@ public:
     EngineSink(render::Renderer* renderer, bool record_events) : m_renderer(renderer), m_record(record_events) {}
 
     void on_mesh(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) override {
+        ++m_world_changes;
         // The edit's slices go on: only they are uploaded and the chunk's BLAS refitted (without
         // them every edit re-sent the whole mesh and rebuilt the BLAS). An empty mesh removes it.
         if (m_renderer)
@@ -27,14 +28,20 @@ public:
         record(ChunkEvent::Kind::Meshed, c);
     }
     void on_unload(world::ChunkCoord c) override {
+        ++m_world_changes;
         if (m_renderer)
             m_renderer->remove_chunk(c);
     }
-    void on_chunk_loaded(world::ChunkCoord c) override { record(ChunkEvent::Kind::Loaded, c); }
+    void on_chunk_loaded(world::ChunkCoord c) override {
+        ++m_world_changes;
+        record(ChunkEvent::Kind::Loaded, c);
+    }
     void on_chunk_unloaded(world::ChunkCoord c) override { record(ChunkEvent::Kind::Unloaded, c); }
 
     // Takes the events recorded so far.
     std::vector<ChunkEvent> take_events() { return std::exchange(m_events, {}); }
+    // Moves on every chunk load, mesh (edits included) and unload: the world may have changed.
+    uint64_t world_changes() const { return m_world_changes; }
     // The renderer is gone (shutdown): stop forwarding.
     void detach_renderer() { m_renderer = nullptr; }
 
@@ -46,6 +53,7 @@ private:
 
     render::Renderer* m_renderer;
     bool m_record;
+    uint64_t m_world_changes = 0;
     std::vector<ChunkEvent> m_events;
 };
 

@@ -65,4 +65,15 @@ bool sky_access(const world::World& world, world::BlockPos eye, size_t max_cells
     return false;
 }
 
+bool SkyAccessCache::get(const world::World& world, world::BlockPos eye, uint64_t world_changes) {
+    if (!m_valid || eye != m_eye || world_changes != m_changes) {
+        m_open = sky_access(world, eye);
+        m_eye = eye;
+        m_changes = world_changes;
+        m_valid = true;
+        ++m_computations;
+    }
+    return m_open;
+}
+
 } // namespace vx::engine

@@ -25,4 +25,21 @@ inline constexpr size_t kSkyFillCells = 8192;
 // (a pocket that large is treated as open: true is always correct, only slower).
 bool sky_access(const world::World& world, world::BlockPos eye, size_t max_cells = kSkyFillCells);
 
+// sky_access() for one camera frame after frame: the answer is kept while the eye stays in its
+// block and the world is unchanged, so a camera standing in a cave does not flood-fill it every
+// frame. `world_changes` is any counter that moves whenever blocks near the eye may have changed
+// (the facade counts chunk loads, meshes and unloads). Main thread (one owner).
+class SkyAccessCache {
+public:
+    bool get(const world::World& world, world::BlockPos eye, uint64_t world_changes);
+    uint64_t computations() const { return m_computations; } // sky_access() calls so far.
+
+private:
+    world::BlockPos m_eye{0};
+    uint64_t m_changes = 0;
+    bool m_valid = false;
+    bool m_open = true;
+    uint64_t m_computations = 0;
+};
+
 } // namespace vx::engine

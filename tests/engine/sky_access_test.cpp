@@ -91,5 +91,21 @@ TEST(SkyAccess, ClosedRoomAboveGroundIsSealed) {
     EXPECT_TRUE(sky_access(w, {0, 1, 0}));
 }
 
+// The cache answers as sky_access() does and computes again only when the eye's block or the
+// world's change counter moved.
+TEST(SkyAccessCache, RecomputesOnlyWhenTheEyeOrTheWorldMoves) {
+    world::World w = cave_world();
+    const world::BlockPos eye{0, -28, 0};
+    SkyAccessCache cache;
+    EXPECT_FALSE(cache.get(w, eye, 0));
+    EXPECT_FALSE(cache.get(w, eye, 0));
+    EXPECT_EQ(cache.computations(), 1u);
+    EXPECT_FALSE(cache.get(w, eye + world::BlockPos(1, 0, 0), 0)); // Another block of the cave.
+    EXPECT_EQ(cache.computations(), 2u);
+    fill(w, {0, -25, 0}, {1, 0, 1}, world::kAir); // A shaft from the cave's roof to the surface.
+    EXPECT_TRUE(cache.get(w, eye + world::BlockPos(1, 0, 0), 1));
+    EXPECT_EQ(cache.computations(), 3u);
+}
+
 } // namespace
 } // namespace vx::engine
