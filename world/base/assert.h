@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "world/base/log.h"
+
 namespace vx {
 
 // Prints the failed condition with its location and aborts. Thread-safe.
@@ -32,7 +34,7 @@ namespace vx {
 #define VX_ASSERT_RETURN(cond, ret)                                                                          \
     do {                                                                                                     \
         if (!(cond)) [[unlikely]] {                                                                          \
-            std::fprintf(stderr, "vx: check failed: %s (%s:%d)\n", #cond, __FILE__, __LINE__);               \
+            ::vx::log_line(::vx::LogLevel::Error, "check failed: %s (%s:%d)", #cond, __FILE__, __LINE__);     \
             return ret;                                                                                      \
         }                                                                                                    \
     } while (0)
