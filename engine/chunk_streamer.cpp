@@ -112,6 +112,8 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
     // last one must fit too (measured on a quiet 16-core host, p99 sat on the budget otherwise).
     const Clock::time_point deadline = t0 + m_settings.frame_budget * 19 / 20;
     m_jobs->set_viewer({position, forward});
+    if (!m_have_center || now < m_last_tick)
+        m_last_tick = now; // Store ticks count from the first update (the caller's clock has any epoch).
     // Velocity from the last frames (exponentially smoothed), so meshes are ready where the
     // viewer is heading before it gets there.
     const double dt = std::chrono::duration<double>(now - m_prev_time).count();
@@ -150,6 +152,7 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
                            std::chrono::duration_cast<std::chrono::nanoseconds>(
                                t0 + m_settings.frame_budget * 7 / 10 - Clock::now()));
     m_jobs->process_completions(budget);
+    retry_failed(now);
     poll_store_changes();
     // Meshes stop an eighth early: unloads, evictions and saves after them fit in the budget too.
     schedule_meshes(deadline - m_settings.frame_budget / 8);
@@ -270,7 +273,7 @@ void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const st
             VX_LOG_WARN("chunk %d,%d,%d: %s; retrying (further failures are counted, not logged)", c.x, c.y, c.z,
                         problem.c_str());
         m_store_failing = true;
-        m_retry.emplace_back(c, Clock::now() + std::chrono::seconds(1));
+        m_retry.emplace_back(c, m_last_now + std::chrono::seconds(1));
         return;
     }
     m_store_failing = false;
@@ -292,17 +295,63 @@ void ChunkStreamer::on_generated(ChunkCoord c, Chunk chunk) {
     put_chunk(c, std::move(chunk));
 }
 
+void ChunkStreamer::on_generate_failed(ChunkCoord c, const std::string& error) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end() || it->second.data != Data::Requested)
+        return;
+    ChunkState& s = it->second;
+    s.data = Data::Failed;
+    --m_requested;
+    ++m_failed;
+    ++m_generate_failures;
+    // A generator that fails for a chunk will likely fail again: back off, 1 s doubling to 60 s.
+    constexpr int kMaxDoublings = 6;
+    const int doublings = std::min<int>(s.failures, kMaxDoublings);
+    s.failures = uint8_t(std::min<int>(s.failures + 1, 255));
+    const double wait_s = std::min(60.0, double(1 << doublings));
+    s.retry_at = m_last_now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wait_s));
+    m_failed_retry.emplace_back(c, s.retry_at);
+    VX_LOG_ERROR("chunk %d,%d,%d not loaded (nothing drawn there): %s; retrying in %.0f s", c.x, c.y, c.z,
+                 error.c_str(), wait_s);
+    // Its neighbours need not wait: they mesh as if it were air.
+    for (int f = 0; f < 6; ++f)
+        m_mesh_candidates.insert(c + face_normal(Face(f)));
+}
+
+void ChunkStreamer::retry_failed(Clock::time_point now) {
+    if (m_failed_retry.empty())
+        return;
+    std::vector<std::unique_ptr<Job>> jobs;
+    std::erase_if(m_failed_retry, [&](const std::pair<ChunkCoord, Clock::time_point>& e) {
+        auto it = m_chunks.find(e.first);
+        if (it == m_chunks.end() || it->second.data != Data::Failed || it->second.retry_at != e.second)
+            return true; // Dropped, or failed again since (a newer entry).
+        if (now < e.second)
+            return false;
+        --m_failed;
+        jobs.push_back(request_data(e.first));
+        return true;
+    });
+    if (!jobs.empty())
+        m_jobs->submit_batch(std::move(jobs));
+}
+
 void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
     ChunkState& s = m_chunks[c];
     s.data = Data::Present;
     --m_requested;
     ++m_present;
+    const bool was_failed = s.failures > 0;
+    s.failures = 0;
     s.bytes = chunk.memory_bytes();
     m_block_bytes += s.bytes;
     m_world.put_chunk(c, std::move(chunk));
     if (m_settings.memory_cap_bytes != 0 && !in_loaded_ring(c))
         note_evictable(c, s); // Arrived after the ring moved on.
-    // This chunk and its face neighbours may now have everything they need to mesh.
+    // This chunk and its face neighbours may now have everything they need to mesh. After a
+    // failed generation the neighbours were meshed against air: they mesh again.
+    if (was_failed)
+        remesh_around(c);
     m_mesh_candidates.insert(c);
     for (int f = 0; f < 6; ++f)
         m_mesh_candidates.insert(c + face_normal(Face(f)));
@@ -310,10 +359,10 @@ void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
         m_observer->on_chunk_loaded(c);
 }
 
-bool ChunkStreamer::neighbours_present(ChunkCoord c) const {
+bool ChunkStreamer::neighbours_settled(ChunkCoord c) const {
     for (int f = 0; f < 6; ++f) {
         auto it = m_chunks.find(c + face_normal(Face(f)));
-        if (it == m_chunks.end() || it->second.data != Data::Present)
+        if (it == m_chunks.end() || it->second.data == Data::Requested)
             return false;
     }
     return true;
@@ -337,7 +386,7 @@ void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
             if (st == m_chunks.end())
                 continue;
             ChunkState& s = st->second;
-            if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_present(c))
+            if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_settled(c))
                 continue; // A later put_chunk() or refresh_region() brings it back.
             if (std::unique_ptr<Job> job = request_mesh(c, s))
                 jobs.push_back(std::move(job));
@@ -399,8 +448,8 @@ void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error, size_t edit
 void ChunkStreamer::poll_store_changes() {
     if (!m_store)
         return;
-    // Loads the store failed to answer, once their second has passed.
-    const Clock::time_point t = Clock::now();
+    // Loads the store failed to answer, once their second (of update time) has passed.
+    const Clock::time_point t = m_last_now;
     std::vector<std::unique_ptr<Job>> jobs;
     while (!m_retry.empty() && m_retry.front().second <= t) {
         const ChunkCoord c = m_retry.front().first;
@@ -490,7 +539,7 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     if (m_store && !m_store->read_only() && !s.dirty) {
         s.dirty = true;
         ++m_dirty_count;
-        s.dirty_since = Clock::now();
+        s.dirty_since = m_last_now; // The caller's clock, as save_dirty's `now`.
         m_dirty.push_back({c, s.dirty_since});
     }
     for (const SliceUpdate& u : r.updates)
@@ -548,11 +597,13 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
         m_block_bytes -= s.bytes;
         m_world.remove_chunk(c);
     }
+    if (s.data == Data::Failed)
+        remesh_around(c); // Its neighbours were meshed against air: not what it will hold when back.
     const bool had_data = s.data == Data::Present;
     if (s.has_mesh)
         m_sink.on_unload(c);
     set_mesh_flags(c, s, false, false); // Keeps the counts; the sink was told above.
-    (s.data == Data::Present ? m_present : m_requested) -= 1;
+    (s.data == Data::Present ? m_present : s.data == Data::Failed ? m_failed : m_requested) -= 1;
     m_dirty_count -= size_t(s.dirty);
     m_mesh_candidates.erase(c);
     m_chunks.erase(c);
@@ -622,7 +673,7 @@ uint64_t ChunkStreamer::request_save() {
         m_saves_done->finished(sequence, {}); // Nothing persists: nothing to wait for.
         return sequence;
     }
-    save_dirty(Clock::now(), true);
+    save_dirty(m_last_now, true);
     // Reported on the I/O thread (or by the job's destructor if it never runs).
     auto report = [tracker = m_saves_done, sequence](const Status& s) { tracker->finished(sequence, s); };
     m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store, sequence, std::move(report)));
@@ -634,7 +685,9 @@ bool ChunkStreamer::settled() const {
         return false;
     const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
     for (const auto& [c, s] : m_chunks) {
-        if (s.data != Data::Present || (wants_mesh(c) && (!s.has_mesh || s.mesh_pending)))
+        // A failed chunk waits for its retry: nothing to do until then.
+        if (s.data == Data::Requested ||
+            (s.data == Data::Present && wants_mesh(c) && (!s.has_mesh || s.mesh_pending)))
             return false;
         // A chunk beyond the unload radius that is due to go (or not yet noticed) is pending work.
         if (beyond_unload(c) && (!s.outside || m_last_now - s.outside_since >= delay))
@@ -660,6 +713,8 @@ StreamingMetrics ChunkStreamer::metrics() const {
     m.regenerated_corrupt = m_regenerated;
     m.reloaded = m_reloaded;
     m.load_failures = m_load_failures;
+    m.generate_failed = m_failed;
+    m.generate_failures = m_generate_failures;
     if (m_store)
         m.store = m_store->health();
     m.jobs = m_jobs->metrics();

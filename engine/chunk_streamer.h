@@ -16,6 +16,16 @@
 // lane, generation and meshing on its pool; results are applied in update() within the budget.
 // Saving: request_save() hands every edited chunk to the store and queues a flush behind them,
 // returning a sequence number that save_state()/wait_saved() report on (engine/save_tracker.h).
+//
+// Time: every delay (save, unload, retries, store ticks) is measured on the clock the caller
+// passes to update(), and edits are stamped with the last update's time, so a game clock at any
+// offset from the steady clock (or a synthetic one) works; it must not run backwards. Only the
+// frame budget is real time.
+//
+// A failed generation (a game's generator threw) leaves its chunk without data: nothing is
+// drawn there and its neighbours mesh as if it were air (a visible hole, never invented
+// terrain). It is logged and generated again after a back-off (1 s, doubling to 60 s, update
+// time) while it stays in the loaded ring; settled() does not wait for it.
 
 #include <chrono>
 #include <cstddef>
@@ -62,6 +72,8 @@ struct StreamingMetrics {
     uint64_t unloaded = 0, evicted = 0, saves = 0, regenerated_corrupt = 0;
     uint64_t reloaded = 0;      // Chunks reloaded because another process changed them.
     uint64_t load_failures = 0; // Loads the store could not answer (retried; nothing generated).
+    size_t generate_failed = 0;      // Chunks whose generation failed, waiting for their retry.
+    uint64_t generate_failures = 0;  // Generations that failed (a game's generator threw), in all.
     world::StoreHealth store;   // The store's connection and queue (shared stores).
     JobMetrics jobs;
     std::chrono::nanoseconds last_update_time{0}; // Wall time of the last update().
@@ -103,7 +115,8 @@ public:
     void set_observer(StreamObserver* observer) { m_observer = observer; }
 
     // Main thread. Sets a block of a loaded chunk; meshes update through the six-slice path.
-    // Fails (nothing changes) when the chunk is not loaded.
+    // Fails (nothing changes) when the chunk is not loaded. The edit is stamped with the last
+    // update()'s time: it is handed to the store save_delay_s after that, in update() time.
     Status set_block(world::BlockPos p, world::BlockId id);
     // Main thread. Air for chunks not loaded.
     world::BlockId get_block(world::BlockPos p) const { return m_world.get_block(p); }
@@ -130,7 +143,11 @@ public:
 
 private:
 
-    enum class Data : uint8_t { Requested, Present };
+    enum class Data : uint8_t {
+        Requested, // A load or generation is in flight.
+        Present,   // Block data in m_world.
+        Failed,    // Generation failed; requested again at retry_at.
+    };
     struct ChunkState {
         Data data = Data::Requested;
         bool has_mesh = false;      // `mesh` is current and was handed to the sink.
@@ -140,6 +157,8 @@ private:
         bool outside = false;       // Beyond the unload radius since `outside_since` (queued then).
         bool evict_listed = false;  // In m_evict (memory cap candidates).
         std::chrono::steady_clock::time_point outside_since{}, dirty_since{};
+        std::chrono::steady_clock::time_point retry_at{}; // Failed: when to generate again.
+        uint8_t failures = 0;       // Generations failed in a row (the back-off doubles with each).
         size_t bytes = 0;           // Block data memory accounted for.
         std::unique_ptr<world::ChunkMesh> mesh; // Null while the mesh is empty (air, buried).
         // Block edits not yet handed to the store, oldest first (a shared store re-applies them
@@ -152,6 +171,8 @@ private:
                    bool store_failed) override;
     void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk) override;
     void on_generated(world::ChunkCoord c, world::Chunk chunk) override;
+    void on_generate_failed(world::ChunkCoord c, const std::string& error) override;
+    void retry_failed(std::chrono::steady_clock::time_point now);
     void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) override;
     void on_saved(world::ChunkCoord c, const std::string& error, size_t edits_saved) override;
     void poll_store_changes();
@@ -166,7 +187,7 @@ private:
     void note_evictable(world::ChunkCoord c, ChunkState& s);
     std::unique_ptr<Job> request_data(world::ChunkCoord c);
     void put_chunk(world::ChunkCoord c, world::Chunk chunk);
-    bool neighbours_present(world::ChunkCoord c) const;
+    bool neighbours_settled(world::ChunkCoord c) const; // Present, or failed (meshed as air).
     void schedule_meshes(std::chrono::steady_clock::time_point deadline);
     std::unique_ptr<Job> request_mesh(world::ChunkCoord c, ChunkState& s); // Null: no job needed.
     void set_mesh_flags(world::ChunkCoord c, ChunkState& s, bool has_mesh, bool pending);
@@ -211,6 +232,11 @@ private:
     size_t m_view_meshed = 0; // Chunks in the view radius with a current mesh.
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
     uint64_t m_reloaded = 0, m_load_failures = 0;
+    size_t m_failed = 0;              // Chunks in Data::Failed.
+    uint64_t m_generate_failures = 0; // Since construction.
+    // Failed generations, retried from their time on (entries of chunks dropped or re-failed since
+    // are stale: their state's retry_at differs).
+    std::vector<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_failed_retry;
     bool m_store_failing = false; // Loads are failing (logged once until one succeeds).
     // Loads the store could not answer, asked again from this time on (oldest first).
     std::deque<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_retry;

@@ -173,6 +173,8 @@ Stats Engine::stats() const {
         s.store_conflicts = sm.store.conflicts;
         s.store_reconnects = sm.store.reconnects;
         s.chunks_reloaded = sm.reloaded;
+        s.chunks_generate_failed = sm.generate_failed;
+        s.generate_failures = sm.generate_failures;
     }
     if (m->renderer) {
         const render::GpuHeapStats mem = m->renderer->memory_stats();

@@ -34,11 +34,22 @@ void ReloadJob::run(JobContext& ctx) {
 void ReloadJob::complete() { m_owner.on_reloaded(key().chunk, std::move(m_chunk)); }
 
 void GenerateJob::run(JobContext& ctx) {
-    if (!ctx.is_cancelled())
-        m_chunk = m_gen.generate(key().chunk);
+    if (ctx.is_cancelled())
+        return;
+    Result<world::Chunk> r = m_gen.try_generate(key().chunk);
+    if (r)
+        m_chunk = std::move(*r);
+    else
+        m_error = r.error();
 }
 
-void GenerateJob::complete() { m_owner.on_generated(key().chunk, std::move(m_chunk)); }
+void GenerateJob::complete() {
+    // A job that completes has run (a cancelled one is discarded unapplied), so it has one or the other.
+    if (m_chunk)
+        m_owner.on_generated(key().chunk, std::move(*m_chunk));
+    else
+        m_owner.on_generate_failed(key().chunk, m_error.empty() ? std::string("no chunk generated") : m_error);
+}
 
 void MeshJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())

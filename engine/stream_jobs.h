@@ -30,6 +30,8 @@ public:
     // unreadable or the store failed).
     virtual void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk) = 0;
     virtual void on_generated(world::ChunkCoord c, world::Chunk chunk) = 0;
+    // The generator failed for `c` (a game's generator threw): `error` says why; no chunk.
+    virtual void on_generate_failed(world::ChunkCoord c, const std::string& error) = 0;
     virtual void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) = 0;
     // A save (or a store tick) failed with `error` (empty: it succeeded). `edits_saved`: how many
     // of the chunk's oldest recorded block edits the save carried to the store.
@@ -74,7 +76,8 @@ private:
     std::optional<world::Chunk> m_chunk;
 };
 
-// Pool: generates a chunk (a pure function of the coordinate).
+// Pool: generates a chunk (a pure function of the coordinate). A generator that fails (a game's
+// that threw) is reported as such: no chunk, never a partial one.
 class GenerateJob final : public Job {
 public:
     GenerateJob(StreamJobEvents& owner, world::ChunkCoord c, const world::ChunkGenerator& gen)
@@ -85,7 +88,8 @@ public:
 private:
     StreamJobEvents& m_owner;
     const world::ChunkGenerator& m_gen; // Thread-safe const; outlives the job system.
-    world::Chunk m_chunk;
+    std::optional<world::Chunk> m_chunk;
+    std::string m_error; // The generator's failure.
 };
 
 // Pool: meshes a snapshot (chunk copy + apron).

@@ -1,6 +1,7 @@
 #include "engine/world_setup.h"
 
 #include <algorithm>
+#include <exception>
 
 #include "world/gen/terrain.h"
 #include "world/store/sqlite_store.h"
@@ -11,14 +12,26 @@
 
 namespace vx::engine {
 
-world::Chunk GameGenerator::generate(world::ChunkCoord c) const {
-    if (const std::optional<BlockId> id = m_game->uniform(c))
-        return world::Chunk(*id);
+Result<world::Chunk> GameGenerator::try_generate(world::ChunkCoord c) const {
     // One dense buffer per worker thread: 64 KiB, reused by every chunk that thread generates.
     thread_local std::vector<BlockId> dense(kChunkVolume);
-    std::fill(dense.begin(), dense.end(), kAir);
-    m_game->generate(c, std::span<BlockId>(dense));
+    try {
+        if (const std::optional<BlockId> id = m_game->uniform(c))
+            return world::Chunk(*id);
+        std::fill(dense.begin(), dense.end(), kAir);
+        m_game->generate(c, std::span<BlockId>(dense));
+    } catch (const std::exception& e) { // The game's code: the boundary where its failures stop.
+        return Error{std::string("the game's generator threw: ") + e.what()};
+    } catch (...) {
+        return Error{"the game's generator threw an exception that is not a std::exception"};
+    }
     return world::Chunk::from_dense(dense);
+}
+
+world::Chunk GameGenerator::generate(world::ChunkCoord c) const {
+    Result<world::Chunk> chunk = try_generate(c);
+    VX_ASSERT_MSG(chunk, "a game's generator failed where no failure can be reported");
+    return std::move(*chunk);
 }
 
 Result<world::BlockRegistry> make_registry(const std::vector<BlockType>& blocks) {

@@ -17,9 +17,14 @@ namespace vx::engine {
 
 // A game's vx::Generator as a world::ChunkGenerator: fills a dense 32³ array (one per worker
 // thread, reused) and packs it into a palette chunk. Thread-safe if the game's generator is.
+// The game's code may throw: try_generate catches anything its generate() or uniform() throws
+// and returns the exception's what() (the half-filled array is dropped).
 class GameGenerator final : public world::ChunkGenerator {
 public:
     explicit GameGenerator(std::shared_ptr<const Generator> game) : m_game(std::move(game)) {}
+    Result<world::Chunk> try_generate(world::ChunkCoord c) const override;
+    // Only for callers that cannot report a failure: aborts if the game's generator throws. The
+    // engine calls try_generate.
     world::Chunk generate(world::ChunkCoord c) const override;
 
 private:

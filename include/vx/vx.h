@@ -12,7 +12,9 @@
 // time budget; nothing calls back into the game from another thread.
 // Units: world block units (one block = 1), seconds, milliseconds where a name ends in _ms,
 // bytes where it ends in _bytes. Coordinates: see <vx/types.h>.
-// Errors: recoverable failures return vx::Status / vx::Result<T> with a one-line message.
+// Errors: recoverable failures return vx::Status / vx::Result<T> with a one-line message;
+// failures inside the engine's threads (a chunk, a save) are logged: see <vx/log.h> to take the
+// log (vx::set_log_handler), else it goes to stderr.
 // The structs are plain values (copy them; not thread-safe to share while one thread writes).
 // Nothing here exposes Vulkan, SQLite or OpenVDB.
 
@@ -27,6 +29,7 @@
 
 #include <glm/glm.hpp>
 
+#include <vx/log.h>
 #include <vx/result.h>
 #include <vx/types.h>
 
@@ -36,6 +39,13 @@ namespace vx {
 // thread-safe through const (no unsynchronised mutable state). Deterministic output is expected:
 // an unedited chunk that was unloaded is generated again when the viewer returns, and its
 // neighbours were meshed against the first result.
+// Failure: generate() or uniform() may throw (anything). The engine catches it on the worker and
+// nothing of that chunk is used (never a half-filled one): the chunk stays unloaded (get_block
+// nullopt, set_block fails, raycast stops there as Unloaded), nothing is drawn in its place and
+// its neighbours are drawn as if it were air, so the game sees a hole, never invented terrain.
+// One log line names the chunk and what() (LogLevel::Error); Stats::chunks_generate_failed and
+// generate_failures count it. The chunk is generated again after 1 s, then 2, 4, ... up to 60 s
+// of update() time while it stays within the loaded radius; settled() does not wait for it.
 class Generator {
 public:
     virtual ~Generator() = default;
@@ -231,6 +241,8 @@ struct Stats {
     size_t chunks_in_view = 0;   // In the view radius (all meshed when equal to chunks_meshed).
     size_t meshes_queued = 0;    // Mesh jobs in flight.
     size_t dirty_chunks = 0;     // Edited, not yet handed to the store.
+    size_t chunks_generate_failed = 0; // Not loaded: the game's Generator threw for them (retried).
+    uint64_t generate_failures = 0;    // Generator calls that threw, since creation (see the log).
     uint64_t chunks_unloaded = 0; // Since creation.
     size_t block_memory_bytes = 0; // Block data in memory.
     uint64_t gpu_memory_bytes = 0; // Device memory the renderer holds (0 without a GPU).
@@ -284,7 +296,7 @@ class Engine {
 public:
     // Main thread (becomes the engine's thread). Opens the world, starts the threads and the
     // renderer. Errors: a bad description, a store that cannot open, no usable GPU (with a
-    // render target), a window target (not built yet).
+    // render target), a window target without a GLFWwindow*.
     static Result<std::unique_ptr<Engine>> create(const EngineCreateInfo& info);
     // Main thread. shutdown() if not done (errors are logged).
     ~Engine();
@@ -296,17 +308,25 @@ public:
     Status set_viewer(const Viewer& viewer);
     // Main thread, once per frame. Streams around the viewer, applies finished loads and meshes
     // (within update_budget_ms), unloads, saves edited chunks after save_delay_s. `now` is the
-    // game's steady clock (pass a synthetic one for deterministic tests).
+    // game's clock: every delay the engine keeps (save_delay_s, unload_delay_s, retries) is
+    // measured on it and edits are stamped with the last update's `now`, so it may run at any
+    // offset from the steady clock, or be synthetic (deterministic tests); it must not go back.
+    // Only update_budget_ms is real time. Failures inside (a chunk that fails to load or
+    // generate, a background save that fails) are logged and counted in Stats; the game goes on.
     void update(std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
     // Main thread. True when every chunk the view needs is loaded and meshed and nothing is due
     // to unload: the view is complete until the viewer moves.
     bool settled() const;
 
     // Main thread. Sets one block; its chunk and neighbours remesh at once (six slices). Fails,
-    // changing nothing, when the chunk is not loaded or the id is not a registered block.
+    // changing nothing, when shut down, the position is outside the world, the chunk is not
+    // loaded (or its generation failed) or the id is not a registered block. Stored worlds: the
+    // edit is handed to the store by the first update() save_delay_s (update() time) after the
+    // last update(); a background save that fails is logged. save() makes it durable and
+    // reports a failure through its ticket.
     Status set_block(BlockPos pos, BlockId id);
-    // Main thread. All or nothing: checks every edit first (loaded, known id), then applies them
-    // in order (a later edit of the same block wins).
+    // Main thread. All or nothing: checks every edit first (as set_block), then applies them in
+    // order (a later edit of the same block wins). Fails on the first bad edit, changing nothing.
     Status set_blocks(std::span<const BlockEdit> edits);
     // Main thread. The block at `pos`, kAir for air; nullopt when its chunk is not loaded.
     std::optional<BlockId> get_block(BlockPos pos) const;
@@ -344,12 +364,16 @@ public:
     std::vector<ChunkEvent> poll_events();
 
     // Main thread; does not block. Hands every edited chunk to the I/O thread and queues a
-    // commit behind them; the ticket turns Durable once that commit is synced. Errors: the world
-    // does not persist (terrain, generator) or is read-only (VDB), shut down.
+    // commit behind them; the ticket turns Durable once that commit is synced. Errors (nothing
+    // is handed over): the world does not persist (terrain, generator) or is read-only (VDB),
+    // shut down. A commit that fails later turns the ticket Failed (its message: wait()); the
+    // edits stay queued in the store, and a later save() or background commit retries them.
     Result<SaveTicket> save();
-    // Thread-safe.
+    // Thread-safe. Failed also for a ticket this engine never issued.
     SaveState save_state(SaveTicket ticket) const;
-    // Thread-safe (not from a Generator). Blocks until the ticket is durable (ok) or failed.
+    // Thread-safe (not from a Generator). Blocks until the ticket is durable (ok) or failed: the
+    // store's message, "flush cancelled" when the engine shut down before the commit ran, or an
+    // unknown ticket.
     Status wait(SaveTicket ticket) const;
 
     // Main thread. Saves and syncs every edit (persistent worlds), stops the threads and

@@ -285,28 +285,25 @@ TEST(Streaming, DirtyChunksAreSavedWithinTheSaveDelay) {
     ASSERT_TRUE(settle(s, pos, now));
     const size_t loaded = s.metrics().loaded;
     EXPECT_EQ(loaded, size_t(9 * 9 * 5));
-    const Clock::time_point before = Clock::now();
+    // Edits are stamped with the last update's time (the caller's clock), here `now`.
     const BlockPos edits[] = {{8, 100, 8}, {9, 100, 8}, {40, 100, 8}, {8, 100, -60}}; // 3 chunks.
     for (const BlockPos& p : edits)
         ASSERT_TRUE(s.set_block(p, 5).ok());
-    const Clock::time_point after = Clock::now();
     EXPECT_EQ(s.metrics().dirty, 3u);
     const auto delay = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(st.save_delay_s));
-    // Edited after `before`: not due at before + delay - 1 ms.
-    s.update(pos, glm::dvec3(0, 0, -1), before + delay - std::chrono::milliseconds(1));
+    s.update(pos, glm::dvec3(0, 0, -1), now + delay - std::chrono::milliseconds(1)); // Not yet due.
     EXPECT_EQ(s.metrics().saves, 0u);
     EXPECT_EQ(s.metrics().dirty, 3u);
-    // Edited before `after`: all due at after + delay.
-    s.update(pos, glm::dvec3(0, 0, -1), after + delay);
+    s.update(pos, glm::dvec3(0, 0, -1), now + delay); // All due.
     EXPECT_EQ(s.metrics().saves, 3u);
     EXPECT_EQ(s.metrics().dirty, 0u);
     EXPECT_EQ(s.metrics().loaded, loaded); // Saving dropped nothing.
-    // Edited again after its save: dirty again, saved again once due.
-    const Clock::time_point again = Clock::now();
+    // Edited again after its save (stamped now + delay): dirty again, saved again once due.
+    const Clock::time_point again = now + delay;
     ASSERT_TRUE(s.set_block(edits[0], 6).ok());
     s.update(pos, glm::dvec3(0, 0, -1), again + delay - std::chrono::milliseconds(1));
     EXPECT_EQ(s.metrics().saves, 3u);
-    s.update(pos, glm::dvec3(0, 0, -1), Clock::now() + delay);
+    s.update(pos, glm::dvec3(0, 0, -1), again + delay);
     EXPECT_EQ(s.metrics().saves, 4u);
     ASSERT_TRUE(s.flush().ok());
 }
