@@ -71,7 +71,7 @@ Status Context::create_instance(const ContextCreateInfo& info) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = info.app_name;
     app.pEngineName = "vx";
-    app.apiVersion = VK_API_VERSION_1_3; // Headers, loader and layers are 1.3 (FIELD-NOTES).
+    app.apiVersion = VK_API_VERSION_1_3; // Debian's headers, loader and layers are 1.3.239 (lavapipe says 1.4).
 
     VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
     mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;

@@ -78,7 +78,8 @@ struct RenderSettings {
     // of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky unoccluded).
     uint32_t shadow_samples = 4;
     // The same on each reflection bounce; unset: shadow_samples (0: unshadowed on bounces).
-    // Bounces cost most (FIELD-NOTES: two thirds of a 5-bounce frame); 1 keeps them cheap.
+    // Bounces cost most (25 samples, 5 mirror bounces, seed scene at 1080p: about two thirds of
+    // the 48 ms frame were the bounces' shadow samples); 1 keeps them cheap.
     std::optional<uint32_t> bounce_shadow_samples;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.

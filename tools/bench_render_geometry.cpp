@@ -13,6 +13,7 @@
 #include <tuple>
 #include <vector>
 
+#include "world/base/median.h"
 #include "world/mesh/apron.h"
 #include "world/mesh/edit_mesher.h"
 #include "world/mesh/reference_meshers.h"
@@ -22,13 +23,6 @@ namespace {
 
 using namespace vx::world;
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-    if (v.empty())
-        return -1;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
 
 bool coord_less(ChunkCoord a, ChunkCoord b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); }
 

@@ -1,5 +1,5 @@
 #pragma once
-// The geometry section of `vx bench render` (issue 10): naive, culled and greedy meshes of one
+// The geometry section of `vx bench render`: naive, culled and greedy meshes of one
 // scene side by side (triangles, CPU mesh time, BLAS build time and memory, trace times), and
 // BLAS refits against rebuilds over k successive block edits (cost per edit burst and the trace
 // time after k refits). Main thread only.

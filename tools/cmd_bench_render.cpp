@@ -7,7 +7,7 @@
 //      bounce spp in {1, spp}, denoiser off and on: median GPU frame time and RMSE, PSNR, SSIM
 //      against the reference (render/image_metrics.h); then a still camera's accumulated frames;
 //      last a line naming the cheapest row that matches the thesis-style frame's error (25 spp,
-//      bounce spp 25, raw) and its frame-time ratio (issue 10's goal: >= 4x).
+//      bounce spp 25, raw) and its frame-time ratio (the target: >= 4x less frame time).
 //   4. geometry (tools/bench_render_geometry.h): naive, culled and greedy meshes; refit against
 //      rebuild over k edits.
 // --sections picks them: all (default), report (1-3) or geometry (4).
@@ -32,6 +32,7 @@
 #include "render/image_metrics.h"
 #include "render/renderer.h"
 #include "scene_args.h"
+#include "world/base/median.h"
 
 namespace vx::tools {
 namespace {
@@ -46,11 +47,6 @@ struct Config {
     std::string name;
     render::RenderSettings s;
 };
-
-double median_of(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? -1 : v[v.size() / 2];
-}
 
 struct Timing {
     double frame = -1, trace = -1, denoise = -1; // GPU ms (medians); -1 without timestamps.
@@ -68,7 +64,7 @@ Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const r
         trace.push_back(st.gpu_trace_ms);
         denoise.push_back(st.gpu_denoise_ms);
     }
-    return {median_of(frame), median_of(trace), median_of(denoise)};
+    return {median(frame), median(trace), median(denoise)};
 }
 
 // The view `vx render` picks by default: over the scene's box from (-1, 0.9, -1), light above.
@@ -134,9 +130,10 @@ struct SweepRow {
     double frame_ms = -1, rmse = -1;
 };
 
-// Issue 10's goal, computed from the rows: the cheapest row faster than the thesis-style one
-// whose RMSE is at most the thesis-style row's, and its frame-time ratio; and the lowest RMSE
-// among the rows at >= 4x less frame time (what the goal's budget buys).
+// The speed-up at equal error, computed from the rows: the cheapest row faster than the
+// thesis-style one whose RMSE is at most the thesis-style row's, and its frame-time ratio
+// (the target is >= 4x); and the lowest RMSE among the rows at >= 4x less frame time (what that
+// budget buys).
 std::string goal_line(const SweepRow& thesis, const std::vector<SweepRow>& rows) {
     const SweepRow *best = nullptr, *at4 = nullptr;
     for (const SweepRow& r : rows) {
@@ -148,18 +145,18 @@ std::string goal_line(const SweepRow& thesis, const std::vector<SweepRow>& rows)
             at4 = &r;
     }
     char buf[512];
-    std::snprintf(buf, sizeof buf, "Goal (issue 10): the thesis-style frame (%s) has RMSE %.5f at %.3f ms; ",
+    std::snprintf(buf, sizeof buf, "Speed-up at equal error: the thesis-style frame (%s) has RMSE %.5f at %.3f ms; ",
                   thesis.name.c_str(), thesis.rmse, thesis.frame_ms);
     std::string line = buf;
     if (best) {
         const double ratio = thesis.frame_ms / best->frame_ms;
         std::snprintf(buf, sizeof buf,
                       "the cheapest row with RMSE <= that is %s: RMSE %.5f at %.3f ms, %.2fx less frame time "
-                      "(goal >= 4x: %s). ",
+                      "(target >= 4x: %s). ",
                       best->name.c_str(), best->rmse, best->frame_ms, ratio, ratio >= 4.0 ? "met" : "not met");
         line += buf;
     } else {
-        line += "no faster row reaches that error (goal not met). ";
+        line += "no faster row reaches that error (target >= 4x: not met). ";
     }
     if (at4) {
         std::snprintf(buf, sizeof buf, "Lowest RMSE at >= 4x less frame time: %s, RMSE %.5f at %.3f ms.\n",
@@ -289,12 +286,12 @@ int run_bench_render(const BenchRenderArgs& a) {
                 }
                 const render::ImageError e = render::compare(render::to_float(img), reference);
                 std::snprintf(line, sizeof line, "| %u | %u | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, bounce,
-                              denoise ? "on" : "off", median_of(frame), e.rmse, e.psnr, e.ssim);
+                              denoise ? "on" : "off", median(frame), e.rmse, e.psnr, e.ssim);
                 md += line;
                 std::printf("  accumulated %s", line);
                 const std::string row = std::to_string(spp) + " spp, bounce spp " + std::to_string(bounce) +
                                         ", denoiser " + (denoise ? "on" : "off") + ", still camera after 8 frames";
-                candidates.push_back({row, median_of(frame), e.rmse});
+                candidates.push_back({row, median(frame), e.rmse});
             }
     const std::string goal = goal_line(thesis, candidates);
     md += "\n" + goal;

@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "engine/job_batch.h"
 #include "engine/scene_loader.h"
+#include "world/base/median.h"
 #include "world/mesh/edit_mesher.h"
 #include "render/renderer.h"
 #include "scene_args.h"
@@ -44,13 +45,6 @@ struct RenderArgs {
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
 };
-
-double median(std::vector<double> v) {
-    if (v.empty())
-        return -1;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 std::string ms(double v) {
     char buf[32];

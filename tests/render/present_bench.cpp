@@ -14,18 +14,12 @@
 #include <vector>
 
 #include "render/renderer.h"
+#include "world/base/median.h"
 #include "world/mesh/edit_mesher.h"
 #include "world/world.h"
 
 namespace vx::render {
 namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty())
-        return -1;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
 
 // Rolling hills of stone over 4 x 4 chunks, with a wooden tower: a few thousand quads.
 void load_scene(Renderer& r) {
