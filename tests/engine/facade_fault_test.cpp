@@ -266,6 +266,27 @@ void check_save_delay_on_game_clock(Clock::duration offset) {
     EXPECT_TRUE(e.shutdown());
 }
 
+// A stored world: a chunk missing from the store goes to the generator from the I/O thread; its
+// failure is reported the same way, and nothing of it is ever written to the store.
+TEST(FacadeFaults, ThrowingGeneratorInAStoredWorldStoresNothingOfItsChunk) {
+    const std::string path = temp_path("throwing");
+    auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, std::make_shared<FaultyGenerator>())));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(e.set_viewer(viewer_at({4, 2, 4})));
+    GameClock clock(0s);
+    ASSERT_TRUE(settle_at(e, clock));
+    EXPECT_EQ(e.stats().chunks_generate_failed, 2u);
+    ASSERT_TRUE(e.set_block({31, 5, 8}, kPost)); // Beside a failed chunk.
+    auto ticket = e.save();
+    ASSERT_TRUE(ticket) << ticket.error();
+    ASSERT_TRUE(e.wait(*ticket));
+    EXPECT_TRUE(e.shutdown());
+    EXPECT_EQ(stored_block(path, {31, 5, 8}), std::optional<vx::BlockId>(kPost));
+    EXPECT_EQ(stored_block(path, {32 + 8, 0, 8}), std::nullopt);
+    EXPECT_EQ(stored_block(path, {-32 + 8, 0, 8}), std::nullopt);
+}
+
 TEST(FacadeFaults, GameClockBehindSavesEdits) { check_save_delay_on_game_clock(-1h); }
 
 TEST(FacadeFaults, GameClockAheadWaitsForSaveDelay) { check_save_delay_on_game_clock(1h); }
