@@ -13,12 +13,19 @@
 namespace vx {
 namespace {
 
-// Handler calls are serialised by this lock, and set_log_handler takes it too, so a replaced
+// Handler calls are serialised by the lock, and set_log_handler takes it too, so a replaced
 // handler is never running once the call that replaced it returns.
-std::mutex g_handler_mutex;
-std::shared_ptr<const LogHandler> g_handler; // Null: stderr. Guarded by g_handler_mutex.
-std::mutex g_stderr_mutex;                   // One line at a time on stderr.
-thread_local bool t_in_handler = false;      // This thread is inside the handler (holds the lock).
+struct HandlerSlot {
+    std::mutex mutex;
+    std::shared_ptr<const LogHandler> handler; // Null: stderr. Guarded by mutex.
+};
+// Never destroyed: destructors of other static objects may still log at exit.
+HandlerSlot& slot() {
+    static HandlerSlot* s = new HandlerSlot();
+    return *s;
+}
+std::mutex g_stderr_mutex; // One line at a time on stderr.
+thread_local bool t_in_handler = false; // This thread is inside the handler (holds the lock).
 
 const char* prefix(LogLevel level) { return level == LogLevel::Error ? "vx error: " : "vx warning: "; }
 
@@ -45,13 +52,14 @@ void dispatch(LogLevel level, std::string_view line) {
         write_stderr(level, line);
         return;
     }
-    std::unique_lock lock(g_handler_mutex);
-    if (!g_handler) {
+    HandlerSlot& h = slot();
+    std::unique_lock lock(h.mutex);
+    if (!h.handler) {
         lock.unlock();
         write_stderr(level, line);
         return;
     }
-    const std::shared_ptr<const LogHandler> handler = g_handler; // Survives a replacement inside the call.
+    const std::shared_ptr<const LogHandler> handler = h.handler; // Survives a replacement inside the call.
     t_in_handler = true;
     bool threw = false;
     try {
@@ -69,12 +77,13 @@ void dispatch(LogLevel level, std::string_view line) {
 
 void set_log_handler(LogHandler handler) {
     auto next = handler ? std::make_shared<const LogHandler>(std::move(handler)) : nullptr;
+    HandlerSlot& h = slot();
     if (t_in_handler) { // Called from the handler: this thread already holds the lock.
-        g_handler = std::move(next);
+        h.handler = std::move(next);
         return;
     }
-    std::lock_guard lock(g_handler_mutex);
-    g_handler = std::move(next);
+    std::lock_guard lock(h.mutex);
+    h.handler = std::move(next);
 }
 
 void log_line(LogLevel level, const char* format, ...) {
