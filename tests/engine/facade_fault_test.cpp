@@ -190,6 +190,35 @@ TEST(FacadeFaults, ThrowingGeneratorFailsOnlyItsChunks) {
     EXPECT_TRUE(e.shutdown());
 }
 
+// A failed chunk the viewer leaves is dropped like any other (no longer counted); when the viewer
+// comes back it is generated afresh, and its neighbours, meshed against air meanwhile, are meshed
+// again with it.
+TEST(FacadeFaults, FailedChunkIsDroppedWithTheViewAndGeneratedWhenBack) {
+    LogCapture log;
+    auto gen = std::make_shared<FaultyGenerator>();
+    std::unique_ptr<vx::Engine> engine = engine_on(gen);
+    ASSERT_TRUE(engine);
+    vx::Engine& e = *engine;
+    GameClock clock(0s);
+    ASSERT_TRUE(settle_at(e, clock));
+    EXPECT_EQ(e.stats().chunks_generate_failed, 2u);
+    ASSERT_TRUE(e.set_viewer(viewer_at({4 + 32 * 20, 2, 4})));
+    ASSERT_TRUE(settle_at(e, clock));
+    clock.t += 4s; // Past the unload delay (3 s): the chunks left behind go.
+    ASSERT_TRUE(settle_at(e, clock));
+    EXPECT_EQ(e.stats().chunks_generate_failed, 0u);
+    EXPECT_EQ(e.get_block({31, 0, 8}), std::nullopt);
+    gen->fail = false;
+    ASSERT_TRUE(e.set_viewer(viewer_at({4, 2, 4})));
+    ASSERT_TRUE(settle_at(e, clock));
+    const vx::Stats st = e.stats();
+    EXPECT_EQ(st.chunks_generate_failed, 0u);
+    EXPECT_EQ(st.chunks_meshed, st.chunks_in_view);
+    EXPECT_EQ(e.get_block({32 + 8, 2, 8}), std::optional<vx::BlockId>(kPost));
+    EXPECT_EQ(e.get_block({-32 + 8, 2, 8}), std::optional<vx::BlockId>(kPost));
+    EXPECT_TRUE(e.shutdown());
+}
+
 TEST(FacadeFaults, ThrowingLogHandlerTakesNothingDown) {
     struct Reset {
         ~Reset() { vx::set_log_handler(nullptr); }
