@@ -9,7 +9,8 @@
 // function is "main thread only" unless its comment says "thread-safe". Inside, the engine runs
 // worker threads (generation, meshing; StreamingDesc::worker_threads) and one I/O thread (the
 // store); a game's Generator is called on the workers. update() applies their results within a
-// time budget; nothing calls back into the game from another thread.
+// time budget; nothing else calls back into the game from another thread, except a log handler
+// the game sets (<vx/log.h>).
 // Units: world block units (one block = 1), seconds, milliseconds where a name ends in _ms,
 // bytes where it ends in _bytes. Coordinates: see <vx/types.h>.
 // Errors: recoverable failures return vx::Status / vx::Result<T> with a one-line message;
@@ -321,9 +322,9 @@ public:
     // Main thread. Sets one block; its chunk and neighbours remesh at once (six slices). Fails,
     // changing nothing, when shut down, the position is outside the world, the chunk is not
     // loaded (or its generation failed) or the id is not a registered block. Stored worlds: the
-    // edit is handed to the store by the first update() save_delay_s (update() time) after the
-    // last update(); a background save that fails is logged. save() makes it durable and
-    // reports a failure through its ticket.
+    // edit is stamped with the last update()'s `now` and handed to the store by the first
+    // update() at least save_delay_s later; a background save that fails is logged. save()
+    // makes it durable and reports a failure through its ticket.
     Status set_block(BlockPos pos, BlockId id);
     // Main thread. All or nothing: checks every edit first (as set_block), then applies them in
     // order (a later edit of the same block wins). Fails on the first bad edit, changing nothing.
