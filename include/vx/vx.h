@@ -239,7 +239,8 @@ struct Stats {
     size_t chunks_loaded = 0;    // Chunks with block data in memory.
     size_t chunks_queued = 0;    // Requested (load or generate), not arrived yet.
     size_t chunks_meshed = 0;    // In the view radius with a current mesh.
-    size_t chunks_in_view = 0;   // In the view radius (all meshed when equal to chunks_meshed).
+    size_t chunks_in_view = 0;   // In the view radius (all meshed when equal to chunks_meshed,
+                                 // short by those of chunks_generate_failed in the view).
     size_t meshes_queued = 0;    // Mesh jobs in flight.
     size_t dirty_chunks = 0;     // Edited, not yet handed to the store.
     size_t chunks_generate_failed = 0; // Not loaded: the game's Generator threw for them (retried).
