@@ -126,28 +126,39 @@ std::optional<vx::BlockId> expected(vx::BlockPos p) {
     return p.y < 4 && (p.x & 7) == 0 && (p.z & 7) == 0 ? kPost : vx::kAir;
 }
 
-// An engine on `gen` (nothing stored) with its viewer in chunk (0, 0, 0); null if that failed.
-std::unique_ptr<vx::Engine> engine_on(std::shared_ptr<FaultyGenerator> gen) {
+// An engine on `gen` (failing; nothing stored) with its view around chunk (0, 0, 0) settled on
+// `clock`, although two of its chunks cannot be generated; null if that went wrong.
+std::unique_ptr<vx::Engine> settled_engine(std::shared_ptr<FaultyGenerator> gen, GameClock& clock) {
     auto engine = vx::Engine::create(small_info(vx::WorldSource::custom(std::move(gen))));
     if (!engine) {
         ADD_FAILURE() << engine.error();
         return nullptr;
     }
     EXPECT_TRUE((*engine)->set_viewer(viewer_at({4, 2, 4})));
+    if (!settle_at(**engine, clock)) {
+        ADD_FAILURE() << "the view did not settle";
+        return nullptr;
+    }
+    EXPECT_EQ((*engine)->stats().chunks_generate_failed, 2u);
     return std::move(*engine);
 }
 
-TEST(FacadeFaults, ThrowingGeneratorFailsOnlyItsChunks) {
+// A settled engine on a failing generator, its log captured.
+class FailingGenerator : public testing::Test {
+protected:
+    void SetUp() override {
+        engine = settled_engine(gen, clock);
+        ASSERT_TRUE(engine);
+    }
     LogCapture log;
-    auto gen = std::make_shared<FaultyGenerator>();
-    std::unique_ptr<vx::Engine> engine = engine_on(gen);
-    ASSERT_TRUE(engine);
+    std::shared_ptr<FaultyGenerator> gen = std::make_shared<FaultyGenerator>();
+    GameClock clock{0s};
+    std::unique_ptr<vx::Engine> engine;
+};
+
+TEST_F(FailingGenerator, OnlyItsChunksFail) {
     vx::Engine& e = *engine;
-    GameClock clock(0s);
-    // Settles although two chunks of the view cannot be generated.
-    ASSERT_TRUE(settle_at(e, clock));
     vx::Stats st = e.stats();
-    EXPECT_EQ(st.chunks_generate_failed, 2u);
     EXPECT_GE(st.generate_failures, 2u);
     // Every other chunk of the view is meshed, the failed ones' neighbours included (as if air).
     EXPECT_EQ(st.chunks_meshed + 2, st.chunks_in_view);
@@ -193,15 +204,8 @@ TEST(FacadeFaults, ThrowingGeneratorFailsOnlyItsChunks) {
 // A failed chunk the viewer leaves is dropped like any other (no longer counted); when the viewer
 // comes back it is generated afresh, and its neighbours, meshed against air meanwhile, are meshed
 // again with it.
-TEST(FacadeFaults, FailedChunkIsDroppedWithTheViewAndGeneratedWhenBack) {
-    LogCapture log;
-    auto gen = std::make_shared<FaultyGenerator>();
-    std::unique_ptr<vx::Engine> engine = engine_on(gen);
-    ASSERT_TRUE(engine);
+TEST_F(FailingGenerator, FailedChunkIsDroppedWithTheViewAndGeneratedWhenBack) {
     vx::Engine& e = *engine;
-    GameClock clock(0s);
-    ASSERT_TRUE(settle_at(e, clock));
-    EXPECT_EQ(e.stats().chunks_generate_failed, 2u);
     ASSERT_TRUE(e.set_viewer(viewer_at({4 + 32 * 20, 2, 4})));
     ASSERT_TRUE(settle_at(e, clock));
     clock.t += 4s; // Past the unload delay (3 s): the chunks left behind go.
@@ -224,18 +228,14 @@ TEST(FacadeFaults, ThrowingLogHandlerTakesNothingDown) {
         ~Reset() { vx::set_log_handler(nullptr); }
     } reset; // Also when an assertion below returns early.
     vx::set_log_handler([](vx::LogLevel, std::string_view) { throw std::runtime_error("handler failed"); });
-    std::unique_ptr<vx::Engine> engine = engine_on(std::make_shared<FaultyGenerator>());
-    ASSERT_TRUE(engine);
-    vx::Engine& e = *engine;
     GameClock clock(0s);
     testing::internal::CaptureStderr();
-    const bool settled = settle_at(e, clock);
+    std::unique_ptr<vx::Engine> engine = settled_engine(std::make_shared<FaultyGenerator>(), clock);
     const std::string err = testing::internal::GetCapturedStderr();
-    ASSERT_TRUE(settled);
-    EXPECT_EQ(e.stats().chunks_generate_failed, 2u);
+    ASSERT_TRUE(engine);
     // The lines the handler threw for went to stderr instead.
     EXPECT_NE(err.find("vx error: chunk 1,0,0"), std::string::npos) << err;
-    EXPECT_TRUE(e.shutdown());
+    EXPECT_TRUE(engine->shutdown());
 }
 
 std::string temp_path(const char* name) {
