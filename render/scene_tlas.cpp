@@ -16,7 +16,7 @@ static VkAccelerationStructureGeometryKHR instance_geometry(VkDeviceAddress inst
     return g;
 }
 
-void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) {
+bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) {
     // Sorted coordinates: the instance order (and so the image) does not depend on hash order.
     std::vector<std::pair<world::ChunkCoord, ChunkGpu*>> chunks;
     chunks.reserve(m_chunks.size());
@@ -49,8 +49,11 @@ void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
                                               MemoryUse::Upload, 16, "TLAS instances"});
         f.table = Buffer::create(*m_ctx, {f.capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                           MemoryUse::Upload, 16, "chunk table"});
-        VX_ASSERT_MSG(f.tlas.valid() && f.instances.valid() && f.table.valid(), "out of GPU memory for the TLAS");
         f.tlas_scratch = sizes.buildScratchSize;
+        if (!f.tlas.valid() || !f.instances.valid() || !f.table.valid()) {
+            f.tlas.reset(); // Logged by Buffer::create; the next frame tries again.
+            return false;
+        }
     }
 
     auto* inst = static_cast<VkAccelerationStructureInstanceKHR*>(f.instances.mapped());
@@ -77,9 +80,12 @@ void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
     geom = instance_geometry(f.instances.address());
     info.dstAccelerationStructure = f.tlas.handle();
     info.scratchData.deviceAddress = scratch(f.tlas_scratch + m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment);
+    if (!info.scratchData.deviceAddress)
+        return false;
     const VkAccelerationStructureBuildRangeInfoKHR range{count, 0, 0, 0};
     const VkAccelerationStructureBuildRangeInfoKHR* range_ptr = &range;
     vkCmdBuildAccelerationStructuresKHR(cmd, 1, &info, &range_ptr);
+    return true;
 }
 
 } // namespace vx::render

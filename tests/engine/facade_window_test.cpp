@@ -191,3 +191,64 @@ TEST(FacadeWindow, UiIsBlendedOverTheFrame) {
     }
     glfwDestroyWindow(window);
 }
+
+// set_vsync: the swapchain is recreated with the other present mode at the next frame, frames
+// keep coming, and the engine (its world, its edits) is the same object throughout. Lavapipe
+// under Xvfb offers FIFO and IMMEDIATE (and MAILBOX), so vsync off leaves FIFO.
+TEST(FacadeWindow, SetVsyncSwitchesThePresentModeWithoutARestart) {
+    Glfw glfw;
+    if (!glfw.ok)
+        GTEST_SKIP() << "no X display for GLFW (run under xvfb-run)";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(64, 48, "vx vsync test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    {
+        vx::EngineCreateInfo info = window_info(window, 1);
+        info.render.vsync = true;
+        auto created = vx::Engine::create(info);
+        if (!created) {
+            glfwDestroyWindow(window);
+            GTEST_SKIP() << "no ray-tracing device that can present: " << created.error();
+        }
+        vx::Engine& e = **created;
+        vx::Viewer v;
+        v.block = {0, vx::terrain_height(5, 0, 0) + 6, 0};
+        v.forward = {0.3, -1, 0.2};
+        ASSERT_TRUE(e.set_viewer(v));
+        ASSERT_TRUE(settle(e));
+        // An edit that is never saved (terrain world): it must survive the switch.
+        const vx::BlockPos edit{0, vx::terrain_height(5, 0, 0) + 2, 0};
+        ASSERT_TRUE(e.set_block(edit, *e.find_block("lamp")));
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window());
+        EXPECT_TRUE(e.stats().vsync);
+
+        ASSERT_TRUE(e.set_vsync(false));
+        for (int i = 0; i < 3; ++i) {
+            glfwPollEvents();
+            ASSERT_TRUE(e.render_to_window());
+        }
+        EXPECT_FALSE(e.stats().vsync); // IMMEDIATE or MAILBOX: the swapchain was recreated.
+        ASSERT_TRUE(e.set_vsync(true));
+        vx::Image shot;
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window(&shot));
+        EXPECT_TRUE(e.stats().vsync);
+        EXPECT_EQ(shot.width, 64u);
+        EXPECT_EQ(e.get_block(edit), e.find_block("lamp"));
+        EXPECT_EQ(e.stats().validation_errors, 0u);
+    }
+    glfwDestroyWindow(window);
+}
+
+// set_vsync needs a window target: a headless engine says so and keeps going.
+TEST(FacadeWindow, SetVsyncWithoutAWindowIsAnError) {
+    vx::EngineCreateInfo info;
+    info.world = vx::WorldSource::terrain(5);
+    info.render.target = vx::RenderTarget::none();
+    auto created = vx::Engine::create(info);
+    ASSERT_TRUE(created) << created.error();
+    const vx::Status s = (*created)->set_vsync(false);
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find("window"), std::string::npos) << s.error();
+}
