@@ -1,6 +1,7 @@
 // The facade presenting to a GLFW window (under xvfb-run, lavapipe, validation on): frames reach
 // the window, an edit shows in the very next presented frame and its removal in the one after,
-// a resize is followed, and the validation layer reports nothing. CTest label vulkan.
+// a resize is followed, set_vsync switches the present mode in place, a lost device is
+// recovered with recreate_renderer, and the validation layer reports nothing. CTest label vulkan.
 #include <chrono>
 #include <cstdlib>
 #include <thread>
@@ -11,6 +12,7 @@
 
 #include <vx/vx.h>
 
+#include "engine/engine_testing.h"
 #include "facade_test_util.h"
 
 using Clock = std::chrono::steady_clock;
@@ -251,4 +253,51 @@ TEST(FacadeWindow, SetVsyncWithoutAWindowIsAnError) {
     const vx::Status s = (*created)->set_vsync(false);
     ASSERT_FALSE(s);
     EXPECT_NE(s.error().find("window"), std::string::npos) << s.error();
+}
+
+// A lost device under a window: render_to_window fails with the loss line (the frame's acquired
+// image and semaphore are released with the old renderer), recreate_renderer() makes a new
+// swapchain on the same window, and it presents the picture of before the loss.
+TEST(FacadeWindow, DeviceLossThenRecreateRendererPresentsAgain) {
+    Glfw glfw;
+    if (!glfw.ok)
+        GTEST_SKIP() << "no X display for GLFW (run under xvfb-run)";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(64, 48, "vx device loss test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    {
+        auto created = vx::Engine::create(window_info(window, 1));
+        if (!created) {
+            glfwDestroyWindow(window);
+            GTEST_SKIP() << "no ray-tracing device that can present: " << created.error();
+        }
+        vx::Engine& e = **created;
+        vx::RenderSettings rs;
+        rs.shading = vx::RenderSettings::Shading::Flat;
+        e.set_render_settings(rs);
+        vx::Viewer v;
+        v.block = {0, vx::terrain_height(5, 0, 0) + 6, 0};
+        v.forward = {0.3, -1, 0.2};
+        ASSERT_TRUE(e.set_viewer(v));
+        ASSERT_TRUE(settle(e));
+        vx::Image before, after;
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window(&before));
+
+        ASSERT_TRUE(vx::EngineTesting::lose_device(e));
+        glfwPollEvents();
+        const vx::Status lost = e.render_to_window();
+        ASSERT_FALSE(lost);
+        EXPECT_NE(lost.error().find("device was lost"), std::string::npos) << lost.error();
+        EXPECT_TRUE(e.stats().device_lost);
+        EXPECT_FALSE(e.render_to_window());
+
+        ASSERT_TRUE(e.recreate_renderer());
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window(&after));
+        EXPECT_EQ(after.rgba, before.rgba);
+        EXPECT_FALSE(e.stats().device_lost);
+        EXPECT_EQ(e.stats().validation_errors, 0u);
+    }
+    glfwDestroyWindow(window);
 }
