@@ -348,6 +348,12 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         if (!gbuffer_readback.valid())
             return out_of_memory("the G-buffer read-back");
     }
+    if (s.pipeline == PipelineKind::Raster) {
+        if (!raster)
+            raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
+        if (!raster->ensure_depth(s.width, s.height))
+            return out_of_memory("the raster depth buffer");
+    }
     if (denoise_active(s)) {
         if (!denoiser)
             denoiser = std::make_unique<Denoiser>(*ctx, s.width, s.height);
@@ -541,9 +547,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
 
 // The raster baseline in place of the trace: same target, same layout afterwards.
 void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
-    if (!raster)
-        raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
-    RasterFrame f;
+    RasterFrame f; // The pipeline and its depth buffer: made by prepare_frame.
     f.target = target().handle();
     f.target_view = target().view();
     f.width = s.width;

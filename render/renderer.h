@@ -254,7 +254,7 @@ public:
     // that frame's G-buffer into *gbuffer (tests, tools; costs three more copies).
     // Errors, each one line, the renderer kept usable: out of GPU memory for a frame resource
     // (render target, G-buffer, read-backs, materials, emitter list, denoiser images, UI, AS
-    // scratch, staging, TLAS): nothing is drawn, the scene's edits are kept, and a later call
+    // scratch, staging, TLAS, raster depth): nothing is drawn, the scene's edits are kept, and a later call
     // (or a smaller size) tries again; the device was lost (device_lost()): every later frame
     // fails the same way until the renderer is recreated.
     Result<RenderImage> try_render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);

@@ -42,16 +42,20 @@ bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
         VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
         vkGetAccelerationStructureBuildSizesKHR(m_ctx->device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
                                                 &f.capacity, &sizes);
+        f.tlas_scratch = sizes.buildScratchSize;
+        // One at a time: the first that fails is logged (Buffer::create), and the next frame
+        // tries again (the TLAS is left invalid).
         f.tlas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
                                      sizes.accelerationStructureSize, "TLAS");
-        f.instances = Buffer::create(*m_ctx, {f.capacity * sizeof(VkAccelerationStructureInstanceKHR),
-                                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
-                                              MemoryUse::Upload, 16, "TLAS instances"});
-        f.table = Buffer::create(*m_ctx, {f.capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                          MemoryUse::Upload, 16, "chunk table"});
-        f.tlas_scratch = sizes.buildScratchSize;
+        if (f.tlas.valid())
+            f.instances = Buffer::create(*m_ctx, {f.capacity * sizeof(VkAccelerationStructureInstanceKHR),
+                                                  VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+                                                  MemoryUse::Upload, 16, "TLAS instances"});
+        if (f.tlas.valid() && f.instances.valid())
+            f.table = Buffer::create(*m_ctx, {f.capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                              MemoryUse::Upload, 16, "chunk table"});
         if (!f.tlas.valid() || !f.instances.valid() || !f.table.valid()) {
-            f.tlas.reset(); // Logged by Buffer::create; the next frame tries again.
+            f.tlas.reset();
             return false;
         }
     }

@@ -57,9 +57,11 @@ bool UiPass::set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> r
 bool UiPass::prepare_texture(uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba) {
     const VkDeviceSize bytes = rgba.size();
     Buffer staging = Buffer::create(*m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, 0, "ui texture staging"});
+    if (!staging.valid())
+        return false; // Logged by Buffer::create.
     Buffer texture = Buffer::create(*m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              MemoryUse::Device, 0, "ui texture"});
-    if (!staging.valid() || !texture.valid())
+    if (!texture.valid())
         return false; // Logged by Buffer::create.
     std::memcpy(staging.mapped(), rgba.data(), bytes);
     m_next_staging = std::move(staging);

@@ -255,7 +255,7 @@ TEST(FacadeWindow, SetVsyncWithoutAWindowIsAnError) {
     EXPECT_NE(s.error().find("window"), std::string::npos) << s.error();
 }
 
-// A lost device under a window: render_to_window fails with the loss line (the frame's acquired
+// Frame resources out of memory under a window, then a lost device: render_to_window fails with the loss line (the frame's acquired
 // image and semaphore are released with the old renderer), recreate_renderer() makes a new
 // swapchain on the same window, and it presents the picture of before the loss.
 TEST(FacadeWindow, DeviceLossThenRecreateRendererPresentsAgain) {
@@ -280,6 +280,16 @@ TEST(FacadeWindow, DeviceLossThenRecreateRendererPresentsAgain) {
         v.forward = {0.3, -1, 0.2};
         ASSERT_TRUE(e.set_viewer(v));
         ASSERT_TRUE(settle(e));
+        // Out of memory for the first frame's target and TLAS (both made before the acquire):
+        // the call fails holding no swapchain image, and the next one presents.
+        for (const char* resource : {"render target", "TLAS"}) {
+            ASSERT_TRUE(vx::EngineTesting::fail_allocations(e, resource));
+            glfwPollEvents();
+            const vx::Status s = e.render_to_window();
+            ASSERT_FALSE(s);
+            EXPECT_NE(s.error().find("out of GPU memory"), std::string::npos) << s.error();
+        }
+        ASSERT_TRUE(vx::EngineTesting::fail_allocations(e, ""));
         vx::Image before, after;
         glfwPollEvents();
         ASSERT_TRUE(e.render_to_window(&before));

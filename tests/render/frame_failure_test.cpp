@@ -15,7 +15,7 @@ namespace {
 
 const Camera kCamera = Camera::look_at({30.3, 24.6, 29.1}, {-4.0, 4.0, -6.0});
 
-RenderSettings small(ShadingMode mode, bool denoise) {
+RenderSettings small(ShadingMode mode, bool denoise, bool raster = false) {
     RenderSettings s;
     s.width = 32;
     s.height = 24;
@@ -23,6 +23,7 @@ RenderSettings small(ShadingMode mode, bool denoise) {
     s.shadow_samples = 1;
     s.max_bounces = 1;
     s.denoise = denoise;
+    s.pipeline = raster ? PipelineKind::Raster : PipelineKind::RayTraced;
     return s;
 }
 
@@ -41,6 +42,7 @@ struct Injection {
     bool denoise = false;    // Full mode with the denoiser (its images).
     bool gbuffer = false;    // try_render with a GBufferImage (the G-buffer read-back).
     bool ui = false;         // A UI over the frame (its texture).
+    bool raster = false;     // The raster pipeline (its depth buffer).
 };
 
 class FrameFailure : public ::testing::TestWithParam<Injection> {};
@@ -55,7 +57,7 @@ RenderImage reference(const world::MeshMap& meshes, const Injection& inj) {
     test::load_meshes(*r, meshes);
     if (inj.ui)
         r->set_ui(white_square());
-    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise);
+    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise, inj.raster);
     GBufferImage g;
     Result<RenderImage> img = r->try_render(s, kCamera, inj.gbuffer ? &g : nullptr);
     EXPECT_TRUE(img) << (img ? "" : img.error());
@@ -75,7 +77,7 @@ TEST_P(FrameFailure, OneLineErrorThenTheNextFrameRenders) {
     test::load_meshes(*r, meshes);
     if (inj.ui)
         r->set_ui(white_square());
-    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise);
+    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise, inj.raster);
     GBufferImage g;
     r->fail_allocations(inj.name_prefix);
     for (int i = 0; i < 2; ++i) { // Still failing while the injection lasts, never aborting.
@@ -106,9 +108,10 @@ INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
                                            Injection{"gbuffer reflected"}, Injection{"render readback"},
                                            Injection{"gbuffer readback", false, true}, Injection{"materials"},
                                            Injection{"emitter chunks"}, Injection{"TLAS"},
-                                           Injection{"TLAS instances"}, Injection{"AS scratch"},
+                                           Injection{"TLAS instances"}, Injection{"chunk table"}, Injection{"AS scratch"},
                                            Injection{"frame staging"}, Injection{"slot index pattern"},
-                                           Injection{"denoise", true}, Injection{"ui", false, false, true}),
+                                           Injection{"denoise", true}, Injection{"ui", false, false, true},
+                                           Injection{"raster depth", false, false, false, true}),
                          [](const ::testing::TestParamInfo<Injection>& p) {
                              std::string n = p.param.name_prefix;
                              for (char& c : n)
