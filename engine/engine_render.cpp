@@ -240,6 +240,8 @@ Stats Engine::stats() const {
         s.validation_errors = m->validation_errors_before + m->renderer->validation_errors();
         s.device_lost = m->renderer->device_lost();
         s.vsync = m->renderer->vsync();
+    } else if (m->info.render.target.kind != RenderTarget::Kind::None && !m->shut_down) {
+        s.device_lost = true; // A recreate_renderer() failed: frames fail until one succeeds.
     }
     return s;
 }

@@ -99,8 +99,11 @@ VkCommandBuffer Context::begin_frame() {
     return f.cmd;
 }
 
-// The injected loss (simulate_device_loss) replaces the submission, so nothing runs after it.
+// The injected loss (simulate_device_loss) replaces the submission, so nothing runs after it;
+// nothing is submitted to a lost device either.
 VkResult Context::submit(const VkSubmitInfo2& si, VkFence fence) {
+    if (m_lost)
+        return VK_ERROR_DEVICE_LOST;
     if (m_simulate_loss) {
         m_simulate_loss = false;
         return VK_ERROR_DEVICE_LOST;
@@ -163,7 +166,7 @@ void Context::end_one_shot(VkCommandBuffer cmd) {
     VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
     si.commandBufferInfoCount = 1;
     si.pCommandBufferInfos = &cbi;
-    if (!m_lost && check_device(submit(si, m_one_shot_fence), "vkQueueSubmit2") &&
+    if (check_device(submit(si, m_one_shot_fence), "vkQueueSubmit2") &&
         check_device(vkWaitForFences(m_device, 1, &m_one_shot_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"))
         VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
     vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd);
