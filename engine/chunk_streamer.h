@@ -140,6 +140,13 @@ public:
     const world::World& world() const { return m_world; }
     // Main thread. The mesh of chunk c, or null.
     const world::ChunkMesh* mesh(world::ChunkCoord c) const;
+    // Main thread. Calls fn(coord, mesh) for every chunk whose current (non-empty) mesh was
+    // handed to the sink: what a new sink or renderer needs to show the world as it is.
+    template <class F> void for_each_mesh(F&& fn) const {
+        for (const auto& [c, s] : m_chunks)
+            if (s.has_mesh && s.mesh)
+                fn(c, *s.mesh);
+    }
 
 private:
 

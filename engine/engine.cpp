@@ -65,6 +65,10 @@ Result<std::unique_ptr<render::Renderer>> make_renderer(const RenderDesc& desc, 
     auto renderer = render::Renderer::create(rci);
     if (!renderer)
         return Error{renderer.error()};
+    // A headless target too large for the device fails here, not at its first frame.
+    if (desc.target.kind == RenderTarget::Kind::Headless)
+        if (Status s = (*renderer)->check_frame_size(desc.target.width, desc.target.height); !s)
+            return Error{s.error()};
     (*renderer)->set_registry(registry);
     return std::move(*renderer);
 }
@@ -239,6 +243,29 @@ SaveState Engine::save_state(SaveTicket ticket) const {
     return SaveState::Failed;
 }
 
+Status Engine::recreate_renderer() {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (m->info.render.target.kind == RenderTarget::Kind::None)
+        return Error{"recreate_renderer needs a render target (headless or window)"};
+    // The old renderer goes first: one Vulkan context per process at a time.
+    m->sink->detach_renderer();
+    if (m->renderer)
+        m->validation_errors_before += m->renderer->validation_errors();
+    m->frame.validation_errors = m->validation_errors_before;
+    m->renderer.reset();
+    m->loss_counted = false;
+    auto renderer = make_renderer(m->info.render, m->world.registry);
+    if (!renderer)
+        return Error{"recreate_renderer: " + renderer.error()};
+    m->renderer = std::move(*renderer);
+    m->sink->attach_renderer(m->renderer.get());
+    m->streamer->for_each_mesh([&](world::ChunkCoord c, const world::ChunkMesh& mesh) { m->renderer->set_chunk(c, mesh); });
+    if (Status s = m->resend_ui(); !s)
+        return Error{"recreate_renderer: " + s.error()};
+    return {};
+}
+
 Status Engine::wait(SaveTicket ticket) const { return m->saves->wait(ticket.sequence); }
 
 Status Engine::shutdown() { return m->shutdown(); }
@@ -254,7 +281,7 @@ Status Engine::Impl::shutdown() {
     if (sink)
         sink->detach_renderer();
     if (renderer) // Kept for stats() after shutdown.
-        frame.validation_errors = renderer->validation_errors();
+        frame.validation_errors = validation_errors_before + renderer->validation_errors();
     renderer.reset();
     world.store.reset();            // Closes the database.
     return result;

@@ -28,6 +28,14 @@ struct Engine::Impl {
     Stats frame;                                     // Timings of the last update and frame.
     engine::SkyAccessCache sky;                      // render settings' sky_access (engine_render.cpp).
     bool shut_down = false;
+    // Device loss (engine_render.cpp): the renderer's validation errors before recreations, and
+    // whether the current renderer's loss was counted in frame.device_losses.
+    uint32_t validation_errors_before = 0;
+    bool loss_counted = false;
+    // The game's UI and texture, sent again to a recreated renderer.
+    UiDrawList ui;
+    std::vector<uint8_t> ui_texture;
+    uint32_t ui_texture_width = 0, ui_texture_height = 0;
     // Declared last: destroyed first, while everything it points to still exists.
     std::unique_ptr<engine::ChunkStreamer> streamer;
 
@@ -43,6 +51,12 @@ struct Engine::Impl {
     // The renderer's settings for this frame (engine_render.cpp): the game's, with sky_access
     // from the world around the viewer (kept while neither the eye's block nor the world moves).
     render::RenderSettings frame_settings(uint32_t width, uint32_t height);
+    // Fails when there is no renderer or its device was lost (engine_render.cpp).
+    Status renderer_usable();
+    // A frame call's error: `why`, or the device-loss line (counted once per renderer).
+    Status frame_failed(const std::string& why);
+    // The game's UI and texture to a new renderer (engine_render.cpp).
+    Status resend_ui();
 };
 
 } // namespace vx

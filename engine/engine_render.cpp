@@ -6,6 +6,7 @@
 #include <vx/vx.h>
 
 #include "engine/engine_impl.h"
+#include "engine/engine_testing.h"
 
 namespace vx {
 
@@ -66,6 +67,18 @@ void record_frame_stats(Stats& f, const render::RenderStats& rs) {
     f.failed_chunks = rs.failed_chunks;
 }
 
+render::UiDrawList to_render(const UiDrawList& ui) {
+    render::UiDrawList list;
+    list.vertices.reserve(ui.vertices.size());
+    for (const UiVertex& v : ui.vertices)
+        list.vertices.push_back({v.pos, v.uv, v.rgba});
+    list.indices = ui.indices;
+    list.cmds.reserve(ui.cmds.size());
+    for (const UiDrawCmd& c : ui.cmds)
+        list.cmds.push_back({c.index_offset, c.index_count, c.clip_rect});
+    return list;
+}
+
 bool usable_view(const Viewer& v) {
     const glm::dvec3 f = v.forward, u = v.up;
     const double cross = glm::length(glm::cross(glm::normalize(f), glm::normalize(u)));
@@ -86,17 +99,21 @@ void Engine::set_render_settings(const RenderSettings& settings) { m->render_set
 Status Engine::render_to_image(Image& out) {
     if (Status s = m->alive(); !s)
         return s;
-    if (m->info.render.target.kind != RenderTarget::Kind::Headless || !m->renderer)
+    if (m->info.render.target.kind != RenderTarget::Kind::Headless)
         return Error{"render_to_image needs a headless render target (RenderTarget::headless)"};
     if (!usable_view(m->viewer))
         return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
+    if (Status s = m->renderer_usable(); !s)
+        return s;
     const RenderTarget& t = m->info.render.target;
     const Clock::time_point t0 = Clock::now();
-    render::RenderImage img = m->renderer->render(m->frame_settings(t.width, t.height), camera_of(m->viewer));
+    Result<render::RenderImage> img = m->renderer->try_render(m->frame_settings(t.width, t.height), camera_of(m->viewer));
+    if (!img)
+        return m->frame_failed(img.error());
     m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    out.width = img.width;
-    out.height = img.height;
-    out.rgba = std::move(img.rgba);
+    out.width = img->width;
+    out.height = img->height;
+    out.rgba = std::move(img->rgba);
     record_frame_stats(m->frame, m->renderer->last_stats());
     return {};
 }
@@ -104,16 +121,18 @@ Status Engine::render_to_image(Image& out) {
 Status Engine::render_to_window(Image* capture) {
     if (Status s = m->alive(); !s)
         return s;
-    if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
+    if (m->info.render.target.kind != RenderTarget::Kind::Window)
         return Error{"render_to_window needs a window render target (RenderTarget::glfw_window)"};
     if (!usable_view(m->viewer))
         return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
+    if (Status s = m->renderer_usable(); !s)
+        return s;
     const Clock::time_point t0 = Clock::now();
     render::RenderImage img;
     // The size comes from the swapchain; settings' width and height are ignored there.
     auto done = m->renderer->present(m->frame_settings(1, 1), camera_of(m->viewer), capture ? &img : nullptr);
     if (!done)
-        return Error{done.error()};
+        return m->frame_failed(done.error());
     m->frame.render_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     if (*done == render::PresentResult::Skipped)
         return {};
@@ -129,18 +148,14 @@ Status Engine::render_to_window(Image* capture) {
 Status Engine::set_ui(const UiDrawList& ui) {
     if (Status s = m->alive(); !s)
         return s;
-    if (!m->renderer)
+    if (m->info.render.target.kind == RenderTarget::Kind::None)
         return Error{"set_ui needs a render target (headless or window)"};
-    render::UiDrawList list;
-    list.vertices.reserve(ui.vertices.size());
-    for (const UiVertex& v : ui.vertices)
-        list.vertices.push_back({v.pos, v.uv, v.rgba});
-    list.indices = ui.indices;
-    list.cmds.reserve(ui.cmds.size());
-    for (const UiDrawCmd& c : ui.cmds)
-        list.cmds.push_back({c.index_offset, c.index_count, c.clip_rect});
+    render::UiDrawList list = to_render(ui);
     if (std::string why = render::ui_draw_list_error(list); !why.empty())
         return Error{"set_ui: " + why};
+    if (Status s = m->renderer_usable(); !s)
+        return s;
+    m->ui = ui; // Kept, so a recreated renderer gets it again.
     m->renderer->set_ui(std::move(list));
     return {};
 }
@@ -148,13 +163,57 @@ Status Engine::set_ui(const UiDrawList& ui) {
 Status Engine::set_ui_texture(uint32_t width, uint32_t height, std::span<const uint8_t> rgba) {
     if (Status s = m->alive(); !s)
         return s;
-    if (!m->renderer)
+    if (m->info.render.target.kind == RenderTarget::Kind::None)
         return Error{"set_ui_texture needs a render target (headless or window)"};
     if (width == 0 || height == 0 || width > 16384 || height > 16384 || rgba.size() != size_t(width) * height * 4)
         return Error{"set_ui_texture: the texture must be 1..16384 texels a side and width * height * 4 bytes"};
-    m->renderer->set_ui_texture(width, height, std::vector<uint8_t>(rgba.begin(), rgba.end()));
+    if (Status s = m->renderer_usable(); !s)
+        return s;
+    // Kept, so a recreated renderer gets it again.
+    m->ui_texture_width = width;
+    m->ui_texture_height = height;
+    m->ui_texture.assign(rgba.begin(), rgba.end());
+    if (Status s = m->renderer->set_ui_texture(width, height, m->ui_texture); !s)
+        return m->frame_failed("set_ui_texture: " + s.error());
     return {};
 }
+
+Status Engine::set_vsync(bool vsync) {
+    if (Status s = m->alive(); !s)
+        return s;
+    if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
+        return Error{"set_vsync needs a window render target (RenderTarget::glfw_window)"};
+    m->info.render.vsync = vsync; // A recreated renderer keeps it.
+    m->renderer->set_vsync(vsync);
+    return {};
+}
+
+Status Engine::Impl::resend_ui() {
+    if (!ui.cmds.empty())
+        renderer->set_ui(to_render(ui));
+    if (!ui_texture.empty())
+        return renderer->set_ui_texture(ui_texture_width, ui_texture_height, ui_texture);
+    return {};
+}
+
+Status Engine::Impl::renderer_usable() {
+    if (!renderer)
+        return Error{"no renderer: the last recreate_renderer() failed; call it again"};
+    if (renderer->device_lost())
+        return frame_failed("");
+    return {};
+}
+
+Status Engine::Impl::frame_failed(const std::string& why) {
+    if (!renderer->device_lost())
+        return Error{why};
+    if (!loss_counted)
+        ++frame.device_losses;
+    loss_counted = true;
+    return Error{"the GPU device was lost: call recreate_renderer(); the world, the streaming and every edit are "
+                 "kept (save() and shutdown() still work)"};
+}
+
 
 Stats Engine::stats() const {
     Stats s = m->frame;
@@ -180,9 +239,27 @@ Stats Engine::stats() const {
         const render::GpuHeapStats mem = m->renderer->memory_stats();
         s.gpu_memory_bytes = mem.held_bytes;
         s.gpu_memory_used_bytes = mem.used_bytes;
-        s.validation_errors = m->renderer->validation_errors();
+        s.validation_errors = m->validation_errors_before + m->renderer->validation_errors();
+        s.device_lost = m->renderer->device_lost();
+        s.vsync = m->renderer->vsync();
+    } else if (m->info.render.target.kind != RenderTarget::Kind::None && !m->shut_down) {
+        s.device_lost = true; // A recreate_renderer() failed: frames fail until one succeeds.
     }
     return s;
+}
+
+bool EngineTesting::lose_device(Engine& e) {
+    if (!e.m->renderer)
+        return false;
+    e.m->renderer->simulate_device_loss();
+    return true;
+}
+
+bool EngineTesting::fail_allocations(Engine& e, const std::string& name_prefix) {
+    if (!e.m->renderer)
+        return false;
+    e.m->renderer->fail_allocations(name_prefix);
+    return true;
 }
 
 Status write_png(const std::string& path, const Image& image) {

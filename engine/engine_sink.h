@@ -42,8 +42,10 @@ public:
     std::vector<ChunkEvent> take_events() { return std::exchange(m_events, {}); }
     // Moves on every chunk load, mesh (edits included) and unload: the world may have changed.
     uint64_t world_changes() const { return m_world_changes; }
-    // The renderer is gone (shutdown): stop forwarding.
+    // The renderer is gone (shutdown, recreation): stop forwarding.
     void detach_renderer() { m_renderer = nullptr; }
+    // A new renderer (recreated after a lost device): meshes go to it from now on.
+    void attach_renderer(render::Renderer* renderer) { m_renderer = renderer; }
 
 private:
     void record(ChunkEvent::Kind kind, world::ChunkCoord c) {

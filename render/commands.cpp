@@ -52,7 +52,7 @@ Buffer upload_buffer(Context& ctx, const void* data, size_t bytes, VkBufferUsage
     return dst;
 }
 
-void StagingRing::begin(VkDeviceSize bytes) {
+bool StagingRing::begin(VkDeviceSize bytes) {
     VX_ASSERT(m_copies.empty());
     Buffer& b = m_buffers[m_ctx->frame_slot()];
     if (b.size() < bytes) {
@@ -62,10 +62,12 @@ void StagingRing::begin(VkDeviceSize bytes) {
         bi.memory = MemoryUse::Upload;
         bi.name = "frame staging";
         b = Buffer::create(*m_ctx, bi);
-        VX_ASSERT_MSG(b.valid(), "out of memory for the frame's staging buffer");
+        if (!b.valid())
+            return false; // Logged by Buffer::create.
     }
     m_used = 0;
     m_reserved = bytes;
+    return true;
 }
 
 void* StagingRing::add(const Buffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes) {

@@ -30,7 +30,8 @@ class StagingRing {
 public:
     explicit StagingRing(Context& ctx) : m_ctx(&ctx) {}
     // Starts this frame's staging with room for `bytes` (plus 16-byte alignment per copy).
-    void begin(VkDeviceSize bytes);
+    // False (logged) when the buffer cannot grow: nothing may be added this frame.
+    bool begin(VkDeviceSize bytes);
     // Reserves `bytes` that will be copied into `dst` at `dst_offset`; returns where to write them.
     void* add(const Buffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes);
     // Records the copies into `cmd` (no barrier); false when there were none.

@@ -11,6 +11,8 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "render/device_probe.h"
@@ -87,21 +89,40 @@ public:
     // list and returns a command buffer in the recording state; end_frame submits it (with the
     // semaphores of `sync` when presenting). The only CPU wait on the GPU per frame is the one in
     // begin_frame: on the frame kFramesInFlight back.
+    // A lost device (VK_ERROR_DEVICE_LOST from a submit or a wait: a result a correct program
+    // can meet) is not a crash: the context marks itself lost() and logs once; begin_frame then
+    // returns VK_NULL_HANDLE, end_frame and wait_frame false, and nothing is submitted again.
     VkCommandBuffer begin_frame();
-    void end_frame(const FrameSubmitSync& sync = {});
-    // Waits for every submitted frame and frees every retire list.
+    bool end_frame(const FrameSubmitSync& sync = {});
+    // Waits for every submitted frame and frees every retire list (also on a lost device).
     void wait_idle();
     uint64_t frame_number() const { return m_frame_number; }
     // Slot (0..kFramesInFlight-1) of the frame being recorded or last submitted.
     uint32_t frame_slot() const { return m_frame_slot; }
-    // Waits until the last submitted frame has completed (for read-back).
-    void wait_frame();
+    // Waits until the last submitted frame has completed (for read-back); false: device lost.
+    bool wait_frame();
+    // The device was lost: the renderer must be recreated (its objects may only be destroyed).
+    bool lost() const { return m_lost; }
+    // `result` of a submit, wait, acquire or present: VK_ERROR_DEVICE_LOST marks the context lost
+    // (false); any other failure is a bug (VK_CHECK). `what` names the call for the log line.
+    bool check_device(VkResult result, const char* what);
+
+    // Test hooks (tests and fault-injection only). simulate_device_loss: the next submission is
+    // not made and reads as VK_ERROR_DEVICE_LOST, as when the GPU hangs or its driver resets.
+    // fail_allocations: Buffer::create and Image::create of resources whose debug name starts
+    // with `name_prefix` fail as out of memory (logged) until called again with "" (none).
+    void simulate_device_loss() { m_simulate_loss = true; }
+    void fail_allocations(std::string name_prefix) { m_fail_prefix = std::move(name_prefix); }
+    bool allocation_injected(const char* name) const {
+        return !m_fail_prefix.empty() && std::string_view(name).starts_with(m_fail_prefix);
+    }
 
     // Retiring: called by resource destructors; the handle is destroyed once the current frame
     // (and so every earlier one) has completed on the GPU.
     RetireList& retire_list() { return m_frames[m_frame_slot].retire; }
 
     // Records `record` into a fresh command buffer, submits it and waits (uploads, tests).
+    // On a lost device the commands are not run (callers see lost()).
     template <class F> void submit_now(F&& record) {
         VkCommandBuffer cmd = begin_one_shot();
         record(cmd);
@@ -119,6 +140,7 @@ private:
     void flush(RetireList& list);
     VkCommandBuffer begin_one_shot();
     void end_one_shot(VkCommandBuffer cmd);
+    VkResult submit(const VkSubmitInfo2& si, VkFence fence);
     static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                          VkDebugUtilsMessageTypeFlagsEXT types,
                                                          const VkDebugUtilsMessengerCallbackDataEXT* data,
@@ -150,6 +172,9 @@ private:
     uint32_t m_frame_slot = 0;
     uint64_t m_frame_number = 0;
     bool m_in_frame = false;
+    bool m_lost = false;
+    bool m_simulate_loss = false;
+    std::string m_fail_prefix;
     VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
     VkFence m_one_shot_fence = VK_NULL_HANDLE;
     std::atomic<uint32_t> m_validation_errors{0};

@@ -121,10 +121,13 @@ void Denoiser::create_images() {
         ci.format = kHdrFormat;
         ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
         ci.name = name;
-        Image img = Image::create(*m_ctx, ci);
-        VX_ASSERT_MSG(img.valid(), "out of GPU memory for the denoiser's images");
+        if (!m_ready)
+            return Image{}; // One failure (one log line) is enough.
+        Image img = Image::create(*m_ctx, ci); // Out of memory: logged, ready() false.
+        m_ready = m_ready && img.valid();
         return img;
     };
+    m_ready = true;
     m_history = {make("denoise history 0"), make("denoise history 1")};
     m_history_nd = {make("denoise history normal_depth 0"), make("denoise history normal_depth 1")};
     m_ping = {make("denoise ping"), make("denoise pong")};
@@ -138,8 +141,8 @@ void Denoiser::create_images() {
     ldr.format = VK_FORMAT_R8G8B8A8_UNORM;
     ldr.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     ldr.name = "denoise ldr output";
-    m_ldr = Image::create(*m_ctx, ldr);
-    VX_ASSERT_MSG(m_ldr.valid(), "out of GPU memory for the denoiser's images");
+    m_ldr = m_ready ? Image::create(*m_ctx, ldr) : Image{};
+    m_ready = m_ready && m_ldr.valid();
 }
 
 void Denoiser::create_pipelines() {
@@ -186,6 +189,7 @@ void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {
 }
 
 void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const DenoiseSettings& settings) {
+    VX_ASSERT_MSG(m_ready, "Denoiser::record without its images (out of memory: see ready())");
     VX_ASSERT(inputs.colour && inputs.albedo && inputs.normal_depth && inputs.reflected);
     const uint32_t slot = m_ctx->frame_slot();
     write_sets(inputs, slot);
@@ -311,6 +315,7 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
         std::memcpy(static_cast<uint8_t*>(staging.mapped()) + at, bytes[i].data(), bytes[i].size());
         at += bytes[i].size();
     }
+    VX_ASSERT_MSG(denoiser.ready(), "out of GPU memory for the denoiser's images");
     VkCommandBuffer cmd = ctx.begin_frame();
     for (int i = 0; i < kInputs; ++i)
         copy_buffer_to_image(cmd, staging.handle(), offsets[i], inputs[i]);

@@ -66,7 +66,8 @@ struct DenoiseInputs {
 
 class Denoiser {
 public:
-    // Images for width x height frames. Aborts with a log line when memory runs out.
+    // Images for width x height frames. When memory runs out (logged) ready() is false: call
+    // resize() again before record().
     Denoiser(Context& ctx, uint32_t width, uint32_t height);
     // Only once no frame that recorded it is in flight (e.g. after Context::wait_idle): its
     // descriptor sets are freed at once.
@@ -78,6 +79,8 @@ public:
     void resize(uint32_t width, uint32_t height);
     uint32_t width() const { return m_width; }
     uint32_t height() const { return m_height; }
+    // Every image was allocated (record() may be called).
+    bool ready() const { return m_ready; }
 
     // Records the temporal pass and settings.iterations a-trous passes into `cmd` (a frame's
     // command buffer: descriptor sets are per frame slot, so at most kFramesInFlight frames may
@@ -91,6 +94,7 @@ public:
 private:
     void create_images();
     void create_pipelines();
+    bool m_ready = false;
     void write_sets(const DenoiseInputs& inputs, uint32_t slot);
 
     Context* m_ctx;

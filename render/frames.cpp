@@ -2,6 +2,7 @@
 #include "render/context.h"
 
 #include "world/base/assert.h"
+#include "world/base/log.h"
 
 namespace vx::render {
 
@@ -65,14 +66,29 @@ void Context::flush(RetireList& list) {
     list = RetireList{};
 }
 
+bool Context::check_device(VkResult result, const char* what) {
+    if (result == VK_SUCCESS)
+        return true;
+    if (result != VK_ERROR_DEVICE_LOST)
+        vk_check_fail(what, result, __FILE__, __LINE__); // A bug: logs and aborts.
+    if (!m_lost)
+        VX_LOG_ERROR("renderer: the GPU device was lost (%s); frames fail until the renderer is recreated", what);
+    m_lost = true;
+    return false;
+}
+
 VkCommandBuffer Context::begin_frame() {
     VX_ASSERT(!m_in_frame);
-    m_frame_slot = uint32_t((m_frame_number + 1) % kFramesInFlight);
-    ++m_frame_number;
-    Frame& f = m_frames[m_frame_slot];
+    if (m_lost)
+        return VK_NULL_HANDLE;
+    const uint32_t slot = uint32_t((m_frame_number + 1) % kFramesInFlight);
+    Frame& f = m_frames[slot];
     // The slot's fence covers its last submission; with kFramesInFlight >= 2 every earlier frame
     // was waited for when its own slot began again, so everything retired in this slot is idle.
-    VK_CHECK(vkWaitForFences(m_device, 1, &f.fence, VK_TRUE, UINT64_MAX));
+    if (!check_device(vkWaitForFences(m_device, 1, &f.fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"))
+        return VK_NULL_HANDLE;
+    m_frame_slot = slot;
+    ++m_frame_number;
     VK_CHECK(vkResetFences(m_device, 1, &f.fence));
     flush(f.retire);
     VK_CHECK(vkResetCommandPool(m_device, f.pool, 0));
@@ -83,8 +99,21 @@ VkCommandBuffer Context::begin_frame() {
     return f.cmd;
 }
 
-void Context::end_frame(const FrameSubmitSync& sync) {
+// The injected loss (simulate_device_loss) replaces the submission, so nothing runs after it;
+// nothing is submitted to a lost device either.
+VkResult Context::submit(const VkSubmitInfo2& si, VkFence fence) {
+    if (m_lost)
+        return VK_ERROR_DEVICE_LOST;
+    if (m_simulate_loss) {
+        m_simulate_loss = false;
+        return VK_ERROR_DEVICE_LOST;
+    }
+    return vkQueueSubmit2(m_queue, 1, &si, fence);
+}
+
+bool Context::end_frame(const FrameSubmitSync& sync) {
     VX_ASSERT(m_in_frame);
+    m_in_frame = false;
     Frame& f = m_frames[m_frame_slot];
     VK_CHECK(vkEndCommandBuffer(f.cmd));
     VkCommandBufferSubmitInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
@@ -102,18 +131,21 @@ void Context::end_frame(const FrameSubmitSync& sync) {
     si.pWaitSemaphoreInfos = &wait;
     si.signalSemaphoreInfoCount = sync.signal ? 1 : 0;
     si.pSignalSemaphoreInfos = &signal;
-    VK_CHECK(vkQueueSubmit2(m_queue, 1, &si, f.fence));
-    m_in_frame = false;
+    return check_device(submit(si, f.fence), "vkQueueSubmit2");
 }
 
-void Context::wait_frame() {
+bool Context::wait_frame() {
     VX_ASSERT(!m_in_frame);
-    VK_CHECK(vkWaitForFences(m_device, 1, &m_frames[m_frame_slot].fence, VK_TRUE, UINT64_MAX));
+    if (m_lost)
+        return false;
+    return check_device(vkWaitForFences(m_device, 1, &m_frames[m_frame_slot].fence, VK_TRUE, UINT64_MAX),
+                        "vkWaitForFences");
 }
 
 void Context::wait_idle() {
     VX_ASSERT(!m_in_frame);
-    VK_CHECK(vkDeviceWaitIdle(m_device));
+    // A lost device still lets its objects be destroyed; only the wait's result is moot then.
+    check_device(vkDeviceWaitIdle(m_device), "vkDeviceWaitIdle");
     for (Frame& f : m_frames)
         flush(f.retire);
 }
@@ -134,9 +166,9 @@ void Context::end_one_shot(VkCommandBuffer cmd) {
     VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
     si.commandBufferInfoCount = 1;
     si.pCommandBufferInfos = &cbi;
-    VK_CHECK(vkQueueSubmit2(m_queue, 1, &si, m_one_shot_fence));
-    VK_CHECK(vkWaitForFences(m_device, 1, &m_one_shot_fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
+    if (check_device(submit(si, m_one_shot_fence), "vkQueueSubmit2") &&
+        check_device(vkWaitForFences(m_device, 1, &m_one_shot_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"))
+        VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
     vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd);
 }
 

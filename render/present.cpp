@@ -35,7 +35,16 @@ std::optional<VkExtent2D> Presenter::prepare() {
 }
 
 bool Presenter::acquire() {
-    return m_swapchain.acquire(m_acquired[m_ctx->frame_slot()], &m_image) != VK_ERROR_OUT_OF_DATE_KHR;
+    const VkResult r = m_swapchain.acquire(m_acquired[m_ctx->frame_slot()], &m_image);
+    return r == VK_SUCCESS || r == VK_SUBOPTIMAL_KHR;
+}
+
+bool Presenter::prepare_capture() {
+    const VkExtent2D e = m_swapchain.extent();
+    if (!m_capture.valid() || m_capture.size() < VkDeviceSize(e.width) * e.height * 4)
+        m_capture = Buffer::create(*m_ctx, {VkDeviceSize(e.width) * e.height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                            MemoryUse::Readback, 0, "present capture"});
+    return m_capture.valid();
 }
 
 void Presenter::record_blit(VkCommandBuffer cmd, VkImage target, bool capture) {
@@ -56,10 +65,8 @@ void Presenter::record_blit(VkCommandBuffer cmd, VkImage target, bool capture) {
     VkImageLayout layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
     if (capture) {
         VX_ASSERT_MSG(m_swapchain.can_capture(), "this surface's images cannot be read back");
-        if (!m_capture.valid() || m_capture.size() < VkDeviceSize(e.width) * e.height * 4)
-            m_capture = Buffer::create(*m_ctx, {VkDeviceSize(e.width) * e.height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                                MemoryUse::Readback, 0, "present capture"});
-        VX_ASSERT_MSG(m_capture.valid(), "out of memory for the present capture");
+        VX_ASSERT_MSG(m_capture.valid() && m_capture.size() >= VkDeviceSize(e.width) * e.height * 4,
+                      "record_blit with capture needs prepare_capture() first");
         image_barrier(cmd, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                       VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
         layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
@@ -81,7 +88,7 @@ FrameSubmitSync Presenter::submit_sync() const {
     return {m_acquired[m_ctx->frame_slot()], VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, m_swapchain.render_done(m_image)};
 }
 
-void Presenter::present() { m_swapchain.present(m_image); }
+bool Presenter::present() { return m_swapchain.present(m_image); }
 
 RenderImage Presenter::read_capture() const {
     RenderImage img;

@@ -35,8 +35,14 @@ public:
     std::optional<VkExtent2D> prepare();
     // After Context::begin_frame: acquires an image, signalling this slot's semaphore (free: the
     // slot's last submission, which waited on it, has finished). False: the swapchain was out of
-    // date and nothing was acquired; end the frame without sync and skip it.
+    // date or the device was lost (Context::lost()) and nothing was acquired; end the frame
+    // without sync and skip it.
     bool acquire();
+    // Before acquire(), for a frame recorded with capture: the host buffer. False: out of memory.
+    bool prepare_capture();
+    // Present mode for the swapchains made from now on (FIFO with vsync); the next prepare()
+    // recreates the swapchain when the mode changes.
+    void set_vsync(bool vsync) { m_swapchain.set_vsync(vsync); }
     // Records target -> acquired image. `target` is in TRANSFER_SRC_OPTIMAL with the trace's
     // writes made visible to transfers, sized extent() with format target_format(). The image
     // ends in PRESENT_SRC_KHR. With `capture`, also copies the presented image into a host buffer
@@ -46,7 +52,8 @@ public:
     // image's "done" semaphore.
     FrameSubmitSync submit_sync() const;
     // After Context::end_frame(submit_sync()): queues the acquired image for presentation.
-    void present();
+    // False: the device was lost.
+    bool present();
     // After a frame recorded with capture has completed: its presented pixels as RGBA, row 0 at
     // the top (empty for swapchain formats other than 8-bit RGBA/BGRA).
     RenderImage read_capture() const;

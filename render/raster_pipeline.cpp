@@ -40,10 +40,10 @@ void RasterPipeline::create_pipeline(VkFormat color_format) {
                                                  .depth_format = kDepthFormat});
 }
 
-void RasterPipeline::ensure_depth(uint32_t width, uint32_t height) {
+bool RasterPipeline::ensure_depth(uint32_t width, uint32_t height) {
     Image& d = m_depth[m_ctx->frame_slot()];
     if (d.valid() && d.width() == width && d.height() == height)
-        return;
+        return true;
     ImageCreateInfo ci;
     ci.width = width;
     ci.height = height;
@@ -51,8 +51,8 @@ void RasterPipeline::ensure_depth(uint32_t width, uint32_t height) {
     ci.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     ci.name = "raster depth";
     ci.aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
-    d = Image::create(*m_ctx, ci);
-    VX_ASSERT_MSG(d.valid(), "out of GPU memory for the raster depth buffer");
+    d = Image::create(*m_ctx, ci); // Out of memory: logged.
+    return d.valid();
 }
 
 static void depth_barrier(VkCommandBuffer cmd, VkImage image) {
@@ -74,7 +74,8 @@ static void depth_barrier(VkCommandBuffer cmd, VkImage image) {
 
 uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
                                 std::span<const SceneAccel::DrawChunk> chunks, VkBuffer indices) {
-    ensure_depth(f.width, f.height);
+    const bool have_depth = ensure_depth(f.width, f.height); // A renderer made it already.
+    VX_ASSERT_MSG(have_depth, "out of GPU memory for the raster depth buffer");
     const Image& depth = m_depth[m_ctx->frame_slot()];
     image_barrier(cmd, f.target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,

@@ -51,10 +51,12 @@ public:
     // of chunks drawn.
     uint32_t record(VkCommandBuffer cmd, const RasterFrame& frame, std::span<const SceneAccel::DrawChunk> chunks,
                     VkBuffer indices);
+    // Before record(), after Context::begin_frame: this frame slot's depth buffer for width x
+    // height frames. False when GPU memory runs out (logged): do not record().
+    bool ensure_depth(uint32_t width, uint32_t height);
 
 private:
     void create_pipeline(VkFormat color_format);
-    void ensure_depth(uint32_t width, uint32_t height);
 
     Context* m_ctx;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;

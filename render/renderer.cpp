@@ -24,6 +24,9 @@
 
 namespace vx::render {
 
+// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
+constexpr VkDeviceSize kGBufferPixelBytes[3] = {8, 4, 8};
+
 struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
     std::unique_ptr<SceneAccel> accel;
@@ -67,6 +70,18 @@ struct Renderer::Impl {
     void record_ui(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
         if (ui && !ui->empty())
             ui->record(cmd, target().handle(), target().view(), width, height);
+    }
+    // A frame that could not be recorded whole: what was recorded (uploads, builds) is submitted
+    // so the scene's state stays true, and nothing is traced or read back.
+    Status abandon_frame(Status why) {
+        stamped[ctx->frame_slot()] = false;
+        if (!ctx->end_frame())
+            return lost_error();
+        return why;
+    }
+    static Status lost_error() {
+        return Error{"the GPU device was lost (a hang or a driver reset): frames fail until the renderer is "
+                     "recreated"};
     }
     std::chrono::steady_clock::time_point last_present{};
     // Timestamps (kStamps per frame slot): frame start, after BLAS builds, after the TLAS, after
@@ -116,12 +131,17 @@ struct Renderer::Impl {
         out.memory = accel->memory();
         out.raster_chunks = raster_chunks;
     }
-    void update_materials();
+    bool update_materials();
     Image& target() { return targets[ctx->frame_slot()]; }
-    void ensure_target(uint32_t width, uint32_t height);
+    bool ensure_target(uint32_t width, uint32_t height);
+    // After begin_frame, before recording: every frame resource but the scene's acceleration
+    // structures (target, G-buffer, materials, emitter list, read-backs, denoiser, UI). An
+    // error names the one that could not be allocated; a later frame tries again.
+    Status prepare_frame(const RenderSettings& s, bool readback, bool gbuffer);
     void write_params(const RenderSettings& s, const Camera& cam);
     void write_descriptors();
-    void record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
+    Status record_scene(VkCommandBuffer cmd, const Camera& cam);
+    void record_shading(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat);
     void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     uint32_t raster_chunks = 0; // Chunks the last frame's raster pass drew.
@@ -208,8 +228,10 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     if (!queries || !stamped[slot])
         return;
     uint64_t t[kStamps];
-    VK_CHECK(vkGetQueryPoolResults(ctx->device(), queries, ctx->frame_slot() * kStamps, kStamps, sizeof t, t,
-                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    if (!ctx->check_device(vkGetQueryPoolResults(ctx->device(), queries, ctx->frame_slot() * kStamps, kStamps, sizeof t,
+                                                 t, sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+                           "vkGetQueryPoolResults"))
+        return;
     auto ms = [&](int i) { return double(t[i + 1] - t[i]) * ms_per_tick; };
     out.gpu_blas_ms = ms(0);
     out.gpu_tlas_ms = ms(1);
@@ -219,10 +241,10 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     out.gpu_frame_ms = double(t[4] - t[0]) * ms_per_tick;
 }
 
-void Renderer::Impl::update_materials() {
+bool Renderer::Impl::update_materials() {
     const uint32_t count = std::max<uint32_t>(uint32_t(registry.size()), max_block_id + 1);
     if (!materials_dirty && count <= material_count)
-        return;
+        return true;
     std::vector<gpu::Material> table(count);
     for (uint32_t id = 0; id < count; ++id) {
         const world::BlockInfo b = registry.info(world::BlockId(id));
@@ -230,11 +252,14 @@ void Renderer::Impl::update_materials() {
         // w: transparent (the shaders' vx_transparent); air never reaches a shader.
         table[id].emission = glm::vec4(b.emission, registry.is_opaque(world::BlockId(id)) ? 0.f : 1.f);
     }
-    materials = upload_buffer(*ctx, table.data(), table.size() * sizeof(gpu::Material),
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "materials");
-    VX_ASSERT_MSG(materials.valid(), "out of GPU memory for materials");
+    Buffer table_buffer = upload_buffer(*ctx, table.data(), table.size() * sizeof(gpu::Material),
+                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "materials");
+    if (!table_buffer.valid())
+        return false; // Logged by Buffer::create; the old table stays.
+    materials = std::move(table_buffer);
     material_count = count;
     materials_dirty = false;
+    return true;
 }
 
 void Renderer::Impl::update_emitters() {
@@ -255,12 +280,7 @@ void Renderer::Impl::update_emitters() {
 // The kMaxEmitterChunks emissive chunks nearest the camera, camera-relative, into this frame
 // slot's list; returns how many.
 uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
-    Buffer& list = emitter_lists[ctx->frame_slot()];
-    if (!list.valid()) {
-        list = Buffer::create(*ctx, {gpu::kMaxEmitterChunks * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                     MemoryUse::Upload, 0, "emitter chunks"});
-        VX_ASSERT_MSG(list.valid(), "out of GPU memory for the emitter list");
-    }
+    Buffer& list = emitter_lists[ctx->frame_slot()]; // Allocated by prepare_frame.
     auto origin = [&](world::ChunkCoord c) {
         const world::BlockPos o = world::chunk_origin(c) - camera_block;
         return glm::dvec3(o);
@@ -277,23 +297,74 @@ uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
     return uint32_t(n);
 }
 
-void Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
+bool Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     Image& t = target();
     if (t.valid() && t.width() == width && t.height() == height)
-        return;
+        return true;
     // Resized: the old image goes to this frame's retire list; the slot's last frame is done.
     t = Image::create(*ctx, {width, height, target_format,
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, // The raster pipeline draws into it.
                              "render target", VK_FORMAT_R8G8B8A8_UNORM});
-    VX_ASSERT_MSG(t.valid(), "out of GPU memory for the render target");
+    if (!t.valid())
+        return false; // Logged by Image::create.
     GBuffer& g = gbuffers[ctx->frame_slot()];
     g.radiance = Image::create(*ctx, {width, height, kRadianceFormat, kGBufferUsage, "gbuffer radiance"});
     g.albedo = Image::create(*ctx, {width, height, kAlbedoFormat, kGBufferUsage, "gbuffer albedo"});
     g.normal_depth = Image::create(*ctx, {width, height, kNormalDepthFormat, kGBufferUsage, "gbuffer normal depth"});
     g.reflected = Image::create(*ctx, {width, height, kReflectedFormat, kGBufferUsage, "gbuffer reflected"});
-    VX_ASSERT_MSG(g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid() && g.reflected.valid(),
-                  "out of GPU memory for the G-buffer");
+    if (g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid() && g.reflected.valid())
+        return true;
+    t.reset(); // The next frame makes the target and the whole G-buffer again.
+    return false;
+}
+
+Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback, bool with_gbuffer) {
+    const std::string size = std::to_string(s.width) + "x" + std::to_string(s.height);
+    auto out_of_memory = [&](const char* what) {
+        return Error{std::string("out of GPU memory for ") + what + " of a " + size +
+                     " frame: nothing drawn; a later frame (or a smaller size) tries again"};
+    };
+    if (!ensure_target(s.width, s.height))
+        return out_of_memory("the render target and G-buffer");
+    if (!update_materials())
+        return out_of_memory("the material table");
+    Buffer& list = emitter_lists[ctx->frame_slot()];
+    if (!list.valid())
+        list = Buffer::create(*ctx, {gpu::kMaxEmitterChunks * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                     MemoryUse::Upload, 0, "emitter chunks"});
+    if (!list.valid())
+        return out_of_memory("the emitter list");
+    const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
+    if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
+        readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});
+        if (!readback.valid())
+            return out_of_memory("the image read-back");
+    }
+    const VkDeviceSize gbuffer_bytes = pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]);
+    if (with_gbuffer && (!gbuffer_readback.valid() || gbuffer_readback.size() != gbuffer_bytes)) {
+        gbuffer_readback =
+            Buffer::create(*ctx, {gbuffer_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "gbuffer readback"});
+        if (!gbuffer_readback.valid())
+            return out_of_memory("the G-buffer read-back");
+    }
+    if (s.pipeline == PipelineKind::Raster) {
+        if (!raster)
+            raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
+        if (!raster->ensure_depth(s.width, s.height))
+            return out_of_memory("the raster depth buffer");
+    }
+    if (denoise_active(s)) {
+        if (!denoiser)
+            denoiser = std::make_unique<Denoiser>(*ctx, s.width, s.height);
+        else if (!denoiser->ready() || denoiser->width() != s.width || denoiser->height() != s.height)
+            denoiser->resize(s.width, s.height);
+        if (!denoiser->ready())
+            return out_of_memory("the denoiser's images");
+    }
+    if (ui && !ui->prepare())
+        return out_of_memory("the UI");
+    return {};
 }
 
 void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
@@ -366,12 +437,10 @@ void Renderer::Impl::write_descriptors() {
     vkUpdateDescriptorSets(ctx->device(), 7, w, 0, nullptr);
 }
 
-// Everything render() and present() share: uploads, BLAS and TLAS builds, the trace. Leaves the
-// target in TRANSFER_SRC_OPTIMAL, readable by transfers.
-void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
-    update_materials();
+// What render() and present() share, after prepare_frame: uploads, BLAS and TLAS builds (an
+// error when their memory runs out; the frame is then abandoned), then record_shading.
+Status Renderer::Impl::record_scene(VkCommandBuffer cmd, const Camera& cam) {
     update_emitters();
-    ensure_target(s.width, s.height);
     if (queries)
         vkCmdResetQueryPool(cmd, queries, ctx->frame_slot() * kStamps, kStamps);
     // The previous frame may still be running: it traces BLASes this frame refits, reads chunk
@@ -380,10 +449,19 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
     stamp(cmd, 0);
-    accel->record_builds(cmd);
+    if (!accel->record_builds(cmd))
+        return Error{"out of GPU memory for the acceleration-structure build (scratch, staging or index "
+                     "pattern): nothing drawn; the next frame tries again"};
     stamp(cmd, 1);
-    accel->record_tlas_build(cmd, cam.block);
+    if (!accel->record_tlas_build(cmd, cam.block))
+        return Error{"out of GPU memory for the TLAS or its scratch: nothing drawn; the next frame tries again"};
     stamp(cmd, 2);
+    return {};
+}
+
+// The trace (or raster pass) and the denoiser. Leaves the target in TRANSFER_SRC_OPTIMAL,
+// readable by transfers.
+void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
     raster_chunks = 0;
     if (s.pipeline == PipelineKind::Raster) {
         record_raster(cmd, s, cam);
@@ -438,12 +516,8 @@ static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
 
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
 void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
-    if (!denoiser)
-        denoiser = std::make_unique<Denoiser>(*ctx, s.width, s.height);
-    else if (denoiser->width() != s.width || denoiser->height() != s.height)
-        denoiser->resize(s.width, s.height);
-    else if (!denoised_last_frame || denoised_camera.fov_y_degrees != cam.fov_y_degrees ||
-             !same_sampling(denoised_settings, s))
+    // Made or resized by prepare_frame (which dropped the history then).
+    if (!denoised_last_frame || denoised_camera.fov_y_degrees != cam.fov_y_degrees || !same_sampling(denoised_settings, s))
         denoiser->reset_history();
     denoised_settings = s;
     const GBuffer& g = gbuffers[ctx->frame_slot()];
@@ -473,9 +547,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
 
 // The raster baseline in place of the trace: same target, same layout afterwards.
 void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
-    if (!raster)
-        raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
-    RasterFrame f;
+    RasterFrame f; // The pipeline and its depth buffer: made by prepare_frame.
     f.target = target().handle();
     f.target_view = target().view();
     f.width = s.width;
@@ -500,11 +572,7 @@ void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s,
 // The copy of the target into the host-visible read-back buffer (render() waits for it). The
 // copy is raw bytes whatever the target's format (UNORM or SRGB), so PNGs do not depend on it.
 void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
-    const VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
-    if (!readback.valid() || readback.size() != bytes) {
-        readback = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});
-        VX_ASSERT_MSG(readback.valid(), "out of GPU memory for the render read-back");
-    }
+    VX_ASSERT(readback.size() == VkDeviceSize(width) * height * 4); // prepare_frame made it.
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {width, height, 1};
@@ -514,17 +582,9 @@ void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
-constexpr VkDeviceSize kGBufferPixelBytes[3] = {8, 4, 8};
-
 void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
     const VkDeviceSize pixels = VkDeviceSize(width) * height;
-    const VkDeviceSize bytes = pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]);
-    if (!gbuffer_readback.valid() || gbuffer_readback.size() != bytes) {
-        gbuffer_readback =
-            Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "gbuffer readback"});
-        VX_ASSERT_MSG(gbuffer_readback.valid(), "out of GPU memory for the G-buffer read-back");
-    }
+    VX_ASSERT(gbuffer_readback.size() == pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]));
     // Last use of the frame's G-buffer (the next frame starts it from UNDEFINED).
     const GBuffer& g = gbuffers[ctx->frame_slot()];
     const VkImage images[3] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()};
@@ -569,19 +629,32 @@ void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t he
 }
 
 RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
+    Result<RenderImage> img = try_render(settings, camera, gbuffer);
+    VX_ASSERT_MSG(img, img ? "" : img.error().c_str());
+    return std::move(*img);
+}
+
+Result<RenderImage> Renderer::try_render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
     using Clock = std::chrono::steady_clock;
     VX_ASSERT(settings.width > 0 && settings.height > 0);
     const auto t0 = Clock::now();
     Impl& d = *m;
     VkCommandBuffer cmd = d.ctx->begin_frame();
-    d.record_frame(cmd, settings, camera);
+    if (!cmd)
+        return Error{Impl::lost_error().error()};
+    Status ok = d.prepare_frame(settings, true, gbuffer != nullptr);
+    if (ok)
+        ok = d.record_scene(cmd, camera);
+    if (!ok)
+        return Error{d.abandon_frame(std::move(ok)).error()};
+    d.record_shading(cmd, settings, camera);
     d.record_ui(cmd, settings.width, settings.height);
     d.record_readback(cmd, settings.width, settings.height);
     if (gbuffer)
         d.record_gbuffer_readback(cmd, settings.width, settings.height);
     const auto t1 = Clock::now();
-    d.ctx->end_frame();
-    d.ctx->wait_frame();
+    if (!d.ctx->end_frame() || !d.ctx->wait_frame())
+        return Error{Impl::lost_error().error()};
     const auto t2 = Clock::now();
 
     RenderImage img;
@@ -607,8 +680,13 @@ void Renderer::set_ui(UiDrawList list) {
     m->ui_pass().set(std::move(list));
 }
 
-void Renderer::set_ui_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
-    m->ui_pass().set_texture(width, height, std::move(rgba));
+Status Renderer::set_ui_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
+    if (m->ctx->lost())
+        return Impl::lost_error();
+    if (!m->ui_pass().set_texture(width, height, std::move(rgba)))
+        return Error{"out of GPU memory for a " + std::to_string(width) + "x" + std::to_string(height) +
+                     " UI texture: the previous texture stays"};
+    return {};
 }
 
 Result<PresentResult> Renderer::present(const RenderSettings& settings, const Camera& camera, RenderImage* capture) {
@@ -617,45 +695,67 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     Impl& d = *m;
     if (!d.presenter)
         return Error{"present() needs a renderer created with a window (RendererCreateInfo::glfw_window)"};
+    if (d.ctx->lost())
+        return Error{Impl::lost_error().error()};
     const auto t0 = Clock::now();
     const std::optional<VkExtent2D> extent = d.presenter->prepare();
+    if (d.ctx->lost()) // Recreating the swapchain waits for the device.
+        return Error{Impl::lost_error().error()};
     if (!extent)
         return PresentResult::Skipped;
     // After prepare(): the first call creates the swapchain, whose usage decides this.
     if (capture && !d.presenter->can_capture())
         return Error{"present(): this surface's images cannot be read back (no TRANSFER_SRC usage)"};
     VkCommandBuffer cmd = d.ctx->begin_frame(); // Waits for the frame kFramesInFlight back.
+    if (!cmd)
+        return Error{Impl::lost_error().error()};
     RenderStats st;
     d.read_stamps(st);
-    if (!d.presenter->acquire()) {
-        d.stamped[d.ctx->frame_slot()] = false;
-        d.ctx->end_frame(); // Empty: keeps the slot's fence signalling; recreated next call.
-        return PresentResult::Skipped;
-    }
-    const auto t1 = Clock::now();
+    const auto t_record = Clock::now();
     RenderSettings s = settings;
     s.width = extent->width;
     s.height = extent->height;
-    d.record_frame(cmd, s, camera);
+    // Everything that can run out of memory comes before the acquire: a failed frame then ends
+    // without holding a swapchain image or a signalled semaphore.
+    Status ok = d.prepare_frame(s, false, false);
+    if (ok && capture && !d.presenter->prepare_capture())
+        ok = Error{"out of GPU memory for the present capture: nothing drawn"};
+    if (ok)
+        ok = d.record_scene(cmd, camera);
+    if (!ok)
+        return Error{d.abandon_frame(std::move(ok)).error()};
+    const auto t_acquire = Clock::now();
+    if (!d.presenter->acquire()) {
+        // Out of date (recreated next call) or lost: the scene's builds are submitted still.
+        Status why = d.abandon_frame({});
+        if (!why || d.ctx->lost())
+            return Error{Impl::lost_error().error()};
+        return PresentResult::Skipped;
+    }
+    const auto t1 = Clock::now();
+    d.record_shading(cmd, s, camera);
     d.record_ui(cmd, s.width, s.height);
     d.presenter->record_blit(cmd, d.target().handle(), capture != nullptr);
     d.stamp(cmd, 4);
-    d.ctx->end_frame(d.presenter->submit_sync());
+    if (!d.ctx->end_frame(d.presenter->submit_sync()))
+        return Error{Impl::lost_error().error()};
     const auto t2 = Clock::now();
-    d.presenter->present();
+    if (!d.presenter->present())
+        return Error{Impl::lost_error().error()};
     const auto t3 = Clock::now();
 
     d.fill_accel_stats(st);
-    st.cpu_ms = Ms(t2 - t1).count();
+    st.cpu_ms = Ms(t2 - t1).count() + Ms(t_acquire - t_record).count();
     st.gpu_ms = -1;
-    st.wait_ms = Ms(t1 - t0).count();
+    st.wait_ms = Ms(t_record - t0).count() + Ms(t1 - t_acquire).count();
     st.present_ms = Ms(t3 - t2).count();
     if (d.last_present != Clock::time_point{})
         st.frame_ms = Ms(t0 - d.last_present).count();
     d.last_present = t0;
     d.stats = st;
     if (capture) {
-        d.ctx->wait_frame();
+        if (!d.ctx->wait_frame())
+            return Error{Impl::lost_error().error()};
         *capture = d.presenter->read_capture();
     }
     return PresentResult::Presented;
@@ -703,6 +803,53 @@ void Renderer::clear_chunks() {
     m->chunk_blocks.clear();
     m->emitters_dirty = true;
 }
+bool Renderer::device_lost() const { return m->ctx->lost(); }
+void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }
+void Renderer::fail_allocations(std::string name_prefix) { m->ctx->fail_allocations(std::move(name_prefix)); }
+
+void Renderer::set_vsync(bool vsync) {
+    if (m->presenter)
+        m->presenter->set_vsync(vsync);
+}
+
+bool Renderer::vsync() const {
+    return m->presenter && m->presenter->swapchain().present_mode() == VK_PRESENT_MODE_FIFO_KHR;
+}
+
+uint64_t frame_bytes_per_pixel() {
+    // Per frame slot: the 8-bit target and the G-buffer (radiance, albedo, normal_depth,
+    // reflected: render/gbuffer.h); the 8-bit read-back; the denoiser's twelve RGBA16F images
+    // and its 8-bit output (render/denoiser.h).
+    constexpr uint64_t kSlot = 4 + 8 + 4 + 8 + 8;
+    constexpr uint64_t kDenoiser = 12 * 8 + 4;
+    return kFramesInFlight * kSlot + 4 + kDenoiser;
+}
+
+Status Renderer::check_frame_size(uint32_t width, uint32_t height) const {
+    const uint64_t pixels = uint64_t(width) * height;
+    const uint64_t need = pixels * frame_bytes_per_pixel();
+    VkPhysicalDeviceMemoryProperties mem;
+    vkGetPhysicalDeviceMemoryProperties(m->ctx->physical_device(), &mem);
+    uint64_t heap = 0;
+    for (uint32_t i = 0; i < mem.memoryHeapCount; ++i)
+        if (mem.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            heap = std::max<uint64_t>(heap, mem.memoryHeaps[i].size);
+    VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
+    vkGetPhysicalDeviceProperties2(m->ctx->physical_device(), &p2);
+    const uint64_t largest_image = pixels * 8; // RGBA16F.
+    auto gib = [](uint64_t b) { return std::to_string(double(b) / double(1ull << 30)).substr(0, 5) + " GiB"; };
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    if (need > heap)
+        return Error{"a " + size + " target needs about " + gib(need) + " of GPU memory for its frame resources (" +
+                     std::to_string(frame_bytes_per_pixel()) + " bytes per pixel), more than the device's " + gib(heap) +
+                     ": choose a smaller size"};
+    if (p11.maxMemoryAllocationSize && largest_image > p11.maxMemoryAllocationSize)
+        return Error{"a " + size + " target needs " + gib(largest_image) + " images, more than the device allows in one "
+                     "allocation (" + gib(p11.maxMemoryAllocationSize) + "): choose a smaller size"};
+    return {};
+}
+
 const DeviceReport& Renderer::device() const { return m->ctx->report(); }
 uint32_t Renderer::validation_errors() const { return m->ctx->validation_errors(); }
 const RenderStats& Renderer::last_stats() const { return m->stats; }

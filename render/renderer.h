@@ -253,6 +253,13 @@ public:
 
     // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
     // that frame's G-buffer into *gbuffer (tests, tools; costs three more copies).
+    // Errors, each one line, the renderer kept usable: out of GPU memory for a frame resource
+    // (render target, G-buffer, read-backs, materials, emitter list, denoiser images, UI, AS
+    // scratch, staging, TLAS, raster depth): nothing is drawn, the scene's edits are kept, and a later call
+    // (or a smaller size) tries again; the device was lost (device_lost()): every later frame
+    // fails the same way until the renderer is recreated.
+    Result<RenderImage> try_render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);
+    // try_render for tests and tools that own the device: aborts with its error line instead.
     RenderImage render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);
     // One call: makes `scene` the renderer's scene, then renders. Chunks absent from `scene` are
     // dropped; every chunk in it is re-sent (a refit when its slots fit), so for small edits
@@ -269,14 +276,37 @@ public:
     // `capture` (tests, screenshots): also reads the presented image back into *capture as RGBA
     // and waits for this frame (written only when Presented); needs a surface whose images
     // allow TRANSFER_SRC.
+    // Errors: as try_render's (out of memory: nothing presented, a later call tries again; device
+    // lost), and no window.
     Result<PresentResult> present(const RenderSettings& settings, const Camera& camera, RenderImage* capture = nullptr);
+    // Window renderers: the present mode of the next swapchain (FIFO with vsync; else MAILBOX,
+    // IMMEDIATE or FIFO, what the surface offers); a change recreates the swapchain at the next
+    // present(). vsync(): whether the current mode waits for the display (FIFO).
+    void set_vsync(bool vsync);
+    bool vsync() const;
     // The UI drawn over later frames of render() and present() (see UiDrawList; an empty list
     // removes it). `list` must be valid (ui_draw_list_error() empty).
     void set_ui(UiDrawList list);
     // The UI's texture: width x height RGBA8 texels (straight alpha, what the screen shows), row 0
     // at the top; uploaded at the next frame. Until one is set the texture is one white texel.
-    // Needs rgba.size() == width * height * 4 and both sizes in 1..16384.
-    void set_ui_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba);
+    // Needs rgba.size() == width * height * 4 and both sizes in 1..16384. Allocates now: an error
+    // when GPU memory runs out (the previous texture stays) or the device was lost.
+    Status set_ui_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba);
+
+    // The device was lost (VK_ERROR_DEVICE_LOST from a submit, a wait, an acquire or a present):
+    // frames fail; the scene, being the caller's, is kept by the caller and sent to a new
+    // Renderer. Destroying this one is safe.
+    bool device_lost() const;
+    // Whether width x height frames can fit this device: an error naming the size and the
+    // estimate when the frame resources (frame_bytes_per_pixel) exceed the largest device-local
+    // heap or one image exceeds the device's largest allocation.
+    Status check_frame_size(uint32_t width, uint32_t height) const;
+    // Test hooks (Context::simulate_device_loss, Context::fail_allocations): the next submission
+    // reads as a lost device; resources whose debug name starts with `name_prefix` ("render
+    // target", "gbuffer", "render readback", "TLAS", "AS scratch", "ui texture", "denoise") fail
+    // to allocate until called again with "".
+    void simulate_device_loss();
+    void fail_allocations(std::string name_prefix);
 
     const DeviceReport& device() const;
     uint32_t validation_errors() const;
@@ -289,6 +319,10 @@ private:
     struct Impl;
     std::unique_ptr<Impl> m;
 };
+
+// Device memory per pixel of a frame's resources at their largest: the target and G-buffer of
+// every frame slot, the read-back, and the denoiser's images. Thread-safe.
+uint64_t frame_bytes_per_pixel();
 
 // Writes an image as PNG (stb_image_write). Main thread only.
 Status write_png(const std::string& path, const RenderImage& image);

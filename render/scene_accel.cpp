@@ -12,6 +12,7 @@ struct SceneAccel::BuildBatch {
     std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
     std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
     std::vector<VkDeviceSize> scratch_sizes;
+    std::vector<world::ChunkCoord> coords; // The chunk of each build.
 };
 
 // A refit keeps the tree built for the old geometry, whose boxes loosen as edits pile up, so
@@ -100,17 +101,21 @@ void SceneAccel::retain_only(const std::unordered_set<world::ChunkCoord, world::
     std::erase_if(m_chunks, [&](const auto& kv) { return !keep.count(kv.first); });
 }
 
-void SceneAccel::ensure_indices(uint32_t slots) {
+bool SceneAccel::ensure_indices(uint32_t slots) {
     if (slots <= m_index_slots)
-        return;
+        return true;
     // Grow geometrically; the pattern is a prefix of itself, so refits still see the same indices.
-    m_index_slots = std::max(slots, m_index_slots * 2);
-    const std::vector<uint32_t> idx = slot_indices(m_index_slots);
-    m_indices = upload_buffer(*m_ctx, idx.data(), idx.size() * sizeof(uint32_t),
-                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
-                                  VK_BUFFER_USAGE_INDEX_BUFFER_BIT, // The raster pipeline draws with it too.
-                              "slot index pattern");
-    VX_ASSERT_MSG(m_indices.valid(), "out of GPU memory for the index pattern");
+    const uint32_t grown = std::max(slots, m_index_slots * 2);
+    const std::vector<uint32_t> idx = slot_indices(grown);
+    Buffer indices = upload_buffer(*m_ctx, idx.data(), idx.size() * sizeof(uint32_t),
+                                   VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                                       VK_BUFFER_USAGE_INDEX_BUFFER_BIT, // The raster pipeline draws with it too.
+                                   "slot index pattern");
+    if (!indices.valid())
+        return false; // Logged by Buffer::create; the old pattern stays.
+    m_indices = std::move(indices);
+    m_index_slots = grown;
+    return true;
 }
 
 VkDeviceAddress SceneAccel::scratch(VkDeviceSize bytes) {
@@ -122,7 +127,8 @@ VkDeviceAddress SceneAccel::scratch(VkDeviceSize bytes) {
         bi.alignment = align;
         bi.name = "AS scratch";
         m_scratch = Buffer::create(*m_ctx, bi); // The old one retires with this frame.
-        VX_ASSERT_MSG(m_scratch.valid(), "out of GPU memory for AS scratch");
+        if (!m_scratch.valid())
+            return 0; // Logged by Buffer::create; the next call tries again.
     }
     return align_up(m_scratch.address(), align);
 }
@@ -272,20 +278,14 @@ void SceneAccel::prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& bat
     batch.infos.push_back(info); // pGeometries is set in record_blas_builds.
     batch.ranges.push_back({triangles, 0, 0, 0});
     batch.scratch_sizes.push_back(scratch_bytes);
+    batch.coords.push_back(c);
     g.pending = Pending::None;
     g.dirty.reset();
-    if (!g.hot) {
-        // Cold: never refitted, so the vertices are needed only by this build; they retire with
-        // this frame. The compacted-size query follows the build (record_compaction_queries).
-        g.vertices.reset();
-        g.mesh = world::ChunkMesh{};
-        m_built_cold.push_back(c);
-    }
 }
 
-void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
+bool SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
     if (batch.infos.empty())
-        return;
+        return true;
     const VkDeviceSize align = m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment;
     VkDeviceSize total = 0;
     std::vector<VkDeviceSize> offsets;
@@ -294,6 +294,8 @@ void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
         total += align_up(s, align);
     }
     const VkDeviceAddress base = scratch(total + align);
+    if (!base)
+        return false;
     std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs;
     for (size_t i = 0; i < batch.infos.size(); ++i) {
         batch.infos[i].pGeometries = &batch.geometries[i]; // The vector may have moved while filling.
@@ -301,9 +303,10 @@ void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
         range_ptrs.push_back(&batch.ranges[i]);
     }
     vkCmdBuildAccelerationStructuresKHR(cmd, uint32_t(batch.infos.size()), batch.infos.data(), range_ptrs.data());
+    return true;
 }
 
-void SceneAccel::record_builds(VkCommandBuffer cmd) {
+bool SceneAccel::record_builds(VkCommandBuffer cmd) {
     m_stats = {};
     ++m_frame;
     // Work of earlier frames (traces reading chunk buffers, builds writing BLASes and scratch)
@@ -324,9 +327,9 @@ void SceneAccel::record_builds(VkCommandBuffer cmd) {
             max_slots = std::max(max_slots, g.layout.total);
             staging += staging_bytes(g);
         }
-    ensure_indices(max_slots);
-
-    m_staging.begin(staging);
+    // Out of memory for the frame's own buffers: every pending chunk stays pending.
+    if (!ensure_indices(max_slots) || !m_staging.begin(staging))
+        return false;
     BuildBatch batch;
     batch.geometries.reserve(m_chunks.size());
     for (auto& [c, g] : m_chunks)
@@ -337,10 +340,30 @@ void SceneAccel::record_builds(VkCommandBuffer cmd) {
                        VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR |
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    record_blas_builds(cmd, batch);
+    if (!record_blas_builds(cmd, batch)) {
+        // No scratch: none of the batch is built. Each chunk is rebuilt whole next frame (its
+        // mesh is still here), and is not drawn meanwhile (an unbuilt BLAS must not be traced).
+        for (world::ChunkCoord c : batch.coords) {
+            ChunkGpu& g = m_chunks.at(c);
+            g.blas.reset();
+            g.pending = Pending::Build;
+        }
+        return false;
+    }
+    for (world::ChunkCoord c : batch.coords) {
+        ChunkGpu& g = m_chunks.at(c);
+        if (!g.hot) {
+            // Cold: never refitted, so the vertices are needed only by this build; they retire
+            // with this frame. The compacted-size query follows the build (record_compaction_queries).
+            g.vertices.reset();
+            g.mesh = world::ChunkMesh{};
+            m_built_cold.push_back(c);
+        }
+    }
+    return true;
 }
 
-void SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block) {
+bool SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block) {
     // One barrier between all BLAS builds (and compaction copies) and what reads them: the
     // compacted-size queries and the TLAS build.
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
@@ -348,11 +371,13 @@ void SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_b
                    VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
     record_compaction_queries(cmd);
-    record_tlas(cmd, camera_block);
+    if (!record_tlas(cmd, camera_block))
+        return false;
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                    VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
     count_memory();
+    return true;
 }
 
 } // namespace vx::render

@@ -78,15 +78,18 @@ public:
 
     // Records the frame's uploads, BLAS builds/refits and the TLAS build into `cmd` (between
     // Context::begin_frame and end_frame). Afterwards the TLAS and the chunk table may be read by
-    // ray-tracing shaders. `camera_block` is the world block the camera is in.
-    void record(VkCommandBuffer cmd, world::BlockPos camera_block) {
-        record_builds(cmd);
-        record_tlas_build(cmd, camera_block);
+    // ray-tracing shaders. `camera_block` is the world block the camera is in. False (logged)
+    // when a frame resource (scratch, staging, the index pattern, the TLAS) cannot be allocated:
+    // what was recorded may still be submitted, nothing may trace this frame, and the chunks it
+    // could not build are built by the next call.
+    bool record(VkCommandBuffer cmd, world::BlockPos camera_block) {
+        return record_builds(cmd) && record_tlas_build(cmd, camera_block);
     }
     // The two halves of record(), so a caller can time them apart: uploads and BLAS builds and
-    // refits, then (after a barrier) the TLAS build. Call both, in this order.
-    void record_builds(VkCommandBuffer cmd);
-    void record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block);
+    // refits, then (after a barrier) the TLAS build. Call both, in this order (the second only
+    // when the first succeeded).
+    bool record_builds(VkCommandBuffer cmd);
+    bool record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block);
 
     VkAccelerationStructureKHR tlas() const { return m_frames[m_ctx->frame_slot()].tlas.handle(); }
     // Address of uint64[instance]: the Quad slot buffer of each TLAS instance.
@@ -140,19 +143,19 @@ private:
     };
     struct BuildBatch; // Geometry and build infos of one frame's BLAS call.
 
-    void ensure_indices(uint32_t slots);
+    bool ensure_indices(uint32_t slots);
     void demote_idle_hot_chunks();
     VkDeviceSize staging_bytes(const ChunkGpu& g) const;
     bool allocate_chunk(world::ChunkCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);
     void fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes);
     void upload_chunk(ChunkGpu& g, bool whole);
     void prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch);
-    void record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
+    bool record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
     void record_compactions(VkCommandBuffer cmd);
     void record_compaction_queries(VkCommandBuffer cmd);
-    void record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
+    bool record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
     void count_memory();
-    VkDeviceAddress scratch(VkDeviceSize bytes);
+    VkDeviceAddress scratch(VkDeviceSize bytes); // 0: out of memory (logged).
 
     Context* m_ctx;
     std::unordered_map<world::ChunkCoord, ChunkGpu, world::ChunkCoordHash> m_chunks;

@@ -16,7 +16,7 @@ static VkAccelerationStructureGeometryKHR instance_geometry(VkDeviceAddress inst
     return g;
 }
 
-void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) {
+bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) {
     // Sorted coordinates: the instance order (and so the image) does not depend on hash order.
     std::vector<std::pair<world::ChunkCoord, ChunkGpu*>> chunks;
     chunks.reserve(m_chunks.size());
@@ -42,15 +42,22 @@ void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
         VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
         vkGetAccelerationStructureBuildSizesKHR(m_ctx->device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
                                                 &f.capacity, &sizes);
+        f.tlas_scratch = sizes.buildScratchSize;
+        // One at a time: the first that fails is logged (Buffer::create), and the next frame
+        // tries again (the TLAS is left invalid).
         f.tlas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
                                      sizes.accelerationStructureSize, "TLAS");
-        f.instances = Buffer::create(*m_ctx, {f.capacity * sizeof(VkAccelerationStructureInstanceKHR),
-                                              VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
-                                              MemoryUse::Upload, 16, "TLAS instances"});
-        f.table = Buffer::create(*m_ctx, {f.capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                          MemoryUse::Upload, 16, "chunk table"});
-        VX_ASSERT_MSG(f.tlas.valid() && f.instances.valid() && f.table.valid(), "out of GPU memory for the TLAS");
-        f.tlas_scratch = sizes.buildScratchSize;
+        if (f.tlas.valid())
+            f.instances = Buffer::create(*m_ctx, {f.capacity * sizeof(VkAccelerationStructureInstanceKHR),
+                                                  VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+                                                  MemoryUse::Upload, 16, "TLAS instances"});
+        if (f.tlas.valid() && f.instances.valid())
+            f.table = Buffer::create(*m_ctx, {f.capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                              MemoryUse::Upload, 16, "chunk table"});
+        if (!f.tlas.valid() || !f.instances.valid() || !f.table.valid()) {
+            f.tlas.reset();
+            return false;
+        }
     }
 
     auto* inst = static_cast<VkAccelerationStructureInstanceKHR*>(f.instances.mapped());
@@ -77,9 +84,12 @@ void SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
     geom = instance_geometry(f.instances.address());
     info.dstAccelerationStructure = f.tlas.handle();
     info.scratchData.deviceAddress = scratch(f.tlas_scratch + m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment);
+    if (!info.scratchData.deviceAddress)
+        return false;
     const VkAccelerationStructureBuildRangeInfoKHR range{count, 0, 0, 0};
     const VkAccelerationStructureBuildRangeInfoKHR* range_ptr = &range;
     vkCmdBuildAccelerationStructuresKHR(cmd, 1, &info, &range_ptr);
+    return true;
 }
 
 } // namespace vx::render

@@ -49,9 +49,17 @@ Swapchain::Swapchain(Context& ctx, bool vsync) : m_ctx(&ctx) {
     VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &n, formats.data()));
     m_format = choose_surface_format(formats);
     VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, nullptr));
-    std::vector<VkPresentModeKHR> modes(n);
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, modes.data()));
-    m_mode = choose_present_mode(modes, vsync);
+    m_modes.resize(n);
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, m_modes.data()));
+    m_mode = choose_present_mode(m_modes, vsync);
+}
+
+void Swapchain::set_vsync(bool vsync) {
+    const VkPresentModeKHR mode = choose_present_mode(m_modes, vsync);
+    if (mode == m_mode)
+        return;
+    m_mode = mode;
+    m_out_of_date = true;
 }
 
 Swapchain::~Swapchain() {
@@ -83,6 +91,8 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
                   "the surface's images cannot be blitted to (no TRANSFER_DST usage)");
     // Frames in flight may still blit into or present the old images: wait (resizes are rare).
     m_ctx->wait_idle();
+    if (m_ctx->lost())
+        return false; // The caller reports it; the renderer must be recreated.
 
     VkSwapchainCreateInfoKHR ci{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
     ci.surface = m_ctx->surface();
@@ -131,24 +141,35 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
     return true;
 }
 
+// Out of date and suboptimal are the swapchain's to handle; a lost device marks the context;
+// anything else is a bug.
+static VkResult swapchain_result(Context& ctx, VkResult r, const char* what) {
+    if (r != VK_SUCCESS && r != VK_SUBOPTIMAL_KHR && r != VK_ERROR_OUT_OF_DATE_KHR)
+        ctx.check_device(r, what);
+    return r;
+}
+
 VkResult Swapchain::acquire(VkSemaphore acquired, uint32_t* index) {
     VX_ASSERT(m_swapchain);
-    const VkResult r =
-        VK_CHECK_SWAPCHAIN(vkAcquireNextImageKHR(m_ctx->device(), m_swapchain, UINT64_MAX, acquired, VK_NULL_HANDLE, index));
-    if (r != VK_SUCCESS)
+    const VkResult r = swapchain_result(
+        *m_ctx, vkAcquireNextImageKHR(m_ctx->device(), m_swapchain, UINT64_MAX, acquired, VK_NULL_HANDLE, index),
+        "vkAcquireNextImageKHR");
+    if (r == VK_SUBOPTIMAL_KHR || r == VK_ERROR_OUT_OF_DATE_KHR)
         m_out_of_date = true;
     return r;
 }
 
-void Swapchain::present(uint32_t index) {
+bool Swapchain::present(uint32_t index) {
     VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
     pi.waitSemaphoreCount = 1;
     pi.pWaitSemaphores = &m_render_done[index];
     pi.swapchainCount = 1;
     pi.pSwapchains = &m_swapchain;
     pi.pImageIndices = &index;
-    if (VK_CHECK_SWAPCHAIN(vkQueuePresentKHR(m_ctx->queue(), &pi)) != VK_SUCCESS)
+    const VkResult r = swapchain_result(*m_ctx, vkQueuePresentKHR(m_ctx->queue(), &pi), "vkQueuePresentKHR");
+    if (r == VK_SUBOPTIMAL_KHR || r == VK_ERROR_OUT_OF_DATE_KHR)
         m_out_of_date = true;
+    return r != VK_ERROR_DEVICE_LOST;
 }
 
 } // namespace vx::render

@@ -39,11 +39,15 @@ public:
 
     // Acquires the next image, signalling `acquired`. VK_SUCCESS or VK_SUBOPTIMAL_KHR: `*index`
     // is valid (suboptimal marks the swapchain stale); VK_ERROR_OUT_OF_DATE_KHR: nothing was
-    // acquired and the swapchain is stale.
+    // acquired and the swapchain is stale; VK_ERROR_DEVICE_LOST: nothing was acquired and the
+    // context is lost.
     VkResult acquire(VkSemaphore acquired, uint32_t* index);
     // Queues image `index` for presentation once render_done(index) is signalled. Out of date or
-    // suboptimal marks the swapchain stale.
-    void present(uint32_t index);
+    // suboptimal marks the swapchain stale. False: the device was lost (the context is marked).
+    bool present(uint32_t index);
+    // The present mode for later swapchains (choose_present_mode over the surface's modes); a
+    // change marks the swapchain stale, so the next frame recreates it.
+    void set_vsync(bool vsync);
 
     VkFormat format() const { return m_format.format; }
     VkPresentModeKHR present_mode() const { return m_mode; }
@@ -61,6 +65,7 @@ private:
     Context* m_ctx;
     VkSurfaceFormatKHR m_format{};
     VkPresentModeKHR m_mode = VK_PRESENT_MODE_FIFO_KHR;
+    std::vector<VkPresentModeKHR> m_modes; // The surface's.
     VkSwapchainKHR m_swapchain = VK_NULL_HANDLE;
     VkExtent2D m_extent{0, 0};
     VkExtent2D m_framebuffer{0, 0}; // The window size it was made for.

@@ -47,29 +47,39 @@ void UiPass::create_pipeline(VkFormat color_format) {
                                                  .alpha_blend = true});
 }
 
-void UiPass::set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
+bool UiPass::set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
     VX_ASSERT(width > 0 && height > 0 && rgba.size() == size_t(width) * height * 4);
-    m_tex_width = width;
-    m_tex_height = height;
-    m_tex_rgba = std::move(rgba);
-    m_tex_dirty = true;
+    return prepare_texture(width, height, rgba);
 }
 
-// A new device buffer (frames in flight keep reading the old one, which retires with this frame)
-// filled from a staging buffer that retires with this frame too.
-void UiPass::upload_texture(VkCommandBuffer cmd) {
-    const VkDeviceSize bytes = m_tex_rgba.size();
+// A new device buffer and its filled staging buffer; frames in flight keep reading the current
+// texture until the next record() copies this one in (the replaced buffers retire then).
+bool UiPass::prepare_texture(uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba) {
+    const VkDeviceSize bytes = rgba.size();
     Buffer staging = Buffer::create(*m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, 0, "ui texture staging"});
+    if (!staging.valid())
+        return false; // Logged by Buffer::create.
     Buffer texture = Buffer::create(*m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              MemoryUse::Device, 0, "ui texture"});
-    VX_ASSERT_MSG(staging.valid() && texture.valid(), "out of GPU memory for the UI texture");
-    std::memcpy(staging.mapped(), m_tex_rgba.data(), bytes);
-    const VkBufferCopy region{0, 0, bytes};
-    vkCmdCopyBuffer(cmd, staging.handle(), texture.handle(), 1, &region);
+    if (!texture.valid())
+        return false; // Logged by Buffer::create.
+    std::memcpy(staging.mapped(), rgba.data(), bytes);
+    m_next_staging = std::move(staging);
+    m_next_texture = std::move(texture);
+    m_next_width = width;
+    m_next_height = height;
+    return true;
+}
+
+void UiPass::upload_texture(VkCommandBuffer cmd) {
+    const VkBufferCopy region{0, 0, m_next_texture.size()};
+    vkCmdCopyBuffer(cmd, m_next_staging.handle(), m_next_texture.handle(), 1, &region);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    m_texture = std::move(texture);
-    m_tex_dirty = false;
+    m_texture = std::move(m_next_texture); // The old one retires with this frame.
+    m_next_staging.reset();                // Retires with this frame, after the copy.
+    m_tex_width = m_next_width;
+    m_tex_height = m_next_height;
 }
 
 // Copies the list's vertices and indices into this frame slot's buffer (grown when too small).
@@ -91,14 +101,21 @@ bool UiPass::upload_geometry(VkDeviceSize* index_offset) {
     return true;
 }
 
+bool UiPass::prepare() {
+    if (m_list.cmds.empty() || m_list.indices.empty())
+        return true;
+    // Until the game sets one, the texture is one white texel.
+    if (!m_texture.valid() && !m_next_texture.valid() && !prepare_texture(1, 1, {255, 255, 255, 255}))
+        return false;
+    return upload_geometry(&m_index_offset);
+}
+
 void UiPass::record(VkCommandBuffer cmd, VkImage target, VkImageView view, uint32_t width, uint32_t height) {
     if (m_list.cmds.empty() || m_list.indices.empty())
         return;
-    if (m_tex_dirty || !m_texture.valid())
+    const VkDeviceSize index_offset = m_index_offset;
+    if (m_next_texture.valid())
         upload_texture(cmd);
-    VkDeviceSize index_offset = 0;
-    if (!upload_geometry(&index_offset))
-        return; // Out of memory: the frame goes out without its UI.
     const Buffer& g = m_geometry[m_ctx->frame_slot()];
     // After the trace/denoiser/raster writes, which were made visible to transfers.
     image_barrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,

@@ -28,17 +28,25 @@ public:
     UiPass& operator=(const UiPass&) = delete;
 
     void set(UiDrawList list) { m_list = std::move(list); }
-    void set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba);
+    // Allocates the texture and its staging now (copied at the next record()). False when GPU
+    // memory runs out (logged): the previous texture stays.
+    bool set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba);
     bool empty() const { return m_list.cmds.empty(); }
 
     // Records the UI over `target` (width x height, in TRANSFER_SRC_OPTIMAL after earlier writes
     // made visible to transfers); it ends in TRANSFER_SRC_OPTIMAL with the UI's writes visible to
     // transfers. `view`: a view of format color_format. Nothing is recorded for an empty list.
+    // Call prepare() first, in the same frame.
     void record(VkCommandBuffer cmd, VkImage target, VkImageView view, uint32_t width, uint32_t height);
+    // After Context::begin_frame, before record(): allocates what this frame's UI needs (the
+    // default texture, the slot's geometry buffer) and copies the list in. False when GPU memory
+    // runs out (logged): the frame must not record the UI.
+    bool prepare();
 
 private:
     void create_pipeline(VkFormat color_format);
     void upload_texture(VkCommandBuffer cmd);
+    bool prepare_texture(uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
     bool upload_geometry(VkDeviceSize* index_offset);
 
     Context* m_ctx;
@@ -46,9 +54,11 @@ private:
     VkPipeline m_pipeline = VK_NULL_HANDLE;
     UiDrawList m_list;
     uint32_t m_tex_width = 1, m_tex_height = 1;
-    std::vector<uint8_t> m_tex_rgba{255, 255, 255, 255}; // The next texture to upload.
-    bool m_tex_dirty = true;
     Buffer m_texture; // Device memory, RGBA8 texels.
+    // The next texture (set_texture) and its texels in host memory, copied at the next record().
+    Buffer m_next_texture, m_next_staging;
+    VkDeviceSize m_index_offset = 0; // Of this frame's indices in its geometry buffer (prepare).
+    uint32_t m_next_width = 1, m_next_height = 1;
     std::array<Buffer, kFramesInFlight> m_geometry; // Vertices, then indices (4-byte aligned).
 };
 

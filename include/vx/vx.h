@@ -123,7 +123,8 @@ struct RenderDesc {
     RenderTarget target;
     std::string device = "auto"; // "auto", "cpu" (lavapipe), "gpu", or a device index (`vx info`).
     bool validation = false;     // Vulkan validation layer; errors counted in Stats.
-    bool vsync = true;           // Window: wait for the display (FIFO); false: present at once.
+    bool vsync = true;           // Window: wait for the display (FIFO); false: present at once
+                                 // (MAILBOX, else IMMEDIATE). Change it later with set_vsync().
 };
 
 struct EngineCreateInfo {
@@ -250,6 +251,10 @@ struct Stats {
     uint64_t gpu_memory_bytes = 0; // Device memory the renderer holds (0 without a GPU).
     uint64_t gpu_memory_used_bytes = 0; // Of it, in use.
     uint32_t validation_errors = 0; // Vulkan validation errors so far (validation on).
+    // The GPU device was lost (a hang, a driver reset): frames fail until recreate_renderer().
+    bool device_lost = false;
+    uint32_t device_losses = 0;  // Losses seen since creation (each renderer's counted once).
+    bool vsync = false;          // Window: the swapchain's present mode waits for the display.
     // Stored worlds: the store's state. A shared (PostgreSQL) world can lose its server: edits
     // then wait in memory (store_pending_edits) and are retried; nothing acknowledged is lost.
     bool store_connected = true;
@@ -298,7 +303,9 @@ class Engine {
 public:
     // Main thread (becomes the engine's thread). Opens the world, starts the threads and the
     // renderer. Errors: a bad description, a store that cannot open, no usable GPU (with a
-    // render target), a window target without a GLFWwindow*.
+    // render target), a window target without a GLFWwindow*, a headless target whose frame
+    // resources (about 168 bytes a pixel, the denoiser's included) cannot fit the device's
+    // largest memory heap (the line names both).
     static Result<std::unique_ptr<Engine>> create(const EngineCreateInfo& info);
     // Main thread. shutdown() if not done (errors are logged).
     ~Engine();
@@ -343,21 +350,35 @@ public:
     // Main thread. Rendering options for later frames.
     void set_render_settings(const RenderSettings& settings);
     // Main thread. Headless target: traces the viewer's view and reads it into `out` (resized to
-    // the target size). Blocks until the GPU is done. Errors: no GPU target, shut down.
+    // the target size). Blocks until the GPU is done. Errors: no GPU target, shut down; out of
+    // GPU memory for a frame resource (target, G-buffer, read-back, TLAS, scratch, denoiser, UI):
+    // `out` untouched, nothing else lost, the next call tries again; the device was lost:
+    // Stats::device_lost, and every frame call fails until recreate_renderer().
     Status render_to_image(Image& out);
     // Main thread. Window target: traces the viewer's view and presents it. Two frames are in
     // flight: the call waits only for the GPU frame two back, so the stats' GPU figures are those
     // of that frame. A minimised window presents nothing (ok). `capture`, if given, receives the
     // presented image (RGBA8; the call then waits for this frame): screenshots, tests.
+    // Errors: as render_to_image's (out of memory: nothing presented this call; device lost).
     Status render_to_window(Image* capture = nullptr);
+    // Main thread. Window target: vsync on (FIFO) or off (MAILBOX, else IMMEDIATE, else FIFO);
+    // the swapchain is recreated at the next render_to_window (Stats::vsync tells the mode).
+    // Nothing else changes. Errors: not a window target, shut down.
+    Status set_vsync(bool vsync);
+    // Main thread. A new renderer for the same target, e.g. after the device was lost: every
+    // chunk meshed now is uploaded again, and the UI and its texture are set again; the world,
+    // the streaming, saves and edits are untouched. Errors: no GPU target, shut down, no usable
+    // GPU (then frames fail until a later call succeeds).
+    Status recreate_renderer();
     // Main thread. The UI drawn over later frames (see UiDrawList; copied; an empty list removes
     // it). Errors: no GPU target, shut down, an index past the vertices, a command past the
-    // indices or not whole triangles (the previous UI stays).
+    // indices or not whole triangles (the previous UI stays), the device was lost.
     Status set_ui(const UiDrawList& ui);
     // Main thread. The UI's texture: width x height RGBA8 texels (straight alpha, sRGB encoded:
     // what the screen shows), row 0 at the top; uv (0, 0) is its top-left corner. Set it once
     // (e.g. Dear ImGui's font atlas) or when it changes; until then it is one white texel.
-    // Errors: no GPU target, shut down, a size of 0 or over 16384 a side, rgba not w * h * 4 bytes.
+    // Errors: no GPU target, shut down, a size of 0 or over 16384 a side, rgba not w * h * 4
+    // bytes, out of GPU memory for it (the previous texture stays), the device was lost.
     Status set_ui_texture(uint32_t width, uint32_t height, std::span<const uint8_t> rgba);
 
     // Main thread. Figures of the last frame and gauges now (see Stats).
@@ -387,6 +408,7 @@ private:
     Engine();
     struct Impl;
     std::unique_ptr<Impl> m;
+    friend struct EngineTesting; // Fault injection for vx's own tests (engine/engine_testing.h).
 };
 
 // Writes an image as PNG. Thread-safe.

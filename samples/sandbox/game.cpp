@@ -14,14 +14,6 @@ Game::Game(vx::Engine& engine, bool persistent, double fly_speed)
     m_engine->set_render_settings(m_settings);
 }
 
-void Game::attach(vx::Engine& engine) {
-    m_engine = &engine;
-    m_engine->set_render_settings(m_settings);
-    m_save.reset(); // Tickets belong to the old engine, whose shutdown made everything durable.
-    m_edited_since_save = false;
-    m_edit_frames = -1;
-}
-
 void Game::set_pose(glm::dvec3 eye, double yaw, double pitch) {
     m_player.set_eye(eye);
     m_yaw = yaw;

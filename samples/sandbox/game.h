@@ -37,10 +37,6 @@ public:
 
     Game(vx::Engine& engine, bool persistent, double fly_speed);
 
-    // Moves the game onto a new engine (the old one was shut down: everything saved), e.g. to
-    // restart the renderer with vsync toggled. The player, hotbar and settings carry over.
-    void attach(vx::Engine& engine);
-
     // Camera: eye position (world blocks) and angles in degrees (see view_forward).
     void set_pose(glm::dvec3 eye, double yaw, double pitch);
     void look(double dyaw, double dpitch);
@@ -81,7 +77,7 @@ private:
     vx::Viewer viewer() const;
     std::optional<vx::RayHit> crosshair() const;
 
-    vx::Engine* m_engine; // Not owned; replaced by attach().
+    vx::Engine* m_engine; // Not owned.
     bool m_persistent;
     Player m_player;
     Hotbar m_hotbar;

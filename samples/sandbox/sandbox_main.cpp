@@ -47,7 +47,6 @@ struct App {
     uint64_t frame = 0;
     std::FILE* csv = nullptr;
     bool captured = false, menu = false, show_stats = false, show_help = false, quit = false;
-    bool restart_vsync = false; // V: restart the engine with vsync toggled (chosen at creation).
     std::vector<std::string> stats;       // F3 lines, refreshed 4 times a second.
     std::vector<std::string> block_names; // Id i + 1 = block_names[i].
     std::unique_ptr<Ui> ui;
@@ -111,7 +110,10 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
     } else if (key == GLFW_KEY_G) {
         say(app, app.game->toggle("shadows"));
     } else if (key == GLFW_KEY_V) {
-        app.restart_vsync = true;
+        // The swapchain is recreated at the next frame; the engine, its world and edits stay.
+        app.opt.vsync = !app.opt.vsync;
+        vx::Status s = app.engine->set_vsync(app.opt.vsync);
+        say(app, !s ? s.error() : app.opt.vsync ? "vsync on" : "vsync off");
     } else if (key == GLFW_KEY_R) {
         say(app, app.game->toggle("reflections"));
     } else if (key == GLFW_KEY_N) {
@@ -297,29 +299,6 @@ bool write_csv_row(std::FILE* f, const FrameFigures& r) {
                         r.chunks_in_view, r.chunks_meshed) > 0;
 }
 
-// V: shuts the engine down (saving every edit) and creates it again with vsync toggled; the view
-// reloads from the world. Returns false (and says why) when the new engine cannot start.
-bool restart_with_vsync(App& app) {
-    app.restart_vsync = false;
-    if (vx::Status s = app.engine->shutdown(); !s) {
-        std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());
-        return false;
-    }
-    app.opt.vsync = !app.opt.vsync;
-    app.engine.reset();
-    auto engine = create_engine(app.opt, app.window);
-    if (!engine) {
-        std::fprintf(stderr, "vx_sandbox: %s\n", engine.error().c_str());
-        return false;
-    }
-    app.engine = std::move(*engine);
-    app.game->attach(*app.engine);
-    if (vx::Status s = app.ui->attach(*app.engine); !s)
-        say(app, s.error());
-    say(app, app.opt.vsync ? "vsync on" : "vsync off");
-    return true;
-}
-
 // The frame loop. Returns the exit code.
 int run(App& app) {
     const Clock::time_point start = Clock::now();
@@ -339,8 +318,6 @@ int run(App& app) {
             return 1;
         if (app.quit)
             break;
-        if (app.restart_vsync && !restart_with_vsync(app))
-            return 1;
         if (app.opt.frames > 0 && app.frame + 1 == app.opt.frames && !app.opt.screenshot.empty()) {
             app.screenshot_now = true;
             app.screenshot_path = app.opt.screenshot;
@@ -361,7 +338,15 @@ int run(App& app) {
                                       : app.engine->render_to_image(shot);
         if (vx::Status s = drawn; !s) {
             std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
-            return 1;
+            // A lost GPU device: a new renderer, the world and every edit kept; else give up.
+            if (!app.engine->stats().device_lost)
+                return 1;
+            if (vx::Status r = app.engine->recreate_renderer(); !r) {
+                std::fprintf(stderr, "vx_sandbox: %s\n", r.error().c_str());
+                return 1;
+            }
+            say(app, "the GPU device was lost: renderer recreated");
+            continue;
         }
         if (capture) {
             app.screenshot_now = false;
@@ -392,8 +377,6 @@ int run(App& app) {
 }
 
 int finish(App& app, int code) {
-    if (!app.engine) // A vsync restart failed (said so).
-        return code ? code : 1;
     const uint32_t errors = app.engine->stats().validation_errors;
     if (vx::Status s = app.engine->shutdown(); !s) {
         std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());

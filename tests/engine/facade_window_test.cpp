@@ -1,6 +1,7 @@
 // The facade presenting to a GLFW window (under xvfb-run, lavapipe, validation on): frames reach
 // the window, an edit shows in the very next presented frame and its removal in the one after,
-// a resize is followed, and the validation layer reports nothing. CTest label vulkan.
+// a resize is followed, set_vsync switches the present mode in place, a lost device is
+// recovered with recreate_renderer, and the validation layer reports nothing. CTest label vulkan.
 #include <chrono>
 #include <cstdlib>
 #include <thread>
@@ -11,6 +12,7 @@
 
 #include <vx/vx.h>
 
+#include "engine/engine_testing.h"
 #include "facade_test_util.h"
 
 using Clock = std::chrono::steady_clock;
@@ -188,6 +190,124 @@ TEST(FacadeWindow, UiIsBlendedOverTheFrame) {
         EXPECT_FALSE(e.set_ui_texture(2, 2, texel));
         EXPECT_EQ(e.stats().validation_errors, 0u);
         ASSERT_TRUE(e.shutdown());
+    }
+    glfwDestroyWindow(window);
+}
+
+// set_vsync: the swapchain is recreated with the other present mode at the next frame, frames
+// keep coming, and the engine (its world, its edits) is the same object throughout. Lavapipe
+// under Xvfb offers FIFO and IMMEDIATE (and MAILBOX), so vsync off leaves FIFO.
+TEST(FacadeWindow, SetVsyncSwitchesThePresentModeWithoutARestart) {
+    Glfw glfw;
+    if (!glfw.ok)
+        GTEST_SKIP() << "no X display for GLFW (run under xvfb-run)";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(64, 48, "vx vsync test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    {
+        vx::EngineCreateInfo info = window_info(window, 1);
+        info.render.vsync = true;
+        auto created = vx::Engine::create(info);
+        if (!created) {
+            glfwDestroyWindow(window);
+            GTEST_SKIP() << "no ray-tracing device that can present: " << created.error();
+        }
+        vx::Engine& e = **created;
+        vx::Viewer v;
+        v.block = {0, vx::terrain_height(5, 0, 0) + 6, 0};
+        v.forward = {0.3, -1, 0.2};
+        ASSERT_TRUE(e.set_viewer(v));
+        ASSERT_TRUE(settle(e));
+        // An edit that is never saved (terrain world): it must survive the switch.
+        const vx::BlockPos edit{0, vx::terrain_height(5, 0, 0) + 2, 0};
+        ASSERT_TRUE(e.set_block(edit, *e.find_block("lamp")));
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window());
+        EXPECT_TRUE(e.stats().vsync);
+
+        ASSERT_TRUE(e.set_vsync(false));
+        for (int i = 0; i < 3; ++i) {
+            glfwPollEvents();
+            ASSERT_TRUE(e.render_to_window());
+        }
+        EXPECT_FALSE(e.stats().vsync); // IMMEDIATE or MAILBOX: the swapchain was recreated.
+        ASSERT_TRUE(e.set_vsync(true));
+        vx::Image shot;
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window(&shot));
+        EXPECT_TRUE(e.stats().vsync);
+        EXPECT_EQ(shot.width, 64u);
+        EXPECT_EQ(e.get_block(edit), e.find_block("lamp"));
+        EXPECT_EQ(e.stats().validation_errors, 0u);
+    }
+    glfwDestroyWindow(window);
+}
+
+// set_vsync needs a window target: a headless engine says so and keeps going.
+TEST(FacadeWindow, SetVsyncWithoutAWindowIsAnError) {
+    vx::EngineCreateInfo info;
+    info.world = vx::WorldSource::terrain(5);
+    info.render.target = vx::RenderTarget::none();
+    auto created = vx::Engine::create(info);
+    ASSERT_TRUE(created) << created.error();
+    const vx::Status s = (*created)->set_vsync(false);
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find("window"), std::string::npos) << s.error();
+}
+
+// Frame resources out of memory under a window, then a lost device: render_to_window fails with the loss line (the frame's acquired
+// image and semaphore are released with the old renderer), recreate_renderer() makes a new
+// swapchain on the same window, and it presents the picture of before the loss.
+TEST(FacadeWindow, DeviceLossThenRecreateRendererPresentsAgain) {
+    Glfw glfw;
+    if (!glfw.ok)
+        GTEST_SKIP() << "no X display for GLFW (run under xvfb-run)";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(64, 48, "vx device loss test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    {
+        auto created = vx::Engine::create(window_info(window, 1));
+        if (!created) {
+            glfwDestroyWindow(window);
+            GTEST_SKIP() << "no ray-tracing device that can present: " << created.error();
+        }
+        vx::Engine& e = **created;
+        vx::RenderSettings rs;
+        rs.shading = vx::RenderSettings::Shading::Flat;
+        e.set_render_settings(rs);
+        vx::Viewer v;
+        v.block = {0, vx::terrain_height(5, 0, 0) + 6, 0};
+        v.forward = {0.3, -1, 0.2};
+        ASSERT_TRUE(e.set_viewer(v));
+        ASSERT_TRUE(settle(e));
+        // Out of memory for the first frame's target and TLAS (both made before the acquire):
+        // the call fails holding no swapchain image, and the next one presents.
+        for (const char* resource : {"render target", "TLAS"}) {
+            ASSERT_TRUE(vx::EngineTesting::fail_allocations(e, resource));
+            glfwPollEvents();
+            const vx::Status s = e.render_to_window();
+            ASSERT_FALSE(s);
+            EXPECT_NE(s.error().find("out of GPU memory"), std::string::npos) << s.error();
+        }
+        ASSERT_TRUE(vx::EngineTesting::fail_allocations(e, ""));
+        vx::Image before, after;
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window(&before));
+
+        ASSERT_TRUE(vx::EngineTesting::lose_device(e));
+        glfwPollEvents();
+        const vx::Status lost = e.render_to_window();
+        ASSERT_FALSE(lost);
+        EXPECT_NE(lost.error().find("device was lost"), std::string::npos) << lost.error();
+        EXPECT_TRUE(e.stats().device_lost);
+        EXPECT_FALSE(e.render_to_window());
+
+        ASSERT_TRUE(e.recreate_renderer());
+        glfwPollEvents();
+        ASSERT_TRUE(e.render_to_window(&after));
+        EXPECT_EQ(after.rgba, before.rgba);
+        EXPECT_FALSE(e.stats().device_lost);
+        EXPECT_EQ(e.stats().validation_errors, 0u);
     }
     glfwDestroyWindow(window);
 }

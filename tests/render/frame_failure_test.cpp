@@ -1,0 +1,182 @@
+// Frame resources that cannot be allocated and a lost device (Context's test hooks): the frame
+// call returns an error line instead of aborting, the scene is kept, and the next frame after
+// the injection stops renders the image a fresh renderer renders. A lost device fails every
+// later frame; a new renderer given the same meshes renders the same image. Validation stays
+// silent throughout. A frame size the device cannot hold is refused before any frame.
+#include <cmath>
+
+#include <cctype>
+
+#include "render/context.h"
+#include "scene_util.h"
+
+namespace vx::render {
+namespace {
+
+const Camera kCamera = Camera::look_at({30.3, 24.6, 29.1}, {-4.0, 4.0, -6.0});
+
+RenderSettings small(ShadingMode mode, bool denoise, bool raster = false) {
+    RenderSettings s;
+    s.width = 32;
+    s.height = 24;
+    s.mode = mode;
+    s.shadow_samples = 1;
+    s.max_bounces = 1;
+    s.denoise = denoise;
+    s.pipeline = raster ? PipelineKind::Raster : PipelineKind::RayTraced;
+    return s;
+}
+
+// One opaque white square of UI, so the UI pass runs (its texture and geometry).
+UiDrawList white_square() {
+    UiDrawList ui;
+    for (glm::vec2 p : {glm::vec2(2, 2), glm::vec2(8, 2), glm::vec2(8, 8), glm::vec2(2, 8)})
+        ui.vertices.push_back({p, {0.5f, 0.5f}, 0xffffffffu});
+    ui.indices = {0, 1, 2, 0, 2, 3};
+    ui.cmds.push_back({0, 6, {0, 0, 32, 24}});
+    return ui;
+}
+
+struct Injection {
+    const char* name_prefix; // Context::fail_allocations: the resources' debug names.
+    bool denoise = false;    // Full mode with the denoiser (its images).
+    bool gbuffer = false;    // try_render with a GBufferImage (the G-buffer read-back).
+    bool ui = false;         // A UI over the frame (its texture).
+    bool raster = false;     // The raster pipeline (its depth buffer).
+};
+
+class FrameFailure : public ::testing::TestWithParam<Injection> {};
+
+// The reference: a fresh renderer's first frame of the scene (Flat, or Full + denoiser: with
+// accumulate 1 each frame traces with the same seed and starts without history).
+RenderImage reference(const world::MeshMap& meshes, const Injection& inj) {
+    std::unique_ptr<Renderer> r = test::make_renderer();
+    EXPECT_NE(r, nullptr);
+    if (!r)
+        return {};
+    test::load_meshes(*r, meshes);
+    if (inj.ui)
+        r->set_ui(white_square());
+    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise, inj.raster);
+    GBufferImage g;
+    Result<RenderImage> img = r->try_render(s, kCamera, inj.gbuffer ? &g : nullptr);
+    EXPECT_TRUE(img) << (img ? "" : img.error());
+    EXPECT_EQ(r->validation_errors(), 0u);
+    return img ? std::move(*img) : RenderImage{};
+}
+
+TEST_P(FrameFailure, OneLineErrorThenTheNextFrameRenders) {
+    const Injection inj = GetParam();
+    const world::World w = test::hills();
+    const world::MeshMap meshes = test::mesh_world(w);
+    const RenderImage expected = reference(meshes, inj);
+    ASSERT_FALSE(expected.rgba.empty());
+
+    std::unique_ptr<Renderer> r = test::make_renderer();
+    ASSERT_NE(r, nullptr);
+    test::load_meshes(*r, meshes);
+    if (inj.ui)
+        r->set_ui(white_square());
+    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise, inj.raster);
+    GBufferImage g;
+    r->fail_allocations(inj.name_prefix);
+    for (int i = 0; i < 2; ++i) { // Still failing while the injection lasts, never aborting.
+        Result<RenderImage> failed = r->try_render(s, kCamera, inj.gbuffer ? &g : nullptr);
+        ASSERT_FALSE(failed) << inj.name_prefix;
+        EXPECT_NE(failed.error().find("out of GPU memory"), std::string::npos) << failed.error();
+        EXPECT_EQ(failed.error().find('\n'), std::string::npos); // One line.
+    }
+    if (inj.ui) { // The texture is allocated when it is set: refused now, the default kept.
+        EXPECT_FALSE(r->set_ui_texture(1, 1, {255, 255, 255, 255}));
+    }
+    EXPECT_FALSE(r->device_lost());
+
+    r->fail_allocations("");
+    Result<RenderImage> img = r->try_render(s, kCamera, inj.gbuffer ? &g : nullptr);
+    ASSERT_TRUE(img) << img.error();
+    EXPECT_EQ(test::differing_bytes(*img, expected), 0) << inj.name_prefix;
+    EXPECT_EQ(r->last_stats().instances, meshes.size()); // Every chunk drawn: none was dropped.
+    EXPECT_EQ(r->last_stats().failed_chunks, 0u);
+    if (inj.gbuffer) {
+        EXPECT_EQ(g.albedo.size(), size_t(s.width) * s.height);
+    }
+    EXPECT_EQ(r->validation_errors(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
+                         ::testing::Values(Injection{"render target"}, Injection{"gbuffer radiance"},
+                                           Injection{"gbuffer reflected"}, Injection{"render readback"},
+                                           Injection{"gbuffer readback", false, true}, Injection{"materials"},
+                                           Injection{"emitter chunks"}, Injection{"TLAS"},
+                                           Injection{"TLAS instances"}, Injection{"chunk table"}, Injection{"AS scratch"},
+                                           Injection{"frame staging"}, Injection{"slot index pattern"},
+                                           Injection{"denoise", true}, Injection{"ui", false, false, true},
+                                           Injection{"raster depth", false, false, false, true}),
+                         [](const ::testing::TestParamInfo<Injection>& p) {
+                             std::string n = p.param.name_prefix;
+                             for (char& c : n)
+                                 if (!std::isalnum(static_cast<unsigned char>(c)))
+                                     c = '_';
+                             return n;
+                         });
+
+// A lost device: this frame and every later one fail with the same line, the renderer still
+// takes scene edits and is destroyed cleanly; a new renderer given the meshes renders the image
+// the old one rendered before the loss.
+TEST(DeviceLoss, FramesFailUntilANewRendererRendersTheSameImage) {
+    const world::World w = test::hills();
+    const world::MeshMap meshes = test::mesh_world(w);
+    const RenderSettings s = small(ShadingMode::Flat, false);
+    RenderImage before;
+    {
+        std::unique_ptr<Renderer> r = test::make_renderer();
+        ASSERT_NE(r, nullptr);
+        test::load_meshes(*r, meshes);
+        Result<RenderImage> img = r->try_render(s, kCamera);
+        ASSERT_TRUE(img) << img.error();
+        before = std::move(*img);
+
+        r->simulate_device_loss();
+        for (int i = 0; i < 3; ++i) {
+            Result<RenderImage> lost = r->try_render(s, kCamera);
+            ASSERT_FALSE(lost);
+            EXPECT_NE(lost.error().find("device was lost"), std::string::npos) << lost.error();
+        }
+        EXPECT_TRUE(r->device_lost());
+        EXPECT_FALSE(r->set_ui_texture(1, 1, {1, 2, 3, 4}));
+        r->set_chunk(meshes.begin()->first, meshes.begin()->second.mesh); // Taken, not drawn.
+        EXPECT_EQ(r->validation_errors(), 0u);
+    }
+    std::unique_ptr<Renderer> fresh = test::make_renderer();
+    ASSERT_NE(fresh, nullptr);
+    test::load_meshes(*fresh, meshes);
+    Result<RenderImage> after = fresh->try_render(s, kCamera);
+    ASSERT_TRUE(after) << after.error();
+    EXPECT_EQ(test::differing_bytes(*after, before), 0);
+    EXPECT_EQ(fresh->validation_errors(), 0u);
+}
+
+// The estimate of check_frame_size against this device's largest device-local heap: 16384^2
+// pixels need 16384^2 * frame_bytes_per_pixel() (168 B: about 42 GiB), more than lavapipe's heap
+// (the machine's memory); a small frame fits anywhere.
+TEST(FrameSize, TooLargeForTheDeviceIsRefusedWithTheEstimate) {
+    std::unique_ptr<Renderer> r = test::make_renderer();
+    ASSERT_NE(r, nullptr);
+    EXPECT_TRUE(r->check_frame_size(64, 64));
+    VkPhysicalDeviceMemoryProperties mem;
+    vkGetPhysicalDeviceMemoryProperties(r->context().physical_device(), &mem);
+    uint64_t heap = 0;
+    for (uint32_t i = 0; i < mem.memoryHeapCount; ++i)
+        if (mem.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            heap = std::max<uint64_t>(heap, mem.memoryHeaps[i].size);
+    const uint64_t need = 16384ull * 16384ull * frame_bytes_per_pixel();
+    const Status big = r->check_frame_size(16384, 16384);
+    if (need <= heap)
+        GTEST_SKIP() << "this device's heap holds a 16384^2 frame";
+    ASSERT_FALSE(big);
+    EXPECT_NE(big.error().find("16384x16384"), std::string::npos) << big.error();
+    EXPECT_NE(big.error().find("GiB"), std::string::npos) << big.error();
+}
+
+} // namespace
+} // namespace vx::render
