@@ -66,13 +66,6 @@ void record_frame_stats(Stats& f, const render::RenderStats& rs) {
     f.failed_chunks = rs.failed_chunks;
 }
 
-bool usable_view(const Viewer& v) {
-    const glm::dvec3 f = v.forward, u = v.up;
-    const double cross = glm::length(glm::cross(glm::normalize(f), glm::normalize(u)));
-    return glm::length(f) > 0 && glm::length(u) > 0 && std::isfinite(cross) && cross > 1e-6 &&
-           v.fov_y_degrees > 0.f && v.fov_y_degrees < 180.f;
-}
-
 } // namespace
 
 render::RenderSettings Engine::Impl::frame_settings(uint32_t width, uint32_t height) {
@@ -88,8 +81,7 @@ Status Engine::render_to_image(Image& out) {
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Headless || !m->renderer)
         return Error{"render_to_image needs a headless render target (RenderTarget::headless)"};
-    if (!usable_view(m->viewer))
-        return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
+    // The viewer is usable: set_viewer refuses one the renderer could not make a camera of.
     const RenderTarget& t = m->info.render.target;
     const Clock::time_point t0 = Clock::now();
     render::RenderImage img = m->renderer->render(m->frame_settings(t.width, t.height), camera_of(m->viewer));
@@ -106,8 +98,6 @@ Status Engine::render_to_window(Image* capture) {
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
         return Error{"render_to_window needs a window render target (RenderTarget::glfw_window)"};
-    if (!usable_view(m->viewer))
-        return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
     const Clock::time_point t0 = Clock::now();
     render::RenderImage img;
     // The size comes from the swapchain; settings' width and height are ignored there.
@@ -123,7 +113,25 @@ Status Engine::render_to_window(Image* capture) {
         capture->rgba = std::move(img.rgba);
     }
     record_frame_stats(m->frame, m->renderer->last_stats());
+    m->window_frame_size = {m->renderer->last_stats().present_width, m->renderer->last_stats().present_height};
     return {};
+}
+
+Result<ScreenRay> Engine::screen_ray(glm::dvec2 pixel) const {
+    if (Status s = m->alive(); !s)
+        return Error{s.error()};
+    const RenderTarget& t = m->info.render.target;
+    switch (t.kind) {
+    case RenderTarget::Kind::None:
+        break;
+    case RenderTarget::Kind::Headless:
+        return vx::screen_ray(m->viewer, pixel, {t.width, t.height});
+    case RenderTarget::Kind::Window:
+        if (m->window_frame_size.x == 0 || m->window_frame_size.y == 0)
+            return Error{"screen_ray: no frame presented yet (the window's size is not known)"};
+        return vx::screen_ray(m->viewer, pixel, m->window_frame_size);
+    }
+    return Error{"screen_ray: no render target (RenderTarget::none): use vx::screen_ray(viewer, pixel, frame_size)"};
 }
 
 Status Engine::set_ui(const UiDrawList& ui) {
