@@ -25,13 +25,20 @@ endforeach()
 target_include_directories(vx_engine PUBLIC $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 target_include_directories(vx_all INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 
+# vx_vdb goes to its own export set (vxVdbTargets.cmake), loaded only for COMPONENTS vdb: it
+# names OpenVDB::openvdb, which only that component finds.
 set(VX_INSTALL_TARGETS vx_volk vx_stb_write vx_all)
 foreach(component IN LISTS VX_COMPONENTS)
-  list(APPEND VX_INSTALL_TARGETS vx_${component})
+  if(NOT component STREQUAL "vdb")
+    list(APPEND VX_INSTALL_TARGETS vx_${component})
+  endif()
 endforeach()
 install(TARGETS ${VX_INSTALL_TARGETS} EXPORT vxTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+if(VX_WITH_OPENVDB)
+  install(TARGETS vx_vdb EXPORT vxVdbTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+endif()
 if(VX_BUILD_TOOLS)
   install(TARGETS vx RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
@@ -57,6 +64,9 @@ install(FILES ${PROJECT_SOURCE_DIR}/render/renderer.h ${PROJECT_SOURCE_DIR}/rend
 
 # The package.
 install(EXPORT vxTargets NAMESPACE vx:: FILE vxTargets.cmake DESTINATION ${VX_INSTALL_CMAKEDIR})
+if(VX_WITH_OPENVDB)
+  install(EXPORT vxVdbTargets NAMESPACE vx:: FILE vxVdbTargets.cmake DESTINATION ${VX_INSTALL_CMAKEDIR})
+endif()
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/vxConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/vxConfig.cmake
                               INSTALL_DESTINATION ${VX_INSTALL_CMAKEDIR}

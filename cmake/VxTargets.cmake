@@ -10,6 +10,8 @@ endif()
 foreach(component IN LISTS VX_COMPONENTS)
   set_target_properties(vx_${component} PROPERTIES EXPORT_NAME ${component})
   add_library(vx::${component} ALIAS vx_${component})
+  # <vx/vx.h> uses std::span and more: a consumer compiles as C++20 without setting a standard.
+  target_compile_features(vx_${component} PUBLIC cxx_std_20)
 endforeach()
 # Linked PRIVATE by vx_render; exported only because static libraries carry their link deps.
 set_target_properties(vx_volk PROPERTIES EXPORT_NAME volk)
@@ -18,8 +20,15 @@ set_target_properties(vx_stb_write PROPERTIES EXPORT_NAME stb_write)
 # `vx` names the CLI executable in this build, so the umbrella target is vx_all, exported as vx.
 add_library(vx_all INTERFACE)
 set_target_properties(vx_all PROPERTIES EXPORT_NAME vx)
+target_compile_features(vx_all INTERFACE cxx_std_20)
+# vdb is an optional component of the installed package (it needs OpenVDB): the installed vx::vx
+# gains vx::vdb only when find_package(vx COMPONENTS vdb) asks for it (vxConfig.cmake.in).
 foreach(component IN LISTS VX_COMPONENTS)
-  target_link_libraries(vx_all INTERFACE vx_${component})
+  if(component STREQUAL "vdb")
+    target_link_libraries(vx_all INTERFACE $<BUILD_INTERFACE:vx_${component}>)
+  else()
+    target_link_libraries(vx_all INTERFACE vx_${component})
+  endif()
 endforeach()
 add_library(vx::vx ALIAS vx_all)
 set_property(GLOBAL PROPERTY VX_COMPONENTS "${VX_COMPONENTS}")

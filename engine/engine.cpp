@@ -75,7 +75,49 @@ Result<std::unique_ptr<render::Renderer>> make_renderer(const RenderDesc& desc, 
 
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Why the renderer could not make a camera of `v` (render::Renderer builds its basis from
+// normalize(cross(forward, up))), or success. Checked where the viewer arrives.
+Status check_viewer(const Viewer& v) {
+    if (!finite(v.offset) || !finite(v.forward) || !finite(v.up) || (v.velocity && !finite(*v.velocity)) ||
+        !std::isfinite(v.fov_y_degrees))
+        return Error{"viewer: offset, forward, up, velocity and fov must be finite"};
+    if (v.forward == glm::dvec3(0.0))
+        return Error{"viewer: forward is zero (it gives the view direction)"};
+    if (v.up == glm::dvec3(0.0))
+        return Error{"viewer: up is zero (give the world's up, e.g. 0, 1, 0)"};
+    // The same bound the renderer's float basis tolerates (sine of the angle between them).
+    if (!(glm::length(glm::cross(glm::normalize(v.forward), glm::normalize(v.up))) > 1e-6))
+        return Error{"viewer: forward is parallel to up (looking straight up or down needs another up, e.g. 0, 0, -1)"};
+    if (!(v.fov_y_degrees > 0.f && v.fov_y_degrees < 180.f))
+        return Error{"viewer: fov_y_degrees must be in (0, 180), got " + std::to_string(v.fov_y_degrees)};
+    return {};
+}
+
 } // namespace
+
+Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 frame_size) {
+    if (Status s = check_viewer(viewer); !s)
+        return Error{s.error()};
+    if (frame_size.x == 0 || frame_size.y == 0)
+        return Error{"screen_ray: the frame size must be at least 1x1"};
+    if (!std::isfinite(pixel.x) || !std::isfinite(pixel.y))
+        return Error{"screen_ray: the pixel must be finite"};
+    // As shaders/shared/raygen_common.glsl primary_dir(): ndc in -1..1 over the frame (y down), the
+    // vertical half-angle over the height, the aspect ratio widening x; the same basis as
+    // render::Renderer (right = forward x up, up' = right x forward).
+    const glm::dvec3 fwd = glm::normalize(viewer.forward);
+    const glm::dvec3 right = glm::normalize(glm::cross(fwd, viewer.up));
+    const glm::dvec3 up = glm::cross(right, fwd);
+    const glm::dvec2 ndc = pixel / glm::dvec2(frame_size) * 2.0 - 1.0;
+    const double th = std::tan(glm::radians(double(viewer.fov_y_degrees)) * 0.5);
+    const double aspect = double(frame_size.x) / double(frame_size.y);
+    ScreenRay ray;
+    const glm::dvec3 whole = glm::floor(viewer.offset);
+    ray.origin_block = viewer.block + BlockPos(whole);
+    ray.origin_offset = viewer.offset - whole;
+    ray.direction = glm::normalize(fwd + ndc.x * th * aspect * right - ndc.y * th * up);
+    return ray;
+}
 
 Engine::Engine() : m(std::make_unique<Impl>()) {}
 
@@ -111,9 +153,8 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
 Status Engine::set_viewer(const Viewer& viewer) {
     if (Status s = m->alive(); !s)
         return s;
-    if (!finite(viewer.offset) || !finite(viewer.forward) || !finite(viewer.up) ||
-        (viewer.velocity && !finite(*viewer.velocity)) || !std::isfinite(viewer.fov_y_degrees))
-        return Error{"viewer: offset, forward, up, velocity and fov must be finite"};
+    if (Status s = check_viewer(viewer); !s)
+        return s;
     if (glm::any(glm::greaterThan(glm::abs(viewer.offset), glm::dvec3(double(int64_t(1) << 40)))))
         return Error{"viewer: keep the offset small and put the position in `block`"};
     // Fold the offset's whole blocks into the 64-bit block, so the float camera stays exact.
@@ -219,6 +260,15 @@ Result<RayHit> Engine::raycast(BlockPos origin_block, glm::dvec3 origin_offset, 
 
 std::optional<BlockId> Engine::find_block(std::string_view name) const { return m->world.registry.find(name); }
 
+std::optional<BlockType> Engine::block_type(BlockId id) const {
+    if (id == kAir || !m->world.registry.contains(id))
+        return std::nullopt;
+    const world::BlockInfo b = m->world.registry.info(id);
+    return BlockType{b.name, b.albedo, b.reflectivity, b.emission, b.opaque};
+}
+
+size_t Engine::block_count() const { return m->world.registry.size() - 1; }
+
 std::vector<ChunkEvent> Engine::poll_events() { return m->sink ? m->sink->take_events() : std::vector<ChunkEvent>{}; }
 
 Result<SaveTicket> Engine::save() {
@@ -239,6 +289,8 @@ SaveState Engine::save_state(SaveTicket ticket) const {
         return SaveState::Durable;
     case engine::SaveState::Failed:
         break;
+    case engine::SaveState::Unknown:
+        return SaveState::Unknown;
     }
     return SaveState::Failed;
 }

@@ -26,6 +26,7 @@ struct Engine::Impl {
     Viewer viewer;
     RenderSettings render_settings;
     Stats frame;                                     // Timings of the last update and frame.
+    glm::uvec2 window_frame_size{0};                 // Of the last presented frame (0: none yet).
     engine::SkyAccessCache sky;                      // render settings' sky_access (engine_render.cpp).
     bool shut_down = false;
     // Device loss (engine_render.cpp): the renderer's validation errors before recreations, and

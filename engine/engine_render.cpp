@@ -79,13 +79,6 @@ render::UiDrawList to_render(const UiDrawList& ui) {
     return list;
 }
 
-bool usable_view(const Viewer& v) {
-    const glm::dvec3 f = v.forward, u = v.up;
-    const double cross = glm::length(glm::cross(glm::normalize(f), glm::normalize(u)));
-    return glm::length(f) > 0 && glm::length(u) > 0 && std::isfinite(cross) && cross > 1e-6 &&
-           v.fov_y_degrees > 0.f && v.fov_y_degrees < 180.f;
-}
-
 } // namespace
 
 render::RenderSettings Engine::Impl::frame_settings(uint32_t width, uint32_t height) {
@@ -101,8 +94,6 @@ Status Engine::render_to_image(Image& out) {
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Headless)
         return Error{"render_to_image needs a headless render target (RenderTarget::headless)"};
-    if (!usable_view(m->viewer))
-        return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
     if (Status s = m->renderer_usable(); !s)
         return s;
     const RenderTarget& t = m->info.render.target;
@@ -123,8 +114,6 @@ Status Engine::render_to_window(Image* capture) {
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Window)
         return Error{"render_to_window needs a window render target (RenderTarget::glfw_window)"};
-    if (!usable_view(m->viewer))
-        return Error{"the viewer's forward and up must be non-zero and not parallel, and its fov in (0, 180)"};
     if (Status s = m->renderer_usable(); !s)
         return s;
     const Clock::time_point t0 = Clock::now();
@@ -142,7 +131,25 @@ Status Engine::render_to_window(Image* capture) {
         capture->rgba = std::move(img.rgba);
     }
     record_frame_stats(m->frame, m->renderer->last_stats());
+    m->window_frame_size = {m->renderer->last_stats().present_width, m->renderer->last_stats().present_height};
     return {};
+}
+
+Result<ScreenRay> Engine::screen_ray(glm::dvec2 pixel) const {
+    if (Status s = m->alive(); !s)
+        return Error{s.error()};
+    const RenderTarget& t = m->info.render.target;
+    switch (t.kind) {
+    case RenderTarget::Kind::None:
+        break;
+    case RenderTarget::Kind::Headless:
+        return vx::screen_ray(m->viewer, pixel, {t.width, t.height});
+    case RenderTarget::Kind::Window:
+        if (m->window_frame_size.x == 0 || m->window_frame_size.y == 0)
+            return Error{"screen_ray: no frame presented yet (the window's size is not known)"};
+        return vx::screen_ray(m->viewer, pixel, m->window_frame_size);
+    }
+    return Error{"screen_ray: no render target (RenderTarget::none): use vx::screen_ray(viewer, pixel, frame_size)"};
 }
 
 Status Engine::set_ui(const UiDrawList& ui) {

@@ -24,7 +24,7 @@ void SaveTracker::finished(uint64_t sequence, const Status& status) {
 
 SaveState SaveTracker::state_nolock(uint64_t sequence) const {
     if (sequence == 0 || sequence > m_issued)
-        return SaveState::Failed; // Never handed out.
+        return SaveState::Unknown;
     if (sequence <= m_durable)
         return SaveState::Durable;
     if (sequence <= m_failed)
@@ -45,7 +45,7 @@ std::string SaveTracker::last_error() const {
 Status SaveTracker::wait(uint64_t sequence) const {
     std::unique_lock lock(m_mutex);
     if (sequence == 0 || sequence > m_issued)
-        return Error{"unknown save ticket " + std::to_string(sequence)};
+        return Error{"unknown save ticket " + std::to_string(sequence) + ": not one this engine's save() returned"};
     m_changed.wait(lock, [&] { return state_nolock(sequence) != SaveState::Pending; });
     if (state_nolock(sequence) == SaveState::Durable)
         return {};

@@ -20,6 +20,7 @@ enum class SaveState : uint8_t {
     Pending, // Handed to the I/O lane; its flush has not finished yet.
     Durable, // A flush covering it succeeded: it survives a crash of the process.
     Failed,  // The latest flush covering it failed (error()); a later save may still cover it.
+    Unknown, // Never handed out by next().
 };
 
 class SaveTracker {

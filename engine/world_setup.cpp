@@ -1,14 +1,13 @@
 #include "engine/world_setup.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <exception>
 
 #include "world/gen/terrain.h"
 #include "world/store/sqlite_store.h"
 #include "world/store/store_open.h"
-#if VX_WITH_OPENVDB
-#include "world/vdb/vdb_store.h"
-#endif
 
 namespace vx::engine {
 
@@ -34,6 +33,33 @@ world::Chunk GameGenerator::generate(world::ChunkCoord c) const {
     return std::move(*chunk);
 }
 
+namespace {
+
+std::string number(float v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", double(v));
+    return text;
+}
+
+std::string triple(glm::vec3 v) { return number(v.x) + ", " + number(v.y) + ", " + number(v.z); }
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// The ranges <vx/types.h> documents for a BlockType: refused here, at create, rather than
+// rendering wrongly frames later.
+Status check_material(const BlockType& b) {
+    if (!finite(b.albedo) || glm::any(glm::lessThan(b.albedo, glm::vec3(0.f))) ||
+        glm::any(glm::greaterThan(b.albedo, glm::vec3(1.f))))
+        return Error{"albedo must be 0..1 per channel, got " + triple(b.albedo)};
+    if (!std::isfinite(b.reflectivity) || b.reflectivity < 0.f || b.reflectivity > 1.f)
+        return Error{"reflectivity must be 0..1, got " + number(b.reflectivity)};
+    if (!finite(b.emission) || glm::any(glm::lessThan(b.emission, glm::vec3(0.f))))
+        return Error{"emission must be finite and >= 0 per channel, got " + triple(b.emission)};
+    return {};
+}
+
+} // namespace
+
 Result<world::BlockRegistry> make_registry(const std::vector<BlockType>& blocks) {
     if (blocks.empty())
         return world::BlockRegistry::default_registry();
@@ -42,6 +68,8 @@ Result<world::BlockRegistry> make_registry(const std::vector<BlockType>& blocks)
     world::BlockRegistry registry;
     for (size_t i = 0; i < blocks.size(); ++i) {
         const BlockType& b = blocks[i];
+        if (Status s = check_material(b); !s)
+            return Error{"block type " + std::to_string(i + 1) + " ('" + b.name + "'): " + s.error()};
         Result<world::BlockId> id = registry.add({b.name, b.albedo, b.reflectivity, b.emission, b.opaque});
         if (!id)
             return Error{"block type " + std::to_string(i + 1) + " ('" + b.name + "'): " + id.error()};
@@ -67,24 +95,44 @@ std::string block_names(const world::BlockRegistry& registry) {
     return out;
 }
 
-// A SQLite world remembers its terrain seed ("seed", as `vx world gen` writes it) and its block
-// names ("blocks"): reopening it with another seed would put seams where new chunks meet stored
-// ones, and with other blocks would give stored ids new meanings. Appending blocks is fine.
-// Runs before the engine's threads start, so the store is used from one thread at a time.
+// What made a world's unedited chunks, as its meta "generator" records it: "terrain" for the
+// built-in terrain (its seed is "seed"), "game:NAME/VERSION" for a game's Generator.
+std::string generator_identity(const WorldSource& source) {
+    if (!source.generator)
+        return "terrain";
+    return "game:" + std::string(source.generator->name()) + "/" + std::to_string(source.generator->version());
+}
+
+// The identity for messages: "the built-in terrain" or "the generator 'NAME' version V".
+std::string describe_generator(const std::string& identity) {
+    if (identity.rfind("game:", 0) != 0)
+        return "the built-in terrain";
+    const size_t slash = identity.rfind('/');
+    return "the generator '" + identity.substr(5, slash - 5) + "' version " + identity.substr(slash + 1);
+}
+
+// A SQLite world remembers what generated it ("generator"), its terrain seed ("seed", as `vx
+// world gen` writes it) and its block names ("blocks"): reopening it with another generator or
+// seed would put seams where new chunks meet stored ones, and with other blocks would give stored
+// ids new meanings. Appending blocks is fine. A world from before "generator" was recorded gets
+// it now; if it has a "seed" it was made by the built-in terrain (only that stores a seed).
+// Nothing is written unless every check passes. Runs before the engine's threads start, so the
+// store is used from one thread at a time.
 Status check_world_meta(world::ChunkStore& store, const WorldSource& source, const world::BlockRegistry& registry) {
     const std::string path = "'" + source.path + "'";
-    if (!source.generator) {
-        auto seed = store.get_meta("seed");
-        if (!seed)
-            return Error{seed.error()};
-        if (*seed && **seed != std::to_string(source.seed))
-            return Error{path + " holds a world of seed " + **seed + ", not " + std::to_string(source.seed)};
-        if (Status s = store.set_meta("seed", std::to_string(source.seed)); !s)
-            return s;
-    }
+    auto made_by = store.get_meta("generator");
+    auto seed = store.get_meta("seed");
     auto stored = store.get_meta("blocks");
-    if (!stored)
-        return Error{stored.error()};
+    for (const auto* r : {&made_by, &seed, &stored})
+        if (!*r)
+            return Error{r->error()};
+    const std::string identity = generator_identity(source);
+    const std::string recorded = *made_by ? **made_by : (*seed ? std::string("terrain") : identity);
+    if (recorded != identity)
+        return Error{path + " was made by " + describe_generator(recorded) + ", not " + describe_generator(identity) +
+                     ": its unedited chunks would not match; open it with that generator"};
+    if (!source.generator && *seed && **seed != std::to_string(source.seed))
+        return Error{path + " holds a world of seed " + **seed + ", not " + std::to_string(source.seed)};
     const std::string now = block_names(registry);
     if (*stored && now.compare(0, (*stored)->size(), **stored) != 0) {
         std::string listed = **stored;
@@ -92,6 +140,11 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
         return Error{path + " was saved with other blocks (ids 1.. were: " + listed +
                      "); keep their order and append new ones"};
     }
+    if (Status s = store.set_meta("generator", identity); !s)
+        return s;
+    if (!source.generator)
+        if (Status s = store.set_meta("seed", std::to_string(source.seed)); !s)
+            return s;
     return store.set_meta("blocks", now);
 }
 
@@ -100,14 +153,10 @@ Result<std::unique_ptr<world::ChunkStore>> open_store(const WorldSource& source)
         return Error{"the world source needs a path"};
     if (source.kind == WorldSource::Kind::Sqlite) // A file, or a postgresql:// URI (shared).
         return world::open_store({source.path});
-#if VX_WITH_OPENVDB
-    auto store = vdb::VdbStore::open(source.path);
-    if (!store)
-        return Error{store.error()};
-    return std::unique_ptr<world::ChunkStore>(std::move(*store));
-#else
-    return Error{"VDB worlds are not available: this vx was built without OpenVDB (VX_WITH_OPENVDB=OFF)"};
-#endif
+    if (const world::VdbStoreOpener open_vdb = world::vdb_store_opener())
+        return open_vdb(source.path);
+    return Error{"VDB worlds need vx's vdb component linked into the program: find_package(vx COMPONENTS vdb) "
+                 "and link vx::vdb (vx built with VX_WITH_OPENVDB=ON)"};
 }
 
 } // namespace

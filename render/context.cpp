@@ -107,7 +107,7 @@ Status Context::create_instance(const ContextCreateInfo& info) {
     ci.enabledLayerCount = uint32_t(layers.size());
     ci.ppEnabledLayerNames = layers.data();
     if (VkResult r = vkCreateInstance(&ci, nullptr, &m_instance); r != VK_SUCCESS)
-        return Error{std::string("vkCreateInstance failed: ") + vk_result_name(r)};
+        return Error{instance_error(r)};
     volkLoadInstance(m_instance);
     if (m_debug_utils)
         VK_CHECK(vkCreateDebugUtilsMessengerEXT(m_instance, &mci, nullptr, &m_messenger));

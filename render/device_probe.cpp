@@ -1,7 +1,9 @@
 #include "render/device_probe.h"
 
 #include <charconv>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 
 #include "render/device_probe_internal.h"
 #include "render/vk_common.h"
@@ -86,6 +88,35 @@ DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
     return r;
 }
 
+std::string missing_driver_message(const char* driver_files, const char* icd_filenames) {
+    const char* variable = driver_files ? "VK_DRIVER_FILES" : icd_filenames ? "VK_ICD_FILENAMES" : nullptr;
+    const char* value = driver_files ? driver_files : icd_filenames;
+    if (!variable)
+        return "no Vulkan driver found: none in the default driver directories (/etc/xdg/vulkan/icd.d, "
+               "/etc/vulkan/icd.d, /usr/local/share/vulkan/icd.d, /usr/share/vulkan/icd.d, "
+               "~/.local/share/vulkan/icd.d); install one (Debian: mesa-vulkan-drivers has lavapipe, a CPU "
+               "driver) or set VK_DRIVER_FILES to its .json file";
+    std::string missing;
+    std::string_view rest = value;
+    while (!rest.empty()) { // A ':'-separated list of .json files (or folders of them).
+        const size_t colon = rest.find(':');
+        const std::string file(rest.substr(0, colon));
+        rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon + 1);
+        std::error_code ec;
+        if (!file.empty() && !std::filesystem::exists(file, ec))
+            missing += (missing.empty() ? "" : ", ") + file;
+    }
+    std::string out = std::string("no Vulkan driver found: looked only at ") + variable + "=" + value;
+    out += missing.empty() ? " (the files exist but hold no usable driver)" : " (missing: " + missing + ")";
+    return out + "; fix or unset " + variable + " to search the default icd.d directories";
+}
+
+std::string instance_error(VkResult r) {
+    if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
+        return missing_driver_message(std::getenv("VK_DRIVER_FILES"), std::getenv("VK_ICD_FILENAMES"));
+    return std::string("vkCreateInstance failed: ") + vk_result_name(r);
+}
+
 Status init_loader() {
     // volkInitialize is idempotent; it fails when libvulkan.so.1 cannot be opened.
     if (volkInitialize() != VK_SUCCESS)
@@ -105,7 +136,7 @@ Result<std::vector<DeviceReport>> probe_devices() {
     ci.pApplicationInfo = &app;
     VkInstance instance = VK_NULL_HANDLE;
     if (VkResult res = vkCreateInstance(&ci, nullptr, &instance); res != VK_SUCCESS)
-        return Error{std::string("vkCreateInstance failed: ") + vk_result_name(res)};
+        return Error{instance_error(res)};
     // volk keeps instance-level pointers in globals: load ours, then give a live Context's back.
     const VkInstance previous = volkGetLoadedInstance();
     volkLoadInstanceOnly(instance);
@@ -121,7 +152,7 @@ Result<std::vector<DeviceReport>> probe_devices() {
     if (previous != VK_NULL_HANDLE)
         volkLoadInstanceOnly(previous);
     if (out.empty())
-        return Error{"no Vulkan device found (no driver installed?)"};
+        return Error{missing_driver_message(std::getenv("VK_DRIVER_FILES"), std::getenv("VK_ICD_FILENAMES"))};
     return out;
 }
 

@@ -38,6 +38,13 @@ struct DeviceReport {
 // only (volk's function pointers are process globals); safe while a Context exists.
 Result<std::vector<DeviceReport>> probe_devices();
 
+// Thread-safe. The one line for "the Vulkan loader found no driver" (vkCreateInstance returned
+// VK_ERROR_INCOMPATIBLE_DRIVER, or no device): which driver files it looked for. `driver_files`
+// and `icd_filenames` are the values of VK_DRIVER_FILES and VK_ICD_FILENAMES (null: unset; the
+// loader takes the first set, else searches the default icd.d directories); listed files that
+// do not exist are named.
+std::string missing_driver_message(const char* driver_files, const char* icd_filenames);
+
 // Which device to use: "auto" prefers a ray-tracing discrete GPU, then any ray-tracing device;
 // "cpu" wants a CPU device (lavapipe); "gpu" any non-CPU device; "N" the device at index N.
 struct DeviceChoice {

@@ -8,6 +8,9 @@ namespace vx::render {
 
 // Loads libvulkan through volk; an error when no loader (or one older than 1.3) exists.
 Status init_loader();
+// "vkCreateInstance failed: ..." for `r`; for VK_ERROR_INCOMPATIBLE_DRIVER, missing_driver_message()
+// of this process's environment.
+std::string instance_error(VkResult r);
 // The report of one physical device (instance-level functions must be loaded).
 DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index);
 

@@ -749,6 +749,8 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     st.gpu_ms = -1;
     st.wait_ms = Ms(t_record - t0).count() + Ms(t1 - t_acquire).count();
     st.present_ms = Ms(t3 - t2).count();
+    st.present_width = s.width;
+    st.present_height = s.height;
     if (d.last_present != Clock::time_point{})
         st.frame_ms = Ms(t0 - d.last_present).count();
     d.last_present = t0;

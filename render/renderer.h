@@ -166,6 +166,7 @@ struct RenderStats {
     // any recreation). cpu_ms: recording and submitting. present_ms: time in vkQueuePresentKHR
     // (a software WSI, lavapipe's on X11, copies the image out there, so it waits for the frame).
     double frame_ms = -1, wait_ms = -1, present_ms = -1;
+    uint32_t present_width = 0, present_height = 0; // present(): the frame's (swapchain's) size, pixels.
 };
 
 // What present() did.

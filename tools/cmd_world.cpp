@@ -57,6 +57,14 @@ int run_gen(const GenArgs& a) {
     auto store = open_store({a.path}); // A SQLite file or a postgresql:// URI.
     if (!store)
         return bad_input(store.error());
+    // A world made by a game's generator (meta "generator", engine/world_setup.cpp) would get
+    // terrain chunks beside its own: refused. The built-in terrain records itself as "terrain".
+    auto made_by = (*store)->get_meta("generator");
+    if (made_by && *made_by && **made_by != "terrain")
+        return bad_input("'" + store_display_name(a.path) + "' was made by a game's generator (" + **made_by +
+                         "), not the built-in terrain");
+    if (Status s = (*store)->set_meta("generator", "terrain"); !s)
+        return bad_input(s.error());
     auto old_seed = (*store)->get_meta("seed");
     if (old_seed && *old_seed && **old_seed != std::to_string(a.seed))
         return bad_input("'" + store_display_name(a.path) + "' holds a world of seed " + **old_seed + ", not " +

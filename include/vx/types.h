@@ -42,12 +42,13 @@ inline glm::ivec3 face_normal(Face f) {
     return n;
 }
 
-// A block type's material. Colours are linear RGB.
+// A block type's material. Colours are linear RGB. Engine::create refuses values outside these
+// ranges (or not finite), naming the block.
 struct BlockType {
     std::string name;          // Unique, non-empty; how game code finds the id again.
-    glm::vec3 albedo{0.8f};    // 0..1.
+    glm::vec3 albedo{0.8f};    // 0..1 per channel.
     float reflectivity = 0.f;  // Fraction of light mirrored, 0..1.
-    glm::vec3 emission{0.f};   // Radiance, >= 0 (lamps).
+    glm::vec3 emission{0.f};   // Radiance, >= 0 per channel, finite (lamps).
     bool opaque = true;        // False: faces behind it stay meshed (water, glass).
 };
 

@@ -57,6 +57,13 @@ public:
     // Worker threads. Optional fast path: when chunk `chunk` is all one id (open sky, deep rock),
     // return it and generate() is not called for that chunk. Default: never.
     virtual std::optional<BlockId> uniform(ChunkCoord) const { return std::nullopt; }
+    // Any thread. The generator's identity. A stored world (WorldSource::sqlite) records the
+    // generator that made it and refuses to reopen with another one (another name or version,
+    // or the built-in terrain), whose unedited chunks would not meet the stored ones. Put what
+    // changes the output in the name (e.g. "waves seed=7") and raise version() when the code's
+    // output changes. Defaults: "game", version 1 (one generator per game, never changed).
+    virtual std::string_view name() const { return "game"; }
+    virtual uint32_t version() const { return 1; }
 };
 
 // Where the world's chunks come from. Use the helpers below.
@@ -68,10 +75,13 @@ struct WorldSource {
                    // PostgreSQL URI (postgresql://[user@]host[:port]/db?...) for a world several
                    // processes share (their edits of one chunk merge; changes by others reload
                    // within ~100 ms; a lost server is retried, edits kept). Chunks it lacks come
-                   // from `generator` if set, else the built-in terrain of `seed`.
+                   // from `generator` if set, else the built-in terrain of `seed`. The world
+                   // remembers which (Generator::name and version, or the terrain and its seed):
+                   // create() refuses to reopen it with another.
         Vdb,       // A vx VDB world file at `path` (vx export-vdb), read-only: edits stay in
                    // memory (lost when their chunk unloads); chunks outside it come from
-                   // `generator` if set, else are air. Needs a build with VX_WITH_OPENVDB.
+                   // `generator` if set, else are air. Needs vx::vdb linked into
+                   // the program (find_package(vx COMPONENTS vdb)); else create() says so.
     };
     Kind kind = Kind::Terrain;
     uint64_t seed = 1;
@@ -144,10 +154,19 @@ struct Viewer {
     glm::dvec3 forward{0.0, 0.0, -1.0};    // View direction (need not be unit).
     glm::dvec3 up{0.0, 1.0, 0.0};          // Approximate up; not parallel to forward.
     std::optional<glm::dvec3> velocity;    // Blocks per second; unset: estimated from positions.
-    float fov_y_degrees = 60.f;            // Vertical field of view.
+    float fov_y_degrees = 60.f;            // Vertical field of view, degrees, in (0, 180).
 };
 
-// A two-sided rectangular area light (the scene's sun): corner plus two edges, in blocks.
+// A ray in world space: from origin_block + origin_offset along `direction` (unit length), as
+// Engine::raycast takes it.
+struct ScreenRay {
+    BlockPos origin_block{0};
+    glm::dvec3 origin_offset{0.0};
+    glm::dvec3 direction{0.0, 0.0, -1.0};
+};
+
+// A two-sided rectangular area light: corner plus two edges, in blocks. By default a large panel
+// high above the viewer that lights the scene with soft shadows; the sun is `Sun` below.
 struct Light {
     bool follow_viewer = true;       // `corner` is relative to the viewer's block.
     BlockPos corner{-40, 120, -60};  // World block (or offset from the viewer's block).
@@ -297,6 +316,7 @@ enum class SaveState : uint8_t {
     Pending, // Handed to the I/O thread; not durable yet.
     Durable, // Committed and synced: survives a crash of the process.
     Failed,  // Its flush failed (the message: wait()); a later save() may still cover it.
+    Unknown, // Not a ticket this engine's save() returned (wait() says so).
 };
 
 class Engine {
@@ -305,7 +325,8 @@ public:
     // renderer. Errors: a bad description, a store that cannot open, no usable GPU (with a
     // render target), a window target without a GLFWwindow*, a headless target whose frame
     // resources (about 168 bytes a pixel, the denoiser's included) cannot fit the device's
-    // largest memory heap (the line names both).
+    // largest memory heap (the line names both), a block whose material is out of range (see
+    // BlockType), a stored world made by another generator (see Generator::name).
     static Result<std::unique_ptr<Engine>> create(const EngineCreateInfo& info);
     // Main thread. shutdown() if not done (errors are logged).
     ~Engine();
@@ -313,7 +334,8 @@ public:
     Engine& operator=(const Engine&) = delete;
 
     // Main thread. Where the camera is and where streaming centres; takes effect at update().
-    // Fails, keeping the previous viewer, on non-finite values or a position outside the world.
+    // Fails, keeping the previous viewer, on non-finite values, a position outside the world, a
+    // zero forward or up, forward parallel to up, or a field of view outside (0, 180) degrees.
     Status set_viewer(const Viewer& viewer);
     // Main thread, once per frame. Streams around the viewer, applies finished loads and meshes
     // (within update_budget_ms), unloads, saves edited chunks after save_delay_s. `now` is the
@@ -346,6 +368,17 @@ public:
                            double max_distance) const;
     // Thread-safe (after create). The id of a block by name, or nullopt.
     std::optional<BlockId> find_block(std::string_view name) const;
+    // Thread-safe (after create). The block type registered at `id` (1..block_count()), or
+    // nullopt for air (0) and ids past the registry.
+    std::optional<BlockType> block_type(BlockId id) const;
+    // Thread-safe (after create). How many block types are registered (air not counted): their
+    // ids are 1..block_count().
+    size_t block_count() const;
+    // Main thread. The ray the renderer traces through `pixel` of the current frame (see
+    // vx::screen_ray): mouse picking with raycast(). The frame size is the headless target's, or
+    // for a window the last presented frame's. Errors: no render target (use vx::screen_ray
+    // with the size), no frame presented yet, a non-finite pixel, shut down.
+    Result<ScreenRay> screen_ray(glm::dvec2 pixel) const;
 
     // Main thread. Rendering options for later frames.
     void set_render_settings(const RenderSettings& settings);
@@ -392,11 +425,11 @@ public:
     // shut down. A commit that fails later turns the ticket Failed (its message: wait()); the
     // edits stay queued in the store, and a later save() or background commit retries them.
     Result<SaveTicket> save();
-    // Thread-safe. Failed also for a ticket this engine never issued.
+    // Thread-safe. Unknown for a ticket save() never returned.
     SaveState save_state(SaveTicket ticket) const;
     // Thread-safe (not from a Generator). Blocks until the ticket is durable (ok) or failed: the
-    // store's message, "flush cancelled" when the engine shut down before the commit ran, or an
-    // unknown ticket.
+    // store's message, or "flush cancelled" when the engine shut down before the commit ran; an
+    // unknown ticket fails at once, saying so.
     Status wait(SaveTicket ticket) const;
 
     // Main thread. Saves and syncs every edit (persistent worlds), stops the threads and
@@ -411,6 +444,13 @@ private:
     friend struct EngineTesting; // Fault injection for vx's own tests (engine/engine_testing.h).
 };
 
+// Thread-safe. The ray the renderer traces through `pixel` of a frame_size (width, height) frame
+// seen by `viewer`: from the viewer's eye, with the vertical field of view over the frame's
+// height and the width following the aspect ratio. `pixel` is in framebuffer coordinates: (0, 0)
+// the top-left corner of the top-left pixel, y down; pixel (x, y) is traced through its centre
+// (x + 0.5, y + 0.5), so the frame's centre is the forward direction. Errors: a viewer set_viewer
+// would refuse, a frame size of 0, a non-finite pixel (pixels outside the frame are fine).
+Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 frame_size);
 // Writes an image as PNG. Thread-safe.
 Status write_png(const std::string& path, const Image& image);
 // The built-in terrain's surface height (world y of the topmost terrain block, before caves) at

@@ -169,6 +169,7 @@ std::string Game::save_text() const {
     case vx::SaveState::Pending: return "saving";
     case vx::SaveState::Durable: return "saved";
     case vx::SaveState::Failed: return "save failed";
+    case vx::SaveState::Unknown: return "";
     }
     return "";
 }

@@ -2,6 +2,7 @@
 // terrain view into memory (a real picture, BLAS builds then refits after an edit, GPU memory
 // reported), and a game's transparent block that shows the block behind it. CTest label vulkan.
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <set>
 #include <thread>
@@ -238,6 +239,76 @@ TEST(FacadeRender, TransparentBlockShowsWhatIsBehind) {
     EXPECT_LT(through.g, 60);
     EXPECT_GT(solid.g, 200) << int(solid.r) << "," << int(solid.g) << "," << int(solid.b);
     EXPECT_LT(solid.b, 60);
+}
+
+// A floor at y = -1 tiled 4 x 4 with 16 blocks of distinct albedo: the block at (x, z) is
+// 1 + (x mod 4) + 4 (z mod 4), so a pixel's colour names the block the renderer shows there.
+class TileGenerator final : public vx::Generator {
+public:
+    static vx::BlockId tile(vx::BlockPos p) { return vx::BlockId(1 + (p.x & 3) + 4 * (p.z & 3)); }
+    void generate(vx::ChunkCoord c, std::span<vx::BlockId> blocks) const override {
+        const vx::BlockPos o = vx::chunk_origin(c);
+        for (int z = 0; z < 32; ++z)
+            for (int x = 0; x < 32; ++x)
+                blocks[vx::chunk_index(x, 31, z)] = tile(o + vx::BlockPos(x, 31, z)); // y = -1.
+    }
+    std::optional<vx::BlockId> uniform(vx::ChunkCoord c) const override {
+        if (c.y == -1)
+            return std::nullopt;
+        return vx::kAir;
+    }
+};
+
+// Mouse picking: the ray Engine::screen_ray gives for a pixel hits (raycast) the block the
+// renderer drew at that pixel, over the whole frame (off-centre, both axes, a non-square frame).
+TEST(FacadeRender, ScreenRayPicksTheBlockDrawnAtThePixel) {
+    constexpr uint32_t kW = 40, kH = 24;
+    vx::EngineCreateInfo info = render_info(vx::WorldSource::custom(std::make_shared<TileGenerator>()), kW, kH);
+    info.streaming.view_radius = 1;
+    info.streaming.view_radius_vertical = 1;
+    for (int i = 0; i < 16; ++i)
+        info.blocks.push_back({"tile" + std::to_string(i), {0.1f + 0.25f * float(i % 4), 0.1f + 0.25f * float(i / 4), 0.3f}});
+    auto engine = vx::Engine::create(info);
+    if (!engine)
+        GTEST_SKIP() << "no ray-tracing device: " << engine.error();
+    vx::Engine& e = **engine;
+    vx::Viewer v;
+    v.block = {3, 5, 5};
+    v.offset = {0.3, 0.6, 0.7};
+    v.forward = {0.3, -1, -0.2}; // Steeply down: every floor pixel lies in the meshed chunks.
+    v.fov_y_degrees = 50.f;
+    ASSERT_TRUE(e.set_viewer(v));
+    vx::RenderSettings rs;
+    rs.shading = vx::RenderSettings::Shading::Flat;
+    e.set_render_settings(rs);
+    ASSERT_TRUE(settle(e));
+    vx::Image img;
+    ASSERT_TRUE(e.render_to_image(img));
+    size_t checked = 0;
+    std::set<vx::BlockId> seen;
+    for (uint32_t y = 0; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            auto ray = e.screen_ray({x + 0.5, y + 0.5});
+            ASSERT_TRUE(ray) << ray.error();
+            auto hit = e.raycast(ray->origin_block, ray->origin_offset, ray->direction, 100.0);
+            ASSERT_TRUE(hit) << hit.error();
+            ASSERT_EQ(hit->kind, vx::RayHit::Kind::Hit) << x << "," << y;
+            // A hit within 0.02 blocks of a tile's edge may fall either side in the GPU's floats.
+            const glm::dvec3 at = glm::dvec3(ray->origin_block) + ray->origin_offset + ray->direction * hit->distance;
+            const glm::dvec2 frac = glm::fract(glm::dvec2(at.x, at.z));
+            if (glm::any(glm::lessThan(glm::min(frac, 1.0 - frac), glm::dvec2(0.02))))
+                continue;
+            const vx::BlockType type = *e.block_type(hit->id);
+            const glm::u8vec4 p = img.at(x, y);
+            for (int c = 0; c < 3; ++c) // Flat shading writes the linear albedo: round(albedo * 255).
+                EXPECT_NEAR(int(p[c]), int(std::lround(type.albedo[c] * 255.f)), 2)
+                    << "pixel " << x << "," << y << " shows another block than " << type.name;
+            ++checked;
+            seen.insert(hit->id);
+        }
+    EXPECT_GT(checked, size_t(kW * kH / 2));
+    EXPECT_EQ(seen.size(), 16u); // The view spans every tile.
+    EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 
 } // namespace

@@ -77,6 +77,10 @@ TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
         v.forward = {0.3, -1, 0.2};
         ASSERT_TRUE(e.set_viewer(v));
         ASSERT_TRUE(settle(e));
+        // Screen rays need the window's frame size, known once a frame was presented.
+        auto early = e.screen_ray({48, 32});
+        ASSERT_FALSE(early);
+        EXPECT_NE(early.error().find("no frame presented yet"), std::string::npos) << early.error();
 
         vx::Image before, after, removed;
         for (int i = 0; i < 4; ++i) { // Fill both frames in flight.
@@ -85,6 +89,9 @@ TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
             ASSERT_TRUE(s) << s.error();
         }
         ASSERT_EQ(before.width, 96u);
+        auto centre_ray = e.screen_ray({48, 32}); // The centre of 96 x 64: the forward direction.
+        ASSERT_TRUE(centre_ray) << centre_ray.error();
+        EXPECT_NEAR(glm::length(centre_ray->direction - glm::normalize(v.forward)), 0.0, 1e-9);
         // The block under the centre pixel, and the air block in front of it.
         auto hit = e.raycast(v.block, v.offset, v.forward, 64);
         ASSERT_TRUE(hit);
@@ -111,6 +118,9 @@ TEST(FacadeWindow, EditsShowInTheNextPresentedFrame) {
         }
         EXPECT_EQ(resized.width, 64u);
         EXPECT_EQ(resized.height, 40u);
+        auto resized_ray = e.screen_ray({32, 20}); // The centre of the new 64 x 40 frame.
+        ASSERT_TRUE(resized_ray) << resized_ray.error();
+        EXPECT_NEAR(glm::length(resized_ray->direction - glm::normalize(v.forward)), 0.0, 1e-9);
         EXPECT_GE(e.stats().frame_ms, 0.0);
         EXPECT_EQ(e.stats().validation_errors, 0u);
         ASSERT_TRUE(e.shutdown());

@@ -1,5 +1,5 @@
 // Save tickets: a flush covers every sequence up to its own, a later success supersedes an
-// earlier failure, unknown tickets fail at once, and wait() wakes when another thread reports.
+// earlier failure, unknown tickets are Unknown and fail at once, and wait() wakes when another thread reports.
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -42,10 +42,12 @@ TEST(SaveTracker, LaterSuccessSupersedesFailure) {
 
 TEST(SaveTracker, UnknownTicketsFail) {
     SaveTracker t;
-    EXPECT_EQ(t.state(0), SaveState::Failed);
-    EXPECT_EQ(t.state(1), SaveState::Failed); // Not issued yet.
+    EXPECT_EQ(t.state(0), SaveState::Unknown);
+    EXPECT_EQ(t.state(1), SaveState::Unknown); // Not issued yet.
     EXPECT_FALSE(t.wait(0));
-    EXPECT_FALSE(t.wait(7));
+    Status w = t.wait(7);
+    ASSERT_FALSE(w);
+    EXPECT_NE(w.error().find("unknown save ticket 7"), std::string::npos) << w.error();
 }
 
 TEST(SaveTracker, WaitWakesOnAnotherThreadsReport) {

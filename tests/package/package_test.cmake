@@ -1,5 +1,5 @@
 # Run by ctest (tests/package/CMakeLists.txt) as `cmake -P`. Inputs: VX_BUILD_DIR, VX_SOURCE_DIR,
-# VX_CONSUMER_DIR, VX_GENERATOR, VX_BUILD_TYPE. Fails (FATAL_ERROR) on the first step that fails.
+# VX_CONSUMER_DIR, VX_GENERATOR, VX_BUILD_TYPE, VX_WITH_OPENVDB. Fails (FATAL_ERROR) on the first step that fails.
 cmake_minimum_required(VERSION 3.25)
 
 function(run what)
@@ -8,6 +8,7 @@ function(run what)
     message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
   endif()
   set(run_output "${out}" PARENT_SCOPE)
+  set(run_log "${out}${err}" PARENT_SCOPE) # message() without a mode goes to stderr.
 endfunction()
 
 # A fresh directory in the system's temporary folder: outside the source and build trees.
@@ -46,16 +47,61 @@ foreach(f IN ITEMS lib/cmake/vx/vxConfig.cmake lib/cmake/vx/vxConfigVersion.cmak
   endif()
 endforeach()
 
-file(COPY "${VX_CONSUMER_DIR}/" DESTINATION "${work}/consumer")
 if(NOT VX_BUILD_TYPE)
   set(VX_BUILD_TYPE Release)
 endif()
+# The clock in seconds, for the log (never a pass/fail criterion: machines differ).
+function(now out)
+  string(TIMESTAMP t "%s")
+  set(${out} ${t} PARENT_SCOPE)
+endfunction()
+
+# 1. The newcomer's consumer: find_package(vx) and vx::vx only, no standard of its own, the
+# first program of docs/embedding.md beside a game-like check. No OpenVDB may show up: not in its
+# configure (Debian's FindOpenVDB prints "COMPONENT = openvdb" and Imath warnings), not linked.
+file(COPY "${VX_CONSUMER_DIR}/" DESTINATION "${work}/consumer")
+file(COPY "${VX_SOURCE_DIR}/docs/examples/first_program.cpp" DESTINATION "${work}/consumer")
 run("consumer configure" ${CMAKE_COMMAND} -S "${work}/consumer" -B "${work}/build" -G "${VX_GENERATOR}"
     -DCMAKE_BUILD_TYPE=${VX_BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${prefix}")
+string(TOLOWER "${run_log}" configure_log)
+if(configure_log MATCHES "openvdb|imath")
+  message(FATAL_ERROR "find_package(vx) without COMPONENTS vdb mentions OpenVDB:\n${run_log}")
+endif()
 run("consumer build" ${CMAKE_COMMAND} --build "${work}/build")
+find_program(readelf readelf)
+if(readelf)
+  run("readelf" ${readelf} -d "${work}/build/first_program")
+  if(run_output MATCHES "openvdb")
+    message(FATAL_ERROR "first_program links OpenVDB:\n${run_output}")
+  endif()
+endif()
 run("consumer run" "${work}/build/vx_consumer" "${work}/world.db")
 message(STATUS "${run_output}")
 if(NOT run_output MATCHES "vx_consumer: ok")
   message(FATAL_ERROR "consumer printed no 'vx_consumer: ok':\n${run_output}")
+endif()
+# The documented program writes my_world.db and my_world.png where it runs.
+file(MAKE_DIRECTORY "${work}/first")
+now(t0)
+execute_process(COMMAND "${work}/build/first_program" WORKING_DIRECTORY "${work}/first"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+now(t1)
+math(EXPR seconds "${t1} - ${t0}")
+if(NOT rc EQUAL 0 OR NOT EXISTS "${work}/first/my_world.png")
+  message(FATAL_ERROR "docs/examples/first_program failed (${rc}):\n${out}\n${err}")
+endif()
+message(STATUS "first_program (docs/embedding.md) ran in ${seconds} s: ${out}")
+
+# 2. A consumer of the vdb component (when vx was built with OpenVDB).
+if(VX_WITH_OPENVDB)
+  file(COPY "${VX_SOURCE_DIR}/tests/package/vdb_consumer/" DESTINATION "${work}/vdb_consumer")
+  run("vdb consumer configure" ${CMAKE_COMMAND} -S "${work}/vdb_consumer" -B "${work}/vdb_build"
+      -G "${VX_GENERATOR}" -DCMAKE_BUILD_TYPE=${VX_BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${prefix}")
+  run("vdb consumer build" ${CMAKE_COMMAND} --build "${work}/vdb_build")
+  run("vdb consumer run" "${work}/vdb_build/vx_vdb_consumer" "${work}/world.vdb")
+  message(STATUS "${run_output}")
+  if(NOT run_output MATCHES "vx_vdb_consumer: ok")
+    message(FATAL_ERROR "vdb consumer printed no 'vx_vdb_consumer: ok':\n${run_output}")
+  endif()
 endif()
 file(REMOVE_RECURSE "${work}")

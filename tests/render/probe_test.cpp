@@ -1,3 +1,5 @@
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include "render/device_probe.h"
@@ -60,6 +62,26 @@ TEST(DeviceProbe, ApiVersionRequiresVulkan13) {
     DeviceReport d = fake(0, DeviceType::Discrete, true);
     d.api_version = (1u << 22) | (2u << 12);
     EXPECT_FALSE(d.can_ray_trace());
+}
+
+// A missing driver names the driver files looked for, not VK_ERROR_INCOMPATIBLE_DRIVER. ctest runs
+// each test in its own process, so changing the environment here touches no other test.
+TEST(DeviceProbe, MissingDriverNamesTheFilesLookedFor) {
+    ASSERT_EQ(setenv("VK_DRIVER_FILES", "/nonexistent/vx_no_driver.json", 1), 0);
+    Result<std::vector<DeviceReport>> devices = probe_devices();
+    ASSERT_FALSE(devices.ok());
+    EXPECT_NE(devices.error().find("no Vulkan driver found"), std::string::npos) << devices.error();
+    EXPECT_NE(devices.error().find("VK_DRIVER_FILES=/nonexistent/vx_no_driver.json"), std::string::npos)
+        << devices.error();
+    EXPECT_NE(devices.error().find("missing: /nonexistent/vx_no_driver.json"), std::string::npos) << devices.error();
+    EXPECT_EQ(devices.error().find("VK_ERROR"), std::string::npos) << devices.error();
+
+    const std::string legacy = missing_driver_message(nullptr, "/a.json:/b.json");
+    EXPECT_NE(legacy.find("VK_ICD_FILENAMES=/a.json:/b.json (missing: /a.json, /b.json)"), std::string::npos) << legacy;
+    const std::string both = missing_driver_message("/x.json", "/a.json"); // The loader prefers VK_DRIVER_FILES.
+    EXPECT_NE(both.find("VK_DRIVER_FILES=/x.json"), std::string::npos) << both;
+    const std::string none = missing_driver_message(nullptr, nullptr);
+    EXPECT_NE(none.find("/usr/share/vulkan/icd.d"), std::string::npos) << none;
 }
 
 using ContextTest = test::RenderTest;

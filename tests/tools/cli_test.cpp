@@ -183,8 +183,18 @@ TEST(Cli, WorldGenInfoAndCheck) {
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("records: 27, corrupt: 0"), std::string::npos) << r.out;
 
-    // Another seed into the same store is refused.
+    // Another seed into the same store is refused, and so is a world a game's generator made.
     EXPECT_EQ(run_vx("world gen " + db + " --seed 10 --radius 1").code, 2);
+    const std::string game_db = (dir / "game.db").string();
+    {
+        auto game = vx::world::SqliteStore::open({game_db});
+        ASSERT_TRUE(game) << game.error();
+        ASSERT_TRUE((*game)->set_meta("generator", "game:waves/1"));
+        ASSERT_TRUE((*game)->flush());
+    }
+    r = run_vx("world gen " + game_db + " --seed 9 --radius 0");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("made by a game's generator (game:waves/1)"), std::string::npos) << r.out;
 
     // Flip a byte inside one record's payload.
     sqlite3* h = nullptr;

@@ -1,8 +1,19 @@
 #include "world/store/store_open.h"
 
+#include <atomic>
+
 #include "world/store/pg_store.h"
 
 namespace vx::world {
+
+namespace {
+// Constant-initialised, so vx_vdb's static initialiser may set it before or after this file's.
+std::atomic<VdbStoreOpener> g_vdb_store_opener{nullptr};
+} // namespace
+
+void set_vdb_store_opener(VdbStoreOpener opener) { g_vdb_store_opener.store(opener); }
+
+VdbStoreOpener vdb_store_opener() { return g_vdb_store_opener.load(); }
 
 Result<std::unique_ptr<ChunkStore>> open_store(const StoreOpenInfo& info) {
     if (is_pg_uri(info.name)) {

@@ -1,0 +1,287 @@
+// The facade <vx/vx.h> refuses bad input at the call that receives it (a viewer at set_viewer, a
+// block's material at create), a stored world knows the generator that made it, and the small
+// queries a game's UI needs: the ray through a screen pixel and the block registry read back.
+// No GPU (RenderTarget::none).
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <vx/vx.h>
+
+#include "world/store/store_open.h"
+
+namespace {
+
+vx::EngineCreateInfo tiny_info(vx::WorldSource source) {
+    vx::EngineCreateInfo info;
+    info.world = std::move(source);
+    info.streaming.view_radius = 1;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.worker_threads = 1;
+    return info;
+}
+
+std::string temp_world(const char* name) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_facade_checks_test";
+    std::filesystem::create_directories(dir);
+    const auto p = dir / (std::string(name) + "_" + std::to_string(::getpid()) + ".db");
+    for (const char* suffix : {"", "-wal", "-shm"})
+        std::filesystem::remove(p.string() + suffix);
+    return p.string();
+}
+
+// The error of `r`, or "" when it succeeded.
+template <typename T>
+std::string error_of(const T& r) {
+    return r ? std::string() : r.error();
+}
+
+TEST(FacadeChecks, SetViewerRefusesACameraTheRendererCannotMake) {
+    auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    const vx::Viewer good;
+    ASSERT_TRUE(e.set_viewer(good));
+
+    struct Case {
+        const char* what;
+        glm::dvec3 forward, up;
+        float fov;
+        const char* message;
+    };
+    const Case cases[] = {
+        {"zero forward", {0, 0, 0}, {0, 1, 0}, 60.f, "forward is zero"},
+        {"zero up", {0, 0, -1}, {0, 0, 0}, 60.f, "up is zero"},
+        {"forward along up", {0, 2, 0}, {0, 1, 0}, 60.f, "parallel to up"},
+        {"forward against up", {0, -1, 0}, {0, 1, 0}, 60.f, "parallel to up"},
+        {"fov 0", {0, 0, -1}, {0, 1, 0}, 0.f, "fov_y_degrees must be in (0, 180)"},
+        {"fov 180", {0, 0, -1}, {0, 1, 0}, 180.f, "fov_y_degrees must be in (0, 180)"},
+        {"fov 270", {0, 0, -1}, {0, 1, 0}, 270.f, "fov_y_degrees must be in (0, 180)"},
+        {"fov -60", {0, 0, -1}, {0, 1, 0}, -60.f, "fov_y_degrees must be in (0, 180)"},
+        {"fov inf", {0, 0, -1}, {0, 1, 0}, std::numeric_limits<float>::infinity(), "must be finite"},
+    };
+    for (const Case& c : cases) {
+        vx::Viewer v;
+        v.block = {100, 5, 100};
+        v.forward = c.forward;
+        v.up = c.up;
+        v.fov_y_degrees = c.fov;
+        const vx::Status s = e.set_viewer(v);
+        ASSERT_FALSE(s) << c.what;
+        EXPECT_NE(s.error().find(c.message), std::string::npos) << c.what << ": " << s.error();
+    }
+    // The previous viewer stays: screen rays still come from it.
+    auto ray = vx::screen_ray(good, {0.5, 0.5}, {1, 1});
+    ASSERT_TRUE(ray) << ray.error();
+    EXPECT_NEAR(ray->direction.z, -1.0, 1e-12);
+    // Looking straight down works with another up; a tiny but valid fov too.
+    vx::Viewer down;
+    down.forward = {0, -1, 0};
+    down.up = {0, 0, -1};
+    EXPECT_TRUE(e.set_viewer(down));
+    down.fov_y_degrees = 0.5f;
+    EXPECT_TRUE(e.set_viewer(down));
+}
+
+TEST(FacadeChecks, CreateRefusesBlockMaterialsOutOfRange) {
+    const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+    struct Case {
+        vx::BlockType block;
+        const char* message;
+    };
+    const Case cases[] = {
+        {{"paint", {2.f, -1.f, 0.5f}}, "albedo must be 0..1 per channel, got 2, -1, 0.5"},
+        {{"paint", {0.5f, nan, 0.5f}}, "albedo must be 0..1"},
+        {{"paint", {0.5f, 0.5f, 0.5f}, 1.5f}, "reflectivity must be 0..1, got 1.5"},
+        {{"paint", {0.5f, 0.5f, 0.5f}, -0.1f}, "reflectivity must be 0..1"},
+        {{"paint", {0.5f, 0.5f, 0.5f}, 0.f, {-1.f, 0.f, 0.f}}, "emission must be finite and >= 0"},
+        {{"paint", {0.5f, 0.5f, 0.5f}, 0.f, {inf, 0.f, 0.f}}, "emission must be finite and >= 0"},
+    };
+    for (const Case& c : cases) {
+        vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+        info.blocks = {{"rock", {0.4f, 0.4f, 0.4f}}, c.block};
+        auto engine = vx::Engine::create(info);
+        ASSERT_FALSE(engine) << c.message;
+        // The block is named: its id and name.
+        EXPECT_NE(engine.error().find("block type 2 ('paint')"), std::string::npos) << engine.error();
+        EXPECT_NE(engine.error().find(c.message), std::string::npos) << engine.error();
+    }
+    // The edges of the ranges are fine: albedo 0 and 1, full mirror, a bright lamp.
+    vx::EngineCreateInfo edges = tiny_info(vx::WorldSource::terrain(1));
+    edges.blocks = {{"black", glm::vec3(0.f)}, {"white", glm::vec3(1.f), 1.f}, {"lamp", glm::vec3(1.f), 0.f, glm::vec3(1e4f)}};
+    auto engine = vx::Engine::create(edges);
+    EXPECT_TRUE(engine) << engine.error();
+}
+
+// A generator with a name and version the test picks; every chunk below y = 0 rock.
+class NamedGenerator final : public vx::Generator {
+public:
+    NamedGenerator(std::string name, uint32_t version) : m_name(std::move(name)), m_version(version) {}
+    void generate(vx::ChunkCoord, std::span<vx::BlockId>) const override {}
+    std::optional<vx::BlockId> uniform(vx::ChunkCoord c) const override {
+        return c.y < 0 ? vx::BlockId(1) : vx::kAir;
+    }
+    std::string_view name() const override { return m_name; }
+    uint32_t version() const override { return m_version; }
+
+private:
+    std::string m_name;
+    uint32_t m_version;
+};
+
+// A game's generator that keeps the defaults.
+class PlainGenerator final : public vx::Generator {
+public:
+    void generate(vx::ChunkCoord, std::span<vx::BlockId>) const override {}
+};
+
+std::string open_error(const vx::WorldSource& source) { return error_of(vx::Engine::create(tiny_info(source))); }
+
+TEST(FacadeChecks, StoredWorldRefusesAnotherGenerator) {
+    const std::string path = temp_world("generator");
+    auto waves = std::make_shared<NamedGenerator>("waves", 1);
+    ASSERT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), ""); // Made by waves v1.
+    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), "");
+    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, std::make_shared<NamedGenerator>("waves", 1))), "");
+
+    // The built-in terrain, of any seed.
+    for (uint64_t seed : {uint64_t(1), uint64_t(7)}) {
+        const std::string e = open_error(vx::WorldSource::sqlite(path, seed));
+        EXPECT_NE(e.find("was made by the generator 'waves' version 1, not the built-in terrain"), std::string::npos)
+            << e;
+    }
+    // Another version, another name, a generator that keeps the defaults.
+    std::string e = open_error(vx::WorldSource::sqlite(path, std::make_shared<NamedGenerator>("waves", 2)));
+    EXPECT_NE(e.find("made by the generator 'waves' version 1, not the generator 'waves' version 2"), std::string::npos)
+        << e;
+    e = open_error(vx::WorldSource::sqlite(path, std::make_shared<NamedGenerator>("hills", 1)));
+    EXPECT_NE(e.find("not the generator 'hills' version 1"), std::string::npos) << e;
+    e = open_error(vx::WorldSource::sqlite(path, std::make_shared<PlainGenerator>()));
+    EXPECT_NE(e.find("not the generator 'game' version 1"), std::string::npos) << e;
+    // A refused open records nothing: the world still opens with its own generator.
+    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), "");
+
+    // The reverse: a terrain world refuses a game's generator.
+    const std::string terrain = temp_world("terrain");
+    ASSERT_EQ(open_error(vx::WorldSource::sqlite(terrain, 7)), "");
+    e = open_error(vx::WorldSource::sqlite(terrain, waves));
+    EXPECT_NE(e.find("was made by the built-in terrain, not the generator 'waves' version 1"), std::string::npos) << e;
+    e = open_error(vx::WorldSource::sqlite(terrain, 8));
+    EXPECT_NE(e.find("seed 7, not 8"), std::string::npos) << e;
+    EXPECT_EQ(open_error(vx::WorldSource::sqlite(terrain, 7)), "");
+}
+
+// Worlds saved before the generator was recorded: one without any meta opens with whatever
+// comes and records it; one with a seed was made by the built-in terrain (only it stores one).
+TEST(FacadeChecks, OlderWorldsRecordTheirGenerator) {
+    auto waves = std::make_shared<NamedGenerator>("waves", 3);
+    const std::string bare = temp_world("bare");
+    {
+        auto store = vx::world::open_store({bare});
+        ASSERT_TRUE(store) << store.error();
+        ASSERT_TRUE((*store)->flush());
+    }
+    ASSERT_EQ(open_error(vx::WorldSource::sqlite(bare, waves)), "");
+    std::string e = open_error(vx::WorldSource::sqlite(bare, 1));
+    EXPECT_NE(e.find("made by the generator 'waves' version 3"), std::string::npos) << e;
+
+    const std::string seeded = temp_world("seeded");
+    {
+        auto store = vx::world::open_store({seeded});
+        ASSERT_TRUE(store) << store.error();
+        ASSERT_TRUE((*store)->set_meta("seed", "5")); // As `vx world gen --seed 5` wrote it.
+        ASSERT_TRUE((*store)->flush());
+    }
+    e = open_error(vx::WorldSource::sqlite(seeded, waves));
+    EXPECT_NE(e.find("made by the built-in terrain"), std::string::npos) << e;
+    EXPECT_EQ(open_error(vx::WorldSource::sqlite(seeded, 5)), "");
+    {
+        auto store = vx::world::open_store({seeded});
+        ASSERT_TRUE(store) << store.error();
+        auto recorded = (*store)->get_meta("generator");
+        ASSERT_TRUE(recorded && *recorded);
+        EXPECT_EQ(**recorded, "terrain");
+    }
+}
+
+// Derivations below: forward -z, up +y, so right = forward x up = +x. fov 90: tan(45°) = 1; a
+// 200 x 100 frame has aspect 2. Pixel p maps to ndc = p / size * 2 - 1, y down, and the direction
+// is forward + ndc.x * 1 * 2 * right - ndc.y * 1 * up, normalised.
+TEST(FacadeChecks, ScreenRayFollowsTheRenderersCamera) {
+    vx::Viewer v;
+    v.block = {10, 20, 30};
+    v.offset = {1.5, 0.25, -0.5}; // Whole blocks fold into the block, as set_viewer does.
+    v.forward = {0, 0, -3};
+    v.up = {0, 1, 0};
+    v.fov_y_degrees = 90.f;
+    const glm::uvec2 size{200, 100};
+    auto centre = vx::screen_ray(v, {100, 50}, size);
+    ASSERT_TRUE(centre) << centre.error();
+    EXPECT_EQ(centre->origin_block, vx::BlockPos(11, 20, 29));
+    EXPECT_NEAR(glm::length(centre->origin_offset - glm::dvec3(0.5, 0.25, 0.5)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(centre->direction - glm::dvec3(0, 0, -1)), 0.0, 1e-12);
+    // The top edge's middle: ndc (0, -1): (0, 1, -1) / sqrt 2, 45° up (half the fov).
+    auto top = vx::screen_ray(v, {100, 0}, size);
+    ASSERT_TRUE(top);
+    EXPECT_NEAR(glm::length(top->direction - glm::normalize(glm::dvec3(0, 1, -1))), 0.0, 1e-12);
+    // The top-left corner: ndc (-1, -1): (-2, 1, -1) / sqrt 6 (the width follows the aspect).
+    auto corner = vx::screen_ray(v, {0, 0}, size);
+    ASSERT_TRUE(corner);
+    EXPECT_NEAR(glm::length(corner->direction - glm::normalize(glm::dvec3(-2, 1, -1))), 0.0, 1e-12);
+    // The bottom-right corner: ndc (1, 1): (2, -1, -1) / sqrt 6.
+    auto bottom_right = vx::screen_ray(v, {200, 100}, size);
+    ASSERT_TRUE(bottom_right);
+    EXPECT_NEAR(glm::length(bottom_right->direction - glm::normalize(glm::dvec3(2, -1, -1))), 0.0, 1e-12);
+    // Pixel (0, 0) is traced through its centre (0.5, 0.5), one pixel in from the corner.
+    auto first = vx::screen_ray(v, {0.5, 0.5}, size);
+    ASSERT_TRUE(first);
+    EXPECT_NEAR(glm::length(first->direction - glm::normalize(glm::dvec3(-1.99, 0.99, -1))), 0.0, 1e-12);
+
+    EXPECT_NE(error_of(vx::screen_ray(v, {1, 1}, {0, 10})).find("frame size"), std::string::npos);
+    EXPECT_NE(error_of(vx::screen_ray(v, {std::nan(""), 1}, size)).find("finite"), std::string::npos);
+    vx::Viewer bad = v;
+    bad.fov_y_degrees = 200.f;
+    EXPECT_NE(error_of(vx::screen_ray(bad, {1, 1}, size)).find("fov"), std::string::npos);
+
+    // The engine's own needs a frame: none without a render target.
+    auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    EXPECT_NE(error_of((*engine)->screen_ray({1, 1})).find("vx::screen_ray(viewer, pixel, frame_size)"),
+              std::string::npos);
+}
+
+TEST(FacadeChecks, BlockRegistryReadsBack) {
+    vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+    info.blocks = {{"rock", {0.4f, 0.3f, 0.2f}}, {"glow", {1.f, 0.9f, 0.8f}, 0.25f, {5.f, 4.f, 3.f}, false}};
+    auto engine = vx::Engine::create(info);
+    ASSERT_TRUE(engine) << engine.error();
+    const vx::Engine& e = **engine;
+    EXPECT_EQ(e.block_count(), 2u);
+    EXPECT_EQ(e.block_type(vx::kAir), std::nullopt);
+    EXPECT_EQ(e.block_type(3), std::nullopt);
+    auto rock = e.block_type(1);
+    ASSERT_TRUE(rock);
+    EXPECT_EQ(rock->name, "rock");
+    EXPECT_EQ(rock->albedo, glm::vec3(0.4f, 0.3f, 0.2f));
+    EXPECT_TRUE(rock->opaque);
+    auto glow = e.block_type(*e.find_block("glow"));
+    ASSERT_TRUE(glow);
+    EXPECT_EQ(glow->name, "glow");
+    EXPECT_EQ(glow->reflectivity, 0.25f);
+    EXPECT_EQ(glow->emission, glm::vec3(5.f, 4.f, 3.f));
+    EXPECT_FALSE(glow->opaque);
+
+    // The default palette: every id named as default_blocks() lists it.
+    auto defaults = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(defaults) << defaults.error();
+    const std::vector<vx::BlockType> palette = vx::default_blocks();
+    ASSERT_EQ((*defaults)->block_count(), palette.size());
+    for (size_t i = 0; i < palette.size(); ++i)
+        EXPECT_EQ((*defaults)->block_type(vx::BlockId(i + 1))->name, palette[i].name);
+}
+
+} // namespace
