@@ -6,7 +6,7 @@
 #include "world/store/sqlite_store.h"
 #include "world/store/store_open.h"
 #if VX_WITH_OPENVDB
-#include "world/vdb/vdb_store.h"
+#include "world/vdb/vdb_overlay_store.h"
 #endif
 
 namespace vx::engine {
@@ -88,7 +88,14 @@ Result<std::unique_ptr<world::ChunkStore>> open_store(const WorldSource& source)
     if (source.kind == WorldSource::Kind::Sqlite) // A file, or a postgresql:// URI (shared).
         return world::open_store({source.path});
 #if VX_WITH_OPENVDB
-    auto store = vdb::VdbStore::open(source.path);
+    if (source.read_only) {
+        auto store = vdb::VdbStore::open(source.path);
+        if (!store)
+            return Error{store.error()};
+        return std::unique_ptr<world::ChunkStore>(std::move(*store));
+    }
+    auto store = vdb::VdbOverlayStore::open(
+        {.vdb_path = source.path, .overlay = source.overlay, .read_only = false, .read = {}});
     if (!store)
         return Error{store.error()};
     return std::unique_ptr<world::ChunkStore>(std::move(*store));
