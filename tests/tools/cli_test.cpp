@@ -417,5 +417,20 @@ TEST(Cli, VdbWorldExportsWithItsEditsAndReaderCapsAreOptions) {
     EXPECT_NE(r.out.find("--max-memory"), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
     EXPECT_EQ(run_vx("import-vdb " + merged + " --out " + back + " --max-seconds abc").code, 2);
+
+    // A reader capped at 1 s of CPU on an import of about a minute (a level set of radius 150
+    // voxels at one voxel per block: ~15x the 3-4 s of radius 60 here) stops with one line naming
+    // the option; the cap, not the machine's speed, ends it.
+    vx::vdb::AnalyticVolume big;
+    big.half_extent = glm::dvec3(7.5);
+    big.index_to_world = glm::dmat3(0.05);
+    const std::string big_vdb = (dir / "big.vdb").string();
+    ASSERT_TRUE(vx::vdb::write_analytic_vdb(big_vdb, big));
+    r = run_vx("import-vdb " + big_vdb + " --out " + back + " --voxels-per-block 1 --max-seconds 1");
+    EXPECT_EQ(r.code, 2) << r.out;
+    const size_t line = r.out.find("vx: "); // After the "importing ..." progress line.
+    ASSERT_NE(line, std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("CPU time limit of 1 s (raise --max-seconds", line), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin() + std::ptrdiff_t(line), r.out.end(), '\n'), 1) << r.out;
 }
 #endif

@@ -136,7 +136,9 @@ void limit_child(const IsolationOptions& iso) {
     }
 #endif
     if (iso.cpu_seconds) {
-        const rlimit cpu{rlim_t(iso.cpu_seconds), rlim_t(iso.cpu_seconds)};
+        // The hard limit a little later: at the hard limit the kernel sends SIGKILL, which would
+        // read as a crash; at the soft one SIGXCPU, which names the cap.
+        const rlimit cpu{rlim_t(iso.cpu_seconds), rlim_t(iso.cpu_seconds) + 5};
         ::setrlimit(RLIMIT_CPU, &cpu);
     }
     g_reserve = std::malloc(kReserveBytes);
