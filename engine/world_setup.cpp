@@ -54,6 +54,21 @@ std::string block_names(const world::BlockRegistry& registry) {
     return out;
 }
 
+// The block-name half of check_world_meta (also for a VDB world's edits overlay).
+Status check_block_names(world::ChunkStore& store, const std::string& path, const world::BlockRegistry& registry) {
+    auto stored = store.get_meta("blocks");
+    if (!stored)
+        return Error{stored.error()};
+    const std::string now = block_names(registry);
+    if (*stored && now.compare(0, (*stored)->size(), **stored) != 0) {
+        std::string listed = **stored;
+        std::replace(listed.begin(), listed.end(), '\n', ' ');
+        return Error{path + " was saved with other blocks (ids 1.. were: " + listed +
+                     "); keep their order and append new ones"};
+    }
+    return store.set_meta("blocks", now);
+}
+
 // A SQLite world remembers its terrain seed ("seed", as `vx world gen` writes it) and its block
 // names ("blocks"): reopening it with another seed would put seams where new chunks meet stored
 // ones, and with other blocks would give stored ids new meanings. Appending blocks is fine.
@@ -69,17 +84,7 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
         if (Status s = store.set_meta("seed", std::to_string(source.seed)); !s)
             return s;
     }
-    auto stored = store.get_meta("blocks");
-    if (!stored)
-        return Error{stored.error()};
-    const std::string now = block_names(registry);
-    if (*stored && now.compare(0, (*stored)->size(), **stored) != 0) {
-        std::string listed = **stored;
-        std::replace(listed.begin(), listed.end(), '\n', ' ');
-        return Error{path + " was saved with other blocks (ids 1.. were: " + listed +
-                     "); keep their order and append new ones"};
-    }
-    return store.set_meta("blocks", now);
+    return check_block_names(store, path, registry);
 }
 
 Result<std::unique_ptr<world::ChunkStore>> open_store(const WorldSource& source) {
@@ -128,6 +133,11 @@ Result<OpenedWorld> open_world(const WorldSource& source, const std::vector<Bloc
             return Error{store.error()};
         out.store = std::move(*store);
         if (source.kind == WorldSource::Kind::Vdb) {
+            // The overlay stores block ids: reopened with other blocks they would change meaning.
+            const std::string overlay = "the edits overlay of '" + source.path + "'";
+            if (!source.read_only)
+                if (Status s = check_block_names(*out.store, overlay, out.registry); !s)
+                    return Error{s.error()};
             out.generator = pick_generator(source, std::make_unique<AirGenerator>());
             return out;
         }

@@ -267,6 +267,32 @@ TEST(VdbOverlayFacade, EditsSurviveUnloadSaveAndReopen) {
     EXPECT_TRUE(e.shutdown());
 }
 
+// The overlay stores block ids: reopening with other blocks is refused (appending is fine).
+TEST(VdbOverlayFacade, OtherBlocksAreRefused) {
+    TempDir dir;
+    const std::string path = floor_vdb(dir);
+    {
+        auto engine = vx::Engine::create(small_info(vx::WorldSource::vdb(path)));
+        ASSERT_TRUE(engine) << engine.error();
+        EXPECT_TRUE((*engine)->shutdown());
+    }
+    vx::EngineCreateInfo info = small_info(vx::WorldSource::vdb(path));
+    info.blocks = vx::default_blocks();
+    std::swap(info.blocks[0], info.blocks[1]);
+    auto refused = vx::Engine::create(info);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().find("other blocks"), std::string::npos) << refused.error();
+    info.blocks = vx::default_blocks();
+    info.blocks.push_back({"extra", glm::vec3(1.f), 0.f, glm::vec3(0.f), true});
+    auto appended = vx::Engine::create(info);
+    ASSERT_TRUE(appended) << appended.error();
+    EXPECT_TRUE((*appended)->shutdown());
+    info.world.read_only = true; // No overlay: nothing to keep consistent.
+    std::swap(info.blocks[0], info.blocks[1]);
+    auto read_only = vx::Engine::create(info);
+    EXPECT_TRUE(read_only) << read_only.error();
+}
+
 // The child edits, saves, reports the durable save through a pipe, edits again and waits to be
 // killed. Exit codes name the step that failed. Never returns.
 [[noreturn]] void edit_and_wait(const std::string& path, int ack_fd) {
