@@ -34,14 +34,6 @@ using world::BlockPos;
 
 // Each test below first reads files OpenVDB writes here (a clone alone runs them), then, when
 // shared/data/vdb is present, the real files of other writers (half floats, old versions, points).
-#define VX_REAL_VDB_DATA_OR_RETURN()                                                                   \
-    do {                                                                                               \
-        if (!::vx::vdb::test::have_data()) {                                                           \
-            std::printf("generated inputs only: no real VDB files at %s\n", test::data_dir().c_str()); \
-            return;                                                                                    \
-        }                                                                                              \
-    } while (0)
-
 TEST(VdbVolume, ListGridsComputesBoundsFromTheTree) {
     Result<std::vector<GridInfo>> g = list_grids(test_file(TestFile::ThreeDensities));
     ASSERT_TRUE(g.ok()) << g.error();
