@@ -347,9 +347,10 @@ TEST(VdbOverlayFacade, SavedEditsSurviveKill9) {
     EXPECT_TRUE(e.shutdown());
 }
 
-// Issue 17's case: an uncompressed export with bytes of its tree overwritten. Read in the game's
-// process it could allocate without bound; through the facade it is one line from create(), with
-// the overlay and read-only alike, and the reader's memory stays under its cap (4 GiB).
+// Issue 17's case: an uncompressed export with bytes of its tree overwritten. Through the facade
+// the file is read in the isolated child (4 GiB, 600 s caps: damage that makes OpenVDB allocate
+// without bound or crash stays there, see vdb_fuzz_test.cpp), so create() gives one line, with
+// the overlay and read-only alike. (These runs of 0xFF land in voxel values: -1 is no block id.)
 TEST(VdbOverlayFacade, DamagedFileIsOneLineFromCreate) {
     TempDir dir;
     const std::string path = dir.file("damaged.vdb");
