@@ -350,7 +350,7 @@ TEST(VdbOverlayFacade, SavedEditsSurviveKill9) {
 // Issue 17's case: an uncompressed export with bytes of its tree overwritten. Through the facade
 // the file is read in the isolated child (4 GiB, 600 s caps: damage that makes OpenVDB allocate
 // without bound or crash stays there, see vdb_fuzz_test.cpp), so create() gives one line, with
-// the overlay and read-only alike. (These runs of 0xFF land in voxel values: -1 is no block id.)
+// the overlay and read-only alike.
 TEST(VdbOverlayFacade, DamagedFileIsOneLineFromCreate) {
     TempDir dir;
     const std::string path = dir.file("damaged.vdb");
