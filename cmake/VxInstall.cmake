@@ -44,7 +44,7 @@ if(VX_BUILD_TOOLS)
 endif()
 
 # Headers. The facade directory as a whole; the component headers by source path. Left out: the
-# test oracles (vx_mesh_reference is not installed), the Vulkan-facing internals of render/ (only
+# test oracles and measurement code (vx_mesh_reference and vx_vdb_reference are not installed), the Vulkan-facing internals of render/ (only
 # renderer.h and device_probe.h are its interface), vdb/ unless vx_vdb was built.
 if(EXISTS ${PROJECT_SOURCE_DIR}/include/vx)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/vx DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
@@ -56,7 +56,8 @@ if(NOT VX_WITH_OPENVDB)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/world DESTINATION ${VX_INTERNAL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h"
-        PATTERN reference_meshers.h EXCLUDE ${vdb_exclude})
+        PATTERN reference_meshers.h EXCLUDE PATTERN vdb_accuracy.h EXCLUDE PATTERN vdb_analytic.h EXCLUDE
+        ${vdb_exclude})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine DESTINATION ${VX_INTERNAL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
 install(FILES ${PROJECT_SOURCE_DIR}/render/renderer.h ${PROJECT_SOURCE_DIR}/render/device_probe.h

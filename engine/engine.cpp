@@ -277,7 +277,7 @@ Result<SaveTicket> Engine::save() {
     if (!m->world.store)
         return Error{"this world does not persist (built-in terrain or a generator): open a SQLite world to save"};
     if (m->world.store->read_only())
-        return Error{"this world is read-only (VDB): edits stay in memory"};
+        return Error{"this world is read-only (a VDB world opened read_only): edits stay in memory"};
     return SaveTicket{m->streamer->request_save()};
 }
 

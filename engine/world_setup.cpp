@@ -95,6 +95,28 @@ std::string block_names(const world::BlockRegistry& registry) {
     return out;
 }
 
+// Refuses block names `now` that do not start with the `stored` ones (ids would change meaning).
+Status check_blocks(const std::optional<std::string>& stored, const std::string& now, const std::string& path) {
+    if (stored && now.compare(0, stored->size(), *stored) != 0) {
+        std::string listed = *stored;
+        std::replace(listed.begin(), listed.end(), '\n', ' ');
+        return Error{path + " was saved with other blocks (ids 1.. were: " + listed +
+                     "); keep their order and append new ones"};
+    }
+    return {};
+}
+
+// The block-name half of check_world_meta, for a VDB world's edits overlay.
+Status check_block_names(world::ChunkStore& store, const std::string& path, const world::BlockRegistry& registry) {
+    auto stored = store.get_meta("blocks");
+    if (!stored)
+        return Error{stored.error()};
+    const std::string now = block_names(registry);
+    if (Status s = check_blocks(*stored, now, path); !s)
+        return s;
+    return store.set_meta("blocks", now);
+}
+
 // What made a world's unedited chunks, as its meta "generator" records it: "terrain" for the
 // built-in terrain (its seed is "seed"), "game:NAME/VERSION" for a game's Generator.
 std::string generator_identity(const WorldSource& source) {
@@ -134,12 +156,8 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
     if (!source.generator && *seed && **seed != std::to_string(source.seed))
         return Error{path + " holds a world of seed " + **seed + ", not " + std::to_string(source.seed)};
     const std::string now = block_names(registry);
-    if (*stored && now.compare(0, (*stored)->size(), **stored) != 0) {
-        std::string listed = **stored;
-        std::replace(listed.begin(), listed.end(), '\n', ' ');
-        return Error{path + " was saved with other blocks (ids 1.. were: " + listed +
-                     "); keep their order and append new ones"};
-    }
+    if (Status s = check_blocks(*stored, now, path); !s)
+        return s;
     if (Status s = store.set_meta("generator", identity); !s)
         return s;
     if (!source.generator)
@@ -154,7 +172,7 @@ Result<std::unique_ptr<world::ChunkStore>> open_store(const WorldSource& source)
     if (source.kind == WorldSource::Kind::Sqlite) // A file, or a postgresql:// URI (shared).
         return world::open_store({source.path});
     if (const world::VdbStoreOpener open_vdb = world::vdb_store_opener())
-        return open_vdb(source.path);
+        return open_vdb({source.path, source.overlay, source.read_only});
     return Error{"VDB worlds need vx's vdb component linked into the program: find_package(vx COMPONENTS vdb) "
                  "and link vx::vdb (vx built with VX_WITH_OPENVDB=ON)"};
 }
@@ -183,6 +201,11 @@ Result<OpenedWorld> open_world(const WorldSource& source, const std::vector<Bloc
             return Error{store.error()};
         out.store = std::move(*store);
         if (source.kind == WorldSource::Kind::Vdb) {
+            // The overlay stores block ids: reopened with other blocks they would change meaning.
+            const std::string overlay = "the edits overlay of '" + source.path + "'";
+            if (!source.read_only)
+                if (Status s = check_block_names(*out.store, overlay, out.registry); !s)
+                    return Error{s.error()};
             out.generator = pick_generator(source, std::make_unique<AirGenerator>());
             return out;
         }

@@ -14,7 +14,9 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "world/store/store_open.h"
 #include "world/vdb/vdb_isolated.h"
+#include "world/vdb/vdb_overlay_store.h"
 #include "world_io.h"
 
 namespace vx::tools {
@@ -41,27 +43,44 @@ std::optional<BlockBox> parse_box(const std::string& s) {
 }
 
 struct ExportArgs {
-    std::string world, out, box, compression = "zip";
+    std::string world, out, box, compression = "zip", overlay;
 };
+
+bool names_vdb_file(const std::string& world) {
+    return world.size() > 4 && world.compare(world.size() - 4, 4, ".vdb") == 0;
+}
 
 int run_export(const ExportArgs& a) {
     std::optional<BlockBox> box;
     if (!a.box.empty() && !(box = parse_box(a.box)))
         return bad_input("--box must be X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1");
+    if (!a.overlay.empty() && !names_vdb_file(a.world))
+        return bad_input("--overlay goes with a VDB world (a .vdb file), not '" + a.world + "'");
     const auto t0 = Clock::now();
-    std::optional<ChunkCoord> lo, hi;
-    if (box)
-        lo = chunk_of(box->min), hi = chunk_of(box->max);
-    auto w = load_store_world(a.world, lo, hi);
-    if (!w)
-        return bad_input(w.error());
+    // A .vdb world is exported with its edits (VDB grid plus overlay); a store as it is. Both
+    // stream chunk by chunk (export_store_vdb).
+    std::unique_ptr<ChunkStore> store;
+    const BlockRegistry* registry = &BlockRegistry::default_registry();
+    if (names_vdb_file(a.world)) {
+        auto merged = VdbOverlayStore::open({.vdb_path = a.world, .overlay = a.overlay, .read_only = true, .read = {}});
+        if (!merged)
+            return bad_input(merged.error());
+        registry = &(*merged)->registry();
+        store = std::move(*merged);
+    } else {
+        auto opened = open_store({a.world, /*read_only=*/true, /*create=*/false, /*listen=*/false});
+        if (!opened)
+            return bad_input(opened.error());
+        store = std::move(*opened);
+    }
     VdbExportOptions opt;
     opt.box = box;
     opt.compression = a.compression == "none" ? VdbCompression::None : VdbCompression::Zip;
-    if (Status s = export_vdb(*w, a.out, opt); !s)
+    if (Status s = export_store_vdb(*store, *registry, a.out, opt); !s)
         return bad_input(s.error());
-    std::printf("vx export-vdb: %zu chunks of %s -> %s (Int32 grid 'blocks', %s) in %.2f s\n", w->chunk_count(),
-                a.world.c_str(), a.out.c_str(), a.compression.c_str(),
+    auto chunks = store->count();
+    std::printf("vx export-vdb: %" PRIu64 " chunks of %s -> %s (Int32 grid 'blocks', %s) in %.2f s\n",
+                chunks ? *chunks : 0, a.world.c_str(), a.out.c_str(), a.compression.c_str(),
                 std::chrono::duration<double>(Clock::now() - t0).count());
     return kExitOk;
 }
@@ -74,10 +93,21 @@ struct ImportArgs {
     float threshold = 0.25f;
     int block = 1;
     bool list = false;
+    double max_memory_gib = 4;   // The isolated reader's address-space cap.
+    uint32_t max_seconds = 600;  // Its CPU-time cap.
 };
 
-int list(const std::string& file) {
-    auto grids = list_grids_isolated(file);
+IsolationOptions isolation(const ImportArgs& a) {
+    IsolationOptions iso;
+    iso.memory_limit = uint64_t(a.max_memory_gib * double(uint64_t(1) << 30));
+    iso.cpu_seconds = a.max_seconds;
+    iso.memory_option = "--max-memory GiB";
+    iso.cpu_option = "--max-seconds S";
+    return iso;
+}
+
+int list(const std::string& file, const IsolationOptions& iso) {
+    auto grids = list_grids_isolated(file, iso);
     if (!grids)
         return bad_input(grids.error());
     for (const GridInfo& g : *grids) {
@@ -115,12 +145,12 @@ std::optional<std::vector<DensityBlock>> parse_density(const std::string& s) {
 
 int run_import(const ImportArgs& a) {
     if (a.list)
-        return list(a.file);
+        return list(a.file, isolation(a));
     if (a.out.empty())
         return bad_input("need --out WORLD (or --list)");
     const auto t0 = Clock::now();
     // A vx world (an Int32 grid named 'blocks') comes back as it was; anything else is a volume.
-    auto grids = list_grids_isolated(a.file);
+    auto grids = list_grids_isolated(a.file, isolation(a));
     if (!grids)
         return bad_input(grids.error());
     bool is_world = a.grid.empty() && a.index < 0;
@@ -132,7 +162,7 @@ int run_import(const ImportArgs& a) {
     World world;
     std::string what;
     if (is_world) {
-        auto w = import_world_vdb_isolated(a.file);
+        auto w = import_world_vdb_isolated(a.file, {}, isolation(a));
         if (!w)
             return bad_input(w.error());
         world = std::move(*w);
@@ -167,7 +197,7 @@ int run_import(const ImportArgs& a) {
             return bad_input("--offset must be X,Y,Z (integers)");
         o.offset = *off;
         std::fprintf(stderr, "importing %s ...\n", a.file.c_str());
-        auto r = import_volume_isolated(a.file, o);
+        auto r = import_volume_isolated(a.file, o, isolation(a));
         if (!r)
             return bad_input(r.error());
         const VolumeImportSummary& s = r->summary;
@@ -192,7 +222,8 @@ int run_import(const ImportArgs& a) {
 void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     auto e = std::make_shared<ExportArgs>();
     CLI::App* ex = app.add_subcommand("export-vdb", "Write a stored world (or a box of it) as an OpenVDB file");
-    ex->add_option("world", e->world, "World store")->required();
+    ex->add_option("world", e->world, "World store, or a VDB world (.vdb: written with its edits overlay)")->required();
+    ex->add_option("--overlay", e->overlay, "The VDB world's edits (default: <world>.edits.sqlite)");
     ex->add_option("--out", e->out, "Output .vdb")->required();
     ex->add_option("--box", e->box, "Only blocks X0,Y0,Z0,X1,Y1,Z1 (inclusive, world block coordinates)");
     ex->add_option("--compression", e->compression, "zip (small; any OpenVDB reads it) or none (fast)")
@@ -216,6 +247,9 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     im->add_option("--block", i->block, "Block id of solid blocks (default 1, stone)");
     im->add_option("--density", i->density, "Fog: relative density -> block id, e.g. 0.2:3,0.6:1");
     im->add_option("--offset", i->offset, "X,Y,Z added to every block (world block coordinates)");
+    im->add_option("--max-memory", i->max_memory_gib, "Memory cap of the isolated reader in GiB (default 4; 0: none)")
+        ->check(CLI::Range(0.0, 65536.0));
+    im->add_option("--max-seconds", i->max_seconds, "CPU-time cap of the isolated reader in seconds (default 600; 0: none)");
     im->add_option("--sampling", i->sampling, "adaptive (default), centre, majority or supersample")
         ->check(CLI::IsMember({"adaptive", "centre", "majority", "supersample"}));
     im->callback([i, block_size, &action] {

@@ -23,4 +23,8 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     }
 }
 
+int run_bench_vdb(int, char**) {
+    return bad_input("bench vdb: built without OpenVDB (configure with -DVX_WITH_OPENVDB=ON)");
+}
+
 } // namespace vx::tools

@@ -11,6 +11,8 @@
 
 int main(int argc, char** argv) {
     using namespace vx::tools;
+    if (argc >= 3 && std::strcmp(argv[1], "bench") == 0 && std::strcmp(argv[2], "vdb") == 0)
+        return run_bench_vdb(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "bench") == 0)
         return run_bench(argc - 1, argv + 1);
 
@@ -22,7 +24,7 @@ int main(int argc, char** argv) {
     add_world_command(app, action);
     add_vdb_commands(app, action);
     add_render_command(app, action);
-    app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store)");
+    app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store; vdb: export memory)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

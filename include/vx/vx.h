@@ -78,15 +78,25 @@ struct WorldSource {
                    // from `generator` if set, else the built-in terrain of `seed`. The world
                    // remembers which (Generator::name and version, or the terrain and its seed):
                    // create() refuses to reopen it with another.
-        Vdb,       // A vx VDB world file at `path` (vx export-vdb), read-only: edits stay in
-                   // memory (lost when their chunk unloads); chunks outside it come from
-                   // `generator` if set, else are air. Needs vx::vdb linked into
-                   // the program (find_package(vx COMPONENTS vdb)); else create() says so.
+        Vdb,       // A vx VDB world file at `path` (vx export-vdb). Its edits persist in an
+                   // overlay store (`overlay`; default "<path>.edits.sqlite", created if
+                   // missing), read before the file: save(), unloads and crashes behave as for
+                   // Sqlite, the file is never written, and `vx export-vdb <path>` writes the
+                   // merged world. An overlay made for another file (size, xxh64 of its bytes)
+                   // is refused. With `read_only`, no overlay: edits stay in memory (lost when
+                   // their chunk unloads) and save() fails. The file is read in a forked child
+                   // with memory and CPU caps, so a damaged file is an error from create(), not a
+                   // crash (create() must then be called while the process has no other thread
+                   // inside OpenVDB or TBB). Chunks outside the file come from `generator` if
+                   // set, else are air. Needs vx::vdb linked into the program
+                   // (find_package(vx COMPONENTS vdb)); else create() says so.
     };
     Kind kind = Kind::Terrain;
     uint64_t seed = 1;
     std::shared_ptr<const Generator> generator; // Shared with the engine's workers until shutdown.
     std::string path;
+    std::string overlay;    // Vdb: the edit store (SQLite path or PostgreSQL URI); "": beside `path`.
+    bool read_only = false; // Vdb: no overlay, edits are not kept (see Kind::Vdb).
 
     static WorldSource terrain(uint64_t seed);
     static WorldSource custom(std::shared_ptr<const Generator> generator);
@@ -421,9 +431,10 @@ public:
 
     // Main thread; does not block. Hands every edited chunk to the I/O thread and queues a
     // commit behind them; the ticket turns Durable once that commit is synced. Errors (nothing
-    // is handed over): the world does not persist (terrain, generator) or is read-only (VDB),
-    // shut down. A commit that fails later turns the ticket Failed (its message: wait()); the
-    // edits stay queued in the store, and a later save() or background commit retries them.
+    // is handed over): the world does not persist (terrain, generator) or is read-only (a VDB
+    // opened read_only), shut down. A commit that fails later turns the ticket Failed (its
+    // message: wait()); the edits stay queued in the store, and a later save() or background
+    // commit retries them.
     Result<SaveTicket> save();
     // Thread-safe. Unknown for a ticket save() never returned.
     SaveState save_state(SaveTicket ticket) const;

@@ -21,7 +21,7 @@ bool parse_size(const std::string& s, uint32_t& w, uint32_t& h) {
 } // namespace
 
 const char* usage() {
-    return "usage: vx_sandbox [--world PATH] [--seed S] [--vdb FILE] [--size WxH] [--fullscreen]\n"
+    return "usage: vx_sandbox [--world PATH] [--seed S] [--vdb FILE [--read-only]] [--size WxH] [--fullscreen]\n"
            "                  [--no-vsync] [--view-radius R] [--fly-speed B] [--device auto|cpu|gpu|N]\n"
            "                  [--validation] [--replay FILE [--frames N] [--screenshot PATH]]\n"
            "                  [--stats-out FILE.csv] [--headless (with --replay: no window)]\n";
@@ -55,6 +55,8 @@ vx::Result<Options> parse_options(const std::vector<std::string>& args) {
             o.validation = true;
         else if (a == "--headless")
             o.headless = true;
+        else if (a == "--read-only")
+            o.read_only = true;
         else if (!has_value)
             return bad(a.rfind("--", 0) == 0 ? "unknown option or missing value" : "unexpected argument");
         else if (a == "--size") {
@@ -89,6 +91,8 @@ vx::Result<Options> parse_options(const std::vector<std::string>& args) {
     }
     if (!o.world.empty() && !o.vdb.empty())
         return vx::Error{"vx_sandbox: --world and --vdb exclude each other"};
+    if (o.read_only && o.vdb.empty())
+        return vx::Error{"vx_sandbox: --read-only goes with --vdb (a SQLite world always keeps its edits)"};
     if (o.world.empty() && o.vdb.empty())
         o.world = default_world_path();
     if (o.headless && o.replay.empty())

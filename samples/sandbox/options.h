@@ -14,7 +14,9 @@ struct Options {
     bool vsync = true;                   // --no-vsync (V toggles it while playing).
     std::string world;                   // --world PATH (SQLite; default under XDG_DATA_HOME).
     uint64_t seed = 1;                   // --seed S: terrain of new worlds.
-    std::string vdb;                     // --vdb FILE: explore a VDB world read-only.
+    std::string vdb;                     // --vdb FILE: play a VDB world; edits are kept in
+                                         // FILE.edits.sqlite (the file is never written).
+    bool read_only = false;              // --read-only (with --vdb): keep no edits.
     std::string replay;                  // --replay FILE: scripted play at fixed 1/60 s steps.
     uint64_t frames = 0;                 // --frames N: stop (save, exit 0) after N frames (0: no limit).
     std::string screenshot;              // --screenshot PATH: PNG of the last frame on exit.

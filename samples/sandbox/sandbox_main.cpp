@@ -231,7 +231,8 @@ UiView ui_view(const App& app) {
     const vx::BlockId id = g.hotbar().selected_block();
     const std::string name = id >= 1 && id <= app.block_names.size() ? app.block_names[id - 1u] : std::to_string(id);
     UiView v;
-    v.status = std::string(g.player().walking() ? "walk" : "fly") + " | " + name + " | " + g.save_text() +
+    const char* vdb = app.opt.vdb.empty() ? "" : app.opt.read_only ? " | VDB read-only" : " | VDB + edits overlay";
+    v.status = std::string(g.player().walking() ? "walk" : "fly") + " | " + name + vdb + " | " + g.save_text() +
                (app.message.empty() ? "" : " | " + app.message);
     if (app.show_stats)
         v.stats = app.stats;
@@ -278,6 +279,7 @@ vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwind
     vx::EngineCreateInfo info;
     if (!o.vdb.empty()) {
         info.world = vx::WorldSource::vdb(o.vdb);
+        info.world.read_only = o.read_only; // Else edits go to "<file>.edits.sqlite".
     } else {
         std::error_code ec;
         std::filesystem::create_directories(std::filesystem::path(o.world).parent_path(), ec);
@@ -425,7 +427,7 @@ int main_headless(App& app) {
         std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
         return 2;
     }
-    app.game = std::make_unique<Game>(*app.engine, app.opt.vdb.empty(), app.opt.fly_speed);
+    app.game = std::make_unique<Game>(*app.engine, !app.opt.read_only, app.opt.fly_speed);
     const int64_t ground = vx::terrain_height(app.opt.seed, 0, 0);
     app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
     if (!app.opt.stats_out.empty()) {
@@ -481,7 +483,7 @@ int main_with(const Options& opt) {
             app.block_names.push_back(b.name);
         app.ui = std::make_unique<Ui>(vx::default_blocks());
         (void)app.ui->attach(*app.engine); // Cannot fail: a window target and a valid atlas.
-        app.game = std::make_unique<Game>(*app.engine, opt.vdb.empty(), opt.fly_speed);
+        app.game = std::make_unique<Game>(*app.engine, !opt.read_only, opt.fly_speed);
         const int64_t ground = vx::terrain_height(opt.seed, 0, 0);
         app.game->set_pose({0.5, double(ground) + 6.0, 0.5}, 0.0, -20.0);
         std::printf("vx_sandbox: seed %llu, terrain top at (0, %lld, 0)\n", (unsigned long long)opt.seed, (long long)ground);

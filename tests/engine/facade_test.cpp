@@ -327,7 +327,8 @@ TEST(Facade, DescriptionErrors) {
 }
 
 #if VX_WITH_OPENVDB
-// A VDB world: its blocks stream in, space outside it is air, edits stay in memory, save refuses.
+// A VDB world opened read_only: its blocks stream in, space outside it is air, edits stay in
+// memory, save refuses, no overlay is created. (The overlay: tests/vdb/vdb_overlay_test.cpp.)
 TEST(Facade, VdbWorldIsReadOnly) {
     vx::world::World src;
     for (int64_t x = -3; x < 40; ++x)
@@ -336,7 +337,9 @@ TEST(Facade, VdbWorldIsReadOnly) {
     src.set_block({5, 0, 5}, 8);
     const std::string path = temp_path("vdb_world") + ".vdb";
     ASSERT_TRUE(vx::vdb::export_vdb(src, path));
-    auto engine = vx::Engine::create(small_info(vx::WorldSource::vdb(path)));
+    vx::WorldSource source = vx::WorldSource::vdb(path);
+    source.read_only = true;
+    auto engine = vx::Engine::create(small_info(source));
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
     ASSERT_TRUE(e.set_viewer(viewer_at({4, 4, 4})));
@@ -351,6 +354,7 @@ TEST(Facade, VdbWorldIsReadOnly) {
     ASSERT_FALSE(ticket);
     EXPECT_NE(ticket.error().find("read-only"), std::string::npos) << ticket.error();
     EXPECT_TRUE(e.shutdown());
+    EXPECT_FALSE(std::filesystem::exists(path + ".edits.sqlite"));
 }
 #endif
 

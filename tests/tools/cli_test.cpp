@@ -16,6 +16,7 @@
 
 #include "world/store/sqlite_store.h"
 #include "world/vdb/vdb_analytic.h"
+#include "world/vdb/vdb_overlay_store.h"
 #include <glm/glm.hpp>
 
 #include "cli_run.h"
@@ -321,36 +322,125 @@ TEST(Cli, VdbExportImport) {
     EXPECT_NE(r.out.find("vx: "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("frustum"), std::string::npos) << r.out;
 
+    // Volumes of other tools when shared/data/vdb is present, else the same kinds written here.
     const std::string data = VX_VDB_DATA_DIR;
-    if (!std::filesystem::exists(data))
-        GTEST_SKIP() << "no sample VDB files at " << data;
-    r = run_vx("import-vdb " + data + "/arnoldusd_grids.vdb --list");
+    std::string grids = data + "/arnoldusd_grids.vdb", sphere_vdb = data + "/gaffer_vdbtest_sphere.vdb",
+                fog = data + "/oiio_sphere.vdb";
+    std::vector<std::string> refused = {data + "/gaffer_points.vdb", data + "/damaged/oiio_truncated.vdb",
+                                        data + "/damaged/oiio_bad-bbox-huge.vdb"};
+    if (!std::filesystem::exists(data)) {
+        std::printf("generated volumes: no sample VDB files at %s\n", data.c_str());
+        grids = (dir / "grids.vdb").string(), sphere_vdb = (dir / "sphere.vdb").string(), fog = (dir / "fog.vdb").string();
+        std::vector<vx::vdb::AnalyticVolume> three(3);
+        for (size_t i = 0; i < 3; ++i) {
+            three[i].name = "density";
+            three[i].level_set = false;
+            three[i].half_extent = glm::dvec3(4.0 + double(i));
+            three[i].centre = glm::dvec3(10.0 * double(i), 0.0, 0.0);
+        }
+        ASSERT_TRUE(vx::vdb::write_analytic_vdb(grids, std::span<const vx::vdb::AnalyticVolume>(three)));
+        vx::vdb::AnalyticVolume ls; // A level set of radius 60 voxels of 0.05.
+        ls.name = "ls_sphere";
+        ls.half_extent = glm::dvec3(3.0);
+        ls.index_to_world = glm::dmat3(0.05);
+        ASSERT_TRUE(vx::vdb::write_analytic_vdb(sphere_vdb, ls));
+        vx::vdb::AnalyticVolume f = three[0];
+        f.index_to_world = glm::dmat3(0.1);
+        f.half_extent = glm::dvec3(2.0);
+        ASSERT_TRUE(vx::vdb::write_analytic_vdb(fog, f));
+        std::ifstream in(fog, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string truncated = (dir / "truncated.vdb").string();
+        std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+        refused = {truncated, fvdb};
+    }
+    r = run_vx("import-vdb " + grids + " --list");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("[2] 'density'"), std::string::npos) << r.out;
     const std::string sphere = (dir / "sphere.db").string();
-    r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --voxels-per-block 4");
+    r = run_vx("import-vdb " + sphere_vdb + " --out " + sphere + " --voxels-per-block 4");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("levelset"), std::string::npos) << r.out;
     EXPECT_EQ(run_vx("world info " + sphere + " --check").code, 0);
     // --block-size is in the file's world units: 4 voxels of 0.05 = 0.2, the same blocks.
     const std::string solid = r.out.substr(r.out.find("voxels), "), r.out.find(" solid blocks") - r.out.find("voxels), "));
-    r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --block-size 0.2");
+    r = run_vx("import-vdb " + sphere_vdb + " --out " + sphere + " --block-size 0.2");
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find(solid + " solid blocks"), std::string::npos) << solid << " vs " << r.out;
     for (const std::string bad : {"-0.2", "0", "nan", "inf", "abc"}) {
-        r = run_vx("import-vdb " + data + "/gaffer_vdbtest_sphere.vdb --out " + sphere + " --block-size " + bad);
+        r = run_vx("import-vdb " + sphere_vdb + " --out " + sphere + " --block-size " + bad);
         EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
     }
-    EXPECT_EQ(run_vx("import-vdb " + data + "/oiio_sphere.vdb --out " + sphere + " --block-size 0.2 --voxels-per-block 2").code, 2);
+    EXPECT_EQ(run_vx("import-vdb " + fog + " --out " + sphere + " --block-size 0.2 --voxels-per-block 2").code, 2);
 
     // Refused imports over an existing world leave it as it was.
     const auto before = store_chunks(back);
-    for (const std::string bad : {"/gaffer_points.vdb", "/damaged/oiio_truncated.vdb", "/damaged/oiio_bad-bbox-huge.vdb"}) {
-        r = run_vx("import-vdb " + data + bad + " --out " + back);
+    for (const std::string& bad : refused) {
+        r = run_vx("import-vdb " + bad + " --out " + back);
         EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
         EXPECT_NE(r.out.find("vx: "), std::string::npos) << r.out;
     }
     EXPECT_EQ(store_chunks(back).size(), before.size());
     EXPECT_EQ(run_vx("world info " + back + " --check").code, 0);
+}
+
+// A VDB world played with edits (its overlay beside it) exports merged; the isolated reader's caps
+// are options, and hitting the memory cap names the option.
+TEST(Cli, VdbWorldExportsWithItsEditsAndReaderCapsAreOptions) {
+    const auto dir = temp_dir() / "vdb_overlay";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = (dir / "w.db").string(), vdb = (dir / "w.vdb").string();
+    const std::string merged = (dir / "merged.vdb").string(), back = (dir / "back.db").string();
+    ASSERT_EQ(run_vx("world gen " + db + " --seed 4 --radius 1 --bottom -1 --top 1").code, 0);
+    ASSERT_EQ(run_vx("export-vdb " + db + " --out " + vdb).code, 0);
+    CliRun r = run_vx("export-vdb " + vdb + " --out " + merged); // No overlay yet: one line.
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    const vx::world::ChunkCoord c(0, 0, 0);
+    vx::world::Chunk edited(7);
+    {
+        auto store =
+            vx::vdb::VdbOverlayStore::open({.vdb_path = vdb, .overlay = {}, .read_only = false, .read = {}});
+        ASSERT_TRUE(store) << store.error();
+        ASSERT_TRUE((*store)->save(c, edited));
+        ASSERT_TRUE((*store)->erase(vx::world::ChunkCoord(1, 0, 1)));
+        ASSERT_TRUE((*store)->flush());
+    }
+    r = run_vx("export-vdb " + vdb + " --out " + merged + " --compression none");
+    ASSERT_EQ(r.code, 0) << r.out;
+    ASSERT_EQ(run_vx("import-vdb " + merged + " --out " + back + " --max-memory 8 --max-seconds 300").code, 0);
+    auto chunks = store_chunks(back), original = store_chunks(db);
+    ASSERT_EQ(chunks.count({0, 0, 0}), 1u);
+    EXPECT_TRUE(chunks.at({0, 0, 0}) == edited);
+    EXPECT_EQ(chunks.count({1, 0, 1}), 0u); // Erased (an empty chunk is not exported).
+    for (const auto& [k, chunk] : original) {
+        if (k != std::tuple<int, int, int>{0, 0, 0} && k != std::tuple<int, int, int>{1, 0, 1}) {
+            EXPECT_TRUE(chunks.count(k) && chunks.at(k) == chunk);
+        }
+    }
+    EXPECT_EQ(run_vx("export-vdb " + db + " --overlay x.sqlite --out " + merged).code, 2);
+
+    // A reader capped at 1/64 GiB runs out of memory: one line naming the option.
+    r = run_vx("import-vdb " + merged + " --out " + back + " --max-memory 0.015625");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("--max-memory"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_EQ(run_vx("import-vdb " + merged + " --out " + back + " --max-seconds abc").code, 2);
+
+    // A reader capped at 1 s of CPU on an import of about a minute (a level set of radius 150
+    // voxels at one voxel per block: ~15x the 3-4 s of radius 60 here) stops with one line naming
+    // the option; the cap, not the machine's speed, ends it.
+    vx::vdb::AnalyticVolume big;
+    big.half_extent = glm::dvec3(7.5);
+    big.index_to_world = glm::dmat3(0.05);
+    const std::string big_vdb = (dir / "big.vdb").string();
+    ASSERT_TRUE(vx::vdb::write_analytic_vdb(big_vdb, big));
+    r = run_vx("import-vdb " + big_vdb + " --out " + back + " --voxels-per-block 1 --max-seconds 1");
+    EXPECT_EQ(r.code, 2) << r.out;
+    const size_t line = r.out.find("vx: "); // After the "importing ..." progress line.
+    ASSERT_NE(line, std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("CPU time limit of 1 s (raise --max-seconds", line), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin() + std::ptrdiff_t(line), r.out.end(), '\n'), 1) << r.out;
 }
 #endif

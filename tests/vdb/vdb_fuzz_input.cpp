@@ -1,8 +1,11 @@
 #include "tests/vdb/vdb_fuzz_input.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+
+#include "world/vdb/vdb_analytic.h"
 
 namespace vx::vdb::fuzz {
 namespace {
@@ -36,6 +39,62 @@ Result<Corpus> load_corpus(const std::string& dir) {
     }
     c.large = int(c.names.size()) - 1;
     return c;
+}
+
+Result<Corpus> generated_corpus(const std::string& dir) {
+    auto sphere = [](const char* name, bool level_set, double radius) {
+        AnalyticVolume v;
+        v.name = name;
+        v.level_set = level_set;
+        v.half_extent = glm::dvec3(radius);
+        return v;
+    };
+    AnalyticVolume box = sphere("density", false, 5.0);
+    box.shape = AnalyticShape::Box;
+    box.half_extent = glm::dvec3(6.0, 3.0, 4.0);
+    box.rotation = axis_rotation(30.0, {1.0, 2.0, 0.5});
+    AnalyticVolume ellipsoid = sphere("surface", true, 1.0);
+    ellipsoid.half_extent = glm::dvec3(4.0, 2.5, 3.0);
+    ellipsoid.index_to_world = glm::dmat3(0.25, 0.0, 0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 0.3);
+    std::vector<AnalyticVolume> three = {sphere("density", false, 6.0), sphere("density", false, 9.0),
+                                         sphere("density", false, 4.0)};
+    three[1].centre = glm::dvec3(0.0, -4.0, 1.0);
+    three[2].centre = glm::dvec3(20.0, 0.0, 0.0);
+    struct File {
+        const char* name;
+        std::vector<AnalyticVolume> grids;
+    };
+    const File files[] = {
+        {"fog_sphere.vdb", {sphere("density", false, 8.0)}},
+        {"level_set_sphere.vdb", {sphere("ls_sphere", true, 10.0)}},
+        {"fog_box.vdb", {box}},
+        {"level_set_ellipsoid.vdb", {ellipsoid}},
+        {"three_densities.vdb", three},
+        {"large_level_set.vdb", {sphere("ls_sphere", true, 48.0)}}, // The large file: last.
+    };
+    std::vector<std::string> names;
+    for (const File& f : files) {
+        const std::string path = dir + "/" + f.name;
+        if (Status st = write_analytic_vdb(path, std::span<const AnalyticVolume>(f.grids)); !st)
+            return Error{st.error()};
+        names.push_back(f.name);
+    }
+    Corpus c;
+    for (const std::string& name : names) {
+        std::ifstream in(dir + "/" + name, std::ios::binary);
+        c.names.push_back(name);
+        c.bytes.emplace_back((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (c.bytes.back().empty())
+            return Error{"cannot read back '" + dir + "/" + name + "'"};
+    }
+    c.large = int(c.names.size()) - 1;
+    return c;
+}
+
+Result<Corpus> real_or_generated_corpus(const std::string& data, const std::string& scratch, bool& generated) {
+    std::error_code ec;
+    generated = !std::filesystem::is_directory(data, ec);
+    return generated ? generated_corpus(scratch) : load_corpus(data);
 }
 
 const char* mutation_name(Mutation m) {

@@ -31,6 +31,15 @@ struct Corpus {
 // Fails with a one-line error naming the missing file.
 Result<Corpus> load_corpus(const std::string& dir);
 
+// Without the real files (a clone alone): equivalent inputs OpenVDB writes into `dir` (which must
+// exist) and reads back: small fog and level-set spheres, a rotated fog box, a non-uniformly
+// scaled level-set ellipsoid, a three-grid fog file, and a level set of about 1 MB as the large
+// file. Other writers' quirks (half floats, old versions, point data) are then not covered.
+Result<Corpus> generated_corpus(const std::string& dir);
+
+// load_corpus(data) when that folder exists, else generated_corpus(scratch); `generated` says which.
+Result<Corpus> real_or_generated_corpus(const std::string& data, const std::string& scratch, bool& generated);
+
 enum class Mutation { BitFlips, ByteRun, Truncation, HeaderFlip };
 const char* mutation_name(Mutation m);
 

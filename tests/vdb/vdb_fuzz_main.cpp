@@ -439,10 +439,19 @@ int main(int argc, char** argv) {
     Options o;
     if (!parse_args(argc, argv, o))
         return 2;
-    vx::Result<fuzz::Corpus> corpus = fuzz::load_corpus(o.data);
+    // Without the real files, OpenVDB writes equivalent inputs into a scratch folder (removed at exit).
+    const std::filesystem::path scratch = worker_dir(::getpid()).string() + "_corpus";
+    std::filesystem::create_directories(scratch);
+    bool generated = false;
+    vx::Result<fuzz::Corpus> corpus = fuzz::real_or_generated_corpus(o.data, scratch.string(), generated);
+    std::error_code ec;
+    std::filesystem::remove_all(scratch, ec);
     if (!corpus) {
         std::fprintf(stderr, "vx_vdb_fuzz: %s\n", corpus.error().c_str());
         return 2;
     }
+    if (generated)
+        std::fprintf(stderr, "vx_vdb_fuzz: no real VDB files at %s: fuzzing inputs written by OpenVDB here\n",
+                     o.data.c_str());
     return Coordinator(o, *corpus).run();
 }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <unistd.h>
 
@@ -94,6 +96,30 @@ const std::string& test_file(TestFile which) {
         grids.push_back(fog_ball({0, -4, 1}, 9));
         grids.push_back(fog_ball({20, 0, 0}, 4));
         break;
+    case TestFile::ColourField: {
+        path = (folder.path / "colour_field.vdb").string();
+        openvdb::Vec3SGrid::Ptr cd = openvdb::Vec3SGrid::create();
+        cd->setName("Cd");
+        cd->denseFill(openvdb::CoordBBox({0, 0, 0}, {3, 3, 3}), openvdb::Vec3s(1.f, 0.5f, 0.f), true);
+        grids.push_back(cd);
+        break;
+    }
+    case TestFile::EmptyFog: {
+        path = (folder.path / "empty_fog.vdb").string();
+        openvdb::FloatGrid::Ptr empty = openvdb::FloatGrid::create(0.f);
+        empty->setName("density");
+        empty->setGridClass(openvdb::GRID_FOG_VOLUME);
+        grids.push_back(empty);
+        break;
+    }
+    case TestFile::Truncated: {
+        path = (folder.path / "truncated.vdb").string();
+        const std::string& whole = test_file(TestFile::FogSphere);
+        std::ifstream in(whole, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::ofstream(path, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+        return written[which] = path;
+    }
     }
     if (!write(path, grids))
         path.clear();

@@ -15,6 +15,9 @@ enum class TestFile {
                     // interior inactive at -0.15 (pruned to tiles), as OpenVDB's own level sets.
     ThreeDensities, // Three fog grids all named "density" (index 0, 1, 2): balls of radius 6, 9 and
                     // 4 voxels at (0,0,0), (0,-4,1) and (20,0,0); the second spans (-9,-13,-8)..(9,5,10).
+    ColourField,    // "Cd", a vec3s grid (not a scalar: import refuses it), 4³ active voxels.
+    EmptyFog,       // "density", a fog volume with no active voxel (import refuses: empty).
+    Truncated,      // FogSphere cut to half its bytes (the reader fails: "cannot read").
 };
 
 // Absolute path of the file, written on first use; empty (with a test failure) if writing failed.

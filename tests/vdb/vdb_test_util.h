@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the VDB tests: the real-data folder, temporary files, world comparison.
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -22,13 +23,15 @@ inline std::string data_dir() {
 inline std::string data_path(const std::string& name) { return data_dir() + "/" + name; }
 inline bool have_data() { return std::filesystem::is_directory(data_dir()); }
 
-// Skips a test that needs files written by other tools, saying which folder it looked in.
-#define VX_REQUIRE_VDB_DATA()                                                                           \
+// Ends a test after its part on generated inputs when the real files of other writers are absent,
+// saying so in one line (the part before it runs in a clone alone).
+#define VX_REAL_VDB_DATA_OR_RETURN()                                                                    \
     do {                                                                                                \
-        if (!::vx::vdb::test::have_data())                                                              \
-            GTEST_SKIP() << "skipped: needs the real VDB files written by other tools, not found at "   \
-                         << ::vx::vdb::test::data_dir()                                                 \
-                         << " (clone shared/ beside the repository, or set VX_VDB_DATA_DIR)";           \
+        if (!::vx::vdb::test::have_data()) {                                                            \
+            std::printf("generated inputs only: no real VDB files at %s (clone shared/ beside the "     \
+                        "repository, or set VX_VDB_DATA_DIR)\n", ::vx::vdb::test::data_dir().c_str()); \
+            return;                                                                                     \
+        }                                                                                               \
     } while (0)
 
 // Non-air blocks in every chunk of `w`.

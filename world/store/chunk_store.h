@@ -2,8 +2,9 @@
 // ChunkStore: persistent storage of chunk records (world/store/chunk_record.h) plus a few metadata
 // strings (seed, block registry names). Implementations: SqliteStore (one file, one writing
 // process, batched, crash-safe), PgStore (a PostgreSQL database shared by several processes:
-// versioned writes, change notifications) and VdbStore (world/vdb, read-only: save, erase and
-// set_meta return an error, tick and flush succeed with nothing to do).
+// versioned writes, change notifications), VdbStore (world/vdb, read-only: save, erase and
+// set_meta return an error, tick and flush succeed with nothing to do) and VdbOverlayStore
+// (world/vdb: a store's edits layered over a VdbStore).
 //
 // Thread affinity of every implementation: not thread-safe. The engine calls a store from its one
 // serial I/O lane thread only (one call at a time, all on that thread); main-thread code never

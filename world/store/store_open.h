@@ -30,11 +30,17 @@ std::string store_display_name(const std::string& name);
 // is check_store (sqlite_store.h); for PostgreSQL worlds every stored record is read and decoded.
 Result<StoreCheck> check_world(const std::string& name);
 
-// VDB worlds (read-only stores over a vx VDB file) live in vx_vdb, which needs OpenVDB; the store
+// VDB worlds (a vx VDB file, with or without an edits overlay) live in vx_vdb, which needs OpenVDB; the store
 // layer and the engine do not link it, so a program without vx_vdb carries no OpenVDB. When vx_vdb
 // is linked into a program it sets this opener during static initialisation (its target forces
 // that object in: world/vdb/CMakeLists.txt). Thread-safe; null: vx_vdb is not linked.
-using VdbStoreOpener = Result<std::unique_ptr<ChunkStore>> (*)(const std::string& path);
+struct VdbWorldOpenInfo {
+    std::string path;     // The VDB file (never written).
+    std::string overlay;  // The edits overlay store (a SQLite path or a PostgreSQL URI); empty:
+                          // "<path>.edits.sqlite".
+    bool read_only = false; // No overlay: the file alone, read-only.
+};
+using VdbStoreOpener = Result<std::unique_ptr<ChunkStore>> (*)(const VdbWorldOpenInfo& info);
 void set_vdb_store_opener(VdbStoreOpener opener);
 VdbStoreOpener vdb_store_opener();
 

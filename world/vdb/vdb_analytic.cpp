@@ -49,8 +49,7 @@ openvdb::CoordBBox index_box(const AnalyticVolume& v, double margin) {
                               openvdb::Coord(int(std::ceil(qhi.x)), int(std::ceil(qhi.y)), int(std::ceil(qhi.z))));
 }
 
-Status write_impl(const std::string& path, const AnalyticVolume& v) {
-    openvdb::initialize();
+Result<openvdb::FloatGrid::Ptr> make_grid(const AnalyticVolume& v) {
     const double voxel = largest_voxel(v);
     const double bg = v.level_set ? v.band_voxels * voxel : 0.0;
     const openvdb::CoordBBox box = index_box(v, (v.level_set ? bg : voxel) + 2 * voxel);
@@ -79,8 +78,20 @@ Status write_impl(const std::string& path, const AnalyticVolume& v) {
             }
     grid->tree().prune();
     grid->setTransform(make_transform(v, box));
+    return grid;
+}
+
+Status write_impl(const std::string& path, std::span<const AnalyticVolume> volumes) {
+    openvdb::initialize();
+    openvdb::GridPtrVec grids;
+    for (const AnalyticVolume& v : volumes) {
+        Result<openvdb::FloatGrid::Ptr> g = make_grid(v);
+        if (!g)
+            return Error{g.error()};
+        grids.push_back(*g);
+    }
     openvdb::io::File file(path);
-    file.write({grid});
+    file.write(grids);
     file.close();
     return {};
 }
@@ -119,9 +130,13 @@ void analytic_bounds(const AnalyticVolume& v, glm::dvec3& min, glm::dvec3& max) 
 }
 
 Status write_analytic_vdb(const std::string& path, const AnalyticVolume& v) {
+    return write_analytic_vdb(path, std::span<const AnalyticVolume>(&v, 1));
+}
+
+Status write_analytic_vdb(const std::string& path, std::span<const AnalyticVolume> volumes) {
     try {
         Status s;
-        detail::run_in_calling_thread([&] { s = write_impl(path, v); });
+        detail::run_in_calling_thread([&] { s = write_impl(path, volumes); });
         return s;
     } catch (const std::exception& e) {
         return detail::make_error("cannot write '" + path + "'", e.what());

@@ -3,6 +3,7 @@
 // level set or fog grid with any linear transform (or a frustum one, which import refuses). The
 // ground truth for import tests and the accuracy table; OpenVDB stays inside vdb_analytic.cpp.
 
+#include <span>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -48,5 +49,7 @@ void analytic_bounds(const AnalyticVolume& v, glm::dvec3& min, glm::dvec3& max);
 // over one largest voxel edge each side of the surface, active where positive. Fails when the
 // shape covers more than 2^26 voxels. Runs in the calling thread. Thread-safe.
 Status write_analytic_vdb(const std::string& path, const AnalyticVolume& v);
+// The same with one grid per volume, in order (a multi-grid file). Thread-safe.
+Status write_analytic_vdb(const std::string& path, std::span<const AnalyticVolume> volumes);
 
 } // namespace vx::vdb

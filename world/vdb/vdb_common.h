@@ -26,8 +26,10 @@ Status check_volume_options(const VolumeImportOptions& o);
 // Thread-safe.
 Error make_error(std::string_view context, std::string_view what);
 
-// A temporary file name beside `path`, unique per process and call. Thread-safe.
-std::string temp_path_beside(const std::string& path);
+// Creates a new empty file named `path` + ".tmp-" + 12 random hex digits, exclusively
+// (O_CREAT | O_EXCL, mode 0666 less the umask: no other process's file or link is ever reused),
+// and returns its name; the caller writes it and removes or renames it. Thread-safe.
+Result<std::string> create_temp_beside(const std::string& path);
 
 // Renames `from` over `to` (atomic on one file system); removes `from` on failure. Thread-safe.
 Status replace_file(const std::string& from, const std::string& to);

@@ -136,7 +136,9 @@ void limit_child(const IsolationOptions& iso) {
     }
 #endif
     if (iso.cpu_seconds) {
-        const rlimit cpu{rlim_t(iso.cpu_seconds), rlim_t(iso.cpu_seconds)};
+        // The hard limit a little later: at the hard limit the kernel sends SIGKILL, which would
+        // read as a crash; at the soft one SIGXCPU, which names the cap.
+        const rlimit cpu{rlim_t(iso.cpu_seconds), rlim_t(iso.cpu_seconds) + 5};
         ::setrlimit(RLIMIT_CPU, &cpu);
     }
     g_reserve = std::malloc(kReserveBytes);
@@ -169,14 +171,24 @@ std::string read_all(int fd) {
     }
 }
 
-std::string describe_death(int status) {
+std::string describe_death(int status, const IsolationOptions& iso) {
     if (WIFSIGNALED(status)) {
         const int sig = WTERMSIG(status);
         if (sig == SIGXCPU)
-            return "the reader process hit its CPU time limit (raise IsolationOptions::cpu_seconds)";
+            return std::string("the reader process hit its CPU time limit of ") + std::to_string(iso.cpu_seconds) +
+                   " s (raise " + iso.cpu_option + ")";
         return std::string("OpenVDB's reader crashed (") + ::strsignal(sig) + "); the file is probably damaged";
     }
     return "the reader process failed (exit " + std::to_string(WEXITSTATUS(status)) + ")";
+}
+
+// The child's error, with the memory cap named when the child ran into it (its reserve is gone).
+std::string child_error(const std::string& error, const IsolationOptions& iso) {
+    if (g_reserve || !iso.memory_limit)
+        return error;
+    char cap[32];
+    std::snprintf(cap, sizeof cap, "%.3g GiB", double(iso.memory_limit) / double(uint64_t(1) << 30));
+    return error + " (the reader hit its memory cap of " + cap + "; raise " + iso.memory_option + ")";
 }
 
 // Runs `body` (-> Result<std::string> payload) in a forked child and returns its payload.
@@ -196,7 +208,7 @@ template <class F> Result<std::string> run_child(const std::string& path, const 
         ::close(fds[0]);
         limit_child(iso);
         Result<std::string> r = body();
-        const std::string msg = std::string(1, r.ok() ? '\0' : '\1') + (r.ok() ? r.value() : r.error());
+        const std::string msg = std::string(1, r.ok() ? '\0' : '\1') + (r.ok() ? r.value() : child_error(r.error(), iso));
         ::_exit(write_all(fds[1], msg) ? 0 : 2);
     }
     ::close(fds[1]);
@@ -206,23 +218,31 @@ template <class F> Result<std::string> run_child(const std::string& path, const 
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || data.empty())
-        return Error{"cannot read '" + path + "': " + describe_death(status)};
+        return Error{"cannot read '" + path + "': " + describe_death(status, iso)};
     if (data[0] != '\0')
         return Error{data.substr(1)};
     return data.substr(1);
 }
 
-std::string temp_vdb() {
-    return detail::temp_path_beside((std::filesystem::temp_directory_path() / "vx_vdb_isolated").string()) + ".vdb";
-}
-
+// A temporary for the child's result, created exclusively; removed with the object.
 struct TempFile {
-    std::string path = temp_vdb();
+    std::string path;
     ~TempFile() {
         std::error_code ec;
-        std::filesystem::remove(path, ec);
+        if (!path.empty())
+            std::filesystem::remove(path, ec);
     }
 };
+
+Status make_temp(TempFile& tmp, const std::string& path) {
+    std::error_code ec;
+    const std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+    Result<std::string> name = detail::create_temp_beside(((ec ? "." : dir) / "vx_vdb_isolated.vdb").string());
+    if (!name)
+        return Error{"cannot read '" + path + "': " + name.error()};
+    tmp.path = std::move(*name);
+    return {};
+}
 
 // Reads back the world the child wrote (our own format, so in-process reading is safe).
 Result<world::World> read_back(const std::string& path, const TempFile& tmp, uint64_t max_chunks) {
@@ -239,6 +259,8 @@ Result<world::World> read_back(const std::string& path, const TempFile& tmp, uin
 Result<VolumeImport> import_volume_isolated(const std::string& path, const VolumeImportOptions& options,
                                             const IsolationOptions& isolation) {
     TempFile tmp;
+    if (Status s = make_temp(tmp, path); !s)
+        return Error{s.error()};
     Result<std::string> payload = run_child(path, isolation, [&]() -> Result<std::string> {
         Result<VolumeImport> r = import_volume(path, options);
         if (!r)
@@ -266,6 +288,8 @@ Result<VolumeImport> import_volume_isolated(const std::string& path, const Volum
 Result<world::World> import_world_vdb_isolated(const std::string& path, const VdbWorldImportOptions& options,
                                                const IsolationOptions& isolation) {
     TempFile tmp;
+    if (Status s = make_temp(tmp, path); !s)
+        return Error{s.error()};
     Result<std::string> payload = run_child(path, isolation, [&]() -> Result<std::string> {
         Result<world::World> w = import_world_vdb(path, options);
         if (!w)

@@ -7,7 +7,8 @@
 // contain that, so these variants fork: the child applies a memory and CPU limit, runs the
 // in-process import, writes the result to a temporary vx-world VDB (export_vdb) and its summary to
 // a pipe; the parent reads the temporary back (our own file) and deletes it. A crash or a limit hit
-// in the child becomes an error. Cost: one fork plus an export/import round trip of the result.
+// in the child becomes an error naming the cap and the option that raises it. The temporary is
+// created exclusively with a random name (never a predictable /tmp path). Cost: one fork plus an export/import round trip of the result.
 //
 // Thread affinity: call from a process that is single-threaded at the time of the call (the vx CLI,
 // tests): fork copies only the calling thread, and another thread holding a lock (malloc, TBB)
@@ -28,6 +29,9 @@ struct IsolationOptions {
                                                // Not applied in ASan/TSan builds (they reserve
                                                // terabytes of address space).
     uint32_t cpu_seconds = 600;                // Child CPU time (RLIMIT_CPU); 0 = none.
+    // What the messages tell the user to raise when a cap is hit (a tool names its own options).
+    std::string memory_option = "IsolationOptions::memory_limit";
+    std::string cpu_option = "IsolationOptions::cpu_seconds";
 };
 
 // import_volume in a child process (see above). Same result; a child crash or limit gives an error.

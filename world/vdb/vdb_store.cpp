@@ -2,8 +2,9 @@
 
 namespace vx::vdb {
 
-Result<std::unique_ptr<VdbStore>> VdbStore::open(const std::string& path, const VdbWorldImportOptions& options) {
-    Result<world::World> w = import_world_vdb(path, options);
+Result<std::unique_ptr<VdbStore>> VdbStore::open(const std::string& path, const VdbReadOptions& options) {
+    Result<world::World> w = options.isolated ? import_world_vdb_isolated(path, options.import, options.isolation)
+                                              : import_world_vdb(path, options.import);
     if (!w)
         return Error{w.error()};
     return std::unique_ptr<VdbStore>(new VdbStore(std::move(*w), path));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <unordered_set>
 #include <vector>
@@ -112,28 +113,32 @@ void write_registry(openvdb::GridBase& grid, const world::BlockRegistry& registr
     }
 }
 
-// Builds the "blocks" grid; fails on blocks beyond OpenVDB's index range.
-Result<openvdb::Int32Grid::Ptr> build_grid(const world::World& w, const VdbExportOptions& options) {
+// Calls its argument for every chunk to export; an error stops the export.
+using ChunkVisitor = std::function<Status(const std::function<Status(ChunkCoord, const Chunk&)>&)>;
+
+// Builds the "blocks" grid from the chunks `visit` hands out (one at a time: nothing but the tree
+// and the chunk in hand is held); fails on blocks beyond OpenVDB's index range.
+Result<openvdb::Int32Grid::Ptr> build_grid(const ChunkVisitor& visit, const world::BlockRegistry& registry,
+                                           const VdbExportOptions& options) {
     const BlockBox all{BlockPos(INT64_MIN), BlockPos(INT64_MAX)};
     const BlockBox box = options.box ? *options.box : all;
     auto grid = openvdb::Int32Grid::create(0);
     std::vector<BlockId> scratch(kChunkVolume);
-    std::optional<Error> error;
-    w.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
+    Status visited = visit([&](ChunkCoord c, const Chunk& chunk) -> Status {
         const BlockBox clip = intersect(chunk_box(c), box);
-        if (error || clip.empty() || chunk.is_empty())
-            return;
+        if (clip.empty() || chunk.is_empty())
+            return {};
         if (!in_vdb_range(clip.min) || !in_vdb_range(clip.max)) {
             char msg[160];
             std::snprintf(msg, sizeof msg, "chunk (%d, %d, %d) lies beyond OpenVDB's 32-bit index range (|block| <= %lld)",
                           c.x, c.y, c.z, (long long)kVdbCoordLimit);
-            error = Error{msg};
-            return;
+            return Error{msg};
         }
         write_chunk(grid->tree(), c, chunk, box, scratch);
+        return {};
     });
-    if (error)
-        return *error;
+    if (!visited)
+        return Error{visited.error()};
     grid->tree().prune(); // Merges equal tiles into larger ones; exact (tolerance 0).
     grid->setName(kGridName);
     grid->setGridClass(openvdb::GRID_UNKNOWN);
@@ -149,7 +154,7 @@ Result<openvdb::Int32Grid::Ptr> build_grid(const world::World& w, const VdbExpor
         grid->insertMeta("vx_box_min", openvdb::Vec3IMetadata(openvdb::Vec3i(int(lo.x), int(lo.y), int(lo.z))));
         grid->insertMeta("vx_box_max", openvdb::Vec3IMetadata(openvdb::Vec3i(int(hi.x), int(hi.y), int(hi.z))));
     }
-    write_registry(*grid, w.registry());
+    write_registry(*grid, registry);
     return grid;
 }
 
@@ -325,13 +330,20 @@ Result<openvdb::Int32Grid::Ptr> read_blocks_grid(const std::string& path, const 
 
 } // namespace
 
-static Status export_vdb_impl(const world::World& w, const std::string& path, const VdbExportOptions& options) {
-    const std::string tmp = detail::temp_path_beside(path);
+static Status export_vdb_impl(const ChunkVisitor& visit, const world::BlockRegistry& registry,
+                              const std::string& path, const VdbExportOptions& options) {
+    Result<std::string> created = detail::create_temp_beside(path);
+    if (!created)
+        return Error{"cannot export to '" + path + "': " + created.error()};
+    const std::string tmp = *created;
     try {
         openvdb::initialize();
-        Result<openvdb::Int32Grid::Ptr> grid = build_grid(w, options);
-        if (!grid)
+        Result<openvdb::Int32Grid::Ptr> grid = build_grid(visit, registry, options);
+        if (!grid) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
             return Error{"cannot export to '" + path + "': " + grid.error()};
+        }
         openvdb::io::File file(tmp);
         // ZIP rather than Blosc: zlib is part of every OpenVDB build, Blosc is optional.
         file.setCompression(options.compression == VdbCompression::Zip
@@ -374,7 +386,42 @@ static Result<world::World> import_world_vdb_impl(const std::string& path, const
 }
 
 Status export_vdb(const world::World& w, const std::string& path, const VdbExportOptions& options) {
-    return detail::serial<Status>([&] { return export_vdb_impl(w, path, options); });
+    const ChunkVisitor visit = [&](const std::function<Status(ChunkCoord, const Chunk&)>& fn) -> Status {
+        Status result;
+        w.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
+            if (result)
+                result = fn(c, chunk);
+        });
+        return result;
+    };
+    return detail::serial<Status>([&] { return export_vdb_impl(visit, w.registry(), path, options); });
+}
+
+Status export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
+                        const VdbExportOptions& options) {
+    const ChunkVisitor visit = [&](const std::function<Status(ChunkCoord, const Chunk&)>& fn) -> Status {
+        // The coordinates first (12 bytes each): for_each_coord's callback may not call the store.
+        Result<std::vector<ChunkCoord>> coords = store.list_coords();
+        if (!coords)
+            return Error{coords.error()};
+        for (const ChunkCoord c : *coords) {
+            if (options.box && intersect(chunk_box(c), *options.box).empty())
+                continue;
+            Result<world::ChunkLoad> load = store.load(c);
+            if (!load)
+                return Error{load.error()};
+            if (load->state == world::LoadState::Corrupt) {
+                char where[96];
+                std::snprintf(where, sizeof where, "chunk (%d, %d, %d) is damaged: ", c.x, c.y, c.z);
+                return Error{where + load->problem};
+            }
+            if (load->state == world::LoadState::Present)
+                if (Status s = fn(c, *load->chunk); !s)
+                    return s;
+        }
+        return {};
+    };
+    return detail::serial<Status>([&] { return export_vdb_impl(visit, registry, path, options); });
 }
 
 Result<world::World> import_world_vdb(const std::string& path, const VdbWorldImportOptions& options) {

@@ -26,6 +26,7 @@
 
 #include "world/base/result.h"
 #include "world/coords.h"
+#include "world/store/chunk_store.h"
 #include "world/world.h"
 
 namespace vx::vdb {
@@ -64,6 +65,13 @@ struct VdbExportOptions {
 // Runs in the calling thread (OpenVDB's TBB work confined to a one-slot arena). Thread-safe as long
 // as nobody writes `world` meanwhile.
 Status export_vdb(const world::World& world, const std::string& path, const VdbExportOptions& options = {});
+
+// As export_vdb, from a store (e.g. a VdbOverlayStore: a VDB world with its edits), loading one
+// chunk at a time: memory is the OpenVDB tree, one chunk and the store's chunk coordinates (12
+// bytes each), never a World of the store. `registry` becomes the file's block metadata. Uses
+// `store` from the calling thread (ChunkStore's rules); a damaged chunk fails the export.
+Status export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
+                        const VdbExportOptions& options = {});
 
 struct VdbWorldImportOptions {
     std::optional<BlockBox> box;         // Import only these blocks; everything when empty.

@@ -45,10 +45,22 @@ TEST(Options, ParsesAndRejects) {
                                                           {"--view-radius", "0"},
                                                           {"--frames"},
                                                           {"--bogus", "1"},
-                                                          {"--world", "a", "--vdb", "b"}}) {
+                                                          {"--world", "a", "--vdb", "b"},
+                                                          {"--world", "a", "--read-only"}}) {
         auto r = sandbox::parse_options(bad);
         EXPECT_FALSE(r) << bad[0];
     }
+}
+
+// --vdb plays with the edits overlay; --read-only keeps none.
+TEST(Options, VdbWithOverlayOrReadOnly) {
+    auto o = sandbox::parse_options({"--vdb", "w.vdb"});
+    ASSERT_TRUE(o) << o.error();
+    EXPECT_EQ(o->vdb, "w.vdb");
+    EXPECT_FALSE(o->read_only);
+    o = sandbox::parse_options({"--vdb", "w.vdb", "--read-only"});
+    ASSERT_TRUE(o) << o.error();
+    EXPECT_TRUE(o->read_only);
 }
 
 TEST(Options, DefaultWorldUnderXdgDataHome) {

@@ -1,0 +1,135 @@
+// `vx bench vdb`: peak memory of `vx export-vdb` on a VDB world with an edits overlay, for a world
+// and one of 8x the chunks. Each export runs as its own `vx export-vdb` process (this binary), so
+// its peak RSS (wait4; the isolated reader child included, the larger of the two) is the user's
+// cost, untouched by this process's own memory. Prints one line per size.
+#include <cerrno>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "world/gen/terrain.h"
+#include "world/vdb/vdb_overlay_store.h"
+#include "world/vdb/vdb_world.h"
+
+extern char** environ;
+
+namespace vx::tools {
+namespace {
+
+using namespace vx::world;
+
+struct Run {
+    uint64_t peak_rss_kb = 0;
+    double seconds = 0;
+    int status = -1;
+};
+
+// Runs this binary with `args`, returns its exit status, peak RSS and wall time.
+Run run_self(const std::vector<std::string>& args) {
+    std::vector<std::string> all = {"/proc/self/exe"};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : all)
+        argv.push_back(a.data());
+    argv.push_back(nullptr);
+    Run r;
+    const auto t0 = std::chrono::steady_clock::now();
+    pid_t pid = 0;
+    if (::posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, argv.data(), environ) != 0)
+        return r;
+    int status = 0;
+    rusage use{};
+    while (::wait4(pid, &status, 0, &use) < 0 && errno == EINTR) {
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.peak_rss_kb = uint64_t(use.ru_maxrss);
+    return r;
+}
+
+// A terrain world of nx x 4 x nz chunks (y -1..2: rock, the surface and sky), exported to `vdb`,
+// with every 16th chunk edited in its overlay. Returns the chunk count.
+Result<size_t> make_world(const std::string& vdb, int nx, int nz) {
+    const TerrainGenerator gen(1);
+    size_t chunks = 0;
+    {
+        World w;
+        for (int z = 0; z < nz; ++z)
+            for (int y = -1; y <= 2; ++y)
+                for (int x = 0; x < nx; ++x)
+                    w.put_chunk(ChunkCoord(x, y, z), gen.generate(ChunkCoord(x, y, z)));
+        chunks = w.chunk_count();
+        if (Status s = vdb::export_vdb(w, vdb); !s)
+            return Error{s.error()};
+    }
+    std::error_code ec;
+    std::filesystem::remove(vdb::default_overlay_name(vdb), ec);
+    vdb::VdbOverlayOpenInfo info;
+    info.vdb_path = vdb;
+    info.read.isolated = false; // Our own file, just written.
+    auto store = vdb::VdbOverlayStore::open(info);
+    if (!store)
+        return Error{store.error()};
+    int k = 0;
+    for (int z = 0; z < nz; ++z)
+        for (int x = 0; x < nx; ++x)
+            if (k++ % 16 == 0)
+                if (Status s = (*store)->save(ChunkCoord(x, 0, z), Chunk(BlockId(1 + k % 8))); !s)
+                    return Error{s.error()};
+    if (Status s = (*store)->flush(); !s)
+        return Error{s.error()};
+    return chunks;
+}
+
+} // namespace
+
+int run_bench_vdb(int argc, char** argv) {
+    CLI::App app("Peak RSS of vx export-vdb of a VDB world with edits, at 1x and 8x the chunks", "vx bench vdb");
+    int side = 8;
+    std::string dir = (std::filesystem::temp_directory_path() / (std::string("vx_bench_vdb_") + std::to_string(::getpid()))).string();
+    app.add_option("--side", side, "1x world: side x 4 x side chunks; 8x: 4 side x 4 x 2 side (default 8)")
+        ->check(CLI::Range(1, 256));
+    app.add_option("--dir", dir, "Scratch folder (removed afterwards)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    int rc = kExitOk;
+    for (const int scale : {1, 8}) {
+        const int nx = scale == 1 ? side : 4 * side, nz = scale == 1 ? side : 2 * side;
+        const std::string vdb = dir + "/w" + std::to_string(scale) + ".vdb", out = dir + "/merged.vdb";
+        Result<size_t> chunks = make_world(vdb, nx, nz);
+        if (!chunks) {
+            rc = bad_input(chunks.error());
+            break;
+        }
+        const Run r = run_self({"export-vdb", vdb, "--out", out});
+        if (r.status != 0) {
+            rc = bad_input("vx export-vdb " + vdb + " failed (exit " + std::to_string(r.status) + ")");
+            break;
+        }
+        std::printf("vx bench vdb: %dx: %zu chunks (%d x 4 x %d), file %.1f MB -> merged %.1f MB: peak RSS %.1f MB, "
+                    "%.2f s\n",
+                    scale, *chunks, nx, nz, double(std::filesystem::file_size(vdb, ec)) / 1e6,
+                    double(std::filesystem::file_size(out, ec)) / 1e6, double(r.peak_rss_kb) / 1024.0, r.seconds);
+        std::fflush(stdout);
+    }
+    std::filesystem::remove_all(dir, ec);
+    return rc;
+}
+
+} // namespace vx::tools
