@@ -1,5 +1,8 @@
 // PgStore's transactions: the pipelined, versioned commit and its conflict resolution, and the
 // queries that read the whole world (count, list, metadata).
+#include <algorithm>
+#include <tuple>
+
 #include "world/base/log.h"
 #include "world/store/pg_store.h"
 #include "world/store/pg_wire.h"
@@ -9,6 +12,10 @@ namespace vx::world {
 namespace {
 
 constexpr size_t kNotifyPayloadMax = 7900; // NOTIFY payloads must be shorter than 8000 bytes.
+
+bool coord_less(ChunkCoord a, ChunkCoord b) {
+    return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+}
 
 bool send(PGconn* conn, const char* name, const pg::Params& p) {
     return PQsendQueryPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1) == 1;
@@ -59,10 +66,14 @@ struct PipelineReader {
 // then COMMIT, or ROLLBACK when any upsert found a newer version (the coordinates are returned
 // and the caller re-applies its edits before the next attempt). True: committed.
 Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
+    // Upserts take row locks in the order sent: two writers with overlapping batches in hash
+    // order could each hold a row the other waits for (a deadlock, one of them aborted). Sorted
+    // by coordinate, every writer locks in the same order.
     std::vector<ChunkCoord> order;
     order.reserve(m_pending.size());
     for (const auto& [c, p] : m_pending)
         order.push_back(c);
+    std::sort(order.begin(), order.end(), coord_less);
     if (PQenterPipelineMode(m_conn) != 1)
         return error("cannot start a pipeline");
     bool sent = PQsendQueryParams(m_conn, "BEGIN", 0, nullptr, nullptr, nullptr, nullptr, 0) == 1;
