@@ -88,7 +88,9 @@ public:
     ChunkStreamer(const world::ChunkGenerator& generator, world::ChunkStore* store, MeshSink& sink,
                   const StreamingSettings& settings = {},
                   const world::BlockRegistry& registry = world::BlockRegistry::default_registry());
-    // Main thread. Saves dirty chunks and flushes the store, then stops the jobs.
+    // Main thread. Saves dirty chunks and flushes the store (skipped when request_save() or
+    // flush() ran and nothing was handed to the store since: one flush, not two), then stops
+    // the jobs.
     ~ChunkStreamer();
     ChunkStreamer(const ChunkStreamer&) = delete;
     ChunkStreamer& operator=(const ChunkStreamer&) = delete;
@@ -211,6 +213,7 @@ private:
     size_t m_view_meshed = 0; // Chunks in the view radius with a current mesh.
     uint64_t m_unloaded = 0, m_evicted = 0, m_saves = 0, m_regenerated = 0;
     uint64_t m_reloaded = 0, m_load_failures = 0;
+    uint64_t m_saves_at_request = UINT64_MAX; // m_saves at the last request_save() (never: max).
     bool m_store_failing = false; // Loads are failing (logged once until one succeeds).
     // Loads the store could not answer, asked again from this time on (oldest first).
     std::deque<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_retry;
