@@ -62,9 +62,11 @@ struct PipelineReader {
 
 } // namespace
 
-// One round trip: BEGIN, every versioned upsert, the metadata and the notifications, pipelined;
-// then COMMIT, or ROLLBACK when any upsert found a newer version (the coordinates are returned
-// and the caller re-applies its edits before the next attempt). True: committed.
+// Two round trips: BEGIN, every versioned upsert, the metadata and the notifications, pipelined;
+// then COMMIT, or ROLLBACK when any upsert found a newer version (only their results tell; in
+// the pipeline the decision would need a conflict raised as an error, which hides which other
+// chunks conflicted). The conflicting coordinates are returned and the caller re-applies its
+// edits before the next attempt. True: committed.
 Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     // Upserts take row locks in the order sent: two writers with overlapping batches in hash
     // order could each hold a row the other waits for (a deadlock, one of them aborted). Sorted

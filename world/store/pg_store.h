@@ -9,9 +9,11 @@
 //   vx_quarantine(id, x, y, z, version, data, reason, at)  records that failed verification
 //
 // Writes: save() queues records in memory (read back at once, as in every ChunkStore); a commit
-// sends every queued record as one pipelined transaction of versioned upserts (one round trip),
-// so a batch lands whole or not at all and a killed writer leaves no torn record (PostgreSQL's
-// WAL; synchronous_commit on, so a flush() that succeeded survives a server crash too). Each
+// sends every queued record as one transaction of versioned upserts in coordinate order: two
+// round trips (BEGIN and every upsert pipelined, then COMMIT or ROLLBACK once their results say
+// whether any chunk conflicted), so a batch lands whole or not at all and a killed writer leaves
+// no torn record (PostgreSQL's WAL; synchronous_commit on, so a flush() that succeeded survives a
+// server crash too). Each
 // upsert states the version this process last saw; when another process wrote the chunk since,
 // the transaction is rolled back, the newer record is fetched, this process's own edits
 // (ChunkWrite::edits) are re-applied to it, and the batch is retried: no acknowledged edit of
