@@ -328,19 +328,7 @@ Status PgStore::commit_attempts() {
                  " conflicting attempts; edits kept in memory"};
 }
 
-Status PgStore::catch_up() {
-    if (!m_listener)
-        return {};
-    // Read before the scan: a restart during it bumps the epoch again and the next tick rescans.
-    const uint64_t epoch = m_listener->listen_epoch();
-    if (epoch == m_caught_up_epoch)
-        return {};
-    // The listener listens before the scan reads: a commit is either notified or seen here.
-    std::vector<ChunkCoord> coords;
-    coords.reserve(m_versions.size());
-    for (const auto& [c, v] : m_versions)
-        coords.push_back(c);
-    std::vector<ChunkCoord> changed;
+Status PgStore::changed_since_known(const std::vector<ChunkCoord>& coords, std::vector<ChunkCoord>& changed) {
     std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> stored;
     constexpr size_t kBatch = 8192; // Coordinates per query (a few hundred KB of text).
     for (size_t begin = 0; begin < coords.size(); begin += kBatch) {
@@ -358,7 +346,7 @@ Status PgStore::catch_up() {
         p.add_text(std::move(zs));
         pg::ResultPtr r = pg::exec(m_conn, "vx_versions", p);
         if (!pg::ok(r.get()))
-            return error("cannot catch up with changes missed while not listening");
+            return error("cannot read the stored versions of " + std::to_string(end - begin) + " chunks");
         stored.clear();
         for (int i = 0, n = PQntuples(r.get()); i < n; ++i) {
             const ChunkCoord c(pg::get_i32(r.get(), i, 0), pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2));
@@ -370,6 +358,24 @@ Status PgStore::catch_up() {
                 changed.push_back(coords[i]);
         }
     }
+    return {};
+}
+
+Status PgStore::catch_up() {
+    if (!m_listener)
+        return {};
+    // Read before the scan: a restart during it bumps the epoch again and the next tick rescans.
+    const uint64_t epoch = m_listener->listen_epoch();
+    if (epoch == m_caught_up_epoch)
+        return {};
+    // The listener listens before the scan reads: a commit is either notified or seen here.
+    std::vector<ChunkCoord> coords;
+    coords.reserve(m_versions.size());
+    for (const auto& [c, v] : m_versions)
+        coords.push_back(c);
+    std::vector<ChunkCoord> changed;
+    if (Status s = changed_since_known(coords, changed); !s)
+        return s;
     m_caught_up_epoch = epoch;
     std::lock_guard lock(m_health_mutex);
     m_health.caught_up += changed.size();

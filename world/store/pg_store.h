@@ -9,16 +9,16 @@
 //   vx_quarantine(id, x, y, z, version, data, reason, at)  records that failed verification
 //
 // Writes: save() queues records in memory (read back at once, as in every ChunkStore); a commit
-// sends every queued record as one transaction of versioned upserts in coordinate order: two
-// round trips (BEGIN and every upsert pipelined, then COMMIT or ROLLBACK once their results say
-// whether any chunk conflicted), so a batch lands whole or not at all and a killed writer leaves
-// no torn record (PostgreSQL's WAL; synchronous_commit on, so a flush() that succeeded survives a
-// server crash too). Each
+// sends every queued record as one transaction of versioned upserts in coordinate order, in one
+// round trip (pipelined up to one sync point: an implicit transaction the server commits there),
+// so a batch lands whole or not at all and a killed writer leaves no torn record (PostgreSQL's
+// WAL; synchronous_commit on, so a flush() that succeeded survives a server crash too). Each
 // upsert states the version this process last saw; when another process wrote the chunk since,
-// the transaction is rolled back, the newer record is fetched, this process's own edits
-// (ChunkWrite::edits) are re-applied to it, and the batch is retried: no acknowledged edit of
-// either process is lost. A commit also sends NOTIFY vx_chunks with the coordinates; a listener
-// thread (its own connection) collects other processes' notifications for poll_changes().
+// that upsert fails, the transaction is rolled back, one query finds every chunk that conflicted,
+// the newer records are fetched, this process's own edits (ChunkWrite::edits) are re-applied to
+// them, and the batch is retried: no acknowledged edit of either process is lost. A commit also
+// sends NOTIFY vx_chunks with the coordinates; a listener thread (its own connection) collects
+// other processes' notifications for poll_changes().
 // Notifications sent while the listener was not connected (a server restart, a dropped link) are
 // lost, so each time it starts listening the next tick() compares every version this store knows
 // (chunks it loaded, absent ones included, or wrote) with the table and reports the chunks that
@@ -122,6 +122,8 @@ private:
     Status commit_attempts(); // commit() on one connection: rounds of try_commit + conflicts.
     Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
     Status catch_up(); // After the listener (re)started: report chunks changed meanwhile.
+    // Appends the chunks of `coords` whose stored version is not the known one.
+    Status changed_since_known(const std::vector<ChunkCoord>& coords, std::vector<ChunkCoord>& changed);
     Status resolve_conflict(ChunkCoord c);
     Error error(const std::string& what);
     void note_version(ChunkCoord c, uint64_t version); // Remembers, then trim_versions().

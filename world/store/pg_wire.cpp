@@ -59,10 +59,14 @@ CREATE TABLE IF NOT EXISTS vx_quarantine(
 const Statement kStatements[] = {
     {"vx_load", "SELECT version, data FROM vx_chunks WHERE x = $1 AND y = $2 AND z = $3"},
     // The versioned upsert: a row is written only when its version is still the one this process
-    // last saw ($4; 0 = "absent"). No row back = another process wrote it first (a conflict).
-    {"vx_put", "INSERT INTO vx_chunks AS c (x, y, z, version, data) VALUES ($1, $2, $3, 1, $5) "
+    // last saw ($4; 0 = "absent"); the new version comes back. When another process wrote it
+    // first (a conflict) nothing is written and the statement fails with division_by_zero
+    // (kConflictState, from 0 / count(*) over no row; the HAVING filter runs before the division),
+    // which rolls the commit's whole implicit transaction back without a round trip of its own.
+    {"vx_put", "WITH up AS (INSERT INTO vx_chunks AS c (x, y, z, version, data) VALUES ($1, $2, $3, 1, $5) "
                "ON CONFLICT (x, y, z) DO UPDATE SET version = c.version + 1, data = EXCLUDED.data "
-               "WHERE c.version = $4 RETURNING version"},
+               "WHERE c.version = $4 RETURNING version) "
+               "SELECT version FROM up UNION ALL SELECT 0 / count(*) FROM up HAVING count(*) = 0"},
     // The stored versions of a list of chunks (text arrays of x, y and z): catch_up().
     {"vx_versions", "SELECT c.x, c.y, c.z, c.version FROM vx_chunks c JOIN "
                     "unnest($1::int4[], $2::int4[], $3::int4[]) AS k(x, y, z) "

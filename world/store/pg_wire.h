@@ -104,6 +104,8 @@ std::string message(PGconn* conn, const PGresult* r = nullptr);
 
 // Prepared statement names and SQL.
 inline constexpr const char* kFormat = "vx-world-1";
+// SQLSTATE of a versioned upsert that met a newer version (division_by_zero; see vx_put).
+inline constexpr const char* kConflictState = "22012";
 extern const char* const kSchemaSql;
 struct Statement {
     const char* name;
