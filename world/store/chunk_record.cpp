@@ -143,7 +143,7 @@ void pack_indices8(const uint8_t* src, uint32_t bits, uint64_t* words) {
 
 // The inverse of pack_fixed, each entry mapped through `remap`: 64 entries per group of B words,
 // unrolled with constant shifts (PackedArray::get per entry cost half of encode's time).
-template <uint32_t B> void unpack_fixed(const uint64_t* w, const uint16_t* remap, uint16_t* dst) {
+template <uint32_t B, class T> void unpack_fixed(const uint64_t* w, const uint16_t* remap, T* dst) {
     constexpr uint64_t kMask = (uint64_t(1) << B) - 1;
     for (size_t g = 0; g < size_t(kChunkVolume) / 64; ++g, dst += 64, w += B) {
 #pragma GCC unroll 64
@@ -152,19 +152,20 @@ template <uint32_t B> void unpack_fixed(const uint64_t* w, const uint16_t* remap
             uint64_t v = w[word] >> off;
             if (off + B > 64)
                 v |= w[word + 1] << (64 - off);
-            dst[i] = remap[v & kMask];
+            dst[i] = T(remap[v & kMask]);
         }
     }
 }
 
-template <uint32_t... Bs>
-void unpack_dispatch(const uint64_t* w, uint32_t bits, const uint16_t* remap, uint16_t* dst,
+template <class T, uint32_t... Bs>
+void unpack_dispatch(const uint64_t* w, uint32_t bits, const uint16_t* remap, T* dst,
                      std::integer_sequence<uint32_t, Bs...>) {
     ((bits == Bs + 1 ? unpack_fixed<Bs + 1>(w, remap, dst) : void()), ...);
 }
 
-// Entries of `indices` (kChunkVolume of them, bits 1..16), each < the size of `remap`.
-void unpack_indices(const PackedArray& indices, const uint16_t* remap, uint16_t* dst) {
+// Entries of `indices` (kChunkVolume of them, bits 1..16), each < the size of `remap`, whose
+// values fit T.
+template <class T> void unpack_indices(const PackedArray& indices, const uint16_t* remap, T* dst) {
     VX_ASSERT(indices.size() == uint32_t(kChunkVolume) && indices.bits() >= 1 && indices.bits() <= 16);
     unpack_dispatch(indices.words(), indices.bits(), remap, dst, std::make_integer_sequence<uint32_t, 16>());
 }
@@ -218,14 +219,13 @@ void RecordCodec::encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8
     m_raw.resize(h.raw_size);
     std::memcpy(m_raw.data(), used_ids.data(), 2 * size_t(n));
     uint8_t* idx = m_raw.data() + 2 * size_t(n);
-    m_indices.resize(kChunkVolume);
-    unpack_indices(pal->indices, remap.data(), m_indices.data());
-    if (width == 1)
-        for (size_t i = 0; i < size_t(kChunkVolume); ++i)
-            idx[i] = uint8_t(m_indices[i]);
-    else
-        for (size_t i = 0; i < size_t(kChunkVolume); ++i)
-            put<uint16_t>(idx + 2 * i, m_indices[i]);
+    if (width == 1) { // n <= 256: every renumbered index fits a byte.
+        unpack_indices(pal->indices, remap.data(), idx);
+    } else {
+        m_indices.resize(kChunkVolume);
+        unpack_indices(pal->indices, remap.data(), m_indices.data());
+        std::memcpy(idx, m_indices.data(), 2 * size_t(kChunkVolume)); // Little-endian (asserted).
+    }
     // Compress into scratch, then copy: `out` gets exactly the record's size (queued records in
     // a store would otherwise each keep a 64 KiB compress-bound allocation).
     m_zbuf.resize(ZSTD_compressBound(h.raw_size));
