@@ -71,7 +71,10 @@ ChunkStreamer::ChunkStreamer(const ChunkGenerator& generator, ChunkStore* store,
 }
 
 ChunkStreamer::~ChunkStreamer() {
-    if (m_store) {
+    // Once: after a flush requested with nothing handed to the store since (the engine's
+    // shutdown flushes first), another would only repeat it, and with the server away wait
+    // another connect timeout for the same error.
+    if (m_store && (m_dirty_count > 0 || m_saves != m_saves_at_request)) {
         Status s = flush();
         if (!s)
             VX_LOG_ERROR("saving the world on shutdown failed: %s", s.error().c_str());
@@ -674,6 +677,7 @@ uint64_t ChunkStreamer::request_save() {
         return sequence;
     }
     save_dirty(m_last_now, true);
+    m_saves_at_request = m_saves;
     // Reported on the I/O thread (or by the job's destructor if it never runs).
     auto report = [tracker = m_saves_done, sequence](const Status& s) { tracker->finished(sequence, s); };
     m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store, sequence, std::move(report)));

@@ -100,7 +100,9 @@ public:
     ChunkStreamer(const world::ChunkGenerator& generator, world::ChunkStore* store, MeshSink& sink,
                   const StreamingSettings& settings = {},
                   const world::BlockRegistry& registry = world::BlockRegistry::default_registry());
-    // Main thread. Saves dirty chunks and flushes the store, then stops the jobs.
+    // Main thread. Saves dirty chunks and flushes the store (skipped when request_save() or
+    // flush() ran and nothing was handed to the store since: one flush, not two), then stops
+    // the jobs.
     ~ChunkStreamer();
     ChunkStreamer(const ChunkStreamer&) = delete;
     ChunkStreamer& operator=(const ChunkStreamer&) = delete;
@@ -244,6 +246,7 @@ private:
     // Failed generations, retried from their time on (entries of chunks dropped or re-failed since
     // are stale: their state's retry_at differs).
     std::vector<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_failed_retry;
+    uint64_t m_saves_at_request = UINT64_MAX; // m_saves at the last request_save() (never: max).
     bool m_store_failing = false; // Loads are failing (logged once until one succeeds).
     // Loads the store could not answer, asked again from this time on (oldest first).
     std::deque<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_retry;

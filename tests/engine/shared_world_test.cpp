@@ -1,8 +1,9 @@
 // A world shared across processes through PostgreSQL, end to end through the facade: two
 // processes generate and edit one world at once (blocks of the same chunk included), each sees
-// the other's edits, nothing is lost; and the server restarted under a running engine loses
-// nothing. Uses the throwaway cluster of tests/world/pg_cluster.h (skips, with a line, without
-// PostgreSQL's server binaries). No GPU (RenderTarget::none).
+// the other's edits, nothing is lost; the server restarted under a running engine loses nothing;
+// and shutdown with the server away flushes once. Uses the throwaway cluster of
+// tests/world/pg_cluster.h (skips, with a line, without PostgreSQL's server binaries). No GPU
+// (RenderTarget::none).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,7 +15,10 @@
 
 #include <vx/vx.h>
 
+#include "engine/chunk_streamer.h"
 #include "facade_test_util.h"
+#include "world/gen/terrain.h"
+#include "world/store/pg_store.h"
 
 #include "pg_cluster.h"
 
@@ -184,4 +188,66 @@ TEST(SharedWorld, ServerRestartUnderARunningEngineLosesNothing) {
     ASSERT_TRUE(settle(**again));
     EXPECT_EQ((*again)->get_block({1, 30, 1}), 3);
     EXPECT_EQ((*again)->get_block({2, 30, 1}), 4);
+}
+
+namespace {
+
+struct NullSink : vx::engine::MeshSink {
+    void on_mesh(vx::world::ChunkCoord, const vx::world::ChunkMesh&, std::span<const int>) override {}
+    void on_unload(vx::world::ChunkCoord) override {}
+};
+
+} // namespace
+
+// Engine::shutdown with the server away: the streamer's flush fails (reported), and destroying
+// the streamer does not flush again (which would spend a second connect timeout on the same
+// error): one connection attempt in all. The edit acknowledged as saved before is on the server;
+// the later one is reported as not saved, never claimed. Runs the shutdown's steps (flush,
+// streamer, store) on a store the test owns, to count its connection attempts.
+TEST(SharedWorld, ShutdownWithTheServerAwayFlushesOnce) {
+    using namespace vx::world;
+    PgCluster* cluster = cluster_or_skip();
+    if (!cluster)
+        GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    const std::string uri = cluster->new_database();
+    PgStoreCreateInfo info;
+    info.uri = uri;
+    auto opened = PgStore::open(info);
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    std::unique_ptr<PgStore> store = std::move(*opened);
+    const TerrainGenerator gen(kSeed);
+    NullSink sink;
+    vx::engine::StreamingSettings settings;
+    settings.view_radius = 1;
+    settings.view_radius_vertical = 1;
+    settings.worker_count = 1;
+    auto streamer = std::make_unique<vx::engine::ChunkStreamer>(gen, store.get(), sink, settings);
+    const glm::dvec3 eye(16, 40, 16);
+    for (auto limit = Clock::now() + std::chrono::minutes(3); !streamer->settled() && Clock::now() < limit;) {
+        streamer->update(eye, glm::dvec3(1, 0, 0), Clock::now());
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(streamer->settled());
+    ASSERT_TRUE(streamer->set_block({5, 40, 5}, 3));
+    ASSERT_TRUE(streamer->flush()); // Acknowledged.
+
+    ASSERT_TRUE(cluster->stop());
+    ASSERT_TRUE(streamer->set_block({-5, 40, 5}, 4)); // Another chunk, never acknowledged.
+    EXPECT_FALSE(streamer->flush()); // The store learns the server is gone.
+    const uint64_t before = store->health().connect_attempts;
+    EXPECT_FALSE(streamer->flush()); // What Engine::shutdown does, then:
+    streamer.reset();
+    EXPECT_EQ(store->health().connect_attempts, before + 1) << "one flush, one connection attempt";
+    EXPECT_GE(store->pending_edits(), 1u); // Still reported: not saved.
+    store.reset(); // Logs the edits it could not save; tries no connection.
+
+    ASSERT_TRUE(cluster->start());
+    PgStoreCreateInfo again;
+    again.uri = uri;
+    again.listen = false;
+    auto reopened = PgStore::open(again);
+    ASSERT_TRUE(reopened.ok()) << reopened.error();
+    auto load = (*reopened)->load(vx::world::chunk_of(vx::world::BlockPos(5, 40, 5)));
+    ASSERT_TRUE(load.ok() && load->chunk);
+    EXPECT_EQ(load->chunk->get(vx::world::local_of(vx::world::BlockPos(5, 40, 5))), 3);
 }

@@ -1,9 +1,12 @@
 // PostgreSQL-only behaviour of PgStore: refusing foreign databases, concurrent writers of one
-// chunk keeping both edits, change notifications, and a server restart under a running writer.
+// chunk keeping both edits, change notifications (and catching up on those missed while the server
+// restarted), overlapping writers without deadlocks, and a server restart under a running writer.
 // The backend-independent suite (store_suite_test.cpp, store_crash_test.cpp) runs here as well.
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <barrier>
 #include <chrono>
 #include <thread>
 
@@ -232,5 +235,132 @@ TEST(PgStore, ForgottenVersionsCostAConflictButLoseNothing) {
         Chunk want = versioned_chunk(c, 1);
         want.set(LocalPos(1, 2, 3), 7);
         EXPECT_TRUE(*check->load(c)->chunk == want) << c.x;
+    }
+}
+
+// A server restart cuts the listener off; commits made before it listens again send
+// notifications nobody receives. The reader connects as its own role, kept out (NOLOGIN) while the
+// writer commits, so its listener cannot be back in time by chance: only the catch-up on
+// reconnect can report those chunks.
+TEST(PgStore, ChangesMissedDuringAServerRestartAreCaughtUp) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    const std::string db = uri.substr(uri.find(":///") + 4, uri.find('?') - uri.find(":///") - 4);
+    const std::string role = "reader_" + db;
+    sql(cluster->uri("postgres"), ("CREATE ROLE " + role + " SUPERUSER LOGIN").c_str());
+    std::string reader_uri = uri;
+    reader_uri.replace(reader_uri.find("user=vx"), 7, "user=" + role);
+
+    std::vector<ChunkCoord> coords;
+    for (int i = 0; i < 6; ++i)
+        coords.push_back({i, 1, -i});
+    auto writer = open_pg(uri);
+    for (ChunkCoord c : coords)
+        ASSERT_TRUE(writer->save(c, versioned_chunk(c, 1)).ok());
+    ASSERT_TRUE(writer->flush().ok());
+    auto reader = open_pg(reader_uri);
+    ASSERT_TRUE(reader);
+    for (ChunkCoord c : coords)
+        ASSERT_EQ(reader->load(c)->state, LoadState::Present);
+    const ChunkCoord created{50, 1, 50}; // Absent when the reader looked; created meanwhile.
+    ASSERT_EQ(reader->load(created)->state, LoadState::Absent);
+    // Wait until the reader's listener is up (it starts in the background): a commit reaches it.
+    bool heard = false;
+    for (int i = 0; i < 60 && !heard; ++i) {
+        ASSERT_TRUE(writer->save({99, 0, 0}, Chunk(BlockId(3 + i % 2))).ok());
+        ASSERT_TRUE(writer->flush().ok());
+        heard = wait_change(*reader, {99, 0, 0}, 1.0).has_value();
+    }
+    ASSERT_TRUE(heard);
+    ASSERT_TRUE(reader->tick(Clock::now()).ok()); // The first catch-up (nothing changed).
+    EXPECT_EQ(reader->health().caught_up, 0u);
+
+    sql(cluster->uri("postgres"), ("ALTER ROLE " + role + " NOLOGIN").c_str());
+    ASSERT_TRUE(cluster->stop());
+    ASSERT_TRUE(cluster->start());
+    for (ChunkCoord c : coords)
+        ASSERT_TRUE(writer->save(c, versioned_chunk(c, 2)).ok());
+    ASSERT_TRUE(writer->save(created, versioned_chunk(created, 2)).ok());
+    vx::Status s = writer->flush(); // Reconnects at once.
+    ASSERT_TRUE(s.ok()) << s.error();
+    std::vector<ChunkCoord> got;
+    (void)reader->tick(Clock::now());
+    reader->poll_changes(got);
+    EXPECT_TRUE(got.empty()) << "the reader cannot have heard of these commits yet";
+
+    sql(cluster->uri("postgres"), ("ALTER ROLE " + role + " LOGIN").c_str());
+    coords.push_back(created);
+    const auto limit = Clock::now() + std::chrono::seconds(60); // The listener backs off up to 8 s.
+    auto seen_all = [&] {
+        for (ChunkCoord c : coords)
+            if (std::find(got.begin(), got.end(), c) == got.end())
+                return false;
+        return true;
+    };
+    while (!seen_all() && Clock::now() < limit) {
+        (void)reader->tick(Clock::now()); // Reconnects, then catches up.
+        reader->poll_changes(got);
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_TRUE(seen_all()) << got.size() << " of " << coords.size() << " changed chunks reported";
+    EXPECT_EQ(reader->health().caught_up, coords.size());
+    for (size_t i = 0; i + 1 < coords.size(); ++i) // And a reload gets the new records.
+        EXPECT_TRUE(*reader->load(coords[i])->chunk == versioned_chunk(coords[i], 2)) << i;
+}
+
+// Two writers commit overlapping batches at the same time, each in its own order: writer A's
+// queue has grown large before (so its hash table iterates in another order than B's), and they
+// insert the shared chunks in opposite orders. Upserts sent in coordinate order lock rows in the
+// same order in both transactions, so neither waits for a row the other holds while holding one
+// it wants: no deadlock (which the server would break by aborting one: a failed flush here).
+TEST(PgStore, OverlappingWritersNeverDeadlock) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    constexpr int kShared = 64, kRounds = 12;
+    std::unique_ptr<PgStore> w[2] = {open_pg(uri), open_pg(uri)};
+    std::vector<ChunkWrite> warm; // 4,096 uniform chunks: A's table grows (and keeps) its buckets.
+    const Chunk stone(3);
+    for (int i = 0; i < 4096; ++i)
+        warm.push_back({ChunkCoord(i, -50, 0), &stone});
+    ASSERT_TRUE(w[0]->save(warm).ok());
+    ASSERT_TRUE(w[0]->flush().ok());
+    std::vector<ChunkCoord> shared;
+    for (int i = 0; i < kShared; ++i)
+        shared.push_back({i % 8, 0, i / 8});
+    std::barrier sync(2);
+    std::atomic<int> failures{0};
+    auto write = [&](int who) {
+        for (int round = 0; round < kRounds; ++round) {
+            // Each round edits what the store reads now, as the engine's copy would be after
+            // reloading the chunks another process changed (a stale copy would overwrite them).
+            std::vector<Chunk> copies;
+            for (ChunkCoord c : shared) {
+                auto got = w[who]->load(c);
+                copies.push_back(got && got->chunk ? *got->chunk : Chunk(kAir));
+            }
+            std::vector<BlockEdit> edits(kShared);
+            std::vector<ChunkWrite> batch;
+            for (int k = 0; k < kShared; ++k) {
+                const int i = who == 0 ? k : kShared - 1 - k; // Opposite orders.
+                edits[size_t(i)] = {LocalPos(who, round, 0), BlockId(10 + round)};
+                copies[size_t(i)].set(edits[size_t(i)].pos, edits[size_t(i)].id);
+                batch.push_back({shared[size_t(i)], &copies[size_t(i)], std::span(&edits[size_t(i)], 1)});
+            }
+            sync.arrive_and_wait(); // Both commit at once.
+            if (!w[who]->save(batch) || !w[who]->flush())
+                failures.fetch_add(1);
+        }
+    };
+    std::thread a(write, 0), b(write, 1);
+    a.join();
+    b.join();
+    EXPECT_EQ(failures.load(), 0);
+    // Every edit of both writers is stored (the conflicts merged them).
+    auto check = open_pg(uri);
+    for (ChunkCoord c : shared) {
+        const Chunk got = *check->load(c)->chunk;
+        for (int round = 0; round < kRounds; ++round)
+            for (int who = 0; who < 2; ++who)
+                ASSERT_EQ(got.get(LocalPos(who, round, 0)), BlockId(10 + round)) << c.x << "," << c.z;
     }
 }

@@ -1,5 +1,8 @@
 // PgStore's transactions: the pipelined, versioned commit and its conflict resolution, and the
 // queries that read the whole world (count, list, metadata).
+#include <algorithm>
+#include <tuple>
+
 #include "world/base/log.h"
 #include "world/store/pg_store.h"
 #include "world/store/pg_wire.h"
@@ -9,6 +12,10 @@ namespace vx::world {
 namespace {
 
 constexpr size_t kNotifyPayloadMax = 7900; // NOTIFY payloads must be shorter than 8000 bytes.
+
+bool coord_less(ChunkCoord a, ChunkCoord b) {
+    return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+}
 
 bool send(PGconn* conn, const char* name, const pg::Params& p) {
     return PQsendQueryPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1) == 1;
@@ -55,17 +62,23 @@ struct PipelineReader {
 
 } // namespace
 
-// One round trip: BEGIN, every versioned upsert, the metadata and the notifications, pipelined;
-// then COMMIT, or ROLLBACK when any upsert found a newer version (the coordinates are returned
-// and the caller re-applies its edits before the next attempt). True: committed.
+// One round trip: every versioned upsert, the metadata and the notifications, pipelined up to one
+// sync point, so they run as one implicit transaction that the server commits at the sync (and
+// rolls back whole if any statement fails). An upsert that finds a newer version fails on purpose
+// (vx_put, pg_wire.cpp); only then a second query finds every chunk that conflicted, which are
+// returned for the caller to re-apply its edits before the next attempt. True: committed.
 Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
+    // Upserts take row locks in the order sent: two writers with overlapping batches in hash
+    // order could each hold a row the other waits for (a deadlock, one of them aborted). Sorted
+    // by coordinate, every writer locks in the same order.
     std::vector<ChunkCoord> order;
     order.reserve(m_pending.size());
     for (const auto& [c, p] : m_pending)
         order.push_back(c);
+    std::sort(order.begin(), order.end(), coord_less);
     if (PQenterPipelineMode(m_conn) != 1)
         return error("cannot start a pipeline");
-    bool sent = PQsendQueryParams(m_conn, "BEGIN", 0, nullptr, nullptr, nullptr, nullptr, 0) == 1;
+    bool sent = true;
     static const uint8_t kEmpty = 0;
     for (size_t i = 0; sent && i < order.size(); ++i) {
         const Pending& p = m_pending[order[i]];
@@ -97,32 +110,31 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
         return e;
     }
     PipelineReader reader{m_conn, {}};
-    reader.next(); // BEGIN
     std::vector<uint64_t> versions(order.size(), 0);
+    bool conflicted = false;
     for (size_t i = 0; i < order.size(); ++i) {
         pg::ResultPtr r = reader.next();
-        if (r && PQresultStatus(r.get()) == PGRES_TUPLES_OK) {
-            if (PQntuples(r.get()) == 1)
-                versions[i] = uint64_t(pg::get_i64(r.get(), 0, 0));
-            else
-                conflicts.push_back(order[i]);
+        if (r && PQresultStatus(r.get()) == PGRES_TUPLES_OK && PQntuples(r.get()) == 1) {
+            versions[i] = uint64_t(pg::get_i64(r.get(), 0, 0));
+        } else if (r && PQresultStatus(r.get()) == PGRES_FATAL_ERROR) {
+            const char* state = PQresultErrorField(r.get(), PG_DIAG_SQLSTATE);
+            conflicted |= state && std::string_view(state) == pg::kConflictState;
         }
     }
     for (size_t i = 0; i < m_pending_meta.size() + payloads.size(); ++i)
         reader.next();
-    const bool synced = reader.sync();
-    if (!synced || PQexitPipelineMode(m_conn) != 1 || !reader.first_error.empty()) {
+    const bool synced = reader.sync(); // The commit (or the rollback) is done when it arrives.
+    if (!synced || PQexitPipelineMode(m_conn) != 1 || (!conflicted && !reader.first_error.empty())) {
         const std::string why = reader.first_error.empty() ? "pipeline out of step" : reader.first_error;
-        Error e = error("cannot write " + std::to_string(order.size()) + " chunks (" + why + ")");
-        if (m_conn)
-            pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
-        return e;
+        return error("cannot write " + std::to_string(order.size()) + " chunks (" + why + ")");
     }
-    pg::ResultPtr end(PQexec(m_conn, conflicts.empty() ? "COMMIT" : "ROLLBACK"));
-    if (!pg::ok(end.get()))
-        return error(conflicts.empty() ? "commit failed; edits kept for a retry" : "rollback failed");
-    if (!conflicts.empty())
+    if (conflicted) {
+        if (Status s = changed_since_known(order, conflicts); !s)
+            return Error{s.error()};
+        if (conflicts.empty())
+            return error("a write conflicted, but every stored version is the known one");
         return false;
+    }
     for (size_t i = 0; i < order.size(); ++i)
         note_version(order[i], versions[i]);
     return true;

@@ -2,6 +2,7 @@
 
 #include <poll.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 
@@ -42,15 +43,41 @@ void ChangeListener::parse(const char* payload) {
     m_changes.insert(m_changes.end(), got.begin(), got.end());
 }
 
+// Connects in 50 ms slices that check m_stop, so destruction never waits out a connect timeout
+// (a server that is away on TCP). Null when stopped, out of memory, failed or timed out.
+PGconn* ChangeListener::connect_polling() {
+    using namespace std::chrono;
+    PGconn* conn = connect_start(m_conninfo, m_timeout_s);
+    const auto deadline = steady_clock::now() + seconds(std::max(m_timeout_s, 1));
+    // libpq: start as if PQconnectPoll had returned PGRES_POLLING_WRITING.
+    PostgresPollingStatusType state = PGRES_POLLING_WRITING;
+    while (conn && PQstatus(conn) != CONNECTION_BAD && state != PGRES_POLLING_OK) {
+        if (state == PGRES_POLLING_FAILED || m_stop.load() || steady_clock::now() >= deadline)
+            break;
+        pollfd fd{PQsocket(conn), short(state == PGRES_POLLING_READING ? POLLIN : POLLOUT), 0};
+        const int ready = ::poll(&fd, 1, 50);
+        if (ready < 0)
+            break;
+        if (ready > 0)
+            state = PQconnectPoll(conn);
+    }
+    if (conn && state != PGRES_POLLING_OK) {
+        PQfinish(conn);
+        conn = nullptr;
+    }
+    return conn;
+}
+
 void ChangeListener::run() {
     using namespace std::chrono;
     auto backoff = milliseconds(250);
     while (!m_stop.load()) {
-        PGconn* conn = connect(m_conninfo, m_timeout_s);
-        if (PQstatus(conn) == CONNECTION_OK) {
+        PGconn* conn = connect_polling();
+        if (conn && PQstatus(conn) == CONNECTION_OK) {
             ResultPtr r(PQexec(conn, "LISTEN vx_chunks"));
             if (PQresultStatus(r.get()) == PGRES_COMMAND_OK) {
                 m_listening.store(true);
+                m_epoch.fetch_add(1); // After LISTEN: a commit from now on is notified.
                 backoff = milliseconds(250);
             }
         }
@@ -68,7 +95,8 @@ void ChangeListener::run() {
                 PQfreemem(n);
             }
         }
-        PQfinish(conn);
+        if (conn)
+            PQfinish(conn);
         // Lost or never up: retry with back-off (0.25 s doubling to 8 s), waking to check m_stop.
         for (auto waited = milliseconds(0); !m_stop.load() && waited < backoff; waited += milliseconds(50))
             std::this_thread::sleep_for(milliseconds(50));

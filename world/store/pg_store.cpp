@@ -40,9 +40,13 @@ PgStore::PgStore(PgStoreCreateInfo info)
     : m_info(std::move(info)), m_name(redact_pg_uri(m_info.uri)), m_codec(m_info.zstd_level) {}
 
 PgStore::~PgStore() {
-    if (m_conn && pending_edits() > 0)
+    if (m_conn && pending_edits() > 0) {
         if (Status s = commit(); !s)
             VX_LOG_ERROR("%s (%zu edits not saved)", s.error().c_str(), pending_edits());
+    } else if (pending_edits() > 0) {
+        VX_LOG_ERROR("PostgreSQL world '%s' is not reachable: %zu edits not saved", m_name.c_str(),
+                     pending_edits());
+    }
     m_listener.reset();
     if (m_conn)
         PQfinish(m_conn);
@@ -64,6 +68,10 @@ Result<std::unique_ptr<PgStore>> PgStore::open(const PgStoreCreateInfo& info) {
 Status PgStore::connect() {
     if (m_conn)
         PQfinish(m_conn);
+    {
+        std::lock_guard lock(m_health_mutex);
+        ++m_health.connect_attempts;
+    }
     m_conn = pg::connect(m_info.uri, m_info.connect_timeout_s);
     if (PQstatus(m_conn) != CONNECTION_OK) {
         Error e{"cannot connect to PostgreSQL world '" + m_name + "': " + pg::message(m_conn)};
@@ -186,7 +194,7 @@ Result<ChunkLoad> PgStore::load(ChunkCoord c) {
     if (!pg::ok(r.get()))
         return error("cannot load chunk " + pg::coord_str(c));
     if (PQntuples(r.get()) == 0) {
-        m_versions.erase(c);
+        note_version(c, 0); // Known absent: catch_up() notices when another process creates it.
         return out;
     }
     const uint64_t version = uint64_t(pg::get_i64(r.get(), 0, 0));
@@ -268,6 +276,8 @@ Status PgStore::tick(Clock::time_point now) {
     // reconnect once the back-off has passed; flush() reports the error to whoever waits.
     if (!m_conn && (now < m_next_retry || !ensure_connected(false)))
         return {};
+    if (Status s = catch_up(); !s)
+        return m_conn ? s : Status{}; // Lost meanwhile: retried once reconnected.
     if (m_pending_since && now - *m_pending_since >= m_info.max_pending_age)
         return commit();
     return {};
@@ -278,6 +288,18 @@ Status PgStore::flush() { return commit(); }
 Status PgStore::commit() {
     if (pending_edits() == 0)
         return {};
+    // A connection that was up may have died unnoticed (a server restart): libpq learns it only
+    // when it is used. Then once more, on a new connection. Safe even if the first attempt
+    // committed before the link broke: this store's versions are then stale, so the retry meets a
+    // conflict and re-applies the same edits (a whole-chunk write rewrites the same record).
+    const bool was_up = m_conn != nullptr;
+    Status s = commit_attempts();
+    if (!s && was_up && !m_conn)
+        s = commit_attempts();
+    return s;
+}
+
+Status PgStore::commit_attempts() {
     if (Status s = ensure_connected(true); !s)
         return s;
     std::vector<ChunkCoord> conflicts;
@@ -304,6 +326,61 @@ Status PgStore::commit() {
     }
     return Error{"PostgreSQL world '" + m_name + "': gave up after " + std::to_string(kMaxCommitAttempts) +
                  " conflicting attempts; edits kept in memory"};
+}
+
+Status PgStore::changed_since_known(const std::vector<ChunkCoord>& coords, std::vector<ChunkCoord>& changed) {
+    std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> stored;
+    constexpr size_t kBatch = 8192; // Coordinates per query (a few hundred KB of text).
+    for (size_t begin = 0; begin < coords.size(); begin += kBatch) {
+        const size_t end = std::min(coords.size(), begin + kBatch);
+        std::string xs = "{", ys = "{", zs = "{";
+        for (size_t i = begin; i < end; ++i) {
+            const char* sep = i + 1 < end ? "," : "}";
+            xs += std::to_string(coords[i].x) + sep;
+            ys += std::to_string(coords[i].y) + sep;
+            zs += std::to_string(coords[i].z) + sep;
+        }
+        pg::Params p;
+        p.add_text(std::move(xs));
+        p.add_text(std::move(ys));
+        p.add_text(std::move(zs));
+        pg::ResultPtr r = pg::exec(m_conn, "vx_versions", p);
+        if (!pg::ok(r.get()))
+            return error("cannot read the stored versions of " + std::to_string(end - begin) + " chunks");
+        stored.clear();
+        for (int i = 0, n = PQntuples(r.get()); i < n; ++i) {
+            const ChunkCoord c(pg::get_i32(r.get(), i, 0), pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2));
+            stored[c] = uint64_t(pg::get_i64(r.get(), i, 3));
+        }
+        for (size_t i = begin; i < end; ++i) {
+            const auto it = stored.find(coords[i]);
+            if ((it == stored.end() ? 0 : it->second) != known_version(coords[i]))
+                changed.push_back(coords[i]);
+        }
+    }
+    return {};
+}
+
+Status PgStore::catch_up() {
+    if (!m_listener)
+        return {};
+    // Read before the scan: a restart during it bumps the epoch again and the next tick rescans.
+    const uint64_t epoch = m_listener->listen_epoch();
+    if (epoch == m_caught_up_epoch)
+        return {};
+    // The listener listens before the scan reads: a commit is either notified or seen here.
+    std::vector<ChunkCoord> coords;
+    coords.reserve(m_versions.size());
+    for (const auto& [c, v] : m_versions)
+        coords.push_back(c);
+    std::vector<ChunkCoord> changed;
+    if (Status s = changed_since_known(coords, changed); !s)
+        return s;
+    m_caught_up_epoch = epoch;
+    std::lock_guard lock(m_health_mutex);
+    m_health.caught_up += changed.size();
+    m_local_changes.insert(m_local_changes.end(), changed.begin(), changed.end());
+    return {};
 }
 
 void PgStore::note_version(ChunkCoord c, uint64_t version) {

@@ -9,17 +9,26 @@
 //   vx_quarantine(id, x, y, z, version, data, reason, at)  records that failed verification
 //
 // Writes: save() queues records in memory (read back at once, as in every ChunkStore); a commit
-// sends every queued record as one pipelined transaction of versioned upserts (one round trip),
+// sends every queued record as one transaction of versioned upserts in coordinate order, in one
+// round trip (pipelined up to one sync point: an implicit transaction the server commits there),
 // so a batch lands whole or not at all and a killed writer leaves no torn record (PostgreSQL's
 // WAL; synchronous_commit on, so a flush() that succeeded survives a server crash too). Each
 // upsert states the version this process last saw; when another process wrote the chunk since,
-// the transaction is rolled back, the newer record is fetched, this process's own edits
-// (ChunkWrite::edits) are re-applied to it, and the batch is retried: no acknowledged edit of
-// either process is lost. A commit also sends NOTIFY vx_chunks with the coordinates; a listener
-// thread (its own connection) collects other processes' notifications for poll_changes().
+// that upsert fails, the transaction is rolled back, one query finds every chunk that conflicted,
+// the newer records are fetched, this process's own edits (ChunkWrite::edits) are re-applied to
+// them, and the batch is retried: no acknowledged edit of either process is lost. A commit also
+// sends NOTIFY vx_chunks with the coordinates; a listener thread (its own connection) collects
+// other processes' notifications for poll_changes().
+// Notifications sent while the listener was not connected (a server restart, a dropped link) are
+// lost, so each time it starts listening the next tick() compares every version this store knows
+// (chunks it loaded, absent ones included, or wrote) with the table and reports the chunks that
+// moved on through poll_changes() as well.
 //
 // Connection loss: queued edits stay in memory; tick() reconnects with exponential back-off
-// (0.25 s doubling to 8 s), flush() and load() report the error; health() says so.
+// (0.25 s doubling to 8 s), flush() and load() report the error; health() says so. A commit on
+// a connection that died unnoticed (a server restart) reconnects at once and tries again.
+// Destruction commits queued edits only over a live connection (one that is down was reported by
+// the last flush; no further connect timeout is spent) and logs any edits it could not save.
 //
 // Thread affinity: as every ChunkStore, one thread (the engine's I/O lane) calls everything but
 // poll_changes() and health(), which are thread-safe.
@@ -70,7 +79,8 @@ public:
     // connect (server down, no such database, authentication), a database holding something else,
     // an unsupported format version.
     static Result<std::unique_ptr<PgStore>> open(const PgStoreCreateInfo& info);
-    // Commits queued edits (errors logged), stops the listener, closes the connections.
+    // Commits queued edits if connected (else logs how many are lost), stops the listener,
+    // closes the connections.
     ~PgStore() override;
     PgStore(const PgStore&) = delete;
     PgStore& operator=(const PgStore&) = delete;
@@ -109,7 +119,11 @@ private:
     Status prepare();
     void lost(const std::string& what);
     Status quarantine(ChunkCoord c, uint64_t version, const std::string& reason);
+    Status commit_attempts(); // commit() on one connection: rounds of try_commit + conflicts.
     Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
+    Status catch_up(); // After the listener (re)started: report chunks changed meanwhile.
+    // Appends the chunks of `coords` whose stored version is not the known one.
+    Status changed_since_known(const std::vector<ChunkCoord>& coords, std::vector<ChunkCoord>& changed);
     Status resolve_conflict(ChunkCoord c);
     Error error(const std::string& what);
     void note_version(ChunkCoord c, uint64_t version); // Remembers, then trim_versions().
@@ -128,6 +142,7 @@ private:
     Clock::time_point m_next_retry{};
     std::chrono::milliseconds m_backoff{250};
     std::unique_ptr<pg::ChangeListener> m_listener;
+    uint64_t m_caught_up_epoch = 0; // The listener's listen_epoch() the last catch_up() served.
     std::vector<ChunkCoord> m_local_changes; // Merged chunks (poll_changes); m_health_mutex.
 
     mutable std::mutex m_health_mutex; // Guards m_health and m_local_changes.

@@ -2,17 +2,34 @@
 
 namespace vx::world::pg {
 
-PGconn* connect(const std::string& conninfo, int connect_timeout_s) {
-    // expand_dbname = 1: `conninfo` is parsed as a URI or key=value string; later keywords
-    // override what it sets.
+namespace {
+
+// expand_dbname = 1: `conninfo` is parsed as a URI or key=value string; later keywords override
+// what it sets. Server notices ("relation already exists, skipping", shutdown notes) are not ours
+// to print: errors reach the caller through results.
+template <class Start>
+PGconn* connect_with(const std::string& conninfo, int connect_timeout_s, Start start) {
     const std::string timeout = std::to_string(connect_timeout_s);
     const char* keys[] = {"dbname", "connect_timeout", "application_name", nullptr};
     const char* values[] = {conninfo.c_str(), timeout.c_str(), "vx", nullptr};
-    PGconn* conn = PQconnectdbParams(keys, values, 1);
-    // Server notices ("relation already exists, skipping", shutdown notes) are not ours to print:
-    // errors reach the caller through results.
-    PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
+    PGconn* conn = start(keys, values);
+    if (conn)
+        PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
     return conn;
+}
+
+} // namespace
+
+PGconn* connect(const std::string& conninfo, int connect_timeout_s) {
+    return connect_with(conninfo, connect_timeout_s, [](const char* const* keys, const char* const* values) {
+        return PQconnectdbParams(keys, values, 1);
+    });
+}
+
+PGconn* connect_start(const std::string& conninfo, int connect_timeout_s) {
+    return connect_with(conninfo, connect_timeout_s, [](const char* const* keys, const char* const* values) {
+        return PQconnectStartParams(keys, values, 1);
+    });
 }
 
 std::string message(PGconn* conn, const PGresult* r) {
@@ -42,10 +59,18 @@ CREATE TABLE IF NOT EXISTS vx_quarantine(
 const Statement kStatements[] = {
     {"vx_load", "SELECT version, data FROM vx_chunks WHERE x = $1 AND y = $2 AND z = $3"},
     // The versioned upsert: a row is written only when its version is still the one this process
-    // last saw ($4; 0 = "absent"). No row back = another process wrote it first (a conflict).
-    {"vx_put", "INSERT INTO vx_chunks AS c (x, y, z, version, data) VALUES ($1, $2, $3, 1, $5) "
+    // last saw ($4; 0 = "absent"); the new version comes back. When another process wrote it
+    // first (a conflict) nothing is written and the statement fails with division_by_zero
+    // (kConflictState, from 0 / count(*) over no row; the HAVING filter runs before the division),
+    // which rolls the commit's whole implicit transaction back without a round trip of its own.
+    {"vx_put", "WITH up AS (INSERT INTO vx_chunks AS c (x, y, z, version, data) VALUES ($1, $2, $3, 1, $5) "
                "ON CONFLICT (x, y, z) DO UPDATE SET version = c.version + 1, data = EXCLUDED.data "
-               "WHERE c.version = $4 RETURNING version"},
+               "WHERE c.version = $4 RETURNING version) "
+               "SELECT version FROM up UNION ALL SELECT 0 / count(*) FROM up HAVING count(*) = 0"},
+    // The stored versions of a list of chunks (text arrays of x, y and z): catch_up().
+    {"vx_versions", "SELECT c.x, c.y, c.z, c.version FROM vx_chunks c JOIN "
+                    "unnest($1::int4[], $2::int4[], $3::int4[]) AS k(x, y, z) "
+                    "ON c.x = k.x AND c.y = k.y AND c.z = k.z"},
     {"vx_has", "SELECT 1 FROM vx_chunks WHERE x = $1 AND y = $2 AND z = $3 AND length(data) > 0"},
     {"vx_count", "SELECT count(*) FROM vx_chunks WHERE length(data) > 0"},
     {"vx_list", "SELECT x, y, z FROM vx_chunks WHERE length(data) > 0"},

@@ -79,6 +79,9 @@ inline int32_t get_i32(const PGresult* r, int row, int col) {
 // Connects (blocking) to `conninfo` (a URI or key=value string) with a connect timeout. Never
 // null; check PQstatus.
 PGconn* connect(const std::string& conninfo, int connect_timeout_s);
+// The same, started without blocking (PQconnectStartParams): the caller drives PQconnectPoll and
+// enforces the timeout. Null only when libpq is out of memory.
+PGconn* connect_start(const std::string& conninfo, int connect_timeout_s);
 
 // Whether a result is a success (a command, or rows).
 inline bool ok(const PGresult* r) {
@@ -101,6 +104,8 @@ std::string message(PGconn* conn, const PGresult* r = nullptr);
 
 // Prepared statement names and SQL.
 inline constexpr const char* kFormat = "vx-world-1";
+// SQLSTATE of a versioned upsert that met a newer version (division_by_zero; see vx_put).
+inline constexpr const char* kConflictState = "22012";
 extern const char* const kSchemaSql;
 struct Statement {
     const char* name;
