@@ -51,7 +51,8 @@ VX_TM_CONST float kMidGreyInput = 0.1308f;
 VX_TM_FN float vx_exposure_scale(float ev100) { return kNitsPerUnit / (1.2f * exp2(ev100)); }
 
 VX_TM_FN float vx_tonemap1(float x) {
-    x = x < 0.0f ? 0.0f : x;
+    // Past 8 the curve is 1 (clamped below); capping there keeps x * x finite (inf / inf: NaN).
+    x = x < 0.0f ? 0.0f : (x > 8.0f ? 8.0f : x);
     float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
     return y > 1.0f ? 1.0f : y;
 }
