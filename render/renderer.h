@@ -74,7 +74,8 @@ struct Exposure {
     // the exposure that shows it at mid-grey (key 0.18: tonemap.h's kMidGreyInput), adapted
     // over time: after dt seconds the gap in EV shrinks by exp(-adapt_speed * dt). The first
     // frame of a renderer (or after manual frames) meets its target at once: render() traces
-    // it twice (one to meter). The raster pipeline meters nothing: it uses the last adapted
+    // it twice (one to meter); present() reads a frame's meter kFramesInFlight frames later and
+    // draws with ev100 until then. The raster pipeline meters nothing: it uses the last adapted
     // value, or ev100.
     bool automatic = false;
     float adapt_speed = 1.5f; // Per second (1.5: 78% of a change within a second).

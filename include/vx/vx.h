@@ -181,8 +181,9 @@ struct RenderSettings {
         float ev100 = 14.7f;
         // Metered from each ray-traced frame (caves, night): its log-average luminance is shown
         // at mid-grey (key 0.18), adapting over time: after dt seconds the gap in EV shrinks by
-        // exp(-adapt_speed * dt). The first metered frame meets its target at once (traced
-        // twice). The raster pipeline keeps the last metered value, or ev100.
+        // exp(-adapt_speed * dt). The first metered image meets its target at once
+        // (render_to_image traces it twice; a window shows ev100 until the first meter is read,
+        // two frames later). The raster pipeline keeps the last metered value, or ev100.
         bool automatic = false;
         float adapt_speed = 1.5f; // Per second (1.5: 78% of a change within a second).
     };
