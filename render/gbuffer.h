@@ -32,9 +32,9 @@
 //                                     and adds this back unfiltered. Flat mode: 0.
 //
 // The tone-map step: today the last thing raygen does (it writes the output from radiance with
-// vx_display: exposure, tone curve, sRGB; shaders/shared/tonemap.h). A denoiser that filters radiance writes the
-// output itself with the same shared function, so both paths give the same bytes for the same
-// radiance. Main thread only (GPU objects owned by the Renderer).
+// vx_display: exposure, tone curve, sRGB; shaders/shared/tonemap.h). A denoiser that filters
+// radiance writes the output itself with the same shared function, so both paths give the
+// same bytes for the same radiance. Main thread only (GPU objects owned by the Renderer).
 
 #include "render/vk_common.h"
 

@@ -371,8 +371,9 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     metering[slot] = metered(s);
     if (metering[slot]) {
         if (!meters[slot].valid()) {
-            meters[slot] = Buffer::create(*ctx, {sizeof(gpu::ExposureMeter), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                                 MemoryUse::Readback, 0, "exposure meter"});
+            const BufferCreateInfo ci{sizeof(gpu::ExposureMeter), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                      MemoryUse::Readback, 0, "exposure meter"};
+            meters[slot] = Buffer::create(*ctx, ci);
             VX_ASSERT_MSG(meters[slot].valid(), "out of GPU memory for the exposure meter");
         }
         std::memset(meters[slot].mapped(), 0, sizeof(gpu::ExposureMeter)); // The slot's last frame is done.
@@ -454,8 +455,9 @@ void Renderer::Impl::record_frame(VkCommandBuffer cmd, const RenderSettings& s, 
         write_descriptors();
         record_trace(cmd, s.width, s.height, s.mode == ShadingMode::Flat);
         if (metering[ctx->frame_slot()])
-            memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+            memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                           VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                           VK_ACCESS_2_HOST_READ_BIT);
     }
     if (denoise_active(s))
         record_denoise(cmd, s, cam);
@@ -638,7 +640,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     return m->render_frame(settings, camera, gbuffer);
 }
 
-RenderImage Renderer::Impl::render_frame(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
+RenderImage Renderer::Impl::render_frame(const RenderSettings& settings, const Camera& camera,
+                                         GBufferImage* gbuffer) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     Impl& d = *this;

@@ -438,8 +438,8 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "filtered too); the PNG is the last")
         ->check(CLI::Range(1u, 65536u));
     cmd->add_option("--exposure", a->exposure,
-                    "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at mid-grey; "
-                    "+1 halves the light) or auto (metered from the frame)");
+                    "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
+                    "mid-grey; +1 halves the light) or auto (metered from the frame)");
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
     cmd->callback([a, seed, seed_opt, &action] {
         if (seed_opt->count() > 0)

@@ -71,7 +71,9 @@ VX_TM_FN tm_vec3 vx_srgb_encode(tm_vec3 c) {
 
 // The whole output transform of Full shading: radiance at exposure scale `exposure`
 // (vx_exposure_scale) to the sRGB-encoded value in [0, 1].
-VX_TM_FN tm_vec3 vx_display(tm_vec3 radiance, float exposure) { return vx_srgb_encode(vx_tonemap(radiance * exposure)); }
+VX_TM_FN tm_vec3 vx_display(tm_vec3 radiance, float exposure) {
+    return vx_srgb_encode(vx_tonemap(radiance * exposure));
+}
 
 #ifdef __cplusplus
 #undef VX_TM_FN

@@ -107,10 +107,11 @@ TEST(Exposure, DefaultLightsPutGreyAtMidGreyAndKeepColoursApart) {
     vx::Image img;
     ASSERT_TRUE(e.render_to_image(img));
     EXPECT_FLOAT_EQ(e.stats().ev100, vx::RenderSettings{}.exposure.ev100);
-    const glm::ivec3 grey = rgb(img, 8, 8), grass = rgb(img, 24, 8), sand = rgb(img, 8, 24), snow = rgb(img, 24, 24);
+    const glm::ivec3 grey = rgb(img, 8, 8), grass = rgb(img, 24, 8);
+    const glm::ivec3 sand = rgb(img, 8, 24), snow = rgb(img, 24, 24);
     std::printf("EV100 %.2f: grey (%d, %d, %d), grass (%d, %d, %d), sand (%d, %d, %d), snow (%d, %d, %d)\n",
-                double(e.stats().ev100), grey.r, grey.g, grey.b, grass.r, grass.g, grass.b, sand.r, sand.g, sand.b,
-                snow.r, snow.g, snow.b);
+                double(e.stats().ev100), grey.r, grey.g, grey.b, grass.r, grass.g, grass.b, sand.r, sand.g,
+                sand.b, snow.r, snow.g, snow.b);
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(grey[c], 118, 12) << "channel " << c; // Photographic mid-grey: sRGB 118.
     const glm::ivec3 expected[] = {{150, 194, 131}, {213, 212, 201}, {217, 219, 223}};

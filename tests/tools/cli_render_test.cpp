@@ -189,7 +189,8 @@ TEST(CliRender, ExposureIsAnEv100OrAuto) {
         EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
     }
     const std::string dark = dir() + "/ev16.png", bright = dir() + "/ev14.png";
-    EXPECT_NE(render(view + "--exposure 16 --out " + dark).out.find("EV100 16.00 (manual)"), std::string::npos);
+    const CliRun manual = render(view + "--exposure 16 --out " + dark);
+    EXPECT_NE(manual.out.find("EV100 16.00 (manual)"), std::string::npos) << manual.out;
     render(view + "--exposure 14 --out " + bright);
     const Png a = read_png(dark), b = read_png(bright);
     ASSERT_EQ(a.rgba.size(), b.rgba.size());
