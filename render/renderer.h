@@ -70,7 +70,8 @@ struct Exposure {
     // more halves the exposure. The default puts flat ground of albedo 0.18 under the facade's
     // default lights (sun, sky and area light, seen from a few blocks above) at sRGB 118.
     float ev100 = 14.7f;
-    // Metered: from each ray-traced frame's log-average luminance (every 4th pixel in x and y),
+    // Metered: from each ray-traced frame's log-average luminance (every 4th pixel in x and y;
+    // pixels without any light are not counted, so a frame of black rock keeps its exposure),
     // the exposure that shows it at mid-grey (key 0.18: tonemap.h's kMidGreyInput), adapted
     // over time: after dt seconds the gap in EV shrinks by exp(-adapt_speed * dt). The first
     // frame of a renderer (or after manual frames) meets its target at once: render() traces

@@ -179,8 +179,8 @@ struct RenderSettings {
         // Exposure value at ISO 100; one more halves the picture's light (sunny-16 daylight: 15).
         // The default shows ground of albedo 0.18 under the default lights at mid-grey (sRGB 118).
         float ev100 = 14.7f;
-        // Metered from each ray-traced frame (caves, night): its log-average luminance is shown
-        // at mid-grey (key 0.18), adapting over time: after dt seconds the gap in EV shrinks by
+        // Metered from each ray-traced frame (caves, night): its log-average luminance (of the
+        // pixels any light reaches) is shown at mid-grey (key 0.18), adapting over time: after dt seconds the gap in EV shrinks by
         // exp(-adapt_speed * dt). The first metered image meets its target at once
         // (render_to_image traces it twice; a window shows ev100 until the first meter is read,
         // two frames later). The raster pipeline keeps the last metered value, or ev100.

@@ -72,9 +72,9 @@ struct FrameParams {
 };
 
 // Auto exposure's metering, summed by raygen with atomics over Full-mode pixels whose x and y
-// are multiples of kMeterStride: log2 of the radiance's luminance, clamped to
-// [kMeterLogMin, kMeterLogMax], minus kMeterLogMin, in 1/kMeterScale steps. The largest sum,
-// a 4096 x 2160 frame at the brightest: 4096 * 2160 / 16 * 32 * 64 = 1.1e9 < 2^32.
+// are multiples of kMeterStride and that some light reaches: log2 of the radiance's luminance,
+// clamped to [kMeterLogMin, kMeterLogMax], minus kMeterLogMin, in 1/kMeterScale steps. The
+// largest sum, a 4096 x 2160 frame at the brightest: 4096 * 2160 / 16 * 32 * 64 = 1.1e9 < 2^32.
 struct ExposureMeter {
     uint log_sum; // Sum of the samples' fixed-point values.
     uint count;   // Samples.

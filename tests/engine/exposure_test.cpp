@@ -186,4 +186,25 @@ TEST(Exposure, AutoExposureLiftsADarkViewToMidGrey) {
     EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 
+// Pixels no light reaches are not metered (they would pull the log-average to its floor and
+// blow out whatever is lit). Ground under no light at all: nothing is metered, the exposure
+// stays ev100 and the picture black.
+TEST(Exposure, AutoExposureIgnoresPixelsWithoutLight) {
+    Fixture f = make_engine(true);
+    if (!f.engine)
+        GTEST_SKIP() << "no ray-tracing device: " << f.error;
+    vx::Engine& e = *f.engine;
+    vx::RenderSettings none;
+    none.sun.irradiance = glm::vec3(0.f);
+    none.sky_light = 0.f;
+    none.light.emission = glm::vec3(0.f);
+    none.exposure.automatic = true;
+    none.exposure.ev100 = 9.f;
+    e.set_render_settings(none);
+    vx::Image img;
+    ASSERT_TRUE(e.render_to_image(img));
+    EXPECT_FLOAT_EQ(e.stats().ev100, 9.f);
+    EXPECT_EQ(rgb(img, 16, 16), glm::ivec3(0));
+}
+
 } // namespace
