@@ -46,6 +46,9 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.light.edge_u = s.light.edge_u;
     r.light.edge_v = s.light.edge_v;
     r.light.emission = s.light.emission;
+    r.exposure.ev100 = s.exposure.ev100;
+    r.exposure.automatic = s.exposure.automatic;
+    r.exposure.adapt_speed = s.exposure.adapt_speed;
     return r;
 }
 
@@ -65,6 +68,7 @@ void record_frame_stats(Stats& f, const render::RenderStats& rs) {
     f.triangles = rs.triangles;
     f.upload_bytes = rs.upload_bytes;
     f.failed_chunks = rs.failed_chunks;
+    f.ev100 = rs.ev100;
 }
 
 render::UiDrawList to_render(const UiDrawList& ui) {

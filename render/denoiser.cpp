@@ -209,7 +209,8 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     push.params = {m_width, m_height, 1,
                    (m_history_valid ? gpu::kDenoiseHistoryValid : 0u) |
                        (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u)};
-    push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height), 0.f, 0.f};
+    push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
+                   inputs.exposure, 0.f};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     const uint32_t gy = (m_height + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     // Earlier work on these images (the previous frame's passes, a read-back copy) finishes first.

@@ -24,7 +24,8 @@
 //                          through). The ray tracer's G-buffer (render/gbuffer.h) as is.
 // Outputs, in GENERAL layout, written by compute shaders (the caller barriers before reading):
 // output(), RGBA16F linear HDR radiance, and the 8-bit image as the ray tracer would write it
-// (vx_tonemap + sRGB, shaders/shared/tonemap.h) into DenoiseInputs::ldr_target, or ldr().
+// (vx_display: exposure, tone curve, sRGB; shaders/shared/tonemap.h) into
+// DenoiseInputs::ldr_target, or ldr().
 // Main thread only.
 
 #include <array>
@@ -61,6 +62,9 @@ struct DenoiseInputs {
     float fov_y_degrees = 60.f; // The camera's (with the image's aspect: distances to depths).
     // RGBA8 UNORM storage view (GENERAL layout) for the 8-bit output; null: ldr().
     VkImageView ldr_target = VK_NULL_HANDLE;
+    // Scale from radiance to the tone curve's input for the 8-bit output (vx_exposure_scale,
+    // shaders/shared/tonemap.h). The HDR output() is not scaled.
+    float exposure = 1.f;
 
 };
 

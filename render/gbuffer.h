@@ -7,7 +7,7 @@
 // STORAGE | SAMPLED | TRANSFER_SRC. Descriptor set 0 of the RT pipeline (render/rt_pipeline.h):
 //
 //   binding 1  output        RGBA8 (UNORM view)  what render()/present() return: Full mode
-//                                                 vx_tonemap(radiance) sRGB-encoded; Flat and
+//                                                 vx_display(radiance, exposure); Flat and
 //                                                 Visibility modes unchanged (linear albedo /
 //                                                 visible fraction, no tone mapping)
 //   binding 3  radiance      RGBA16F  linear HDR radiance of the pixel before tone mapping, rgb
@@ -32,9 +32,9 @@
 //                                     and adds this back unfiltered. Flat mode: 0.
 //
 // The tone-map step: today the last thing raygen does (it writes the output from radiance with
-// vx_tonemap + sRGB, shaders/shared/tonemap.h). A denoiser that filters radiance writes the
-// output itself with the same shared function, so both paths give the same bytes for the same
-// radiance. Main thread only (GPU objects owned by the Renderer).
+// vx_display: exposure, tone curve, sRGB; shaders/shared/tonemap.h). A denoiser that filters
+// radiance writes the output itself with the same shared function, so both paths give the
+// same bytes for the same radiance. Main thread only (GPU objects owned by the Renderer).
 
 #include "render/vk_common.h"
 

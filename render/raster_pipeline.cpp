@@ -125,7 +125,7 @@ uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
         const glm::vec3 origin = glm::vec3(rel) - f.camera_offset;
         if (!raster_box_visible(f.clip_from_eye, origin, origin + float(world::kChunkSize)))
             continue;
-        push.chunk_origin = glm::vec4(origin, 0.f);
+        push.chunk_origin = glm::vec4(origin, f.exposure);
         push.quads = c.quads;
         vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                            &push);

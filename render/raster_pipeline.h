@@ -32,6 +32,7 @@ struct RasterFrame {
     glm::dvec3 light_position{0}; // Relative to the camera's block (the area light's centre).
     glm::vec3 light_power{0};     // Point-light intensity, linear RGB.
     float ambient = 0;            // Grey ambient radiance.
+    float exposure = 1;           // Full mode: radiance to tone-curve input (vx_exposure_scale).
     glm::vec3 sky{0};             // Clear colour (the ray tracer's sky on a miss), written as is.
     VkDeviceAddress materials = 0;
 };

@@ -21,6 +21,7 @@
 #include "render/rt_pipeline.h"
 #include "render/scene_accel.h"
 #include "render/ui_pass.h"
+#include "shaders/shared/tonemap.h"
 
 namespace vx::render {
 
@@ -99,6 +100,20 @@ struct Renderer::Impl {
     VkQueryPool queries = VK_NULL_HANDLE;
     double ms_per_tick = 0;
     std::array<bool, kFramesInFlight> stamped{}; // The slot's last frame wrote its timestamps.
+    // Auto exposure (Exposure::automatic): each frame slot's meter (gpu::ExposureMeter, zeroed
+    // when recorded, summed by raygen), whether the slot's last frame metered, the adapted EV100
+    // (unset: no metered frame since the renderer was made or drew a manual frame) and when it
+    // was last updated. frame_ev100: the exposure of the frame last recorded.
+    std::array<Buffer, kFramesInFlight> meters;
+    std::array<bool, kFramesInFlight> metering{};
+    std::optional<float> adapted_ev100;
+    std::chrono::steady_clock::time_point adapted_at{};
+    float frame_ev100 = 0.f;
+    static bool metered(const RenderSettings& s) {
+        return s.exposure.automatic && s.mode == ShadingMode::Full && s.pipeline == PipelineKind::RayTraced;
+    }
+    void read_meter(float adapt_speed);
+    Result<RenderImage> render_frame(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer);
 
     ~Impl() {
         if (!ctx)
@@ -241,6 +256,35 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     out.gpu_frame_ms = double(t[4] - t[0]) * ms_per_tick;
 }
 
+// EV100 that shows a frame of log-average luminance 2^log2_average (radiance units) at
+// mid-grey: kNitsPerUnit * L / (1.2 * 2^EV100) = kMidGreyInput (tonemap.h).
+static float metered_ev100(float log2_average) {
+    return log2_average + std::log2(gpu::kNitsPerUnit / (1.2f * gpu::kMidGreyInput));
+}
+
+// The meter of the frame last submitted in this slot, once its fence has signalled: moves the
+// adapted exposure towards it (Exposure::adapt_speed).
+void Renderer::Impl::read_meter(float adapt_speed) {
+    const uint32_t slot = ctx->frame_slot();
+    if (!metering[slot])
+        return;
+    metering[slot] = false;
+    gpu::ExposureMeter m;
+    std::memcpy(&m, meters[slot].mapped(), sizeof m);
+    if (m.count == 0)
+        return;
+    const float target =
+        metered_ev100(float(double(m.log_sum) / m.count / gpu::kMeterScale) + gpu::kMeterLogMin);
+    const auto now = std::chrono::steady_clock::now();
+    if (!adapted_ev100) {
+        adapted_ev100 = target;
+    } else {
+        const float dt = std::clamp(std::chrono::duration<float>(now - adapted_at).count(), 0.f, 1.f);
+        *adapted_ev100 += (target - *adapted_ev100) * (1.f - std::exp(-std::max(adapt_speed, 0.f) * dt));
+    }
+    adapted_at = now;
+}
+
 bool Renderer::Impl::update_materials() {
     const uint32_t count = std::max<uint32_t>(uint32_t(registry.size()), max_block_id + 1);
     if (!materials_dirty && count <= material_count)
@@ -364,6 +408,13 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
     }
     if (ui && !ui->prepare())
         return out_of_memory("the UI");
+    Buffer& meter = meters[ctx->frame_slot()];
+    if (metered(s) && !meter.valid()) {
+        meter = Buffer::create(*ctx, {sizeof(gpu::ExposureMeter), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                      MemoryUse::Readback, 0, "exposure meter"});
+        if (!meter.valid())
+            return out_of_memory("the exposure meter");
+    }
     return {};
 }
 
@@ -394,6 +445,14 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
                                                         : gpu::kModeVisibility;
     p.mode_seed = glm::uvec4(mode, s.seed, material_count, s.bounce_shadow_samples.value_or(s.shadow_samples));
     p.flags = glm::uvec4(s.sky_access ? 1u : 0u, write_emitter_list(cam.block), 0u, 0u);
+    const uint32_t slot = ctx->frame_slot();
+    metering[slot] = metered(s);
+    if (metering[slot]) {
+        VX_ASSERT(meters[slot].valid()); // Made by prepare_frame.
+        std::memset(meters[slot].mapped(), 0, sizeof(gpu::ExposureMeter)); // The slot's last frame is done.
+        p.exposure_meter = meters[slot].address();
+    }
+    p.exposure = glm::vec4(gpu::vx_exposure_scale(frame_ev100), metering[slot] ? 1.f : 0.f, 0.f, 0.f);
     p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
@@ -463,6 +522,9 @@ Status Renderer::Impl::record_scene(VkCommandBuffer cmd, const Camera& cam) {
 // readable by transfers.
 void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
     raster_chunks = 0;
+    if (!s.exposure.automatic)
+        adapted_ev100.reset();
+    frame_ev100 = s.exposure.automatic && adapted_ev100 ? *adapted_ev100 : s.exposure.ev100;
     if (s.pipeline == PipelineKind::Raster) {
         record_raster(cmd, s, cam);
     } else {
@@ -472,6 +534,10 @@ void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s
         write_params(traced, cam);
         write_descriptors();
         record_trace(cmd, s.width, s.height, s.mode == ShadingMode::Flat);
+        if (metering[ctx->frame_slot()])
+            memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                           VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                           VK_ACCESS_2_HOST_READ_BIT);
     }
     if (denoise_active(s))
         record_denoise(cmd, s, cam);
@@ -535,6 +601,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
                                        cam.fov_y_degrees, s.width, s.height);
     in.fov_y_degrees = cam.fov_y_degrees;
     in.ldr_target = target().view();
+    in.exposure = gpu::vx_exposure_scale(frame_ev100);
     DenoiseSettings ds;
     ds.iterations = s.denoise ? ds.iterations : 0;
     ds.max_history = std::max(s.accumulate, 1u);
@@ -560,10 +627,9 @@ void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s,
     const glm::vec3 centre = s.light.offset + 0.5f * (s.light.edge_u + s.light.edge_v);
     f.light_position = glm::dvec3(s.light.block - cam.block) + glm::dvec3(centre);
     f.light_power = s.light.emission * glm::length(glm::cross(s.light.edge_u, s.light.edge_v));
-    f.sky = s.mode == ShadingMode::Full ? glm::vec3(0.f) : s.sky; // Full: encoded below.
-    if (s.mode == ShadingMode::Full)
-        for (int c = 0; c < 3; ++c) // The clear colour is written as is: sRGB-encode the sky here.
-            f.sky[c] = s.sky[c] <= 0.0031308f ? s.sky[c] * 12.92f : 1.055f * std::pow(std::min(s.sky[c], 1.f), 1.f / 2.4f) - 0.055f;
+    f.exposure = gpu::vx_exposure_scale(frame_ev100);
+    // The clear colour is written as is: Full mode's sky goes through the output transform here.
+    f.sky = s.mode == ShadingMode::Full ? gpu::vx_display(s.sky, f.exposure) : s.sky;
     f.materials = materials.address();
     raster_chunks = raster->record(cmd, f, accel->draw_list(), accel->index_buffer());
     stamp(cmd, 3);
@@ -635,13 +701,23 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
 }
 
 Result<RenderImage> Renderer::try_render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
-    using Clock = std::chrono::steady_clock;
     VX_ASSERT(settings.width > 0 && settings.height > 0);
+    // Auto exposure without an adapted value yet: a frame to meter, then the frame itself.
+    if (Impl::metered(settings) && !m->adapted_ev100)
+        if (Result<RenderImage> first = m->render_frame(settings, camera, nullptr); !first)
+            return first;
+    return m->render_frame(settings, camera, gbuffer);
+}
+
+Result<RenderImage> Renderer::Impl::render_frame(const RenderSettings& settings, const Camera& camera,
+                                         GBufferImage* gbuffer) {
+    using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    Impl& d = *m;
+    Impl& d = *this;
     VkCommandBuffer cmd = d.ctx->begin_frame();
     if (!cmd)
         return Error{Impl::lost_error().error()};
+    d.read_meter(settings.exposure.adapt_speed); // A frame present() left in this slot.
     Status ok = d.prepare_frame(settings, true, gbuffer != nullptr);
     if (ok)
         ok = d.record_scene(cmd, camera);
@@ -656,6 +732,7 @@ Result<RenderImage> Renderer::try_render(const RenderSettings& settings, const C
     if (!d.ctx->end_frame() || !d.ctx->wait_frame())
         return Error{Impl::lost_error().error()};
     const auto t2 = Clock::now();
+    d.read_meter(settings.exposure.adapt_speed);
 
     RenderImage img;
     img.width = settings.width;
@@ -669,6 +746,7 @@ Result<RenderImage> Renderer::try_render(const RenderSettings& settings, const C
     d.fill_accel_stats(d.stats);
     d.stats.cpu_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
     d.stats.gpu_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    d.stats.ev100 = d.frame_ev100;
     d.read_stamps(d.stats);
     return img;
 }
@@ -711,6 +789,7 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
         return Error{Impl::lost_error().error()};
     RenderStats st;
     d.read_stamps(st);
+    d.read_meter(settings.exposure.adapt_speed);
     const auto t_record = Clock::now();
     RenderSettings s = settings;
     s.width = extent->width;
@@ -751,6 +830,7 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
     st.present_ms = Ms(t3 - t2).count();
     st.present_width = s.width;
     st.present_height = s.height;
+    st.ev100 = d.frame_ev100;
     if (d.last_present != Clock::time_point{})
         st.frame_ms = Ms(t0 - d.last_present).count();
     d.last_present = t0;

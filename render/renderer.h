@@ -57,9 +57,29 @@ struct SunLight {
 enum class ShadingMode : uint8_t {
     Flat,       // Block albedo (linear, unencoded) at the primary hit, sky colour on a miss.
     // Sun + sky term + area light with soft shadows + emissive blocks + mirror reflections,
-    // accumulated as HDR radiance, tone-mapped (shaders/shared/tonemap.h) and sRGB encoded.
+    // accumulated as HDR radiance, exposed (Exposure), tone-mapped and sRGB encoded
+    // (shaders/shared/tonemap.h).
     Full,
     Visibility, // Fraction of unoccluded shadow samples at the primary hit (grey), sky on a miss.
+};
+
+// The camera exposure of Full shading, both pipelines (shaders/shared/tonemap.h: the camera
+// model, the tone curve, and the units of radiance: 1 = 10^4 cd/m^2).
+struct Exposure {
+    // Manual exposure value at ISO 100 (the saturating luminance is 1.2 * 2^ev100 cd/m^2); one
+    // more halves the exposure. The default puts flat ground of albedo 0.18 under the facade's
+    // default lights (sun, sky and area light, seen from a few blocks above) at sRGB 118.
+    float ev100 = 14.7f;
+    // Metered: from each ray-traced frame's log-average luminance (every 4th pixel in x and y;
+    // pixels without any light are not counted, so a frame of black rock keeps its exposure),
+    // the exposure that shows it at mid-grey (key 0.18: tonemap.h's kMidGreyInput), adapted
+    // over time: after dt seconds the gap in EV shrinks by exp(-adapt_speed * dt). The first
+    // frame of a renderer (or after manual frames) meets its target at once: render() traces
+    // it twice (one to meter); present() reads a frame's meter kFramesInFlight frames later and
+    // draws with ev100 until then. The raster pipeline meters nothing: it uses the last adapted
+    // value, or ev100.
+    bool automatic = false;
+    float adapt_speed = 1.5f; // Per second (1.5: 78% of a change within a second).
 };
 
 // Which pipeline draws the image.
@@ -95,6 +115,7 @@ struct RenderSettings {
     bool sky_access = true;
     SunLight sun;
     AreaLight light;
+    Exposure exposure;
     // The guided denoiser (render/denoiser.h) on the ray tracer's Full-mode radiance; other
     // modes and the raster pipeline ignore these two. denoise: the edge-aware a-trous filter.
     // accumulate: frames of a still (or moving: reprojected) camera the temporal pass averages at
@@ -158,6 +179,7 @@ struct RenderStats {
     double gpu_blas_ms = -1, gpu_tlas_ms = -1, gpu_trace_ms = -1, gpu_copy_ms = -1;
     double gpu_denoise_ms = -1; // The denoiser's passes (0 when it did not run).
     double gpu_frame_ms = -1; // The whole frame on the GPU (first to last timestamp).
+    float ev100 = 0;          // The exposure value the frame was drawn with (Exposure).
     // present() only (-1 after render()). Nothing waits for the frame just submitted, so its gpu_*
     // fields are those of the frame kFramesInFlight (2) presents back, read once its fence has
     // signalled; gpu_ms is -1. frame_ms: wall time from the previous present() call's start to

@@ -4,10 +4,12 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 // The raster baseline's shading: Flat mode writes the block albedo (linear, unencoded, as the ray
 // tracer's Flat mode); Full mode is Phong with one point light and no shadows (the thesis's
-// baseline), sRGB encoded; Visibility mode has no shadows to show: every surface is lit (1).
+// baseline), exposed, tone-mapped and sRGB encoded as the ray tracer's (shared/tonemap.h);
+// Visibility mode has no shadows to show: every surface is lit (1).
 
 #include "shared/raster_types.h"
 #include "shared/render_types.h"
+#include "shared/tonemap.h"
 
 layout(push_constant) uniform Push { RasterPush pc; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
@@ -16,11 +18,6 @@ layout(location = 0) in vec3 v_position;
 layout(location = 1) flat in uint v_block;
 layout(location = 2) flat in uint v_face;
 layout(location = 0) out vec4 o_color;
-
-vec3 srgb_encode(vec3 c) {
-    c = clamp(c, 0.0, 1.0);
-    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
 
 void main() {
     const Material mat = Materials(pc.materials).m[v_block];
@@ -46,5 +43,5 @@ void main() {
                            pow(max(dot(n, normalize(l + v)), 0.0), shininess);
     const vec3 radiance = (albedo + vec3(specular)) / 3.14159265 * irradiance + albedo * pc.light_power.w +
                           mat.emission.xyz;
-    o_color = vec4(srgb_encode(radiance), 1.0);
+    o_color = vec4(vx_display(radiance, pc.chunk_origin.w), 1.0);
 }

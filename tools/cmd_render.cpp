@@ -44,6 +44,7 @@ struct RenderArgs {
     std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
+    std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
 };
 
 std::string ms(double v) {
@@ -93,6 +94,15 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     s.sky_access = a.sky_access == "on";
     if (a.area_light == "off")
         s.light.emission = glm::vec3(0.f);
+    if (a.exposure == "auto") {
+        s.exposure.automatic = true;
+    } else if (!a.exposure.empty()) {
+        char* end = nullptr;
+        const float ev = std::strtof(a.exposure.c_str(), &end);
+        if (end == a.exposure.c_str() || *end != '\0' || !(ev >= -10.f && ev <= 30.f))
+            return "--exposure must be an EV100 within -10..30 or auto, got '" + a.exposure + "'";
+        s.exposure.ev100 = ev;
+    }
     if (!(a.fov > 1.f && a.fov < 179.f))
         return "--fov must be within 1..179 degrees";
     const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
@@ -119,7 +129,9 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     out.camera.forward = glm::vec3(fwd);
     out.camera.up = glm::vec3(*up);
     out.camera.fov_y_degrees = a.fov;
-    // Light: a square above the scene, its side half its height above the top (irradiance ≈ 5).
+    // Light: a square above the scene, its side half its height above the top. Emission 10:
+    // irradiance ≈ 10 / 4 = 2.5 below it, the facade's default Light's, so the default exposure
+    // shows the default picture (ground of albedo 0.18 at mid-grey).
     const double above = std::max(32.0, 0.25 * std::max(ext.x, ext.z));
     std::optional<WorldPos> light = world_pos_at({centre.x, hi.y + above, centre.z});
     if (!a.light.empty() && !(light = parse_world_pos(a.light)))
@@ -127,6 +139,8 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     const float side = float(above * 0.5);
     s.light.edge_u = {side, 0, 0};
     s.light.edge_v = {0, 0, side};
+    if (a.area_light != "off")
+        s.light.emission = glm::vec3(10.f);
     s.light.block = light->block;
     s.light.offset = glm::vec3(light->frac) - 0.5f * (s.light.edge_u + s.light.edge_v);
     return std::nullopt;
@@ -337,6 +351,9 @@ int run_render(RenderArgs a) {
     render::RenderImage image;
     const double first = timed_render(r, s, &image);
     print_frame("frame 1", r.last_stats(), first);
+    if (s.settings.mode == render::ShadingMode::Full)
+        std::printf("  exposure: EV100 %.2f (%s)\n", double(r.last_stats().ev100),
+                    s.settings.exposure.automatic ? "auto: metered, key 0.18" : "manual");
     accumulate_frames(r, s, &image);
     if (a.repeat > 1)
         repeat_frames(r, s, a.repeat);
@@ -414,6 +431,9 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "Render N frames of the still camera and average them (temporal pass; with --denoise on, "
                     "filtered too); the PNG is the last")
         ->check(CLI::Range(1u, 65536u));
+    cmd->add_option("--exposure", a->exposure,
+                    "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
+                    "mid-grey; +1 halves the light) or auto (metered from the frame)");
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
     cmd->callback([a, seed, seed_opt, &action] {
         if (seed_opt->count() > 0)

@@ -211,6 +211,24 @@ struct RenderSettings {
     float sky_light = 1.f;       // Ambient light from the sky (occluded by sky rays); 0: none.
     Sun sun;
     Light light;
+    // Camera exposure of Full shading: a physical camera (Filament's and Frostbite's model, with
+    // saturation-based ISO 100: the luminance that saturates is 1.2 * 2^ev100 cd/m^2), then an
+    // ACES filmic tone curve (Narkowicz's fit) and sRGB. Light units: radiance (sky,
+    // Light::emission, block emission) is in 10^4 cd/m^2, irradiance (Sun::irradiance) in
+    // 10^4 lux, so the default lights are a clear day. Flat shading has no exposure.
+    struct Exposure {
+        // Exposure value at ISO 100; one more halves the picture's light (sunny-16 daylight: 15).
+        // The default shows ground of albedo 0.18 under the default lights at mid-grey (sRGB 118).
+        float ev100 = 14.7f;
+        // Metered from each ray-traced frame (caves, night): its log-average luminance (of the
+        // pixels any light reaches) is shown at mid-grey (key 0.18), adapting over time: after dt seconds the gap in EV shrinks by
+        // exp(-adapt_speed * dt). The first metered image meets its target at once
+        // (render_to_image traces it twice; a window shows ev100 until the first meter is read,
+        // two frames later). The raster pipeline keeps the last metered value, or ev100.
+        bool automatic = false;
+        float adapt_speed = 1.5f; // Per second (1.5: 78% of a change within a second).
+    };
+    Exposure exposure;
     // Ray tracer, Full shading: the edge-aware denoiser over the traced radiance (off by default:
     // it costs two compute passes a frame and softens edges; a game at 1-4 samples wants it).
     bool denoise = false;
@@ -266,6 +284,7 @@ struct Stats {
     uint32_t failed_chunks = 0;  // Chunks not drawn: out of GPU memory (see the log).
     uint64_t upload_bytes = 0;   // Chunk geometry uploaded in the last frame (edits: slices only).
     uint64_t triangles = 0;      // Their triangles (spare slots included).
+    float ev100 = 0;             // The exposure the last frame was drawn with (Exposure).
     size_t chunks_loaded = 0;    // Chunks with block data in memory.
     size_t chunks_queued = 0;    // Requested (load or generate), not arrived yet.
     size_t chunks_meshed = 0;    // In the view radius with a current mesh.

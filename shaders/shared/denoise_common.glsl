@@ -16,12 +16,12 @@ vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }
 bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0; }
 
 // The last pass's outputs: HDR radiance (the remodulated illumination plus the unfiltered
-// reflected part), and the 8-bit image as the ray tracer writes it (render/gbuffer.h:
+// reflected part), and the 8-bit image as the ray tracer writes it (render/gbuffer.h: exposed,
 // tone-mapped, sRGB encoded).
 void store_result(ivec2 p, vec3 illumination, vec3 albedo, bool surface, vec3 reflected) {
     const vec3 radiance = illumination * (surface ? demod_albedo(albedo) : vec3(1)) + reflected;
     imageStore(u_result, p, vec4(radiance, 1));
-    imageStore(u_ldr, p, vec4(vx_srgb_encode(vx_tonemap(radiance)), 1));
+    imageStore(u_ldr, p, vec4(vx_display(radiance, pc.camera.z), 1));
 }
 
 #endif

@@ -23,7 +23,8 @@ struct DenoisePush {
     // x, y: image size in pixels; z: a-trous step in pixels (1, 2, 4, ...); w: flags.
     uvec4 params;
     // x: tan(vertical fov / 2), y: aspect (width / height) of the pinhole camera
-    // (shaders/raygen.rgen): turns distances along primary rays into view depths.
+    // (shaders/raygen.rgen): turns distances along primary rays into view depths. z: exposure
+    // of the 8-bit output (vx_exposure_scale, tonemap.h).
     vec4 camera;
 };
 

@@ -63,11 +63,26 @@ struct FrameParams {
     uvec4 mode_seed;     // mode, seed, material count, shadow samples on reflection bounces.
     uvec4 flags;         // x: 1 = trace sun and sky rays (0: skipped, sealed off from the sky);
                          // y: emitter_chunks entries (0..kMaxEmitterChunks).
+    vec4 exposure;       // x: radiance to tone-curve input (vx_exposure_scale, tonemap.h);
+                         // y: 1 = meter the frame into exposure_meter (auto exposure), 0: not.
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
     uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz camera-relative chunk origin, w 0.
-    uint64_t pad;            // std140 rounds the struct to 16 bytes.
+    uint64_t exposure_meter; // Address of an ExposureMeter (exposure.y = 1), else 0.
 };
+
+// Auto exposure's metering, summed by raygen with atomics over Full-mode pixels whose x and y
+// are multiples of kMeterStride and that some light reaches: log2 of the radiance's luminance,
+// clamped to [kMeterLogMin, kMeterLogMax], minus kMeterLogMin, in 1/kMeterScale steps. The
+// largest sum, a 4096 x 2160 frame at the brightest: 4096 * 2160 / 16 * 32 * 64 = 1.1e9 < 2^32.
+struct ExposureMeter {
+    uint log_sum; // Sum of the samples' fixed-point values.
+    uint count;   // Samples.
+};
+VX_CONST uint kMeterStride = 4;
+VX_CONST float kMeterLogMin = -20.0f; // log2 of radiance units (tonemap.h: 1 = 10^4 cd/m^2).
+VX_CONST float kMeterLogMax = 12.0f;
+VX_CONST float kMeterScale = 64.0f;
 
 // One block type's material (std430 array element).
 struct Material {

@@ -1,14 +1,26 @@
-// Tone mapping from linear HDR radiance to the 8-bit output, shared by GLSL (raygen, a denoiser's
-// resolve pass) and C++ (tests). Included by both: only the common subset of C++ and GLSL.
+// From linear HDR radiance to the 8-bit output: exposure, a filmic tone curve, the sRGB encoding.
+// Shared by GLSL (raygen, the denoiser's last pass, the raster baseline) and C++ (the renderer,
+// tests). Included by both: only the common subset of C++ and GLSL.
 //
-// The curve is the identity up to kToneKnee and an exponential shoulder above it:
-//   f(x) = x                                              x <= k
-//   f(x) = k + (1 - k) * (1 - exp(-(x - k) / (1 - k)))    x >  k
-// It is C1 at k (slope 1), strictly increasing and below 1 for every finite x, applied per
-// channel. Why this one: block albedos and the default sky are below k, so flat colours and
-// the sky keep their exact values (no global darkening as with Reinhard), while lit highlights
-// and emitters above 1 roll off instead of clipping (x = 1 maps to 0.926, x = 1.5 to 0.994).
-// Per-channel compression desaturates colours brighter than k (acceptable for blocks).
+// Units. The renderer's radiance (sky, area light, block emission) is linear RGB in units of
+// kNitsPerUnit cd/m^2, irradiance (the sun) in kNitsPerUnit lux. With 10^4 the default lights
+// are a clear day: sky 0.55..0.95 is 5.5..9.5 kcd/m^2 (a clear sky measures 2..10), and flat
+// ground receives about 7.5 units = 75 klux from sun, sky and area light (daylight: 30..100).
+//
+// Exposure: the physical camera of Filament ("Physically Based Rendering in Filament",
+// "Physically based camera") and Frostbite (Lagarde & de Rousiers, "Moving Frostbite to PBR",
+// 2014, camera exposure), with the saturation-based sensitivity (ISO 12232 SBS, q = 0.65):
+// the luminance that saturates the sensor at EV100 is L_max = 1.2 * 2^EV100 cd/m^2, and the
+// exposed value is L / L_max. One EV100 more halves the exposed value; sunny-16 daylight is
+// EV100 15. The default, 14.7 (render/renderer.h), puts flat ground of albedo 0.18 under the
+// default lights at mid-grey (kMidGreyInput).
+//
+// Tone curve: Narkowicz's fit of the ACES RRT + sRGB ODT ("ACES Filmic Tone Mapping Curve",
+// 2016: (x (2.51 x + 0.03)) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1]), per channel. It
+// maps 0 to 0, is strictly increasing for x >= 0 (its derivative's numerator is
+// 1.408 x^2 + 0.7028 x + 0.0042), has a toe (contrast below mid-grey) and a shoulder that
+// reaches 1 at x = 7.24: highlights and emitters roll off instead of clipping. Per channel it
+// saturates bright colours a little (Narkowicz's note); block colours are far below the shoulder.
 #ifndef VX_SHADERS_TONEMAP_H
 #define VX_SHADERS_TONEMAP_H
 
@@ -19,7 +31,7 @@ namespace vx::render::gpu {
 #define VX_TM_FN inline
 #define VX_TM_CONST inline constexpr
 using tm_vec3 = glm::vec3;
-using std::exp;
+using std::exp2;
 using std::pow;
 #else
 #define VX_TM_FN
@@ -27,12 +39,22 @@ using std::pow;
 #define tm_vec3 vec3
 #endif
 
-VX_TM_CONST float kToneKnee = 0.8f;
+VX_TM_CONST float kNitsPerUnit = 10000.0f; // cd/m^2 per unit of the renderer's radiance.
+
+// The value vx_tonemap1 maps to 0.1812, the linear value of sRGB 118 (photographic mid-grey,
+// 18% reflectance): (2.51 - 0.1812 * 2.43) x^2 + (0.03 - 0.1812 * 0.59) x - 0.1812 * 0.14 = 0.
+// Auto exposure puts a frame's log-average luminance here (key 0.18).
+VX_TM_CONST float kMidGreyInput = 0.1308f;
+
+// Scale from the renderer's radiance to the tone curve's input at exposure value `ev100`:
+// kNitsPerUnit / L_max (see Exposure above).
+VX_TM_FN float vx_exposure_scale(float ev100) { return kNitsPerUnit / (1.2f * exp2(ev100)); }
 
 VX_TM_FN float vx_tonemap1(float x) {
-    if (x <= kToneKnee)
-        return x < 0.0f ? 0.0f : x;
-    return kToneKnee + (1.0f - kToneKnee) * (1.0f - exp(-(x - kToneKnee) / (1.0f - kToneKnee)));
+    // Past 8 the curve is 1 (clamped below); capping there keeps x * x finite (inf / inf: NaN).
+    x = x < 0.0f ? 0.0f : (x > 8.0f ? 8.0f : x);
+    float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
+    return y > 1.0f ? 1.0f : y;
 }
 
 VX_TM_FN tm_vec3 vx_tonemap(tm_vec3 c) { return tm_vec3(vx_tonemap1(c.x), vx_tonemap1(c.y), vx_tonemap1(c.z)); }
@@ -45,6 +67,12 @@ VX_TM_FN float vx_srgb_encode1(float c) {
 
 VX_TM_FN tm_vec3 vx_srgb_encode(tm_vec3 c) {
     return tm_vec3(vx_srgb_encode1(c.x), vx_srgb_encode1(c.y), vx_srgb_encode1(c.z));
+}
+
+// The whole output transform of Full shading: radiance at exposure scale `exposure`
+// (vx_exposure_scale) to the sRGB-encoded value in [0, 1].
+VX_TM_FN tm_vec3 vx_display(tm_vec3 radiance, float exposure) {
+    return vx_srgb_encode(vx_tonemap(radiance * exposure));
 }
 
 #ifdef __cplusplus

@@ -10,8 +10,9 @@ using test::RendererTest;
 
 const world::BlockRegistry& reg() { return world::BlockRegistry::default_registry(); }
 
-// Full mode's byte of linear radiance c (tone-mapped, then sRGB encoded, as the shader does).
-glm::vec3 full_output(glm::vec3 c) { return gpu::vx_srgb_encode(gpu::vx_tonemap(c)); }
+// Full mode's output of linear radiance c at the default exposure (exposed, tone-mapped, then
+// sRGB encoded, as the shader does).
+glm::vec3 full_output(glm::vec3 c) { return gpu::vx_display(c, gpu::vx_exposure_scale(Exposure{}.ev100)); }
 
 int brightness(glm::u8vec4 px) { return int(px.r) + px.g + px.b; }
 
@@ -230,17 +231,23 @@ TEST_F(RendererTest, GBufferHoldsFirstHitAlbedoNormalDepthAndRadiance) {
             EXPECT_TRUE(test::rgb_near(img.at(x, y), full_output(glm::vec3(g.at(g.radiance, x, y)))));
 }
 
-// HDR radiance above 1 is rolled off below 255 in distinct steps; colours below the knee keep
-// their sRGB bytes (the empty scene shows the sky: every pixel is the sky's radiance).
+// Exposed values above 1 are rolled off below 255 in distinct steps (the empty scene shows the
+// sky: every pixel is the sky's radiance). An EV100 of log2(kNitsPerUnit / 1.2) makes the
+// exposure scale 1, so the sky's radiance is the tone curve's input: 1 -> 0.804 -> byte 232,
+// 1.25 -> 0.847 -> 237, 0.5 -> 0.616 -> 206 (tonemap.h).
 TEST_F(RendererTest, ToneMappingKeepsBrightSkiesBelowWhite) {
     RenderSettings s = daylight();
     s.sky = {1.0f, 1.25f, 0.5f};
+    s.exposure.ev100 = std::log2(gpu::kNitsPerUnit / 1.2f);
+    ASSERT_NEAR(gpu::vx_exposure_scale(s.exposure.ev100), 1.f, 1e-5f);
     const RenderImage img = m_renderer->render(s, Camera{});
     const glm::u8vec4 px = img.at(5, 5);
-    EXPECT_TRUE(test::rgb_near(px, full_output(s.sky)));
+    EXPECT_TRUE(test::rgb_near(px, gpu::vx_display(s.sky, 1.f)));
     EXPECT_LT(px.r, px.g);
     EXPECT_LT(px.g, 255);
-    EXPECT_EQ(int(px.b), test::unorm8(gpu::vx_srgb_encode1(0.5f)));
+    EXPECT_NEAR(int(px.r), 232, 1);
+    EXPECT_NEAR(int(px.g), 237, 1);
+    EXPECT_NEAR(int(px.b), 206, 1);
 }
 
 } // namespace

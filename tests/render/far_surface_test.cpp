@@ -124,8 +124,11 @@ TEST_F(RendererTest, FarSurfaceLitFromBehindIsDark) {
     EXPECT_EQ(dark, int(img.width * img.height));
 }
 
-// Full mode's output of linear radiance c: tone-mapped, then sRGB encoded (the shaders' code).
-float full_output(float c) { return gpu::vx_srgb_encode1(gpu::vx_tonemap1(c)); }
+// Full mode's output of linear radiance c at the default exposure: exposed, tone-mapped, then
+// sRGB encoded (the shaders' code).
+float full_output(float c) {
+    return gpu::vx_srgb_encode1(gpu::vx_tonemap1(c * gpu::vx_exposure_scale(Exposure{}.ev100)));
+}
 
 TEST_F(RendererTest, FarMirrorReflectsOnlySky) {
     for (const Slab& base : kSlabs) {
@@ -142,8 +145,8 @@ TEST_F(RendererTest, FarMirrorReflectsOnlySky) {
         s.light.emission = glm::vec3(0.f);
         s.sun.irradiance = glm::vec3(0.f);
         s.sky_light = 0.f;
-        // Mirror reflectivity 0.9 (block_registry.cpp): a pixel is 0.9 x sky, tone-mapped and
-        // sRGB encoded (0.9 x 0.95 = 0.855 in blue is above the tone curve's knee). A ray that
+        // Mirror reflectivity 0.9 (block_registry.cpp): a pixel is 0.9 x sky, exposed,
+        // tone-mapped and sRGB encoded. A ray that
         // reflects off its own mirror gets 0.9 x (nothing after the last bounce): black.
         const glm::vec3 expected(full_output(0.9f * s.sky.r), full_output(0.9f * s.sky.g), full_output(0.9f * s.sky.b));
         for (int log2_distance = 13; log2_distance <= 20; ++log2_distance)

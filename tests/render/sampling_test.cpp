@@ -91,24 +91,40 @@ TEST(Sampling, CmjIsStratifiedAndInRange) {
         }
 }
 
-// The tone curve (tonemap.h): the identity up to the knee, so block colours and the default
-// sky keep their exact values; above it strictly increasing and below 1, so HDR values > 1 do
-// not clip to one flat 255 at once.
-TEST(ToneMap, KeepsLowValuesAndRollsOffHighOnes) {
-    for (float x : {0.f, 0.1f, 0.55f, 0.7f, 0.8f})
-        EXPECT_FLOAT_EQ(gpu::vx_tonemap1(x), x);
-    float prev = gpu::vx_tonemap1(0.8f);
-    for (float x = 0.81f; x < 1.6f; x += 0.01f) {
+// The tone curve (tonemap.h, Narkowicz's ACES fit): 0 maps to 0 (black stays black, negatives
+// too), strictly increasing up to its shoulder, never above 1; kMidGreyInput lands at mid-grey.
+TEST(ToneMap, MapsZeroToZeroRisesMonotonicallyAndRollsOff) {
+    EXPECT_EQ(gpu::vx_tonemap1(0.f), 0.f);
+    EXPECT_EQ(gpu::vx_tonemap1(-1.f), 0.f);
+    // Below x = 7.24 (where the fit reaches 1) strictly increasing; beyond, clamped at 1.
+    float prev = 0.f;
+    for (float x = 1e-3f; x < 7.2f; x *= 1.01f) {
         const float y = gpu::vx_tonemap1(x);
         EXPECT_GT(y, prev) << x;
         EXPECT_LT(y, 1.f) << x;
         prev = y;
     }
-    // 8-bit output (sRGB encoded, rounded): 1.0 -> 246, 1.25 -> 252; distinct and below 255.
+    for (float x : {7.3f, 100.f, 1e30f})
+        EXPECT_EQ(gpu::vx_tonemap1(x), 1.f) << x;
     auto byte = [](float x) { return int(std::lround(gpu::vx_srgb_encode1(gpu::vx_tonemap1(x)) * 255.f)); };
+    // Mid-grey: sRGB 118 is linear 0.1812, the value of the curve at kMidGreyInput.
+    EXPECT_NEAR(gpu::vx_tonemap1(gpu::kMidGreyInput), 0.1812f, 1e-3f);
+    EXPECT_EQ(byte(gpu::kMidGreyInput), 118);
+    // The shoulder: 8-bit output (sRGB encoded, rounded) 1.0 -> 232, 1.25 -> 237, 3 -> 250:
+    // distinct and below 255 (the old curve's 1.0 was 246, its 1.25 252).
     EXPECT_LT(byte(1.f), byte(1.25f));
-    EXPECT_LT(byte(1.25f), 255);
-    EXPECT_EQ(byte(0.5f), int(std::lround(gpu::vx_srgb_encode1(0.5f) * 255.f)));
+    EXPECT_LT(byte(1.25f), byte(3.f));
+    EXPECT_LT(byte(3.f), 255);
+}
+
+// Exposure (tonemap.h): L_max = 1.2 * 2^EV100 cd/m^2 saturates; one EV more halves the scale.
+// EV100 15 (sunny 16) takes 10^4 / (1.2 * 32768) = 0.2543 of a radiance unit (10^4 cd/m^2).
+TEST(ToneMap, ExposureScaleFollowsEv100) {
+    EXPECT_NEAR(gpu::vx_exposure_scale(15.f), 0.2543f, 1e-4f);
+    for (float ev : {-2.f, 0.f, 9.5f, 14.7f}) {
+        const float scale = gpu::vx_exposure_scale(ev);
+        EXPECT_NEAR(gpu::vx_exposure_scale(ev + 1.f) * 2.f, scale, 1e-6f * scale);
+    }
 }
 
 } // namespace

@@ -143,6 +143,36 @@ TEST_F(WindowTest, PresentsTheHeadlessImageAndFollowsResizes) {
     expect_matches_headless(shown, 64, 40);
 }
 
+// Auto exposure through present(): a frame's meter is read when its slot comes round again
+// (kFramesInFlight = 2 presents later), so the first two frames use the manual ev100, later ones
+// the metered value. With a very fast adaptation (gap x e^-1000 per second) it settles at the
+// frame's own target, which a headless render() of the same view (now adapted: one trace)
+// reaches too.
+TEST_F(WindowTest, AutoExposureMetersPresentedFrames) {
+    make_renderer(false);
+    ASSERT_NE(m_renderer, nullptr);
+    RenderSettings s = small_settings();
+    s.exposure.automatic = true;
+    s.exposure.adapt_speed = 1000.f;
+    s.exposure.ev100 = 5.f; // Far from daylight's: the metered value must differ.
+    std::vector<float> ev;
+    for (int i = 0; i < 8; ++i) {
+        glfwPollEvents();
+        Result<PresentResult> r = m_renderer->present(s, kCamera);
+        ASSERT_TRUE(r.ok()) << r.error();
+        ev.push_back(m_renderer->last_stats().ev100);
+    }
+    EXPECT_EQ(ev[0], 5.f);
+    EXPECT_EQ(ev[1], 5.f);
+    EXPECT_GT(ev[7], 10.f); // A lit scene: daylight's EV100 is near 15.
+    EXPECT_LT(ev[7], 20.f);
+    EXPECT_NEAR(ev[7], ev[6], 0.1f);
+    s.width = 96;
+    s.height = 64;
+    m_renderer->render(s, kCamera);
+    EXPECT_NEAR(m_renderer->last_stats().ev100, ev[7], 0.1f);
+}
+
 // Resizes that land between present()'s size check and its acquire or present make the surface
 // report out-of-date or suboptimal: every call must still succeed (Presented or Skipped), the
 // swapchain must follow, and the validation layer must stay silent.

@@ -178,6 +178,33 @@ TEST(CliRender, DeviceOutOfRangeIsAClearError) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
 }
 
+// --exposure: an EV100 within -10..30 or auto; anything else is one line and exit 2. Two stops
+// more exposure (a lower EV100) brighten the picture; auto meters it and says so.
+TEST(CliRender, ExposureIsAnEv100OrAuto) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
+    for (const char* bad : {"bright", "40", "14.7x", "-11"}) {
+        const CliRun r = vx("render " + view + "--exposure=" + bad, kEnv);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--exposure"), std::string::npos) << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+    }
+    const std::string dark = dir() + "/ev16.png", bright = dir() + "/ev14.png";
+    const CliRun manual = render(view + "--exposure 16 --out " + dark);
+    EXPECT_NE(manual.out.find("EV100 16.00 (manual)"), std::string::npos) << manual.out;
+    render(view + "--exposure 14 --out " + bright);
+    const Png a = read_png(dark), b = read_png(bright);
+    ASSERT_EQ(a.rgba.size(), b.rgba.size());
+    long sum_a = 0, sum_b = 0;
+    for (size_t i = 0; i < a.rgba.size(); ++i)
+        if (i % 4 != 3) {
+            sum_a += a.rgba[i];
+            sum_b += b.rgba[i];
+        }
+    EXPECT_GT(sum_b, sum_a + sum_a / 4);
+    EXPECT_NE(render(view + "--exposure auto --out " + dark).out.find("(auto: metered, key 0.18)"),
+              std::string::npos);
+}
+
 // `vx bench render --sections geometry`: three mesher rows (naive > culled > greedy triangles),
 // the refit run refits and the rebuild run only builds, trace rows after k = 0, 1, 10, 100.
 TEST(CliRender, BenchRenderGeometrySection) {
