@@ -91,7 +91,40 @@ render::RenderSettings Engine::Impl::frame_settings(uint32_t width, uint32_t hei
     return r;
 }
 
-void Engine::set_render_settings(const RenderSettings& settings) { m->render_settings = settings; }
+namespace {
+
+bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool non_negative3(glm::vec3 v) { return finite3(v) && v.x >= 0.f && v.y >= 0.f && v.z >= 0.f; }
+
+// Why `s` cannot be rendered, or success: checked where the game hands it over, not frames later.
+Status check_render_settings(const RenderSettings& s) {
+    constexpr uint32_t kMaxSamples = 1024, kMaxBounces = 16, kMaxAccumulate = 1024;
+    if (s.shadow_samples > kMaxSamples || s.bounce_shadow_samples.value_or(0) > kMaxSamples)
+        return Error{"render settings: shadow samples must be 0.." + std::to_string(kMaxSamples)};
+    if (s.max_bounces > kMaxBounces)
+        return Error{"render settings: max_bounces must be 0.." + std::to_string(kMaxBounces)};
+    if (s.accumulate < 1 || s.accumulate > kMaxAccumulate)
+        return Error{"render settings: accumulate must be 1.." + std::to_string(kMaxAccumulate)};
+    if (!non_negative3(s.sky) || !std::isfinite(s.sky_light) || s.sky_light < 0.f)
+        return Error{"render settings: sky and sky_light must be finite and >= 0"};
+    if (!finite3(s.sun.direction) || !non_negative3(s.sun.irradiance) ||
+        !(s.sun.angular_radius_degrees >= 0.f && s.sun.angular_radius_degrees < 90.f))
+        return Error{"render settings: the sun needs a finite direction, irradiance >= 0 and a radius of 0..90 degrees"};
+    if (!finite3(s.light.edge_u) || !finite3(s.light.edge_v) || !non_negative3(s.light.emission))
+        return Error{"render settings: the area light needs finite edges and emission >= 0"};
+    if (!std::isfinite(s.exposure.ev100) || !std::isfinite(s.exposure.adapt_speed) || s.exposure.adapt_speed < 0.f)
+        return Error{"render settings: exposure ev100 must be finite and adapt_speed finite and >= 0"};
+    return {};
+}
+
+} // namespace
+
+Status Engine::set_render_settings(const RenderSettings& settings) {
+    if (Status s = check_render_settings(settings); !s)
+        return s;
+    m->render_settings = settings;
+    return {};
+}
 
 Status Engine::render_to_image(Image& out) {
     if (Status s = m->alive(); !s)

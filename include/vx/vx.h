@@ -221,8 +221,9 @@ struct RenderSettings {
         // The default shows ground of albedo 0.18 under the default lights at mid-grey (sRGB 118).
         float ev100 = 14.7f;
         // Metered from each ray-traced frame (caves, night): its log-average luminance (of the
-        // pixels any light reaches) is shown at mid-grey (key 0.18), adapting over time: after dt seconds the gap in EV shrinks by
-        // exp(-adapt_speed * dt). The first metered image meets its target at once
+        // pixels any light reaches) is shown at mid-grey (key 0.18), adapting over time: after
+        // dt seconds the gap in EV shrinks by exp(-adapt_speed * dt). The first metered image
+        // meets its target at once
         // (render_to_image traces it twice; a window shows ev100 until the first meter is read,
         // two frames later). The raster pipeline keeps the last metered value, or ev100.
         bool automatic = false;
@@ -409,8 +410,10 @@ public:
     // with the size), no frame presented yet, a non-finite pixel, shut down.
     Result<ScreenRay> screen_ray(glm::dvec2 pixel) const;
 
-    // Main thread. Rendering options for later frames.
-    void set_render_settings(const RenderSettings& settings);
+    // Main thread. Rendering options for later frames. Fails, keeping the previous settings, on
+    // non-finite or negative light values, shadow samples over 1024, max_bounces over 16,
+    // accumulate outside 1..1024, a sun radius outside 0..90 degrees, or a non-finite exposure.
+    Status set_render_settings(const RenderSettings& settings);
     // Main thread. Headless target: traces the viewer's view and reads it into `out` (resized to
     // the target size). Blocks until the GPU is done. Errors: no GPU target, shut down; out of
     // GPU memory for a frame resource (target, G-buffer, read-back, TLAS, scratch, denoiser, UI):

@@ -1,6 +1,7 @@
-// The facade <vx/vx.h> refuses bad input at the call that receives it (a viewer at set_viewer, a
-// block's material at create), a stored world knows the generator that made it, and the small
-// queries a game's UI needs: the ray through a screen pixel and the block registry read back.
+// The facade <vx/vx.h> refuses bad input at the call that receives it (a viewer at set_viewer,
+// render settings at set_render_settings, a block's material at create), a stored world knows the
+// generator that made it, and the small queries a game's UI needs: the ray through a screen pixel
+// and the block registry read back.
 // No GPU (RenderTarget::none).
 #include <cmath>
 #include <filesystem>
@@ -85,6 +86,46 @@ TEST(FacadeChecks, SetViewerRefusesACameraTheRendererCannotMake) {
     EXPECT_TRUE(e.set_viewer(down));
     down.fov_y_degrees = 0.5f;
     EXPECT_TRUE(e.set_viewer(down));
+}
+
+TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
+    auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(e.set_render_settings(vx::RenderSettings{}));
+    struct Case {
+        const char* what;
+        void (*change)(vx::RenderSettings&);
+        const char* message;
+    };
+    const Case cases[] = {
+        {"2000 samples", [](vx::RenderSettings& s) { s.shadow_samples = 2000; }, "shadow samples"},
+        {"2000 bounce samples", [](vx::RenderSettings& s) { s.bounce_shadow_samples = 2000u; }, "shadow samples"},
+        {"17 bounces", [](vx::RenderSettings& s) { s.max_bounces = 17; }, "max_bounces"},
+        {"accumulate 0", [](vx::RenderSettings& s) { s.accumulate = 0; }, "accumulate"},
+        {"negative sky", [](vx::RenderSettings& s) { s.sky = {-1.f, 0.5f, 0.5f}; }, "sky"},
+        {"NaN sky light", [](vx::RenderSettings& s) { s.sky_light = std::numeric_limits<float>::quiet_NaN(); }, "sky"},
+        {"sun radius 90", [](vx::RenderSettings& s) { s.sun.angular_radius_degrees = 90.f; }, "sun"},
+        {"NaN sun direction", [](vx::RenderSettings& s) { s.sun.direction.x = std::numeric_limits<float>::quiet_NaN(); }, "sun"},
+        {"negative light", [](vx::RenderSettings& s) { s.light.emission = glm::vec3(-1.f); }, "area light"},
+        {"NaN ev100", [](vx::RenderSettings& s) { s.exposure.ev100 = std::numeric_limits<float>::quiet_NaN(); }, "exposure"},
+        {"negative adapt speed", [](vx::RenderSettings& s) { s.exposure.adapt_speed = -1.f; }, "exposure"},
+    };
+    for (const Case& c : cases) {
+        vx::RenderSettings s;
+        c.change(s);
+        const vx::Status r = e.set_render_settings(s);
+        ASSERT_FALSE(r) << c.what;
+        EXPECT_NE(r.error().find(c.message), std::string::npos) << c.what << ": " << r.error();
+    }
+    // The limits themselves are accepted.
+    vx::RenderSettings edge;
+    edge.shadow_samples = 1024;
+    edge.max_bounces = 16;
+    edge.accumulate = 1024;
+    edge.sky_light = 0.f;
+    edge.exposure.adapt_speed = 0.f;
+    EXPECT_TRUE(e.set_render_settings(edge));
 }
 
 TEST(FacadeChecks, CreateRefusesBlockMaterialsOutOfRange) {
