@@ -448,6 +448,17 @@ void ChunkStreamer::on_saved(ChunkCoord c, const std::string& error, size_t edit
     edits.erase(edits.begin(), edits.begin() + std::ptrdiff_t(std::min(edits_saved, edits.size())));
 }
 
+void ChunkStreamer::on_store_commit(const Status& status) {
+    // One line when commits start failing and one when they work again, not one per tick: a
+    // store away for minutes would otherwise flood the log.
+    if (!status && !m_commits_failing)
+        VX_LOG_ERROR("store commit failed: %s; edits stay queued and are retried (further failures are not logged)",
+                     status.error().c_str());
+    else if (status && m_commits_failing)
+        VX_LOG_WARN("store commits work again");
+    m_commits_failing = !status;
+}
+
 void ChunkStreamer::poll_store_changes() {
     if (!m_store)
         return;

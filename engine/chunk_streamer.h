@@ -184,6 +184,7 @@ private:
     void retry_failed(std::chrono::steady_clock::time_point now);
     void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) override;
     void on_saved(world::ChunkCoord c, const std::string& error, size_t edits_saved) override;
+    void on_store_commit(const Status& status) override;
     void poll_store_changes();
     void remesh_around(world::ChunkCoord c);
     StreamJobEvents& events() { return *this; } // What jobs report to (a private base).
@@ -248,6 +249,7 @@ private:
     std::vector<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_failed_retry;
     uint64_t m_saves_at_request = UINT64_MAX; // m_saves at the last request_save() (never: max).
     bool m_store_failing = false; // Loads are failing (logged once until one succeeds).
+    bool m_commits_failing = false; // Periodic commits are failing (logged once until one succeeds).
     // Loads the store could not answer, asked again from this time on (oldest first).
     std::deque<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_retry;
     std::vector<world::ChunkCoord> m_changed; // Scratch for the store's change feed.

@@ -79,16 +79,14 @@ void StoreSyncJob::run(JobContext&) {
     if (m_flushed) {
         FlushDone done = std::move(m_flushed);
         m_flushed = nullptr;
-        done(m_store.flush());
+        m_status = m_store.flush();
+        done(m_status);
         return;
     }
     m_status = m_store.tick(world::ChunkStore::Clock::now());
 }
 
-void StoreSyncJob::complete() {
-    if (!m_status)
-        m_owner.on_saved(world::ChunkCoord(0), m_status.error(), 0);
-}
+void StoreSyncJob::complete() { m_owner.on_store_commit(m_status); }
 
 StoreSyncJob::~StoreSyncJob() {
     if (m_flushed) // Never ran (shutdown): whoever waits must not wait forever.

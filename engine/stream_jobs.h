@@ -33,9 +33,13 @@ public:
     // The generator failed for `c` (a game's generator threw): `error` says why; no chunk.
     virtual void on_generate_failed(world::ChunkCoord c, const std::string& error) = 0;
     virtual void on_meshed(world::ChunkCoord c, world::ChunkMesh mesh) = 0;
-    // A save (or a store tick) failed with `error` (empty: it succeeded). `edits_saved`: how many
-    // of the chunk's oldest recorded block edits the save carried to the store.
+    // A save failed with `error` (empty: it succeeded). `edits_saved`: how many of the chunk's
+    // oldest recorded block edits the save carried to the store.
     virtual void on_saved(world::ChunkCoord c, const std::string& error, size_t edits_saved) = 0;
+    // A store commit (a periodic tick, or a flush, which also reports to its waiter) ended:
+    // `status` is its error, or success. Failed commits keep their edits queued in the store,
+    // and the next tick retries them.
+    virtual void on_store_commit(const Status& status) = 0;
 
 protected:
     ~StreamJobEvents() = default;

@@ -1,0 +1,221 @@
+// A store that fails and comes back (a disk that is away, a full volume): the streamer keeps the
+// game running, a save made while it is away reports Failed, a chunk whose load fails is neither
+// generated over nor lost, and once the store is back every edit is saved; nothing acknowledged as
+// saved is lost. The failure is injected by a ChunkStore wrapper around a real SqliteStore.
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <vx/log.h>
+
+#include "engine/chunk_streamer.h"
+#include "world/gen/terrain.h"
+#include "world/store/sqlite_store.h"
+
+using namespace vx;
+using namespace vx::engine;
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Passes every call to `inner` unless `away` is set: then commits (tick, flush) and loads fail as
+// an unreachable disk would, and queued edits stay queued in `inner`. Called on the I/O lane;
+// `away` is flipped by the test thread.
+class FlakyStore final : public ChunkStore {
+public:
+    explicit FlakyStore(std::unique_ptr<ChunkStore> inner) : m_inner(std::move(inner)) {}
+    std::atomic<bool> away{false};
+    std::atomic<int> failed_calls{0};
+
+    Result<ChunkLoad> load(ChunkCoord c) override {
+        if (fail())
+            return Error{"the disk is away (injected)"};
+        return m_inner->load(c);
+    }
+    Status save(std::span<const ChunkWrite> batch) override { return m_inner->save(batch); }
+    Status tick(Clock::time_point now) override { return fail() ? Status(Error{"the disk is away (injected)"}) : m_inner->tick(now); }
+    Status flush() override { return fail() ? Status(Error{"the disk is away (injected)"}) : m_inner->flush(); }
+    Result<bool> contains(ChunkCoord c) override { return m_inner->contains(c); }
+    Result<uint64_t> count() override { return m_inner->count(); }
+    Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override { return m_inner->for_each_coord(fn); }
+    Result<std::optional<std::string>> get_meta(std::string_view key) override { return m_inner->get_meta(key); }
+    Status set_meta(std::string_view key, std::string_view value) override { return m_inner->set_meta(key, value); }
+    bool read_only() const override { return false; }
+    size_t pending_edits() const override { return m_inner->pending_edits(); }
+
+private:
+    bool fail() {
+        if (!away.load())
+            return false;
+        failed_calls.fetch_add(1);
+        return true;
+    }
+    std::unique_ptr<ChunkStore> m_inner;
+};
+
+// Collects the log's lines while alive (the handler runs on engine threads: under a lock).
+struct LogLines {
+    std::mutex mutex;
+    std::vector<std::string> lines;
+    LogLines() {
+        vx::set_log_handler([this](vx::LogLevel, std::string_view line) {
+            std::lock_guard lock(mutex);
+            lines.emplace_back(line);
+        });
+    }
+    ~LogLines() { vx::set_log_handler(nullptr); }
+    size_t count(std::string_view part) {
+        std::lock_guard lock(mutex);
+        size_t n = 0;
+        for (const std::string& l : lines)
+            n += l.find(part) != std::string::npos;
+        return n;
+    }
+};
+
+struct NullSink : MeshSink {
+    void on_mesh(ChunkCoord, const ChunkMesh&, std::span<const int>) override {}
+    void on_unload(ChunkCoord) override {}
+};
+
+StreamingSettings settings() {
+    StreamingSettings s;
+    s.view_radius = 1;
+    s.view_radius_vertical = 1;
+    s.unload_margin = 0;
+    s.unload_delay_s = 0.0;
+    s.save_delay_s = 0.5;
+    s.worker_count = 1;
+    return s;
+}
+
+bool settle(ChunkStreamer& s, glm::dvec3 pos, Clock::time_point& now) {
+    const auto limit = Clock::now() + std::chrono::minutes(3);
+    do {
+        now += std::chrono::milliseconds(16);
+        s.update(pos, glm::dvec3(0, 0, -1), now);
+        if (s.settled())
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    } while (Clock::now() < limit);
+    return false;
+}
+
+std::string temp_world(const char* name) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_store_fault_test";
+    std::filesystem::create_directories(dir);
+    const auto p = dir / (std::string(name) + ".db");
+    for (const char* suffix : {"", "-wal", "-shm"})
+        std::filesystem::remove(p.string() + suffix);
+    return p.string();
+}
+
+} // namespace
+
+TEST(StoreFaults, SavesWhileTheStoreIsAwayFailAndNothingIsLostWhenItComesBack) {
+    const std::string path = temp_world("commit");
+    const TerrainGenerator gen(5);
+    auto opened = SqliteStore::open({path});
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    FlakyStore store(std::move(*opened));
+    NullSink sink;
+    LogLines log;
+    const glm::dvec3 pos(8.5, 60.5, 8.5);
+    const BlockPos a{8, 60, 8}, b{9, 61, 8}, c{-20, 60, 8}; // Two chunks.
+    {
+        ChunkStreamer s(gen, &store, sink, settings());
+        Clock::time_point now = Clock::now();
+        ASSERT_TRUE(settle(s, pos, now));
+        ASSERT_TRUE(s.set_block(a, 7).ok());
+        const uint64_t durable = s.request_save();
+        ASSERT_TRUE(s.wait_saved(durable).ok()); // Acknowledged: must survive everything below.
+
+        store.away = true;
+        ASSERT_TRUE(s.set_block(b, 7).ok());
+        ASSERT_TRUE(s.set_block(c, 9).ok());
+        const uint64_t failing = s.request_save();
+        const Status failed = s.wait_saved(failing);
+        ASSERT_FALSE(failed.ok());
+        EXPECT_NE(failed.error().find("away"), std::string::npos) << failed.error();
+        EXPECT_EQ(s.save_state(failing), SaveState::Failed);
+        // The game goes on: updates keep running, background commits fail quietly, edits work.
+        const auto limit = Clock::now() + std::chrono::minutes(3);
+        while (store.failed_calls.load() < 4 && Clock::now() < limit) { // Ticks on the I/O lane.
+            now += std::chrono::milliseconds(50);
+            s.update(pos, glm::dvec3(0, 0, -1), now);
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        now += std::chrono::milliseconds(50);
+        s.update(pos, glm::dvec3(0, 0, -1), now); // The last failure's report reaches the main thread.
+        EXPECT_EQ(s.get_block(b), BlockId(7));
+        EXPECT_GE(store.failed_calls.load(), 4);
+        // One line for the outage, however many commits failed in it.
+        EXPECT_EQ(log.count("store commit failed"), 1u);
+
+        store.away = false;
+        const uint64_t back = s.request_save();
+        ASSERT_TRUE(s.wait_saved(back).ok());
+        EXPECT_EQ(s.save_state(back), SaveState::Durable);
+        const auto until = Clock::now() + std::chrono::minutes(3);
+        while (log.count("store commits work again") == 0 && Clock::now() < until) {
+            now += std::chrono::milliseconds(50); // The flush's success reaches the main thread.
+            s.update(pos, glm::dvec3(0, 0, -1), now);
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        EXPECT_EQ(log.count("store commits work again"), 1u);
+    }
+    // Reopened from the file alone: every edit, acknowledged before or saved after the outage.
+    auto reopened = SqliteStore::open({path});
+    ASSERT_TRUE(reopened.ok()) << reopened.error();
+    for (const auto& [p, id] : {std::pair{a, BlockId(7)}, {b, BlockId(7)}, {c, BlockId(9)}}) {
+        auto load = (*reopened)->load(chunk_of(p));
+        ASSERT_TRUE(load.ok()) << load.error();
+        ASSERT_EQ(load->state, LoadState::Present);
+        EXPECT_EQ(load->chunk->get(local_of(p)), id);
+    }
+}
+
+TEST(StoreFaults, AChunkWhoseLoadFailsIsNotGeneratedOverAndLoadsWhenTheStoreIsBack) {
+    const std::string path = temp_world("load");
+    const TerrainGenerator gen(5);
+    const BlockPos far{8 + 32 * 6, 60, 8}; // In the view only after the move below.
+    {
+        // A stored edit in a chunk the viewer will reach later.
+        auto opened = SqliteStore::open({path});
+        ASSERT_TRUE(opened.ok()) << opened.error();
+        Chunk chunk = gen.generate(chunk_of(far));
+        chunk.set(local_of(far), 11);
+        ASSERT_TRUE((*opened)->save(chunk_of(far), chunk).ok());
+        ASSERT_TRUE((*opened)->flush().ok());
+    }
+    auto opened = SqliteStore::open({path});
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    FlakyStore store(std::move(*opened));
+    NullSink sink;
+    ChunkStreamer s(gen, &store, sink, settings());
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, glm::dvec3(8.5, 60.5, 8.5), now));
+
+    store.away = true;
+    const glm::dvec3 there(far.x + 0.5, 60.5, 8.5);
+    for (int i = 0; i < 100; ++i) { // The new view's loads all fail.
+        now += std::chrono::milliseconds(50);
+        s.update(there, glm::dvec3(0, 0, -1), now);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_FALSE(s.settled());
+    // Not generated in place of the stored chunk: unknown until the store answers.
+    EXPECT_EQ(s.world().find_chunk(chunk_of(far)), nullptr);
+
+    store.away = false;
+    ASSERT_TRUE(settle(s, there, now));
+    EXPECT_EQ(s.get_block(far), BlockId(11)); // The stored edit, not the generator's block.
+    ASSERT_TRUE(s.flush().ok());
+}
