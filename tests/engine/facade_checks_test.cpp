@@ -13,9 +13,12 @@
 
 #include <vx/vx.h>
 
+#include "facade_test_util.h"
 #include "world/store/store_open.h"
 
 namespace {
+
+std::string checks_world(const char* name) { return vx::test::temp_world_path("vx_facade_checks_test", name); }
 
 vx::EngineCreateInfo tiny_info(vx::WorldSource source) {
     vx::EngineCreateInfo info;
@@ -24,15 +27,6 @@ vx::EngineCreateInfo tiny_info(vx::WorldSource source) {
     info.streaming.view_radius_vertical = 1;
     info.streaming.worker_threads = 1;
     return info;
-}
-
-std::string temp_world(const char* name) {
-    const auto dir = std::filesystem::temp_directory_path() / "vx_facade_checks_test";
-    std::filesystem::create_directories(dir);
-    const auto p = dir / (std::string(name) + "_" + std::to_string(::getpid()) + ".db");
-    for (const char* suffix : {"", "-wal", "-shm"})
-        std::filesystem::remove(p.string() + suffix);
-    return p.string();
 }
 
 // The error of `r`, or "" when it succeeded.
@@ -183,7 +177,7 @@ public:
 std::string open_error(const vx::WorldSource& source) { return error_of(vx::Engine::create(tiny_info(source))); }
 
 TEST(FacadeChecks, StoredWorldRefusesAnotherGenerator) {
-    const std::string path = temp_world("generator");
+    const std::string path = checks_world("generator");
     auto waves = std::make_shared<NamedGenerator>("waves", 1);
     ASSERT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), ""); // Made by waves v1.
     EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), "");
@@ -207,7 +201,7 @@ TEST(FacadeChecks, StoredWorldRefusesAnotherGenerator) {
     EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), "");
 
     // The reverse: a terrain world refuses a game's generator.
-    const std::string terrain = temp_world("terrain");
+    const std::string terrain = checks_world("terrain");
     ASSERT_EQ(open_error(vx::WorldSource::sqlite(terrain, 7)), "");
     e = open_error(vx::WorldSource::sqlite(terrain, waves));
     EXPECT_NE(e.find("was made by the built-in terrain, not the generator 'waves' version 1"), std::string::npos) << e;
@@ -220,7 +214,7 @@ TEST(FacadeChecks, StoredWorldRefusesAnotherGenerator) {
 // comes and records it; one with a seed was made by the built-in terrain (only it stores one).
 TEST(FacadeChecks, OlderWorldsRecordTheirGenerator) {
     auto waves = std::make_shared<NamedGenerator>("waves", 3);
-    const std::string bare = temp_world("bare");
+    const std::string bare = checks_world("bare");
     {
         auto store = vx::world::open_store({bare});
         ASSERT_TRUE(store) << store.error();
@@ -230,7 +224,7 @@ TEST(FacadeChecks, OlderWorldsRecordTheirGenerator) {
     std::string e = open_error(vx::WorldSource::sqlite(bare, 1));
     EXPECT_NE(e.find("made by the generator 'waves' version 3"), std::string::npos) << e;
 
-    const std::string seeded = temp_world("seeded");
+    const std::string seeded = checks_world("seeded");
     {
         auto store = vx::world::open_store({seeded});
         ASSERT_TRUE(store) << store.error();

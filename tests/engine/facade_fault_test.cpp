@@ -17,12 +17,15 @@
 
 #include <vx/vx.h>
 
+#include "facade_test_util.h"
 #include "world/store/store_open.h"
 
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
 namespace {
+
+std::string fault_world(const char* name) { return vx::test::temp_world_path("vx_facade_fault_test", name); }
 
 // The game's clock: starts at steady now + `offset`, moves only when the test says.
 struct GameClock {
@@ -238,15 +241,6 @@ TEST(FacadeFaults, ThrowingLogHandlerTakesNothingDown) {
     EXPECT_TRUE(engine->shutdown());
 }
 
-std::string temp_path(const char* name) {
-    const auto dir = std::filesystem::temp_directory_path() / "vx_facade_fault_test";
-    std::filesystem::create_directories(dir);
-    const auto p = dir / (std::string(name) + "_" + std::to_string(::getpid()) + ".db");
-    for (const char* suffix : {"", "-wal", "-shm"})
-        std::filesystem::remove(p.string() + suffix);
-    return p.string();
-}
-
 // The block at `p` as a second, read-only connection to the SQLite world sees it; nullopt while
 // the chunk is not stored.
 std::optional<vx::BlockId> stored_block(const std::string& path, vx::BlockPos p) {
@@ -262,7 +256,7 @@ std::optional<vx::BlockId> stored_block(const std::string& path, vx::BlockPos p)
 // A game clock `offset` from the steady clock: an edit is handed to the store save_delay_s of
 // game time after it, not before, and reaches the database without save() or shutdown.
 void check_save_delay_on_game_clock(Clock::duration offset) {
-    const std::string path = temp_path(offset < 0s ? "behind" : "ahead");
+    const std::string path = fault_world(offset < 0s ? "behind" : "ahead");
     auto gen = std::make_shared<FaultyGenerator>();
     gen->fail = false;
     vx::EngineCreateInfo info = small_info(vx::WorldSource::sqlite(path, gen));
@@ -298,7 +292,7 @@ void check_save_delay_on_game_clock(Clock::duration offset) {
 // A stored world: a chunk missing from the store goes to the generator from the I/O thread; its
 // failure is reported the same way, and nothing of it is ever written to the store.
 TEST(FacadeFaults, ThrowingGeneratorInAStoredWorldStoresNothingOfItsChunk) {
-    const std::string path = temp_path("throwing");
+    const std::string path = fault_world("throwing");
     auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, std::make_shared<FaultyGenerator>())));
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;

@@ -18,16 +18,9 @@
 
 namespace {
 
-using vx::test::settle;
+std::string gpu_fault_world(const char* name) { return vx::test::temp_world_path("vx_facade_gpu_fault_test", name); }
 
-std::string temp_db(const char* name) {
-    const auto dir = std::filesystem::temp_directory_path() / "vx_facade_fault_test";
-    std::filesystem::create_directories(dir);
-    const auto p = dir / (std::string(name) + "_" + std::to_string(::getpid()) + ".db");
-    for (const char* suffix : {"", "-wal", "-shm"})
-        std::filesystem::remove(p.string() + suffix);
-    return p.string();
-}
+using vx::test::settle;
 
 vx::EngineCreateInfo headless_info(vx::WorldSource source) {
     vx::EngineCreateInfo info;
@@ -100,7 +93,7 @@ TEST(FacadeGpuFault, FrameResourceFailuresReturnAStatusAndTheNextFrameRenders) {
 // the edit stays, save() + wait() make it durable, and recreate_renderer() renders the picture
 // of before the loss. The edit is in the database when the world reopens.
 TEST(FacadeGpuFault, DeviceLossKeepsTheWorldAndItsEdits) {
-    const std::string path = temp_db("device_loss");
+    const std::string path = gpu_fault_world("device_loss");
     const vx::Viewer v = view();
     vx::BlockPos edited{0};
     vx::BlockId lamp = 0;

@@ -15,6 +15,7 @@
 #include <vx/log.h>
 
 #include "engine/chunk_streamer.h"
+#include "stream_test_util.h"
 #include "world/gen/terrain.h"
 #include "world/store/sqlite_store.h"
 
@@ -22,6 +23,7 @@ using namespace vx;
 using namespace vx::engine;
 using namespace vx::world;
 using Clock = std::chrono::steady_clock;
+using vx::test::settle;
 
 namespace {
 
@@ -94,18 +96,6 @@ StreamingSettings settings() {
     s.save_delay_s = 0.5;
     s.worker_count = 1;
     return s;
-}
-
-bool settle(ChunkStreamer& s, glm::dvec3 pos, Clock::time_point& now) {
-    const auto limit = Clock::now() + std::chrono::minutes(3);
-    do {
-        now += std::chrono::milliseconds(16);
-        s.update(pos, glm::dvec3(0, 0, -1), now);
-        if (s.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    } while (Clock::now() < limit);
-    return false;
 }
 
 std::string temp_world(const char* name) {

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/chunk_streamer.h"
+#include "stream_test_util.h"
 #include "world/gen/terrain.h"
 #include "world/mesh/mesher.h"
 #include "world/store/sqlite_store.h"
@@ -19,6 +20,7 @@ using namespace vx;
 using namespace vx::engine;
 using namespace vx::world;
 using Clock = std::chrono::steady_clock;
+using vx::test::settle;
 
 namespace {
 
@@ -43,19 +45,6 @@ StreamingSettings small_settings() {
     s.unload_delay_s = 0.0;
     s.worker_count = 2;
     return s;
-}
-
-// Updates until the streamer has meshed its whole view (or a generous limit passes).
-bool settle(ChunkStreamer& s, glm::dvec3 pos, Clock::time_point& now) {
-    const auto limit = Clock::now() + std::chrono::minutes(3);
-    do {
-        now += std::chrono::milliseconds(16);
-        s.update(pos, glm::dvec3(0, 0, -1), now);
-        if (s.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    } while (Clock::now() < limit);
-    return false;
 }
 
 // The view's meshes equal full meshes of the same world built directly.

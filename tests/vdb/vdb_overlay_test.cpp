@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <vx/vx.h>
 
+#include "tests/engine/facade_test_util.h"
 #include "tests/vdb/vdb_test_util.h"
 #include "world/gen/terrain.h"
 #include "world/vdb/vdb_common.h"
@@ -21,6 +22,8 @@
 
 namespace vx::vdb {
 namespace {
+
+using vx::test::settle;
 
 using test::same_blocks;
 using test::TempDir;
@@ -202,19 +205,6 @@ vx::Viewer viewer_at(vx::BlockPos block) {
     v.block = block;
     v.forward = {1, -0.2, 0};
     return v;
-}
-
-// Updates until the view is loaded and meshed (a generous limit for slow machines, never a time
-// the test depends on).
-bool settle(vx::Engine& e) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::minutes(3);
-    while (std::chrono::steady_clock::now() < end) {
-        e.update();
-        if (e.settled())
-            return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
 }
 
 // A stone floor at y = -1 over x, z in [-3, 40) and one gold-ish block (id 8) at (5, 0, 5).
