@@ -173,7 +173,7 @@ template <uint32_t B> uint64_t spread8(uint64_t v) {
 }
 
 // unpack_fixed to u8 without a remap (every palette entry used: the common case), eight entries
-// at a time: about a tenth of the per-entry loop's instructions.
+// at a time: a few instructions per eight entries instead of several per entry.
 template <uint32_t B> void unpack8_fixed(const uint64_t* w, uint8_t* dst) {
     constexpr uint64_t kMask = B == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * B)) - 1;
     for (size_t g = 0; g < size_t(kChunkVolume) / 64; ++g, dst += 64, w += B) {
