@@ -1,7 +1,7 @@
 // A world shared across processes through PostgreSQL, end to end through the facade: two
 // processes generate and edit one world at once (blocks of the same chunk included), each sees
 // the other's edits, nothing is lost; the server restarted under a running engine loses nothing;
-// and shutdown with the server away flushes once. Uses the throwaway cluster of
+// edits made while an engine could not reconnect reach it once it does; and shutdown with the server away flushes once. Uses the throwaway cluster of
 // tests/world/pg_cluster.h (skips, with a line, without PostgreSQL's server binaries). No GPU
 // (RenderTarget::none).
 #include <sys/wait.h>
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <libpq-fe.h>
 
 #include <vx/vx.h>
 
@@ -188,6 +189,71 @@ TEST(SharedWorld, ServerRestartUnderARunningEngineLosesNothing) {
     ASSERT_TRUE(settle(**again));
     EXPECT_EQ((*again)->get_block({1, 30, 1}), 3);
     EXPECT_EQ((*again)->get_block({2, 30, 1}), 4);
+}
+
+// Engine B cannot log in while the server restarts (its role is blocked, as a network split
+// would keep it away) and engine A edits and saves meanwhile: the notifications of A's commits
+// never reach B. Once B reconnects, its store compares the versions it knows with the table and
+// B reloads the chunks A changed: it shows A's blocks and counts the reloads.
+TEST(SharedWorld, EditsMadeWhileAnEngineWasAwayReachItAfterItReconnects) {
+    PgCluster* cluster = cluster_or_skip();
+    if (!cluster)
+        GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    const std::string uri = cluster->new_database();
+    const std::string db = uri.substr(uri.find(":///") + 4, uri.find('?') - uri.find(":///") - 4);
+    const std::string role = "engine_b_" + db;
+    auto run_sql = [&](const std::string& statement) {
+        PGconn* c = PQconnectdb(cluster->uri("postgres").c_str());
+        PGresult* r = PQexec(c, statement.c_str());
+        EXPECT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(c);
+        PQclear(r);
+        PQfinish(c);
+    };
+    run_sql("CREATE ROLE " + role + " SUPERUSER LOGIN");
+    std::string uri_b = uri;
+    uri_b.replace(uri_b.find("user=vx"), 7, "user=" + role);
+
+    auto created_a = vx::Engine::create(shared_info(uri));
+    ASSERT_TRUE(created_a) << created_a.error();
+    auto created_b = vx::Engine::create(shared_info(uri_b));
+    ASSERT_TRUE(created_b) << created_b.error();
+    vx::Engine& a = **created_a;
+    vx::Engine& b = **created_b;
+    ASSERT_TRUE(a.set_viewer(viewer()) && b.set_viewer(viewer()));
+    ASSERT_TRUE(settle(a));
+    ASSERT_TRUE(settle(b));
+    // B hears A's commits (its listener is up) before the restart.
+    const vx::BlockId stone = 1, glass = 6;
+    ASSERT_TRUE(a.set_block({1, 30, 1}, stone));
+    auto first = a.save();
+    ASSERT_TRUE(first && a.wait(*first));
+    ASSERT_TRUE(wait_block(b, {1, 30, 1}, stone, 20.0));
+    const uint64_t reloaded_before = b.stats().chunks_reloaded;
+
+    run_sql("ALTER ROLE " + role + " NOLOGIN");
+    ASSERT_TRUE(cluster->stop());
+    for (vx::BlockPos p : edits_of(0)) // Edits while the server is away...
+        ASSERT_TRUE(a.set_block(p, glass));
+    ASSERT_TRUE(cluster->start());
+    auto saved = a.save(); // ...saved once it is back (A reconnects; B cannot).
+    ASSERT_TRUE(saved);
+    vx::Status s = a.wait(*saved);
+    ASSERT_TRUE(s) << s.error();
+    for (int i = 0; i < 20; ++i) {
+        b.update();
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    for (vx::BlockPos p : edits_of(0))
+        EXPECT_NE(b.get_block(p), glass) << "B cannot have heard of A's edits yet";
+
+    run_sql("ALTER ROLE " + role + " LOGIN");
+    for (vx::BlockPos p : edits_of(0)) // The listener backs off up to 8 s between attempts.
+        EXPECT_TRUE(wait_block(b, p, glass, 60.0)) << "A's edit at " << p.x << "," << p.y << "," << p.z;
+    // edits_of(0) spans two chunks: both reloaded.
+    EXPECT_GE(b.stats().chunks_reloaded, reloaded_before + 2);
+    EXPECT_EQ(b.get_block({1, 30, 1}), stone);
+    ASSERT_TRUE(a.shutdown());
+    ASSERT_TRUE(b.shutdown());
 }
 
 namespace {

@@ -163,6 +163,37 @@ void unpack_dispatch(const uint64_t* w, uint32_t bits, const uint16_t* remap, T*
     ((bits == Bs + 1 ? unpack_fixed<Bs + 1>(w, remap, dst) : void()), ...);
 }
 
+// The inverse of squeeze8: the low 8*B bits spread into eight bytes of B bits, entry 0 lowest.
+template <uint32_t B> uint64_t spread8(uint64_t v) {
+    constexpr uint64_t k4 = (uint64_t(1) << (4 * B)) - 1, k2 = (uint64_t(1) << (2 * B)) - 1;
+    constexpr uint64_t k1 = ((uint64_t(1) << B) - 1) * 0x0001000100010001ull;
+    v = (v & k4) | ((v << (32 - 4 * B)) & (k4 << 32));
+    v = (v & (k2 | k2 << 32)) | ((v << (16 - 2 * B)) & (k2 << 16 | k2 << 48));
+    return (v & k1) | ((v << (8 - B)) & (k1 << 8));
+}
+
+// unpack_fixed to u8 without a remap (every palette entry used: the common case), eight entries
+// at a time: a few instructions per eight entries instead of several per entry.
+template <uint32_t B> void unpack8_fixed(const uint64_t* w, uint8_t* dst) {
+    constexpr uint64_t kMask = B == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * B)) - 1;
+    for (size_t g = 0; g < size_t(kChunkVolume) / 64; ++g, dst += 64, w += B) {
+#pragma GCC unroll 8
+        for (uint32_t j = 0; j < 8; ++j) {
+            const uint32_t bit = j * 8 * B, word = bit >> 6, off = bit & 63;
+            uint64_t v = w[word] >> off;
+            if (off + 8 * B > 64)
+                v |= w[word + 1] << (64 - off);
+            const uint64_t bytes = spread8<B>(v & kMask);
+            std::memcpy(dst + 8 * j, &bytes, 8);
+        }
+    }
+}
+
+template <uint32_t... Bs>
+void unpack8_dispatch(const uint64_t* w, uint32_t bits, uint8_t* dst, std::integer_sequence<uint32_t, Bs...>) {
+    ((bits == Bs + 1 ? unpack8_fixed<Bs + 1>(w, dst) : void()), ...);
+}
+
 // Entries of `indices` (kChunkVolume of them, bits 1..16), each < the size of `remap`, whose
 // values fit T.
 template <class T> void unpack_indices(const PackedArray& indices, const uint16_t* remap, T* dst) {
@@ -219,7 +250,9 @@ void RecordCodec::encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8
     m_raw.resize(h.raw_size);
     std::memcpy(m_raw.data(), used_ids.data(), 2 * size_t(n));
     uint8_t* idx = m_raw.data() + 2 * size_t(n);
-    if (width == 1) { // n <= 256: every renumbered index fits a byte.
+    if (width == 1 && n == pal->ids.size() && pal->indices.bits() <= 8) { // Identity remap.
+        unpack8_dispatch(pal->indices.words(), pal->indices.bits(), idx, std::make_integer_sequence<uint32_t, 8>());
+    } else if (width == 1) { // n <= 256: every renumbered index fits a byte.
         unpack_indices(pal->indices, remap.data(), idx);
     } else {
         m_indices.resize(kChunkVolume);
