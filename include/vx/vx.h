@@ -467,7 +467,10 @@ public:
 
     // Main thread. Saves and syncs every edit (persistent worlds), stops the threads and
     // releases the world and the GPU. Afterwards only stats(), save_state(), wait() and the
-    // destructor may be called; other calls fail or do nothing. Idempotent.
+    // destructor may be called; other calls fail or do nothing. Idempotent. Errors: the final
+    // save failed (the store's message, also logged): edits not durable by then may be lost
+    // with the engine (a save() ticket that turned Durable never is); everything is still
+    // stopped and released.
     Status shutdown();
 
 private:
