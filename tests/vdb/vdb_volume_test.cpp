@@ -129,8 +129,9 @@ TEST(VdbVolume, LevelSetSphereFromOldFormatHalfFloats) {
 }
 
 TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
-    // The files written here: fog, level set and multi-grid import; a vector grid, an empty grid
-    // and a truncated file are refused with one line.
+    // The files written here: fog, level set and multi-grid import; a vector grid and an empty
+    // grid are refused with one line. (A truncated file is untrusted input: it is read in the
+    // isolated child, VdbIsolated.*, since OpenVDB may read garbage sizes from it in-process.)
     for (const TestFile f : {TestFile::FogSphere, TestFile::LevelSetSphere, TestFile::ThreeDensities}) {
         Result<VolumeImport> r = import_volume(test_file(f));
         ASSERT_TRUE(r.ok()) << r.error();
@@ -140,7 +141,6 @@ TEST(VdbVolume, EveryRealFileImportsOrIsRefused) {
     }
     EXPECT_TRUE(fails_with(import_volume(test_file(TestFile::ColourField)), "vec3s"));
     EXPECT_TRUE(fails_with(import_volume(test_file(TestFile::EmptyFog)), "empty"));
-    EXPECT_TRUE(fails_with(import_volume(test_file(TestFile::Truncated)), "cannot read"));
 
     VX_REAL_VDB_DATA_OR_RETURN();
     struct Case {
@@ -363,6 +363,10 @@ TEST(VdbVolume, LevelSetSphereMatchesTheAnalyticSphere) {
 } // namespace
 } // namespace vx::vdb
 
+#include <fstream>
+#include <iterator>
+
+#include "world/vdb/vdb_common.h"
 #include "world/vdb/vdb_isolated.h"
 
 namespace vx::vdb {
@@ -392,6 +396,35 @@ TEST(VdbIsolated, SameResultAsInProcess) {
         EXPECT_EQ((*g1)[i].active_voxels, (*g2)[i].active_voxels);
         EXPECT_EQ((*g1)[i].bbox_max, (*g2)[i].bbox_max);
     }
+}
+
+// A file cut anywhere is refused with one short line: OpenVDB reads garbage from some cuts (a
+// type name of hundreds of megabytes was seen at 100 bytes), which the message must not carry.
+TEST(VdbIsolated, FilesCutAnywhereGiveOneShortLine) {
+    std::ifstream in(test_file(TestFile::FogSphere), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 1000u);
+    const std::string path = test_file(TestFile::FogSphere) + ".cut";
+    for (size_t n : {size_t(16), size_t(40), size_t(64), size_t(100), size_t(200), bytes.size() / 3, bytes.size() / 2}) {
+        SCOPED_TRACE(n);
+        std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes.substr(0, n);
+        Result<VolumeImport> r = import_volume_isolated(path);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().find('\n'), std::string::npos);
+        EXPECT_LT(r.error().size(), path.size() + 400) << r.error().substr(0, 400);
+    }
+    std::remove(path.c_str());
+}
+
+TEST(VdbIsolated, MessagesAreFoldedAndCut) {
+    const std::string garbage = "KeyError: " + std::string(100000, ' ') + "\x01\x02\tname\n" + std::string(5000, 'x');
+    const Error e = detail::make_error("cannot read 'f.vdb'", garbage);
+    EXPECT_EQ(e.message.find('\n'), std::string::npos);
+    EXPECT_EQ(e.message.find('\t'), std::string::npos);
+    EXPECT_EQ(e.message.find("  "), std::string::npos);
+    EXPECT_EQ(e.message.rfind("cannot read 'f.vdb': KeyError: name x", 0), 0u) << e.message.substr(0, 80);
+    EXPECT_EQ(e.message.size(), std::string("cannot read 'f.vdb': ").size() + 240 + 3);
+    EXPECT_EQ(e.message.substr(e.message.size() - 3), "...");
 }
 
 TEST(VdbIsolated, ErrorsComeBackFromTheChild) {

@@ -18,9 +18,14 @@
 namespace vx::vdb::detail {
 
 Error make_error(std::string_view context, std::string_view what) {
+    // A damaged file can put garbage in OpenVDB's messages (a "KeyError" naming a type of
+    // hundreds of megabytes was seen): control bytes become spaces, runs of spaces one, and
+    // the message is cut at kMaxWhat characters, so the error stays one readable line.
+    constexpr size_t kMaxWhat = 240;
     std::string msg(context);
     if (!what.empty())
         msg += ": ";
+    const size_t start = msg.size();
     for (size_t i = 0; i < what.size(); ++i) {
         const char c = what[i];
         if (c == '\x1b') { // Skip ANSI colour sequences ("\x1b[31m").
@@ -28,7 +33,14 @@ Error make_error(std::string_view context, std::string_view what) {
                 ++i;
             continue;
         }
-        msg += (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
+        const bool space = (unsigned char)c < 0x20 || c == ' ' || c == '\x7f';
+        if (space && (msg.size() == start || msg.back() == ' '))
+            continue;
+        if (msg.size() - start >= kMaxWhat) {
+            msg += "...";
+            break;
+        }
+        msg += space ? ' ' : c;
     }
     while (!msg.empty() && msg.back() == ' ')
         msg.pop_back();

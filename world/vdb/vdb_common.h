@@ -22,8 +22,9 @@ double uniform_voxel(const glm::dvec3& voxel_size);
 // The checks of VolumeImportOptions that need no grid; one-line errors. Thread-safe.
 Status check_volume_options(const VolumeImportOptions& o);
 
-// `context: what` folded onto one line (OpenVDB messages may hold newlines and colour escapes).
-// Thread-safe.
+// `context: what` folded onto one line (OpenVDB messages may hold newlines and colour escapes,
+// and, from a damaged file, garbage): control bytes and runs of spaces become one space, and
+// `what` is cut at 240 characters ("..." marks the cut). Thread-safe.
 Error make_error(std::string_view context, std::string_view what);
 
 // Creates a new empty file named `path` + ".tmp-" + 12 random hex digits, exclusively
