@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job: set up (installs what is missing), build, run vx on the seed scene, and render
-# the default terrain world to out/vx_default.png (about 1.5 s on lavapipe).
+# the default terrain world to out/vx_default.png (its trace takes about 6 s on lavapipe here).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
