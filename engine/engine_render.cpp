@@ -225,10 +225,11 @@ Status Engine::set_ui_texture(uint32_t width, uint32_t height, std::span<const u
 Status Engine::set_vsync(bool vsync) {
     if (Status s = m->alive(); !s)
         return s;
-    if (m->info.render.target.kind != RenderTarget::Kind::Window || !m->renderer)
+    if (m->info.render.target.kind != RenderTarget::Kind::Window)
         return Error{"set_vsync needs a window render target (RenderTarget::glfw_window)"};
-    m->info.render.vsync = vsync; // A recreated renderer keeps it.
-    m->renderer->set_vsync(vsync);
+    m->info.render.vsync = vsync; // A recreated renderer keeps it (also one made after a failed recreate).
+    if (m->renderer)
+        m->renderer->set_vsync(vsync);
     return {};
 }
 
@@ -257,7 +258,6 @@ Status Engine::Impl::frame_failed(const std::string& why) {
     return Error{"the GPU device was lost: call recreate_renderer(); the world, the streaming and every edit are "
                  "kept (save() and shutdown() still work)"};
 }
-
 
 Stats Engine::stats() const {
     Stats s = m->frame;
