@@ -97,6 +97,57 @@ TEST_P(StoreSuite, OverwritesEraseAndCloseWithoutFlushCommit) {
     expect_chunk(*backend().open(world), {2, 2, 2}, versioned_chunk({2, 2, 2}, 3));
 }
 
+TEST_P(StoreSuite, OneBatchKeepsEachCoordinatesLastWrite) {
+    // Chunks without records are encoded together after the batch is read (on several threads):
+    // an erase or a pre-encoded record later in the batch must still win, and the reverse.
+    const std::string world = backend().new_world();
+    const ChunkCoord a{1, 0, 0}, b{2, 0, 0}, c{3, 0, 0};
+    std::vector<Chunk> v;
+    for (uint32_t i = 1; i <= 4; ++i)
+        v.push_back(versioned_chunk(a, i));
+    const Chunk b1 = versioned_chunk(b, 1), b2 = versioned_chunk(b, 2), c1 = versioned_chunk(c, 1);
+    std::vector<uint8_t> a3_record, b2_record;
+    RecordCodec codec(1);
+    codec.encode(a, v[2], a3_record);
+    codec.encode(b, b2, b2_record);
+    std::vector<Chunk> others;
+    std::mt19937 rng(7);
+    for (int i = 0; i < 20; ++i) // Enough chunks to share the encoding among threads.
+        others.push_back(test::random_chunk(rng, 0.4, 3 + i));
+    std::vector<ChunkWrite> batch;
+    batch.push_back({a, &v[0]});
+    batch.push_back({b, &b1});
+    batch.push_back({c, &c1});
+    for (int i = 0; i < 20; ++i)
+        batch.push_back({ChunkCoord(10 + i, 0, 0), &others[size_t(i)]});
+    batch.push_back({a, nullptr});                // Erased ...
+    batch.push_back({a, &v[1]});                  // ... written ...
+    ChunkWrite pre{a, &v[2]};                     // ... pre-encoded ...
+    pre.record = a3_record;
+    batch.push_back(pre);
+    batch.push_back({a, &v[3]});                  // ... and finally encoded: v4.
+    ChunkWrite b_pre{b, &b2};                     // Encoded, then a record: b2.
+    b_pre.record = b2_record;
+    batch.push_back(b_pre);
+    batch.push_back({c, nullptr});                // Encoded, then erased: absent.
+    {
+        auto store = backend().open(world);
+        ASSERT_TRUE(store);
+        ASSERT_TRUE(store->save(batch).ok());
+        expect_chunk(*store, a, v[3]);
+        expect_chunk(*store, b, b2);
+        EXPECT_EQ(store->load(c)->state, LoadState::Absent);
+        ASSERT_TRUE(store->flush().ok());
+    }
+    auto store = backend().open(world);
+    ASSERT_TRUE(store);
+    expect_chunk(*store, a, v[3]);
+    expect_chunk(*store, b, b2);
+    EXPECT_EQ(store->load(c)->state, LoadState::Absent);
+    for (int i = 0; i < 20; ++i)
+        expect_chunk(*store, ChunkCoord(10 + i, 0, 0), others[size_t(i)]);
+}
+
 TEST_P(StoreSuite, TickCommitsOnlyEditsOlderThanTheBound) {
     const std::string world = backend().new_world();
     StoreOptions o;

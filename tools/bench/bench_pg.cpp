@@ -49,7 +49,7 @@ const std::vector<Chunk>& sample_chunks() {
     return chunks;
 }
 
-std::unique_ptr<PgStore> open_bench_store(benchmark::State& state, bool listen = false) {
+std::unique_ptr<PgStore> open_bench_store(benchmark::State& state, bool listen = false, unsigned encode_threads = 0) {
     const char* uri = std::getenv("VX_BENCH_PG_URI");
     if (!uri || !*uri) {
         state.SkipWithError("set VX_BENCH_PG_URI (bash scripts/pg_cluster.sh start DIR prints one)");
@@ -58,6 +58,7 @@ std::unique_ptr<PgStore> open_bench_store(benchmark::State& state, bool listen =
     PgStoreCreateInfo info;
     info.uri = uri;
     info.listen = listen;
+    info.encode_threads = encode_threads;
     info.max_pending_age = std::chrono::hours(1); // Commits only when the benchmark flushes.
     auto store = PgStore::open(info);
     if (!store) {
@@ -90,14 +91,15 @@ std::vector<std::vector<uint8_t>> write_records(int bench, int thread) {
     return out;
 }
 
-// Writes batches of 64 chunks, one durable commit each, the chunks encoded (zstd) in save() on the
-// calling thread; `encoded`: records encoded beforehand (ChunkWrite::record), the store's own
+// Writes batches of 64 chunks, one durable commit each, the chunks encoded (zstd) in save() on
+// `encode_threads` threads (0: all cores; 1: the calling thread alone, as before
+// RecordBatchEncoder); `encoded`: records encoded beforehand (ChunkWrite::record), the store's own
 // path to the server (the engine encodes on its workers). One connection per benchmark thread.
-void write_batches(benchmark::State& state, bool encoded) {
-    auto store = open_bench_store(state);
+void write_batches(benchmark::State& state, bool encoded, unsigned encode_threads = 0) {
+    auto store = open_bench_store(state, false, encode_threads);
     if (!store)
         return;
-    const int bench = encoded ? 1 : 2, thread = state.thread_index();
+    const int bench = encoded ? 1 : encode_threads == 1 ? 3 : 2, thread = state.thread_index();
     const std::vector<std::vector<uint8_t>> records = write_records(bench, thread);
     std::vector<ChunkWrite> batch(kBatch);
     auto fill = [&](int v) {
@@ -126,6 +128,7 @@ void write_batches(benchmark::State& state, bool encoded) {
 }
 
 void bench_write(benchmark::State& state) { write_batches(state, false); }
+void bench_write_one_encoder(benchmark::State& state) { write_batches(state, false, 1); }
 void bench_write_encoded(benchmark::State& state) { write_batches(state, true); }
 
 // The baselines live in a schema of their own (vx_bench), created and dropped around each run:
@@ -332,6 +335,7 @@ void bench_visibility(benchmark::State& state) {
 
 BENCHMARK(bench_write_plain)->Name("pg/write_plain_baseline")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_write_encoded)->Name("pg/write_encoded")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
+BENCHMARK(bench_write_one_encoder)->Name("pg/write_one_encoder_thread")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_write)->Name("pg/write")->ThreadRange(1, 4)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_read_plain)->Name("pg/read_plain_baseline")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);
 BENCHMARK(bench_read)->Name("pg/read")->ThreadRange(1, 2)->UseRealTime()->MinTime(2.0);

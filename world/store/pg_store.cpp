@@ -37,7 +37,8 @@ std::string redact_pg_uri(std::string_view uri) {
 }
 
 PgStore::PgStore(PgStoreCreateInfo info)
-    : m_info(std::move(info)), m_name(redact_pg_uri(m_info.uri)), m_codec(m_info.zstd_level) {}
+    : m_info(std::move(info)), m_name(redact_pg_uri(m_info.uri)), m_codec(m_info.zstd_level),
+      m_encoder(m_info.zstd_level, m_info.encode_threads) {}
 
 PgStore::~PgStore() {
     if (m_conn && pending_edits() > 0) {
@@ -238,10 +239,13 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
     if (pending_edits() == 0 && !batch.empty())
         m_pending_since = Clock::now();
+    // Records the caller did not encode are encoded together afterwards, on several threads.
+    RecordBatchEncoder::Batch encodes;
     for (const ChunkWrite& w : batch) {
         Pending& p = m_pending[w.coord];
         if (p.record)
             m_pending_bytes -= p.record->size();
+        encodes.supersede(w.coord);
         if (!w.chunk) {
             p.record.reset();
             p.whole = true;
@@ -250,11 +254,13 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
         }
         if (!p.record)
             p.record.emplace();
-        if (w.record.empty())
-            m_codec.encode(w.coord, *w.chunk, *p.record);
-        else
+        if (w.record.empty()) {
+            p.record->clear();
+            encodes.add(w.coord, *w.chunk, *p.record);
+        } else {
             p.record->assign(w.record.begin(), w.record.end());
-        m_pending_bytes += p.record->size();
+            m_pending_bytes += p.record->size();
+        }
         if (w.edits.empty()) {
             p.whole = true;
             p.edits.clear();
@@ -262,6 +268,10 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
             p.edits.insert(p.edits.end(), w.edits.begin(), w.edits.end());
         }
     }
+    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
+    m_encoder.encode(jobs, m_codec);
+    for (const RecordBatchEncoder::Job& j : jobs)
+        m_pending_bytes += j.out->size();
     {
         std::lock_guard lock(m_health_mutex);
         m_health.pending_edits = pending_edits();

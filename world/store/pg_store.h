@@ -45,6 +45,7 @@
 
 #include "world/store/chunk_record.h"
 #include "world/store/chunk_store.h"
+#include "world/store/record_batch_encoder.h"
 
 struct pg_conn;
 
@@ -61,6 +62,9 @@ struct PgStoreCreateInfo {
     std::chrono::milliseconds max_pending_age{1000}; // tick() commits edits older than this.
     size_t max_pending_bytes = size_t(32) << 20;     // save() commits when the queue holds more.
     int zstd_level = 1;                              // 1..3.
+    // Threads encoding the chunks of a save() batch that come without records (the caller
+    // included; 0: the machine's hardware threads, at most 8; 1: the caller alone).
+    unsigned encode_threads = 0;
     int connect_timeout_s = 3;                       // Per connection attempt.
     // Chunk versions remembered (about 60 B each). Past this, versions of chunks with no queued
     // edit are forgotten down to half: a later commit of such a chunk costs one conflict round
@@ -134,6 +138,7 @@ private:
     pg_conn* m_conn = nullptr;
     bool m_schema_ready = false;
     RecordCodec m_codec;
+    RecordBatchEncoder m_encoder;
     std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> m_versions; // Last version seen.
     std::unordered_map<ChunkCoord, Pending, ChunkCoordHash> m_pending;
     std::map<std::string, std::string, std::less<>> m_pending_meta;

@@ -59,7 +59,8 @@ struct SqliteStore::Stmts {
     Stmt load, put, del, has, count, list, meta_get, meta_put, q_put, q_count;
 };
 
-SqliteStore::SqliteStore(SqliteStoreCreateInfo info) : m_info(std::move(info)), m_codec(m_info.zstd_level) {}
+SqliteStore::SqliteStore(SqliteStoreCreateInfo info) : m_info(std::move(info)), m_codec(m_info.zstd_level),
+      m_encoder(m_info.zstd_level, m_info.encode_threads) {}
 
 SqliteStore::~SqliteStore() {
     if (m_db && pending_edits() > 0) {
@@ -247,22 +248,31 @@ Status SqliteStore::save(std::span<const ChunkWrite> batch) {
         return Error{"store '" + m_info.path + "' is open read-only"};
     if (pending_edits() == 0 && !batch.empty())
         m_pending_since = Clock::now();
+    // Records the caller did not encode are encoded together afterwards, on several threads.
+    RecordBatchEncoder::Batch encodes;
     for (const ChunkWrite& w : batch) {
         auto [it, inserted] = m_pending.try_emplace(w.coord);
         if (!inserted && it->second)
             m_pending_bytes -= it->second->size();
+        encodes.supersede(w.coord);
         if (!w.chunk) {
             it->second.reset();
             continue;
         }
         if (!it->second)
             it->second.emplace();
-        if (w.record.empty())
-            m_codec.encode(w.coord, *w.chunk, *it->second);
-        else
+        if (w.record.empty()) {
+            it->second->clear();
+            encodes.add(w.coord, *w.chunk, *it->second);
+        } else {
             it->second->assign(w.record.begin(), w.record.end());
-        m_pending_bytes += it->second->size();
+            m_pending_bytes += it->second->size();
+        }
     }
+    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
+    m_encoder.encode(jobs, m_codec);
+    for (const RecordBatchEncoder::Job& j : jobs)
+        m_pending_bytes += j.out->size();
     if (m_pending_bytes > m_info.max_pending_bytes)
         return commit();
     return {};

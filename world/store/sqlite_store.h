@@ -18,6 +18,7 @@
 
 #include "world/store/chunk_record.h"
 #include "world/store/chunk_store.h"
+#include "world/store/record_batch_encoder.h"
 
 struct sqlite3;
 struct sqlite3_stmt;
@@ -31,6 +32,9 @@ struct SqliteStoreCreateInfo {
     std::chrono::milliseconds max_pending_age{1000}; // tick() commits edits older than this.
     size_t max_pending_bytes = size_t(32) << 20;    // save() commits when the queue holds more.
     int zstd_level = 1;                             // 1..3.
+    // Threads encoding the chunks of a save() batch that come without records (the caller
+    // included; 0: the machine's hardware threads, at most 8; 1: the caller alone).
+    unsigned encode_threads = 0;
     bool log_corrupt = true;                        // Log each corrupt record found (once).
 };
 
@@ -80,6 +84,7 @@ private:
     sqlite3* m_db = nullptr;
     std::unique_ptr<Stmts> m_stmts;
     RecordCodec m_codec;
+    RecordBatchEncoder m_encoder;
     // Queued edits: coordinate -> record bytes, or nullopt for an erase.
     std::unordered_map<ChunkCoord, std::optional<std::vector<uint8_t>>, ChunkCoordHash> m_pending;
     std::map<std::string, std::string, std::less<>> m_pending_meta;
