@@ -208,7 +208,8 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
                    float(std::max(settings.max_history, 1u))};
     push.params = {m_width, m_height, 1,
                    (m_history_valid ? gpu::kDenoiseHistoryValid : 0u) |
-                       (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u)};
+                       (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u) |
+                       (settings.history_clamp ? gpu::kDenoiseHistoryClamp : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
                    inputs.exposure, 0.f};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;

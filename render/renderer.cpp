@@ -577,7 +577,8 @@ static glm::dmat4 view_from_world(const Camera& cam, world::BlockPos origin) {
 static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
-           a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise;
+           a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise &&
+           a.history_clamp == b.history_clamp;
 }
 
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
@@ -605,6 +606,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
     DenoiseSettings ds;
     ds.iterations = s.denoise ? ds.iterations : 0;
     ds.max_history = std::max(s.accumulate, 1u);
+    ds.history_clamp = s.history_clamp;
     denoiser->record(cmd, in, ds);
     denoised_camera = cam;
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,

@@ -124,6 +124,9 @@ struct RenderSettings {
     // denoise restarts the history.
     bool denoise = false;
     uint32_t accumulate = 1;
+    // Clamp the temporal history so changed light leaves no ghost (DenoiseSettings::
+    // history_clamp); off: plain accumulation, for comparisons.
+    bool history_clamp = true;
 };
 
 // 8-bit RGBA pixels, row 0 at the top.

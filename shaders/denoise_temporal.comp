@@ -7,6 +7,17 @@
 // emission) gets the same running mean but no filter: the primary hit's guides say nothing about
 // it. Writes the accumulated illumination + a variance estimate for the a-trous passes, the
 // accumulated reflected part for the last pass, and the new history.
+//
+// History clamping (kDenoiseHistoryClamp): history that matches in normal and depth can still be
+// stale (a block placed nearby now shadows the pixel; a reflection moves across a mirror while
+// the mirror stays put), and SVGF would fade it out over max_history frames. A change of light
+// shows sooner in a neighbourhood's mean than in any one pixel, so when this frame's mean over
+// the 3x3 window (or a half of it: a pixel at a new shadow's edge has one on its side) leaves the
+// history's by 4.5 standard errors, the history is dropped as on a disocclusion, the test A-SVGF
+// makes with its temporal gradients (Schied et al. 2018). 4 dropped enough still pixels on noise
+// alone to cost 15% of an 8-frame accumulation's RMSE (tests/render/denoise_render_test.cpp);
+// 4.5 costs 9% and still catches a shadow's edge at 4 spp. The reflected part keeps its own
+// length and is clamped to this frame's neighbourhood (Karis 2014).
 
 #include "shared/denoise_types.h"
 
@@ -25,7 +36,7 @@ layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pa
 layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance m1, m2, own variance.
 layout(binding = 11, rgba16f) writeonly uniform image2D u_moments_out;
 layout(binding = 12, rgba16f) readonly uniform image2D u_reflected;   // Not filtered: see above.
-layout(binding = 13, rgba16f) readonly uniform image2D u_hist_refl_in;
+layout(binding = 13, rgba16f) readonly uniform image2D u_hist_refl_in; // rgb, a: its frames.
 layout(binding = 14, rgba16f) writeonly uniform image2D u_hist_refl_out;
 layout(binding = 15, rgba16f) writeonly uniform image2D u_refl_out;   // Accumulated, for the last pass.
 
@@ -89,6 +100,79 @@ bool history_matches(vec4 nd, vec4 hist_nd, float expected_distance) {
            abs(hist_nd.w - expected_distance) <= 0.02 * expected_distance + 1e-3;
 }
 
+// The reflected part's history clamped to the box (per channel min and max) of this frame's
+// reflected values in the 3x3 neighbourhood on the same surface (Karis, "High Quality Temporal
+// Supersampling", SIGGRAPH 2014): reflections move over a mirror that stays put, so history that
+// matched the mirror can hold what the mirror showed before.
+vec3 clamp_to_neighbourhood(vec3 history, ivec2 p, ivec2 size, vec4 nd) {
+    vec3 lo = vec3(1e30), hi = vec3(-1e30);
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+            const vec4 nq = imageLoad(u_normal_depth, q);
+            if (!has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9 || abs(nq.w - nd.w) > 0.05 * nd.w)
+                continue;
+            const vec3 r = imageLoad(u_reflected, q).rgb;
+            lo = min(lo, r);
+            hi = max(hi, r);
+        }
+    return clamp(history, lo, hi); // The centre always counts: lo <= hi.
+}
+
+// How far this frame's illumination has moved from the history, pooled over the neighbourhood
+// on the same surface (the history read around the reprojected pixel `q`): one frame's evidence
+// that the light changed, pooled as A-SVGF pools its temporal gradients (Schied et al. 2018), so
+// a change of a few noise deviations shows within a frame. The largest of the 3x3 window's and
+// its four halves' gaps in standard errors: a pixel at the edge of a new shadow has a half on its
+// side. One frame's variance is the larger of `now` (the pixel's) and the spread of this frame's
+// values in the window or half (noise, detail and the jittered footprint alike: conservative);
+// the history's is `before` over its `frames` frames.
+float pooled_gap(ivec2 p, ivec2 q, ivec2 size, vec4 nd, float now, float before, float frames) {
+    // A surface seen at a slant changes distance fast from pixel to pixel: neighbours count when
+    // they continue the pixel's plane (distance within 5% plus 0.75 of the local gradient).
+    const float gx = abs(imageLoad(u_normal_depth, min(p + ivec2(1, 0), size - 1)).w -
+                         imageLoad(u_normal_depth, max(p - ivec2(1, 0), ivec2(0))).w);
+    const float gy = abs(imageLoad(u_normal_depth, min(p + ivec2(0, 1), size - 1)).w -
+                         imageLoad(u_normal_depth, max(p - ivec2(0, 1), ivec2(0))).w);
+    const float tolerance = 0.05 * nd.w + 0.75 * max(gx, gy);
+    // Sums of (current - history), current, current^2 and counts: the whole window, then left,
+    // right, top, bottom.
+    float diff[5] = float[](0, 0, 0, 0, 0), m1[5] = float[](0, 0, 0, 0, 0), m2[5] = float[](0, 0, 0, 0, 0);
+    float n[5] = float[](0, 0, 0, 0, 0);
+    float level = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const ivec2 pp = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+            const ivec2 qc = clamp(q + ivec2(dx, dy), ivec2(0), size - 1);
+            const vec4 np = imageLoad(u_normal_depth, pp), nq = imageLoad(u_hist_nd_in, qc);
+            if (!has_surface(np) || dot(np.xyz, nd.xyz) < 0.9 || abs(np.w - nd.w) > tolerance ||
+                !has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9)
+                continue;
+            const float h = luminance(imageLoad(u_hist_in, qc).rgb);
+            const float c = luminance(illumination(pp));
+            level = max(level, h);
+            const bool in_half[5] = bool[](true, dx <= 0, dx >= 0, dy <= 0, dy >= 0);
+            for (int i = 0; i < 5; ++i)
+                if (in_half[i]) {
+                    diff[i] += c - h;
+                    m1[i] += c;
+                    m2[i] += c * c;
+                    n[i] += 1;
+                }
+        }
+    // The floor keeps noise-free input (variance 0) from resetting on half-float rounding.
+    const float floor_ = 2e-3 * level + 1e-4;
+    float z = 0;
+    for (int i = 0; i < 5; ++i) { // The centre always counts (it matched): n[i] >= 1.
+        if (i > 0 && n[i] < 4.0)
+            continue;
+        const float spread = max(m2[i] / n[i] - (m1[i] / n[i]) * (m1[i] / n[i]), 0.0);
+        const float variance = max(now, spread) + before / frames;
+        z = max(z, abs(diff[i] / n[i]) / (sqrt(variance / n[i]) + floor_));
+    }
+    return z;
+}
+
 void main() {
     const ivec2 size = ivec2(pc.params.xy);
     const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -109,7 +193,9 @@ void main() {
     const vec3 illum = illumination(p);
     float frames = 0;
     vec3 history = vec3(0), history_reflected = vec3(0);
-    vec3 moments = vec3(0);
+    vec4 moments = vec4(0);
+    float reflected_frames = 0;
+    ivec2 history_pixel = ivec2(-1);
     if ((pc.params.w & kDenoiseHistoryValid) != 0) {
         const vec2 centre = vec2(p) + 0.5;
         const float depth = nd.w / ray_scale(centre);
@@ -122,17 +208,36 @@ void main() {
                 const vec4 h = imageLoad(u_hist_in, q);
                 history = h.rgb;
                 frames = h.a;
-                moments = imageLoad(u_moments_in, q).xyz;
-                history_reflected = imageLoad(u_hist_refl_in, q).rgb;
+                moments = imageLoad(u_moments_in, q);
+                const vec4 hr = imageLoad(u_hist_refl_in, q);
+                history_reflected = hr.rgb;
+                reflected_frames = hr.a;
+                history_pixel = q;
             }
         }
     }
-    frames = min(frames + 1, max(pc.sigmas.w, 1.0));
-    const vec3 accumulated = mix(history, illum, 1.0 / frames);
+    const float max_frames = max(pc.sigmas.w, 1.0);
     const float lum = luminance(illum);
     const float own = own_variance(p, size, nd);
-    moments = mix(moments, vec3(lum, lum * lum, own), 1.0 / frames);
-    const vec3 reflected = mix(history_reflected, imageLoad(u_reflected, p).rgb, 1.0 / frames);
+    // One frame's luminance variance for the clamp: now, the pixels' own from this frame's light
+    // samples (pooled_gap also takes the window's spread); in the history, its temporal variance
+    // (SVGF's moments, from 2 frames on), else the pixels' own. Unknown (1 sample): the
+    // temporal one, or no clamp before 2 frames.
+    const float temporal_variance = frames >= 2.0 ? max(moments.y - moments.x * moments.x, 0.0) : -1.0;
+    const float variance_before = temporal_variance >= 0.0 ? temporal_variance : own;
+    const float variance_now = own >= 0.0 ? own : temporal_variance;
+    const float pooled = (pc.params.w & kDenoiseHistoryClamp) != 0 && frames > 0.0 && variance_now >= 0.0
+                             ? pooled_gap(p, history_pixel, size, nd, variance_now, variance_before, frames)
+                             : 0.0;
+    if (pooled > 4.5)
+        frames = 0; // Stale: start again from this frame, as after a disocclusion.
+    const vec3 accumulated = mix(history, illum, 1.0 / min(frames + 1, max_frames));
+    if ((pc.params.w & kDenoiseHistoryClamp) != 0 && reflected_frames > 0.0)
+        history_reflected = clamp_to_neighbourhood(history_reflected, p, size, nd);
+    reflected_frames = min(reflected_frames + 1, max_frames);
+    const vec3 reflected = mix(history_reflected, imageLoad(u_reflected, p).rgb, 1.0 / reflected_frames);
+    frames = min(frames + 1, max_frames);
+    moments.xyz = mix(moments.xyz, vec3(lum, lum * lum, own), 1.0 / frames);
     // Variance of one frame's estimate: the pixels' own from their light samples
     // (render/gbuffer.h; the sample counts are the same in every frame of the history, so it is
     // averaged over it); unknown (1 sample): from the temporal moments once 4 frames are in
@@ -142,8 +247,8 @@ void main() {
         sample_variance = frames >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0)
                                         : spatial_variance(p, size, nd);
     imageStore(u_hist_out, p, vec4(accumulated, frames));
-    imageStore(u_moments_out, p, vec4(moments, 0));
-    imageStore(u_hist_refl_out, p, vec4(reflected, 0));
+    imageStore(u_moments_out, p, vec4(moments.xyz, 0));
+    imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
     imageStore(u_refl_out, p, vec4(reflected, 0));
     imageStore(u_filter_out, p, vec4(accumulated, sample_variance / frames));
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.

@@ -158,16 +158,19 @@ TEST_F(DenoiserTest, ReflectedPartIsNotBlurred) {
 
 TEST_F(DenoiserTest, AccumulationOfAStillCameraLowersTheErrorFurther) {
     const GBuffer g = make_scene();
-    Denoiser denoiser(*m_ctx, kW, kH);
-    DenoiseSettings s;
-    s.max_history = 16;
-    const ImageF first = denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 100), g.albedo, g.normal_depth, s);
-    ImageF last = first;
-    for (uint32_t frame = 1; frame < 8; ++frame)
-        last = denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 100 + frame), g.albedo, g.normal_depth, s);
-    std::printf("denoiser 1 spp, still camera: RMSE frame 1 %.4f, frame 8 %.4f\n", rmse(first, g.reference),
-                rmse(last, g.reference));
-    EXPECT_LT(rmse(last, g.reference), 0.7 * rmse(first, g.reference));
+    for (bool clamp : {false, true}) {
+        Denoiser denoiser(*m_ctx, kW, kH);
+        DenoiseSettings s;
+        s.max_history = 16;
+        s.history_clamp = clamp;
+        const ImageF first = denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 100), g.albedo, g.normal_depth, s);
+        ImageF last = first;
+        for (uint32_t frame = 1; frame < 8; ++frame)
+            last = denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 100 + frame), g.albedo, g.normal_depth, s);
+        std::printf("denoiser 1 spp, still camera, history clamp %s: RMSE frame 1 %.4f, frame 8 %.4f\n",
+                    clamp ? "on" : "off", rmse(first, g.reference), rmse(last, g.reference));
+        EXPECT_LT(rmse(last, g.reference), 0.7 * rmse(first, g.reference)) << "history clamp " << clamp;
+    }
 }
 
 TEST_F(DenoiserTest, ChangedBlocksDropTheirHistory) {
@@ -190,6 +193,111 @@ TEST_F(DenoiserTest, ChangedBlocksDropTheirHistory) {
             for (int c = 0; c < 3; ++c)
                 worst = std::max(worst, double(std::abs(out.at(x, y)[c] - after.reference.at(x, y)[c])));
     EXPECT_LT(worst, 0.03);
+}
+
+// RMSE over columns [x0, x1) of the surface rows.
+double region_rmse(const ImageF& a, const ImageF& b, uint32_t x0, uint32_t x1) {
+    double sum = 0;
+    size_t n = 0;
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = x0; x < x1; ++x)
+            for (int c = 0; c < 3; ++c, ++n)
+                sum += std::pow(double(a.at(x, y)[c]) - double(b.at(x, y)[c]), 2.0);
+    return std::sqrt(sum / double(n));
+}
+
+// An edit that shadows part of the floor changes its light but not its normal or depth, so the
+// history matches and only the clamp can tell it is stale. Ghost: the frames after the change
+// whose error in the shadowed part exceeds 1.25x that of a denoiser that never saw the old light
+// (the same noisy frames from a fresh start), the best any history can do.
+TEST_F(DenoiserTest, ChangedLightLeavesNoGhostWithTheHistoryClamp) {
+    const GBuffer before = make_scene();
+    GBuffer after = before;
+    constexpr uint32_t kShadowTo = 16; // Floor columns 0..15 fall into shadow: a quarter of the light.
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kShadowTo; ++x)
+            for (int c = 0; c < 3; ++c) {
+                after.reference.at(x, y)[c] *= 0.25f;
+                after.illumination.at(x, y)[c] *= 0.25f;
+            }
+    constexpr int kWarm = 16, kAfter = 10;
+    auto run_after = [&](Denoiser& d, const DenoiseSettings& s) {
+        std::vector<double> errors;
+        for (int k = 0; k < kAfter; ++k) {
+            const ImageF out = denoise_on_host(*m_ctx, d, noisy(after, 4, 5000 + k), after.albedo, after.normal_depth, s);
+            errors.push_back(region_rmse(out, after.reference, 0, kShadowTo));
+        }
+        return errors;
+    };
+    DenoiseSettings s;
+    Denoiser fresh_denoiser(*m_ctx, kW, kH);
+    const std::vector<double> fresh = run_after(fresh_denoiser, s);
+    double still_error[2] = {};
+    int ghost[2] = {};
+    for (bool clamp : {false, true}) {
+        s.history_clamp = clamp;
+        Denoiser d(*m_ctx, kW, kH);
+        ImageF still;
+        for (int f = 0; f < kWarm; ++f)
+            still = denoise_on_host(*m_ctx, d, noisy(before, 4, 100 + f), before.albedo, before.normal_depth, s);
+        still_error[clamp] = rmse(still, before.reference);
+        const std::vector<double> errors = run_after(d, s);
+        int last_bad = -1;
+        for (int k = 0; k < kAfter; ++k)
+            if (errors[size_t(k)] > 1.25 * fresh[size_t(k)] + 0.002)
+                last_bad = k;
+        ghost[clamp] = last_bad + 1;
+        std::printf("history clamp %s: still RMSE %.4f; shadowed part after the change:", clamp ? "on " : "off",
+                    still_error[clamp]);
+        for (int k = 0; k < kAfter; ++k)
+            std::printf(" %.4f/%.4f", errors[size_t(k)], fresh[size_t(k)]);
+        std::printf(" (ours/fresh); ghost %d frames\n", ghost[clamp]);
+    }
+    EXPECT_GT(ghost[0], 4) << "without the clamp the old light should linger (else this test shows nothing)";
+    EXPECT_LE(ghost[1], 4);
+    // Still camera: the clamp costs little of accumulation's gain.
+    EXPECT_LT(still_error[1], 1.15 * still_error[0]);
+}
+
+// A reflection moves over a mirror that stays put (the camera or the reflected block moved): the
+// mirror's history matches, so without the clamp the old reflection fades over max_history frames.
+TEST_F(DenoiserTest, MovedReflectionLeavesNoGhostWithTheHistoryClamp) {
+    const GBuffer g = make_scene();
+    auto stripe = [&](uint32_t from) { // A bright reflected stripe 3 columns wide, on the floor.
+        ImageF r = ImageF::make(kW, kH);
+        for (uint32_t y = kSkyRows; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x)
+                for (int c = 0; c < 3; ++c)
+                    r.at(x, y)[c] = x >= from && x < from + 3 ? 1.f : 0.1f;
+        return r;
+    };
+    const ImageF before = stripe(4), after = stripe(12);
+    auto with = [&](const ImageF& reflected) {
+        ImageF in = g.reference;
+        for (size_t i = 0; i < in.rgba.size(); ++i)
+            if (i % 4 != 3)
+                in.rgba[i] += reflected.rgba[i];
+        return in;
+    };
+    double stale[2] = {};
+    for (bool clamp : {false, true}) {
+        DenoiseSettings s;
+        s.history_clamp = clamp;
+        Denoiser d(*m_ctx, kW, kH);
+        for (int f = 0; f < 12; ++f)
+            denoise_on_host(*m_ctx, d, with(before), g.albedo, g.normal_depth, s, glm::mat4(1.f), 60.f, &before);
+        const ImageF out = denoise_on_host(*m_ctx, d, with(after), g.albedo, g.normal_depth, s, glm::mat4(1.f), 60.f,
+                                           &after);
+        ImageF expected = with(after);
+        for (uint32_t y = kSkyRows; y < kH; ++y)
+            for (uint32_t x = 4; x < 7; ++x) // Where the stripe was.
+                for (int c = 0; c < 3; ++c)
+                    stale[clamp] = std::max(stale[clamp], double(std::abs(out.at(x, y)[c] - expected.at(x, y)[c])));
+        std::printf("moved reflection, history clamp %s: largest error where it was %.4f\n", clamp ? "on" : "off",
+                    stale[clamp]);
+    }
+    EXPECT_GT(stale[0], 0.5) << "without the clamp the old reflection should remain (else this shows nothing)";
+    EXPECT_LT(stale[1], 0.03);
 }
 
 TEST(DenoiserReprojection, StillCameraIsIdentityAndMovedCameraShiftsPixels) {
