@@ -15,17 +15,6 @@ namespace {
 constexpr int kHalf = kChunkSize / 2; // Cells per octant edge.
 constexpr uint16_t kNoVote = 0xFFFF;
 
-// Palette indices of a non-uniform chunk, one per block in local-index order.
-void unpack_indices(const ChunkPalette& pal, uint16_t* out) {
-    if (pal.indices.bits() <= 8) {
-        auto bytes = std::make_unique<uint8_t[]>(kChunkVolume);
-        mesher_detail::unpack_rows8(pal.indices, 0, kChunkSize * kChunkSize, bytes.get());
-        std::copy_n(bytes.get(), kChunkVolume, out);
-    } else {
-        mesher_detail::unpack_rows16(pal.indices, 0, kChunkSize * kChunkSize, out);
-    }
-}
-
 // The winner among up to 4 votes (palette entries): most votes, ties to the smaller block id.
 uint16_t elect(const uint16_t* votes, int n, const std::vector<BlockId>& ids) {
     uint16_t best = kNoVote;
@@ -42,6 +31,37 @@ uint16_t elect(const uint16_t* votes, int n, const std::vector<BlockId>& ids) {
     return best;
 }
 
+// Cells of one octant from the unpacked palette indices `idx` of the child.
+template <class Index>
+void vote_octant(const Index* idx, const uint8_t* air, const std::vector<BlockId>& ids, LocalPos base, BlockId* out) {
+    for (int z = 0; z < kHalf; ++z)
+        for (int y = 0; y < kHalf; ++y) {
+            BlockId* row = out + local_index(base.x, base.y + y, base.z + z);
+            // The 4 rows of sub-cells under this row of cells: lower and upper, at 2z and 2z + 1.
+            const Index* lo0 = idx + local_index(0, 2 * y, 2 * z);
+            const Index* hi0 = lo0 + kChunkSize;
+            const Index* lo1 = lo0 + kChunkSize * kChunkSize;
+            const Index* hi1 = lo1 + kChunkSize;
+            // The topmost non-air sub-cell of a sub-column (its lower one, air or not, when the
+            // upper is air).
+            auto top = [&](const Index* lo, const Index* hi, int x) { return uint16_t(air[hi[x]] ? lo[x] : hi[x]); };
+            for (int x = 0; x < kHalf; ++x) {
+                const uint16_t t[4] = {top(lo0, hi0, 2 * x), top(lo0, hi0, 2 * x + 1), top(lo1, hi1, 2 * x),
+                                       top(lo1, hi1, 2 * x + 1)};
+                if (t[0] == t[1] && t[0] == t[2] && t[0] == t[3]) {
+                    row[x] = ids[t[0]]; // Unanimous (air too): inside the ground, the sky, flat ground.
+                    continue;
+                }
+                uint16_t votes[4];
+                int n = 0;
+                for (uint16_t v : t)
+                    if (!air[v])
+                        votes[n++] = v;
+                row[x] = n == 0 ? kAir : ids[elect(votes, n, ids)];
+            }
+        }
+}
+
 } // namespace
 
 void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out) {
@@ -55,30 +75,19 @@ void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out) {
                 std::fill_n(out.begin() + local_index(base.x, base.y + y, base.z + z), kHalf, child.uniform_id());
         return;
     }
-    auto idx = std::make_unique<uint16_t[]>(kChunkVolume);
-    unpack_indices(*pal, idx.get());
     std::vector<uint8_t> air(pal->ids.size());
     for (size_t e = 0; e < air.size(); ++e)
         air[e] = pal->ids[e] == kAir;
-    for (int z = 0; z < kHalf; ++z)
-        for (int y = 0; y < kHalf; ++y) {
-            BlockId* row = out.data() + local_index(base.x, base.y + y, base.z + z);
-            for (int x = 0; x < kHalf; ++x) {
-                uint16_t votes[4];
-                int n = 0;
-                for (int dz = 0; dz < 2; ++dz)
-                    for (int dx = 0; dx < 2; ++dx) {
-                        const uint16_t lo = idx[local_index(2 * x + dx, 2 * y, 2 * z + dz)];
-                        const uint16_t hi = idx[local_index(2 * x + dx, 2 * y + 1, 2 * z + dz)];
-                        // The topmost non-air sub-cell of this sub-column, if any.
-                        if (!air[hi])
-                            votes[n++] = hi;
-                        else if (!air[lo])
-                            votes[n++] = lo;
-                    }
-                row[x] = n == 0 ? kAir : pal->ids[elect(votes, n, pal->ids)];
-            }
-        }
+    // Palette indices unpacked once, a byte each when they fit (most chunks hold < 256 ids).
+    if (pal->indices.bits() <= 8) {
+        auto idx = std::make_unique<uint8_t[]>(kChunkVolume);
+        mesher_detail::unpack_rows8(pal->indices, 0, kChunkSize * kChunkSize, idx.get());
+        vote_octant(idx.get(), air.data(), pal->ids, base, out.data());
+    } else {
+        auto idx = std::make_unique<uint16_t[]>(kChunkVolume);
+        mesher_detail::unpack_rows16(pal->indices, 0, kChunkSize * kChunkSize, idx.get());
+        vote_octant(idx.get(), air.data(), pal->ids, base, out.data());
+    }
 }
 
 Chunk downsample(std::span<const Chunk* const, kLodChildren> children) {
