@@ -369,6 +369,54 @@ TEST(Downsample, TerrainSurfaceKeepsItsBlocks) {
     }
 }
 
+// Edits climb the levels through refresh_octant(), stopping at the first level that did not
+// change; after every edit the chain equals one rebuilt from scratch.
+TEST(Downsample, EditsClimbAndStopWhereNothingChanged) {
+    const TerrainGenerator gen(kSeed);
+    const LodCoord top{2, ChunkCoord(0, 0, 1)};
+    std::vector<Chunk> l0(64), l1(8);
+    auto child0 = [](int i1, int o) { return size_t(i1 * 8 + o); }; // Level-0 chunk o of level-1 chunk i1.
+    for (int i1 = 0; i1 < 8; ++i1)
+        for (int o = 0; o < 8; ++o)
+            l0[child0(i1, o)] = gen.generate(lod_child(lod_child(top, i1), o).chunk);
+    auto rebuild1 = [&](int i1) {
+        std::array<const Chunk*, kLodChildren> p;
+        for (int o = 0; o < 8; ++o)
+            p[size_t(o)] = &l0[child0(i1, o)];
+        return downsample(p);
+    };
+    auto rebuild2 = [&]() {
+        std::array<const Chunk*, kLodChildren> p;
+        for (int i = 0; i < 8; ++i)
+            p[size_t(i)] = &l1[size_t(i)];
+        return downsample(p);
+    };
+    for (int i1 = 0; i1 < 8; ++i1)
+        l1[size_t(i1)] = rebuild1(i1);
+    Chunk l2 = rebuild2();
+    std::mt19937 rng(21);
+    std::uniform_int_distribution<int> pick(0, 63), local(0, kChunkSize - 1), block(0, 9);
+    int climbed[3] = {};
+    for (int t = 0; t < 200; ++t) {
+        const int i = pick(rng), i1 = i / 8, o = i % 8;
+        const BlockId b = BlockId(block(rng)); // Air, a terrain block or a feature (ids 0..9).
+        l0[size_t(i)].set(local(rng), local(rng), local(rng), b);
+        int reached = 0;
+        if (refresh_octant(l1[size_t(i1)], l0[size_t(i)], o)) {
+            reached = 1;
+            if (refresh_octant(l2, l1[size_t(i1)], i1))
+                reached = 2;
+        }
+        ++climbed[reached];
+        ASSERT_TRUE(l1[size_t(i1)] == rebuild1(i1)) << "edit " << t;
+        ASSERT_TRUE(l2 == rebuild2()) << "edit " << t;
+    }
+    std::printf("200 random edits: stopped at level 0: %d, level 1: %d, reached level 2: %d\n", climbed[0],
+                climbed[1], climbed[2]);
+    EXPECT_GT(climbed[0], 0); // Some edits change nothing coarser (a hidden block, a vote kept).
+    EXPECT_GT(climbed[2], 0); // Some reach the top (a block in the sky, a hole in a surface).
+}
+
 // ---- Generators and coarse levels ----
 
 // A generator that offers no coarse chunks and fails on one level-0 chunk (a game's generator
@@ -460,6 +508,10 @@ TEST(TerrainCoarse, OffersLevelsOneToSixAndIsPure) {
 
 struct Coverage {
     size_t cells = 0, exact_solid = 0, missing = 0, extra = 0, both = 0, same_id = 0;
+    // Cell columns whose ground surface (topmost solid cell) is higher in the direct chunk, and by
+    // how much at most.
+    size_t higher_tops = 0;
+    int max_top_raise = 0;
 };
 
 // Direct coarse chunk against the exact downsampling of generated blocks, cell by cell.
@@ -478,6 +530,22 @@ void compare(const TerrainGenerator& gen, LodCoord c, Coverage& cov) {
         cov.both += ds && es;
         cov.same_id += ds && es && d[i] == e[i];
     }
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int x = 0; x < kChunkSize; ++x) {
+            int dt = -1, et = -1; // Topmost solid cell in this chunk, -1 if none.
+            for (int y = 0; y < kChunkSize; ++y) {
+                const size_t i = size_t(local_index(x, y, z));
+                dt = d[i] != kAir ? y : dt;
+                et = e[i] != kAir ? y : et;
+            }
+            // Only where the ground surface is inside this chunk: direct cells above dt are air
+            // here and (heights and sea below the chunk's top) in the chunk above, so the exact
+            // ones are too.
+            if (dt < 0 || dt == kChunkSize - 1)
+                continue;
+            cov.higher_tops += dt > et;
+            cov.max_top_raise = std::max(cov.max_top_raise, dt - et);
+        }
 }
 
 // Random coarse chunks at levels 1..4 across lowlands, sea and mountains (x, z within ±4,096
@@ -494,7 +562,9 @@ TEST(TerrainCoarse, CoversExactDownsamplingOfGeneratedBlocks) {
         // Chunk y from the one holding y -60 to the one holding y 170 (sea floor to peaks).
         std::uniform_int_distribution<int> cy(int(-60 / span) - 1, int(170 / span));
         for (int t = 0; t < per_level[level]; ++t) {
-            const LodCoord c{level, ChunkCoord(int(xz(rng) / span), cy(rng), int(xz(rng) / span))};
+            // Chunk heights in turn, so that every level sees the surface and the ground below.
+            const int y = cy.a() + t % (cy.b() - cy.a() + 1);
+            const LodCoord c{level, ChunkCoord(int(xz(rng) / span), y, int(xz(rng) / span))};
             compare(gen, c, cov);
         }
         std::printf("level %d: %zu cells, %zu solid in exact, %zu missing, %zu extra (%.3f%% of exact solid), "
@@ -502,6 +572,8 @@ TEST(TerrainCoarse, CoversExactDownsamplingOfGeneratedBlocks) {
                     level, cov.cells, cov.exact_solid, cov.missing, cov.extra,
                     cov.exact_solid ? 100.0 * double(cov.extra) / double(cov.exact_solid) : 0.0,
                     cov.both ? 100.0 * double(cov.same_id) / double(cov.both) : 0.0, cov.both);
+        std::printf("level %d: %zu cell columns' top raised (caves opening at the surface), at most %d cells\n", level,
+                    cov.higher_tops, cov.max_top_raise);
         EXPECT_EQ(cov.missing, 0u) << "level " << level;
         EXPECT_GT(cov.exact_solid, 0u);
         EXPECT_GT(cov.same_id * 10, cov.both * 8) << "level " << level; // Ids mostly agree (see printout).
@@ -524,6 +596,7 @@ TEST(TerrainCoarse, ExactWithoutCaves) {
             compare(gen, {level, ChunkCoord(int(xz(rng) / span), cy(rng), int(xz(rng) / span))}, cov);
         EXPECT_EQ(cov.missing, 0u) << "level " << level;
         EXPECT_EQ(cov.extra, 0u) << "level " << level;
+        EXPECT_EQ(cov.higher_tops, 0u) << "level " << level;
     }
 }
 

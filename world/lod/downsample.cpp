@@ -104,6 +104,18 @@ Chunk downsample(std::span<const Chunk* const, kLodChildren> children) {
     return Chunk::from_dense(dense);
 }
 
+bool refresh_octant(Chunk& parent, const Chunk& child, int octant) {
+    VX_ASSERT(octant >= 0 && octant < kLodChildren);
+    std::vector<BlockId> before(kChunkVolume);
+    parent.to_dense(before);
+    std::vector<BlockId> after = before;
+    downsample_octant(child, octant, after);
+    if (after == before)
+        return false;
+    parent = Chunk::from_dense(after);
+    return true;
+}
+
 namespace {
 
 // Level 0 from try_generate(); a coarser level from generate_coarse() when `direct` and the

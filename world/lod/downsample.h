@@ -36,6 +36,12 @@ Chunk downsample(std::span<const Chunk* const, kLodChildren> children);
 // `out` holds kChunkVolume ids.
 void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out);
 
+// After `child` (child number `octant` of `parent`) changed: rewrites that octant of `parent`
+// and returns whether any of its cells changed. An edit climbs the levels while this returns
+// true: a level that did not change leaves every coarser one as it was (Voxy's rule). Costs
+// about one downsample_octant() and one Chunk::from_dense().
+bool refresh_octant(Chunk& parent, const Chunk& child, int octant);
+
 // The level-c.level chunk at c.chunk built from generated blocks: 8^level generate() calls
 // (try_generate(), so a game's generator that throws reaches the caller as the first error),
 // downsampled level by level, depth first (memory: 8 chunks per level). This is what an engine
