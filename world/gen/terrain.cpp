@@ -390,7 +390,7 @@ struct Ballot {
                 ++counts[i];
                 return;
             }
-        VX_DEBUG_ASSERT(n < 8);
+        VX_ASSERT(n < 8); // Once per new id, so cheap.
         ids[n] = id;
         counts[n++] = 1;
     }

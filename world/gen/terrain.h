@@ -25,7 +25,8 @@
 // downsampling the generated blocks, except that caves are not carved: a cell holding only
 // cave air (or a cave's lamps and crystals, which never rise above the surface) is solid. So
 // coarse ground never lies below fine ground, and lies less than one cell above the highest
-// block under each cell column, as with downsample(); only cave interiors are over-covered.
+// block under each cell column, as with downsample(), except over cave mouths, which coarse
+// chunks plug (there it is higher by the mouth's depth); cave interiors are solid.
 
 #include <cstdint>
 
@@ -51,7 +52,8 @@ struct TerrainParams {
     int lamp_rarity = 160;      // One cave-floor block in this many gets a lamp.
 };
 
-// Not thread-safe to construct; generate() and surface_height() are const and thread-safe.
+// Not thread-safe to construct; generate(), generate_coarse() and surface_height() are const
+// and thread-safe.
 class TerrainGenerator final : public ChunkGenerator {
 public:
     explicit TerrainGenerator(uint64_t seed, TerrainParams params = {});
