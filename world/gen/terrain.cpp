@@ -504,11 +504,13 @@ bool TerrainGenerator::generate_coarse(LodCoord c, Chunk& out) const {
             lo = std::min(lo, h);
             hi = std::max(hi, h);
         }
-    if (y0 > std::max(int64_t(std::floor(hi)), int64_t(p.sea_level))) {
+    // One block of margin: a bilinear height may round a hair above its samples, and only an
+    // air cell could break the guarantee (a solid one over air is merely over-coverage).
+    if (y0 > std::max(int64_t(std::floor(hi)) + 1, int64_t(p.sea_level))) {
         out = Chunk(kAir);
         return true;
     }
-    if (y1 < int64_t(std::floor(lo)) - p.soil_depth) {
+    if (y1 < int64_t(std::floor(lo)) - 1 - p.soil_depth) {
         out = Chunk(m_ids.stone);
         return true;
     }
