@@ -581,6 +581,34 @@ TEST(TerrainCoarse, CoversExactDownsamplingOfGeneratedBlocks) {
     }
 }
 
+// Direct chunks agree across levels: a level-k chunk has exactly the solid cells of the
+// downsampling of its 8 direct level-(k-1) children (both are "some column reaches the cell, or
+// the sea does"), so direct chunks and chunks re-derived after edits mix without gaps, and
+// levels 5 and 6 inherit the coverage tested above at level 4.
+TEST(TerrainCoarse, LevelsAgreeWithDownsampledFinerLevels) {
+    const TerrainGenerator gen(kSeed);
+    const LodCoord coords[] = {{2, ChunkCoord(-3, 0, 5)}, {3, ChunkCoord(1, 0, -2)}, {4, ChunkCoord(2, 0, -1)},
+                               {5, ChunkCoord(-1, 0, 0)}, {6, ChunkCoord(0, 0, -1)}};
+    for (const LodCoord& c : coords) {
+        Chunk direct;
+        std::array<Chunk, kLodChildren> kids;
+        ASSERT_TRUE(gen.generate_coarse(c, direct));
+        for (int i = 0; i < kLodChildren; ++i)
+            ASSERT_TRUE(gen.generate_coarse(lod_child(c, i), kids[size_t(i)]));
+        const auto d = dense_of(direct), e = dense_of(downsample(pointers(kids)));
+        size_t differ = 0, solid = 0, same_id = 0;
+        for (size_t i = 0; i < d.size(); ++i) {
+            differ += (d[i] != kAir) != (e[i] != kAir);
+            solid += d[i] != kAir;
+            same_id += d[i] != kAir && d[i] == e[i];
+        }
+        EXPECT_EQ(differ, 0u) << "level " << c.level;
+        EXPECT_GT(solid, 0u) << "level " << c.level;
+        EXPECT_LT(solid, size_t(kChunkVolume)) << "level " << c.level; // The surface is in it.
+        EXPECT_GT(same_id * 10, solid * 8) << "level " << c.level;
+    }
+}
+
 // Without caves (cave radius 0: nothing carved, no lamps or crystals) the direct chunk's solid
 // cells are exactly those of the downsampled blocks: the height bound is exact, not a margin.
 TEST(TerrainCoarse, ExactWithoutCaves) {
