@@ -27,8 +27,8 @@ public:
     // Thread-safe. Levels of detail (world/lod/): writes the level-c.level chunk at c.chunk
     // (1 <= c.level <= kMaxLodLevel) to `out` without generating the blocks under it and returns
     // true, or returns false (the default) when this generator does not offer coarse chunks (or
-    // not this one). Then the engine builds it with downsample_generated(): 8^k generate() calls
-    // for a level-k chunk (512 at level 3, 4,096 at level 4, each ~80 µs for terrain). An
+    // not this one). Then generate_lod() (world/lod/downsample.h) builds it from its children,
+    // down to 8^k generate() calls for a level-k chunk (512 at level 3, 4,096 at level 4). An
     // implementation keeps downsample()'s guarantee: a cell is non-air if any block under it
     // would be (it may add cells, never drop one), so coarse ground never lets a ray through.
     virtual bool generate_coarse(LodCoord c, Chunk& out) const {

@@ -10,9 +10,10 @@
 //   - The id: each of the 4 sub-columns votes for its topmost non-air sub-cell; the id with the
 //     most votes wins, ties going to the smaller id. A surface is what is seen from above, so a
 //     hillside keeps its grass (the dirt under a grass block never outvotes it, however many dirt
-//     blocks the cell holds), and a beach cell half water, half sand stays one of the two. Cubyz
-//     weighs exposure instead and Distant Horizons takes the most frequent id per slice; both
-//     turn thin surface layers into what lies beneath when the layer is in the minority.
+//     blocks the cell holds), and a beach cell half water, half sand stays one of the two. The
+//     most frequent id would turn a thin surface layer into what lies beneath it; Cubyz's most
+//     exposed sub-cell keeps surfaces too but reads neighbours across chunk borders, while the
+//     vote needs only the 8 sub-cells.
 //
 // Cost: the work is on palette indices (one unpack per child, a table says which entries are
 // air), ids are looked up once per output cell; a uniform child fills its octant without reading
