@@ -47,6 +47,11 @@ namespace vx {
 // One log line names the chunk and what() (LogLevel::Error); Stats::chunks_generate_failed and
 // generate_failures count it. The chunk is generated again after 1 s, then 2, 4, ... up to 60 s
 // of update() time while it stays within the loaded radius; settled() does not wait for it.
+// Levels of detail (issue 16, in progress): the world layer can build coarse chunks (cells of
+// 2^k blocks) from generated blocks, 8^k generate() calls per level-k chunk; the built-in
+// terrain makes them directly. An optional coarse hook here (world::ChunkGenerator::
+// generate_coarse() is the model) is planned with the engine's LOD streaming; without it,
+// coarse levels will cost those generate() calls.
 class Generator {
 public:
     virtual ~Generator() = default;

@@ -8,6 +8,7 @@
 #include "world/base/result.h"
 #include "world/chunk.h"
 #include "world/coords.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::world {
 
@@ -23,6 +24,18 @@ public:
     // `c`: a game's generator that threw (engine/world_setup.h). The streamer calls this one; the
     // built-in generators never fail.
     virtual Result<Chunk> try_generate(ChunkCoord c) const { return generate(c); }
+    // Thread-safe. Levels of detail (world/lod/): writes the level-c.level chunk at c.chunk
+    // (1 <= c.level <= kMaxLodLevel) to `out` without generating the blocks under it and returns
+    // true, or returns false (the default) when this generator does not offer coarse chunks (or
+    // not this one). Then generate_lod() (world/lod/downsample.h) builds it from its children,
+    // down to 8^k generate() calls for a level-k chunk (512 at level 3, 4,096 at level 4). An
+    // implementation keeps downsample()'s guarantee: a cell is non-air if any block under it
+    // would be (it may add cells, never drop one), so coarse ground never lets a ray through.
+    virtual bool generate_coarse(LodCoord c, Chunk& out) const {
+        (void)c;
+        (void)out;
+        return false;
+    }
 };
 
 } // namespace vx::world

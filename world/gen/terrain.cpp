@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "world/base/assert.h"
 #include "world/gen/noise.h"
@@ -35,6 +36,13 @@ inline int bilerp_floor(float h00, float h10, float h01, float h11, int fx, int 
     return int(std::floor(lerp(lerp(h00, h10, tx), lerp(h01, h11, tx), tz)));
 }
 inline int64_t floor_grid(int64_t v) { return v & ~int64_t(kGrid - 1); }
+
+// Bounds of the height field over all columns (each noise is within about [-1, 1]; 2 blocks of
+// margin): far above or deep below needs no noise at all.
+int64_t height_hi(const TerrainParams& p) {
+    return int64_t(p.base_height + p.hill_amplitude + p.mountain_amplitude) + 2;
+}
+int64_t height_lo(const TerrainParams& p) { return int64_t(float(p.base_height) - p.hill_amplitude) - 2; }
 
 BlockId must_find(const char* name) {
     const auto id = BlockRegistry::default_registry().find(name);
@@ -113,6 +121,19 @@ void TerrainGenerator::fill_grid(ChunkCoord c, Columns& cols) const {
     cols.grid_hmax = int(std::floor(hi));
 }
 
+// Beaches and sea floors are sand; high peaks are snow (the line jittered by -4..4 per column)
+// over bare rock; grass over dirt elsewhere.
+TerrainGenerator::SurfaceIds TerrainGenerator::surface_ids(int h, int64_t x, int64_t z) const {
+    const TerrainParams& p = m_params;
+    if (h <= p.sea_level + 1)
+        return {m_ids.sand, m_ids.sand};
+    // The jitter only matters within 4 blocks of the line: hash there alone.
+    const bool snow = h >= p.snow_line + 4 ||
+                      (h >= p.snow_line - 4 &&
+                       h >= p.snow_line + int(noise::hash_coords(m_seed ^ kSaltSnow, x, z) % 9) - 4);
+    return snow ? SurfaceIds{m_ids.snow, m_ids.stone} : SurfaceIds{m_ids.grass, m_ids.dirt};
+}
+
 void TerrainGenerator::fill_columns(ChunkCoord c, Columns& cols) const {
     const BlockPos o = chunk_origin(c);
     const auto& grid = cols.grid;
@@ -123,17 +144,9 @@ void TerrainGenerator::fill_columns(ChunkCoord c, Columns& cols) const {
             const int i = x / kGrid;
             const int h = bilerp_floor(grid[k][i], grid[k][i + 1], grid[k + 1][i], grid[k + 1][i + 1], x % kGrid, z % kGrid);
             cols.h[z][x] = h;
-            // Beaches and sea floors are sand; high peaks are snow over bare rock.
-            const int jitter = int(noise::hash_coords(m_seed ^ kSaltSnow, o.x + x, o.z + z) % 9) - 4;
-            if (h <= p.sea_level + 1) {
-                cols.top[z][x] = cols.under[z][x] = m_ids.sand;
-            } else if (h >= p.snow_line + jitter) {
-                cols.top[z][x] = m_ids.snow;
-                cols.under[z][x] = m_ids.stone;
-            } else {
-                cols.top[z][x] = m_ids.grass;
-                cols.under[z][x] = m_ids.dirt;
-            }
+            const SurfaceIds ids = surface_ids(h, o.x + x, o.z + z);
+            cols.top[z][x] = ids.top;
+            cols.under[z][x] = ids.under;
             // Keep a roof over caves near and under the sea so they do not open into the water.
             cols.carve_limit[z][x] = std::min(p.cave_top, h > p.sea_level + 3 ? h : h - 6);
         }
@@ -319,10 +332,7 @@ void TerrainGenerator::place_crystals(ChunkCoord c, const Columns& cols, const C
 Chunk TerrainGenerator::generate(ChunkCoord c) const {
     const TerrainParams& p = m_params;
     const int64_t y0 = chunk_origin(c).y, y1 = y0 + kChunkSize - 1;
-    // Bounds of the height field over all columns (each noise is within about [-1, 1]; 2 blocks
-    // of margin): far above or deep below needs no noise at all.
-    const int64_t h_hi = int64_t(p.base_height + p.hill_amplitude + p.mountain_amplitude) + 2;
-    const int64_t h_lo = int64_t(float(p.base_height) - p.hill_amplitude) - 2;
+    const int64_t h_hi = height_hi(p), h_lo = height_lo(p);
     if (y0 > std::max<int64_t>(h_hi, p.sea_level))
         return Chunk(kAir);
     if (y1 < p.cave_bottom && y1 < h_lo - p.soil_depth)
@@ -351,6 +361,167 @@ Chunk TerrainGenerator::generate(ChunkCoord c) const {
     if (caves)
         place_crystals(c, *cols, *cv, ids.get());
     return Chunk::from_dense(std::span<const BlockId>(ids.get(), kChunkVolume));
+}
+
+// ---- Levels of detail ----
+
+// Height samples every kGrid blocks over a coarse chunk's footprint, as generate() takes them.
+struct TerrainGenerator::CoarseGrid {
+    BlockPos origin{0};       // Of the coarse chunk.
+    int cell = 0;             // Cell edge, blocks.
+    int n = 0;                // Samples per edge.
+    std::vector<float> h;     // [k * n + i]: coarse_height(origin.x + kGrid * i, origin.z + kGrid * k).
+    // Per block column of the cell column at hand, reused: exact height and surface ids.
+    std::vector<int> col_h;
+    std::vector<SurfaceIds> col_ids;
+};
+
+namespace {
+
+// Votes of block columns for a cell's id: most votes, ties to the smaller id (downsample()'s
+// rule). The terrain votes for at most 6 ids (stone, dirt, grass, sand, snow, water).
+struct Ballot {
+    BlockId ids[8];
+    int counts[8];
+    int n = 0;
+    void vote(BlockId id) {
+        for (int i = 0; i < n; ++i)
+            if (ids[i] == id) {
+                ++counts[i];
+                return;
+            }
+        VX_ASSERT(n < 8); // Once per new id, so cheap.
+        ids[n] = id;
+        counts[n++] = 1;
+    }
+    BlockId winner() const {
+        BlockId best = kAir;
+        int best_count = 0;
+        for (int i = 0; i < n; ++i)
+            if (counts[i] > best_count || (counts[i] == best_count && ids[i] < best)) {
+                best = ids[i];
+                best_count = counts[i];
+            }
+        return best;
+    }
+};
+
+} // namespace
+
+// One cell column (cx, cz) of a coarse chunk: 32 cells written to dense[local_index(cx, y, cz)].
+void TerrainGenerator::coarse_column(CoarseGrid& g, int cx, int cz, BlockId* dense) const {
+    const TerrainParams& p = m_params;
+    const int s = g.cell;
+    const int64_t y0 = g.origin.y, y1 = y0 + int64_t(kChunkSize) * s - 1;
+    // Bounds from the samples the footprint interpolates between, one block of margin against
+    // rounding: cell columns far from this chunk's y range need no per-column work.
+    const int i0 = cx * s / kGrid, i1 = (cx * s + s - 1) / kGrid + 1;
+    const int k0 = cz * s / kGrid, k1 = (cz * s + s - 1) / kGrid + 1;
+    float lo = INFINITY, hi = -INFINITY;
+    for (int k = k0; k <= k1; ++k)
+        for (int i = i0; i <= i1; ++i) {
+            lo = std::min(lo, g.h[size_t(k) * size_t(g.n) + size_t(i)]);
+            hi = std::max(hi, g.h[size_t(k) * size_t(g.n) + size_t(i)]);
+        }
+    auto write_all = [&](BlockId id) {
+        for (int y = 0; y < kChunkSize; ++y)
+            dense[local_index(cx, y, cz)] = id;
+    };
+    if (y0 > std::max<int64_t>(int64_t(std::floor(hi)) + 1, p.sea_level))
+        return write_all(kAir);
+    if (y1 < int64_t(std::floor(lo)) - 1 - p.soil_depth)
+        return write_all(m_ids.stone);
+    // Exact column heights and surface ids, as fill_columns() computes them.
+    int hmin = INT32_MAX, hmax = INT32_MIN;
+    for (int dz = 0; dz < s; ++dz) {
+        const int lz = cz * s + dz, k = lz / kGrid;
+        for (int dx = 0; dx < s; ++dx) {
+            const int lx = cx * s + dx, i = lx / kGrid;
+            const float* r0 = &g.h[size_t(k) * size_t(g.n) + size_t(i)];
+            const float* r1 = r0 + g.n;
+            const int h = bilerp_floor(r0[0], r0[1], r1[0], r1[1], lx % kGrid, lz % kGrid);
+            const size_t j = size_t(dz) * size_t(s) + size_t(dx);
+            g.col_h[j] = h;
+            g.col_ids[j] = surface_ids(h, g.origin.x + lx, g.origin.z + lz);
+            hmin = std::min(hmin, h);
+            hmax = std::max(hmax, h);
+        }
+    }
+    for (int y = 0; y < kChunkSize; ++y) {
+        const int64_t ylo = y0 + int64_t(y) * s, yhi = ylo + s - 1;
+        BlockId id;
+        if (ylo > std::max(hmax, p.sea_level)) {
+            id = kAir;
+        } else if (yhi < int64_t(hmin) - p.soil_depth) {
+            id = m_ids.stone; // Below every column's soil (caves not carved).
+        } else if (ylo > hmax) {
+            id = m_ids.water; // Above every column, at or below the sea.
+        } else {
+            // Each block column votes for its topmost non-air block in the cell: terrain at yhi
+            // when the surface is higher, the water surface when the sea covers the column
+            // inside the cell, else the surface block when it is inside the cell.
+            Ballot ballot;
+            for (size_t j = 0; j < size_t(s) * size_t(s); ++j) {
+                const int h = g.col_h[j];
+                if (h >= yhi)
+                    ballot.vote(yhi == h ? g.col_ids[j].top
+                                         : yhi >= int64_t(h) - p.soil_depth ? g.col_ids[j].under : m_ids.stone);
+                else if (p.sea_level > h && p.sea_level >= ylo)
+                    ballot.vote(m_ids.water);
+                else if (h >= ylo)
+                    ballot.vote(g.col_ids[j].top);
+            }
+            id = ballot.winner();
+        }
+        dense[local_index(cx, y, cz)] = id;
+    }
+}
+
+bool TerrainGenerator::generate_coarse(LodCoord c, Chunk& out) const {
+    if (c.level < 1 || c.level > kMaxDirectLevel)
+        return false;
+    const TerrainParams& p = m_params;
+    CoarseGrid g;
+    g.origin = lod_origin(c);
+    g.cell = int(lod_cell_size(c.level));
+    const int64_t y0 = g.origin.y, y1 = y0 + lod_chunk_blocks(c.level) - 1;
+    // The early outs of generate(), with caves never carved.
+    if (y0 > std::max(height_hi(p), int64_t(p.sea_level))) {
+        out = Chunk(kAir);
+        return true;
+    }
+    if (y1 < height_lo(p) - p.soil_depth) {
+        out = Chunk(m_ids.stone);
+        return true;
+    }
+    g.n = int(lod_chunk_blocks(c.level) / kGrid) + 1;
+    g.h.resize(size_t(g.n) * size_t(g.n));
+    float lo = INFINITY, hi = -INFINITY;
+    for (int k = 0; k < g.n; ++k)
+        for (int i = 0; i < g.n; ++i) {
+            const float h = coarse_height(g.origin.x + kGrid * i, g.origin.z + kGrid * k);
+            g.h[size_t(k) * size_t(g.n) + size_t(i)] = h;
+            lo = std::min(lo, h);
+            hi = std::max(hi, h);
+        }
+    // One block of margin: a bilinear height may round a hair above its samples, and only an
+    // air cell could break the guarantee (a solid one over air is merely over-coverage).
+    if (y0 > std::max(int64_t(std::floor(hi)) + 1, int64_t(p.sea_level))) {
+        out = Chunk(kAir);
+        return true;
+    }
+    if (y1 < int64_t(std::floor(lo)) - 1 - p.soil_depth) {
+        out = Chunk(m_ids.stone);
+        return true;
+    }
+    g.col_h.resize(size_t(g.cell) * size_t(g.cell));
+    g.col_ids.resize(g.col_h.size());
+    std::unique_ptr<BlockId[]> ids(new BlockId[kChunkVolume]);
+    for (int cz = 0; cz < kChunkSize; ++cz)
+        for (int cx = 0; cx < kChunkSize; ++cx)
+            coarse_column(g, cx, cz, ids.get());
+    out = Chunk::from_dense(std::span<const BlockId>(ids.get(), kChunkVolume));
+    return true;
 }
 
 Chunk generate_terrain_chunk(uint64_t seed, ChunkCoord c) { return TerrainGenerator(seed).generate(c); }

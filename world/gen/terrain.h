@@ -17,6 +17,16 @@
 // the range of its samples, so a chunk entirely above the terrain and the sea, entirely under
 // water, or entirely below the surface soil with no cave sample under the threshold is returned
 // as a uniform chunk without touching its 32768 blocks.
+//
+// Levels of detail: generate_coarse() makes a level-k chunk (world/lod/) from the same height
+// samples without generating its blocks. The surface height is already the bilinear
+// interpolation of samples every 4 blocks, so the exact height of every column under a coarse
+// cell is cheap (no noise per column), and the coarse solid cells are exactly those of
+// downsampling the generated blocks, except that caves are not carved: a cell holding only
+// cave air (or a cave's lamps and crystals, which never rise above the surface) is solid. So
+// coarse ground never lies below fine ground, and lies less than one cell above the highest
+// block under each cell column, as with downsample(), except over cave mouths, which coarse
+// chunks plug (there it is higher by the mouth's depth); cave interiors are solid.
 
 #include <cstdint>
 
@@ -42,13 +52,23 @@ struct TerrainParams {
     int lamp_rarity = 160;      // One cave-floor block in this many gets a lamp.
 };
 
-// Not thread-safe to construct; generate() and surface_height() are const and thread-safe.
+// Not thread-safe to construct; generate(), generate_coarse() and surface_height() are const
+// and thread-safe.
 class TerrainGenerator final : public ChunkGenerator {
 public:
     explicit TerrainGenerator(uint64_t seed, TerrainParams params = {});
 
     // The chunk at `c`. Pure: equal inputs give equal chunks (operator==) on any thread.
     Chunk generate(ChunkCoord c) const override;
+
+    // Levels 1..kMaxDirectLevel: the level-c.level chunk at c.chunk, as described above; ids by
+    // downsample()'s vote (each block column under a cell votes for its topmost non-air block in
+    // the cell; most votes, ties to the smaller id), counted over block columns. Cost: the height
+    // noise every 4 blocks over the chunk's footprint ((8 * 2^k + 1)² samples) and one bilinear
+    // height per block column under cells near the surface ((32 * 2^k)² at most). Coarser
+    // levels return false (generate_lod() then builds them from 8 level-6 chunks each).
+    bool generate_coarse(LodCoord c, Chunk& out) const override;
+    static constexpr int kMaxDirectLevel = 6;
 
     // Surface height (world y of the topmost terrain block, before caves) of column (x, z).
     int surface_height(int64_t x, int64_t z) const;
@@ -65,7 +85,13 @@ public:
 private:
     struct Columns;
     struct Caves;
+    struct SurfaceIds {
+        BlockId top, under; // The surface block and the soil_depth blocks below it.
+    };
+    struct CoarseGrid;
     float coarse_height(int64_t x, int64_t z) const;
+    SurfaceIds surface_ids(int h, int64_t x, int64_t z) const;
+    void coarse_column(CoarseGrid& g, int cx, int cz, BlockId* dense) const;
     void fill_grid(ChunkCoord c, Columns& cols) const;
     void fill_columns(ChunkCoord c, Columns& cols) const;
     bool fill_caves(ChunkCoord c, int top_y, Caves& caves) const;

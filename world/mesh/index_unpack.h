@@ -1,6 +1,7 @@
 #pragma once
 // Palette indices to entry rows, and transposes: the greedy mesher's data movement. Internal to
-// vx_world (greedy mesher only). Not thread-safe: plain functions on caller data.
+// vx_world (the greedy mesher; LOD downsampling unpacks with it). Not thread-safe: plain
+// functions on caller data.
 //
 // A row is 32 consecutive blocks along x (local index r * 32 .. r * 32 + 31, r = z * 32 + y).
 // The transposed rows of a chunk hold the same blocks along y: row z * 32 + x, entry y.

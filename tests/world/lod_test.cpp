@@ -1,0 +1,633 @@
+// Levels of detail, world side (issue 16): coordinates, downsampling, direct coarse terrain.
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <unordered_set>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "world/gen/terrain.h"
+#include "world/lod/downsample.h"
+#include "world/lod/lod_coords.h"
+
+namespace vx::world {
+namespace {
+
+constexpr uint64_t kSeed = 42;
+
+std::vector<BlockId> dense_of(const Chunk& c) {
+    std::vector<BlockId> d(kChunkVolume);
+    c.to_dense(d);
+    return d;
+}
+
+std::array<const Chunk*, kLodChildren> pointers(const std::array<Chunk, kLodChildren>& kids) {
+    std::array<const Chunk*, kLodChildren> p;
+    for (size_t i = 0; i < p.size(); ++i)
+        p[i] = &kids[i];
+    return p;
+}
+
+// The id rule of downsample() written out plainly, straight from dense ids: each of the 4
+// sub-columns votes for its topmost non-air sub-cell; most votes win, ties to the smaller id.
+BlockId oracle_cell(const std::vector<BlockId>& child, int cx, int cy, int cz) {
+    std::vector<BlockId> votes;
+    for (int dz = 0; dz < 2; ++dz)
+        for (int dx = 0; dx < 2; ++dx)
+            for (int dy = 1; dy >= 0; --dy) {
+                const BlockId b = child[size_t(local_index(2 * cx + dx, 2 * cy + dy, 2 * cz + dz))];
+                if (b != kAir) {
+                    votes.push_back(b);
+                    break;
+                }
+            }
+    BlockId best = kAir;
+    long best_n = 0;
+    for (BlockId v : votes) {
+        const long n = std::count(votes.begin(), votes.end(), v);
+        if (n > best_n || (n == best_n && v < best)) {
+            best = v;
+            best_n = n;
+        }
+    }
+    return best;
+}
+
+// ---- Coordinates ----
+
+TEST(LodCoords, ParentChildOctantRoundTrip) {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> coord(-100000, 100000);
+    for (int t = 0; t < 2000; ++t) {
+        const int level = t % kMaxLodLevel; // 0..kMaxLodLevel-1: each has a parent.
+        const LodCoord c{level, ChunkCoord(coord(rng), coord(rng), coord(rng))};
+        const LodCoord parent = lod_parent(c);
+        EXPECT_EQ(parent.level, level + 1);
+        EXPECT_EQ(lod_child(parent, lod_octant(c)), c);
+        EXPECT_EQ(lod_ancestor(c, level + 1), parent);
+        EXPECT_EQ(lod_ancestor(c, level), c);
+        // The parent's box holds the child's, at the octant's offset.
+        const LodBlockBox pb = lod_block_box(parent), cb = lod_block_box(c);
+        const int o = lod_octant(c);
+        const BlockPos half(lod_chunk_blocks(level));
+        EXPECT_EQ(cb.min, pb.min + BlockPos(o & 1, (o >> 1) & 1, o >> 2) * half);
+        EXPECT_EQ(cb.max - cb.min, half - int64_t(1));
+        // Every child of c is a chunk whose parent is c.
+        if (level >= 1)
+            for (int i = 0; i < kLodChildren; ++i) {
+                EXPECT_EQ(lod_parent(lod_child(c, i)), c);
+                EXPECT_EQ(lod_octant(lod_child(c, i)), i);
+            }
+    }
+}
+
+TEST(LodCoords, BlocksMapToTheirChunkAndCell) {
+    std::mt19937 rng(8);
+    std::uniform_int_distribution<int64_t> coord(-(int64_t(1) << 34), int64_t(1) << 34);
+    for (int t = 0; t < 2000; ++t) {
+        const int level = t % (kMaxLodLevel + 1);
+        const BlockPos p(coord(rng), coord(rng), coord(rng));
+        const LodCoord c = lod_chunk_of(p, level);
+        const LodBlockBox box = lod_block_box(c);
+        ASSERT_TRUE(glm::all(glm::greaterThanEqual(p, box.min)) && glm::all(glm::lessThanEqual(p, box.max)));
+        // The cell's corner: origin + cell size * local cell, and the block lies inside that cell.
+        const LocalPos l = lod_local_of(p, level);
+        const BlockPos cell_min = lod_origin(c) + BlockPos(l) * lod_cell_size(level);
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, cell_min)) &&
+                    glm::all(glm::lessThan(p, cell_min + lod_cell_size(level))));
+        // Level 0 is the ordinary chunk grid.
+        if (level == 0) {
+            EXPECT_EQ(c.chunk, chunk_of(p));
+            EXPECT_EQ(l, local_of(p));
+        }
+    }
+    // Negative coordinates floor: block -1 is in chunk -1 at every level, in its last cell.
+    for (int level = 0; level <= kMaxLodLevel; ++level) {
+        EXPECT_EQ(lod_chunk_of(BlockPos(-1), level).chunk, ChunkCoord(-1));
+        EXPECT_EQ(lod_local_of(BlockPos(-1), level), LocalPos(kChunkSize - 1));
+    }
+    EXPECT_EQ(lod_cell_size(3), 8);
+    EXPECT_EQ(lod_chunk_blocks(4), 512);
+    EXPECT_EQ(lod_origin({2, ChunkCoord(-1, 0, 3)}), BlockPos(-128, 0, 384));
+}
+
+TEST(LodCoords, HashSeparatesLevelsAndNeighbours) {
+    std::unordered_set<LodCoord, LodCoordHash> seen;
+    for (int level = 0; level <= 4; ++level)
+        for (int z = -4; z < 4; ++z)
+            for (int y = -2; y < 2; ++y)
+                for (int x = -4; x < 4; ++x)
+                    seen.insert({level, ChunkCoord(x, y, z)});
+    EXPECT_EQ(seen.size(), size_t(5 * 8 * 4 * 8));
+    // Same chunk coordinate on two levels: different keys, and (for this hash) different hashes.
+    EXPECT_NE(LodCoordHash{}({0, ChunkCoord(1, 2, 3)}), LodCoordHash{}({1, ChunkCoord(1, 2, 3)}));
+}
+
+// ---- Downsampling ----
+
+TEST(Downsample, UniformChildrenShortcut) {
+    std::array<Chunk, kLodChildren> kids;
+    for (Chunk& k : kids)
+        k = Chunk(BlockId(3));
+    const Chunk all = downsample(pointers(kids));
+    ASSERT_TRUE(all.is_uniform());
+    EXPECT_EQ(all.uniform_id(), 3);
+    // Uniform children with different ids (air among them) fill their octants.
+    for (int i = 0; i < kLodChildren; ++i)
+        kids[size_t(i)] = Chunk(BlockId(i));
+    const Chunk mixed = downsample(pointers(kids));
+    EXPECT_FALSE(mixed.is_uniform());
+    for (int i = 0; i < kLodChildren; ++i) {
+        const LocalPos base = LocalPos(i & 1, (i >> 1) & 1, i >> 2) * (kChunkSize / 2);
+        EXPECT_EQ(mixed.get(base), BlockId(i));
+        EXPECT_EQ(mixed.get(base + LocalPos(kChunkSize / 2 - 1)), BlockId(i));
+    }
+}
+
+// A hillside: surface height rising 1 block per 2 along x, a grass block on top, 3 dirt under
+// it, stone below. Every topmost coarse cell of a cell column must be grass at levels 1..3,
+// though dirt outnumbers grass in the surface cells (3 dirt blocks under each grass block).
+TEST(Downsample, HillsideStaysGrass) {
+    constexpr BlockId kStone = 1, kDirt = 2, kGrass = 3;
+    std::vector<BlockId> ids(kChunkVolume, kAir);
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int x = 0; x < kChunkSize; ++x) {
+            const int h = 4 + x / 2 + z / 4;
+            for (int y = 0; y <= h && y < kChunkSize; ++y)
+                ids[size_t(local_index(x, y, z))] = y == h ? kGrass : y >= h - 3 ? kDirt : kStone;
+        }
+    // Level k from 8 copies of the level-(k-1) chunk (a periodic hillside is fine for the rule).
+    Chunk level = Chunk::from_dense(ids);
+    for (int k = 1; k <= 3; ++k) {
+        std::array<Chunk, kLodChildren> kids;
+        for (Chunk& c : kids)
+            c = level;
+        level = downsample(pointers(kids));
+        int tops = 0;
+        for (int z = 0; z < kChunkSize; ++z)
+            for (int x = 0; x < kChunkSize; ++x) {
+                int y = kChunkSize - 1;
+                while (y >= 0 && level.get(x, y, z) == kAir)
+                    --y;
+                // The upper octants hold the copies' tops (y 16..31); the lower ones are capped by
+                // the upper copies, so only the top of each column is checked.
+                ASSERT_GE(y, 0);
+                EXPECT_EQ(level.get(x, y, z), kGrass) << "level " << k << " column " << x << "," << z;
+                ++tops;
+            }
+        EXPECT_EQ(tops, kChunkSize * kChunkSize);
+    }
+}
+
+TEST(Downsample, VoteAndTieRules) {
+    constexpr BlockId kSand = 4, kWater = 5, kDirt = 2, kGrass = 3;
+    std::vector<BlockId> ids(kChunkVolume, kAir);
+    auto set = [&](int x, int y, int z, BlockId b) { ids[size_t(local_index(x, y, z))] = b; };
+    // Cell (0,0,0): two sub-columns water over sand, two sand alone: 2 water, 2 sand -> tie ->
+    // the smaller id (sand, 4).
+    set(0, 0, 0, kSand), set(0, 1, 0, kWater);
+    set(1, 0, 0, kSand), set(1, 1, 0, kWater);
+    set(0, 0, 1, kSand), set(1, 0, 1, kSand);
+    // Cell (1,0,0): one grass on top of a dirt column, three dirt-only lower blocks: grass 1,
+    // dirt 3 -> dirt (most votes; the rule counts columns, not blocks).
+    set(2, 0, 0, kDirt), set(2, 1, 0, kGrass);
+    set(3, 0, 0, kDirt), set(2, 0, 1, kDirt), set(3, 0, 1, kDirt);
+    // Cell (2,0,0): one block of grass at the bottom and nothing else: solid, grass.
+    set(4, 0, 0, kGrass);
+    // Cell (3,0,0): 4 columns, each with dirt on top of grass: dirt (the topmost wins).
+    for (int dz = 0; dz < 2; ++dz)
+        for (int dx = 0; dx < 2; ++dx)
+            set(6 + dx, 0, dz, kGrass), set(6 + dx, 1, dz, kDirt);
+    std::vector<BlockId> out(kChunkVolume, BlockId(999));
+    downsample_octant(Chunk::from_dense(ids), 0, out);
+    EXPECT_EQ(out[size_t(local_index(0, 0, 0))], kSand);
+    EXPECT_EQ(out[size_t(local_index(1, 0, 0))], kDirt);
+    EXPECT_EQ(out[size_t(local_index(2, 0, 0))], kGrass);
+    EXPECT_EQ(out[size_t(local_index(3, 0, 0))], kDirt);
+    EXPECT_EQ(out[size_t(local_index(4, 0, 0))], kAir);
+    // Only octant 0 (cells 0..15 on each axis) was written.
+    EXPECT_EQ(out[size_t(local_index(16, 0, 0))], BlockId(999));
+    EXPECT_EQ(out[size_t(local_index(15, 15, 15))], kAir);
+}
+
+// Random children of several densities and palette widths (up to 300 ids: 9-bit indices take
+// the 16-bit unpack path): each parent cell equals the oracle's, so it is solid exactly when a
+// sub-cell is, and its id is one present under it.
+TEST(Downsample, MatchesOracleOnRandomChunks) {
+    std::mt19937 rng(11);
+    struct Case {
+        double fill;
+        int types;
+    };
+    for (const Case cs : {Case{0.01, 3}, Case{0.3, 2}, Case{0.5, 12}, Case{0.9, 300}, Case{0.999, 5}}) {
+        std::array<Chunk, kLodChildren> kids;
+        std::array<std::vector<BlockId>, kLodChildren> dense;
+        std::bernoulli_distribution solid(cs.fill);
+        std::uniform_int_distribution<int> type(1, cs.types);
+        for (int i = 0; i < kLodChildren; ++i) {
+            dense[size_t(i)].resize(kChunkVolume);
+            for (BlockId& b : dense[size_t(i)])
+                b = solid(rng) ? BlockId(type(rng)) : kAir;
+            kids[size_t(i)] = Chunk::from_dense(dense[size_t(i)]);
+        }
+        if (cs.types == 300) {
+            ASSERT_GT(kids[0].palette()->indices.bits(), 8u);
+        }
+        const Chunk parent = downsample(pointers(kids));
+        int mismatches = 0;
+        for (int i = 0; i < kLodChildren; ++i) {
+            const LocalPos base = LocalPos(i & 1, (i >> 1) & 1, i >> 2) * (kChunkSize / 2);
+            for (int z = 0; z < kChunkSize / 2; ++z)
+                for (int y = 0; y < kChunkSize / 2; ++y)
+                    for (int x = 0; x < kChunkSize / 2; ++x)
+                        mismatches += parent.get(base + LocalPos(x, y, z)) != oracle_cell(dense[size_t(i)], x, y, z);
+        }
+        EXPECT_EQ(mismatches, 0) << "fill " << cs.fill << " types " << cs.types;
+    }
+}
+
+// Solid-cell pyramid of a generated region: occupancy at level j is the OR of the 8 cells under
+// each cell at level j - 1. The downsampled chain must match it at every level: conservative
+// (every solid block's cell is solid at every coarser level) and inventing nothing.
+TEST(Downsample, TerrainChainIsConservativeAndInventsNothing) {
+    const TerrainGenerator gen(kSeed);
+    constexpr int kTop = 3;                        // One level-3 chunk: 8³ level-0 chunks.
+    const LodCoord top{kTop, ChunkCoord(1, 0, -1)}; // Blocks y 0..255: hills and the cave band.
+    constexpr int kEdge = kChunkSize << kTop;      // 256 blocks.
+    const BlockPos origin = lod_origin(top);
+    // occ[j]: (kEdge >> j)³ cells, x fastest.
+    std::vector<std::vector<uint8_t>> occ(kTop + 1);
+    occ[0].assign(size_t(kEdge) * kEdge * kEdge, 0);
+    std::vector<Chunk> level; // Chunks of the current level, [z][y][x] over the region.
+    const int n0 = 1 << kTop;
+    for (int z = 0; z < n0; ++z)
+        for (int y = 0; y < n0; ++y)
+            for (int x = 0; x < n0; ++x) {
+                const ChunkCoord c = chunk_of(origin) + ChunkCoord(x, y, z);
+                level.push_back(gen.generate(c));
+                const auto d = dense_of(level.back());
+                for (int i = 0; i < kChunkVolume; ++i) {
+                    const int bx = x * kChunkSize + (i & 31), by = y * kChunkSize + ((i >> 5) & 31),
+                              bz = z * kChunkSize + (i >> 10);
+                    occ[0][(size_t(bz) * kEdge + size_t(by)) * kEdge + size_t(bx)] = d[size_t(i)] != kAir;
+                }
+            }
+    size_t solid_cells[kTop + 1] = {};
+    for (int j = 1; j <= kTop; ++j) {
+        const int e = kEdge >> j, pe = e * 2;
+        occ[size_t(j)].assign(size_t(e) * e * e, 0);
+        for (int z = 0; z < e; ++z)
+            for (int y = 0; y < e; ++y)
+                for (int x = 0; x < e; ++x) {
+                    uint8_t any = 0;
+                    for (int o = 0; o < 8; ++o)
+                        any |= occ[size_t(j - 1)][(size_t(2 * z + (o >> 2)) * pe + size_t(2 * y + ((o >> 1) & 1))) * pe +
+                                                  size_t(2 * x + (o & 1))];
+                    occ[size_t(j)][(size_t(z) * e + size_t(y)) * e + size_t(x)] = any;
+                }
+        // Downsample the chunks of level j - 1 into those of level j.
+        const int n = n0 >> j, pn = n * 2;
+        std::vector<Chunk> next;
+        for (int z = 0; z < n; ++z)
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) {
+                    std::array<const Chunk*, kLodChildren> kids;
+                    for (int i = 0; i < kLodChildren; ++i)
+                        kids[size_t(i)] = &level[(size_t(2 * z + (i >> 2)) * pn + size_t(2 * y + ((i >> 1) & 1))) * pn +
+                                                 size_t(2 * x + (i & 1))];
+                    next.push_back(downsample(kids));
+                }
+        level = std::move(next);
+        int wrong = 0;
+        for (int z = 0; z < e; ++z)
+            for (int y = 0; y < e; ++y)
+                for (int x = 0; x < e; ++x) {
+                    const Chunk& c = level[(size_t(z / kChunkSize) * n + size_t(y / kChunkSize)) * n + size_t(x / kChunkSize)];
+                    const bool solid = c.get(x % kChunkSize, y % kChunkSize, z % kChunkSize) != kAir;
+                    const bool expect = occ[size_t(j)][(size_t(z) * e + size_t(y)) * e + size_t(x)] != 0;
+                    wrong += solid != expect;
+                    solid_cells[j] += solid;
+                }
+        EXPECT_EQ(wrong, 0) << "level " << j;
+        EXPECT_GT(solid_cells[j], 0u);
+    }
+    // downsample_generated() builds the same chunk.
+    const Result<Chunk> direct = downsample_generated(gen, top);
+    ASSERT_TRUE(direct.ok());
+    ASSERT_EQ(level.size(), 1u);
+    EXPECT_TRUE(*direct == level[0]);
+}
+
+// On generated terrain the topmost solid cell of each coarse column shows the surface (grass,
+// sand, snow, water, or rock under snow), not the dirt under grass. Caves opening at the
+// surface expose dirt in a few columns at level 0 already; coarse levels show about as much.
+TEST(Downsample, TerrainSurfaceKeepsItsBlocks) {
+    const TerrainGenerator gen(kSeed);
+    const auto& ids = gen.ids();
+    for (int level = 0; level <= 3; ++level) {
+        int dirt = 0, grass = 0, columns = 0;
+        std::vector<int> hist(16, 0);
+        const int stacks = level == 3 ? 2 : 4; // A level-3 stack is 1,024 generated chunks.
+        for (int t = 0; t < stacks; ++t) {
+            // A stack of chunks from above the highest peak (y 200) down to y -64.
+            const ChunkCoord cc(t - 2, 0, 1 - t);
+            std::vector<Chunk> stack;
+            const int span = kChunkSize << level;
+            for (int y = 200 / span; y >= -64 / span - 1; --y) {
+                Result<Chunk> r = downsample_generated(gen, {level, ChunkCoord(cc.x, y, cc.z)});
+                ASSERT_TRUE(r.ok());
+                stack.push_back(std::move(*r));
+            }
+            for (int z = 0; z < kChunkSize; ++z)
+                for (int x = 0; x < kChunkSize; ++x)
+                    for (size_t s = 0; s < stack.size(); ++s) {
+                        int y = kChunkSize - 1;
+                        while (y >= 0 && stack[s].get(x, y, z) == kAir)
+                            --y;
+                        if (y < 0)
+                            continue;
+                        const BlockId b = stack[s].get(x, y, z);
+                        dirt += b == ids.dirt;
+                        grass += b == ids.grass;
+                        ++hist[std::min<size_t>(b, hist.size() - 1)];
+                        ++columns;
+                        break;
+                    }
+        }
+        std::printf("level %d, topmost ids of %d columns:", level, columns);
+        for (size_t b = 0; b < hist.size(); ++b)
+            if (hist[b])
+                std::printf(" %s %d", BlockRegistry::default_registry().info(BlockId(b)).name.c_str(), hist[b]);
+        std::printf("\n");
+        EXPECT_EQ(columns, stacks * kChunkSize * kChunkSize);
+        EXPECT_GT(grass, columns / 10);
+        // Caves opening at the surface leave dirt on top of 1.5% of the columns at level 0.
+        EXPECT_LE(dirt, columns / 40) << "level " << level;
+    }
+}
+
+// Edits climb the levels through refresh_octant(), stopping at the first level that did not
+// change; after every edit the chain equals one rebuilt from scratch.
+TEST(Downsample, EditsClimbAndStopWhereNothingChanged) {
+    const TerrainGenerator gen(kSeed);
+    const LodCoord top{2, ChunkCoord(0, 0, 1)};
+    std::vector<Chunk> l0(64), l1(8);
+    auto child0 = [](int i1, int o) { return size_t(i1 * 8 + o); }; // Level-0 chunk o of level-1 chunk i1.
+    for (int i1 = 0; i1 < 8; ++i1)
+        for (int o = 0; o < 8; ++o)
+            l0[child0(i1, o)] = gen.generate(lod_child(lod_child(top, i1), o).chunk);
+    auto rebuild1 = [&](int i1) {
+        std::array<const Chunk*, kLodChildren> p;
+        for (int o = 0; o < 8; ++o)
+            p[size_t(o)] = &l0[child0(i1, o)];
+        return downsample(p);
+    };
+    auto rebuild2 = [&]() {
+        std::array<const Chunk*, kLodChildren> p;
+        for (int i = 0; i < 8; ++i)
+            p[size_t(i)] = &l1[size_t(i)];
+        return downsample(p);
+    };
+    for (int i1 = 0; i1 < 8; ++i1)
+        l1[size_t(i1)] = rebuild1(i1);
+    Chunk l2 = rebuild2();
+    std::mt19937 rng(21);
+    std::uniform_int_distribution<int> pick(0, 63), local(0, kChunkSize - 1), block(0, 9);
+    int climbed[3] = {};
+    for (int t = 0; t < 120; ++t) {
+        const int i = pick(rng), i1 = i / 8, o = i % 8;
+        const BlockId b = BlockId(block(rng)); // Air, a terrain block or a feature (ids 0..9).
+        l0[size_t(i)].set(local(rng), local(rng), local(rng), b);
+        int reached = 0;
+        if (refresh_octant(l1[size_t(i1)], l0[size_t(i)], o)) {
+            reached = 1;
+            if (refresh_octant(l2, l1[size_t(i1)], i1))
+                reached = 2;
+        }
+        ++climbed[reached];
+        ASSERT_TRUE(l1[size_t(i1)] == rebuild1(i1)) << "edit " << t;
+        ASSERT_TRUE(l2 == rebuild2()) << "edit " << t;
+    }
+    std::printf("120 random edits: stopped at level 0: %d, level 1: %d, reached level 2: %d\n", climbed[0],
+                climbed[1], climbed[2]);
+    EXPECT_GT(climbed[0], 0); // Some edits change nothing coarser (a hidden block, a vote kept).
+    EXPECT_GT(climbed[2], 0); // Some reach the top (a block in the sky, a hole in a surface).
+}
+
+// ---- Generators and coarse levels ----
+
+// A generator that offers no coarse chunks and fails on one level-0 chunk (a game's generator
+// that threw, as engine/world_setup.h reports it).
+class FailingGenerator final : public ChunkGenerator {
+public:
+    explicit FailingGenerator(ChunkCoord bad) : m_inner(kSeed), m_bad(bad) {}
+    Chunk generate(ChunkCoord c) const override { return m_inner.generate(c); }
+    Result<Chunk> try_generate(ChunkCoord c) const override {
+        if (c == m_bad)
+            return Error{"generator threw for this chunk"};
+        return m_inner.generate(c);
+    }
+
+private:
+    TerrainGenerator m_inner;
+    ChunkCoord m_bad;
+};
+
+// Terrain that offers only level-1 chunks directly.
+class LevelOneOnly final : public ChunkGenerator {
+public:
+    LevelOneOnly() : m_inner(kSeed) {}
+    Chunk generate(ChunkCoord c) const override { return m_inner.generate(c); }
+    bool generate_coarse(LodCoord c, Chunk& out) const override {
+        return c.level == 1 && m_inner.generate_coarse(c, out);
+    }
+
+private:
+    TerrainGenerator m_inner;
+};
+
+TEST(GenerateLod, FallsBackToDownsamplingAndReportsFailures) {
+    const LodCoord c{2, ChunkCoord(0, 0, 0)};
+    // Without generate_coarse(): generate_lod() is downsample_generated().
+    const FailingGenerator fine(ChunkCoord(1000, 1000, 1000)); // Never asked for.
+    Chunk probe;
+    EXPECT_FALSE(fine.generate_coarse(c, probe));
+    const Result<Chunk> a = generate_lod(fine, c), b = downsample_generated(fine, c);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_TRUE(*a == *b);
+    EXPECT_FALSE(a->is_uniform());
+    // A failing level-0 chunk under it fails the coarse chunk with the generator's message.
+    const FailingGenerator bad(ChunkCoord(2, 1, 3)); // Under level-2 chunk (0, 0, 0).
+    const Result<Chunk> f = generate_lod(bad, c);
+    ASSERT_FALSE(f.ok());
+    EXPECT_EQ(f.error(), "generator threw for this chunk");
+    EXPECT_FALSE(downsample_generated(bad, c).ok());
+    EXPECT_TRUE(generate_lod(bad, {2, ChunkCoord(1, 0, 0)}).ok()); // A chunk without it is fine.
+    // Level 0 is try_generate() itself.
+    EXPECT_FALSE(generate_lod(bad, {0, ChunkCoord(2, 1, 3)}).ok());
+    // A generator offering level 1 only: level 2 is the downsampling of 8 direct level-1 chunks.
+    const LevelOneOnly one;
+    const TerrainGenerator terrain(kSeed);
+    std::array<Chunk, kLodChildren> kids;
+    for (int i = 0; i < kLodChildren; ++i)
+        ASSERT_TRUE(terrain.generate_coarse(lod_child(c, i), kids[size_t(i)]));
+    const Result<Chunk> mixed = generate_lod(one, c);
+    ASSERT_TRUE(mixed.ok());
+    EXPECT_TRUE(*mixed == downsample(pointers(kids)));
+}
+
+TEST(TerrainCoarse, OffersLevelsOneToSixAndIsPure) {
+    const TerrainGenerator gen(kSeed);
+    Chunk out;
+    EXPECT_FALSE(gen.generate_coarse({0, ChunkCoord(0)}, out));
+    EXPECT_FALSE(gen.generate_coarse({TerrainGenerator::kMaxDirectLevel + 1, ChunkCoord(0)}, out));
+    for (int level = 1; level <= 3; ++level) {
+        const LodCoord c{level, ChunkCoord(-1, 0, 2)};
+        Chunk a, b;
+        ASSERT_TRUE(gen.generate_coarse(c, a));
+        ASSERT_TRUE(TerrainGenerator(kSeed).generate_coarse(c, b));
+        EXPECT_TRUE(a == b);
+        EXPECT_FALSE(a.is_uniform()); // Chunk y 0 at these x, z holds the surface.
+        // Far above: uniform air; far below: uniform stone.
+        ASSERT_TRUE(gen.generate_coarse({level, ChunkCoord(0, 40, 0)}, a));
+        EXPECT_TRUE(a.is_empty());
+        ASSERT_TRUE(gen.generate_coarse({level, ChunkCoord(0, -40, 0)}, a));
+        ASSERT_TRUE(a.is_uniform());
+        EXPECT_EQ(a.uniform_id(), gen.ids().stone);
+    }
+    // generate_lod() takes the direct path for the terrain.
+    const LodCoord c{2, ChunkCoord(3, 0, -2)};
+    const Result<Chunk> lod = generate_lod(gen, c);
+    ASSERT_TRUE(gen.generate_coarse(c, out));
+    ASSERT_TRUE(lod.ok());
+    EXPECT_TRUE(*lod == out);
+}
+
+struct Coverage {
+    size_t cells = 0, exact_solid = 0, missing = 0, extra = 0, both = 0, same_id = 0;
+    // Cell columns whose ground surface (topmost solid cell) is higher in the direct chunk, and by
+    // how much at most.
+    size_t higher_tops = 0;
+    int max_top_raise = 0;
+};
+
+// Direct coarse chunk against the exact downsampling of generated blocks, cell by cell.
+void compare(const TerrainGenerator& gen, LodCoord c, Coverage& cov) {
+    Chunk direct;
+    ASSERT_TRUE(gen.generate_coarse(c, direct));
+    const Result<Chunk> exact = downsample_generated(gen, c);
+    ASSERT_TRUE(exact.ok());
+    const auto d = dense_of(direct), e = dense_of(*exact);
+    for (size_t i = 0; i < d.size(); ++i) {
+        const bool ds = d[i] != kAir, es = e[i] != kAir;
+        ++cov.cells;
+        cov.exact_solid += es;
+        cov.missing += es && !ds;
+        cov.extra += ds && !es;
+        cov.both += ds && es;
+        cov.same_id += ds && es && d[i] == e[i];
+    }
+    for (int z = 0; z < kChunkSize; ++z)
+        for (int x = 0; x < kChunkSize; ++x) {
+            int dt = -1, et = -1; // Topmost solid cell in this chunk, -1 if none.
+            for (int y = 0; y < kChunkSize; ++y) {
+                const size_t i = size_t(local_index(x, y, z));
+                dt = d[i] != kAir ? y : dt;
+                et = e[i] != kAir ? y : et;
+            }
+            // Only where the ground surface is inside this chunk: direct cells above dt are air
+            // here and (heights and sea below the chunk's top) in the chunk above, so the exact
+            // ones are too.
+            if (dt < 0 || dt == kChunkSize - 1)
+                continue;
+            cov.higher_tops += dt > et;
+            cov.max_top_raise = std::max(cov.max_top_raise, dt - et);
+        }
+}
+
+// Random coarse chunks at levels 1..4 across lowlands, sea and mountains (x, z within ±4,096
+// blocks), at chunk heights that hold the surface: the direct chunk covers every solid cell of
+// the exact one (0 missing), adding only cave interiors.
+TEST(TerrainCoarse, CoversExactDownsamplingOfGeneratedBlocks) {
+    const TerrainGenerator gen(kSeed);
+    std::mt19937 rng(5);
+    const int per_level[5] = {0, 12, 6, 3, 2};
+    for (int level = 1; level <= 4; ++level) {
+        Coverage cov;
+        const int64_t span = lod_chunk_blocks(level);
+        std::uniform_int_distribution<int64_t> xz(-4096, 4095);
+        // Chunk y from the one holding y -60 to the one holding y 170 (sea floor to peaks).
+        std::uniform_int_distribution<int> cy(int(-60 / span) - 1, int(170 / span));
+        for (int t = 0; t < per_level[level]; ++t) {
+            // Chunk heights in turn, so that every level sees the surface and the ground below.
+            const int y = cy.a() + t % (cy.b() - cy.a() + 1);
+            const LodCoord c{level, ChunkCoord(int(xz(rng) / span), y, int(xz(rng) / span))};
+            compare(gen, c, cov);
+        }
+        std::printf("level %d: %zu cells, %zu solid in exact, %zu missing, %zu extra (%.3f%% of exact solid), "
+                    "same id %.1f%% of %zu\n",
+                    level, cov.cells, cov.exact_solid, cov.missing, cov.extra,
+                    cov.exact_solid ? 100.0 * double(cov.extra) / double(cov.exact_solid) : 0.0,
+                    cov.both ? 100.0 * double(cov.same_id) / double(cov.both) : 0.0, cov.both);
+        std::printf("level %d: %zu cell columns' top raised (caves opening at the surface), at most %d cells\n", level,
+                    cov.higher_tops, cov.max_top_raise);
+        EXPECT_EQ(cov.missing, 0u) << "level " << level;
+        EXPECT_GT(cov.exact_solid, 0u);
+        EXPECT_GT(cov.same_id * 10, cov.both * 8) << "level " << level; // Ids mostly agree (see printout).
+    }
+}
+
+// Direct chunks agree across levels: a level-k chunk has exactly the solid cells of the
+// downsampling of its 8 direct level-(k-1) children (both are "some column reaches the cell, or
+// the sea does"), so direct chunks and chunks re-derived after edits mix without gaps, and
+// levels 5 and 6 inherit the coverage tested above at level 4.
+TEST(TerrainCoarse, LevelsAgreeWithDownsampledFinerLevels) {
+    const TerrainGenerator gen(kSeed);
+    const LodCoord coords[] = {{2, ChunkCoord(-3, 0, 5)}, {3, ChunkCoord(1, 0, -2)}, {4, ChunkCoord(2, 0, -1)},
+                               {5, ChunkCoord(-1, 0, 0)}, {6, ChunkCoord(0, 0, -1)}};
+    for (const LodCoord& c : coords) {
+        Chunk direct;
+        std::array<Chunk, kLodChildren> kids;
+        ASSERT_TRUE(gen.generate_coarse(c, direct));
+        for (int i = 0; i < kLodChildren; ++i)
+            ASSERT_TRUE(gen.generate_coarse(lod_child(c, i), kids[size_t(i)]));
+        const auto d = dense_of(direct), e = dense_of(downsample(pointers(kids)));
+        size_t differ = 0, solid = 0, same_id = 0;
+        for (size_t i = 0; i < d.size(); ++i) {
+            differ += (d[i] != kAir) != (e[i] != kAir);
+            solid += d[i] != kAir;
+            same_id += d[i] != kAir && d[i] == e[i];
+        }
+        EXPECT_EQ(differ, 0u) << "level " << c.level;
+        EXPECT_GT(solid, 0u) << "level " << c.level;
+        EXPECT_LT(solid, size_t(kChunkVolume)) << "level " << c.level; // The surface is in it.
+        EXPECT_GT(same_id * 10, solid * 8) << "level " << c.level;
+    }
+}
+
+// Without caves (cave radius 0: nothing carved, no lamps or crystals) the direct chunk's solid
+// cells are exactly those of the downsampled blocks: the height bound is exact, not a margin.
+TEST(TerrainCoarse, ExactWithoutCaves) {
+    TerrainParams p;
+    p.cave_radius = 0.0f;
+    const TerrainGenerator gen(kSeed, p);
+    std::mt19937 rng(6);
+    for (int level = 1; level <= 3; ++level) {
+        Coverage cov;
+        const int64_t span = lod_chunk_blocks(level);
+        std::uniform_int_distribution<int64_t> xz(-4096, 4095);
+        std::uniform_int_distribution<int> cy(int(-60 / span) - 1, int(170 / span));
+        for (int t = 0; t < 4; ++t)
+            compare(gen, {level, ChunkCoord(int(xz(rng) / span), cy(rng), int(xz(rng) / span))}, cov);
+        EXPECT_EQ(cov.missing, 0u) << "level " << level;
+        EXPECT_EQ(cov.extra, 0u) << "level " << level;
+        EXPECT_EQ(cov.higher_tops, 0u) << "level " << level;
+    }
+}
+
+} // namespace
+} // namespace vx::world

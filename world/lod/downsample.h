@@ -1,0 +1,57 @@
+#pragma once
+// Downsampling (issue 16): a level-k chunk from its 8 level-(k-1) children (lod_coords.h).
+//
+// The rule, per coarse cell over the 2×2×2 sub-cells under it:
+//   - Solid if any sub-cell is non-air; air only if all 8 are. Air never wins, so coarse ground
+//     lies on or outside the fine ground (a ray may stop early by less than a cell, never pass
+//     through), and nothing is invented (a coarse cell is non-air only if something under it is).
+//     Applied level after level, a level-k cell is non-air exactly when one of the (2^k)³ blocks
+//     under it is. Water and every other drawn block count as solid.
+//   - The id: each of the 4 sub-columns votes for its topmost non-air sub-cell; the id with the
+//     most votes wins, ties going to the smaller id. A surface is what is seen from above, so a
+//     hillside keeps its grass (the dirt under a grass block never outvotes it, however many dirt
+//     blocks the cell holds), and a beach cell half water, half sand stays one of the two. The
+//     most frequent id would turn a thin surface layer into what lies beneath it; Cubyz's most
+//     exposed sub-cell keeps surfaces too but reads neighbours across chunk borders, while the
+//     vote needs only the 8 sub-cells.
+//
+// Cost: the work is on palette indices (one unpack per child, a table says which entries are
+// air), ids are looked up once per output cell; a uniform child fills its octant without reading
+// anything, and 8 equal uniform children give a uniform chunk at once.
+// Thread-safe: pure functions of their arguments.
+
+#include <span>
+
+#include "world/base/result.h"
+#include "world/chunk.h"
+#include "world/gen/chunk_generator.h"
+#include "world/lod/lod_coords.h"
+
+namespace vx::world {
+
+// The level-k chunk whose children (level k-1, order of lod_child()) are `children`, none null.
+Chunk downsample(std::span<const Chunk* const, kLodChildren> children);
+
+// Writes the 16³ cells that `child` (child number `octant` of its parent, 0..7) contributes to its
+// parent: out[local_index(cell)] for the cells of that octant; other entries are untouched.
+// `out` holds kChunkVolume ids.
+void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out);
+
+// After `child` (child number `octant` of `parent`) changed: rewrites that octant of `parent`
+// and returns whether any of its cells changed. An edit climbs the levels while this returns
+// true: a level that did not change leaves every coarser one as it was (Voxy's rule). Costs
+// about one downsample_octant() and one Chunk::from_dense().
+bool refresh_octant(Chunk& parent, const Chunk& child, int octant);
+
+// The level-c.level chunk at c.chunk built from generated blocks: 8^level generate() calls
+// (try_generate(), so a game's generator that throws reaches the caller as the first error),
+// downsampled level by level, depth first (memory: 8 chunks per level). This is what an engine
+// does for a generator that does not offer generate_coarse(): 512 level-0 chunks per level-3
+// chunk, 4,096 per level 4. Also the reference the direct coarse terrain is tested against.
+Result<Chunk> downsample_generated(const ChunkGenerator& gen, LodCoord c);
+
+// A level-c.level chunk for the engine: gen.generate_coarse() when the generator offers it,
+// otherwise downsample_generated() (level 0: try_generate()).
+Result<Chunk> generate_lod(const ChunkGenerator& gen, LodCoord c);
+
+} // namespace vx::world
