@@ -251,7 +251,7 @@ namespace {
 // (layer y, line z) from the rows along x; [0] X planes (layer x, line z) from rows along y.
 template <class E> void entry_axes(const ChunkView& cv, E* d, E* dt, const RowMasks m[3], AxisRows ax[3]) {
     if constexpr (sizeof(E) == 1)
-        unpack_rows8(cv.pal->indices, 0, kRows, d);
+        unpack_chunk8(cv.pal->indices, kRows, d);
     else
         unpack_rows16(cv.pal->indices, 0, kRows, d);
     transpose_slabs(d, dt);

@@ -121,15 +121,15 @@ template <bool kClear> inline void store_row(const RowMasks& m, int j, uint32_t 
 // of the transparent entries matches; with too many of them, flags one by one. Each row is
 // loaded once and compared in registers.
 // kClear: 0 no transparent entry, 1 a compare per transparent entry, 2 flags one by one.
-template <class E, int kClear>
-void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+// kTwo: also store to b.
+template <class E, int kClear, bool kTwo>
+void rows_masks(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks& b) {
     using Row = RowOf<E>;
     const auto air = Row::splat(cv.n_air ? cv.air[0] : 0);
     const bool has_air = cv.n_air != 0;
-    const RowMasks& bb = b ? *b : a; // Without b, a is simply written twice.
-    const int sa = slab_step(a), sb = slab_step(bb);
+    const int sa = slab_step(a), sb = slab_step(b);
     for (int z = 0; z < count / kChunkSize; ++z) {
-        int ja = slab_base(a, z), jb = slab_base(bb, z);
+        int ja = slab_base(a, z), jb = slab_base(b, z);
         for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize, ja += sa, jb += sb) {
             const Row row(rows);
             const uint32_t n = has_air ? ~row.eq(air) : ~0u;
@@ -142,9 +142,18 @@ void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, 
                     clear |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
             }
             store_row<kClear != 0>(a, ja, n, clear);
-            store_row<kClear != 0>(bb, jb, n, clear);
+            if constexpr (kTwo)
+                store_row<kClear != 0>(b, jb, n, clear);
         }
     }
+}
+
+template <class E, int kClear>
+void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+    if (b)
+        rows_masks<E, kClear, true>(cv, rows, count, a, *b);
+    else
+        rows_masks<E, kClear, false>(cv, rows, count, a, a);
 }
 
 template <class E> void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
