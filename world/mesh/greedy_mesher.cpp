@@ -15,10 +15,12 @@
 
 // Data flow (after the bitmask meshers that cull whole columns with shifts, e.g.
 // cgerikj/binary-greedy-meshing): palette indices are unpacked once into rows of 32 entries along
-// x, and transposed per z slab into rows along y; byte compares turn each row into non-air and
+// x (a row whose packed bits equal the previous row's is copied: most rows of terrain), and
+// transposed per z slab into rows along y; byte compares turn each row into non-air and
 // transparent bits, stored in every axis's line layout. A plane's face mask is then one AND-NOT
-// of two rows per line, and merging runs on bits: runs and heights of one id come from 32-entry
-// compares, 1 x 1 quads (most faces of noisy chunks) are emitted straight from bit tests.
+// of two rows per line (its non-empty lines found in the same SSE2 pass), and merging runs on
+// bits: runs and heights of one id come from 32-entry compares, 1 x 1 quads (most faces of noisy
+// chunks) are emitted straight from bit tests.
 
 namespace vx::world {
 using namespace mesher_detail;
