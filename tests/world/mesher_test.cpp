@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "test_util.h"
-#include "world/mesh/edit_mesher.h"
 #include "world/gen/terrain.h"
+#include "world/mesh/edit_mesher.h"
 #include "world/mesh/reference_meshers.h"
 #include "world/world.h"
 
@@ -140,7 +140,8 @@ TEST(GreedyMesher, RepeatedRowsMatchClassicGreedyAtEveryPaletteWidth) {
                 ids[size_t(t) * 97] = BlockId(t);
             const Chunk chunk = Chunk::from_dense(ids);
             ASSERT_EQ(chunk.palette()->indices.bits(), w.bits);
-            const Apron apron = rep == 0 ? Apron::air() : random_apron(rng, rep == 1 ? 0.5 : 1.0, w.types, reg);
+            const Apron apron =
+                rep == 0 ? Apron::air() : random_apron(rng, rep == 1 ? 0.5 : 1.0, w.types, reg);
             const MesherInput in{chunk, apron, reg};
             ChunkMesh greedy, classic;
             mesher.mesh(in, greedy);

@@ -54,14 +54,17 @@ inline Quad make_quad(uint32_t packed, BlockId block) {
 
 // F[v] = x[v] & ~y[v] (kAndNot) or x[v] & y[v], for the 32 lines of a plane; returns the lines
 // where F[v] != 0 (bit v).
-template <bool kAndNot> inline uint32_t combine_lines(const uint32_t* x, const uint32_t* y, uint32_t F[kChunkSize]) {
+template <bool kAndNot>
+inline uint32_t combine_lines(const uint32_t* x, const uint32_t* y, uint32_t F[kChunkSize]) {
 #if defined(__SSE2__)
     uint32_t zero = 0;
     for (int k = 0; k < kChunkSize / 4; ++k) {
-        const __m128i a = _mm_loadu_si128((const __m128i*)(x + 4 * k)), b = _mm_loadu_si128((const __m128i*)(y + 4 * k));
+        const __m128i a = _mm_loadu_si128((const __m128i*)(x + 4 * k));
+        const __m128i b = _mm_loadu_si128((const __m128i*)(y + 4 * k));
         const __m128i f = kAndNot ? _mm_andnot_si128(b, a) : _mm_and_si128(a, b);
         _mm_storeu_si128((__m128i*)(F + 4 * k), f);
-        zero |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(f, _mm_setzero_si128())))) << (4 * k);
+        const __m128i z = _mm_cmpeq_epi32(f, _mm_setzero_si128());
+        zero |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(z))) << (4 * k);
     }
     return ~zero;
 #else
@@ -77,8 +80,8 @@ template <bool kAndNot> inline uint32_t combine_lines(const uint32_t* x, const u
 // Removes from F (faces on `lines`) the faces between two blocks of one transparent id; returns
 // the lines that still hold faces.
 template <class E>
-[[gnu::noinline]] uint32_t hide_same_transparent(const ChunkView& cv, const AxisRows& a, int l, int nl, Face f, uint32_t F[kChunkSize],
-                               uint32_t lines) {
+[[gnu::noinline]] uint32_t hide_same_transparent(const ChunkView& cv, const AxisRows& a, int l, int nl,
+                                                 Face f, uint32_t F[kChunkSize], uint32_t lines) {
     if (nl >= 0 && nl < kChunkSize) {
         uint32_t H[kChunkSize]; // With one id, two transparent blocks are equal.
         uint32_t hl = combine_lines<false>(a.t + a.row(l, 0), a.t + a.row(nl, 0), H) & lines;
@@ -112,7 +115,8 @@ template <class E>
 // Faces of layer l towards l + 1 (positive) or l - 1: non-air here, not opaque there (the apron
 // past the chunk's border). Returns the lines holding faces (bit v).
 template <class E>
-[[gnu::always_inline]] inline uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l, bool positive, uint32_t F[kChunkSize]) {
+[[gnu::always_inline]] inline uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l,
+                                                bool positive, uint32_t F[kChunkSize]) {
     const int nl = positive ? l + 1 : l - 1;
     const Face f = make_face(axis, positive);
     const uint32_t* here = a.n + a.row(l, 0);
