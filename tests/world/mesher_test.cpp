@@ -1,11 +1,14 @@
+#include <algorithm>
 #include <map>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "test_util.h"
+#include "world/gen/terrain.h"
 #include "world/mesh/edit_mesher.h"
 #include "world/mesh/reference_meshers.h"
+#include "world/world.h"
 
 using namespace vx::world;
 using namespace vx::world::test;
@@ -105,6 +108,79 @@ TEST(GreedyMesher, HandMadeCases) {
     // Stripes of alternating types along x: every x column is its own quad on ±Y and ±Z.
     const Chunk stripes = chunk_from([](int x, int, int) { return BlockId(1 + (x & 1)); });
     EXPECT_EQ(greedy_of(stripes, air, reg).quad_count(), 2u + 4u * 32u);
+}
+
+// Rows that repeat the one before (most rows of terrain: air above the ground, stone under it)
+// are copied, not unpacked: every palette width of 1 to 8 bits, with one or more transparent
+// entries, against air and solid aprons, must still give the classic greedy quads.
+TEST(GreedyMesher, RepeatedRowsMatchClassicGreedyAtEveryPaletteWidth) {
+    std::mt19937 rng(7);
+    GreedyMesher mesher;
+    // `types` ids (the last `transparent` of them transparent) plus air: a palette of `bits`.
+    struct Width {
+        int types, transparent;
+        uint32_t bits;
+    };
+    const Width widths[] = {{1, 0, 1},  {2, 1, 2},  {4, 1, 3},   {7, 2, 3},   {15, 1, 4},
+                            {31, 3, 5}, {63, 1, 6}, {127, 2, 7}, {255, 5, 8}};
+    for (const Width& w : widths) {
+        const BlockRegistry reg = make_registry(w.types - w.transparent, w.transparent);
+        for (int rep = 0; rep < 3; ++rep) {
+            std::vector<BlockId> ids(kChunkVolume);
+            for (int r = 0; r < kChunkSize * kChunkSize; ++r) { // Row r = z * 32 + y, along x.
+                BlockId* row = ids.data() + r * kChunkSize;
+                if (r > 0 && rng() % 4 != 0) { // Three rows in four repeat the previous one.
+                    std::copy_n(row - kChunkSize, kChunkSize, row);
+                    continue;
+                }
+                for (int x = 0; x < kChunkSize; ++x)
+                    row[x] = rng() % 3 == 0 ? kAir : BlockId(1 + rng() % w.types);
+            }
+            for (int t = 0; t <= w.types; ++t) // Every id at least once: the palette's full width.
+                ids[size_t(t) * 97] = BlockId(t);
+            const Chunk chunk = Chunk::from_dense(ids);
+            ASSERT_EQ(chunk.palette()->indices.bits(), w.bits);
+            const Apron apron =
+                rep == 0 ? Apron::air() : random_apron(rng, rep == 1 ? 0.5 : 1.0, w.types, reg);
+            const MesherInput in{chunk, apron, reg};
+            ChunkMesh greedy, classic;
+            mesher.mesh(in, greedy);
+            mesh_classic_greedy(in, classic);
+            ASSERT_TRUE(covers_exactly(in, greedy)) << w.bits << " bits, apron " << rep;
+            ASSERT_TRUE(greedy == classic) << w.bits << " bits, apron " << rep << ": " << greedy.quad_count()
+                                           << " vs classic " << classic.quad_count();
+        }
+    }
+}
+
+// Terrain inside a generated world (the mesher benchmark's "terrain inside a world"): 2- and
+// 3-bit palettes, water, aprons from the neighbours.
+TEST(GreedyMesher, TerrainInsideAWorldMatchesClassicGreedy) {
+    World world;
+    const TerrainGenerator gen(12345);
+    for (int x = -1; x < 3; ++x)
+        for (int z = 1; z < 5; ++z)
+            for (int y = -1; y < 2; ++y)
+                world.put_chunk({x, y, z}, gen.generate({x, y, z}));
+    GreedyMesher mesher;
+    int with_water = 0;
+    const BlockId water = world.registry().find("water").value_or(kAir);
+    for (int x = 0; x < 2; ++x)
+        for (int z = 2; z < 4; ++z) {
+            const ChunkCoord c(x, 0, z);
+            const Chunk& chunk = *world.find_chunk(c);
+            ASSERT_FALSE(chunk.is_uniform());
+            const auto& pal = chunk.palette()->ids;
+            with_water += std::find(pal.begin(), pal.end(), water) != pal.end();
+            const Apron apron = make_apron(world, c);
+            const MesherInput in{chunk, apron, world.registry()};
+            ChunkMesh greedy, classic;
+            mesher.mesh(in, greedy);
+            mesh_classic_greedy(in, classic);
+            ASSERT_TRUE(covers_exactly(in, greedy));
+            ASSERT_TRUE(greedy == classic) << greedy.quad_count() << " vs classic " << classic.quad_count();
+        }
+    EXPECT_GT(with_water, 0); // The sea level crosses these chunks (seed 12345).
 }
 
 namespace {

@@ -15,10 +15,12 @@
 
 // Data flow (after the bitmask meshers that cull whole columns with shifts, e.g.
 // cgerikj/binary-greedy-meshing): palette indices are unpacked once into rows of 32 entries along
-// x, and transposed per z slab into rows along y; byte compares turn each row into non-air and
+// x (a row whose packed bits equal the previous row's is copied: most rows of terrain), and
+// transposed per z slab into rows along y; byte compares turn each row into non-air and
 // transparent bits, stored in every axis's line layout. A plane's face mask is then one AND-NOT
-// of two rows per line, and merging runs on bits: runs and heights of one id come from 32-entry
-// compares, 1 x 1 quads (most faces of noisy chunks) are emitted straight from bit tests.
+// of two rows per line (its non-empty lines found in the same SSE2 pass), and merging runs on
+// bits: runs and heights of one id come from 32-entry compares, 1 x 1 quads (most faces of noisy
+// chunks) are emitted straight from bit tests.
 
 namespace vx::world {
 using namespace mesher_detail;
@@ -50,48 +52,53 @@ inline Quad make_quad(uint32_t packed, BlockId block) {
     return std::bit_cast<Quad>(packed | uint64_t(block) << 32);
 }
 
-// Bit v set where F[v] != 0.
-inline uint32_t nonzero_lines(const uint32_t F[kChunkSize]) {
+// F[v] = x[v] & ~y[v] (kAndNot) or x[v] & y[v], for the 32 lines of a plane; returns the lines
+// where F[v] != 0 (bit v).
+template <bool kAndNot>
+inline uint32_t combine_lines(const uint32_t* x, const uint32_t* y, uint32_t F[kChunkSize]) {
 #if defined(__SSE2__)
     uint32_t zero = 0;
     for (int k = 0; k < kChunkSize / 4; ++k) {
-        const __m128i z = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i*)(F + 4 * k)), _mm_setzero_si128());
+        const __m128i a = _mm_loadu_si128((const __m128i*)(x + 4 * k));
+        const __m128i b = _mm_loadu_si128((const __m128i*)(y + 4 * k));
+        const __m128i f = kAndNot ? _mm_andnot_si128(b, a) : _mm_and_si128(a, b);
+        _mm_storeu_si128((__m128i*)(F + 4 * k), f);
+        const __m128i z = _mm_cmpeq_epi32(f, _mm_setzero_si128());
         zero |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(z))) << (4 * k);
     }
     return ~zero;
 #else
     uint32_t lines = 0;
-    for (int v = 0; v < kChunkSize; ++v)
+    for (int v = 0; v < kChunkSize; ++v) {
+        F[v] = kAndNot ? x[v] & ~y[v] : x[v] & y[v];
         lines |= uint32_t(F[v] != 0) << v;
+    }
     return lines;
 #endif
 }
 
-// Removes from F the faces between two blocks of one transparent id.
+// Removes from F (faces on `lines`) the faces between two blocks of one transparent id; returns
+// the lines that still hold faces.
 template <class E>
-void hide_same_transparent(const ChunkView& cv, const AxisRows& a, int l, int nl, Face f, uint32_t F[kChunkSize]) {
+[[gnu::noinline]] uint32_t hide_same_transparent(const ChunkView& cv, const AxisRows& a, int l, int nl,
+                                                 Face f, uint32_t F[kChunkSize], uint32_t lines) {
     if (nl >= 0 && nl < kChunkSize) {
-        const uint32_t *t = a.t + a.row(l, 0), *tn = a.t + a.row(nl, 0);
-        uint32_t H[kChunkSize], any = 0;
-        for (int v = 0; v < kChunkSize; ++v)
-            any |= H[v] = t[v] & tn[v]; // With one id, two transparent blocks are equal.
-        if (!any)
-            return;
-        if (cv.multi)
-            for (uint32_t lines = nonzero_lines(H); lines; lines &= lines - 1) {
-                const int v = std::countr_zero(lines);
-                H[v] &= eq_rows(a.entries<E>(l, v), a.entries<E>(nl, v));
-            }
-        for (int v = 0; v < kChunkSize; ++v)
-            F[v] &= ~H[v];
-        return;
+        uint32_t H[kChunkSize]; // With one id, two transparent blocks are equal.
+        uint32_t hl = combine_lines<false>(a.t + a.row(l, 0), a.t + a.row(nl, 0), H) & lines;
+        for (; hl; hl &= hl - 1) {
+            const int v = std::countr_zero(hl);
+            const uint32_t h = cv.multi ? H[v] & eq_rows(a.entries<E>(l, v), a.entries<E>(nl, v)) : H[v];
+            if (!(F[v] &= ~h))
+                lines &= ~(1u << v);
+        }
+        return lines;
     }
     if (!cv.apron->any_transparent[int(f)])
-        return;
+        return lines;
     const auto& ids = cv.apron->ids[int(f)];
-    for (int v = 0; v < kChunkSize; ++v) {
-        const int r = a.row(l, v);
-        uint32_t cand = F[v] & a.t[r];
+    for (uint32_t todo = lines; todo; todo &= todo - 1) {
+        const int v = std::countr_zero(todo);
+        uint32_t cand = F[v] & a.t[a.row(l, v)];
         while (cand) {
             const int u = std::countr_zero(cand);
             cand &= cand - 1;
@@ -99,26 +106,26 @@ void hide_same_transparent(const ChunkView& cv, const AxisRows& a, int l, int nl
             if (id == ids[u + kChunkSize * v])
                 F[v] &= ~(1u << u);
         }
+        if (!F[v])
+            lines &= ~(1u << v);
     }
+    return lines;
 }
 
 // Faces of layer l towards l + 1 (positive) or l - 1: non-air here, not opaque there (the apron
 // past the chunk's border). Returns the lines holding faces (bit v).
 template <class E>
-uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l, bool positive, uint32_t F[kChunkSize]) {
+[[gnu::always_inline]] inline uint32_t face_mask(const ChunkView& cv, const AxisRows& a, int axis, int l,
+                                                bool positive, uint32_t F[kChunkSize]) {
     const int nl = positive ? l + 1 : l - 1;
     const Face f = make_face(axis, positive);
     const uint32_t* here = a.n + a.row(l, 0);
     const uint32_t* occ = cv.transparent ? a.o : a.n; // Without transparent blocks, opaque = non-air.
     const uint32_t* there = nl >= 0 && nl < kChunkSize ? occ + a.row(nl, 0) : cv.apron->opaque[int(f)].data();
-    uint32_t any = 0;
-    for (int v = 0; v < kChunkSize; ++v)
-        any |= F[v] = here[v] & ~there[v];
-    if (!any)
-        return 0;
-    if (cv.transparent)
-        hide_same_transparent<E>(cv, a, l, nl, f, F);
-    return nonzero_lines(F);
+    const uint32_t lines = combine_lines<true>(here, there, F);
+    if (!lines || !cv.transparent)
+        return lines;
+    return hide_same_transparent<E>(cv, a, l, nl, f, F, lines);
 }
 
 inline uint32_t run_mask(int u0, int w) { return uint32_t(((uint64_t(1) << w) - 1) << u0); }
@@ -251,7 +258,7 @@ namespace {
 // (layer y, line z) from the rows along x; [0] X planes (layer x, line z) from rows along y.
 template <class E> void entry_axes(const ChunkView& cv, E* d, E* dt, const RowMasks m[3], AxisRows ax[3]) {
     if constexpr (sizeof(E) == 1)
-        unpack_rows8(cv.pal->indices, 0, kRows, d);
+        unpack_chunk8(cv.pal->indices, kRows, d);
     else
         unpack_rows16(cv.pal->indices, 0, kRows, d);
     transpose_slabs(d, dt);

@@ -103,6 +103,21 @@ template <int B> void unpack_rows_fixed(const uint64_t* words, int row0, int cou
         unpack_row<B>(src, out);
 }
 
+// Consecutive rows: a row whose packed bytes equal the previous row's copies its entries (most
+// rows of terrain repeat the one before: air above the ground, stone under it).
+template <int B> void unpack_rows_repeat(const uint64_t* words, int count, uint8_t* out) {
+    constexpr size_t kRowBytes = 4 * B;
+    const uint8_t* src = reinterpret_cast<const uint8_t*>(words);
+    unpack_row<B>(src, out);
+    for (int r = 1; r < count; ++r) {
+        src += kRowBytes, out += kChunkSize;
+        if (std::memcmp(src, src - kRowBytes, kRowBytes) == 0)
+            std::memcpy(out, out - kChunkSize, kChunkSize);
+        else
+            unpack_row<B>(src, out);
+    }
+}
+
 } // namespace
 
 void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out, int step) {
@@ -116,6 +131,20 @@ void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out, int s
     case 7: unpack_rows_fixed<7>(a.words(), row0, count, step, out); break;
     case 8: unpack_rows_fixed<8>(a.words(), row0, count, step, out); break;
     default: VX_ASSERT(false && "unpack_rows8: more than 8 bits");
+    }
+}
+
+void unpack_chunk8(const PackedArray& a, int count, uint8_t* out) {
+    switch (a.bits()) {
+    case 1: unpack_rows_repeat<1>(a.words(), count, out); break;
+    case 2: unpack_rows_repeat<2>(a.words(), count, out); break;
+    case 3: unpack_rows_repeat<3>(a.words(), count, out); break;
+    case 4: unpack_rows_repeat<4>(a.words(), count, out); break;
+    case 5: unpack_rows_repeat<5>(a.words(), count, out); break;
+    case 6: unpack_rows_repeat<6>(a.words(), count, out); break;
+    case 7: unpack_rows_repeat<7>(a.words(), count, out); break;
+    case 8: unpack_rows_repeat<8>(a.words(), count, out); break;
+    default: VX_ASSERT(false && "unpack_chunk8: more than 8 bits");
     }
 }
 

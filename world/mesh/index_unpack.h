@@ -16,6 +16,8 @@ namespace vx::world::mesher_detail {
 // 8) to one byte per block, row i at out[i * 32 + x]. SIMD or shift-and-mask spreading, no
 // per-entry loop. Step 32 reads the rows of one y layer (rows z * 32 + y, z = 0..31).
 void unpack_rows8(const PackedArray& a, int row0, int count, uint8_t* out, int step = 1);
+// Rows 0..count - 1, the same bytes; cheaper where rows repeat the previous one (terrain).
+void unpack_chunk8(const PackedArray& a, int count, uint8_t* out);
 // The same for any width (palettes of more than 256 entries), 16 bits per block.
 void unpack_rows16(const PackedArray& a, int row0, int count, uint16_t* out);
 

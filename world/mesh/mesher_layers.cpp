@@ -120,21 +120,25 @@ template <bool kClear> inline void store_row(const RowMasks& m, int j, uint32_t 
 // Non-air: the air entry does not match (a palette holds air at most once). Transparent: one
 // of the transparent entries matches; with too many of them, flags one by one. Each row is
 // loaded once and compared in registers.
-// kClear: 0 no transparent entry, 1 a compare per transparent entry, 2 flags one by one.
-template <class E, int kClear>
-void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+// kClear: 0 no transparent entry, 1 a compare per transparent entry, 2 flags one by one, 3 one
+// transparent entry (water in terrain).
+// kTwo: also store to b.
+template <class E, int kClear, bool kTwo>
+void rows_masks(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks& b) {
     using Row = RowOf<E>;
     const auto air = Row::splat(cv.n_air ? cv.air[0] : 0);
     const bool has_air = cv.n_air != 0;
-    const RowMasks& bb = b ? *b : a; // Without b, a is simply written twice.
-    const int sa = slab_step(a), sb = slab_step(bb);
+    const auto clear0 = Row::splat(cv.n_clear ? cv.clear[0] : 0);
+    const int sa = slab_step(a), sb = slab_step(b);
     for (int z = 0; z < count / kChunkSize; ++z) {
-        int ja = slab_base(a, z), jb = slab_base(bb, z);
+        int ja = slab_base(a, z), jb = slab_base(b, z);
         for (int i = 0; i < kChunkSize; ++i, rows += kChunkSize, ja += sa, jb += sb) {
             const Row row(rows);
             const uint32_t n = has_air ? ~row.eq(air) : ~0u;
             uint32_t clear = 0;
-            if constexpr (kClear == 1) {
+            if constexpr (kClear == 3) {
+                clear = row.eq(clear0);
+            } else if constexpr (kClear == 1) {
                 for (int k = 0; k < cv.n_clear; ++k)
                     clear |= row.eq(Row::splat(cv.clear[k]));
             } else if constexpr (kClear == 2) {
@@ -142,14 +146,25 @@ void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, 
                     clear |= uint32_t((cv.flags[rows[x]] & kTransparent) != 0) << x;
             }
             store_row<kClear != 0>(a, ja, n, clear);
-            store_row<kClear != 0>(bb, jb, n, clear);
+            if constexpr (kTwo)
+                store_row<kClear != 0>(b, jb, n, clear);
         }
     }
+}
+
+template <class E, int kClear>
+void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
+    if (b)
+        rows_masks<E, kClear, true>(cv, rows, count, a, *b);
+    else
+        rows_masks<E, kClear, false>(cv, rows, count, a, a);
 }
 
 template <class E> void masks_of(const ChunkView& cv, const E* rows, int count, const RowMasks& a, const RowMasks* b) {
     if (cv.n_clear == 0)
         masks_of<E, 0>(cv, rows, count, a, b);
+    else if (cv.n_clear == 1)
+        masks_of<E, 3>(cv, rows, count, a, b);
     else if (cv.n_clear <= kMaxClasses)
         masks_of<E, 1>(cv, rows, count, a, b);
     else
