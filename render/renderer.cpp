@@ -425,8 +425,7 @@ static glm::vec4 haze_params(const RenderSettings& s, const Camera& cam) {
     if (!h.enabled || s.mode != ShadingMode::Full || !(h.visibility > 0.f) || std::isinf(h.visibility))
         return glm::vec4(0.f);
     const double height = double(cam.block.y) - h.base_height; // Of camera-relative y = 0.
-    return glm::vec4(float(std::log(50.0) / double(h.visibility)), std::max(h.height_falloff, 0.f), float(height),
-                     s.sky_access ? 1.f : 0.f);
+    return glm::vec4(float(std::log(50.0) / double(h.visibility)), std::max(h.height_falloff, 0.f), float(height), 0.f);
 }
 
 void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {

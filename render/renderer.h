@@ -87,8 +87,9 @@ struct Exposure {
 // 3.912 / visibility per block (Koschmieder: contrast falls to 2% at the visibility) at and below
 // base_height, and falls off as exp(-height_falloff * height) above it. The defaults, clear air
 // (20 km; aerosol scale height 1.2 km), change terrain within 100 blocks by under 2% and veil
-// 55% of it at 4,096. Sealed off from the sky (sky_access false) the haze only absorbs. Flat and
-// Visibility modes and the raster pipeline have no haze.
+// 55% of it at 4,096. The haze is lit by the sky term's light (sky * sky_light); without it
+// (sky_light 0, sky_access false) it only absorbs. Flat and Visibility modes and the raster
+// pipeline have no haze.
 struct Haze {
     bool enabled = true;
     float visibility = 20000.f;            // Blocks, > 0; +infinity: clear (no haze).

@@ -5,9 +5,11 @@
 // Games", SIGGRAPH 2006; Hillaire, "Physically Based and Unified Volumetric Rendering in
 // Frostbite", SIGGRAPH 2015). A segment of optical depth tau passes T = exp(-tau) of the light
 // behind it (Beer-Lambert) and adds what it scatters towards the eye. The medium (scattering
-// only, isotropic) is lit by the uniform sky, so that is sky * (1 - T): far terrain fades into
-// the sky colour and a ray that leaves the world sees the sky unchanged (the sun's own
-// in-scattering, a glow around it, is left out).
+// only, isotropic) is lit by the uniform sky's light, the same that the sky term's rays see
+// (sky * sky_light), so that is sky * sky_light * (1 - T): with sky_light 1 far terrain fades
+// into the sky colour and a ray that leaves the world sees the sky unchanged. Without the sky
+// term (sky_light 0, or the view sealed off from the sky) the haze only absorbs. The sun's own
+// in-scattering, a glow around it, is left out.
 // TODO: the air is taken to see the whole sky. Where the view is not sealed off (sky_access) but
 // the air is dark, as in a large cave open to the sky somewhere, far walls take on sky colour
 // too (under 2% within 100 blocks at the defaults); tracing the segment's view of the sky would

@@ -69,11 +69,9 @@ TEST_F(RendererTest, FullRenderLightsTheFloor) {
     s.height = 96;
     s.mode = ShadingMode::Full;
     s.light.block = {0, 30, 0};
-    // This test is about the area light alone: no sun, no sky term (lighting_test.cpp has those),
-    // no haze (haze_test.cpp).
+    // This test is about the area light alone: no sun, no sky term (lighting_test.cpp has those).
     s.sun.irradiance = glm::vec3(0.f);
     s.sky_light = 0.f;
-    s.haze.enabled = false;
     const RenderImage img = m_renderer->render(s, Camera::look_at({16.0, 10.5, 40.5}, {16.0, 0.0, 10.0}));
     test::maybe_save(img, "full_floor");
     // The image centre looks at the floor top near (16, 4, 18), which faces the light: lit.

@@ -211,22 +211,28 @@ TEST_F(RendererTest, HazeAppliesToMirrorBounces) {
         }
 }
 
-// Sealed off from the sky (a cave: sky_access false) nothing lights the haze: it only absorbs.
-// A lamp wall 2,000 blocks away shows T * emission; with the sky it would be lifted to the sky.
-TEST_F(RendererTest, SealedOffHazeOnlyAbsorbs) {
+// The haze is lit by the sky term's light. Sealed off from the sky (a cave: sky_access false) or
+// without sky light (sky_light 0) nothing lights it: it only absorbs. A lamp wall 2,000 blocks
+// away then shows T * emission (its albedo gets no light); with half the sky light, it shows
+// T * (emission + 0.5 lamp sky) + (1 - T) 0.5 sky.
+TEST_F(RendererTest, HazeIsLitByTheSkyTermOnly) {
     load_wall(*m_renderer, "lamp");
-    RenderSettings s = sky_lit(4000.f);
-    s.sky_access = false;
     const Camera cam = wall_view(2000.0);
     const glm::dvec3 emission(reg().info(test::block_id("lamp")).emission);
-    GBufferImage g;
-    m_renderer->render(s, cam, &g);
-    for (uint32_t y = 0; y < s.height; ++y)
-        for (uint32_t x = 0; x < s.width; ++x) {
-            const double t = g.at(g.normal_depth, x, y).w;
-            ASSERT_TRUE(radiance_near(g.at(g.radiance, x, y), std::exp(-extinction(s.haze.visibility) * t) * emission))
-                << x << "," << y;
-        }
+    for (int lit = 0; lit < 3; ++lit) {
+        RenderSettings s = sky_lit(4000.f);
+        s.sky_access = lit != 0;
+        s.sky_light = lit == 1 ? 0.f : 0.5f;
+        const glm::dvec3 sky = glm::dvec3(s.sky) * (lit == 2 ? 0.5 : 0.0);
+        GBufferImage g;
+        m_renderer->render(s, cam, &g);
+        for (uint32_t y = 0; y < s.height; ++y)
+            for (uint32_t x = 0; x < s.width; ++x) {
+                const double tr = std::exp(-extinction(s.haze.visibility) * g.at(g.normal_depth, x, y).w);
+                const glm::dvec3 wall = emission + glm::dvec3(albedo("lamp")) * sky;
+                ASSERT_TRUE(radiance_near(g.at(g.radiance, x, y), hazed(wall, sky, tr))) << lit << ": " << x << "," << y;
+            }
+    }
 }
 
 // Flat shading is block albedo and sky colour, haze or not (tests compare coverage with it).
