@@ -106,9 +106,9 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
         {"negative adapt speed", [](vx::RenderSettings& s) { s.exposure.adapt_speed = -1.f; }, "exposure"},
         {"zero visibility", [](vx::RenderSettings& s) { s.haze.visibility = 0.f; }, "haze"},
         {"negative visibility", [](vx::RenderSettings& s) { s.haze.visibility = -100.f; }, "haze"},
-        {"NaN visibility", [](vx::RenderSettings& s) { s.haze.visibility = std::numeric_limits<float>::quiet_NaN(); }, "haze"},
+        {"NaN visibility", [](vx::RenderSettings& s) { s.haze.visibility = std::nanf(""); }, "haze"},
         {"negative falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = -0.001f; }, "haze"},
-        {"infinite falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = std::numeric_limits<float>::infinity(); }, "haze"},
+        {"infinite falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = HUGE_VALF; }, "haze"},
         {"NaN base height", [](vx::RenderSettings& s) { s.haze.base_height = std::nan(""); }, "haze"},
     };
     for (const Case& c : cases) {

@@ -230,7 +230,8 @@ TEST_F(RendererTest, HazeIsLitByTheSkyTermOnly) {
             for (uint32_t x = 0; x < s.width; ++x) {
                 const double tr = std::exp(-extinction(s.haze.visibility) * g.at(g.normal_depth, x, y).w);
                 const glm::dvec3 wall = emission + glm::dvec3(albedo("lamp")) * sky;
-                ASSERT_TRUE(radiance_near(g.at(g.radiance, x, y), hazed(wall, sky, tr))) << lit << ": " << x << "," << y;
+                ASSERT_TRUE(radiance_near(g.at(g.radiance, x, y), hazed(wall, sky, tr)))
+                    << lit << ": " << x << "," << y;
             }
     }
 }
