@@ -49,6 +49,10 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.exposure.ev100 = s.exposure.ev100;
     r.exposure.automatic = s.exposure.automatic;
     r.exposure.adapt_speed = s.exposure.adapt_speed;
+    r.haze.enabled = s.haze.enabled;
+    r.haze.visibility = s.haze.visibility;
+    r.haze.height_falloff = s.haze.height_falloff;
+    r.haze.base_height = s.haze.base_height;
     return r;
 }
 
@@ -114,6 +118,10 @@ Status check_render_settings(const RenderSettings& s) {
         return Error{"render settings: the area light needs finite edges and emission >= 0"};
     if (!std::isfinite(s.exposure.ev100) || !std::isfinite(s.exposure.adapt_speed) || s.exposure.adapt_speed < 0.f)
         return Error{"render settings: exposure ev100 must be finite and adapt_speed finite and >= 0"};
+    if (!(s.haze.visibility > 0.f) || !std::isfinite(s.haze.height_falloff) || s.haze.height_falloff < 0.f ||
+        !std::isfinite(s.haze.base_height))
+        return Error{"render settings: haze visibility must be > 0 (infinity: none), height_falloff finite and >= 0, "
+                     "base_height finite"};
     return {};
 }
 

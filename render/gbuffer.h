@@ -27,7 +27,8 @@
 //                                     (w = 0 is the sentinel).
 //   binding 6  reflected     RGBA16F  the part of radiance that is not the primary hit's diffuse
 //                                     lighting, rgb: its emission plus the radiance from mirror
-//                                     bounces (the sky colour on a miss); a = 1. The denoiser
+//                                     bounces and the haze's in-scattered light (the sky colour on
+//                                     a miss); a = 1. The denoiser
 //                                     filters radiance - reflected with the primary hit's guides
 //                                     and adds this back unfiltered. Flat mode: 0.
 //

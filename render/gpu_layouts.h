@@ -5,16 +5,17 @@
 
 namespace vx::render::gpu {
 
-static_assert(sizeof(FrameParams) == 16 * 16 + 32, "FrameParams: 16 vec4 + 4 uint64");
-static_assert(offsetof(FrameParams, emitter_chunks) == 16 * 16 + 16);
-static_assert(offsetof(FrameParams, exposure_meter) == 16 * 16 + 24);
+static_assert(sizeof(FrameParams) == 17 * 16 + 32, "FrameParams: 17 vec4 + 4 uint64");
+static_assert(offsetof(FrameParams, emitter_chunks) == 17 * 16 + 16);
+static_assert(offsetof(FrameParams, exposure_meter) == 17 * 16 + 24);
 static_assert(offsetof(FrameParams, sun_direction) == 9 * 16);
 static_assert(offsetof(FrameParams, size_samples) == 12 * 16);
 static_assert(offsetof(FrameParams, mode_seed) == 13 * 16);
 static_assert(offsetof(FrameParams, flags) == 14 * 16);
 static_assert(offsetof(FrameParams, exposure) == 15 * 16);
-static_assert(offsetof(FrameParams, chunk_table) == 16 * 16);
-static_assert(offsetof(FrameParams, materials) == 16 * 16 + 8);
+static_assert(offsetof(FrameParams, haze) == 16 * 16);
+static_assert(offsetof(FrameParams, chunk_table) == 17 * 16);
+static_assert(offsetof(FrameParams, materials) == 17 * 16 + 8);
 static_assert(sizeof(ExposureMeter) == 8);
 static_assert(sizeof(Material) == 32);
 static_assert(offsetof(Material, emission) == 16);

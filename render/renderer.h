@@ -57,7 +57,7 @@ struct SunLight {
 enum class ShadingMode : uint8_t {
     Flat,       // Block albedo (linear, unencoded) at the primary hit, sky colour on a miss.
     // Sun + sky term + area light with soft shadows + emissive blocks + mirror reflections,
-    // accumulated as HDR radiance, exposed (Exposure), tone-mapped and sRGB encoded
+    // seen through the haze (Haze), accumulated as HDR radiance, exposed (Exposure), tone-mapped and sRGB encoded
     // (shaders/shared/tonemap.h).
     Full,
     Visibility, // Fraction of unoccluded shadow samples at the primary hit (grey), sky on a miss.
@@ -82,12 +82,27 @@ struct Exposure {
     float adapt_speed = 1.5f; // Per second (1.5: 78% of a change within a second).
 };
 
+// Aerial perspective of the ray tracer's Full shading (shaders/shared/haze.glsl): haze towards
+// the sky colour with distance, on the primary ray and on mirror bounces. The extinction is
+// 3.912 / visibility per block (Koschmieder: contrast falls to 2% at the visibility) at and below
+// base_height, and falls off as exp(-height_falloff * height) above it. The defaults, clear air
+// (20 km; aerosol scale height 1.2 km), change terrain within 100 blocks by under 2% and veil
+// 55% of it at 4,096. The haze is lit by the sky term's light (sky * sky_light); without it
+// (sky_light 0, sky_access false) it only absorbs. Flat and Visibility modes and the raster
+// pipeline have no haze.
+struct Haze {
+    bool enabled = true;
+    float visibility = 20000.f;            // Blocks, > 0; +infinity: clear (no haze).
+    float height_falloff = 1.f / 1200.f;   // Per block, >= 0; 0: the same density at every height.
+    double base_height = 0.0;              // World y (blocks) at and below which the density is constant.
+};
+
 // Which pipeline draws the image.
 enum class PipelineKind : uint8_t {
     RayTraced, // The ray tracer (render/rt_pipeline.h).
     Raster,    // The raster baseline (render/raster_pipeline.h): the same chunks and camera, a
                // depth buffer; Flat as the ray tracer's, Full is Phong with the area light's
-               // centre as a point light and no shadows or reflections, Visibility all lit.
+               // centre as a point light and no shadows, reflections or haze, Visibility all lit.
 };
 
 struct RenderSettings {
@@ -116,6 +131,7 @@ struct RenderSettings {
     SunLight sun;
     AreaLight light;
     Exposure exposure;
+    Haze haze;
     // The guided denoiser (render/denoiser.h) on the ray tracer's Full-mode radiance; other
     // modes and the raster pipeline ignore these two. denoise: the edge-aware a-trous filter.
     // accumulate: frames of a still (or moving: reprojected) camera the temporal pass averages at

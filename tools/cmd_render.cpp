@@ -45,6 +45,8 @@ struct RenderArgs {
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
     std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
+    std::string haze = "on";     // --haze: aerial perspective of Full shading.
+    std::string visibility;      // --visibility: the haze's visibility in blocks; empty: the default.
 };
 
 std::string ms(double v) {
@@ -102,6 +104,14 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
         if (end == a.exposure.c_str() || *end != '\0' || !(ev >= -10.f && ev <= 30.f))
             return "--exposure must be an EV100 within -10..30 or auto, got '" + a.exposure + "'";
         s.exposure.ev100 = ev;
+    }
+    s.haze.enabled = a.haze == "on";
+    if (!a.visibility.empty()) {
+        char* end = nullptr;
+        const float v = std::strtof(a.visibility.c_str(), &end);
+        if (end == a.visibility.c_str() || *end != '\0' || !(v >= 1.f)) // strtof reads "inf".
+            return "--visibility must be a distance in blocks >= 1 (inf: clear air), got '" + a.visibility + "'";
+        s.haze.visibility = v;
     }
     if (!(a.fov > 1.f && a.fov < 179.f))
         return "--fov must be within 1..179 degrees";
@@ -348,6 +358,10 @@ int run_render(RenderArgs a) {
                 a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());
     if (s.settings.pipeline == render::PipelineKind::Raster)
         std::printf("  pipeline: raster (Phong, point light at the area light's centre, no shadows)\n");
+    else if (s.settings.mode == render::ShadingMode::Full && s.settings.haze.enabled)
+        std::printf("  haze: visibility %g blocks, height falloff %g per block above y %g\n",
+                    double(s.settings.haze.visibility), double(s.settings.haze.height_falloff),
+                    s.settings.haze.base_height);
     render::RenderImage image;
     const double first = timed_render(r, s, &image);
     print_frame("frame 1", r.last_stats(), first);
@@ -434,6 +448,11 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--exposure", a->exposure,
                     "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
                     "mid-grey; +1 halves the light) or auto (metered from the frame)");
+    cmd->add_option("--haze", a->haze,
+                    "Aerial perspective of full shading: haze towards the sky colour with distance")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--visibility", a->visibility,
+                    "The haze's visibility in blocks, where contrast falls to 2% (default 20000; inf: clear)");
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
     cmd->callback([a, seed, seed_opt, &action] {
         if (seed_opt->count() > 0)

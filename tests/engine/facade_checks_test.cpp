@@ -104,6 +104,12 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
         {"negative light", [](vx::RenderSettings& s) { s.light.emission = glm::vec3(-1.f); }, "area light"},
         {"NaN ev100", [](vx::RenderSettings& s) { s.exposure.ev100 = std::numeric_limits<float>::quiet_NaN(); }, "exposure"},
         {"negative adapt speed", [](vx::RenderSettings& s) { s.exposure.adapt_speed = -1.f; }, "exposure"},
+        {"zero visibility", [](vx::RenderSettings& s) { s.haze.visibility = 0.f; }, "haze"},
+        {"negative visibility", [](vx::RenderSettings& s) { s.haze.visibility = -100.f; }, "haze"},
+        {"NaN visibility", [](vx::RenderSettings& s) { s.haze.visibility = std::nanf(""); }, "haze"},
+        {"negative falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = -0.001f; }, "haze"},
+        {"infinite falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = HUGE_VALF; }, "haze"},
+        {"NaN base height", [](vx::RenderSettings& s) { s.haze.base_height = std::nan(""); }, "haze"},
     };
     for (const Case& c : cases) {
         vx::RenderSettings s;
@@ -119,6 +125,8 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
     edge.accumulate = 1024;
     edge.sky_light = 0.f;
     edge.exposure.adapt_speed = 0.f;
+    edge.haze.visibility = std::numeric_limits<float>::infinity(); // Clear air: no haze.
+    edge.haze.height_falloff = 0.f;
     EXPECT_TRUE(e.set_render_settings(edge));
 }
 

@@ -77,7 +77,10 @@ world::World stone_room(bool lamp) {
 
 TEST_F(RendererTest, LampLightsASealedRoom) {
     const Camera cam = Camera::look_at({0.5, 2.0, 0.5}, {0.5, -4.0, 0.5}, {0, 0, -1}, 90.f);
-    const RenderSettings s = daylight(16); // Sun and sky on: they must not leak in.
+    RenderSettings s = daylight(16); // Sun and sky on: they must not leak in.
+    // No haze: it lights the air with the sky wherever sky_access is true (the engine's is false
+    // in a sealed pocket; then the haze only absorbs: haze_test.cpp).
+    s.haze.enabled = false;
     test::load_meshes(*m_renderer, test::mesh_world(stone_room(false)));
     EXPECT_EQ(lit_pixels(m_renderer->render(s, cam)), 0) << "light leaks into the sealed room";
 

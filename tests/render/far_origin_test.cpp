@@ -28,6 +28,7 @@ RenderImage render_at(Renderer& r, world::BlockPos o) {
     s.max_bounces = 2;
     s.light.block = o + world::BlockPos(-10, 25, 5);
     s.light.offset = {0.25f, 0.5f, 0.75f};
+    s.haze.height_falloff = 0.f; // The same haze at every altitude (else it thins higher up).
     const glm::dvec3 od(o);
     return r.render(s, Camera::look_at(od + glm::dvec3(9.3, 8.7, 14.1), od + glm::dvec3(-2.0, 3.0, -6.0)));
 }

@@ -145,6 +145,7 @@ TEST_F(RendererTest, FarMirrorReflectsOnlySky) {
         s.light.emission = glm::vec3(0.f);
         s.sun.irradiance = glm::vec3(0.f);
         s.sky_light = 0.f;
+        s.haze.enabled = false; // Exactly the sky, at any distance (haze_test.cpp has the haze).
         // Mirror reflectivity 0.9 (block_registry.cpp): a pixel is 0.9 x sky, exposed,
         // tone-mapped and sRGB encoded. A ray that
         // reflects off its own mirror gets 0.9 x (nothing after the last bounce): black.

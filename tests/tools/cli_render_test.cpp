@@ -205,6 +205,26 @@ TEST(CliRender, ExposureIsAnEv100OrAuto) {
               std::string::npos);
 }
 
+// --haze on|off and --visibility BLOCKS (>= 1 or inf): a bad distance is one line and exit 2;
+// off and infinite visibility are the same picture; a thick haze (visibility 8 blocks, the view
+// some 20 blocks away) changes it.
+TEST(CliRender, HazeAndVisibility) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
+    for (const char* bad : {"far", "0", "-5", "nan", "12x"}) {
+        const CliRun r = vx("render " + view + "--visibility=" + bad, kEnv);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--visibility"), std::string::npos) << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+    }
+    EXPECT_NE(vx("render " + view + "--haze maybe", kEnv).code, 0);
+    const std::string off = dir() + "/haze_off.png", clear = dir() + "/haze_inf.png", thick = dir() + "/haze_8.png";
+    EXPECT_EQ(render(view + "--haze off --out " + off).out.find("haze:"), std::string::npos);
+    EXPECT_NE(render(view + "--visibility inf --out " + clear).out.find("haze: visibility inf"), std::string::npos);
+    render(view + "--visibility 8 --out " + thick);
+    EXPECT_EQ(read_png(off).rgba, read_png(clear).rgba);
+    EXPECT_NE(read_png(off).rgba, read_png(thick).rgba);
+}
+
 // `vx bench render --sections geometry`: three mesher rows (naive > culled > greedy triangles),
 // the refit run refits and the rebuild run only builds, trace rows after k = 0, 1, 10, 100.
 TEST(CliRender, BenchRenderGeometrySection) {
