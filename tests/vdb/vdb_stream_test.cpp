@@ -4,6 +4,7 @@
 // exports merged; damaged files give one line.
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -313,6 +314,46 @@ TEST(VdbStream, MergedExportFallsBackToOpenVdbForFilesTheReaderRefuses) {
     Result<world::World> back = import_world_vdb(out);
     ASSERT_TRUE(back) << back.error();
     EXPECT_TRUE(same_blocks(e.expect, *back));
+}
+
+// A file OpenVDB reads but the streaming reader finds damaged only inside its leaf values (a
+// leaf's copy of its mask differs from the topology's: OpenVDB, seeking, never reads that copy):
+// the export starts streaming, then falls back and still writes the edited world.
+TEST(VdbStream, MergedExportFallsBackMidStream) {
+    TempDir dir;
+    world::World w = varied_world(8);
+    const std::string vdb = dir.file("odd.vdb");
+    ASSERT_TRUE(export_vdb(w, vdb));
+    std::string bytes = read_bytes(vdb);
+    // Our writer's layout: header 57 bytes, file metadata 31, grid count 4, descriptor 34, then
+    // the grid, tree-values and end offsets (int64 each): the leaf values start at the second.
+    int64_t block_pos = 0;
+    std::memcpy(&block_pos, bytes.data() + 57 + 31 + 4 + 34 + 8, 8);
+    ASSERT_GT(block_pos, 0);
+    ASSERT_LT(size_t(block_pos) + 64, bytes.size());
+    bytes[size_t(block_pos) + 63] ^= char(0x80); // The first leaf's last voxel, in the copy only.
+    write_bytes(vdb, bytes);
+    Result<world::World> streamed = stream_read(vdb);
+    ASSERT_FALSE(streamed);
+    EXPECT_NE(streamed.error().find("damaged"), std::string::npos) << streamed.error();
+
+    VdbOverlayOpenInfo info;
+    info.vdb_path = vdb;
+    info.read.isolated = false;
+    {
+        auto store = VdbOverlayStore::open(info);
+        ASSERT_TRUE(store) << store.error();
+        ASSERT_TRUE((*store)->save(ChunkCoord(1, 1, 1), Chunk(BlockId(9))));
+        ASSERT_TRUE((*store)->flush());
+    }
+    w.put_chunk(ChunkCoord(1, 1, 1), Chunk(BlockId(9)));
+    const std::string out = dir.file("merged.vdb");
+    Result<VdbOverlayExport> done = export_overlay_vdb(info, out);
+    ASSERT_TRUE(done) << done.error();
+    EXPECT_EQ(done->fallback, streamed.error());
+    Result<world::World> back = import_world_vdb(out);
+    ASSERT_TRUE(back) << back.error();
+    EXPECT_TRUE(same_blocks(w, *back));
 }
 
 // Every prefix the reader is given fails with one line; flipped bytes fail with one line or read

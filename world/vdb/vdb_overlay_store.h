@@ -4,7 +4,8 @@
 // Reads ask the overlay first, then the VDB grid; saves, commits, flushes and metadata go to the
 // overlay only, so unloading, flush() and crashes behave as for any stored world and the VDB file
 // is never written. An erased chunk is stored in the overlay as an all-air chunk (a tombstone
-// that hides the VDB's chunk).
+// that hides the VDB's chunk). export_overlay_vdb (below) writes the two merged without a
+// VdbOverlayStore, streaming the file.
 //
 // The overlay remembers which VDB file it edits (meta "vdb_file": size, modification time and
 // xxh64 of the file's bytes, i.e. of its header and tree); opened against a file of another size

@@ -9,8 +9,8 @@
 // Internal5 node (chunk >> 7, lexicographic), then Internal4 node (chunk >> 2), then chunk.
 //
 // The writer takes chunks in file order and holds one Internal4 node (at most 64 chunks, plus
-// 4 MB of dense scratch); it writes topology to the output and leaf values to a temporary, then
-// appends them. The reader walks topology and leaf values with two file cursors in lock step and
+// 4 MB of dense scratch); it writes topology to the output and leaf values to a scratch file,
+// then appends them and patches the offsets and statistics that precede the tree. The reader walks topology and leaf values with two file cursors in lock step and
 // hands out one Internal4 node's chunks at a time. Neither uses OpenVDB or starts threads.
 
 #include <cstdint>
@@ -37,8 +37,9 @@ inline world::ChunkCoord node_of(world::ChunkCoord c) { return c >> 2; }
 // Writes a vx-world VDB file from chunks given in file order. The output is a temporary beside
 // `path`, renamed over it by finish(); destroying the writer before finish() removes it, so a
 // failed export leaves an existing file untouched. Memory: one Internal4 node (<= 64 chunks),
-// 4 MB of scratch and 256 KB per Internal5 node in progress; the leaf values wait in a second
-// temporary beside `path` (unlinked once open). Not thread-safe: one thread at a time.
+// 4 MB of scratch and 136 KB for the Internal5 node in progress; that node's children's topology
+// and all leaf values wait in two scratch files beside `path` (unlinked once open). Not
+// thread-safe: one thread at a time.
 class VdbStreamWriter {
 public:
     // Opens the temporaries; metadata and transform as vdb_world.h describes (no
@@ -78,7 +79,7 @@ struct VdbStreamReadOptions {
 // types or transforms, instanced grids, damage) is a one-line error, so the caller can fall back
 // to OpenVDB's reader; every count and size read is checked against the file, so garbage never
 // crashes it or makes it allocate more than a node. Memory: one Internal4 node's chunks plus
-// 4 MB of scratch and 256 KB for the Internal5 node. Not thread-safe: one thread at a time.
+// 4 MB of scratch and 136 KB for the Internal5 node. Not thread-safe: one thread at a time.
 class VdbStreamReader {
 public:
     static Result<std::unique_ptr<VdbStreamReader>> open(const std::string& path,
