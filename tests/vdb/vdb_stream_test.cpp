@@ -4,12 +4,16 @@
 // exports merged; damaged files give one line.
 #include <algorithm>
 #include <array>
+#include <csignal>
 #include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "tests/vdb/vdb_openvdb_writer.h"
 #include "tests/vdb/vdb_test_util.h"
@@ -185,6 +189,39 @@ TEST(VdbStream, EmptyWorldAndOutOfOrderChunks) {
     for (const auto& e : std::filesystem::directory_iterator(dir.path()))
         files += e.path().filename().string().find("order") != std::string::npos ? 1 : 0;
     EXPECT_EQ(files, 0u);
+}
+
+// A write that fails (the file-size limit stands in for a full disk) fails the export with one
+// line, keeps the old file and leaves no temporary. In a forked child: the limit is per process.
+TEST(VdbStream, WriteFailureKeepsTheOldFile) {
+    TempDir dir;
+    const std::string path = dir.file("keep.vdb");
+    world::World small;
+    small.set_block(BlockPos(1, 2, 3), 4);
+    ASSERT_TRUE(export_vdb(small, path));
+    const std::string before = read_bytes(path);
+    const world::World big = varied_world(4); // About 1 MB of leaf values with compression none.
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        std::signal(SIGXFSZ, SIG_IGN); // Writes past the limit fail with EFBIG instead.
+        const rlimit limit{64 * 1024, 64 * 1024};
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+        Status s = export_vdb(big, path, {std::nullopt, VdbCompression::None});
+        const bool one_line = !s && s.error().find('\n') == std::string::npos &&
+                              s.error().find("cannot write") != std::string::npos;
+        ::_exit(s ? 1 : one_line ? 0 : 2);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "1: the export succeeded; 2: its error was not one 'cannot write' line";
+    EXPECT_EQ(read_bytes(path), before);
+    size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+        files += e.is_regular_file() ? 1 : 0;
+    EXPECT_EQ(files, 1u);
 }
 
 TEST(VdbStream, ReaderExpandsRootTilesAndCapsThem) {
