@@ -26,7 +26,8 @@ namespace {
 
 constexpr int kChunksPerNode = 64;
 constexpr uint64_t kMaxName = 1 << 16;        // Longest metadata key or type name accepted.
-constexpr uint64_t kMaxKeptMeta = 1 << 20;    // Largest vx_* metadata value kept.
+constexpr uint64_t kMaxKeptMeta = 1 << 20;    // Largest vx_* metadata value kept...
+constexpr uint64_t kMaxKeptMetaTotal = 1 << 26; // ... and all of them together.
 
 // A bounded read cursor over the file: nothing past `end` is read, a failure sticks.
 struct In {
@@ -241,13 +242,14 @@ Status VdbStreamReader::State::open_header() {
         return fail("unknown compression flags " + std::to_string(compression));
     // Grid metadata: the vx_* items are kept (registry, version), others skipped.
     VdbMetaMap meta;
+    uint64_t kept = 0;
     if (!topo.pod(count))
         return damaged();
     for (uint32_t i = 0; i < count; ++i) {
         uint32_t size = 0;
         if (!topo.str(key, kMaxName) || !topo.str(type, kMaxName) || !topo.pod(size))
             return damaged();
-        if (key.compare(0, 3, "vx_") == 0 && size <= kMaxKeptMeta) {
+        if (key.compare(0, 3, "vx_") == 0 && size <= kMaxKeptMeta && (kept += size) <= kMaxKeptMetaTotal) {
             VdbMetaValue v{type, std::string(size, '\0')};
             if (!topo.get(v.bytes.data(), size))
                 return damaged();
