@@ -111,7 +111,9 @@ struct VdbStreamReader::State {
     }
     Status damaged() { return fail("the file is damaged or truncated"); }
 
-    Status open_header();
+    Status open_header();    // The file header; finds the "blocks" grid.
+    Status read_grid_meta(); // Compression, metadata (the registry), transform.
+    Status read_root();      // The root's background and tiles; the values cursor's start.
     Status read_values(In& in, int n, const uint64_t* mask, int32_t* dest);
     Status read_internal4(glm::ivec3 org, std::vector<std::pair<ChunkCoord, Chunk>>& out);
     Status block_id(glm::ivec3 p, int32_t v) {
@@ -234,12 +236,18 @@ Status VdbStreamReader::State::open_header() {
             return damaged();
         break;
     }
+    return read_grid_meta();
+}
+
+Status VdbStreamReader::State::read_grid_meta() {
     if (!topo.pod(compression))
         return damaged();
     if (compression & kCompressBlosc)
         return fail("Blosc compression (the streaming reader reads ZIP and uncompressed files)");
     if (compression & ~(kCompressZip | kCompressActiveMask))
         return fail("unknown compression flags " + std::to_string(compression));
+    uint32_t count = 0;
+    std::string key, type;
     // Grid metadata: the vx_* items are kept (registry, version), others skipped.
     VdbMetaMap meta;
     uint64_t kept = 0;
@@ -280,6 +288,10 @@ Status VdbStreamReader::State::open_header() {
         return fail("transform " + type.substr(0, 64) + " (the streaming reader knows linear maps)");
     if (!topo.skip(uint64_t(map->second)))
         return damaged();
+    return read_root();
+}
+
+Status VdbStreamReader::State::read_root() {
     // Tree: one buffer, the background, root tiles, then root children.
     int32_t buffers = 0;
     uint32_t n_tiles = 0;
