@@ -4,8 +4,8 @@
 // File layout (format "vx-world", version 1):
 //   - one openvdb::Int32Grid named "blocks": voxel value = block id, background 0 = air; air voxels
 //     are inactive, every other block is an active voxel or part of an active tile. A uniform 32³
-//     chunk is written as tiles (64 tiles of 8³ at the leaf-parent level, merged further by
-//     pruning when neighbours agree), never as voxels.
+//     chunk is written as tiles (64 tiles of 8³ at the leaf-parent level; one 128³ tile when all
+//     4³ chunks of a leaf-parent node agree, as OpenVDB's prune() merges them), never as voxels.
 //   - grid metadata: "vx_format" = "vx-world", "vx_format_version" = 1, "vx_chunk_size" = 32, the
 //     block registry as "vx_block_<id>_name" (string), "_albedo" (vec3s, linear RGB),
 //     "_reflectivity" (float), "_emission" (vec3s, linear RGB radiance) and "_opaque" (bool) per
