@@ -263,6 +263,38 @@ TEST(VdbStream, ReaderExpandsRootTilesAndCapsThem) {
     EXPECT_NE(capped.error().find("1000 chunks"), std::string::npos) << capped.error();
 }
 
+// 128³ chunks of one id fill an Internal5 node: the writer makes it a root tile, as OpenVDB's
+// prune() does, with the same tree bytes as OpenVDB writes; the reader expands it again.
+TEST(VdbStream, WholeInternal5OfOneIdBecomesARootTile) {
+    TempDir dir;
+    const std::string ours = dir.file("ours.vdb"), theirs = dir.file("theirs.vdb");
+    ASSERT_TRUE(test::write_root_tile_openvdb(theirs));
+    {
+        auto writer = VdbStreamWriter::create(ours, world::BlockRegistry::default_registry(), {});
+        ASSERT_TRUE(writer) << writer.error();
+        Chunk corner;
+        corner.set(31, 31, 31, 5); // Block (-1, -1, -1).
+        ASSERT_TRUE((*writer)->add(ChunkCoord(-1), corner));
+        const Chunk three(BlockId(3));
+        for (int n = 0; n < 32768; ++n) { // Internal4 nodes of Internal5 (0, 0, 0), x major.
+            const ChunkCoord node(n >> 10, (n >> 5) & 31, n & 31);
+            for (int k = 0; k < 64; ++k)
+                ASSERT_TRUE((*writer)->add(node * 4 + ChunkCoord(k >> 4, (k >> 2) & 3, k & 3), three));
+        }
+        ASSERT_TRUE((*writer)->finish());
+    }
+    // From the root on (our transform is a UniformScaleTranslateMap, 144 bytes; OpenVDB's default
+    // a UniformScaleMap, 120 bytes).
+    const std::string a = read_bytes(ours), b = read_bytes(theirs);
+    const size_t at_a = a.find("UniformScaleTranslateMap"), at_b = b.find("UniformScaleMap");
+    ASSERT_NE(at_a, std::string::npos);
+    ASSERT_NE(at_b, std::string::npos);
+    EXPECT_TRUE(a.substr(at_a + 24 + 144) == b.substr(at_b + 15 + 120));
+    Result<world::World> small = stream_read(ours, {.max_tile_chunks = 0});
+    ASSERT_FALSE(small);
+    EXPECT_NE(small.error().find("0 chunks"), std::string::npos) << small.error();
+}
+
 // A VDB world with edits in its overlay: replaced, erased, new chunks in an existing node, in a
 // new node and in a new root child.
 struct EditedWorld {

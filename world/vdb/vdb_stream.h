@@ -37,9 +37,10 @@ inline world::ChunkCoord node_of(world::ChunkCoord c) { return c >> 2; }
 // Writes a vx-world VDB file from chunks given in file order. The output is a temporary beside
 // `path`, renamed over it by finish(); destroying the writer before finish() removes it, so a
 // failed export leaves an existing file untouched. Memory: one Internal4 node (<= 64 chunks),
-// 4 MB of scratch and 136 KB for the Internal5 node in progress; that node's children's topology
-// and all leaf values wait in two scratch files beside `path` (unlinked once open). Not
-// thread-safe: one thread at a time.
+// 4 MB of scratch and 136 KB for the Internal5 node in progress; that node's children's
+// topology, the root's children's and all leaf values wait in scratch files beside `path`
+// (unlinked once open). Uniform nodes become tiles as OpenVDB's prune() makes them, up to root
+// tiles. Not thread-safe: one thread at a time.
 class VdbStreamWriter {
 public:
     // Opens the temporaries; metadata and transform as vdb_world.h describes (no

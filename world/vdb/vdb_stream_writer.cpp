@@ -102,12 +102,14 @@ bool in_vdb_range(BlockPos p) {
 
 struct VdbStreamWriter::State {
     std::string path, tmp;
-    Out out, kids, bufs; // The file; the current Internal5 node's children's topology; leaf values.
+    // The file; the current Internal5 node's children's topology; the root's children's topology
+    // (root tiles precede them in the file); leaf values.
+    Out out, kids, roots, bufs;
     uint32_t compression = 0;
     BlockBox box{BlockPos(INT64_MIN), BlockPos(INT64_MAX)};
     bool finished = false, broken = false;
 
-    int64_t at_stream_pos = 0, at_children = 0, at_bbox_min = 0, at_bbox_max = 0, at_mem = 0, at_count = 0;
+    int64_t at_stream_pos = 0, at_bbox_min = 0, at_bbox_max = 0, at_mem = 0, at_count = 0;
     glm::ivec3 bb_min{INT32_MAX}, bb_max{INT32_MIN};
     uint64_t voxels = 0, leaves = 0, internal4 = 0, internal5 = 0;
 
@@ -124,6 +126,7 @@ struct VdbStreamWriter::State {
     std::array<uint64_t, kInternal5Slots / 64> child5{}, value5{};
     std::vector<int32_t> values5 = std::vector<int32_t>(kInternal5Slots);
     uint64_t root_children = 0;
+    std::vector<std::pair<glm::ivec3, int32_t>> root_tiles; // Internal5 nodes of one id (4096³).
 
     std::vector<int32_t> active;
     std::vector<Bytef> zipped;
@@ -138,7 +141,23 @@ struct VdbStreamWriter::State {
         }
     }
 
-    bool io_failed() const { return out.failed || kids.failed || bufs.failed; }
+    bool io_failed() const { return out.failed || kids.failed || roots.failed || bufs.failed; }
+
+    // Appends the first `n` bytes of scratch file `from` to `to`, and rewinds `from`.
+    static void append(Out& to, Out& from, int64_t n) {
+        std::vector<char> buf(size_t(1) << 20);
+        if (std::fflush(from.f) != 0 || ::fseeko(from.f, 0, SEEK_SET) != 0)
+            from.failed = true;
+        for (int64_t left = n; left > 0 && !from.failed && !to.failed;) {
+            const size_t want = size_t(std::min<int64_t>(left, int64_t(buf.size())));
+            if (std::fread(buf.data(), 1, want, from.f) != want)
+                from.failed = true;
+            to.put(buf.data(), want);
+            left -= int64_t(want);
+        }
+        if (::fseeko(from.f, 0, SEEK_SET) != 0)
+            from.failed = true;
+    }
 
     // A value array as writeCompressedValues stores it when every inactive value is the
     // background 0: metadata byte 0, then the active values, zipped when that is smaller.
@@ -234,12 +253,9 @@ void VdbStreamWriter::State::write_header(const world::BlockRegistry& registry, 
     for (double v : {0.5, 1.0, 1.0, 1.0, 1.0, 0.5})
         for (int axis = 0; axis < 3; ++axis)
             out.pod(v);
-    // Tree: one buffer, background 0, no root tiles, root children counted by finish().
+    // Tree: one buffer, background 0; the root's tiles and children follow in finish().
     out.pod(int32_t(1));
     out.pod(int32_t(0));
-    out.pod(uint32_t(0));
-    at_children = out.tell();
-    out.pod(uint32_t(0));
 }
 
 // Writes the gathered Internal4 node: its leaves' values to `bufs`, its topology to `kids`, or a
@@ -346,34 +362,29 @@ void VdbStreamWriter::State::flush_node() {
 }
 
 // Writes the Internal5 node in progress (origin, masks, tile values, then its children's
-// topology from `kids`) as the next root child, unless it holds nothing.
+// topology from `kids`) to `roots` as the next root child; or, when its 32768 slots are active
+// tiles of one id, keeps it as a root tile (OpenVDB's prune() again); or nothing when it is empty.
 void VdbStreamWriter::State::flush_internal5() {
     if (!have5)
         return;
     have5 = false;
-    const bool any = std::any_of(child5.begin(), child5.end(), [](uint64_t w) { return w != 0; }) ||
-                     std::any_of(value5.begin(), value5.end(), [](uint64_t w) { return w != 0; });
-    if (any) {
-        const glm::ivec3 org = node5 * kInternal5Dim;
-        out.pod(org);
-        out.put(child5.data(), sizeof child5);
-        out.put(value5.data(), sizeof value5);
+    const auto any = [](const auto& m) { return std::any_of(m.begin(), m.end(), [](uint64_t w) { return w != 0; }); };
+    const bool no_children = !any(child5);
+    const bool all_tiles = std::all_of(value5.begin(), value5.end(), [](uint64_t w) { return w == ~uint64_t(0); });
+    const glm::ivec3 org = node5 * kInternal5Dim;
+    if (no_children && all_tiles &&
+        std::all_of(values5.begin(), values5.end(), [&](int32_t v) { return v == values5[0]; })) {
+        root_tiles.emplace_back(org, values5[0]);
+    } else if (!no_children || any(value5)) {
+        roots.pod(org);
+        roots.put(child5.data(), sizeof child5);
+        roots.put(value5.data(), sizeof value5);
         active.clear();
         for (int i = 0; i < kInternal5Slots; ++i)
             if (mask_on(value5.data(), i))
                 active.push_back(values5[size_t(i)]);
-        write_values(out, active);
-        const int64_t n = kids.tell();
-        std::vector<char> buf(size_t(1) << 20);
-        if (std::fflush(kids.f) != 0 || ::fseeko(kids.f, 0, SEEK_SET) != 0)
-            kids.failed = true;
-        for (int64_t left = n; left > 0 && !kids.failed;) {
-            const size_t want = size_t(std::min<int64_t>(left, int64_t(buf.size())));
-            if (std::fread(buf.data(), 1, want, kids.f) != want)
-                kids.failed = true;
-            out.put(buf.data(), want);
-            left -= int64_t(want);
-        }
+        write_values(roots, active);
+        append(roots, kids, kids.tell());
         ++root_children;
         ++internal5;
     }
@@ -398,7 +409,7 @@ Result<std::unique_ptr<VdbStreamWriter>> VdbStreamWriter::create(const std::stri
     s->out.f = std::fopen(s->tmp.c_str(), "wb");
     if (!s->out.f)
         return make_error("cannot export to '" + path + "'", std::strerror(errno));
-    for (Out* o : {&s->kids, &s->bufs}) {
+    for (Out* o : {&s->kids, &s->roots, &s->bufs}) {
         Result<std::FILE*> f = open_scratch(path);
         if (!f)
             return Error{"cannot export to '" + path + "': " + f.error()};
@@ -457,25 +468,22 @@ Status VdbStreamWriter::finish() {
         return Error{"cannot write '" + s.path + "': the export already failed or finished"};
     s.flush_node();
     s.flush_internal5();
-    // The leaf values follow the topology.
-    const int64_t block_pos = s.out.tell();
-    const int64_t n = s.bufs.tell();
-    if (std::fflush(s.bufs.f) != 0 || ::fseeko(s.bufs.f, 0, SEEK_SET) != 0)
-        s.bufs.failed = true;
-    std::vector<char> buf(size_t(1) << 20);
-    for (int64_t left = n; left > 0 && !s.bufs.failed && !s.out.failed;) {
-        const size_t want = size_t(std::min<int64_t>(left, int64_t(buf.size())));
-        if (std::fread(buf.data(), 1, want, s.bufs.f) != want)
-            s.bufs.failed = true;
-        s.out.put(buf.data(), want);
-        left -= int64_t(want);
+    // The root: tile and child counts, the tiles (origin, value, active), the children; then the
+    // leaf values.
+    s.out.pod(uint32_t(s.root_tiles.size()));
+    s.out.pod(uint32_t(s.root_children));
+    for (const auto& [org, value] : s.root_tiles) {
+        s.out.pod(org);
+        s.out.pod(value);
+        s.out.pod(uint8_t(1));
     }
+    State::append(s.out, s.roots, s.roots.tell());
+    const int64_t block_pos = s.out.tell();
+    State::append(s.out, s.bufs, s.bufs.tell());
     const int64_t end_pos = s.out.tell();
     // The offsets and statistics that precede the tree.
     const int64_t pos[3] = {s.at_stream_pos + 24, block_pos, end_pos};
     s.out.patch(s.at_stream_pos, pos, sizeof pos);
-    const uint32_t children = uint32_t(s.root_children);
-    s.out.patch(s.at_children, &children, sizeof children);
     s.out.patch(s.at_bbox_min, &s.bb_min, 12);
     s.out.patch(s.at_bbox_max, &s.bb_max, 12);
     const int64_t mem = int64_t(kMemTree + kMemInternal5 * s.internal5 + kMemInternal4 * s.internal4 + kMemLeaf * s.leaves);
