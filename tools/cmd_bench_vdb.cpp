@@ -1,7 +1,10 @@
 // `vx bench vdb`: peak memory of `vx export-vdb` on a VDB world with an edits overlay, for a world
-// and one of 8x the chunks. Each export runs as its own `vx export-vdb` process (this binary), so
-// its peak RSS (wait4; the isolated reader child included, the larger of the two) is the user's
-// cost, untouched by this process's own memory. Prints one line per size.
+// and one of 8x the chunks. Each export runs as its own `vx export-vdb` process (this binary, or
+// --exe), so its peak RSS (wait4; an isolated reader child included, the larger of the two) is the
+// user's cost. The worlds are made in forked children, so this process stays small: Linux carries
+// the old address space's high-water mark over exec, and posix_spawn's child runs in ours until
+// then, so a spawned child's ru_maxrss is at least this process's peak. Prints the baseline (a
+// run that fails at once: process and libraries) and one line per size.
 #include <cerrno>
 #include <chrono>
 #include <cinttypes>
@@ -35,9 +38,9 @@ struct Run {
     int status = -1;
 };
 
-// Runs this binary with `args`, returns its exit status, peak RSS and wall time.
-Run run_self(const std::vector<std::string>& args) {
-    std::vector<std::string> all = {"/proc/self/exe"};
+// Runs `exe` with `args`, returns its exit status, peak RSS and wall time.
+Run run_exe(const std::string& exe, const std::vector<std::string>& args) {
+    std::vector<std::string> all = {exe};
     all.insert(all.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (std::string& a : all)
@@ -46,7 +49,7 @@ Run run_self(const std::vector<std::string>& args) {
     Run r;
     const auto t0 = std::chrono::steady_clock::now();
     pid_t pid = 0;
-    if (::posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, argv.data(), environ) != 0)
+    if (::posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ) != 0)
         return r;
     int status = 0;
     rusage use{};
@@ -92,6 +95,38 @@ Result<size_t> make_world(const std::string& vdb, int nx, int nz) {
     return chunks;
 }
 
+// make_world in a forked child (see the top of the file); its result comes back through a pipe.
+Result<size_t> make_world_apart(const std::string& vdb, int nx, int nz) {
+    int fds[2];
+    if (::pipe(fds) != 0)
+        return Error{"pipe failed"};
+    const pid_t pid = ::fork();
+    if (pid < 0)
+        return Error{"fork failed"};
+    if (pid == 0) {
+        ::close(fds[0]);
+        Result<size_t> r = make_world(vdb, nx, nz);
+        const std::string msg = r ? "ok " + std::to_string(*r) : "error " + r.error();
+        const bool written = ::write(fds[1], msg.data(), msg.size()) == ssize_t(msg.size());
+        ::_exit(written ? 0 : 1);
+    }
+    ::close(fds[1]);
+    std::string msg;
+    char buf[256];
+    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) != 0;)
+        if (n > 0)
+            msg.append(buf, size_t(n));
+        else if (errno != EINTR)
+            break;
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (msg.rfind("ok ", 0) == 0)
+        return size_t(std::strtoull(msg.c_str() + 3, nullptr, 10));
+    return Error{msg.rfind("error ", 0) == 0 ? msg.substr(6) : "the world-making child failed"};
+}
+
 } // namespace
 
 int run_bench_vdb(int argc, char** argv) {
@@ -101,6 +136,8 @@ int run_bench_vdb(int argc, char** argv) {
     app.add_option("--side", side, "1x world: side x 4 x side chunks; 8x: 4 side x 4 x 2 side (default 8)")
         ->check(CLI::Range(1, 256));
     app.add_option("--dir", dir, "Scratch folder (removed afterwards)");
+    std::string exe = "/proc/self/exe";
+    app.add_option("--exe", exe, "The vx binary whose export-vdb is measured (default: this one), e.g. an older build");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -109,15 +146,18 @@ int run_bench_vdb(int argc, char** argv) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     int rc = kExitOk;
+    const Run base = run_exe(exe, {"export-vdb", dir + "/missing.vdb", "--out", dir + "/none.vdb"});
+    std::printf("vx bench vdb: baseline (export-vdb of a missing file: process and libraries): peak RSS %.1f MB\n",
+                double(base.peak_rss_kb) / 1024.0);
     for (const int scale : {1, 8}) {
         const int nx = scale == 1 ? side : 4 * side, nz = scale == 1 ? side : 2 * side;
         const std::string vdb = dir + "/w" + std::to_string(scale) + ".vdb", out = dir + "/merged.vdb";
-        Result<size_t> chunks = make_world(vdb, nx, nz);
+        Result<size_t> chunks = make_world_apart(vdb, nx, nz);
         if (!chunks) {
             rc = bad_input(chunks.error());
             break;
         }
-        const Run r = run_self({"export-vdb", vdb, "--out", out});
+        const Run r = run_exe(exe, {"export-vdb", vdb, "--out", out});
         if (r.status != 0) {
             rc = bad_input("vx export-vdb " + vdb + " failed (exit " + std::to_string(r.status) + ")");
             break;

@@ -57,28 +57,28 @@ int run_export(const ExportArgs& a) {
     if (!a.overlay.empty() && !names_vdb_file(a.world))
         return bad_input("--overlay goes with a VDB world (a .vdb file), not '" + a.world + "'");
     const auto t0 = Clock::now();
-    // A .vdb world is exported with its edits (VDB grid plus overlay); a store as it is. Both
-    // stream chunk by chunk (export_store_vdb).
-    std::unique_ptr<ChunkStore> store;
-    const BlockRegistry* registry = &BlockRegistry::default_registry();
-    if (names_vdb_file(a.world)) {
-        auto merged = VdbOverlayStore::open({.vdb_path = a.world, .overlay = a.overlay, .read_only = true, .read = {}});
-        if (!merged)
-            return bad_input(merged.error());
-        registry = &(*merged)->registry();
-        store = std::move(*merged);
-    } else {
-        auto opened = open_store({a.world, /*read_only=*/true, /*create=*/false, /*listen=*/false});
-        if (!opened)
-            return bad_input(opened.error());
-        store = std::move(*opened);
-    }
     VdbExportOptions opt;
     opt.box = box;
     opt.compression = a.compression == "none" ? VdbCompression::None : VdbCompression::Zip;
-    if (Status s = export_store_vdb(*store, *registry, a.out, opt); !s)
+    // A .vdb world is exported with its edits (VDB grid plus overlay, streamed side by side); a
+    // store as it is, chunk by chunk. Both write node by node (vdb_stream.h).
+    if (names_vdb_file(a.world)) {
+        auto done = export_overlay_vdb({.vdb_path = a.world, .overlay = a.overlay, .read_only = true, .read = {}},
+                                       a.out, opt);
+        if (!done)
+            return bad_input(done.error());
+        std::printf("vx export-vdb: %" PRIu64 " chunks of %s with its edits -> %s (Int32 grid 'blocks', %s) in %.2f s%s%s\n",
+                    done->chunks, a.world.c_str(), a.out.c_str(), a.compression.c_str(),
+                    std::chrono::duration<double>(Clock::now() - t0).count(),
+                    done->fallback.empty() ? "" : "; read whole, not streamed: ", done->fallback.c_str());
+        return kExitOk;
+    }
+    auto store = open_store({a.world, /*read_only=*/true, /*create=*/false, /*listen=*/false});
+    if (!store)
+        return bad_input(store.error());
+    if (Status s = export_store_vdb(**store, BlockRegistry::default_registry(), a.out, opt); !s)
         return bad_input(s.error());
-    auto chunks = store->count();
+    auto chunks = (*store)->count();
     std::printf("vx export-vdb: %" PRIu64 " chunks of %s -> %s (Int32 grid 'blocks', %s) in %.2f s\n",
                 chunks ? *chunks : 0, a.world.c_str(), a.out.c_str(), a.compression.c_str(),
                 std::chrono::duration<double>(Clock::now() - t0).count());

@@ -409,6 +409,8 @@ TEST(Cli, VdbWorldExportsWithItsEditsAndReaderCapsAreOptions) {
     }
     r = run_vx("export-vdb " + vdb + " --out " + merged + " --compression none");
     ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("with its edits"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("not streamed"), std::string::npos) << r.out; // vx's own file streams.
     ASSERT_EQ(run_vx("import-vdb " + merged + " --out " + back + " --max-memory 8 --max-seconds 300").code, 0);
     auto chunks = store_chunks(back), original = store_chunks(db);
     ASSERT_EQ(chunks.count({0, 0, 0}), 1u);

@@ -1,5 +1,6 @@
 #include "world/vdb/vdb_overlay_store.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
@@ -11,6 +12,7 @@
 
 #include "world/store/pg_store.h"
 #include "world/store/store_open.h"
+#include "world/vdb/vdb_stream.h"
 
 namespace vx::vdb {
 namespace {
@@ -92,6 +94,78 @@ Result<VdbFileId> vdb_file_id(const std::string& path) {
     return id;
 }
 
+namespace {
+
+// Opens the overlay of info.vdb_path (whose id is `id`) and checks its binding.
+Result<std::unique_ptr<world::ChunkStore>> open_overlay(const VdbOverlayOpenInfo& info, const std::string& name,
+                                                        const VdbFileId& id) {
+    std::error_code ec;
+    if (info.read_only && !world::is_pg_uri(name) && !std::filesystem::exists(name, ec))
+        return Error{"'" + info.vdb_path + "' has no edits overlay ('" + name +
+                     "'): the file alone is the whole world"};
+    auto overlay = world::open_store(
+        {.name = name, .read_only = info.read_only, .create = !info.read_only, .listen = !info.read_only});
+    if (!overlay)
+        return Error{"the edits of '" + info.vdb_path + "': " + overlay.error()};
+    if (Status s = check_binding(**overlay, name, info.vdb_path, id, info.read_only); !s)
+        return Error{s.error()};
+    if (!info.read_only) // The binding is durable before any edit can be.
+        if (Status s = (*overlay)->flush(); !s)
+            return Error{s.error()};
+    return std::move(*overlay);
+}
+
+bool node_less(world::ChunkCoord a, world::ChunkCoord b) { return file_order_less(node_of(a) * 4, node_of(b) * 4); }
+
+// The streaming merge: VDB nodes and the overlay's chunks in file order into `writer`. Errors of
+// the VDB file come back in `vdb_error` (the caller falls back), others as the result.
+Status merge_stream(VdbStreamReader& reader, world::ChunkStore& overlay, std::vector<world::ChunkCoord>& edits,
+                    VdbStreamWriter& writer, std::string& vdb_error) {
+    std::vector<std::pair<world::ChunkCoord, world::Chunk>> node;
+    const auto next = [&]() -> bool {
+        Result<bool> more = reader.next(node);
+        if (!more)
+            vdb_error = more.error();
+        return more && *more;
+    };
+    const auto add_edit = [&](world::ChunkCoord c) -> Status {
+        Result<world::ChunkLoad> load = overlay.load(c);
+        if (!load)
+            return Error{load.error()};
+        if (load->state == world::LoadState::Corrupt) {
+            char where[96];
+            std::snprintf(where, sizeof where, "chunk (%d, %d, %d) of the edits is damaged: ", c.x, c.y, c.z);
+            return Error{where + load->problem};
+        }
+        return load->state == world::LoadState::Present ? writer.add(c, *load->chunk) : Status{};
+    };
+    bool more = next();
+    size_t e = 0;
+    while (vdb_error.empty() && (more || e < edits.size())) {
+        const bool vdb_first = more && (e == edits.size() || !node_less(edits[e], node[0].first));
+        const bool edits_first = e < edits.size() && (!more || !node_less(node[0].first, edits[e]));
+        const size_t e_end = edits_first ? size_t(std::find_if(edits.begin() + ptrdiff_t(e), edits.end(),
+                                                               [&](world::ChunkCoord c) {
+                                                                   return node_of(c) != node_of(edits[e]);
+                                                               }) - edits.begin())
+                                         : e;
+        if (vdb_first) { // This node's VDB chunks, less those the overlay replaces.
+            for (const auto& [c, chunk] : node)
+                if (std::find(edits.begin() + ptrdiff_t(e), edits.begin() + ptrdiff_t(e_end), c) ==
+                    edits.begin() + ptrdiff_t(e_end))
+                    if (Status s = writer.add(c, chunk); !s)
+                        return s;
+            more = next();
+        }
+        for (; e < e_end; ++e)
+            if (Status s = add_edit(edits[e]); !s)
+                return s;
+    }
+    return {};
+}
+
+} // namespace
+
 Result<std::unique_ptr<VdbOverlayStore>> VdbOverlayStore::open(const VdbOverlayOpenInfo& info) {
     const std::string name = info.overlay.empty() ? default_overlay_name(info.vdb_path) : info.overlay;
     // The id first: it reads the file in this process, but only as bytes.
@@ -101,20 +175,54 @@ Result<std::unique_ptr<VdbOverlayStore>> VdbOverlayStore::open(const VdbOverlayO
     auto base = VdbStore::open(info.vdb_path, info.read);
     if (!base)
         return Error{base.error()};
-    std::error_code ec;
-    if (info.read_only && !world::is_pg_uri(name) && !std::filesystem::exists(name, ec))
-        return Error{"'" + info.vdb_path + "' has no edits overlay ('" + name +
-                     "'): the file alone is the whole world"};
-    auto overlay = world::open_store(
-        {.name = name, .read_only = info.read_only, .create = !info.read_only, .listen = !info.read_only});
+    auto overlay = open_overlay(info, name, *id);
     if (!overlay)
-        return Error{"the edits of '" + info.vdb_path + "': " + overlay.error()};
-    if (Status s = check_binding(**overlay, name, info.vdb_path, *id, info.read_only); !s)
-        return Error{s.error()};
-    if (!info.read_only) // The binding is durable before any edit can be.
-        if (Status s = (*overlay)->flush(); !s)
-            return Error{s.error()};
+        return Error{overlay.error()};
     return std::unique_ptr<VdbOverlayStore>(new VdbOverlayStore(std::move(*base), std::move(*overlay), name));
+}
+
+Result<VdbOverlayExport> export_overlay_vdb(const VdbOverlayOpenInfo& info_in, const std::string& out,
+                                            const VdbExportOptions& options) {
+    VdbOverlayOpenInfo info = info_in;
+    info.read_only = true;
+    const std::string name = info.overlay.empty() ? default_overlay_name(info.vdb_path) : info.overlay;
+    Result<VdbFileId> id = vdb_file_id(info.vdb_path);
+    if (!id)
+        return Error{id.error()};
+    VdbOverlayExport result;
+    {
+        auto overlay = open_overlay(info, name, *id);
+        if (!overlay)
+            return Error{overlay.error()};
+        auto reader = VdbStreamReader::open(info.vdb_path);
+        if (reader) {
+            Result<std::vector<world::ChunkCoord>> edits = (*overlay)->list_coords();
+            if (!edits)
+                return Error{edits.error()};
+            std::sort(edits->begin(), edits->end(), file_order_less);
+            auto writer = VdbStreamWriter::create(out, (*reader)->registry(), options);
+            if (!writer)
+                return Error{writer.error()};
+            if (Status s = merge_stream(**reader, **overlay, *edits, **writer, result.fallback); !s)
+                return Error{"cannot export to '" + out + "': " + s.error()};
+            if (result.fallback.empty()) {
+                if (Status s = (*writer)->finish(); !s)
+                    return Error{s.error()};
+                result.chunks = (*writer)->chunks_written();
+                return result;
+            }
+        } else {
+            result.fallback = reader.error();
+        }
+    } // The streaming attempt's files are closed (its temporary removed) before the fallback.
+    auto merged = VdbOverlayStore::open(info);
+    if (!merged)
+        return Error{merged.error()};
+    if (Status s = export_store_vdb(**merged, (*merged)->registry(), out, options); !s)
+        return Error{s.error()};
+    Result<uint64_t> n = (*merged)->count();
+    result.chunks = n ? *n : 0;
+    return result;
 }
 
 Result<world::ChunkLoad> VdbOverlayStore::load(world::ChunkCoord c) {

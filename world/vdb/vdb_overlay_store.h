@@ -4,7 +4,8 @@
 // Reads ask the overlay first, then the VDB grid; saves, commits, flushes and metadata go to the
 // overlay only, so unloading, flush() and crashes behave as for any stored world and the VDB file
 // is never written. An erased chunk is stored in the overlay as an all-air chunk (a tombstone
-// that hides the VDB's chunk).
+// that hides the VDB's chunk). export_overlay_vdb (below) writes the two merged without a
+// VdbOverlayStore, streaming the file.
 //
 // The overlay remembers which VDB file it edits (meta "vdb_file": size, modification time and
 // xxh64 of the file's bytes, i.e. of its header and tree); opened against a file of another size
@@ -43,6 +44,23 @@ struct VdbFileId {
 };
 // Reads `path` once to compute its id (streamed in 1 MiB blocks). Thread-safe.
 Result<VdbFileId> vdb_file_id(const std::string& path);
+
+// What export_overlay_vdb did. A plain value.
+struct VdbOverlayExport {
+    uint64_t chunks = 0;  // Non-empty chunks written.
+    std::string fallback; // Why the whole file was read through OpenVDB; empty when it streamed.
+};
+
+// Writes the VDB world info.vdb_path with its edits overlay merged (the overlay's chunks win; an
+// erased chunk stays air) to `out`, atomically, as export_vdb does. The VDB file is read by the
+// streaming reader (vdb_stream.h) in step with the writer, so memory stays flat in world size:
+// one Internal4 node of each plus the overlay's chunk coordinates (12 bytes each). A file the
+// streaming reader refuses (Blosc, other layouts, damage) is exported through VdbOverlayStore
+// instead (OpenVDB's reader as info.read says, the whole file in memory), and the reason is
+// returned. The overlay is opened read-only and must exist (info.read_only is ignored). Errors
+// are one line. Not thread-safe; the fallback forks when info.read is isolated (vdb_isolated.h).
+Result<VdbOverlayExport> export_overlay_vdb(const VdbOverlayOpenInfo& info, const std::string& out,
+                                            const VdbExportOptions& options = {});
 
 class VdbOverlayStore final : public world::ChunkStore {
 public:

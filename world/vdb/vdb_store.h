@@ -5,7 +5,8 @@
 // file is read in a forked, capped child first (vdb_isolated.h), so a damaged file gives one line
 // instead of taking the process down; VdbOverlayStore (vdb_overlay_store.h) layers edits over it.
 // Limitation: the whole file (or the box given) is held in memory as chunks; very large VDB worlds
-// should be imported into an SqliteStore instead (vx import-vdb).
+// should be imported into an SqliteStore instead (vx import-vdb). Exports need no VdbStore:
+// export_overlay_vdb (vdb_overlay_store.h) streams the file (vdb_stream.h).
 // Thread affinity: not thread-safe, like every ChunkStore: one thread (the engine's I/O lane).
 
 #include <memory>

@@ -4,8 +4,8 @@
 // File layout (format "vx-world", version 1):
 //   - one openvdb::Int32Grid named "blocks": voxel value = block id, background 0 = air; air voxels
 //     are inactive, every other block is an active voxel or part of an active tile. A uniform 32³
-//     chunk is written as tiles (64 tiles of 8³ at the leaf-parent level, merged further by
-//     pruning when neighbours agree), never as voxels.
+//     chunk is written as tiles (64 tiles of 8³ at the leaf-parent level; one 128³ tile when all
+//     4³ chunks of a leaf-parent node agree, as OpenVDB's prune() merges them), never as voxels.
 //   - grid metadata: "vx_format" = "vx-world", "vx_format_version" = 1, "vx_chunk_size" = 32, the
 //     block registry as "vx_block_<id>_name" (string), "_albedo" (vec3s, linear RGB),
 //     "_reflectivity" (float), "_emission" (vec3s, linear RGB radiance) and "_opaque" (bool) per
@@ -13,6 +13,8 @@
 //   - file metadata: "creator" = "vx".
 //   - compression ZIP + active mask by default (no Blosc: it is optional in OpenVDB builds, zlib
 //     is not), or active mask only.
+//   - written by our streaming writer (vdb_stream.h): the tree's bytes are OpenVDB's for the same
+//     tree; OpenVDB's optional "file_delayed_load" grid metadata is left out.
 //
 // Coordinates: block (x, y, z) is VDB voxel (x, y, z) in index space. OpenVDB index coordinates
 // name voxel centres, so the grid's transform is "voxel size 1, translated by +0.5": voxel
@@ -61,15 +63,16 @@ struct VdbExportOptions {
 // Writes `world` (or its blocks inside options.box) to `path` as described above. The file is
 // written to a temporary beside `path` and renamed over it only on success, so a failed export
 // leaves an existing file untouched. Fails (with a one-line reason) on I/O errors and on blocks
-// beyond kVdbCoordLimit. Streams chunk by chunk: memory is the OpenVDB tree plus one chunk.
-// Runs in the calling thread (OpenVDB's TBB work confined to a one-slot arena). Thread-safe as long
-// as nobody writes `world` meanwhile.
+// beyond kVdbCoordLimit. Streams node by node (VdbStreamWriter): memory is one Internal4 node (4³
+// chunks) and the chunk coordinates (12 bytes each), beside `world`. Runs in the calling thread,
+// starting none. Thread-safe as long as nobody writes `world` meanwhile.
 Status export_vdb(const world::World& world, const std::string& path, const VdbExportOptions& options = {});
 
-// As export_vdb, from a store (e.g. a VdbOverlayStore: a VDB world with its edits), loading one
-// chunk at a time: memory is the OpenVDB tree, one chunk and the store's chunk coordinates (12
-// bytes each), never a World of the store. `registry` becomes the file's block metadata. Uses
-// `store` from the calling thread (ChunkStore's rules); a damaged chunk fails the export.
+// As export_vdb, from a store, loading its chunks in file order: memory is one Internal4 node and
+// the store's chunk coordinates (12 bytes each), flat in world size (but the store's own: a
+// VdbOverlayStore holds its file's chunks; export_overlay_vdb streams that file instead).
+// `registry` becomes the file's block metadata. Uses `store` from the calling thread (ChunkStore's
+// rules); a damaged chunk fails the export.
 Status export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
                         const VdbExportOptions& options = {});
 
