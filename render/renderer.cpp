@@ -58,11 +58,10 @@ struct Renderer::Impl {
     std::vector<world::ChunkCoord> emitter_chunks; // emitter_set as a list (sorted by distance each frame).
     bool emitters_dirty = true; // The materials changed since emitter_set was made.
     bool emitter_list_dirty = true; // emitter_set changed since emitter_chunks was made.
+    std::vector<bool> emissive; // Per registered block id (set_registry): its material emits.
     bool emits(const std::vector<world::BlockId>& ids) const {
-        return std::any_of(ids.begin(), ids.end(), [&](world::BlockId id) {
-            const glm::vec3 e = registry.info(id).emission;
-            return e.r > 0.f || e.g > 0.f || e.b > 0.f;
-        });
+        // Unregistered ids draw with a fallback material, which does not emit.
+        return std::any_of(ids.begin(), ids.end(), [&](world::BlockId id) { return id < emissive.size() && emissive[id]; });
     }
     std::array<Buffer, kFramesInFlight> emitter_lists; // vec4[kMaxEmitterChunks] per frame slot.
     void update_emitters();
@@ -199,7 +198,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
     r->m->create_queries();
-    r->m->registry = world::BlockRegistry::default_registry();
+    r->set_registry(world::BlockRegistry::default_registry());
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
         r->m->target_format = r->m->presenter->target_format();
@@ -878,6 +877,11 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
     m->registry = registry;
     m->materials_dirty = true;
     m->emitters_dirty = true;
+    m->emissive.assign(registry.size(), false);
+    for (size_t id = 0; id < registry.size(); ++id) {
+        const glm::vec3 e = registry.info(world::BlockId(id)).emission;
+        m->emissive[id] = e.r > 0.f || e.g > 0.f || e.b > 0.f;
+    }
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
