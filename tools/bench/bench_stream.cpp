@@ -284,11 +284,49 @@ void bench_apply(benchmark::State& state) {
     }
 }
 
+// update()'s main-thread CPU time against the number of loaded chunks (issue 16: it must not
+// grow with it): a settled view of radius range(0) (4 vertically), then 120 updates at 60/s with
+// the viewer still (update_still_ms: mean; the work left is the bookkeeping of a frame), then 120
+// flying at 100 blocks/s along +x (update_moving_ms: mean; work proportional to the chunks
+// entering and leaving, so about the same at every radius until the budget caps it).
+void bench_update_cost(benchmark::State& state) {
+    const int radius = int(state.range(0));
+    const TerrainGenerator gen(77);
+    for (auto _ : state) {
+        NullSink sink;
+        StreamingSettings st;
+        st.view_radius = radius;
+        st.view_radius_vertical = 4;
+        ChunkStreamer s(gen, nullptr, sink, st);
+        glm::dvec3 pos(0.5, gen.surface_height(0, 0) + 2.0, 0.5);
+        auto now = Clock::now();
+        while (!s.settled()) {
+            s.update(pos, glm::dvec3(1, 0, 0), now = Clock::now());
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        auto run = [&](double speed) {
+            double ms = 0;
+            for (int i = 0; i < 120; ++i) {
+                pos.x += speed / 60.0;
+                now += std::chrono::microseconds(16667);
+                s.update(pos, glm::dvec3(1, 0, 0), now);
+                ms += std::chrono::duration<double, std::milli>(s.metrics().last_update_cpu).count();
+                std::this_thread::sleep_until(now);
+            }
+            return ms / 120;
+        };
+        state.counters["loaded"] = double(s.metrics().loaded);
+        state.counters["update_still_ms"] = run(0.0);
+        state.counters["update_moving_ms"] = run(100.0);
+    }
+}
+
 void bench_flythrough(benchmark::State& state) { run_flythrough(state, false); }
 void bench_flythrough_store(benchmark::State& state) { run_flythrough(state, true); }
 
 BENCHMARK(bench_fill)->Name("stream/fill_radius8_generated")->Arg(0)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(bench_fill)->Name("stream/fill_radius8_from_store")->Arg(1)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(bench_update_cost)->Name("stream/update_cost")->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(bench_apply)->Name("stream/apply")->Arg(12)->Arg(32)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(bench_flythrough)->Name("stream/flythrough_100bps_r12")->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(bench_flythrough_store)
