@@ -1,6 +1,7 @@
 #include "render/gpu_allocator.h"
 
 #include <algorithm>
+#include <iterator>
 
 #include "world/base/assert.h"
 #include "world/base/log.h"
@@ -69,7 +70,7 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
     }
     b.size = size;
     b.pool = pool;
-    b.free.push_back({0, size});
+    b.add_range(0, size);
     for (size_t i = 0; i < m_blocks.size(); ++i)
         if (!m_blocks[i].memory) {
             m_blocks[i] = std::move(b);
@@ -79,24 +80,38 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
     return int(m_blocks.size() - 1);
 }
 
+void GpuAllocator::Block::add_range(VkDeviceSize offset, VkDeviceSize bytes) {
+    free.emplace(offset, bytes);
+    by_size.emplace(bytes, offset);
+}
+
+void GpuAllocator::Block::erase_range(std::map<VkDeviceSize, VkDeviceSize>::iterator it) {
+    by_size.erase({it->second, it->first});
+    free.erase(it);
+}
+
 bool GpuAllocator::carve(Block& b, VkDeviceSize size, VkDeviceSize align, VkDeviceSize& out_offset) {
-    for (size_t i = 0; i < b.free.size(); ++i) {
-        Range r = b.free[i];
-        const VkDeviceSize start = align_up(r.offset, align);
-        if (start + size > r.offset + r.size)
-            continue;
-        // Split the range into [r.offset, start) and [start + size, end).
-        const VkDeviceSize end = r.offset + r.size;
-        b.free.erase(b.free.begin() + ptrdiff_t(i));
-        auto at = b.free.begin() + ptrdiff_t(i);
-        if (start + size < end)
-            at = b.free.insert(at, Range{start + size, end - start - size});
-        if (start > r.offset)
-            b.free.insert(at, Range{r.offset, start - r.offset});
-        out_offset = start;
-        return true;
-    }
-    return false;
+    // Best fit: the smallest ranges that hold `size` are tried first (a few, as aligning their
+    // start may leave too little); offsets and sizes are multiples of 16, so any range of
+    // size + align - 16 bytes holds it whatever its start.
+    auto fits = [&](std::pair<VkDeviceSize, VkDeviceSize> r) { return align_up(r.second, align) + size <= r.second + r.first; };
+    auto it = b.by_size.lower_bound({size, 0});
+    for (int tries = 0; it != b.by_size.end() && tries < 4 && !fits(*it); ++tries)
+        ++it;
+    if (it == b.by_size.end() || !fits(*it))
+        it = b.by_size.lower_bound({size + align - 16, 0});
+    if (it == b.by_size.end())
+        return false;
+    const VkDeviceSize offset = it->second, end = it->second + it->first;
+    const VkDeviceSize start = align_up(offset, align);
+    b.erase_range(b.free.find(offset));
+    // Split the range into [offset, start) and [start + size, end).
+    if (start > offset)
+        b.add_range(offset, start - offset);
+    if (start + size < end)
+        b.add_range(start + size, end - start - size);
+    out_offset = start;
+    return true;
 }
 
 Allocation GpuAllocator::allocate(const VkMemoryRequirements& req, MemoryUse use, bool for_image, bool budgeted) {
@@ -139,21 +154,24 @@ void GpuAllocator::free(const Allocation& a) {
         return;
     VX_ASSERT(a.block < m_blocks.size() && m_blocks[a.block].memory == a.memory);
     Block& b = m_blocks[a.block];
-    auto it = std::lower_bound(b.free.begin(), b.free.end(), a.offset,
-                               [](const Range& r, VkDeviceSize off) { return r.offset < off; });
-    it = b.free.insert(it, Range{a.offset, a.size});
-    // Coalesce with the next, then the previous range.
-    if (auto next = it + 1; next != b.free.end() && it->offset + it->size == next->offset) {
-        it->size += next->size;
-        b.free.erase(next);
+    // Coalesce with the next and the previous range.
+    VkDeviceSize offset = a.offset, size = a.size;
+    auto next = b.free.lower_bound(offset);
+    if (next != b.free.end() && offset + size == next->first) {
+        size += next->second;
+        auto after = std::next(next);
+        b.erase_range(next);
+        next = after;
     }
-    if (it != b.free.begin()) {
-        auto prev = it - 1;
-        if (prev->offset + prev->size == it->offset) {
-            prev->size += it->size;
-            b.free.erase(it);
+    if (next != b.free.begin()) {
+        auto prev = std::prev(next);
+        if (prev->first + prev->second == offset) {
+            offset = prev->first;
+            size += prev->second;
+            b.erase_range(prev);
         }
     }
+    b.add_range(offset, size);
     b.used -= a.size;
     --b.live;
     if (a.budgeted)

@@ -52,8 +52,17 @@ struct Renderer::Impl {
     // Emissive blocks light the scene only where they are: sky rays look for emitters when some
     // drawn chunk holds a block whose material emits. The block ids of each chunk's quads:
     std::unordered_map<world::ChunkCoord, std::vector<world::BlockId>, world::ChunkCoordHash> chunk_blocks;
-    std::vector<world::ChunkCoord> emitter_chunks; // Drawn chunks holding an emissive block.
-    bool emitters_dirty = true; // Chunks or materials changed since emitter_chunks was made.
+    // Drawn chunks holding an emissive block: kept as chunks are set and removed, remade from
+    // chunk_blocks only when the materials change (a frame never scans every chunk).
+    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> emitter_set;
+    std::vector<world::ChunkCoord> emitter_chunks; // emitter_set as a list (sorted by distance each frame).
+    bool emitters_dirty = true; // The materials changed since emitter_set was made.
+    bool emitter_list_dirty = true; // emitter_set changed since emitter_chunks was made.
+    std::vector<bool> emissive; // Per registered block id (set_registry): its material emits.
+    bool emits(const std::vector<world::BlockId>& ids) const {
+        // Unregistered ids draw with a fallback material, which does not emit.
+        return std::any_of(ids.begin(), ids.end(), [&](world::BlockId id) { return id < emissive.size() && emissive[id]; });
+    }
     std::array<Buffer, kFramesInFlight> emitter_lists; // vec4[kMaxEmitterChunks] per frame slot.
     void update_emitters();
     uint32_t write_emitter_list(world::BlockPos camera_block);
@@ -143,6 +152,8 @@ struct Renderer::Impl {
         out.failed_chunks = a.failed_chunks;
         out.triangles = a.triangles;
         out.upload_bytes = a.upload_bytes;
+        out.instance_writes = a.instance_writes;
+        out.rebases = a.rebases;
         out.memory = accel->memory();
         out.raster_chunks = raster_chunks;
     }
@@ -187,7 +198,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     r->m->create_descriptors();
     r->m->create_queries();
-    r->m->registry = world::BlockRegistry::default_registry();
+    r->set_registry(world::BlockRegistry::default_registry());
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
         r->m->target_format = r->m->presenter->target_format();
@@ -307,22 +318,22 @@ bool Renderer::Impl::update_materials() {
 }
 
 void Renderer::Impl::update_emitters() {
-    if (!emitters_dirty)
-        return;
-    emitter_chunks.clear();
-    for (const auto& [c, ids] : chunk_blocks)
-        for (world::BlockId id : ids) {
-            const glm::vec3 e = registry.info(id).emission;
-            if (e.r > 0.f || e.g > 0.f || e.b > 0.f) {
-                emitter_chunks.push_back(c);
-                break;
-            }
-        }
-    emitters_dirty = false;
+    if (emitters_dirty) { // New materials: O(chunks), once.
+        emitter_set.clear();
+        for (const auto& [c, ids] : chunk_blocks)
+            if (emits(ids))
+                emitter_set.insert(c);
+        emitters_dirty = false;
+        emitter_list_dirty = true;
+    }
+    if (emitter_list_dirty) { // O(emissive chunks).
+        emitter_chunks.assign(emitter_set.begin(), emitter_set.end());
+        emitter_list_dirty = false;
+    }
 }
 
-// The kMaxEmitterChunks emissive chunks nearest the camera, camera-relative, into this frame
-// slot's list; returns how many.
+// The kMaxEmitterChunks emissive chunks nearest the camera, relative to the render origin
+// (SceneAccel::origin()), into this frame slot's list; returns how many.
 uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
     Buffer& list = emitter_lists[ctx->frame_slot()]; // Allocated by prepare_frame.
     auto origin = [&](world::ChunkCoord c) {
@@ -330,14 +341,16 @@ uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
         return glm::dvec3(o);
     };
     const size_t n = std::min<size_t>(emitter_chunks.size(), gpu::kMaxEmitterChunks);
+    // Ties by coordinate: the list does not depend on the set's hash order.
     std::partial_sort(emitter_chunks.begin(), emitter_chunks.begin() + ptrdiff_t(n), emitter_chunks.end(),
                       [&](world::ChunkCoord a, world::ChunkCoord b) {
                           const glm::dvec3 da = origin(a), db = origin(b);
-                          return glm::dot(da, da) < glm::dot(db, db);
+                          const double la = glm::dot(da, da), lb = glm::dot(db, db);
+                          return la != lb ? la < lb : std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
                       });
     auto* dst = static_cast<glm::vec4*>(list.mapped());
-    for (size_t i = 0; i < n; ++i)
-        dst[i] = glm::vec4(glm::vec3(origin(emitter_chunks[i])), 0.f);
+    for (size_t i = 0; i < n; ++i) // 64-bit difference, then float, as the TLAS's translations.
+        dst[i] = glm::vec4(glm::vec3(world::chunk_origin(emitter_chunks[i]) - accel->origin()), 0.f);
     return uint32_t(n);
 }
 
@@ -433,13 +446,15 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     const glm::vec3 fwd = glm::normalize(cam.forward);
     const glm::vec3 right = glm::normalize(glm::cross(fwd, cam.up));
     const glm::vec3 up = glm::cross(right, fwd);
-    p.camera_origin = glm::vec4(cam.offset, std::tan(glm::radians(cam.fov_y_degrees) * 0.5f));
+    // Positions relative to the render origin (SceneAccel::origin(), the TLAS's): 64-bit
+    // differences, then float. At the origin's block the camera is at cam.offset exactly.
+    const world::BlockPos origin = accel->origin();
+    p.camera_origin = glm::vec4(glm::vec3(cam.block - origin) + cam.offset, std::tan(glm::radians(cam.fov_y_degrees) * 0.5f));
     p.camera_forward = glm::vec4(fwd, float(s.width) / float(s.height));
     p.camera_right = glm::vec4(right, 0.f);
     p.camera_up = glm::vec4(up, 0.f);
     p.sky_color = glm::vec4(s.sky, 0.f);
-    // 64-bit difference, then float: the light is placed relative to the camera's block.
-    const world::BlockPos rel = s.light.block - cam.block;
+    const world::BlockPos rel = s.light.block - origin;
     p.light_corner = glm::vec4(glm::vec3(rel) + s.light.offset, 0.f);
     p.light_edge_u = glm::vec4(s.light.edge_u, 0.f);
     p.light_edge_v = glm::vec4(s.light.edge_v, 0.f);
@@ -866,6 +881,8 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     }
     m->accel->retain_only(keep);
     std::erase_if(m->chunk_blocks, [&](const auto& kv) { return !keep.contains(kv.first); });
+    if (std::erase_if(m->emitter_set, [&](world::ChunkCoord c) { return !keep.contains(c); }) > 0)
+        m->emitter_list_dirty = true;
     return render(settings, camera);
 }
 
@@ -873,6 +890,11 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
     m->registry = registry;
     m->materials_dirty = true;
     m->emitters_dirty = true;
+    m->emissive.assign(registry.size(), false);
+    for (size_t id = 0; id < registry.size(); ++id) {
+        const glm::vec3 e = registry.info(world::BlockId(id)).emission;
+        m->emissive[id] = e.r > 0.f || e.g > 0.f || e.b > 0.f;
+    }
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
@@ -883,7 +905,9 @@ void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std:
         if (std::find(ids.begin(), ids.end(), q.block) == ids.end()) // Few ids per chunk.
             ids.push_back(q.block);
     });
-    m->emitters_dirty = true;
+    const bool emits = m->emits(ids);
+    if (emits ? m->emitter_set.insert(c).second : m->emitter_set.erase(c) > 0)
+        m->emitter_list_dirty = true;
     const bool opaque = std::all_of(ids.begin(), ids.end(), [&](world::BlockId id) { return m->registry.is_opaque(id); });
     m->accel->set_chunk(c, mesh, changed_slices, opaque);
 }
@@ -891,12 +915,14 @@ void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std:
 void Renderer::remove_chunk(world::ChunkCoord c) {
     m->accel->remove_chunk(c);
     m->chunk_blocks.erase(c);
-    m->emitters_dirty = true;
+    if (m->emitter_set.erase(c) > 0)
+        m->emitter_list_dirty = true;
 }
 void Renderer::clear_chunks() {
     m->accel->clear();
     m->chunk_blocks.clear();
-    m->emitters_dirty = true;
+    m->emitter_set.clear();
+    m->emitter_list_dirty = true;
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }

@@ -188,6 +188,8 @@ struct RenderStats {
     uint64_t triangles = 0;  // Of the drawn chunks, including spare (degenerate) slots.
     uint32_t raster_chunks = 0; // Raster pipeline: chunks drawn (inside the view frustum); 0 when ray traced.
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
+    uint32_t instance_writes = 0; // TLAS instances written this frame (changed ones: not every chunk).
+    uint64_t rebases = 0;      // Render-origin moves that rewrote every TLAS instance, since creation.
     GpuMemoryStats memory;
     double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.

@@ -51,6 +51,13 @@ void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, st
     }
     auto [it, inserted] = m_chunks.try_emplace(c);
     ChunkGpu& g = it->second;
+    apply_mesh(c, g, inserted, mesh, changed_slices, opaque);
+    queue(c, g);
+    retally(g);
+}
+
+void SceneAccel::apply_mesh(world::ChunkCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
+                            std::span<const int> changed_slices, bool opaque) {
     const bool fresh = inserted || g.failed;
     const uint64_t hash = mesh_hash(mesh);
     // A refit keeps the build's geometry flags (Vulkan spec): a chunk that gains or loses its
@@ -72,6 +79,7 @@ void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, st
     const bool edit = !fresh && !changed_slices.empty();
     if (m_info.allow_refit && (edit || g.hot)) {
         g.last_edit_frame = m_frame;
+        m_hot_queue.emplace_back(c, m_frame);
         // A cold BLAS has neither spare slots nor ALLOW_UPDATE: its first edit rebuilds it hot.
         const bool refit = g.hot && !flags_changed && g.blas.valid() && g.pending != Pending::Build && g.layout.fits(mesh) &&
                            g.refits_since_build < m_info.max_refits;
@@ -93,12 +101,93 @@ void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, st
     g.dirty.set();
 }
 
-void SceneAccel::remove_chunk(world::ChunkCoord c) { m_chunks.erase(c); }
+void SceneAccel::remove_chunk(world::ChunkCoord c) {
+    auto it = m_chunks.find(c);
+    if (it == m_chunks.end())
+        return;
+    forget(it->second);
+    m_chunks.erase(it);
+}
 
-void SceneAccel::clear() { m_chunks.clear(); }
+void SceneAccel::clear() {
+    m_chunks.clear();
+    m_instances.clear();
+    m_pending.clear();
+    m_hot_queue.clear();
+    m_total = {};
+}
 
 void SceneAccel::retain_only(const std::unordered_set<world::ChunkCoord, world::ChunkCoordHash>& keep) {
-    std::erase_if(m_chunks, [&](const auto& kv) { return !keep.count(kv.first); });
+    for (auto it = m_chunks.begin(); it != m_chunks.end();) {
+        if (keep.count(it->first)) {
+            ++it;
+            continue;
+        }
+        forget(it->second);
+        it = m_chunks.erase(it);
+    }
+}
+
+void SceneAccel::queue(world::ChunkCoord c, ChunkGpu& g) {
+    if (g.pending == Pending::None || g.queued)
+        return;
+    g.queued = true;
+    m_pending.push_back(c);
+}
+
+void SceneAccel::retally(ChunkGpu& g) {
+    ChunkGpu::Tally t;
+    t.blas = g.blas.size();
+    t.vertices = g.vertices.size();
+    t.quads = g.quads.size();
+    if (g.blas.valid()) {
+        t.quad_count = g.quad_count;
+        t.triangles = g.layout.triangle_count();
+    }
+    t.hot = g.hot;
+    t.failed = g.failed;
+    ChunkGpu::Tally& o = g.counted;
+    m_total.blas += t.blas - o.blas;
+    m_total.vertices += t.vertices - o.vertices;
+    m_total.quads += t.quads - o.quads;
+    m_total.quad_count += t.quad_count - o.quad_count;
+    m_total.triangles += t.triangles - o.triangles;
+    m_total.hot += t.hot - o.hot;
+    m_total.failed += t.failed - o.failed;
+    o = t;
+}
+
+void SceneAccel::sync_instance(world::ChunkCoord c, ChunkGpu& g) {
+    if (!g.blas.valid()) {
+        drop_instance(g);
+        return;
+    }
+    const DrawChunk d{c, g.quads.address(), g.layout.total};
+    if (g.instance == TlasInstances::kNone)
+        g.instance = m_instances.add(d, g.blas.address());
+    else
+        m_instances.update(g.instance, d, g.blas.address());
+}
+
+void SceneAccel::drop_instance(ChunkGpu& g) {
+    if (g.instance == TlasInstances::kNone)
+        return;
+    if (const std::optional<world::ChunkCoord> moved = m_instances.remove(g.instance))
+        m_chunks.at(*moved).instance = g.instance;
+    g.instance = TlasInstances::kNone;
+}
+
+void SceneAccel::forget(ChunkGpu& g) {
+    drop_instance(g);
+    // Unsigned sums: subtracting the chunk's share wraps back exactly.
+    m_total.blas -= g.counted.blas;
+    m_total.vertices -= g.counted.vertices;
+    m_total.quads -= g.counted.quads;
+    m_total.quad_count -= g.counted.quad_count;
+    m_total.triangles -= g.counted.triangles;
+    m_total.hot -= g.counted.hot;
+    m_total.failed -= g.counted.failed;
+    g.counted = {};
 }
 
 bool SceneAccel::ensure_indices(uint32_t slots) {
@@ -183,6 +272,8 @@ void SceneAccel::fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes
     g.hot = false;
     g.pending = Pending::None;
     g.dirty.reset();
+    drop_instance(g);
+    retally(g);
 }
 
 // New buffers and BLAS for a build; on failure the chunk is dropped from the scene (not drawn).
@@ -322,19 +413,31 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
     demote_idle_hot_chunks();
     uint32_t max_slots = 0;
     VkDeviceSize staging = 0;
-    for (auto& [c, g] : m_chunks)
-        if (g.pending != Pending::None) {
-            max_slots = std::max(max_slots, g.layout.total);
-            staging += staging_bytes(g);
-        }
+    std::vector<std::pair<world::ChunkCoord, ChunkGpu*>> pending; // Element pointers survive rehashing.
+    pending.reserve(m_pending.size());
+    for (world::ChunkCoord c : m_pending) {
+        auto it = m_chunks.find(c);
+        if (it == m_chunks.end() || !it->second.queued)
+            continue; // Removed since, or listed twice (removed and set again).
+        ChunkGpu& g = it->second;
+        g.queued = false;
+        if (g.pending == Pending::None)
+            continue;
+        pending.emplace_back(c, &g);
+        max_slots = std::max(max_slots, g.layout.total);
+        staging += staging_bytes(g);
+    }
+    m_pending.clear();
     // Out of memory for the frame's own buffers: every pending chunk stays pending.
-    if (!ensure_indices(max_slots) || !m_staging.begin(staging))
+    if (!ensure_indices(max_slots) || !m_staging.begin(staging)) {
+        for (auto& [c, g] : pending)
+            queue(c, *g);
         return false;
+    }
     BuildBatch batch;
-    batch.geometries.reserve(m_chunks.size());
-    for (auto& [c, g] : m_chunks)
-        if (g.pending != Pending::None)
-            prepare_chunk(c, g, batch);
+    batch.geometries.reserve(pending.size());
+    for (auto& [c, g] : pending)
+        prepare_chunk(c, *g, batch);
     if (m_staging.record(cmd))
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR |
@@ -347,6 +450,9 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
             ChunkGpu& g = m_chunks.at(c);
             g.blas.reset();
             g.pending = Pending::Build;
+            queue(c, g);
+            drop_instance(g);
+            retally(g);
         }
         return false;
     }
@@ -359,6 +465,8 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
             g.mesh = world::ChunkMesh{};
             m_built_cold.push_back(c);
         }
+        sync_instance(c, g);
+        retally(g);
     }
     return true;
 }

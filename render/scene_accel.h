@@ -1,14 +1,18 @@
 #pragma once
 // The acceleration structures of a scene of chunks: one BLAS per non-empty chunk mesh (see
 // chunk_geometry.h for the slot layout that allows refits, and below for hot and cold chunks),
-// and a TLAS rebuilt every frame with camera-relative instance transforms computed in 64-bit on
-// the CPU, so a world at 2^24 blocks renders exactly like one at the origin. All BLAS builds and
-// refits of a frame go into one vkCmdBuildAccelerationStructuresKHR call, followed by one barrier
-// and the TLAS build.
+// and a TLAS rebuilt every frame from instances kept across frames (render/tlas_instances.h: only
+// changed instances are written, translations relative to a render origin that follows the
+// camera in steps, computed in 64-bit on the CPU, so a world at 2^24 blocks renders like one at
+// the origin). All BLAS builds and refits of a frame go into one
+// vkCmdBuildAccelerationStructuresKHR call, followed by one barrier and the TLAS build.
+// A frame's CPU work follows what changed (pending chunks, hot chunks cooling down, compactions),
+// never every chunk: counts and memory are kept as chunks change.
 // Main thread only.
 
 #include <array>
 #include <bitset>
+#include <deque>
 #include <span>
 #include <unordered_map>
 #include <unordered_set>
@@ -18,6 +22,7 @@
 #include "render/slot_map.h"
 #include "render/commands.h"
 #include "render/renderer.h"
+#include "render/tlas_instances.h"
 #include "world/coords.h"
 
 namespace vx::render {
@@ -31,6 +36,8 @@ struct AccelStats {
     uint32_t failed_chunks = 0;    // Chunks not drawn: their GPU memory could not be allocated.
     uint64_t triangles = 0;        // Triangles in the drawn chunks' BLASes, degenerate spares included.
     uint64_t upload_bytes = 0;     // Chunk vertices + quad records staged and copied in the last record().
+    uint32_t instance_writes = 0;  // TLAS instances written into the frame slot's buffer in the last record().
+    uint64_t rebases = 0;          // Render-origin moves that rewrote every instance, since creation.
 };
 
 // Device memory by kind: GpuMemoryStats (render/renderer.h).
@@ -72,7 +79,7 @@ public:
                    bool opaque = false);
     void remove_chunk(world::ChunkCoord c);
     void clear();
-    // Removes every chunk not in `keep`.
+    // Removes every chunk not in `keep` (O(chunks): for whole-scene calls).
     void retain_only(const std::unordered_set<world::ChunkCoord, world::ChunkCoordHash>& keep);
     size_t chunk_count() const { return m_chunks.size(); }
 
@@ -96,12 +103,11 @@ public:
     VkDeviceAddress chunk_table() const { return m_frames[m_ctx->frame_slot()].table.address(); }
     // The chunks the last record_tlas_build() drew, in TLAS instance order (the raster
     // pipeline draws them from their quad records: render/raster_pipeline.h).
-    struct DrawChunk {
-        world::ChunkCoord coord;
-        VkDeviceAddress quads = 0; // Quad records, one per slot (Quad{} in spare slots).
-        uint32_t slots = 0;
-    };
-    std::span<const DrawChunk> draw_list() const { return m_draw_list; }
+    using DrawChunk = render::DrawChunk;
+    std::span<const DrawChunk> draw_list() const { return m_instances.draw_list(); }
+    // The block the TLAS's translations are relative to (after record_tlas_build()): shaders
+    // get every position relative to it (FrameParams, shaders/shared/render_types.h).
+    world::BlockPos origin() const { return m_instances.origin(); }
     // The shared slot index pattern (chunk_geometry.h), uint32, at least as many slots as the
     // largest chunk's after record_builds(); also an index buffer for the raster pipeline.
     VkBuffer index_buffer() const { return m_indices.handle(); }
@@ -128,6 +134,13 @@ private:
         uint64_t last_edit_frame = 0;  // record() count at its last edit (hot chunks).
         uint64_t build_serial = 0;     // Which build its BLAS came from (stale compaction queries).
         uint64_t hash = 0;             // mesh_hash() of its latest mesh.
+        uint32_t instance = TlasInstances::kNone; // Its TLAS instance (drawn chunks).
+        bool queued = false;           // Listed in m_pending.
+        struct Tally {
+            VkDeviceSize blas = 0, vertices = 0, quads = 0;
+            uint64_t quad_count = 0, triangles = 0; // Drawn chunks only.
+            uint32_t hot = 0, failed = 0;
+        } counted;                     // What it adds to m_total.
     };
     struct FrameData {
         AccelStruct tlas;
@@ -144,6 +157,8 @@ private:
     struct BuildBatch; // Geometry and build infos of one frame's BLAS call.
 
     bool ensure_indices(uint32_t slots);
+    void apply_mesh(world::ChunkCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
+                    std::span<const int> changed_slices, bool opaque);
     void demote_idle_hot_chunks();
     VkDeviceSize staging_bytes(const ChunkGpu& g) const;
     bool allocate_chunk(world::ChunkCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);
@@ -155,6 +170,11 @@ private:
     void record_compaction_queries(VkCommandBuffer cmd);
     bool record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
     void count_memory();
+    void queue(world::ChunkCoord c, ChunkGpu& g); // Lists a pending chunk for the next record_builds().
+    void retally(ChunkGpu& g);                    // Brings its share of m_total up to date.
+    void sync_instance(world::ChunkCoord c, ChunkGpu& g); // Adds, updates or drops its TLAS instance.
+    void drop_instance(ChunkGpu& g);
+    void forget(ChunkGpu& g); // Before it is erased: its instance and tally go.
     VkDeviceAddress scratch(VkDeviceSize bytes); // 0: out of memory (logged).
 
     Context* m_ctx;
@@ -166,7 +186,13 @@ private:
     std::array<FrameData, kFramesInFlight> m_frames;
     std::array<CompactionQueries, kFramesInFlight> m_queries;
     std::vector<world::ChunkCoord> m_built_cold; // Chunks built cold this frame (to query).
-    std::vector<DrawChunk> m_draw_list;
+    TlasInstances m_instances{kFramesInFlight};
+    // Chunks with a pending build or refit (entries of chunks removed or re-added since are
+    // skipped: ChunkGpu::queued), and hot chunks by the frame of their last edit (oldest first;
+    // entries whose chunk was edited again since are stale).
+    std::vector<world::ChunkCoord> m_pending;
+    std::deque<std::pair<world::ChunkCoord, uint64_t>> m_hot_queue;
+    ChunkGpu::Tally m_total;
     AccelStats m_stats;
     AccelMemory m_memory;
     SceneAccelCreateInfo m_info;

@@ -40,6 +40,8 @@ void SceneAccel::record_compactions(VkCommandBuffer cmd) {
         ci.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
         vkCmdCopyAccelerationStructureKHR(cmd, &ci);
         g.blas = std::move(compact); // The original retires with this frame, after the copy read it.
+        sync_instance(c, g);
+        retally(g);
         ++m_stats.blas_compactions;
     }
     q.chunks.clear();
@@ -78,34 +80,45 @@ void SceneAccel::record_compaction_queries(VkCommandBuffer cmd) {
 void SceneAccel::demote_idle_hot_chunks() {
     // At most this many cold rebuilds a frame, so the chunks of one edit burst cool down over a
     // few frames instead of in one spike.
+    // Hot chunks wait in m_hot_queue by the frame of their last edit, oldest first: a frame looks
+    // only at those due (and stale entries), never at every chunk.
     constexpr uint32_t kMaxPerFrame = 64;
     uint32_t n = 0;
-    for (auto& [c, g] : m_chunks) {
-        if (n == kMaxPerFrame)
+    for (size_t left = m_hot_queue.size(); left > 0 && n < kMaxPerFrame; --left) {
+        const auto [c, frame] = m_hot_queue.front();
+        if (m_frame - frame < m_info.hot_frames)
             break;
-        if (!g.hot || g.pending != Pending::None || m_frame - g.last_edit_frame < m_info.hot_frames)
+        m_hot_queue.pop_front();
+        auto it = m_chunks.find(c);
+        if (it == m_chunks.end())
             continue;
+        ChunkGpu& g = it->second;
+        if (!g.hot || g.last_edit_frame != frame)
+            continue; // Cold already, or edited again since (a later entry).
+        if (g.pending != Pending::None) {
+            m_hot_queue.emplace_back(c, frame); // Being built: a later frame cools it down.
+            continue;
+        }
         g.hot = false;
         g.layout = SlotLayout::exact(g.mesh);
         g.pending = Pending::Build;
         g.dirty.set();
+        queue(c, g);
+        retally(g);
         ++n;
     }
 }
 
 void SceneAccel::count_memory() {
+    // The chunks' shares are kept up to date as they change (retally): O(1) here.
     m_memory = {};
-    for (const auto& [c, g] : m_chunks) {
-        m_memory.blas += g.blas.size();
-        m_memory.vertices += g.vertices.size();
-        m_memory.quads += g.quads.size();
-        if (g.blas.valid()) {
-            m_memory.quad_count += g.quad_count;
-            m_stats.triangles += g.layout.triangle_count();
-        }
-        m_stats.hot_chunks += g.hot;
-        m_stats.failed_chunks += g.failed;
-    }
+    m_memory.blas = m_total.blas;
+    m_memory.vertices = m_total.vertices;
+    m_memory.quads = m_total.quads;
+    m_memory.quad_count = m_total.quad_count;
+    m_stats.triangles = m_total.triangles;
+    m_stats.hot_chunks = m_total.hot;
+    m_stats.failed_chunks = m_total.failed;
     for (const FrameData& f : m_frames)
         m_memory.tlas += f.tlas.size() + f.instances.size() + f.table.size();
     m_memory.scratch = m_scratch.size();

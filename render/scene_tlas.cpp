@@ -1,6 +1,5 @@
 // SceneAccel: the per-frame top-level acceleration structure.
 #include <algorithm>
-#include <cstring>
 
 #include "render/scene_accel.h"
 
@@ -17,17 +16,12 @@ static VkAccelerationStructureGeometryKHR instance_geometry(VkDeviceAddress inst
 }
 
 bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) {
-    // Sorted coordinates: the instance order (and so the image) does not depend on hash order.
-    std::vector<std::pair<world::ChunkCoord, ChunkGpu*>> chunks;
-    chunks.reserve(m_chunks.size());
-    for (auto& [c, g] : m_chunks)
-        if (g.blas.valid()) // Not chunks whose memory ran out.
-            chunks.emplace_back(c, &g);
-    std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) {
-        return std::tie(a.first.x, a.first.y, a.first.z) < std::tie(b.first.x, b.first.y, b.first.z);
-    });
-    const uint32_t count = uint32_t(chunks.size());
+    // The instances persist (m_instances): this frame writes those changed since this slot's
+    // last frame, and all of them only when the render origin moves (rarely) or the buffers grow.
+    m_instances.follow_camera(camera_block);
+    const uint32_t count = m_instances.size();
     m_stats.instances = count;
+    m_stats.rebases = m_instances.rebases();
 
     FrameData& f = m_frames[m_ctx->frame_slot()];
     VkAccelerationStructureGeometryKHR geom = instance_geometry(0);
@@ -37,6 +31,7 @@ bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
     info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
     info.geometryCount = 1;
     info.pGeometries = &geom;
+    bool fresh = false; // New buffers: every entry is written.
     if (!f.tlas.valid() || count > f.capacity) {
         f.capacity = std::max(count, std::max(64u, f.capacity * 2));
         VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
@@ -58,29 +53,12 @@ bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
             f.tlas.reset();
             return false;
         }
+        fresh = true;
     }
-
-    auto* inst = static_cast<VkAccelerationStructureInstanceKHR*>(f.instances.mapped());
-    auto* table = static_cast<uint64_t*>(f.table.mapped());
-    for (uint32_t i = 0; i < count; ++i) {
-        // 64-bit difference first, then float: exact while the chunk is within 2^24 blocks of the camera.
-        const world::BlockPos rel = world::chunk_origin(chunks[i].first) - camera_block;
-        VkAccelerationStructureInstanceKHR& d = inst[i];
-        d = {};
-        d.transform.matrix[0][0] = d.transform.matrix[1][1] = d.transform.matrix[2][2] = 1.f;
-        d.transform.matrix[0][3] = float(rel.x);
-        d.transform.matrix[1][3] = float(rel.y);
-        d.transform.matrix[2][3] = float(rel.z);
-        d.instanceCustomIndex = i;
-        d.mask = 0xFF;
-        d.instanceShaderBindingTableRecordOffset = 0;
-        d.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
-        d.accelerationStructureReference = chunks[i].second->blas.address();
-        table[i] = chunks[i].second->quads.address();
-    }
-    m_draw_list.clear();
-    for (const auto& [c, g] : chunks)
-        m_draw_list.push_back({c, g->quads.address(), g->layout.total});
+    // The slot's previous frame has completed (begin_frame waited for it): its buffers are free.
+    m_stats.instance_writes =
+        m_instances.sync(m_ctx->frame_slot(), static_cast<VkAccelerationStructureInstanceKHR*>(f.instances.mapped()),
+                         static_cast<uint64_t*>(f.table.mapped()), fresh);
     geom = instance_geometry(f.instances.address());
     info.dstAccelerationStructure = f.tlas.handle();
     info.scratchData.deviceAddress = scratch(f.tlas_scratch + m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment);

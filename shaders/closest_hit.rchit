@@ -3,8 +3,8 @@
 // Nearest hit of a primary or reflection ray: looks up the quad of the hit triangle (two
 // triangles per quad slot) and returns a robust secondary-ray origin: the hit point snapped onto
 // the quad's integer face plane (chunk-local, exact in float), clamped inside the quad, and
-// offset by kSurfaceOffset along the face normal, then moved to camera-relative space and pushed
-// kOffsetUlps ulps further along the normal (far from the camera the rounding of that move is
+// offset by kSurfaceOffset along the face normal, then moved to origin-relative space and pushed
+// kOffsetUlps ulps further along the normal (far from the render origin the rounding of that move is
 // larger than kSurfaceOffset). No tMin is needed: the origin is strictly on the air side of the
 // face it left, also after the traversal moves it back into the instance's space. `through` is
 // the same point on the face's other side along the ray: where a ray that passes a transparent

@@ -30,24 +30,26 @@ VX_CONST float kEmitterRange = 16.0f;
 VX_CONST uint kMaxEmitterChunks = 64;
 
 // Secondary rays start this far off the hit's face plane, along the face normal, in chunk-local
-// block units (64 ulps at 32.0). It survives the move to camera-relative space only near the
-// camera: it is 32 ulps at 256 blocks and less than one beyond 8,192.
+// block units (64 ulps at 32.0). It survives the move to origin-relative space (positions relative
+// to the render origin, which stays within 2^12 blocks of the camera: render/tlas_instances.h)
+// only near the origin: it is 32 ulps at 256 blocks and less than one beyond 8,192.
 VX_CONST float kSurfaceOffset = 1.0f / 1024.0f;
 
-// So the camera-relative origin is then also pushed this many ulps of its own normal component
+// So the origin-relative ray origin is then also pushed this many ulps of its own normal component
 // further along the normal (Waechter & Binder, "A Fast and Robust Method for Avoiding
 // Self-Intersection", Ray Tracing Gems ch. 6). Two suffice with round-to-nearest: rounding the
 // instance transform loses at most half an ulp and each step is at least half an ulp (a step down
 // across a power of two); four leave room for a driver's transform being a little less exact.
-// At 2^20 blocks from the camera that is half a block, far below a pixel there.
+// At 2^20 blocks from the origin that is half a block, far below a pixel there.
 VX_CONST int kOffsetUlps = 4;
 // Below this magnitude the ulp push is skipped (it would cross zero) and kSurfaceOffset holds.
 VX_CONST float kOffsetUlpsFrom = 1.0f / 32.0f;
 
-// Per-frame constants (uniform buffer, std140). Positions are camera-relative: world block
-// position minus the camera's block (computed in 64-bit on the CPU), in block units.
+// Per-frame constants (uniform buffer, std140). Positions are relative to the render origin
+// (the TLAS's, render/tlas_instances.h): world block position minus the origin's block
+// (computed in 64-bit on the CPU), in block units.
 struct FrameParams {
-    vec4 camera_origin;  // xyz: camera position inside its block (0..1); w: tan(vertical fov / 2).
+    vec4 camera_origin;  // xyz: camera position (its block - origin + offset in it); w: tan(vertical fov / 2).
     vec4 camera_forward; // xyz: unit view direction; w: aspect ratio (width / height).
     vec4 camera_right;   // xyz: unit, right in the image.
     vec4 camera_up;      // xyz: unit, up in the image.
@@ -71,7 +73,7 @@ struct FrameParams {
                          // height, blocks; w: 0.
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
-    uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz camera-relative chunk origin, w 0.
+    uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz chunk origin (origin-relative), w 0.
     uint64_t exposure_meter; // Address of an ExposureMeter (exposure.y = 1), else 0.
 };
 

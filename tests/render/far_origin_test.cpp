@@ -2,6 +2,8 @@
 // to the same bytes. Exact equality holds: the GPU sees only positions relative to the camera's
 // block (64-bit integer differences, exact), which are the same numbers at every offset, so every
 // float operation, the ulp push-off of secondary rays included, repeats bit for bit.
+#include <optional>
+
 #include "scene_util.h"
 
 namespace vx::render {
@@ -19,9 +21,12 @@ world::World scene_at(world::BlockPos o) {
     return w;
 }
 
-RenderImage render_at(Renderer& r, world::BlockPos o) {
-    r.clear_chunks();
-    test::load_meshes(r, test::mesh_world(scene_at(o)));
+// `load`: clear the renderer and load the scene at `o` first (else it is loaded already).
+RenderImage render_at(Renderer& r, world::BlockPos o, bool load = true) {
+    if (load) {
+        r.clear_chunks();
+        test::load_meshes(r, test::mesh_world(scene_at(o)));
+    }
     RenderSettings s;
     s.mode = ShadingMode::Full;
     s.shadow_samples = 4;
@@ -48,6 +53,50 @@ TEST_F(RendererTest, FarFromOriginRendersIdentically) {
         const RenderImage img = render_at(*m_renderer, o);
         EXPECT_TRUE(img.rgba == ref.rgba) << "offset " << o.x << "," << o.y << "," << o.z;
     }
+}
+
+// The render origin (TlasInstances) follows the camera only in steps of more than
+// kRebaseDistance blocks (or for free, when every drawn chunk is new). A camera that flies past
+// one to the same scene 6,016 blocks away renders the same bytes: the origin moved to its block.
+// Short of a re-base the origin stays, and the image differs only by the rounding of positions
+// ~1,000 blocks from the origin (an ulp is 2^-13 blocks there). Each scene comes with an anchor
+// chunk 608 blocks below its floor's middle, kept until the next scene has been drawn, so the instance
+// array is never empty (an empty one lets the origin move for free); the floor hides it from
+// every ray.
+TEST_F(RendererTest, CrossingARebaseRendersIdentically) {
+    Renderer& r = *m_renderer;
+    r.clear_chunks();
+    world::World anchor;
+    anchor.set_block({0, 0, 0}, test::block_id("stone"));
+    const world::MeshMap anchor_meshes = test::mesh_world(anchor);
+    const world::ChunkMesh& anchor_mesh = anchor_meshes.at(world::ChunkCoord(0, 0, 0)).mesh;
+    // Its block lands at o + (0, -608, 0): under the floor's middle.
+    auto anchor_chunk = [](world::BlockPos o) { return world::chunk_of(o + world::BlockPos(0, -608, 0)); };
+    // Loads the scene at `o` and its anchor, then unloads the scene at `old` (its anchor after a frame).
+    auto move = [&](world::BlockPos o, std::optional<world::BlockPos> old) {
+        test::load_meshes(r, test::mesh_world(scene_at(o)));
+        r.set_chunk(anchor_chunk(o), anchor_mesh);
+        if (old) {
+            for (const auto& [c, mesh] : test::mesh_world(scene_at(*old)))
+                r.remove_chunk(c);
+            render_at(r, o, false); // The old anchor keeps the array from emptying.
+            r.remove_chunk(anchor_chunk(*old));
+        }
+        return render_at(r, o, false);
+    };
+    const RenderImage ref = move({0, 0, 0}, std::nullopt);
+    EXPECT_EQ(r.last_stats().rebases, 0u);
+
+    const world::BlockPos far(6016, 0, -6016); // Chunk-aligned, beyond kRebaseDistance (4,096).
+    const RenderImage moved = move(far, world::BlockPos(0, 0, 0));
+    EXPECT_EQ(r.last_stats().rebases, 1u);
+    EXPECT_TRUE(moved.rgba == ref.rgba);
+
+    const world::BlockPos near = far + world::BlockPos(1024, 0, 512); // Within reach: no re-base.
+    const RenderImage shifted = move(near, far);
+    EXPECT_EQ(r.last_stats().rebases, 1u);
+    const int differing = test::differing_bytes(shifted, ref);
+    EXPECT_LT(differing, int(ref.rgba.size() / 100)) << differing << " bytes differ";
 }
 
 } // namespace

@@ -154,8 +154,66 @@ void BM_Trace(benchmark::State& state) {
     state.counters["gpu_ms"] = gpu_ms / double(state.iterations());
 }
 
+// The CPU cost of a frame against the number of resident chunks (issue 16: it must not grow
+// with it). N chunks of one block each (6 quads) on a square grid one chunk layer thick, a
+// 64 x 36 flat frame looking down on a corner of it; built once, then each iteration records a
+// frame with range(1) chunks removed and as many added (0: a still world; 16: streaming at about
+// 100 blocks/s). Counters: record_ms is the CPU time recording the frame (RenderStats::cpu_ms),
+// wait_ms the submit-to-fence wait (on lavapipe that includes the TLAS build, done on the CPU).
+// Sizes: 1k chunks is a radius-8 view, 16k radius 32, 64k the full-detail radius 48 of the issue.
+void BM_FrameCpu(benchmark::State& state) {
+    const int n = int(state.range(0)), churn = int(state.range(1));
+    static const world::ChunkMesh block = [] {
+        world::World w;
+        w.set_block({5, 5, 5}, world::BlockId(1));
+        world::EditMesher em;
+        world::MeshMap meshes;
+        em.mesh_chunk(w, world::ChunkCoord(0, 0, 0), meshes);
+        return meshes.at(world::ChunkCoord(0, 0, 0)).mesh;
+    }();
+    const int side = int(std::ceil(std::sqrt(double(n))));
+    auto coord = [&](int i) { return world::ChunkCoord(i % side, 0, i / side); };
+    Renderer& r = renderer();
+    r.clear_chunks();
+    for (int i = 0; i < n; ++i)
+        r.set_chunk(coord(i), block);
+    RenderSettings s;
+    s.width = 64;
+    s.height = 36;
+    s.mode = ShadingMode::Flat;
+    const Camera cam = Camera::look_at({-20.3, 90.6, -20.2}, {40.0, 0.0, 40.0});
+    int next = n; // Chunks [next - n, next) are resident.
+    auto frame = [&] {
+        for (int i = 0; i < churn; ++i, ++next) {
+            r.remove_chunk(coord(next - n));
+            r.set_chunk(coord(next), block);
+        }
+        r.render(s, cam);
+    };
+    // Outside the timed loop: every BLAS built, compacted (kFramesInFlight frames later) and the
+    // originals freed (kFramesInFlight frames after that), so the loop sees the steady state.
+    for (int i = 0; i < 8; ++i)
+        frame();
+    double record_ms = 0, wait_ms = 0;
+    for (auto _ : state) {
+        frame();
+        record_ms += r.last_stats().cpu_ms;
+        wait_ms += r.last_stats().gpu_ms;
+    }
+    r.clear_chunks();
+    const double it = double(state.iterations());
+    state.counters["chunks"] = n;
+    state.counters["instances"] = r.last_stats().instances;
+    state.counters["record_ms"] = record_ms / it;
+    state.counters["wait_ms"] = wait_ms / it;
+}
+
 BENCHMARK(BM_BuildAllBlas)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_RefitAllBlas)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FrameCpu)
+    ->ArgsProduct({{1024, 4096, 16384, 65536}, {0, 16}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_Trace)->Args({256, 256, 1})->Args({256, 256, 4})->Args({1920, 1080, 1})->Args({1920, 1080, 4})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace

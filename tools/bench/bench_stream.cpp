@@ -13,6 +13,8 @@
 #include <benchmark/benchmark.h>
 
 #include "engine/chunk_streamer.h"
+#include "engine/engine_sink.h"
+#include "render/renderer.h"
 #include "world/gen/terrain.h"
 
 #include "world/store/sqlite_store.h"
@@ -61,7 +63,7 @@ const std::string& fill_store_path(const TerrainGenerator& gen, const glm::dvec3
         Result<std::unique_ptr<SqliteStore>> store = SqliteStore::open({p});
         if (!store)
             return std::string();
-        const ChunkCoord centre = chunk_of(BlockPos(glm::floor(pos)));
+        const ChunkCoord centre = world::chunk_of(BlockPos(glm::floor(pos)));
         const int r = kFillRadius + 2, rv = kFillRadiusVertical + 2;
         for (int y = -rv; y <= rv; ++y)
             for (int z = -r; z <= r; ++z)
@@ -210,11 +212,122 @@ void run_flythrough(benchmark::State& state, bool use_store) {
     }
 }
 
+// Counts the chunks handed on (meshes, empty ones included) on the way to the real sink.
+struct CountingSink : MeshSink {
+    explicit CountingSink(MeshSink& to) : next(to) {}
+    void on_mesh(ChunkCoord c, const ChunkMesh& m, std::span<const int> slices) override {
+        ++meshes;
+        next.on_mesh(c, m, slices);
+    }
+    void on_unload(ChunkCoord c) override { next.on_unload(c); }
+    MeshSink& next;
+    size_t meshes = 0;
+};
+
+// Applying finished chunks inside update()'s budget (issue 16: radius 32 at full detail flown at
+// 100 blocks/s needs >= 5,000 chunks/s within 2 ms per update). A view of radius range(0)
+// (4 vertically) fills from nothing at 60 updates/s of wall time with the default 2 ms budget,
+// generation and meshing on every core, the meshes going to the engine's sink and, when
+// $VX_BENCH_DEVICE names a device that can be made (auto, cpu, gpu, N; unset: none), on to a
+// real Renderer's set_chunk (no frames are drawn: the GPU side runs in frames, not in update()).
+// Counters: applied_per_update_s, chunks applied (loaded + meshed) per second of main-thread
+// update() time, the rate the budget sustains (x 0.002 per update); fill_s, the wall time to a
+// settled view; update_cpu_p99_ms.
+void bench_apply(benchmark::State& state) {
+    const int radius = int(state.range(0));
+    const TerrainGenerator gen(77);
+    std::unique_ptr<render::Renderer> renderer;
+    if (const char* dev = std::getenv("VX_BENCH_DEVICE")) {
+        render::RendererCreateInfo ci;
+        if (auto choice = render::parse_device_choice(dev))
+            ci.device = *choice;
+        if (auto made = render::Renderer::create(ci))
+            renderer = std::move(*made);
+    }
+    for (auto _ : state) {
+        if (renderer)
+            renderer->clear_chunks();
+        EngineSink engine_sink(renderer.get(), false);
+        CountingSink sink(engine_sink);
+        StreamingSettings st;
+        st.view_radius = radius;
+        st.view_radius_vertical = 4;
+        std::vector<double> update_cpu_ms;
+        double cpu_s = 0;
+        size_t applied = 0;
+        const glm::dvec3 pos(0.5, gen.surface_height(0, 0) + 2.0, 0.5);
+        const auto t0 = Clock::now();
+        {
+            ChunkStreamer s(gen, nullptr, sink, st);
+            auto next = t0;
+            do {
+                const size_t before = sink.meshes + s.metrics().loaded;
+                s.update(pos, glm::dvec3(1, 0, 0), next);
+                const StreamingMetrics m = s.metrics();
+                const double ms = std::chrono::duration<double, std::milli>(m.last_update_cpu).count();
+                update_cpu_ms.push_back(ms);
+                cpu_s += ms / 1e3;
+                applied += sink.meshes + m.loaded - before;
+                next += std::chrono::microseconds(16667);
+                std::this_thread::sleep_until(next);
+            } while (!s.settled() && Clock::now() - t0 < std::chrono::seconds(120));
+        }
+        const double fill_s = std::chrono::duration<double>(Clock::now() - t0).count();
+        state.SetIterationTime(fill_s);
+        state.counters["applied"] = double(applied);
+        state.counters["applied_per_update_s"] = double(applied) / cpu_s;
+        state.counters["applied_per_s"] = double(applied) / fill_s;
+        state.counters["fill_s"] = fill_s;
+        state.counters["update_cpu_p50_ms"] = percentile(update_cpu_ms, 0.5);
+        state.counters["update_cpu_p99_ms"] = percentile(update_cpu_ms, 0.99);
+        state.counters["renderer"] = renderer ? 1 : 0;
+    }
+}
+
+// update()'s main-thread CPU time against the number of loaded chunks (issue 16: it must not
+// grow with it): a settled view of radius range(0) (4 vertically), then 120 updates at 60/s with
+// the viewer still (update_still_ms: mean; the work left is the bookkeeping of a frame), then 120
+// flying at 100 blocks/s along +x (update_moving_ms: mean; work proportional to the chunks
+// entering and leaving, so about the same at every radius until the budget caps it).
+void bench_update_cost(benchmark::State& state) {
+    const int radius = int(state.range(0));
+    const TerrainGenerator gen(77);
+    for (auto _ : state) {
+        NullSink sink;
+        StreamingSettings st;
+        st.view_radius = radius;
+        st.view_radius_vertical = 4;
+        ChunkStreamer s(gen, nullptr, sink, st);
+        glm::dvec3 pos(0.5, gen.surface_height(0, 0) + 2.0, 0.5);
+        auto now = Clock::now();
+        while (!s.settled()) {
+            s.update(pos, glm::dvec3(1, 0, 0), now = Clock::now());
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        auto run = [&](double speed) {
+            double ms = 0;
+            for (int i = 0; i < 120; ++i) {
+                pos.x += speed / 60.0;
+                now += std::chrono::microseconds(16667);
+                s.update(pos, glm::dvec3(1, 0, 0), now);
+                ms += std::chrono::duration<double, std::milli>(s.metrics().last_update_cpu).count();
+                std::this_thread::sleep_until(now);
+            }
+            return ms / 120;
+        };
+        state.counters["loaded"] = double(s.metrics().loaded);
+        state.counters["update_still_ms"] = run(0.0);
+        state.counters["update_moving_ms"] = run(100.0);
+    }
+}
+
 void bench_flythrough(benchmark::State& state) { run_flythrough(state, false); }
 void bench_flythrough_store(benchmark::State& state) { run_flythrough(state, true); }
 
 BENCHMARK(bench_fill)->Name("stream/fill_radius8_generated")->Arg(0)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(bench_fill)->Name("stream/fill_radius8_from_store")->Arg(1)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(bench_update_cost)->Name("stream/update_cost")->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(bench_apply)->Name("stream/apply")->Arg(12)->Arg(32)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(bench_flythrough)->Name("stream/flythrough_100bps_r12")->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(bench_flythrough_store)
     ->Name("stream/flythrough_store_100bps_r12")

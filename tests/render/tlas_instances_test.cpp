@@ -1,0 +1,176 @@
+// TlasInstances without a GPU: random adds, updates and removes, each frame slot's buffers
+// written only with what changed since that slot's last sync, must always hold what a rebuild
+// from scratch of the same chunks would write: every chunk once, instance i with custom index i
+// and the chunk table's entry i its chunk's quads, translations relative to the origin.
+#include <cstring>
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "render/tlas_instances.h"
+
+namespace vx::render {
+namespace {
+
+using world::BlockPos;
+using world::ChunkCoord;
+
+struct Chunk {
+    VkDeviceAddress blas = 0, quads = 0;
+    uint32_t slots = 0;
+};
+using Reference = std::map<std::tuple<int, int, int>, Chunk>;
+
+// A frame slot's host-visible buffers: replaced (contents lost) when they must grow.
+struct SlotBuffers {
+    std::vector<VkAccelerationStructureInstanceKHR> instances;
+    std::vector<uint64_t> table;
+    uint32_t sync(TlasInstances& a, uint32_t slot) {
+        bool fresh = false;
+        if (instances.size() < a.size()) {
+            const size_t capacity = std::max<size_t>(a.size(), 2 * instances.size());
+            instances.assign(capacity, {}); // Garbage in a real buffer: every byte differs.
+            std::memset(instances.data(), 0xAB, capacity * sizeof(instances[0]));
+            table.assign(capacity, 0xABABABABABABABABull);
+            fresh = true;
+        }
+        return a.sync(slot, instances.data(), table.data(), fresh);
+    }
+};
+
+// What the slot's buffers must hold: the from-scratch rebuild of `ref` in the array's order.
+void expect_matches(const TlasInstances& a, const SlotBuffers& b, const Reference& ref, BlockPos origin) {
+    ASSERT_EQ(a.size(), ref.size());
+    std::map<std::tuple<int, int, int>, int> seen;
+    for (uint32_t i = 0; i < a.size(); ++i) {
+        const DrawChunk& d = a.draw_list()[i];
+        const auto key = std::make_tuple(d.coord.x, d.coord.y, d.coord.z);
+        ASSERT_EQ(seen[key]++, 0) << "chunk listed twice";
+        const auto it = ref.find(key);
+        ASSERT_NE(it, ref.end()) << "a removed chunk is still drawn";
+        EXPECT_EQ(d.quads, it->second.quads);
+        EXPECT_EQ(d.slots, it->second.slots);
+        const VkAccelerationStructureInstanceKHR want = TlasInstances::make_instance(d.coord, origin, i, it->second.blas);
+        EXPECT_EQ(std::memcmp(&b.instances[i], &want, sizeof want), 0) << "instance " << i;
+        EXPECT_EQ(b.table[i], it->second.quads) << "table entry " << i;
+    }
+}
+
+class Harness {
+public:
+    static constexpr uint32_t kSlots = 2;
+    TlasInstances array{kSlots};
+    Reference ref;
+    std::map<std::tuple<int, int, int>, uint32_t> index; // What the owner (SceneAccel) records.
+    SlotBuffers slots[kSlots];
+    VkDeviceAddress next_address = 0x1000;
+
+    void set(ChunkCoord c) {
+        const auto key = std::make_tuple(c.x, c.y, c.z);
+        Chunk& ch = ref[key];
+        ch = {next_address, next_address + 8, uint32_t(next_address % 97)};
+        next_address += 0x100;
+        const DrawChunk d{c, ch.quads, ch.slots};
+        if (auto it = index.find(key); it != index.end())
+            array.update(it->second, d, ch.blas);
+        else
+            index[key] = array.add(d, ch.blas);
+    }
+    void remove(ChunkCoord c) {
+        const auto key = std::make_tuple(c.x, c.y, c.z);
+        auto it = index.find(key);
+        if (it == index.end())
+            return;
+        const uint32_t i = it->second;
+        index.erase(it);
+        ref.erase(key);
+        if (const std::optional<ChunkCoord> moved = array.remove(i))
+            index.at(std::make_tuple(moved->x, moved->y, moved->z)) = i;
+    }
+};
+
+TEST(TlasInstances, RandomChangesMatchARebuildInEverySlot) {
+    Harness h;
+    std::mt19937 rng(1234);
+    std::uniform_int_distribution<int> coord(-6, 6), op(0, 9);
+    uint32_t frame = 0;
+    for (int step = 0; step < 4000; ++step) {
+        const ChunkCoord c(coord(rng), coord(rng) / 3, coord(rng));
+        const int o = op(rng);
+        if (o < 5)
+            h.set(c); // Add, or a rebuild's new addresses.
+        else if (o < 9)
+            h.remove(c);
+        else if (step % 7 == 0) {
+            h.array.clear();
+            h.ref.clear();
+            h.index.clear();
+        }
+        if (step % 5 == 0) { // A frame: this slot catches up with every change since its last frame.
+            const uint32_t slot = frame++ % Harness::kSlots;
+            h.array.follow_camera(BlockPos(0, 0, 0));
+            h.slots[slot].sync(h.array, slot);
+            expect_matches(h.array, h.slots[slot], h.ref, h.array.origin());
+            if (testing::Test::HasFailure())
+                FAIL() << "at step " << step;
+        }
+    }
+    EXPECT_EQ(h.array.rebases(), 0u); // The camera never moved.
+}
+
+TEST(TlasInstances, StillFramesWriteNothingAndAChangeOnlyItself) {
+    Harness h;
+    for (int x = 0; x < 100; ++x)
+        h.set(ChunkCoord(x, 0, 0));
+    for (uint32_t s = 0; s < Harness::kSlots; ++s)
+        EXPECT_EQ(h.slots[s].sync(h.array, s), 100u);
+    for (uint32_t s = 0; s < Harness::kSlots; ++s)
+        EXPECT_EQ(h.slots[s].sync(h.array, s), 0u); // Nothing changed.
+    h.set(ChunkCoord(7, 0, 0));    // An update: one entry.
+    h.remove(ChunkCoord(3, 0, 0)); // The last moves into its place: one entry.
+    for (uint32_t s = 0; s < Harness::kSlots; ++s) {
+        EXPECT_EQ(h.slots[s].sync(h.array, s), 2u);
+        expect_matches(h.array, h.slots[s], h.ref, h.array.origin());
+    }
+}
+
+TEST(TlasInstances, TheOriginMovesOnlyFarOrWhenEmpty) {
+    Harness h;
+    const int64_t far = TlasInstances::kRebaseDistance;
+    const BlockPos start(int64_t(1) << 30, -5000, 77);
+    EXPECT_TRUE(h.array.follow_camera(start)); // Empty: the origin jumps to the camera for free.
+    EXPECT_EQ(h.array.origin(), start);
+    EXPECT_EQ(h.array.rebases(), 0u);
+    const ChunkCoord base = world::chunk_of(start);
+    for (int x = 0; x < 10; ++x)
+        h.set(base + ChunkCoord(x, 0, 0));
+    EXPECT_FALSE(h.array.follow_camera(start)); // Filled: from now on moving costs a rewrite.
+    EXPECT_FALSE(h.array.follow_camera(start + BlockPos(far, -far, 0))); // Within reach: stays.
+    for (uint32_t s = 0; s < Harness::kSlots; ++s)
+        h.slots[s].sync(h.array, s);
+    const BlockPos moved = start + BlockPos(far + 1, 0, 3);
+    EXPECT_TRUE(h.array.follow_camera(moved)); // Too far: every instance is rewritten once.
+    EXPECT_EQ(h.array.origin(), moved);
+    EXPECT_EQ(h.array.rebases(), 1u);
+    for (uint32_t s = 0; s < Harness::kSlots; ++s) {
+        EXPECT_EQ(h.slots[s].sync(h.array, s), 10u);
+        expect_matches(h.array, h.slots[s], h.ref, moved);
+    }
+    // Exact translations: the 64-bit difference, then float.
+    const world::BlockPos rel = world::chunk_origin(h.array.draw_list()[0].coord) - moved;
+    EXPECT_EQ(h.array.instances()[0].transform.matrix[0][3], float(rel.x));
+    // Emptied, then filled again: the next frame's origin follows the camera without a re-base.
+    for (int x = 0; x < 10; ++x)
+        h.remove(base + ChunkCoord(x, 0, 0));
+    h.set(base);
+    EXPECT_TRUE(h.array.follow_camera(start));
+    EXPECT_EQ(h.array.rebases(), 1u);
+    for (uint32_t s = 0; s < Harness::kSlots; ++s) {
+        h.slots[s].sync(h.array, s);
+        expect_matches(h.array, h.slots[s], h.ref, start);
+    }
+}
+
+} // namespace
+} // namespace vx::render
