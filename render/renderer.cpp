@@ -433,11 +433,12 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
 
 // FrameParams::haze (shaders/shared/haze.glsl) of a frame; zero (no haze) but in Full mode.
 // Koschmieder's visibility, where contrast falls to 2%: extinction = ln(50) / visibility.
-static glm::vec4 haze_params(const RenderSettings& s, const Camera& cam) {
+// `origin`: the render origin (SceneAccel::origin()), the frame of every shader position.
+static glm::vec4 haze_params(const RenderSettings& s, world::BlockPos origin) {
     const Haze& h = s.haze;
     if (!h.enabled || s.mode != ShadingMode::Full || !(h.visibility > 0.f) || std::isinf(h.visibility))
         return glm::vec4(0.f);
-    const double height = double(cam.block.y) - h.base_height; // Of camera-relative y = 0.
+    const double height = double(origin.y) - h.base_height; // Of origin-relative y = 0.
     return glm::vec4(float(std::log(50.0) / double(h.visibility)), std::max(h.height_falloff, 0.f), float(height), 0.f);
 }
 
@@ -478,7 +479,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
         p.exposure_meter = meters[slot].address();
     }
     p.exposure = glm::vec4(gpu::vx_exposure_scale(frame_ev100), metering[slot] ? 1.f : 0.f, 0.f, 0.f);
-    p.haze = haze_params(s, cam);
+    p.haze = haze_params(s, origin);
     p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();

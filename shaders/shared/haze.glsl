@@ -30,7 +30,8 @@ float vx_haze_depth(float sigma, float falloff, float h0, float h1, float len) {
     return sigma * (below + (len - below) * exp(-falloff * a) * mean);
 }
 
-// The transmittance of the segment from camera-relative `origin` along unit `dir` for `len`
+// The transmittance of the segment from `origin` (relative to the render origin, as every
+// shader position) along unit `dir` for `len`
 // blocks, under FrameParams::haze.
 float vx_haze_transmittance(vec3 origin, vec3 dir, float len) {
     float h0 = frame.haze.z + origin.y;

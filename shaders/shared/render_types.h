@@ -69,7 +69,7 @@ struct FrameParams {
                          // y: 1 = meter the frame into exposure_meter (auto exposure), 0: not.
     vec4 haze;           // Aerial perspective (shared/haze.glsl), Full mode: x: extinction per
                          // block at and below the base height (0: no haze); y: its falloff per
-                         // block above; z: the height of camera-relative y = 0 above the base
+                         // block above; z: the height of origin-relative y = 0 above the base
                          // height, blocks; w: 0.
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
