@@ -397,6 +397,8 @@ Status PgStore::mark_lod_dirty(std::span<const LodCoord> coords) {
         m_pending_since = Clock::now();
     for (LodCoord c : coords)
         m_pending_dirty.insert_or_assign(c, true);
+    std::lock_guard lock(m_health_mutex);
+    m_health.pending_edits = pending_edits();
     return {};
 }
 
