@@ -288,7 +288,8 @@ private:
 // A store without coarse levels is refused before anything is generated; a coarse save that fails
 // fails the pregeneration with the store's message (level 0 was saved by then).
 TEST(WorldPregen, CoarseLevelsNeedAStoreThatKeepsThem) {
-    const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_nolod_" + std::to_string(::getpid()) + ".db");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("vx_pregen_nolod_" + std::to_string(::getpid()) + ".db");
     std::filesystem::remove(path);
     const TerrainGenerator gen(3);
     JobSystem jobs(batch_job_system_info(2));
@@ -301,8 +302,8 @@ TEST(WorldPregen, CoarseLevelsNeedAStoreThatKeepsThem) {
         EXPECT_EQ(store.load_lod({1, {0, 0, 0}})->state, LoadState::Absent);
         auto r = pregenerate(jobs, gen, store, info);
         ASSERT_FALSE(r);
-        EXPECT_NE(r.error().find(failing ? "the disk is full (injected)" : "keeps no coarse levels"), std::string::npos)
-            << r.error();
+        const char* want = failing ? "the disk is full (injected)" : "keeps no coarse levels";
+        EXPECT_NE(r.error().find(want), std::string::npos) << r.error();
         EXPECT_EQ(*store.count(), failing ? 2u : 0u);
     }
     std::filesystem::remove(path);

@@ -416,13 +416,16 @@ Result<std::vector<LodCoord>> PgStore::list_lod(const char* statement, const cha
     pg::ResultPtr r = pg::exec(m_conn, statement);
     if (!pg::ok(r.get()))
         return error(std::string("cannot list ") + what);
-    for (int i = 0, n = PQntuples(r.get()); i < n; ++i)
-        out.push_back({int(pg::get_i16(r.get(), i, 0)),
-                       ChunkCoord(pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2), pg::get_i32(r.get(), i, 3))});
+    for (int i = 0, n = PQntuples(r.get()); i < n; ++i) {
+        const ChunkCoord c(pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2), pg::get_i32(r.get(), i, 3));
+        out.push_back({int(pg::get_i16(r.get(), i, 0)), c});
+    }
     return out;
 }
 
-Result<std::vector<LodCoord>> PgStore::list_lod_dirty() { return list_lod("vx_lod_dirty_list", "dirty coarse chunks"); }
+Result<std::vector<LodCoord>> PgStore::list_lod_dirty() {
+    return list_lod("vx_lod_dirty_list", "dirty coarse chunks");
+}
 
 Result<std::vector<LodCoord>> PgStore::list_lod_coords() { return list_lod("vx_lod_list", "coarse chunks"); }
 
