@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/job_batch.h"
+#include "world/lod/downsample.h"
 #include "world/mesh/mesher.h"
 
 namespace vx::engine {
@@ -19,7 +20,8 @@ struct Progress {
     JobSystem& jobs;
     ChunkStore& store;
     PregenStats stats;
-    std::string failure; // The store's first error.
+    std::string failure; // The store's or the generator's first error.
+    size_t lod_done = 0; // Coarse chunks saved, all levels.
 };
 
 // I/O lane: saves one chunk and lets the store commit when its batch is old enough.
@@ -68,26 +70,93 @@ private:
     uint32_t m_quads = 0;
 };
 
+// I/O lane: saves one coarse chunk (see SaveChunkJob).
+class SaveLodJob final : public Job {
+public:
+    SaveLodJob(LodCoord c, Chunk chunk, Progress& p)
+        : Job({c.chunk, JobKind::Save}), m_level(c.level), m_chunk(std::move(chunk)), m_p(p) {}
+    void run(JobContext&) override {
+        m_status = m_p.store.save_lod({m_level, key().chunk}, m_chunk);
+        (void)m_p.store.tick(Clock::now());
+    }
+    void complete() override {
+        if (!m_status && m_p.failure.empty())
+            m_p.failure = m_status.error();
+        ++m_p.stats.lod_chunks[size_t(m_level - 1)];
+        ++m_p.lod_done;
+    }
+
+private:
+    int m_level;
+    Chunk m_chunk;
+    Progress& m_p;
+    Status m_status;
+};
+
+// Pool: makes one coarse chunk (generate_lod: the terrain's direct coarse chunk); complete()
+// queues its save. Keyed by chunk coordinates alone, so one batch holds one level.
+class GenerateLodJob final : public Job {
+public:
+    GenerateLodJob(LodCoord c, const TerrainGenerator& gen, Progress& p)
+        : Job({c.chunk, JobKind::Generate}), m_level(c.level), m_gen(gen), m_p(p) {}
+    void run(JobContext&) override { m_chunk = generate_lod(m_gen, {m_level, key().chunk}); }
+    void complete() override {
+        if (!m_chunk) {
+            if (m_p.failure.empty())
+                m_p.failure = m_chunk.error();
+            return;
+        }
+        m_p.jobs.submit(std::make_unique<SaveLodJob>(LodCoord{m_level, key().chunk}, std::move(*m_chunk), m_p));
+    }
+
+private:
+    int m_level;
+    const TerrainGenerator& m_gen;
+    Progress& m_p;
+    Result<Chunk> m_chunk = Error{"not generated"};
+};
+
+size_t box_volume(ChunkCoord lo, ChunkCoord hi) {
+    return size_t(hi.x - lo.x + 1) * size_t(hi.y - lo.y + 1) * size_t(hi.z - lo.z + 1);
+}
+
 } // namespace
 
 Result<PregenStats> pregenerate(JobSystem& jobs, const TerrainGenerator& gen, ChunkStore& store,
                                 const PregenInfo& info) {
+    VX_ASSERT_RETURN(info.lod_levels >= 0 && info.lod_levels <= kMaxLodLevel, Error{"lod levels out of range"});
+    if (info.lod_levels > 0 && !store.supports_lod())
+        return Error{"this store keeps no coarse levels"};
     const auto t0 = Clock::now();
-    Progress p{jobs, store, {}, {}};
+    Progress p{jobs, store, {}, {}, 0};
+    p.stats.lod_chunks.assign(size_t(info.lod_levels), 0);
     std::vector<std::unique_ptr<Job>> batch;
     for (int y = info.lo.y; y <= info.hi.y; ++y)
         for (int z = info.lo.z; z <= info.hi.z; ++z)
             for (int x = info.lo.x; x <= info.hi.x; ++x)
                 batch.push_back(std::make_unique<GenerateChunkJob>(ChunkCoord(x, y, z), gen, p));
-    const size_t total = batch.size();
+    size_t total = batch.size();
+    for (int k = 1; k <= info.lod_levels; ++k)
+        total += box_volume(info.lo >> k, info.hi >> k);
     std::function<void()> tick;
     if (info.progress)
-        tick = [&] { info.progress(p.stats.chunks, total); };
+        tick = [&] { info.progress(p.stats.chunks + p.lod_done, total); };
     run_batch(jobs, std::move(batch), tick);
+    // Coarse levels after the blocks, one batch per level: jobs are keyed by chunk coordinates,
+    // which repeat from level to level.
+    for (int k = 1; k <= info.lod_levels && p.failure.empty(); ++k) {
+        const ChunkCoord lo = info.lo >> k, hi = info.hi >> k;
+        std::vector<std::unique_ptr<Job>> level;
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int z = lo.z; z <= hi.z; ++z)
+                for (int x = lo.x; x <= hi.x; ++x)
+                    level.push_back(std::make_unique<GenerateLodJob>(LodCoord{k, ChunkCoord(x, y, z)}, gen, p));
+        run_batch(jobs, std::move(level), tick);
+    }
     if (info.progress)
-        info.progress(p.stats.chunks, total);
+        info.progress(p.stats.chunks + p.lod_done, total);
     if (!p.failure.empty())
-        return Error{"saving failed: " + p.failure};
+        return Error{"pregeneration failed: " + p.failure};
     // The flush, too, on the I/O lane: the store is never touched from this thread.
     Status flushed;
     std::vector<std::unique_ptr<Job>> flush;

@@ -1,12 +1,15 @@
 #pragma once
 // Pregeneration of a terrain world into a store (`vx world gen`): every chunk of a box generated
-// and meshed on the job system's pool, then saved on its I/O lane, then flushed. Meshing here
+// and meshed on the job system's pool, then saved on its I/O lane, then (levels of detail, when
+// asked) every coarse chunk of levels 1..N over the box made by world::generate_lod (the terrain
+// makes them directly, without their blocks) and saved with save_lod, then flushed. Meshing here
 // checks that each chunk meshes and measures the world (quads in isolation); the streamer meshes
 // again with real neighbours when it streams the world in.
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "engine/job_system.h"
 #include "world/base/result.h"
@@ -20,12 +23,19 @@ namespace vx::engine {
 struct PregenInfo {
     world::ChunkCoord lo{0}, hi{0}; // Inclusive box of chunk coordinates; lo <= hi per axis.
     // Called on the main thread about every 50 ms: chunks saved so far, and the total.
+    // Coarse chunks count as chunks here.
     std::function<void(size_t done, size_t total)> progress;
+    // Coarse levels to store, 1..lod_levels (0: none; at most kMaxLodLevel): at level k, every
+    // level-k chunk overlapping the box (lo >> k .. hi >> k). The store must keep them (supports_lod()).
+    // Boxes side by side (`vx world gen --part`) both store the coarse chunks over their border:
+    // the same chunk twice, the last writer wins.
+    int lod_levels = 0;
 };
 
 // What was made. Plain value (not thread-safe).
 struct PregenStats {
-    size_t chunks = 0;        // Chunks generated and saved.
+    size_t chunks = 0;        // Chunks generated and saved (level 0).
+    std::vector<size_t> lod_chunks; // Coarse chunks saved per level: [k - 1] for level k.
     uint64_t non_uniform = 0; // Of those, not all one block.
     uint64_t quads = 0;       // Greedy quads, each chunk meshed in isolation (air around).
     double seconds = 0;       // Wall time, the final flush included.

@@ -29,6 +29,7 @@ struct GenArgs {
     int radius = 8;
     int bottom = -6, top = 5; // Chunk y range: the terrain's caves to its peaks.
     std::string part = "1/1"; // K/N: this process makes the K-th of N slabs along x (a farm).
+    int lod_levels = 0;       // Coarse levels 1..N stored over the box too.
 };
 
 // "K/N" with 1 <= K <= N <= 1024, or nullopt.
@@ -54,6 +55,8 @@ int run_gen(const GenArgs& a) {
         return bad_input("--radius must be 0..256 chunks");
     if (a.bottom > a.top)
         return bad_input("--bottom must not be above --top");
+    if (a.lod_levels < 0 || a.lod_levels > kMaxLodLevel)
+        return bad_input("--lod-levels must be 0.." + std::to_string(kMaxLodLevel));
     auto store = open_store({a.path}); // A SQLite file or a postgresql:// URI.
     if (!store)
         return bad_input(store.error());
@@ -63,6 +66,8 @@ int run_gen(const GenArgs& a) {
     if (made_by && *made_by && **made_by != "terrain")
         return bad_input("'" + store_display_name(a.path) + "' was made by a game's generator (" + **made_by +
                          "), not the built-in terrain");
+    if (a.lod_levels > 0 && !(*store)->supports_lod())
+        return bad_input("'" + store_display_name(a.path) + "' keeps no coarse levels (--lod-levels)");
     if (Status s = (*store)->set_meta("generator", "terrain"); !s)
         return bad_input(s.error());
     auto old_seed = (*store)->get_meta("seed");
@@ -84,6 +89,7 @@ int run_gen(const GenArgs& a) {
     if (x1 < x0)
         return bad_input("--part " + a.part + " is empty: the box is only " + std::to_string(width) + " chunks wide");
     engine::PregenInfo info{ChunkCoord(x0, a.bottom, -a.radius), ChunkCoord(x1, a.top, a.radius), {}};
+    info.lod_levels = a.lod_levels;
     const auto t0 = Clock::now();
     const bool bar = stderr_is_terminal(); // Piped: only the summary line below.
     if (bar)
@@ -101,6 +107,8 @@ int run_gen(const GenArgs& a) {
     std::printf("vx world gen: %zu chunks (%" PRIu64 " non-uniform, %" PRIu64 " quads isolated) in %.2f s "
                 "(%.0f chunks/s), seed %" PRIu64 ", saved to %s\n",
                 total, non_uniform, quads, secs, double(total) / secs, a.seed, store_display_name(a.path).c_str());
+    for (size_t level = 1; level <= made->lod_chunks.size(); ++level)
+        std::printf("  level %zu: %zu coarse chunks\n", level, made->lod_chunks[level - 1]);
     return kExitOk;
 }
 
@@ -138,9 +146,22 @@ int run_info(const std::string& path, bool check) {
     if (*count)
         std::printf("  chunk bounds: (%d,%d,%d) .. (%d,%d,%d)\n", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
     std::printf("  seed: %s\n", seed && *seed ? (*seed)->c_str() : "(none)");
-    if (auto* sqlite = dynamic_cast<SqliteStore*>(store->get()))
+    auto lods = (*store)->list_lod_coords();
+    if (!lods)
+        return bad_input(lods.error());
+    std::vector<uint64_t> per_level(size_t(kMaxLodLevel) + 1, 0);
+    for (const LodCoord& c : *lods)
+        if (valid_lod_level(c.level))
+            ++per_level[size_t(c.level)];
+    for (int k = 1; k <= kMaxLodLevel; ++k)
+        if (per_level[size_t(k)])
+            std::printf("  level %d coarse chunks stored: %" PRIu64 "\n", k, per_level[size_t(k)]);
+    if (auto dirty = (*store)->list_lod_dirty(); dirty && !dirty->empty())
+        std::printf("  coarse chunks marked dirty: %zu\n", dirty->size());
+    if (auto* sqlite = dynamic_cast<SqliteStore*>(store->get())) {
         if (auto q = sqlite->quarantine_count(); q)
             std::printf("  quarantined records: %" PRIu64 "\n", uint64_t(*q));
+    }
     return kExitOk;
 }
 
@@ -158,6 +179,8 @@ void add_world_command(CLI::App& app, std::function<int()>& action) {
     g->add_option("--radius", gen->radius, "Horizontal radius in chunks around the origin");
     g->add_option("--bottom", gen->bottom, "Lowest chunk y (default -6: below the caves)");
     g->add_option("--top", gen->top, "Highest chunk y (default 5: above the peaks)");
+    g->add_option("--lod-levels", gen->lod_levels,
+                  "Also store coarse levels of detail 1..N over the box (each level-k cell is 2^k blocks)");
     g->add_option("--part", gen->part, "K/N: make only the K-th of N slabs along x (several processes, one world)");
     g->callback([gen, &action] { action = [gen] { return run_gen(*gen); }; });
 

@@ -17,6 +17,7 @@
 #include "engine/scene_loader.h"
 #include "engine/world_pregen.h"
 #include "world/gen/terrain.h"
+#include "world/lod/downsample.h"
 #include "world/mesh/reference_meshers.h"
 #include "world/store/sqlite_store.h"
 
@@ -190,5 +191,120 @@ TEST(WorldPregen, SavesEveryChunkOfTheBoxAsGenerated) {
     EXPECT_EQ(made.quads, quads);
     EXPECT_EQ(made.non_uniform, non_uniform);
     store->reset();
+    std::filesystem::remove(path);
+}
+
+// With lod_levels, pregeneration also stores every coarse chunk over the box, each exactly what
+// generate_lod makes (the terrain's direct coarse chunks), and counts them per level.
+TEST(WorldPregen, StoresCoarseLevelsOverTheBox) {
+    const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_lod_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(path);
+    const TerrainGenerator gen(11);
+    // Box x -2..1, y -1..0, z 0..2 (floored shifts): level 1 is x -1..0, y -1..0, z 0..1 (8
+    // chunks); level 2 is x -1..0, y -1..0, z 0..0 (4).
+    const ChunkCoord lo(-2, -1, 0), hi(1, 0, 2);
+    PregenStats made;
+    {
+        auto store = SqliteStore::open({path.string()});
+        ASSERT_TRUE(store) << store.error();
+        JobSystem jobs(batch_job_system_info(2));
+        size_t last_done = 0, last_total = 0;
+        PregenInfo info{lo, hi, [&](size_t done, size_t total) {
+                            last_done = done;
+                            last_total = total;
+                        }};
+        info.lod_levels = 2;
+        auto r = pregenerate(jobs, gen, **store, info);
+        ASSERT_TRUE(r) << r.error();
+        made = *r;
+        EXPECT_EQ(last_total, 24u + 8u + 4u);
+        EXPECT_EQ(last_done, last_total);
+    }
+    EXPECT_EQ(made.chunks, 24u); // 4 x 2 x 3.
+    ASSERT_EQ(made.lod_chunks.size(), 2u);
+    EXPECT_EQ(made.lod_chunks[0], 8u);
+    EXPECT_EQ(made.lod_chunks[1], 4u);
+    auto store = SqliteStore::open({path.string(), /*read_only=*/true, /*create=*/false});
+    ASSERT_TRUE(store) << store.error();
+    size_t found = 0;
+    for (int k = 1; k <= 2; ++k) {
+        const ChunkCoord l = lo >> k, h = hi >> k;
+        for (int y = l.y; y <= h.y; ++y)
+            for (int z = l.z; z <= h.z; ++z)
+                for (int x = l.x; x <= h.x; ++x) {
+                    const LodCoord c{k, ChunkCoord(x, y, z)};
+                    auto load = (*store)->load_lod(c);
+                    ASSERT_TRUE(load && load->state == LoadState::Present) << k << ": " << x << "," << y << "," << z;
+                    auto expect = generate_lod(gen, c);
+                    ASSERT_TRUE(expect);
+                    EXPECT_TRUE(*load->chunk == *expect);
+                    ++found;
+                }
+    }
+    EXPECT_EQ(found, 12u);
+    auto listed = (*store)->list_lod_coords();
+    ASSERT_TRUE(listed);
+    EXPECT_EQ(listed->size(), 12u); // Nothing outside the box's coarse chunks.
+    EXPECT_TRUE((*store)->list_lod_dirty()->empty());
+    store->reset();
+    std::filesystem::remove(path);
+}
+
+namespace {
+
+// A SQLite store seen through the ChunkStore defaults for coarse levels (a game's store that
+// keeps none), or one whose coarse saves fail (injected).
+using vx::Error;
+using vx::Result;
+using vx::Status;
+
+class LevelZeroStore final : public ChunkStore {
+public:
+    LevelZeroStore(std::unique_ptr<ChunkStore> inner, bool failing_lod)
+        : m_inner(std::move(inner)), m_failing_lod(failing_lod) {}
+    Result<ChunkLoad> load(ChunkCoord c) override { return m_inner->load(c); }
+    Status save(std::span<const ChunkWrite> batch) override { return m_inner->save(batch); }
+    Status tick(Clock::time_point now) override { return m_inner->tick(now); }
+    Status flush() override { return m_inner->flush(); }
+    Result<bool> contains(ChunkCoord c) override { return m_inner->contains(c); }
+    Result<uint64_t> count() override { return m_inner->count(); }
+    Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override { return m_inner->for_each_coord(fn); }
+    Result<std::optional<std::string>> get_meta(std::string_view key) override { return m_inner->get_meta(key); }
+    Status set_meta(std::string_view key, std::string_view value) override { return m_inner->set_meta(key, value); }
+    bool read_only() const override { return false; }
+    using ChunkStore::save_lod;
+    bool supports_lod() const override { return m_failing_lod; }
+    Status save_lod(std::span<const LodWrite> batch) override {
+        return m_failing_lod ? Status(Error{"the disk is full (injected)"}) : ChunkStore::save_lod(batch);
+    }
+
+private:
+    std::unique_ptr<ChunkStore> m_inner;
+    bool m_failing_lod;
+};
+
+} // namespace
+
+// A store without coarse levels is refused before anything is generated; a coarse save that fails
+// fails the pregeneration with the store's message (level 0 was saved by then).
+TEST(WorldPregen, CoarseLevelsNeedAStoreThatKeepsThem) {
+    const auto path =
+        std::filesystem::temp_directory_path() / ("vx_pregen_nolod_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(path);
+    const TerrainGenerator gen(3);
+    JobSystem jobs(batch_job_system_info(2));
+    PregenInfo info{ChunkCoord(0), ChunkCoord(1, 0, 0), {}};
+    info.lod_levels = 1;
+    for (bool failing : {false, true}) {
+        auto sqlite = SqliteStore::open({path.string()});
+        ASSERT_TRUE(sqlite) << sqlite.error();
+        LevelZeroStore store(std::move(*sqlite), failing);
+        EXPECT_EQ(store.load_lod({1, {0, 0, 0}})->state, LoadState::Absent);
+        auto r = pregenerate(jobs, gen, store, info);
+        ASSERT_FALSE(r);
+        const char* want = failing ? "the disk is full (injected)" : "keeps no coarse levels";
+        EXPECT_NE(r.error().find(want), std::string::npos) << r.error();
+        EXPECT_EQ(*store.count(), failing ? 2u : 0u);
+    }
     std::filesystem::remove(path);
 }

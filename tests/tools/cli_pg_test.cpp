@@ -69,6 +69,38 @@ TEST(CliPg, WorldGenInfoCheckAndCorruption) {
     EXPECT_NE(r.out.find("cannot connect"), std::string::npos) << r.out;
 }
 
+// --lod-levels on a PostgreSQL world: coarse chunks go to vx_lod_chunks (created then), world
+// info counts them per level and --check verifies them with the rest.
+TEST(CliPg, WorldGenStoresCoarseLevels) {
+    PgCluster* cluster = cluster_or_skip();
+    if (!cluster)
+        GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    const std::string uri = cluster->new_database();
+    CliRun r = cli_test::vx("world gen " + q(uri) + " --seed 9 --radius 1 --bottom -1 --top 1 --lod-levels 2");
+    ASSERT_EQ(r.code, 0) << r.out;
+    // Chunks -1..1 on each axis: -1..0 at levels 1 and 2 (floored shifts), 8 chunks each.
+    EXPECT_NE(r.out.find("level 2: 8 coarse chunks"), std::string::npos) << r.out;
+    r = cli_test::vx("world info " + q(uri));
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("level 1 coarse chunks stored: 8"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("level 2 coarse chunks stored: 8"), std::string::npos) << r.out;
+    r = cli_test::vx("world info " + q(uri) + " --check");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("records: 43, corrupt: 0"), std::string::npos) << r.out;
+
+    // A level-1 record filed under level 2: --check finds it.
+    PGconn* c = PQconnectdb(uri.c_str());
+    PGresult* res = PQexec(c, "UPDATE vx_lod_chunks SET data = (SELECT data FROM vx_lod_chunks WHERE level = 1 "
+                              "AND x = 0 AND y = 0 AND z = 0) WHERE level = 2 AND x = 0 AND y = 0 AND z = 0");
+    EXPECT_EQ(PQresultStatus(res), PGRES_COMMAND_OK) << PQerrorMessage(c);
+    PQclear(res);
+    PQfinish(c);
+    r = cli_test::vx("world info " + q(uri) + " --check");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("records: 43, corrupt: 1"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("level 2 chunk 0,0,0"), std::string::npos) << r.out;
+}
+
 #if VX_WITH_OPENVDB
 TEST(CliPg, VdbRoundTripBetweenSqliteAndPostgres) {
     PgCluster* cluster = cluster_or_skip();

@@ -218,6 +218,31 @@ TEST(Cli, WorldGenInfoAndCheck) {
     EXPECT_EQ(r.code, 2) << r.out;
 }
 
+// --lod-levels N also stores coarse levels 1..N over the box; `world info` counts them per level
+// and --check verifies them with the rest.
+TEST(Cli, WorldGenStoresCoarseLevels) {
+    const auto dir = temp_dir() / "world_lod";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = (dir / "w.db").string();
+    EXPECT_EQ(run_vx("world gen " + db + " --radius 1 --lod-levels 11").code, 2);
+    EXPECT_EQ(run_vx("world gen " + db + " --radius 1 --lod-levels -1").code, 2);
+    CliRun r = run_vx("world gen " + db + " --seed 9 --radius 1 --bottom -1 --top 1 --lod-levels 2");
+    ASSERT_EQ(r.code, 0) << r.out;
+    // Chunks -1..1 on each axis: -1..0 at levels 1 and 2 (floored shifts), 8 chunks each.
+    EXPECT_NE(r.out.find("27 chunks"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("level 1: 8 coarse chunks"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("level 2: 8 coarse chunks"), std::string::npos) << r.out;
+    r = run_vx("world info " + db);
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("chunks stored: 27"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("level 1 coarse chunks stored: 8"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("level 2 coarse chunks stored: 8"), std::string::npos) << r.out;
+    r = run_vx("world info " + db + " --check");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("records: 43, corrupt: 0"), std::string::npos) << r.out;
+}
+
 // --part K/N splits the box into N slabs along x: the parts together are the whole box, and a
 // malformed or empty part is one line and exit 2, before any store is touched.
 TEST(Cli, WorldGenPartsCoverTheBox) {

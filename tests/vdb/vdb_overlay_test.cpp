@@ -103,6 +103,42 @@ TEST(VdbOverlay, EditsPersistErasesHideTheFileAndTheFileIsNeverWritten) {
     EXPECT_TRUE(std::filesystem::exists(path + ".edits.sqlite"));
 }
 
+// Coarse levels: a bare VDB keeps none (the ChunkStore defaults); an overlay keeps them in its
+// store, the VDB file untouched.
+TEST(VdbOverlay, CoarseLevelsLiveInTheOverlay) {
+    TempDir dir;
+    const std::string path = dir.file("w.vdb");
+    ASSERT_TRUE(export_vdb(terrain_world(), path));
+    const std::string before = read_bytes(path);
+    const world::LodCoord c{2, ChunkCoord(-1, 0, 0)}, mark{3, ChunkCoord(-1, 0, 0)};
+    {
+        auto bare = VdbStore::open(path);
+        ASSERT_TRUE(bare) << bare.error();
+        EXPECT_FALSE((*bare)->supports_lod());
+        EXPECT_EQ((*bare)->load_lod(c)->state, LoadState::Absent);
+        EXPECT_FALSE((*bare)->save_lod(c, Chunk(4)).ok());
+        EXPECT_TRUE((*bare)->list_lod_dirty()->empty());
+    }
+    {
+        auto store = VdbOverlayStore::open({.vdb_path = path, .overlay = {}, .read_only = false, .read = {}});
+        ASSERT_TRUE(store) << store.error();
+        EXPECT_TRUE((*store)->supports_lod());
+        EXPECT_EQ((*store)->load_lod(c)->state, LoadState::Absent);
+        ASSERT_TRUE((*store)->save_lod(c, Chunk(4)));
+        ASSERT_TRUE((*store)->mark_lod_dirty(std::span(&mark, 1)));
+        ASSERT_TRUE((*store)->flush());
+    }
+    auto store = VdbOverlayStore::open({.vdb_path = path, .overlay = {}, .read_only = true, .read = {}});
+    ASSERT_TRUE(store) << store.error();
+    auto l = (*store)->load_lod(c);
+    ASSERT_TRUE(l && l->state == LoadState::Present);
+    EXPECT_TRUE(*l->chunk == Chunk(4));
+    EXPECT_EQ((*store)->list_lod_coords()->size(), 1u);
+    ASSERT_EQ((*store)->list_lod_dirty()->size(), 1u);
+    EXPECT_EQ((*store)->list_lod_dirty()->front(), mark);
+    EXPECT_EQ(read_bytes(path), before);
+}
+
 TEST(VdbOverlay, RefusedAgainstAnotherFileAcceptedOnACopy) {
     TempDir dir;
     const std::string path = dir.file("a.vdb"), other = dir.file("b.vdb"), copy = dir.file("copy.vdb");

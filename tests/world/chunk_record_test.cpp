@@ -1,4 +1,5 @@
 #include <climits>
+#include <cstring>
 #include <numeric>
 #include <random>
 
@@ -272,4 +273,43 @@ TEST(ChunkRecordFaults, RandomGarbageNeverCrashes) {
         }
     }
     ASSERT_TRUE(codec.decode(good, {2, 2, 2}).ok());
+}
+
+// Coarse levels: the level seeds the header hash (seed = level), so level 0 writes exactly the
+// records of worlds made before levels existed, and a record read as another level fails.
+TEST(ChunkRecordLevels, LevelSeedsTheChecksumAndLevelZeroIsUnchanged) {
+    std::mt19937 rng(21);
+    RecordCodec codec;
+    for (const Chunk& chunk : {Chunk(7), random_chunk(rng, 0.5, 5)}) {
+        for (int level : {0, 1, 2, kMaxLodLevel}) {
+            const ChunkCoord c(-3, 9, INT32_MIN);
+            std::vector<uint8_t> rec;
+            codec.encode_lod({level, c}, chunk, rec);
+            // checksum = XXH64(payload, XXH64(header[0..32), level)), derived here independently.
+            const uint64_t want = XXH64(rec.data() + kRecordHeaderSize, rec.size() - kRecordHeaderSize,
+                                        XXH64(rec.data(), 32, XXH64_hash_t(level)));
+            uint64_t got = 0;
+            std::memcpy(&got, rec.data() + 32, 8);
+            EXPECT_EQ(got, want) << "level " << level;
+            if (level == 0) {
+                std::vector<uint8_t> plain;
+                codec.encode(c, chunk, plain);
+                EXPECT_EQ(rec, plain); // Byte-identical to the level-less encoder.
+                EXPECT_EQ(encode_chunk_record(c, chunk), plain);
+            }
+            vx::Result<Chunk> back = codec.decode_lod(rec, {level, c});
+            ASSERT_TRUE(back.ok()) << back.error();
+            EXPECT_TRUE(*back == chunk);
+            EXPECT_TRUE(read_record_header(rec, level).ok());
+            for (int other : {0, 1, 2, 3, kMaxLodLevel}) {
+                if (other == level)
+                    continue;
+                vx::Result<Chunk> wrong = codec.decode_lod(rec, {other, c});
+                ASSERT_FALSE(wrong.ok()) << "level " << level << " read as " << other;
+                EXPECT_NE(wrong.error().find("checksum"), std::string::npos) << wrong.error();
+            }
+            EXPECT_FALSE(codec.decode_lod(rec, {kMaxLodLevel + 1, c}).ok());
+            EXPECT_FALSE(codec.decode_lod(rec, {-1, c}).ok());
+        }
+    }
 }

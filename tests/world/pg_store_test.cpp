@@ -364,3 +364,46 @@ TEST(PgStore, OverlappingWritersNeverDeadlock) {
                 ASSERT_EQ(got.get(LocalPos(who, round, 0)), BlockId(10 + round)) << c.x << "," << c.z;
     }
 }
+
+// Coarse chunks committed by another process are notified with their level ("lod;level,x,y,z;"
+// payloads), apart from the level-0 changes of the same commit: a listener reading only level-0
+// payloads (a build before coarse levels) finds no number at "lod;" and ignores the payload.
+TEST(PgStore, CoarseChangesAreNotifiedWithTheirLevel) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    auto reader = open_pg(uri);
+    PgStoreCreateInfo info;
+    info.uri = uri;
+    info.listen = false;
+    auto writer = PgStore::open(info);
+    ASSERT_TRUE(writer) << writer.error();
+    const LodCoord coarse{3, {-2, 0, 7}};
+    std::vector<LodCoord> lods;
+    std::vector<ChunkCoord> chunks;
+    // The listener connects in the background: commit again until one is heard (bounded).
+    const auto start = Clock::now();
+    bool heard = false;
+    for (uint32_t round = 1; !heard && Clock::now() - start < std::chrono::seconds(10); ++round) {
+        ASSERT_TRUE((*writer)->save_lod(coarse, versioned_chunk(coarse.chunk, round)).ok());
+        ASSERT_TRUE((*writer)->save({4, 5, 6}, versioned_chunk({4, 5, 6}, round)).ok());
+        ASSERT_TRUE((*writer)->flush().ok());
+        for (int i = 0; i < 100 && !heard; ++i) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            reader->poll_lod_changes(lods);
+            heard = !lods.empty();
+        }
+    }
+    ASSERT_TRUE(heard) << "no coarse notification within 10 s";
+    for (const LodCoord& c : lods)
+        EXPECT_EQ(c, coarse);
+    for (int i = 0; i < 500 && chunks.empty(); ++i) { // Sent in the same commit: already there.
+        reader->poll_changes(chunks);
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_FALSE(chunks.empty());
+    for (ChunkCoord c : chunks)
+        EXPECT_EQ(c, ChunkCoord(4, 5, 6)); // No coordinates made up from the coarse payloads.
+    auto load = reader->load_lod(coarse);
+    ASSERT_TRUE(load.ok()) << load.error();
+    EXPECT_EQ(load->state, LoadState::Present);
+}

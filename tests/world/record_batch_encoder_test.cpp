@@ -85,5 +85,34 @@ TEST(RecordBatchEncoder, BatchKeepsEachCoordinatesLastWrite) {
     EXPECT_EQ(jobs[0].out, &out_c);
 }
 
+// Coarse chunks (save_lod): one chunk coordinate at two levels is two jobs, and every record is
+// what RecordCodec::encode_lod writes for its level, on the helpers as on the caller.
+TEST(RecordBatchEncoder, LevelsAreDistinctJobsAndSeedTheirRecords) {
+    std::mt19937 rng(5);
+    const size_t n = 2 * RecordBatchEncoder::kMinShared; // Shared with the helpers.
+    std::vector<Chunk> chunks;
+    for (size_t i = 0; i < n; ++i)
+        chunks.push_back(test::random_chunk(rng, 0.5, 3));
+    std::vector<std::vector<uint8_t>> out(n);
+    RecordBatchEncoder::Batch batch;
+    for (size_t i = 0; i < n; ++i) {
+        const LodCoord c{1 + int(i % 2), ChunkCoord(int(i / 2), -1, 0)}; // (i/2, -1, 0) at levels 1 and 2.
+        batch.supersede(c);
+        batch.add(c, chunks[i], out[i]);
+    }
+    const std::span<const RecordBatchEncoder::Job> jobs = batch.jobs();
+    ASSERT_EQ(jobs.size(), n);
+    RecordBatchEncoder encoder(1, 4);
+    RecordCodec caller(1), reference(1);
+    encoder.encode(jobs, caller);
+    for (size_t i = 0; i < n; ++i) {
+        const LodCoord c{1 + int(i % 2), ChunkCoord(int(i / 2), -1, 0)};
+        std::vector<uint8_t> want;
+        reference.encode_lod(c, chunks[i], want);
+        EXPECT_EQ(out[i], want) << "record " << i;
+        EXPECT_TRUE(reference.decode_lod(out[i], c).ok());
+    }
+}
+
 } // namespace
 } // namespace vx::world

@@ -35,6 +35,8 @@ public:
     virtual std::unique_ptr<ChunkStore> open(const std::string& world, const StoreOptions& o = {}) = 0;
     // Replaces the stored bytes of chunk `c` (which must be stored) with `bytes`.
     virtual void write_raw(const std::string& world, ChunkCoord c, const std::vector<uint8_t>& bytes) = 0;
+    // Replaces the stored bytes of coarse chunk `c` (which must be stored) with `bytes`.
+    virtual void write_raw_lod(const std::string& world, LodCoord c, const std::vector<uint8_t>& bytes) = 0;
     // The quarantined bytes of chunk `c` (the newest), empty if none.
     virtual std::vector<uint8_t> quarantined(const std::string& world, ChunkCoord c) = 0;
     virtual uint64_t quarantine_count(const std::string& world) = 0;
@@ -55,6 +57,11 @@ public:
     }
     void write_raw(const std::string& world, ChunkCoord c, const std::vector<uint8_t>& bytes) override {
         exec(world, "UPDATE chunks SET data=?4 WHERE x=?1 AND y=?2 AND z=?3", c, &bytes);
+    }
+    void write_raw_lod(const std::string& world, LodCoord c, const std::vector<uint8_t>& bytes) override {
+        const std::string sql = "UPDATE lod_chunks SET data=?4 WHERE x=?1 AND y=?2 AND z=?3 AND level=" +
+                                std::to_string(c.level);
+        exec(world, sql.c_str(), c.chunk, &bytes);
     }
     std::vector<uint8_t> quarantined(const std::string& world, ChunkCoord c) override {
         std::vector<uint8_t> out;
@@ -85,6 +92,9 @@ private:
             out->assign(p, p + sqlite3_column_bytes(st, 0));
         } else {
             EXPECT_EQ(rc, out ? SQLITE_ROW : SQLITE_DONE) << sqlite3_errmsg(db);
+        }
+        if (!out && blob) {
+            EXPECT_EQ(sqlite3_changes(db), 1) << sql;
         }
         sqlite3_finalize(st);
         sqlite3_close(db);
@@ -122,6 +132,19 @@ public:
         PQclear(r);
         PQfinish(conn);
     }
+    void write_raw_lod(const std::string& world, LodCoord c, const std::vector<uint8_t>& bytes) override {
+        const std::string sql = "UPDATE vx_lod_chunks SET data=$1 WHERE level=" + std::to_string(c.level) +
+                                " AND x=" + std::to_string(c.chunk.x) + " AND y=" + std::to_string(c.chunk.y) +
+                                " AND z=" + std::to_string(c.chunk.z);
+        const char* values[] = {reinterpret_cast<const char*>(bytes.data())};
+        const int lengths[] = {int(bytes.size())}, formats[] = {1};
+        PGconn* conn = PQconnectdb(world.c_str());
+        PGresult* r = PQexecParams(conn, sql.c_str(), 1, nullptr, values, lengths, formats, 1);
+        EXPECT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(conn);
+        EXPECT_STREQ(PQcmdTuples(r), "1");
+        PQclear(r);
+        PQfinish(conn);
+    }
     std::vector<uint8_t> quarantined(const std::string& world, ChunkCoord c) override {
         const std::string sql = "SELECT data FROM vx_quarantine WHERE x=" + std::to_string(c.x) +
                                 " AND y=" + std::to_string(c.y) + " AND z=" + std::to_string(c.z) +
@@ -137,12 +160,21 @@ public:
         PQfinish(conn);
         return out;
     }
+    // Level 0 and coarse quarantines (the latter's table exists once a coarse chunk was saved).
     uint64_t quarantine_count(const std::string& world) override {
         PGconn* conn = PQconnectdb(world.c_str());
-        PGresult* r = PQexec(conn, "SELECT count(*) FROM vx_quarantine");
-        const uint64_t n = PQresultStatus(r) == PGRES_TUPLES_OK ? std::strtoull(PQgetvalue(r, 0, 0), nullptr, 10)
-                                                                 : ~0ull;
-        PQclear(r);
+        auto count = [&](const char* sql) {
+            PGresult* r = PQexec(conn, sql);
+            const uint64_t n = PQresultStatus(r) == PGRES_TUPLES_OK ? std::strtoull(PQgetvalue(r, 0, 0), nullptr, 10)
+                                                                     : ~0ull;
+            PQclear(r);
+            return n;
+        };
+        uint64_t n = count("SELECT count(*) FROM vx_quarantine");
+        if (n != ~0ull && count("SELECT count(*) FROM pg_tables WHERE tablename = 'vx_lod_quarantine'") == 1) {
+            const uint64_t lod = count("SELECT count(*) FROM vx_lod_quarantine");
+            n = lod == ~0ull ? lod : n + lod;
+        }
         PQfinish(conn);
         return n;
     }

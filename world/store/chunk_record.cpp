@@ -21,8 +21,8 @@ template <class T> T get(const uint8_t* p) {
     return v;
 }
 
-uint64_t record_checksum(const uint8_t* header, const uint8_t* payload, size_t payload_size) {
-    return XXH64(payload, payload_size, XXH64(header, 32, 0));
+uint64_t record_checksum(const uint8_t* header, const uint8_t* payload, size_t payload_size, int level) {
+    return XXH64(payload, payload_size, XXH64(header, 32, XXH64_hash_t(level)));
 }
 
 std::string coord_str(ChunkCoord c) {
@@ -34,7 +34,7 @@ std::string coord_str(ChunkCoord c) {
 Error fail(const std::string& what) { return Error{"corrupt chunk record: " + what}; }
 
 // Writes the header (checksum included) in front of a payload already placed at out[40..].
-void finish_record(std::vector<uint8_t>& out, const RecordHeader& h) {
+void finish_record(std::vector<uint8_t>& out, const RecordHeader& h, int level) {
     uint8_t* p = out.data();
     put<uint32_t>(p + 0, kRecordMagic);
     put<uint16_t>(p + 4, kRecordFormatVersion);
@@ -46,7 +46,7 @@ void finish_record(std::vector<uint8_t>& out, const RecordHeader& h) {
     put<uint32_t>(p + 20, h.palette_entries);
     put<uint32_t>(p + 24, h.raw_size);
     put<uint32_t>(p + 28, h.stored_size);
-    put<uint64_t>(p + 32, record_checksum(p, p + kRecordHeaderSize, h.stored_size));
+    put<uint64_t>(p + 32, record_checksum(p, p + kRecordHeaderSize, h.stored_size, level));
 }
 
 size_t index_width(RecordKind kind) { return kind == RecordKind::Palette8 ? 1 : 2; }
@@ -215,8 +215,14 @@ RecordCodec::~RecordCodec() {
 }
 
 void RecordCodec::encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8_t>& out) {
+    encode_lod(LodCoord{0, coord}, chunk, out);
+}
+
+void RecordCodec::encode_lod(LodCoord coord, const Chunk& chunk, std::vector<uint8_t>& out) {
+    VX_ASSERT(valid_lod_level(coord.level));
+    const int level = coord.level;
     RecordHeader h;
-    h.coord = coord;
+    h.coord = coord.chunk;
     const ChunkPalette* pal = chunk.palette();
     // Renumber the used palette entries densely (what compact() would do, without mutating).
     BlockId uniform_id = chunk.uniform_id();
@@ -239,7 +245,7 @@ void RecordCodec::encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8
         h.raw_size = h.stored_size = 2;
         out.resize(kRecordHeaderSize + 2);
         put<uint16_t>(out.data() + kRecordHeaderSize, uniform_id);
-        finish_record(out, h);
+        finish_record(out, h, level);
         return;
     }
     const uint32_t n = uint32_t(used_ids.size());
@@ -268,14 +274,14 @@ void RecordCodec::encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8
     h.stored_size = uint32_t(z);
     out.resize(kRecordHeaderSize + z);
     std::memcpy(out.data() + kRecordHeaderSize, m_zbuf.data(), z);
-    finish_record(out, h);
+    finish_record(out, h, level);
 }
 
 size_t max_record_bytes() {
     return kRecordHeaderSize + ZSTD_compressBound(2 * size_t(kMaxPaletteEntries) + 2 * size_t(kChunkVolume));
 }
 
-Result<RecordHeader> read_record_header(std::span<const uint8_t> record) {
+Result<RecordHeader> read_record_header(std::span<const uint8_t> record, int level) {
     if (record.size() < kRecordHeaderSize)
         return fail("truncated to " + std::to_string(record.size()) + " bytes (header is 40)");
     if (record.size() > max_record_bytes())
@@ -294,20 +300,26 @@ Result<RecordHeader> read_record_header(std::span<const uint8_t> record) {
     if (size_t(h.stored_size) != record.size() - kRecordHeaderSize)
         return fail("length mismatch: header says " + std::to_string(h.stored_size) + " payload bytes, record has " +
                     std::to_string(record.size() - kRecordHeaderSize));
-    if (get<uint64_t>(p + 32) != record_checksum(p, p + kRecordHeaderSize, h.stored_size))
-        return fail("checksum mismatch");
+    if (get<uint64_t>(p + 32) != record_checksum(p, p + kRecordHeaderSize, h.stored_size, level))
+        return fail(level == 0 ? "checksum mismatch" : "checksum mismatch (or a record of another level)");
     if (h.version != kRecordFormatVersion)
         return fail("unsupported format version " + std::to_string(h.version));
     return h;
 }
 
 Result<Chunk> RecordCodec::decode(std::span<const uint8_t> record, ChunkCoord expected) {
-    Result<RecordHeader> hr = read_record_header(record);
+    return decode_lod(record, LodCoord{0, expected});
+}
+
+Result<Chunk> RecordCodec::decode_lod(std::span<const uint8_t> record, LodCoord expected) {
+    if (!valid_lod_level(expected.level))
+        return fail("level " + std::to_string(expected.level) + " out of range");
+    Result<RecordHeader> hr = read_record_header(record, expected.level);
     if (!hr)
         return Error{hr.error()};
     const RecordHeader& h = *hr;
-    if (h.coord != expected)
-        return fail("record of chunk " + coord_str(h.coord) + " filed under " + coord_str(expected));
+    if (h.coord != expected.chunk)
+        return fail("record of chunk " + coord_str(h.coord) + " filed under " + coord_str(expected.chunk));
     const std::span<const uint8_t> payload = record.subspan(kRecordHeaderSize);
     switch (h.kind) {
     case RecordKind::Uniform:

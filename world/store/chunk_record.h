@@ -7,8 +7,11 @@
 //   6  u8  kind (RecordKind)     28 u32 stored payload bytes (after compression)
 //   7  u8  codec (RecordCodecId) 32 u64 checksum
 //   8  i32 chunk x, y, z
-// checksum = XXH64(payload, seed = XXH64(header bytes 0..31, seed 0)): it covers the header and
-// the payload, so a flipped bit, a truncation or a record filed under other coordinates is caught.
+// checksum = XXH64(payload, seed = XXH64(header bytes 0..31, seed = level)): it covers the header,
+// the payload and the chunk's level of detail (world/lod/lod_coords.h), so a flipped bit, a
+// truncation or a record filed under other coordinates or another level is caught. The level has
+// no header field: level 0 (seed 0) keeps the records of worlds written before levels existed,
+// and a coarse record read as another level fails as a checksum mismatch.
 // Raw payload: a uniform chunk is its u16 block id (stored raw, 42 bytes in all); a palette chunk is
 // n u16 ids followed by kChunkVolume indices in local-index order, u8 when n <= 256 else u16,
 // compressed with zstd (byte-aligned indices compress far better than bit-packed ones).
@@ -23,6 +26,7 @@
 #include "world/base/result.h"
 #include "world/chunk.h"
 #include "world/coords.h"
+#include "world/lod/lod_coords.h"
 
 struct ZSTD_CCtx_s;
 struct ZSTD_DCtx_s;
@@ -69,10 +73,14 @@ public:
     // Writes the record of `chunk` at chunk coordinates `coord` into `out` (replacing its
     // contents). Unused palette entries are dropped and indices renumbered; the chunk is untouched.
     void encode(ChunkCoord coord, const Chunk& chunk, std::vector<uint8_t>& out);
+    // The same for a chunk of any level (coord.level 0..kMaxLodLevel; level 0 is encode()).
+    void encode_lod(LodCoord coord, const Chunk& chunk, std::vector<uint8_t>& out);
 
     // Decodes a record that must hold chunk `expected`. An error message says what is wrong
     // (truncated, checksum mismatch, wrong coordinates, bad palette...).
     Result<Chunk> decode(std::span<const uint8_t> record, ChunkCoord expected);
+    // The same for a chunk of any level: a record of another level fails (checksum mismatch).
+    Result<Chunk> decode_lod(std::span<const uint8_t> record, LodCoord expected);
 
 private:
     Result<Chunk> decode_palette(const RecordHeader& h, std::span<const uint8_t> payload);
@@ -89,8 +97,9 @@ private:
 // anything longer is corrupt without looking further. Thread-safe.
 size_t max_record_bytes();
 
-// Reads and verifies the header and checksum of a record (not its content). Thread-safe.
-Result<RecordHeader> read_record_header(std::span<const uint8_t> record);
+// Reads and verifies the header and checksum of a record of level `level` (not its content).
+// Thread-safe.
+Result<RecordHeader> read_record_header(std::span<const uint8_t> record, int level = 0);
 
 // One-shot helpers with a temporary codec (slower: a zstd context per call). Thread-safe.
 std::vector<uint8_t> encode_chunk_record(ChunkCoord coord, const Chunk& chunk);

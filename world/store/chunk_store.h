@@ -28,6 +28,7 @@
 #include "world/base/result.h"
 #include "world/chunk.h"
 #include "world/coords.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::world {
 
@@ -63,6 +64,16 @@ struct ChunkWrite {
     // The chunk's record already encoded (encode_chunk_record / RecordCodec, e.g. on a worker
     // thread so the store's thread only writes): stored as is, `chunk` is then not read. The
     // caller vouches that it encodes `chunk` at `coord` (`chunk` stays non-null: null erases).
+    std::span<const uint8_t> record{};
+};
+
+// One coarse chunk of a save_lod batch (levels of detail, world/lod/lod_coords.h). `chunk` ==
+// nullptr erases the stored coarse chunk. Coarse chunks are derived data (the downsampling of
+// the level below), so there are no block edits to replay: the last write wins.
+struct LodWrite {
+    LodCoord coord{};             // Level 1..kMaxLodLevel.
+    const Chunk* chunk = nullptr; // Read during save_lod() only (encoded at once).
+    // As ChunkWrite::record: the record already encoded at `coord` (RecordCodec::encode_lod).
     std::span<const uint8_t> record{};
 };
 
@@ -126,6 +137,40 @@ public:
     virtual Result<std::optional<std::string>> get_meta(std::string_view key) = 0;
     virtual Status set_meta(std::string_view key, std::string_view value) = 0;
 
+    // Coarse levels (levels 1..kMaxLodLevel; level 0 is load/save above). A store that keeps them
+    // (supports_lod()) queues them like chunks, in the same transactions. The defaults are a store
+    // that keeps none: load_lod finds every coarse chunk absent (the caller derives it from the
+    // levels below or the generator), save_lod fails (the data would be lost), mark_lod_dirty
+    // succeeds with nothing to do (nothing stored can be stale) and list_lod_dirty is empty.
+    virtual bool supports_lod() const { return false; }
+    // Loads coarse chunk `c`; as load() (a record of another level or place reads as Corrupt).
+    virtual Result<ChunkLoad> load_lod(LodCoord c) {
+        (void)c;
+        return ChunkLoad{};
+    }
+    // Queues a batch of coarse chunks (encoded during the call; later writes of a coordinate win).
+    // Saving a coarse chunk also clears its dirty mark, in the same transaction.
+    virtual Status save_lod(std::span<const LodWrite> batch) {
+        (void)batch;
+        return Error{"this store keeps no coarse levels"};
+    }
+    Status save_lod(LodCoord c, const Chunk& chunk) {
+        const LodWrite w{c, &chunk};
+        return save_lod(std::span<const LodWrite>(&w, 1));
+    }
+    // Queues durable dirty marks on coarse chunks made stale by level-0 edits. Pass them with (just
+    // before or after) the save() of those edits: queued edits commit in one transaction, so after
+    // a crash a reopened world finds either neither or both, and re-derives the marked chunks.
+    virtual Status mark_lod_dirty(std::span<const LodCoord> coords) {
+        (void)coords;
+        return {};
+    }
+    // Coarse chunks marked dirty and not saved since (queued marks and saves included). May
+    // commit queued edits first.
+    virtual Result<std::vector<LodCoord>> list_lod_dirty() { return std::vector<LodCoord>{}; }
+    // Stored coarse chunks, in no particular order. May commit queued edits first.
+    virtual Result<std::vector<LodCoord>> list_lod_coords() { return std::vector<LodCoord>{}; }
+
     virtual bool read_only() const = 0;
     // Queued edits (chunks and metadata) not yet committed. Same thread as the calls above.
     virtual size_t pending_edits() const { return 0; }
@@ -133,6 +178,9 @@ public:
     // Chunks that other processes changed since the last call (shared stores: the engine reloads
     // and remeshes those it holds). Thread-safe, cheap, never blocks: callable from any thread.
     virtual void poll_changes(std::vector<ChunkCoord>& out) { (void)out; }
+    // The same for coarse chunks other processes saved (PgStore; a hint only: coarse chunks are
+    // derived, and the level-0 changes above are what a process re-derives them from). Thread-safe.
+    virtual void poll_lod_changes(std::vector<LodCoord>& out) { (void)out; }
     // Connection state and counters. Thread-safe.
     virtual StoreHealth health() const { return {}; }
 };

@@ -35,6 +35,22 @@ std::vector<std::string> notify_payloads(const std::vector<ChunkCoord>& coords) 
     return out;
 }
 
+bool lod_less(const LodCoord& a, const LodCoord& b) {
+    return std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) < std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
+}
+
+// Coarse coordinates as NOTIFY payloads ("lod;level,x,y,z;..."), each under the size limit.
+std::vector<std::string> lod_notify_payloads(const std::vector<LodCoord>& coords) {
+    std::vector<std::string> out;
+    for (const LodCoord& c : coords) {
+        std::string item = std::to_string(c.level) + "," + pg::coord_str(c.chunk) + ";";
+        if (out.empty() || out.back().size() + item.size() > kNotifyPayloadMax)
+            out.emplace_back(pg::kLodNotifyPrefix);
+        out.back() += item;
+    }
+    return out;
+}
+
 // Reads the results of one pipelined command (results up to the NULL that ends it).
 struct PipelineReader {
     PGconn* conn;
@@ -91,13 +107,39 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
             params.add_ref(&kEmpty, 0); // A tombstone (see pg_wire.cpp).
         sent = send(m_conn, "vx_put", params);
     }
+    // Coarse chunks and dirty marks: plain upserts and deletes (last writer wins), in a fixed
+    // order for the same reason as above.
+    std::vector<LodCoord> lod_order, dirty_order;
+    for (const auto& [c, record] : m_pending_lod)
+        lod_order.push_back(c);
+    for (const auto& [c, dirty] : m_pending_dirty)
+        dirty_order.push_back(c);
+    std::sort(lod_order.begin(), lod_order.end(), lod_less);
+    std::sort(dirty_order.begin(), dirty_order.end(), lod_less);
+    for (size_t i = 0; sent && i < lod_order.size(); ++i) {
+        const std::optional<std::vector<uint8_t>>& record = m_pending_lod[lod_order[i]];
+        pg::Params params;
+        params.add_i16(int16_t(lod_order[i].level));
+        params.add_coord(lod_order[i].chunk);
+        if (record)
+            params.add_ref(record->data(), record->size());
+        sent = send(m_conn, record ? "vx_lod_put" : "vx_lod_del", params);
+    }
+    for (size_t i = 0; sent && i < dirty_order.size(); ++i) {
+        pg::Params params;
+        params.add_i16(int16_t(dirty_order[i].level));
+        params.add_coord(dirty_order[i].chunk);
+        sent = send(m_conn, m_pending_dirty[dirty_order[i]] ? "vx_lod_dirty_put" : "vx_lod_dirty_del", params);
+    }
     for (auto it = m_pending_meta.begin(); sent && it != m_pending_meta.end(); ++it) {
         pg::Params params;
         params.add_text(it->first);
         params.add_ref(it->second.data(), it->second.size());
         sent = send(m_conn, "vx_meta_put", params);
     }
-    const std::vector<std::string> payloads = notify_payloads(order);
+    std::vector<std::string> payloads = notify_payloads(order);
+    for (std::string& p : lod_notify_payloads(lod_order))
+        payloads.push_back(std::move(p));
     for (size_t i = 0; sent && i < payloads.size(); ++i) {
         pg::Params params;
         params.add_text(payloads[i]);
@@ -121,7 +163,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
             conflicted |= state && std::string_view(state) == pg::kConflictState;
         }
     }
-    for (size_t i = 0; i < m_pending_meta.size() + payloads.size(); ++i)
+    for (size_t i = 0; i < lod_order.size() + dirty_order.size() + m_pending_meta.size() + payloads.size(); ++i)
         reader.next();
     const bool synced = reader.sync(); // The commit (or the rollback) is done when it arrives.
     if (!synced || PQexitPipelineMode(m_conn) != 1 || (!conflicted && !reader.first_error.empty())) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 
 #include "world/base/log.h"
 #include "world/store/pg_wire.h"
@@ -25,7 +26,18 @@ void ChangeListener::take(std::vector<ChunkCoord>& out) {
     m_changes.clear();
 }
 
+void ChangeListener::take_lod(std::vector<LodCoord>& out) {
+    std::lock_guard lock(m_mutex);
+    out.insert(out.end(), m_lod_changes.begin(), m_lod_changes.end());
+    m_lod_changes.clear();
+}
+
 void ChangeListener::parse(const char* payload) {
+    const size_t prefix = std::strlen(kLodNotifyPrefix);
+    if (std::strncmp(payload, kLodNotifyPrefix, prefix) == 0) {
+        parse_lod(payload + prefix);
+        return;
+    }
     std::vector<ChunkCoord> got;
     const char* p = payload;
     while (*p) {
@@ -41,6 +53,26 @@ void ChangeListener::parse(const char* payload) {
     }
     std::lock_guard lock(m_mutex);
     m_changes.insert(m_changes.end(), got.begin(), got.end());
+}
+
+// "level,x,y,z;..." (after the prefix).
+void ChangeListener::parse_lod(const char* p) {
+    std::vector<LodCoord> got;
+    while (*p) {
+        char* end = nullptr;
+        long v[4];
+        for (long& value : v) {
+            value = std::strtol(p, &end, 10);
+            if (end == p)
+                return; // Malformed: ignore the rest, as parse() does.
+            p = end + (*end == ',' || *end == ';' ? 1 : 0);
+        }
+        if (!valid_lod_level(int(v[0])) || v[0] == 0)
+            return;
+        got.push_back({int(v[0]), ChunkCoord(int(v[1]), int(v[2]), int(v[3]))});
+    }
+    std::lock_guard lock(m_mutex);
+    m_lod_changes.insert(m_lod_changes.end(), got.begin(), got.end());
 }
 
 // Connects in 50 ms slices that check m_stop, so destruction never waits out a connect timeout

@@ -85,7 +85,16 @@ Status PgStore::connect() {
     }
     if (m_listener)
         m_listener->set_own_pid(PQbackendPID(m_conn));
-    return m_schema_ready ? prepare() : Status{};
+    if (!m_schema_ready)
+        return {};
+    if (Status s = prepare(); !s)
+        return s;
+    if (m_lod_ready) { // Prepared statements belong to the connection: again on a new one.
+        m_lod_ready = false;
+        if (Result<bool> r = lod_tables(false); !r)
+            return Error{r.error()};
+    }
+    return {};
 }
 
 Status PgStore::init_schema() {
@@ -234,6 +243,192 @@ Status PgStore::quarantine(ChunkCoord c, uint64_t version, const std::string& re
     return {}; // No row: another process replaced the record meanwhile; nothing to move.
 }
 
+namespace {
+
+std::string lod_str(LodCoord c) { return "level " + std::to_string(c.level) + " chunk " + pg::coord_str(c.chunk); }
+
+Error bad_level(LodCoord c) {
+    return Error{"coarse level " + std::to_string(c.level) + " out of range 1.." + std::to_string(kMaxLodLevel)};
+}
+
+void add_lod(pg::Params& p, LodCoord c) {
+    p.add_i16(int16_t(c.level));
+    p.add_coord(c.chunk);
+}
+
+} // namespace
+
+Result<bool> PgStore::lod_tables(bool create) {
+    if (m_lod_ready)
+        return true;
+    pg::ResultPtr r(PQexec(m_conn, "SELECT to_regclass('vx_lod_chunks') IS NOT NULL"));
+    if (!pg::ok(r.get()) || PQntuples(r.get()) != 1)
+        return error("cannot read the database's tables");
+    if (PQgetvalue(r.get(), 0, 0)[0] != 't') {
+        if (!create)
+            return false; // A world made before coarse levels, or none saved yet.
+        // As init_schema: the advisory lock orders processes creating them at once.
+        const std::string sql =
+            std::string("BEGIN; SELECT pg_advisory_xact_lock(7942519736); ") + pg::kLodSchemaSql + "COMMIT;";
+        pg::ResultPtr c(PQexec(m_conn, sql.c_str()));
+        if (!pg::ok(c.get())) {
+            Error e = error("cannot create the coarse-level tables");
+            if (m_conn)
+                pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
+            return e;
+        }
+    }
+    for (size_t i = 0; i < pg::kLodStatementCount; ++i) {
+        pg::ResultPtr p(PQprepare(m_conn, pg::kLodStatements[i].name, pg::kLodStatements[i].sql, 0, nullptr));
+        if (!pg::ok(p.get()))
+            return error(std::string("cannot prepare ") + pg::kLodStatements[i].name);
+    }
+    m_lod_ready = true;
+    return true;
+}
+
+Result<ChunkLoad> PgStore::load_lod(LodCoord c) {
+    if (!valid_lod_level(c.level) || c.level == 0)
+        return bad_level(c);
+    ChunkLoad out;
+    if (auto it = m_pending_lod.find(c); it != m_pending_lod.end()) {
+        if (!it->second)
+            return out; // Erase queued.
+        Result<Chunk> chunk = m_codec.decode_lod(*it->second, c);
+        VX_ASSERT_MSG(chunk.ok(), "a queued coarse record failed to decode");
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    if (Status s = ensure_connected(false); !s)
+        return Error{s.error()};
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return out;
+    pg::Params p;
+    add_lod(p, c);
+    pg::ResultPtr r = pg::exec(m_conn, "vx_lod_load", p);
+    if (!pg::ok(r.get()))
+        return error("cannot load " + lod_str(c));
+    if (PQntuples(r.get()) == 0)
+        return out;
+    const uint64_t version = uint64_t(pg::get_i64(r.get(), 0, 0));
+    const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
+    const size_t n = size_t(PQgetlength(r.get(), 0, 1));
+    Result<Chunk> chunk = m_codec.decode_lod(std::span<const uint8_t>(data, n), c);
+    if (chunk) {
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    out.state = LoadState::Corrupt;
+    out.problem = chunk.error();
+    if (Status s = quarantine_lod(c, version, out.problem); !s)
+        return Error{s.error()};
+    return out;
+}
+
+Status PgStore::quarantine_lod(LodCoord c, uint64_t version, const std::string& reason) {
+    VX_LOG_WARN("PostgreSQL world '%s': %s: %s%s", m_name.c_str(), lod_str(c).c_str(), reason.c_str(),
+                m_info.read_only ? "" : "; moved to quarantine");
+    if (m_info.read_only)
+        return {};
+    pg::Params p;
+    add_lod(p, c);
+    p.add_i64(int64_t(version));
+    p.add_text(reason);
+    pg::ResultPtr r = pg::exec(m_conn, "vx_lod_quarantine", p);
+    if (!pg::ok(r.get()))
+        return error("cannot quarantine " + lod_str(c));
+    return {}; // Nothing moved: another process replaced the record meanwhile.
+}
+
+Status PgStore::save_lod(std::span<const LodWrite> batch) {
+    if (m_info.read_only)
+        return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
+    for (const LodWrite& w : batch)
+        if (!valid_lod_level(w.coord.level) || w.coord.level == 0)
+            return bad_level(w.coord); // Before anything is queued: a batch is taken whole or not at all.
+    if (pending_edits() == 0 && !batch.empty())
+        m_pending_since = Clock::now();
+    RecordBatchEncoder::Batch encodes;
+    for (const LodWrite& w : batch) {
+        m_pending_dirty.insert_or_assign(w.coord, false); // Saved: no longer stale.
+        auto [it, inserted] = m_pending_lod.try_emplace(w.coord);
+        if (!inserted && it->second)
+            m_pending_bytes -= it->second->size();
+        encodes.supersede(w.coord);
+        if (!w.chunk) {
+            it->second.reset();
+            continue;
+        }
+        if (!it->second)
+            it->second.emplace();
+        if (w.record.empty()) {
+            it->second->clear();
+            encodes.add(w.coord, *w.chunk, *it->second);
+        } else {
+            it->second->assign(w.record.begin(), w.record.end());
+            m_pending_bytes += it->second->size();
+        }
+    }
+    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
+    m_encoder.encode(jobs, m_codec);
+    for (const RecordBatchEncoder::Job& j : jobs)
+        m_pending_bytes += j.out->size();
+    {
+        std::lock_guard lock(m_health_mutex);
+        m_health.pending_edits = pending_edits();
+    }
+    if (m_pending_bytes > m_info.max_pending_bytes)
+        return commit();
+    return {};
+}
+
+Status PgStore::mark_lod_dirty(std::span<const LodCoord> coords) {
+    if (m_info.read_only)
+        return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
+    for (LodCoord c : coords)
+        if (!valid_lod_level(c.level) || c.level == 0)
+            return bad_level(c);
+    if (pending_edits() == 0 && !coords.empty())
+        m_pending_since = Clock::now();
+    for (LodCoord c : coords)
+        m_pending_dirty.insert_or_assign(c, true);
+    std::lock_guard lock(m_health_mutex);
+    m_health.pending_edits = pending_edits();
+    return {};
+}
+
+Result<std::vector<LodCoord>> PgStore::list_lod(const char* statement, const char* what) {
+    if (Status s = commit(); !s)
+        return Error{s.error()};
+    if (Status s = ensure_connected(true); !s)
+        return Error{s.error()};
+    std::vector<LodCoord> out;
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return out;
+    pg::ResultPtr r = pg::exec(m_conn, statement);
+    if (!pg::ok(r.get()))
+        return error(std::string("cannot list ") + what);
+    for (int i = 0, n = PQntuples(r.get()); i < n; ++i) {
+        const ChunkCoord c(pg::get_i32(r.get(), i, 1), pg::get_i32(r.get(), i, 2), pg::get_i32(r.get(), i, 3));
+        out.push_back({int(pg::get_i16(r.get(), i, 0)), c});
+    }
+    return out;
+}
+
+Result<std::vector<LodCoord>> PgStore::list_lod_dirty() {
+    return list_lod("vx_lod_dirty_list", "dirty coarse chunks");
+}
+
+Result<std::vector<LodCoord>> PgStore::list_lod_coords() { return list_lod("vx_lod_list", "coarse chunks"); }
+
 Status PgStore::save(std::span<const ChunkWrite> batch) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
@@ -312,6 +507,9 @@ Status PgStore::commit() {
 Status PgStore::commit_attempts() {
     if (Status s = ensure_connected(true); !s)
         return s;
+    if (!m_pending_lod.empty() || !m_pending_dirty.empty())
+        if (Result<bool> r = lod_tables(true); !r)
+            return Error{r.error() + "; " + std::to_string(pending_edits()) + " edits kept in memory"};
     std::vector<ChunkCoord> conflicts;
     for (int attempt = 0; attempt < kMaxCommitAttempts; ++attempt) {
         conflicts.clear();
@@ -321,6 +519,8 @@ Status PgStore::commit_attempts() {
         if (*done) {
             m_pending.clear();
             m_pending_meta.clear();
+            m_pending_lod.clear();
+            m_pending_dirty.clear();
             m_pending_bytes = 0;
             m_pending_since.reset();
             trim_versions();
@@ -411,6 +611,11 @@ void PgStore::trim_versions() {
 uint64_t PgStore::known_version(ChunkCoord c) const {
     const auto it = m_versions.find(c);
     return it == m_versions.end() ? 0 : it->second;
+}
+
+void PgStore::poll_lod_changes(std::vector<LodCoord>& out) {
+    if (m_listener)
+        m_listener->take_lod(out);
 }
 
 void PgStore::poll_changes(std::vector<ChunkCoord>& out) {

@@ -7,6 +7,14 @@
 //   vx_meta(key, value)                       metadata; key 'format' = 'vx-world-1'
 //   vx_chunks(x, y, z, version, data)         one chunk record (chunk_record.h) per coordinate
 //   vx_quarantine(id, x, y, z, version, data, reason, at)  records that failed verification
+// Coarse levels of detail, created by the first commit that writes one (worlds made before
+// levels exist open unchanged; missing tables read as empty):
+//   vx_lod_chunks(level, x, y, z, version, data)   one coarse chunk record (level-seeded checksum)
+//   vx_lod_dirty(level, x, y, z)                   coarse chunks made stale by a level-0 edit
+//   vx_lod_quarantine(id, level, x, y, z, version, data, reason, at)
+// Coarse chunks are derived data: their upserts are last-writer-wins (no versions compared, no
+// edit replay), sent in the same pipelined transaction as the chunks, and notified on vx_chunks
+// with payloads "lod;level,x,y,z;..." (poll_lod_changes).
 //
 // Writes: save() queues records in memory (read back at once, as in every ChunkStore); a commit
 // sends every queued record as one transaction of versioned upserts in coordinate order, in one
@@ -101,11 +109,21 @@ public:
     Status set_meta(std::string_view key, std::string_view value) override;
     bool read_only() const override { return m_info.read_only; }
     void poll_changes(std::vector<ChunkCoord>& out) override;
+    void poll_lod_changes(std::vector<LodCoord>& out) override;
+    using ChunkStore::save_lod;
+    bool supports_lod() const override { return true; }
+    Result<ChunkLoad> load_lod(LodCoord c) override;
+    Status save_lod(std::span<const LodWrite> batch) override;
+    Status mark_lod_dirty(std::span<const LodCoord> coords) override;
+    Result<std::vector<LodCoord>> list_lod_dirty() override;
+    Result<std::vector<LodCoord>> list_lod_coords() override;
     StoreHealth health() const override;
 
     // Commits queued edits now (a synchronous commit: durable when it returns success).
     Status commit();
-    size_t pending_edits() const override { return m_pending.size() + m_pending_meta.size(); }
+    size_t pending_edits() const override {
+        return m_pending.size() + m_pending_meta.size() + m_pending_lod.size() + m_pending_dirty.size();
+    }
     // The version of chunk `c` this store last read or wrote (0: absent or never seen).
     uint64_t known_version(ChunkCoord c) const;
 
@@ -121,6 +139,11 @@ private:
     Status ensure_connected(bool now); // now: try at once, else only when the back-off elapsed.
     Status init_schema();
     Status prepare();
+    // Prepares the coarse-level statements once their tables exist; `create`: creates the tables
+    // first. False when they do not exist (and `create` is false). Needs a connection.
+    Result<bool> lod_tables(bool create);
+    Status quarantine_lod(LodCoord c, uint64_t version, const std::string& reason);
+    Result<std::vector<LodCoord>> list_lod(const char* statement, const char* what);
     void lost(const std::string& what);
     Status quarantine(ChunkCoord c, uint64_t version, const std::string& reason);
     Status commit_attempts(); // commit() on one connection: rounds of try_commit + conflicts.
@@ -137,11 +160,14 @@ private:
     std::string m_name; // Redacted URI for messages.
     pg_conn* m_conn = nullptr;
     bool m_schema_ready = false;
+    bool m_lod_ready = false; // The coarse-level tables exist and their statements are prepared.
     RecordCodec m_codec;
     RecordBatchEncoder m_encoder;
     std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> m_versions; // Last version seen.
     std::unordered_map<ChunkCoord, Pending, ChunkCoordHash> m_pending;
     std::map<std::string, std::string, std::less<>> m_pending_meta;
+    std::unordered_map<LodCoord, std::optional<std::vector<uint8_t>>, LodCoordHash> m_pending_lod;
+    std::unordered_map<LodCoord, bool, LodCoordHash> m_pending_dirty; // true: mark, false: clear.
     size_t m_pending_bytes = 0;
     std::optional<Clock::time_point> m_pending_since;
     Clock::time_point m_next_retry{};

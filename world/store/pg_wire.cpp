@@ -88,4 +88,38 @@ const Statement kStatements[] = {
 };
 const size_t kStatementCount = sizeof(kStatements) / sizeof(kStatements[0]);
 
+// Coarse chunks are derived data (the downsampling of the level below): the last writer wins, so
+// no versioned upsert; the version only counts writes (a quarantine moves the one it read).
+const char* const kLodSchemaSql = R"sql(
+CREATE TABLE IF NOT EXISTS vx_lod_chunks(
+  level int2 NOT NULL, x int4 NOT NULL, y int4 NOT NULL, z int4 NOT NULL,
+  version int8 NOT NULL, data bytea NOT NULL,
+  PRIMARY KEY (level, x, y, z));
+CREATE TABLE IF NOT EXISTS vx_lod_dirty(
+  level int2 NOT NULL, x int4 NOT NULL, y int4 NOT NULL, z int4 NOT NULL,
+  PRIMARY KEY (level, x, y, z));
+CREATE TABLE IF NOT EXISTS vx_lod_quarantine(
+  id bigserial PRIMARY KEY, level int2, x int4, y int4, z int4, version int8, data bytea, reason text,
+  at timestamptz NOT NULL DEFAULT now());
+)sql";
+
+#define VX_LOD_KEY "level = $1 AND x = $2 AND y = $3 AND z = $4"
+const Statement kLodStatements[] = {
+    {"vx_lod_load", "SELECT version, data FROM vx_lod_chunks WHERE " VX_LOD_KEY},
+    {"vx_lod_put", "INSERT INTO vx_lod_chunks AS c (level, x, y, z, version, data) VALUES ($1, $2, $3, $4, 1, $5) "
+                   "ON CONFLICT (level, x, y, z) DO UPDATE SET version = c.version + 1, data = EXCLUDED.data"},
+    {"vx_lod_del", "DELETE FROM vx_lod_chunks WHERE " VX_LOD_KEY},
+    {"vx_lod_list", "SELECT level, x, y, z FROM vx_lod_chunks"},
+    {"vx_lod_dirty_put", "INSERT INTO vx_lod_dirty (level, x, y, z) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING"},
+    {"vx_lod_dirty_del", "DELETE FROM vx_lod_dirty WHERE " VX_LOD_KEY},
+    {"vx_lod_dirty_list", "SELECT level, x, y, z FROM vx_lod_dirty"},
+    // As vx_quarantine, without a tombstone (no versions to protect): the row read ($5) moves.
+    {"vx_lod_quarantine", "WITH q AS (INSERT INTO vx_lod_quarantine (level, x, y, z, version, data, reason) "
+                          "SELECT level, x, y, z, version, data, $6 FROM vx_lod_chunks "
+                          "WHERE " VX_LOD_KEY " AND version = $5 RETURNING 1) "
+                          "DELETE FROM vx_lod_chunks WHERE " VX_LOD_KEY " AND version = $5"},
+};
+#undef VX_LOD_KEY
+const size_t kLodStatementCount = sizeof(kLodStatements) / sizeof(kLodStatements[0]);
+
 } // namespace vx::world::pg

@@ -36,6 +36,10 @@ public:
         const uint64_t be = to_be64(uint64_t(v));
         add_owned(std::string(reinterpret_cast<const char*>(&be), 8), 1);
     }
+    void add_i16(int16_t v) {
+        const uint16_t be = __builtin_bswap16(uint16_t(v));
+        add_owned(std::string(reinterpret_cast<const char*>(&be), 2), 1);
+    }
     void add_coord(ChunkCoord c) {
         add_i32(c.x);
         add_i32(c.y);
@@ -69,6 +73,11 @@ inline int64_t get_i64(const PGresult* r, int row, int col) {
     uint64_t be = 0;
     std::memcpy(&be, PQgetvalue(r, row, col), 8);
     return int64_t(to_be64(be));
+}
+inline int16_t get_i16(const PGresult* r, int row, int col) {
+    uint16_t be = 0;
+    std::memcpy(&be, PQgetvalue(r, row, col), 2);
+    return int16_t(__builtin_bswap16(be));
 }
 inline int32_t get_i32(const PGresult* r, int row, int col) {
     uint32_t be = 0;
@@ -113,5 +122,13 @@ struct Statement {
 };
 extern const Statement kStatements[];
 extern const size_t kStatementCount;
+// Coarse levels: tables created by the first commit that writes one, statements prepared once
+// the tables exist (parameters: level int2, then x, y, z).
+extern const char* const kLodSchemaSql;
+extern const Statement kLodStatements[];
+extern const size_t kLodStatementCount;
+// NOTIFY payloads of coarse chunks start with this ("lod;level,x,y,z;..."): a listener of a build
+// before coarse levels fails to read a number there and ignores the whole payload.
+inline constexpr const char* kLodNotifyPrefix = "lod;";
 
 } // namespace vx::world::pg

@@ -34,7 +34,7 @@ void RecordBatchEncoder::run_jobs(RecordCodec& codec, std::span<const Job> jobs)
     for (size_t i = m_next.fetch_add(1, std::memory_order_relaxed); i < jobs.size();
          i = m_next.fetch_add(1, std::memory_order_relaxed)) {
         const Job& j = jobs[i];
-        codec.encode(j.coord, *j.chunk, *j.out);
+        codec.encode_lod(LodCoord{j.level, j.coord}, *j.chunk, *j.out);
     }
 }
 
@@ -59,7 +59,7 @@ void RecordBatchEncoder::helper_main(unsigned index) {
 void RecordBatchEncoder::encode(std::span<const Job> jobs, RecordCodec& codec) {
     if (jobs.size() < kMinShared || m_threads <= 1) {
         for (const Job& j : jobs)
-            codec.encode(j.coord, *j.chunk, *j.out);
+            codec.encode_lod(LodCoord{j.level, j.coord}, *j.chunk, *j.out);
         return;
     }
     if (m_helpers.empty())
@@ -81,17 +81,18 @@ void RecordBatchEncoder::encode(std::span<const Job> jobs, RecordCodec& codec) {
     m_jobs = {};
 }
 
-void RecordBatchEncoder::Batch::supersede(ChunkCoord c) {
+void RecordBatchEncoder::Batch::supersede(LodCoord c) {
     if (auto it = m_index.find(c); it != m_index.end())
         m_jobs[it->second].chunk = nullptr;
 }
 
-void RecordBatchEncoder::Batch::add(ChunkCoord c, const Chunk& chunk, std::vector<uint8_t>& out) {
+void RecordBatchEncoder::Batch::add(LodCoord c, const Chunk& chunk, std::vector<uint8_t>& out) {
     auto [it, added] = m_index.try_emplace(c, m_jobs.size());
+    const Job job{c.chunk, &chunk, &out, c.level};
     if (added)
-        m_jobs.push_back({c, &chunk, &out});
+        m_jobs.push_back(job);
     else
-        m_jobs[it->second] = {c, &chunk, &out};
+        m_jobs[it->second] = job;
 }
 
 std::span<const RecordBatchEncoder::Job> RecordBatchEncoder::Batch::jobs() {

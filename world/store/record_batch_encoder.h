@@ -29,11 +29,13 @@ namespace vx::world {
 
 class RecordBatchEncoder {
 public:
-    // One record to write: `*out` = the record of `*chunk` at chunk coordinates `coord`.
+    // One record to write: `*out` = the record of `*chunk` at chunk coordinates `coord` of
+    // level `level` (0: the blocks; coarse levels as world/lod/lod_coords.h).
     struct Job {
         ChunkCoord coord{0};
         const Chunk* chunk = nullptr;
         std::vector<uint8_t>* out = nullptr;
+        int level = 0;
     };
 
     // zstd_level: as RecordCodec. threads: total threads encoding a batch, the caller included
@@ -57,14 +59,17 @@ public:
     class Batch {
     public:
         // Called for every write of `c`, before add() when the write is to be encoded.
-        void supersede(ChunkCoord c);
-        void add(ChunkCoord c, const Chunk& chunk, std::vector<uint8_t>& out);
+        void supersede(ChunkCoord c) { supersede(LodCoord{0, c}); }
+        void add(ChunkCoord c, const Chunk& chunk, std::vector<uint8_t>& out) { add(LodCoord{0, c}, chunk, out); }
+        // The same for chunks of any level (a batch may mix levels).
+        void supersede(LodCoord c);
+        void add(LodCoord c, const Chunk& chunk, std::vector<uint8_t>& out);
         // The jobs still wanted, in first-write order.
         std::span<const Job> jobs();
 
     private:
         std::vector<Job> m_jobs;
-        std::unordered_map<ChunkCoord, size_t, ChunkCoordHash> m_index;
+        std::unordered_map<LodCoord, size_t, LodCoordHash> m_index;
     };
 
     static constexpr unsigned kMaxThreads = 8;

@@ -29,6 +29,18 @@ CREATE TABLE IF NOT EXISTS quarantine(
   id INTEGER PRIMARY KEY, x INTEGER, y INTEGER, z INTEGER, data BLOB, reason TEXT, time INTEGER);
 )sql";
 
+// Coarse levels, created by the first commit that writes one (existing files open unchanged).
+const char* const kLodSchema = R"sql(
+CREATE TABLE IF NOT EXISTS lod_chunks(
+  level INTEGER NOT NULL, x INTEGER NOT NULL, y INTEGER NOT NULL, z INTEGER NOT NULL, data BLOB NOT NULL,
+  PRIMARY KEY(level, x, y, z));
+CREATE TABLE IF NOT EXISTS lod_dirty(
+  level INTEGER NOT NULL, x INTEGER NOT NULL, y INTEGER NOT NULL, z INTEGER NOT NULL,
+  PRIMARY KEY(level, x, y, z));
+CREATE TABLE IF NOT EXISTS lod_quarantine(
+  id INTEGER PRIMARY KEY, level INTEGER, x INTEGER, y INTEGER, z INTEGER, data BLOB, reason TEXT, time INTEGER);
+)sql";
+
 struct Stmt {
     sqlite3_stmt* s = nullptr;
     ~Stmt() { sqlite3_finalize(s); }
@@ -53,10 +65,33 @@ std::string coord_str(ChunkCoord c) {
     return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
 }
 
+// Level, then the chunk: parameters 1..4.
+void bind_lod(sqlite3_stmt* s, LodCoord c) {
+    sqlite3_bind_int64(s, 1, c.level);
+    sqlite3_bind_int64(s, 2, c.chunk.x);
+    sqlite3_bind_int64(s, 3, c.chunk.y);
+    sqlite3_bind_int64(s, 4, c.chunk.z);
+}
+
+std::string lod_str(LodCoord c) { return "level " + std::to_string(c.level) + " chunk " + coord_str(c.chunk); }
+
+LodCoord lod_row(sqlite3_stmt* s) {
+    return {int(sqlite3_column_int64(s, 0)), ChunkCoord(int32_t(sqlite3_column_int64(s, 1)),
+                                                        int32_t(sqlite3_column_int64(s, 2)),
+                                                        int32_t(sqlite3_column_int64(s, 3)))};
+}
+
+Error bad_level(LodCoord c) { return Error{"coarse level " + std::to_string(c.level) + " out of range 1.." +
+                                           std::to_string(kMaxLodLevel)}; }
+
 } // namespace
 
 struct SqliteStore::Stmts {
     Stmt load, put, del, has, count, list, meta_get, meta_put, q_put, q_count;
+};
+
+struct SqliteStore::LodStmts {
+    Stmt load, put, del, list, dirty_put, dirty_del, dirty_list, q_put, q_count;
 };
 
 SqliteStore::SqliteStore(SqliteStoreCreateInfo info) : m_info(std::move(info)), m_codec(m_info.zstd_level),
@@ -69,6 +104,7 @@ SqliteStore::~SqliteStore() {
                          s.error().c_str());
     }
     m_stmts.reset(); // Statements are finalized before the connection closes.
+    m_lod_stmts.reset();
     sqlite3_close_v2(m_db);
 }
 
@@ -217,7 +253,7 @@ Result<ChunkLoad> SqliteStore::load(ChunkCoord c) {
 Status SqliteStore::quarantine(ChunkCoord c, const std::string& reason) {
     if (m_info.read_only) {
         // Nothing can be moved: log each bad record once per session.
-        if (m_reported.insert({c.x, c.y, c.z}).second && m_info.log_corrupt)
+        if (m_reported.insert({0, c.x, c.y, c.z}).second && m_info.log_corrupt)
             VX_LOG_WARN("store '%s': chunk %s: %s", m_info.path.c_str(), coord_str(c).c_str(), reason.c_str());
         return {};
     }
@@ -292,8 +328,17 @@ Status SqliteStore::flush() {
 Status SqliteStore::commit() {
     if (pending_edits() == 0)
         return {};
+    if (!m_pending_lod.empty() || !m_pending_dirty.empty()) {
+        Result<bool> ready = lod_tables(/*create=*/true);
+        if (!ready)
+            return Error{ready.error()};
+    }
     if (Status s = exec("BEGIN IMMEDIATE"); !s)
         return s;
+    if (Status s = commit_lod(); !s) {
+        exec("ROLLBACK"); // The queue is kept: a later commit retries.
+        return s;
+    }
     for (const auto& [c, record] : m_pending) {
         sqlite3_stmt* st = record ? m_stmts->put.s : m_stmts->del.s;
         ResetGuard guard{st};
@@ -323,6 +368,8 @@ Status SqliteStore::commit() {
     }
     m_pending.clear();
     m_pending_meta.clear();
+    m_pending_lod.clear();
+    m_pending_dirty.clear();
     m_pending_bytes = 0;
     m_pending_since.reset();
     return {};
@@ -351,11 +398,24 @@ Result<uint64_t> SqliteStore::count() {
 }
 
 Result<uint64_t> SqliteStore::quarantine_count() {
-    sqlite3_stmt* st = m_stmts->q_count.s;
+    uint64_t n = 0;
+    {
+        sqlite3_stmt* st = m_stmts->q_count.s;
+        ResetGuard guard{st};
+        if (sqlite3_step(st) != SQLITE_ROW)
+            return db_error("cannot count quarantined records");
+        n = uint64_t(sqlite3_column_int64(st, 0));
+    }
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return n;
+    sqlite3_stmt* st = m_lod_stmts->q_count.s;
     ResetGuard guard{st};
     if (sqlite3_step(st) != SQLITE_ROW)
-        return db_error("cannot count quarantined records");
-    return uint64_t(sqlite3_column_int64(st, 0));
+        return db_error("cannot count quarantined coarse records");
+    return n + uint64_t(sqlite3_column_int64(st, 0));
 }
 
 Status SqliteStore::verify_database() {
@@ -413,6 +473,225 @@ Status SqliteStore::set_meta(std::string_view key, std::string_view value) {
     return {};
 }
 
+Result<bool> SqliteStore::lod_tables(bool create) {
+    if (m_lod_stmts)
+        return true;
+    if (create) {
+        VX_ASSERT(!m_info.read_only);
+        if (Status s = exec(kLodSchema); !s)
+            return Error{s.error()};
+    } else {
+        Stmt st;
+        if (sqlite3_prepare_v2(m_db, "SELECT 1 FROM sqlite_schema WHERE type='table' AND name='lod_chunks'", -1,
+                               &st.s, nullptr) != SQLITE_OK)
+            return db_error("cannot read the schema");
+        const int rc = sqlite3_step(st.s);
+        if (rc == SQLITE_DONE)
+            return false; // A world made before coarse levels, or none saved yet.
+        if (rc != SQLITE_ROW)
+            return db_error("cannot read the schema");
+    }
+    auto lod = std::make_unique<LodStmts>();
+    auto prep = [&](Stmt& st, const char* sql) {
+        return sqlite3_prepare_v3(m_db, sql, -1, SQLITE_PREPARE_PERSISTENT, &st.s, nullptr) == SQLITE_OK;
+    };
+    const char* const where = " WHERE level=?1 AND x=?2 AND y=?3 AND z=?4";
+    const bool ok =
+        prep(lod->load, (std::string("SELECT data FROM lod_chunks") + where).c_str()) &&
+        prep(lod->put, "INSERT OR REPLACE INTO lod_chunks(level, x, y, z, data) VALUES(?1, ?2, ?3, ?4, ?5)") &&
+        prep(lod->del, (std::string("DELETE FROM lod_chunks") + where).c_str()) &&
+        prep(lod->list, "SELECT level, x, y, z FROM lod_chunks") &&
+        prep(lod->dirty_put, "INSERT OR IGNORE INTO lod_dirty(level, x, y, z) VALUES(?1, ?2, ?3, ?4)") &&
+        prep(lod->dirty_del, (std::string("DELETE FROM lod_dirty") + where).c_str()) &&
+        prep(lod->dirty_list, "SELECT level, x, y, z FROM lod_dirty") &&
+        prep(lod->q_put, (std::string("INSERT INTO lod_quarantine(level, x, y, z, data, reason, time) "
+                                      "SELECT level, x, y, z, data, ?5, strftime('%s', 'now') FROM lod_chunks") +
+                          where).c_str()) &&
+        prep(lod->q_count, "SELECT count(*) FROM lod_quarantine");
+    if (!ok)
+        return db_error("cannot prepare the coarse-level statements");
+    m_lod_stmts = std::move(lod);
+    return true;
+}
+
+Result<ChunkLoad> SqliteStore::load_lod(LodCoord c) {
+    if (!valid_lod_level(c.level) || c.level == 0)
+        return bad_level(c);
+    ChunkLoad out;
+    if (auto it = m_pending_lod.find(c); it != m_pending_lod.end()) {
+        if (!it->second)
+            return out; // Erase queued.
+        Result<Chunk> chunk = m_codec.decode_lod(*it->second, c);
+        VX_ASSERT_MSG(chunk.ok(), "a queued coarse record failed to decode");
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return out;
+    sqlite3_stmt* st = m_lod_stmts->load.s;
+    ResetGuard guard{st};
+    bind_lod(st, c);
+    const int rc = sqlite3_step(st);
+    if (rc == SQLITE_DONE)
+        return out;
+    if (rc != SQLITE_ROW)
+        return db_error("cannot load " + lod_str(c));
+    const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
+    const size_t n = size_t(sqlite3_column_bytes(st, 0));
+    Result<Chunk> chunk = m_codec.decode_lod(std::span<const uint8_t>(p, p ? n : 0), c);
+    if (chunk) {
+        out.state = LoadState::Present;
+        out.chunk = std::move(*chunk);
+        return out;
+    }
+    sqlite3_reset(st);
+    out.state = LoadState::Corrupt;
+    out.problem = chunk.error();
+    if (Status s = quarantine_lod(c, out.problem); !s)
+        return Error{s.error()};
+    return out;
+}
+
+Status SqliteStore::quarantine_lod(LodCoord c, const std::string& reason) {
+    if (m_info.read_only) {
+        if (m_reported.insert({c.level, c.chunk.x, c.chunk.y, c.chunk.z}).second && m_info.log_corrupt)
+            VX_LOG_WARN("store '%s': %s: %s", m_info.path.c_str(), lod_str(c).c_str(), reason.c_str());
+        return {};
+    }
+    if (m_info.log_corrupt)
+        VX_LOG_WARN("store '%s': %s: %s; moved to quarantine", m_info.path.c_str(), lod_str(c).c_str(),
+                    reason.c_str());
+    if (Status s = exec("BEGIN IMMEDIATE"); !s)
+        return s;
+    sqlite3_stmt* q = m_lod_stmts->q_put.s;
+    sqlite3_stmt* d = m_lod_stmts->del.s;
+    ResetGuard gq{q}, gd{d};
+    bind_lod(q, c);
+    sqlite3_bind_text(q, 5, reason.c_str(), int(reason.size()), SQLITE_STATIC);
+    bind_lod(d, c);
+    if (sqlite3_step(q) != SQLITE_DONE || sqlite3_step(d) != SQLITE_DONE || !exec("COMMIT")) {
+        Error e = db_error("cannot quarantine " + lod_str(c));
+        exec("ROLLBACK");
+        return e;
+    }
+    return {};
+}
+
+Status SqliteStore::save_lod(std::span<const LodWrite> batch) {
+    if (m_info.read_only)
+        return Error{"store '" + m_info.path + "' is open read-only"};
+    for (const LodWrite& w : batch)
+        if (!valid_lod_level(w.coord.level) || w.coord.level == 0)
+            return bad_level(w.coord); // Before anything is queued: a batch is taken whole or not at all.
+    if (pending_edits() == 0 && !batch.empty())
+        m_pending_since = Clock::now();
+    RecordBatchEncoder::Batch encodes;
+    for (const LodWrite& w : batch) {
+        m_pending_dirty.insert_or_assign(w.coord, false); // Saved: no longer stale.
+        auto [it, inserted] = m_pending_lod.try_emplace(w.coord);
+        if (!inserted && it->second)
+            m_pending_bytes -= it->second->size();
+        encodes.supersede(w.coord);
+        if (!w.chunk) {
+            it->second.reset();
+            continue;
+        }
+        if (!it->second)
+            it->second.emplace();
+        if (w.record.empty()) {
+            it->second->clear();
+            encodes.add(w.coord, *w.chunk, *it->second);
+        } else {
+            it->second->assign(w.record.begin(), w.record.end());
+            m_pending_bytes += it->second->size();
+        }
+    }
+    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
+    m_encoder.encode(jobs, m_codec);
+    for (const RecordBatchEncoder::Job& j : jobs)
+        m_pending_bytes += j.out->size();
+    if (m_pending_bytes > m_info.max_pending_bytes)
+        return commit();
+    return {};
+}
+
+Status SqliteStore::mark_lod_dirty(std::span<const LodCoord> coords) {
+    if (m_info.read_only)
+        return Error{"store '" + m_info.path + "' is open read-only"};
+    for (LodCoord c : coords)
+        if (!valid_lod_level(c.level) || c.level == 0)
+            return bad_level(c);
+    if (pending_edits() == 0 && !coords.empty())
+        m_pending_since = Clock::now();
+    for (LodCoord c : coords)
+        m_pending_dirty.insert_or_assign(c, true);
+    return {};
+}
+
+Status SqliteStore::commit_lod() {
+    if (m_pending_lod.empty() && m_pending_dirty.empty())
+        return {};
+    for (const auto& [c, record] : m_pending_lod) {
+        sqlite3_stmt* st = record ? m_lod_stmts->put.s : m_lod_stmts->del.s;
+        ResetGuard guard{st};
+        bind_lod(st, c);
+        if (record)
+            sqlite3_bind_blob(st, 5, record->data(), int(record->size()), SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE)
+            return db_error("cannot write " + lod_str(c));
+    }
+    for (const auto& [c, dirty] : m_pending_dirty) {
+        sqlite3_stmt* st = dirty ? m_lod_stmts->dirty_put.s : m_lod_stmts->dirty_del.s;
+        ResetGuard guard{st};
+        bind_lod(st, c);
+        if (sqlite3_step(st) != SQLITE_DONE)
+            return db_error("cannot write the dirty mark of " + lod_str(c));
+    }
+    return {};
+}
+
+Result<std::vector<LodCoord>> SqliteStore::list_lod_dirty() {
+    if (Status s = commit(); !s)
+        return Error{s.error()};
+    std::vector<LodCoord> out;
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return out;
+    sqlite3_stmt* st = m_lod_stmts->dirty_list.s;
+    ResetGuard guard{st};
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+        out.push_back(lod_row(st));
+    if (rc != SQLITE_DONE)
+        return db_error("cannot list dirty coarse chunks");
+    return out;
+}
+
+Result<std::vector<LodCoord>> SqliteStore::list_lod_coords() {
+    if (Status s = commit(); !s)
+        return Error{s.error()};
+    std::vector<LodCoord> out;
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return out;
+    sqlite3_stmt* st = m_lod_stmts->list.s;
+    ResetGuard guard{st};
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+        out.push_back(lod_row(st));
+    if (rc != SQLITE_DONE)
+        return db_error("cannot list coarse chunks");
+    return out;
+}
+
 Result<StoreCheck> check_store(const std::string& path) {
     SqliteStoreCreateInfo info;
     info.path = path;
@@ -447,6 +726,22 @@ Result<StoreCheck> check_store(const std::string& path) {
         } else if (r->state == LoadState::Absent) {
             ++out.corrupt; // Listed but not found by its key: coordinates outside the i32 range.
             note("chunk row with coordinates out of range near " + coord_str(c));
+        }
+    }
+    Result<std::vector<LodCoord>> lods = store.list_lod_coords();
+    if (!lods)
+        return Error{lods.error()};
+    for (LodCoord c : *lods) {
+        ++out.records;
+        Result<ChunkLoad> r = valid_lod_level(c.level) && c.level > 0 ? store.load_lod(c) : Result<ChunkLoad>(ChunkLoad{});
+        if (!r)
+            return Error{r.error()};
+        if (r->state == LoadState::Corrupt) {
+            ++out.corrupt;
+            note(lod_str(c) + ": " + r->problem);
+        } else if (r->state == LoadState::Absent) {
+            ++out.corrupt;
+            note("coarse chunk row with level or coordinates out of range near " + lod_str(c));
         }
     }
     Result<uint64_t> q = store.quarantine_count();

@@ -3,6 +3,11 @@
 //   chunks(x, y, z, data)                  one chunk record per chunk coordinate
 //   meta(key, value)                        metadata strings
 //   quarantine(id, x, y, z, data, reason, time)  records that failed verification, kept verbatim
+// Coarse levels of detail, in tables created by the first commit that writes one (files made
+// before levels existed open unchanged, also read-only; a missing table reads as empty):
+//   lod_chunks(level, x, y, z, data)       one record per coarse chunk (chunk_record.h, level seeded)
+//   lod_dirty(level, x, y, z)              coarse chunks made stale by a committed level-0 edit
+//   lod_quarantine(id, level, x, y, z, data, reason, time)  coarse records that failed verification
 // Edits queue in memory and commit in one transaction (see chunk_store.h for the write model).
 // The file carries application_id "VXWD" and user_version 1; any other SQLite file is refused.
 // Thread affinity: not thread-safe; one serial I/O lane thread only (as every ChunkStore).
@@ -59,10 +64,19 @@ public:
     Result<std::optional<std::string>> get_meta(std::string_view key) override;
     Status set_meta(std::string_view key, std::string_view value) override;
     bool read_only() const override { return m_info.read_only; }
+    using ChunkStore::save_lod;
+    bool supports_lod() const override { return true; }
+    Result<ChunkLoad> load_lod(LodCoord c) override;
+    Status save_lod(std::span<const LodWrite> batch) override;
+    Status mark_lod_dirty(std::span<const LodCoord> coords) override;
+    Result<std::vector<LodCoord>> list_lod_dirty() override;
+    Result<std::vector<LodCoord>> list_lod_coords() override;
 
-    // Queued edits (chunks and metadata) not yet committed.
-    size_t pending_edits() const override { return m_pending.size() + m_pending_meta.size(); }
-    // Records in the quarantine table.
+    // Queued edits (chunks, coarse chunks, dirty marks and metadata) not yet committed.
+    size_t pending_edits() const override {
+        return m_pending.size() + m_pending_meta.size() + m_pending_lod.size() + m_pending_dirty.size();
+    }
+    // Records in the quarantine tables (level 0 and coarse).
     Result<uint64_t> quarantine_count();
     // Runs SQLite's PRAGMA quick_check over the whole file (O(size)); the error names the first
     // problem found.
@@ -73,31 +87,40 @@ public:
 
 private:
     struct Stmts;
+    struct LodStmts;
     explicit SqliteStore(SqliteStoreCreateInfo info);
     Status init();
     Status init_schema();
+    // Prepares the coarse-level statements once their tables exist; `create`: creates the tables
+    // first (read-write only). Returns false when they do not exist (and `create` is false).
+    Result<bool> lod_tables(bool create);
     Status quarantine(ChunkCoord c, const std::string& reason);
+    Status quarantine_lod(LodCoord c, const std::string& reason);
+    Status commit_lod(); // Inside commit()'s transaction.
     Status exec(const char* sql);
     Error db_error(const std::string& what) const;
 
     SqliteStoreCreateInfo m_info;
     sqlite3* m_db = nullptr;
     std::unique_ptr<Stmts> m_stmts;
+    std::unique_ptr<LodStmts> m_lod_stmts; // Null until the coarse-level tables are found.
     RecordCodec m_codec;
     RecordBatchEncoder m_encoder;
     // Queued edits: coordinate -> record bytes, or nullopt for an erase.
     std::unordered_map<ChunkCoord, std::optional<std::vector<uint8_t>>, ChunkCoordHash> m_pending;
     std::map<std::string, std::string, std::less<>> m_pending_meta;
+    std::unordered_map<LodCoord, std::optional<std::vector<uint8_t>>, LodCoordHash> m_pending_lod;
+    std::unordered_map<LodCoord, bool, LodCoordHash> m_pending_dirty; // true: mark, false: clear.
     size_t m_pending_bytes = 0;
     std::optional<Clock::time_point> m_pending_since; // Time of the oldest queued edit.
-    std::set<std::tuple<int, int, int>> m_reported;   // Corrupt records already logged (read-only).
+    std::set<std::tuple<int, int, int, int>> m_reported; // Corrupt records logged (read-only): level, x, y, z.
 };
 
 // Result of check_store: every record read and verified.
 struct StoreCheck {
-    uint64_t records = 0;     // Rows in the chunks table.
+    uint64_t records = 0;     // Rows in the chunks and lod_chunks tables.
     uint64_t corrupt = 0;     // Of those, records that failed verification.
-    uint64_t quarantined = 0; // Rows in the quarantine table (moved aside earlier).
+    uint64_t quarantined = 0; // Rows in the quarantine tables (moved aside earlier).
     bool database_ok = true;  // SQLite's own PRAGMA quick_check passed.
     std::vector<std::string> problems; // The first few problems found, one line each.
 };

@@ -65,6 +65,22 @@ Result<StoreCheck> check_world(const std::string& name) {
                                          std::to_string(c.z) + ": " + load->problem);
         }
     }
+    auto lods = (*store)->list_lod_coords();
+    if (!lods)
+        return Error{lods.error()};
+    for (LodCoord c : *lods) {
+        auto load = (*store)->load_lod(c);
+        if (!load)
+            return Error{load.error()};
+        ++check.records;
+        if (load->state == LoadState::Corrupt) {
+            ++check.corrupt;
+            if (check.problems.size() < 8)
+                check.problems.push_back("level " + std::to_string(c.level) + " chunk " + std::to_string(c.chunk.x) +
+                                         "," + std::to_string(c.chunk.y) + "," + std::to_string(c.chunk.z) + ": " +
+                                         load->problem);
+        }
+    }
     return check;
 }
 

@@ -5,7 +5,8 @@
 // overlay only, so unloading, flush() and crashes behave as for any stored world and the VDB file
 // is never written. An erased chunk is stored in the overlay as an all-air chunk (a tombstone
 // that hides the VDB's chunk). export_overlay_vdb (below) writes the two merged without a
-// VdbOverlayStore, streaming the file.
+// VdbOverlayStore, streaming the file. Coarse levels (load_lod, save_lod, dirty marks) are the
+// overlay's alone: they are derived from the combined world, and a VDB holds level 0 only.
 //
 // The overlay remembers which VDB file it edits (meta "vdb_file": size, modification time and
 // xxh64 of the file's bytes, i.e. of its header and tree); opened against a file of another size
@@ -81,6 +82,16 @@ public:
     Result<std::optional<std::string>> get_meta(std::string_view key) override;
     Status set_meta(std::string_view key, std::string_view value) override { return m_overlay->set_meta(key, value); }
     bool read_only() const override { return m_overlay->read_only(); }
+    using world::ChunkStore::save_lod;
+    bool supports_lod() const override { return m_overlay->supports_lod(); }
+    Result<world::ChunkLoad> load_lod(world::LodCoord c) override { return m_overlay->load_lod(c); }
+    Status save_lod(std::span<const world::LodWrite> batch) override { return m_overlay->save_lod(batch); }
+    Status mark_lod_dirty(std::span<const world::LodCoord> coords) override {
+        return m_overlay->mark_lod_dirty(coords);
+    }
+    Result<std::vector<world::LodCoord>> list_lod_dirty() override { return m_overlay->list_lod_dirty(); }
+    Result<std::vector<world::LodCoord>> list_lod_coords() override { return m_overlay->list_lod_coords(); }
+    void poll_lod_changes(std::vector<world::LodCoord>& out) override { m_overlay->poll_lod_changes(out); }
     size_t pending_edits() const override { return m_overlay->pending_edits(); }
     void poll_changes(std::vector<world::ChunkCoord>& out) override { m_overlay->poll_changes(out); }
     world::StoreHealth health() const override { return m_overlay->health(); }
