@@ -45,7 +45,32 @@ struct RenderArgs {
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
     std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
+    std::string lighting = "default"; // --lighting: default or thesis (apply_lighting_preset).
 };
+
+// --lighting thesis: the thesis's ray tracer (its chapter 6.3 and Table 6.3): one rectangular
+// area light, no sun and no sky light, 25 shadow samples at every hit (bounces too, unless
+// --bounce-spp says otherwise: its closest-hit shader recursed with the same 25) and 5
+// reflection bounces. Missed rays still show the sky colour (the thesis does not say what its
+// miss shader returned; the colour lights nothing). Options given explicitly win over the
+// preset; `given` says which were.
+struct LightingGiven {
+    bool spp = false, reflections = false, sun = false, sky_light = false, area_light = false;
+};
+void apply_lighting_preset(RenderArgs& a, const LightingGiven& given) {
+    if (a.lighting != "thesis")
+        return;
+    if (!given.spp)
+        a.spp = 25;
+    if (!given.reflections)
+        a.reflections = 5;
+    if (!given.sun)
+        a.sun = "off";
+    if (!given.sky_light)
+        a.sky_light = 0.f;
+    if (!given.area_light)
+        a.area_light = "on";
+}
 
 std::string ms(double v) {
     char buf[32];
@@ -344,7 +369,8 @@ int run_render(RenderArgs a) {
     std::printf("  image: %ux%u, %s shading, shadows %s (%u samples, %u on bounces), reflections %u\n",
                 s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
                 s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples), s.settings.max_bounces);
-    std::printf("  lights: sun %s, sky term x%g%s, area light %s\n", a.sun.c_str(), double(a.sky_light),
+    std::printf("  lights%s: sun %s, sky term x%g%s, area light %s\n",
+                a.lighting == "thesis" ? " (--lighting thesis)" : "", a.sun.c_str(), double(a.sky_light),
                 a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());
     if (s.settings.pipeline == render::PipelineKind::Raster)
         std::printf("  pipeline: raster (Phong, point light at the area light's centre, no shadows)\n");
@@ -434,10 +460,17 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--exposure", a->exposure,
                     "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
                     "mid-grey; +1 halves the light) or auto (metered from the frame)");
+    cmd->add_option("--lighting", a->lighting,
+                    "default; thesis: one area light, no sun or sky light, 25 shadow samples at every hit, 5 "
+                    "reflections (the thesis's Table 6.3; options given explicitly win)")
+        ->check(CLI::IsMember({"default", "thesis"}));
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
-    cmd->callback([a, seed, seed_opt, &action] {
+    auto given = [cmd](const char* name) { return cmd->get_option(name)->count() > 0; };
+    cmd->callback([a, seed, seed_opt, given, &action] {
         if (seed_opt->count() > 0)
             a->scene.seed = *seed;
+        apply_lighting_preset(*a, {given("--spp"), given("--reflections"), given("--sun"),
+                                   given("--sky-light"), given("--area-light")});
         action = [a] { return run_render(*a); };
     });
 }
