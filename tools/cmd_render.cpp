@@ -37,6 +37,7 @@ struct RenderArgs {
     std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
+    uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
@@ -102,6 +103,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.max_bounces = a.reflections;
+    s.seed = a.sample_seed;
     if (a.sun == "off") {
         s.sun.irradiance = glm::vec3(0.f);
     } else {
@@ -425,6 +427,9 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--spp", a->spp,
                     "Shadow samples per pixel at the first hit, per light, and as many sky rays (one primary ray "
                     "per pixel)");
+    cmd->add_option("--sample-seed", a->sample_seed,
+                    "Seed of the samples' random numbers (same seed, same image; accumulated frames add "
+                    "their frame number)");
     cmd->add_option("--bounce-spp", a->bounce_spp, "The same on reflection bounces (default: as --spp)")
         ->check(CLI::Range(int64_t(0), int64_t(65536)));
     cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
