@@ -10,8 +10,10 @@
 //      last a line naming the cheapest row that matches the thesis-style frame's error (25 spp,
 //      bounce spp 25, raw) and its frame-time ratio (the target: >= 4x less frame time).
 //   4. geometry (tools/bench_render_geometry.h): naive, culled and greedy meshes; refit against
-//      rebuild over k edits.
-// --sections picks them: all (default), report (1-3) or geometry (4). --lighting thesis lights
+//      rebuild over k edits;
+//   5. camera paths (tools/bench_render_paths.h): orbit, fly-over and an edit, every frame
+//      against a converged reference at its pose.
+// --sections picks them: all (default), report (1-3), geometry (4) or paths (5). --lighting thesis lights
 // every row with the area light alone (no sun, no sky light), as the thesis did.
 // Writes DIR/render_report.md (tables), DIR/render_bench.csv, PNGs of the reference and of
 // each sweep image; scripts/plot_render_bench.py draws error against frame time from the CSV.
@@ -27,6 +29,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_render_geometry.h"
+#include "bench_render_paths.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "engine/job_batch.h"
@@ -44,6 +47,7 @@ struct BenchRenderArgs {
     std::string size = "160x90", out = "render_bench", device = "auto", sections = "all";
     std::string lighting = "default"; // --lighting: default (sun, sky, area light) or thesis.
     uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
+    uint32_t path_frames = 24, path_reference_spp = 64; // Section 5.
 };
 
 struct Config {
@@ -185,8 +189,8 @@ std::string feature_table(render::Renderer& r, const render::RenderSettings& bas
     render::RenderImage img;
     for (const Config& c : configs) {
         t.push_back(time_frames(r, c.s, cam, a.repeat, &img));
-        std::printf("  %s: frame %.3f ms, trace/raster %.3f ms, denoise %.3f ms\n", c.name.c_str(), t.back().frame,
-                    t.back().trace, t.back().denoise);
+        std::printf("  %s: frame %.3f ms, trace/raster %.3f ms, denoise %.3f ms\n", c.name.c_str(),
+                    t.back().frame, t.back().trace, t.back().denoise);
     }
     const double flat = t[1].frame, all_off = t[2].frame; // feature_configs' order.
     auto ratio = [](double v, double to) {
@@ -199,13 +203,13 @@ std::string feature_table(render::Renderer& r, const render::RenderSettings& bas
                                                         : "default (sun, sky light, area light)") +
                      ". Ratios are frame times over this run's RT flat and all-off rows (same GPU); the "
                      "thesis's are over its all-off row (Table 6.3, RTX 2080 Ti).\n\n"
-                     "| configuration | frame ms | trace/raster ms | denoise ms | x RT flat | x all off | thesis x all "
-                     "off |\n|---|---|---|---|---|---|---|\n";
+                     "| configuration | frame ms | trace/raster ms | denoise ms | x RT flat | x all off | "
+                     "thesis x all off |\n|---|---|---|---|---|---|---|\n";
     char line[640];
     for (size_t i = 0; i < configs.size(); ++i) {
-        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.3f | %s | %s | %s |\n", configs[i].name.c_str(),
-                      t[i].frame, t[i].trace, t[i].denoise, ratio(t[i].frame, flat).c_str(),
-                      ratio(t[i].frame, all_off).c_str(),
+        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.3f | %s | %s | %s |\n",
+                      configs[i].name.c_str(), t[i].frame, t[i].trace, t[i].denoise,
+                      ratio(t[i].frame, flat).c_str(), ratio(t[i].frame, all_off).c_str(),
                       configs[i].thesis_ratio > 0 ? ratio(configs[i].thesis_ratio, 1.0).c_str() : "");
         md += line;
         std::printf("  %s", line);
@@ -259,6 +263,13 @@ int run_bench_render(const BenchRenderArgs& a) {
                      " frames (timestamps); the machine may be shared: read them side by side.\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
+    const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out};
+    if (a.sections == "paths") { // Only section 5.
+        md += run_path_bench(r, *scene, paths);
+        std::ofstream(a.out + "/render_report.md") << md;
+        std::printf("  wrote %s/render_report.md and paths.csv\n", a.out.c_str());
+        return kExitOk;
+    }
     if (a.sections == "geometry") { // Only section 4.
         renderer->reset(); // Its renderers are made one at a time (volk loads one device's entry points).
         md += run_geometry_bench(*scene, geometry);
@@ -342,6 +353,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
           "frame time (PNG) next to the CSV.\n";
     if (a.sections == "all") {
+        md += "\n" + run_path_bench(r, *scene, paths);
         renderer->reset();
         md += run_geometry_bench(*scene, geometry);
     }
@@ -372,11 +384,16 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
     app.add_option("--lighting", a.lighting,
-                   "default: sun, sky light and area light; thesis: the area light alone (Table 6.3 like for like)")
+                   "default: sun, sky light and area light; thesis: the area light alone (Table 6.3 like "
+                   "for like)")
         ->check(CLI::IsMember({"default", "thesis"}));
     app.add_option("--sections", a.sections,
-                   "all; report: pipelines, features, speed against error; geometry: meshers, refit against rebuild")
-        ->check(CLI::IsMember({"all", "report", "geometry"}));
+                   "all; report: pipelines, features, speed against error; geometry: meshers, refit against "
+                   "rebuild; paths: orbit, fly-over and an edit against references at every pose")
+        ->check(CLI::IsMember({"all", "report", "geometry", "paths"}));
+    app.add_option("--path-frames", a.path_frames, "Frames per camera path")->check(CLI::Range(4u, 10000u));
+    app.add_option("--path-reference-spp", a.path_reference_spp, "Samples per pixel of each path pose's reference")
+        ->check(CLI::Range(8u, 1u << 20));
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

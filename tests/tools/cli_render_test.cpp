@@ -254,6 +254,31 @@ TEST(CliRender, BenchRenderTableRatios) {
     EXPECT_NE(text.find("| 34.82 |"), std::string::npos) << text;
 }
 
+// `vx bench render --sections paths` (tiny): a row per path and configuration with RMSE median
+// and p95, and a CSV line per frame; the edit path's row has a recovery figure.
+TEST(CliRender, BenchRenderCameraPaths) {
+    const std::string out = dir() + "/bench_paths";
+    const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --reflections 1 "
+                        "--sections paths --path-frames 6 --path-reference-spp 8 --out " +
+                        out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream md(out + "/render_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("## Camera paths"), std::string::npos) << text;
+    for (const char* path : {"| orbit | ", "| fly-over | ", "| edit | "}) {
+        size_t rows = 0;
+        for (size_t at = text.find(path); at != std::string::npos; at = text.find(path, at + 1))
+            ++rows;
+        EXPECT_EQ(rows, 3u) << path << "\n" << text;
+    }
+    std::ifstream csv(out + "/paths.csv");
+    int frames = 0;
+    for (std::string line; std::getline(csv, line);)
+        frames += line.rfind("orbit,", 0) == 0 ? 1 : 0;
+    EXPECT_EQ(frames, 3 * 6); // Three configurations, six frames.
+    EXPECT_EQ(vx("bench render --sections paths --path-frames 2").code, 2);
+}
+
 // `vx bench render --sections geometry`: three mesher rows (naive > culled > greedy triangles),
 // the refit run refits and the rebuild run only builds, trace rows after k = 0, 1, 10, 100.
 TEST(CliRender, BenchRenderGeometrySection) {
