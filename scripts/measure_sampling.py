@@ -13,7 +13,7 @@ filter could remove (blue-noise error has little left). Both binaries get the sa
 
 Usage: scripts/measure_sampling.py VX [OLD_VX] [--size WxH] [--lighting default|thesis]
   (VK_DRIVER_FILES picks the device; OLD_VX: a second binary measured the same way, e.g. the
-  base commit; its reference is its own)
+  base commit; its reference is its own; VX_KEEP_PNG=DIR copies the images there)
 """
 import math
 import os
