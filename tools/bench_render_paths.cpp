@@ -177,9 +177,11 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                      ". Flicker: median RMS change between successive frames (the references': the change the "
                      "motion itself makes). Recovery: frames after the edit until the error in the pixels it "
                      "changed (references before and after differ by > 0.1) is within 1.25x of its steady "
-                     "value (median over n/2 more frames of the edited view after the path).\n\n"
+                     "value (median over n/2 more frames of the edited view after the path): it counts the "
+                     "history's restart too. Ghost: frames after the edit whose error there exceeds the raw "
+                     "row's (worse than no history).\n\n"
                      "| path | configuration | RMSE median | RMSE p95 | flicker | reference flicker | recovery "
-                     "frames |\n|---|---|---|---|---|---|---|\n";
+                     "frames | ghost frames |\n|---|---|---|---|---|---|---|---|\n";
     std::ofstream csv(info.out + "/paths.csv");
     csv << "path,configuration,frame,rmse,edited_rmse\n"; // edited_rmse: the edit's pixels (edit path).
     char line[512];
@@ -199,6 +201,12 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
             for (uint32_t i = 0; i < n; ++i)
                 refs.push_back(reference(r, info, path.poses[i], i % 2));
         }
+        struct Result {
+            std::string row, recovery;
+            double median = 0, p95 = 0, flicker = 0;
+            std::vector<double> edited;
+        };
+        std::vector<Result> results;
         for (const Row& row : rows(info)) {
             std::vector<ImageF> frames;
             std::vector<double> error, edited; // Whole image; the edit's pixels.
@@ -227,9 +235,23 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                 if (std::find(mask.begin(), mask.end(), true) == mask.end())
                     recovery = "edit not visible";
             }
-            std::snprintf(line, sizeof line, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %s |\n", path.name.c_str(),
-                          row.name.c_str(), median(error), percentile(error, 0.95), flicker(frames), flicker(refs),
-                          recovery.c_str());
+            results.push_back(
+                {row.name, recovery, median(error), percentile(error, 0.95), flicker(frames), edited});
+        }
+        for (const Result& res : results) {
+            // The ghost: frames from the edit on whose error in the edited pixels exceeds the raw
+            // row's (rows(): the last), i.e. worse than no history at all.
+            std::string ghost = "";
+            if (path.edit_frame > 0) {
+                const std::vector<double>& raw = results.back().edited;
+                uint32_t k = path.edit_frame;
+                while (k < n && res.edited[k] > raw[k])
+                    ++k;
+                ghost = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
+            }
+            std::snprintf(line, sizeof line, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %s | %s |\n",
+                          path.name.c_str(), res.row.c_str(), res.median, res.p95, res.flicker, flicker(refs),
+                          res.recovery.c_str(), ghost.c_str());
             md += line;
             std::printf("  %s", line);
         }

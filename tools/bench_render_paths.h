@@ -9,7 +9,7 @@
 // For each game-like configuration: per-frame RMSE median and p95; flicker (median RMS change
 // between successive frames, beside the references' own); after the edit, the frames until the
 // error in the pixels it changed is within 1.25x of its steady value (ghosting and the history's
-// restart). Main thread only.
+// restart), and the ghost: frames whose error there exceeds the raw row's. Main thread only.
 
 #include <cstdint>
 #include <string>
