@@ -79,15 +79,21 @@ int64_t cube_side(const engine::LoadedScene& scene) {
     return std::clamp<int64_t>((scene.box_max.x - scene.box_min.x) / 12, 3, 16);
 }
 
-// Sets the cube standing on `top` to `id` (stone to add it, air to take it away) through the
-// engine's edit path, and hands the changed slices to the renderer.
-void set_cube(render::Renderer& r, engine::LoadedScene& scene, world::BlockPos top, world::BlockId id) {
+// Sets the blocks of the cube standing on `top` (x fastest, then z, then y) to `ids` (one id for
+// all, or one per block) through the engine's edit path, and hands the changed slices to the
+// renderer. Returns the blocks they held, so a second call puts them back.
+std::vector<world::BlockId> set_cube(render::Renderer& r, engine::LoadedScene& scene, world::BlockPos top,
+                                     const std::vector<world::BlockId>& ids) {
     world::EditMesher em;
     const int64_t side = cube_side(scene), lo = -side / 2;
+    std::vector<world::BlockId> previous;
     for (int64_t y = 1; y <= side; ++y)
         for (int64_t z = lo; z < lo + side; ++z)
             for (int64_t x = lo; x < lo + side; ++x) {
-                const world::EditResult e = em.apply(*scene.world, top + world::BlockPos{x, y, z}, id, scene.meshes);
+                const world::BlockPos p = top + world::BlockPos{x, y, z};
+                const world::BlockId id = ids.size() == 1 ? ids[0] : ids[previous.size()];
+                previous.push_back(scene.world->get_block(p));
+                const world::EditResult e = em.apply(*scene.world, p, id, scene.meshes);
                 for (const world::SliceUpdate& u : e.updates) {
                     const world::ChunkMesh& mesh = scene.meshes[u.chunk].mesh;
                     if (u.full)
@@ -96,6 +102,7 @@ void set_cube(render::Renderer& r, engine::LoadedScene& scene, world::BlockPos t
                         r.set_chunk(u.chunk, mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
                 }
             }
+    return previous;
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -191,9 +198,9 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
         std::vector<bool> mask;
         if (path.edit_frame > 0) {
             const ImageF before = reference(r, info, path.poses[0], 0);
-            set_cube(r, scene, *top, stone);
+            const std::vector<world::BlockId> held = set_cube(r, scene, *top, {stone});
             const ImageF after = reference(r, info, path.poses[0], 1);
-            set_cube(r, scene, *top, world::kAir);
+            set_cube(r, scene, *top, held);
             mask = changed_pixels(before, after);
             for (uint32_t i = 0; i < n; ++i)
                 refs.push_back(i < path.edit_frame ? before : after);
@@ -208,11 +215,12 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
         };
         std::vector<Result> results;
         for (const Row& row : rows(info)) {
+            std::vector<world::BlockId> held; // What the cube's blocks were before the edit.
             std::vector<ImageF> frames;
             std::vector<double> error, edited; // Whole image; the edit's pixels.
             for (uint32_t i = 0; i < n; ++i) {
                 if (path.edit_frame > 0 && i == path.edit_frame)
-                    set_cube(r, scene, *top, stone);
+                    held = set_cube(r, scene, *top, {stone});
                 frames.push_back(render::to_float(r.render(row.s, path.poses[i])));
                 error.push_back(render::rmse(frames.back(), refs[i]));
                 if (!mask.empty())
@@ -226,7 +234,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                 std::vector<double> steady;
                 for (uint32_t i = 0; i < n / 2; ++i)
                     steady.push_back(masked_rmse(render::to_float(r.render(row.s, path.poses[0])), refs[n - 1], mask));
-                set_cube(r, scene, *top, world::kAir);
+                set_cube(r, scene, *top, held);
                 const double normal = kRecovered * median(steady);
                 uint32_t k = path.edit_frame;
                 while (k < n && edited[k] > normal)
