@@ -234,6 +234,19 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
     EXPECT_NE(bad.out.find("--lighting"), std::string::npos) << bad.out;
 }
 
+// --sample-seed: the same seed gives the same picture, another seed other samples (1 spp: every
+// lit pixel's noise changes); a seed that is no number is exit 2.
+TEST(CliRender, SampleSeedPicksTheSamples) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
+    const std::string a = dir() + "/seed5a.png", b = dir() + "/seed5b.png", c = dir() + "/seed6.png";
+    render(view + "--sample-seed 5 --out " + a);
+    render(view + "--sample-seed 5 --out " + b);
+    render(view + "--sample-seed 6 --out " + c);
+    EXPECT_EQ(read_png(a).rgba, read_png(b).rgba);
+    EXPECT_NE(read_png(a).rgba, read_png(c).rgba);
+    EXPECT_EQ(vx("render " + view + "--sample-seed five", kEnv).code, 2);
+}
+
 // `vx bench render --lighting thesis --sections report` (tiny): the Table 6.3 rows carry their
 // ratios to this run's RT flat and all-off rows (the all-off row is 1.00 of itself) and the
 // thesis's ratio beside them.
