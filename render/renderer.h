@@ -109,8 +109,9 @@ struct RenderSettings {
     uint32_t width = 64, height = 64;
     PipelineKind pipeline = PipelineKind::RayTraced;
     ShadingMode mode = ShadingMode::Full;
-    // At the first hit, per pixel (correlated multi-jittered): shadow samples of the area light,
-    // of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky unoccluded).
+    // At the first hit, per pixel (stratified, shaders/shared/sampling.h): shadow samples of the
+    // area light, of the sun, and as many sky rays. 0: no shadows (lights unoccluded, the sky
+    // unoccluded).
     uint32_t shadow_samples = 4;
     // The same on each reflection bounce; unset: shadow_samples (0: unshadowed on bounces).
     // Bounces cost most (25 samples, 5 mirror bounces, seed scene at 1080p: about two thirds of

@@ -1,7 +1,8 @@
 // `vx bench render`: the renderer's report. One scene and view (terrain of --seed, or any scene
 // `vx render` takes via --scene/--world), rendered
 //   1. by each pipeline and feature set (raster, RT flat, and RT full with every combination of
-//      shadows, reflections and denoiser: the thesis's Table 6.3), medians of GPU timestamps;
+//      shadows, reflections and denoiser: the thesis's Table 6.3), medians of GPU timestamps,
+//      each also as a ratio to the RT flat and all-off rows (and the thesis's ratio beside it);
 //   2. for speed against error: a converged reference (--reference-spp samples per pixel,
 //      accumulated frames of 8 samples, no filter), then spp in {1, 2, 4, 8, 16, 25, 64},
 //      bounce spp in {1, spp}, denoiser off and on: median GPU frame time and RMSE, PSNR, SSIM
@@ -9,8 +10,11 @@
 //      last a line naming the cheapest row that matches the thesis-style frame's error (25 spp,
 //      bounce spp 25, raw) and its frame-time ratio (the target: >= 4x less frame time).
 //   4. geometry (tools/bench_render_geometry.h): naive, culled and greedy meshes; refit against
-//      rebuild over k edits.
-// --sections picks them: all (default), report (1-3) or geometry (4).
+//      rebuild over k edits;
+//   5. camera paths (tools/bench_render_paths.h): orbit, fly-over and an edit, every frame
+//      against a converged reference at its pose.
+// --sections picks them: all (default), report (1-3), geometry (4) or paths (5). --lighting thesis lights
+// every row with the area light alone (no sun, no sky light), as the thesis did.
 // Writes DIR/render_report.md (tables), DIR/render_bench.csv, PNGs of the reference and of
 // each sweep image; scripts/plot_render_bench.py draws error against frame time from the CSV.
 #include <algorithm>
@@ -25,6 +29,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_render_geometry.h"
+#include "bench_render_paths.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "engine/job_batch.h"
@@ -40,12 +45,15 @@ namespace {
 struct BenchRenderArgs {
     SceneArgs scene;
     std::string size = "160x90", out = "render_bench", device = "auto", sections = "all";
+    std::string lighting = "default"; // --lighting: default (sun, sky, area light) or thesis.
     uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
+    uint32_t path_frames = 24, path_reference_spp = 64; // Section 5.
 };
 
 struct Config {
     std::string name;
     render::RenderSettings s;
+    double thesis_ratio = -1; // The thesis's Table 6.3 frame time over its "all off" row; -1: none.
 };
 
 struct Timing {
@@ -83,8 +91,6 @@ render::Camera default_view(const engine::LoadedScene& scene, render::RenderSett
     return render::Camera::look_at(eye, centre);
 }
 
-// The thesis's Table 6.3: every combination of shadows (25 samples) x reflections (`reflections`
-// bounces) x denoiser, after the raster baseline and RT flat.
 // One row of the speed-against-error sweep: full shading with `reflections` bounces.
 render::RenderSettings sweep_settings(const render::RenderSettings& base, uint32_t reflections, uint32_t spp,
                                       uint32_t bounce_spp, bool denoise) {
@@ -96,6 +102,9 @@ render::RenderSettings sweep_settings(const render::RenderSettings& base, uint32
     return s;
 }
 
+// The thesis's Table 6.3: every combination of shadows (25 samples) x reflections (`reflections`
+// bounces) x denoiser, after the raster baseline and RT flat. The thesis's own ratios to its
+// "all off" row (RTX 2080 Ti; 1.00 ms) ride along, indexed [shadows][reflections][denoiser].
 std::vector<Config> feature_configs(const render::RenderSettings& base, uint32_t reflections) {
     using render::ShadingMode;
     auto make = [&](std::string name, ShadingMode mode, uint32_t spp, uint32_t bounces, bool denoise) {
@@ -112,6 +121,7 @@ std::vector<Config> feature_configs(const render::RenderSettings& base, uint32_t
     };
     v[0].s.pipeline = render::PipelineKind::Raster;
     const std::string refl = "reflections (" + std::to_string(reflections) + " bounces)";
+    constexpr double kThesis[2][2][2] = {{{1.00, 16.47}, {2.09, 17.83}}, {{8.14, 23.30}, {19.12, 34.82}}};
     for (bool shadows : {false, true})
         for (bool reflect : {false, true})
             for (bool denoise : {false, true}) {
@@ -120,6 +130,7 @@ std::vector<Config> feature_configs(const render::RenderSettings& base, uint32_t
                 name += ", " + refl + (reflect ? " on" : " off");
                 name += denoise ? ", denoiser on" : ", denoiser off";
                 v.push_back(make(name, ShadingMode::Full, shadows ? 25 : 0, reflect ? reflections : 0, denoise));
+                v.back().thesis_ratio = kThesis[shadows][reflect][denoise];
             }
     return v;
 }
@@ -168,6 +179,44 @@ std::string goal_line(const SweepRow& thesis, const std::vector<SweepRow>& rows)
     return line;
 }
 
+// Section 1: each row's median GPU times, then the table with every frame time also as a ratio
+// to the RT flat row and to the all-off row (RT full, no shadows, reflections or denoiser: the
+// thesis's 1.00 ms row) of this run, beside the thesis's ratio (Table 6.3).
+std::string feature_table(render::Renderer& r, const render::RenderSettings& base, const render::Camera& cam,
+                          const BenchRenderArgs& a) {
+    const std::vector<Config> configs = feature_configs(base, a.reflections);
+    std::vector<Timing> t;
+    render::RenderImage img;
+    for (const Config& c : configs) {
+        t.push_back(time_frames(r, c.s, cam, a.repeat, &img));
+        std::printf("  %s: frame %.3f ms, trace/raster %.3f ms, denoise %.3f ms\n", c.name.c_str(),
+                    t.back().frame, t.back().trace, t.back().denoise);
+    }
+    const double flat = t[1].frame, all_off = t[2].frame; // feature_configs' order.
+    auto ratio = [](double v, double to) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, v > 0 && to > 0 ? "%.2f" : "n/a", v / to);
+        return std::string(buf);
+    };
+    std::string md = "## Pipelines and features\n\nLighting: " +
+                     std::string(a.lighting == "thesis" ? "thesis (one area light, no sun, no sky light)"
+                                                        : "default (sun, sky light, area light)") +
+                     ". Ratios are frame times over this run's RT flat and all-off rows (same GPU); the "
+                     "thesis's are over its all-off row (Table 6.3, RTX 2080 Ti).\n\n"
+                     "| configuration | frame ms | trace/raster ms | denoise ms | x RT flat | x all off | "
+                     "thesis x all off |\n|---|---|---|---|---|---|---|\n";
+    char line[640];
+    for (size_t i = 0; i < configs.size(); ++i) {
+        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.3f | %s | %s | %s |\n",
+                      configs[i].name.c_str(), t[i].frame, t[i].trace, t[i].denoise,
+                      ratio(t[i].frame, flat).c_str(), ratio(t[i].frame, all_off).c_str(),
+                      configs[i].thesis_ratio > 0 ? ratio(configs[i].thesis_ratio, 1.0).c_str() : "");
+        md += line;
+        std::printf("  %s", line);
+    }
+    return md;
+}
+
 int run_bench_render(const BenchRenderArgs& a) {
     render::RenderSettings base;
     if (std::sscanf(a.size.c_str(), "%ux%u", &base.width, &base.height) != 2 || base.width == 0 || base.height == 0 ||
@@ -198,6 +247,11 @@ int run_bench_render(const BenchRenderArgs& a) {
         if (mc.mesh.quad_count() > 0)
             r.set_chunk(c, mc.mesh);
     const render::Camera cam = default_view(*scene, base);
+    if (a.lighting == "thesis") { // As `vx render --lighting thesis`: the area light alone.
+        base.sun.irradiance = glm::vec3(0.f);
+        base.sky_light = 0.f;
+        base.haze.enabled = false; // The thesis had none (and unlit haze would only darken).
+    }
     std::error_code ec;
     std::filesystem::create_directories(a.out, ec);
     if (ec)
@@ -210,6 +264,13 @@ int run_bench_render(const BenchRenderArgs& a) {
                      " frames (timestamps); the machine may be shared: read them side by side.\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
+    const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out};
+    if (a.sections == "paths") { // Only section 5.
+        md += run_path_bench(r, *scene, paths);
+        std::ofstream(a.out + "/render_report.md") << md;
+        std::printf("  wrote %s/render_report.md and paths.csv\n", a.out.c_str());
+        return kExitOk;
+    }
     if (a.sections == "geometry") { // Only section 4.
         renderer->reset(); // Its renderers are made one at a time (volk loads one device's entry points).
         md += run_geometry_bench(*scene, geometry);
@@ -219,14 +280,8 @@ int run_bench_render(const BenchRenderArgs& a) {
     }
 
     // 1. Pipelines and features.
-    md += "## Pipelines and features\n\n| configuration | frame ms | trace/raster ms | denoise ms |\n|---|---|---|---|\n";
+    md += feature_table(r, base, cam, a);
     render::RenderImage img;
-    for (const Config& c : feature_configs(base, a.reflections)) {
-        const Timing t = time_frames(r, c.s, cam, a.repeat, &img);
-        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.3f |\n", c.name.c_str(), t.frame, t.trace, t.denoise);
-        md += line;
-        std::printf("  %s", line);
-    }
 
     // 2. Speed against error.
     render::RenderSettings ref_s = base;
@@ -299,6 +354,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
           "frame time (PNG) next to the CSV.\n";
     if (a.sections == "all") {
+        md += "\n" + run_path_bench(r, *scene, paths);
         renderer->reset();
         md += run_geometry_bench(*scene, geometry);
     }
@@ -328,9 +384,17 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--reflections", a.reflections, "Reflection bounces of the full-shading rows");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
+    app.add_option("--lighting", a.lighting,
+                   "default: sun, sky light and area light; thesis: the area light alone (Table 6.3 like "
+                   "for like)")
+        ->check(CLI::IsMember({"default", "thesis"}));
     app.add_option("--sections", a.sections,
-                   "all; report: pipelines, features, speed against error; geometry: meshers, refit against rebuild")
-        ->check(CLI::IsMember({"all", "report", "geometry"}));
+                   "all; report: pipelines, features, speed against error; geometry: meshers, refit against "
+                   "rebuild; paths: orbit, fly-over and an edit against references at every pose")
+        ->check(CLI::IsMember({"all", "report", "geometry", "paths"}));
+    app.add_option("--path-frames", a.path_frames, "Frames per camera path")->check(CLI::Range(4u, 10000u));
+    app.add_option("--path-reference-spp", a.path_reference_spp, "Samples per pixel of each path pose's reference")
+        ->check(CLI::Range(8u, 1u << 20));
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

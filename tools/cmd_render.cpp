@@ -37,6 +37,7 @@ struct RenderArgs {
     std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
+    uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
@@ -47,7 +48,34 @@ struct RenderArgs {
     std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
     std::string haze = "on";     // --haze: aerial perspective of Full shading.
     std::string visibility;      // --visibility: the haze's visibility in blocks; empty: the default.
+    std::string lighting = "default"; // --lighting: default or thesis (apply_lighting_preset).
 };
+
+// --lighting thesis: the thesis's ray tracer (its chapter 6.3 and Table 6.3): one rectangular
+// area light, no sun and no sky light, 25 shadow samples at every hit (bounces too, unless
+// --bounce-spp says otherwise: its closest-hit shader recursed with the same 25) and 5
+// reflection bounces. Missed rays still show the sky colour (the thesis does not say what its
+// miss shader returned; the colour lights nothing), and no haze. Options given explicitly win over the
+// preset; `given` says which were.
+struct LightingGiven {
+    bool spp = false, reflections = false, sun = false, sky_light = false, area_light = false, haze = false;
+};
+void apply_lighting_preset(RenderArgs& a, const LightingGiven& given) {
+    if (a.lighting != "thesis")
+        return;
+    if (!given.spp)
+        a.spp = 25;
+    if (!given.reflections)
+        a.reflections = 5;
+    if (!given.sun)
+        a.sun = "off";
+    if (!given.sky_light)
+        a.sky_light = 0.f;
+    if (!given.area_light)
+        a.area_light = "on";
+    if (!given.haze) // The thesis had none; with no sky light it would only darken.
+        a.haze = "off";
+}
 
 std::string ms(double v) {
     char buf[32];
@@ -79,6 +107,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.max_bounces = a.reflections;
+    s.seed = a.sample_seed;
     if (a.sun == "off") {
         s.sun.irradiance = glm::vec3(0.f);
     } else {
@@ -354,7 +383,8 @@ int run_render(RenderArgs a) {
     std::printf("  image: %ux%u, %s shading, shadows %s (%u samples, %u on bounces), reflections %u\n",
                 s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
                 s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples), s.settings.max_bounces);
-    std::printf("  lights: sun %s, sky term x%g%s, area light %s\n", a.sun.c_str(), double(a.sky_light),
+    std::printf("  lights%s: sun %s, sky term x%g%s, area light %s\n",
+                a.lighting == "thesis" ? " (--lighting thesis)" : "", a.sun.c_str(), double(a.sky_light),
                 a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());
     if (s.settings.pipeline == render::PipelineKind::Raster)
         std::printf("  pipeline: raster (Phong, point light at the area light's centre, no shadows)\n");
@@ -413,6 +443,9 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--spp", a->spp,
                     "Shadow samples per pixel at the first hit, per light, and as many sky rays (one primary ray "
                     "per pixel)");
+    cmd->add_option("--sample-seed", a->sample_seed,
+                    "Seed of the samples' random numbers (same seed, same image; accumulated frames add "
+                    "their frame number)");
     cmd->add_option("--bounce-spp", a->bounce_spp, "The same on reflection bounces (default: as --spp)")
         ->check(CLI::Range(int64_t(0), int64_t(65536)));
     cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
@@ -453,10 +486,18 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--visibility", a->visibility,
                     "The haze's visibility in blocks, where contrast falls to 2% (default 20000; inf: clear)");
+    cmd->add_option("--lighting", a->lighting,
+                    "default; thesis: one area light, no sun or sky light, 25 shadow samples at every hit, 5 "
+                    "reflections (the thesis's Table 6.3; options given explicitly win)")
+        ->check(CLI::IsMember({"default", "thesis"}));
     cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
-    cmd->callback([a, seed, seed_opt, &action] {
+    auto given = [cmd](const char* name) { return cmd->get_option(name)->count() > 0; };
+    cmd->callback([a, seed, seed_opt, given, &action] {
         if (seed_opt->count() > 0)
             a->scene.seed = *seed;
+        apply_lighting_preset(*a, {given("--spp"), given("--reflections"), given("--sun"),
+                                   given("--sky-light"), given("--area-light"),
+                                   given("--haze") || given("--visibility")});
         action = [a] { return run_render(*a); };
     });
 }

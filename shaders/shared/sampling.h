@@ -90,6 +90,76 @@ VX_S_FN s_vec2 vx_cmj(s_uint s, s_uint n, s_uint p) {
     return s_vec2((float(sx) + (float(sy) + jx) / float(rows)) / float(m), (float(s) + jy) / float(n));
 }
 
+// Interleaves the low 16 bits of x (even bits) and y (odd bits): the Morton (Z-order) index.
+VX_S_FN s_uint vx_morton(s_uint x, s_uint y) {
+    x &= 0xffffu;
+    y &= 0xffffu;
+    x = (x | (x << 8u)) & 0x00ff00ffu;
+    x = (x | (x << 4u)) & 0x0f0f0f0fu;
+    x = (x | (x << 2u)) & 0x33333333u;
+    x = (x | (x << 1u)) & 0x55555555u;
+    y = (y | (y << 8u)) & 0x00ff00ffu;
+    y = (y | (y << 4u)) & 0x0f0f0f0fu;
+    y = (y | (y << 2u)) & 0x33333333u;
+    y = (y | (y << 1u)) & 0x55555555u;
+    return x | (y << 1u);
+}
+
+VX_S_FN s_uint vx_reverse_bits(s_uint v) {
+    v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
+    v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
+    v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
+    v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
+    return (v >> 16u) | (v << 16u);
+}
+
+// Owen scrambling of a 32-bit binary fraction x (a random permutation of each level's halves,
+// keyed by the bits above): Burley, "Practical Hash-based Owen Scrambling", JCGT 9(4), 2020, his
+// hash on the reversed bits, in which every bit depends only on the bits below it (Laine &
+// Karras 2011). It keeps a (t, m, s)-net a net, and makes each point uniform on [0, 1).
+VX_S_FN s_uint vx_owen_scramble(s_uint x, s_uint seed) {
+    x = vx_reverse_bits(x);
+    x ^= x * 0x3d20adeau;
+    x += seed;
+    x *= (seed >> 16u) | 1u;
+    x ^= x * 0x05526c56u;
+    x ^= x * 0x53a22864u;
+    return vx_reverse_bits(x);
+}
+
+// The second coordinate of point i of the 2D Sobol (0, 2)-sequence (the first is the van der
+// Corput radical inverse, vx_reverse_bits(i)): generator matrix Pascal's triangle mod 2.
+VX_S_FN s_uint vx_sobol_y(s_uint i) {
+    s_uint r = 0u;
+    s_uint v = 0x80000000u;
+    while (i != 0u) {
+        if ((i & 1u) != 0u)
+            r ^= v;
+        i >>= 1u;
+        v ^= v >> 1u;
+    }
+    return r;
+}
+
+// Sample s (0 <= s < n) of pixel (x, y)'s estimator `seed` (one light at one bounce of one
+// frame: raygen.rgen derives it), in [0, 1)^2. For n a power of two the pixel takes points
+// [m n, m n + n) of the Owen-scrambled 2D Sobol sequence, m its Morton index (Ahmed & Wonka,
+// "Screen-Space Blue-Noise Diffusion of Monte Carlo Sampling Error via Hierarchical Ordering of
+// Pixels", SIGGRAPH Asia 2020): its n points are a (0, log2 n, 2)-net, stratified in every
+// elementary interval of area 1/n, and the points of each aligned 2x2, 4x4, ... block of pixels
+// together form a net too, so neighbouring pixels' errors cancel in a spatial filter (blue-noise
+// error). The scramble is the estimator's seed: each point is uniform (unbiased), and frames and
+// estimators are independent. Other n have no such nets (measured: a shifted or truncated net
+// did worse), so they keep the pixel's own correlated multi-jittered pattern.
+VX_S_FN s_vec2 vx_pixel_sample(s_uint s, s_uint n, s_uint x, s_uint y, s_uint seed) {
+    if ((n & (n - 1u)) != 0u)
+        return vx_cmj(s, n, vx_hash(x + vx_hash(y + seed)));
+    s_uint i = vx_morton(x, y) * n + s;
+    s_uint u = vx_owen_scramble(vx_reverse_bits(i), vx_hash(seed));
+    s_uint v = vx_owen_scramble(vx_sobol_y(i), vx_hash(seed ^ 0x9e3779b9u));
+    return s_vec2(float(u >> 8u), float(v >> 8u)) * (1.0f / 16777216.0f);
+}
+
 #ifdef __cplusplus
 } // namespace vx::render::gpu
 #else

@@ -225,6 +225,93 @@ TEST(CliRender, HazeAndVisibility) {
     EXPECT_NE(read_png(off).rgba, read_png(thick).rgba);
 }
 
+// --lighting thesis: 25 shadow samples at every hit, 5 reflections, no sun and no sky light;
+// options given explicitly win. With the area light off too nothing lights the blocks: only
+// the sky colour of missed primary rays is left (the centre pixel, a block, is black), where the
+// default lighting's sun and sky still light it. A bad preset is one line and exit 2.
+TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 ";
+    const std::string one = "--lighting thesis --spp 1 --bounce-spp 1 ";
+    const CliRun thesis = render(view + one + "--out " + dir() + "/t1.png");
+    EXPECT_NE(thesis.out.find("shadows on (1 samples, 1 on bounces), reflections 5"), std::string::npos)
+        << thesis.out;
+    EXPECT_NE(thesis.out.find("lights (--lighting thesis): sun off, sky term x0, area light on"),
+              std::string::npos)
+        << thesis.out;
+    const CliRun preset = render(view + "--lighting thesis --out " + dir() + "/t.png");
+    EXPECT_NE(preset.out.find("(25 samples, 25 on bounces), reflections 5"), std::string::npos) << preset.out;
+    const std::string dark = dir() + "/thesis_dark.png", lit = dir() + "/default_lit.png";
+    render(view + "--lighting thesis --area-light off --spp 1 --bounce-spp 1 --out " + dark);
+    render(view + "--area-light off --spp 1 --out " + lit);
+    const Png a = read_png(dark), b = read_png(lit);
+    ASSERT_EQ(a.w, 32);
+    ASSERT_EQ(b.w, 32);
+    EXPECT_EQ(a.at(16, 12), 0u);
+    EXPECT_NE(b.at(16, 12), 0u);
+    EXPECT_NE(a.at(0, 0), 0u); // The sky.
+    const CliRun bad = vx("render " + view + "--lighting moon", kEnv);
+    EXPECT_EQ(bad.code, 2) << bad.out;
+    EXPECT_NE(bad.out.find("--lighting"), std::string::npos) << bad.out;
+}
+
+// --sample-seed: the same seed gives the same picture, another seed other samples (1 spp: every
+// lit pixel's noise changes); a seed that is no number is exit 2.
+TEST(CliRender, SampleSeedPicksTheSamples) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
+    const std::string a = dir() + "/seed5a.png", b = dir() + "/seed5b.png", c = dir() + "/seed6.png";
+    render(view + "--sample-seed 5 --out " + a);
+    render(view + "--sample-seed 5 --out " + b);
+    render(view + "--sample-seed 6 --out " + c);
+    EXPECT_EQ(read_png(a).rgba, read_png(b).rgba);
+    EXPECT_NE(read_png(a).rgba, read_png(c).rgba);
+    EXPECT_EQ(vx("render " + view + "--sample-seed five", kEnv).code, 2);
+}
+
+// `vx bench render --lighting thesis --sections report` (tiny): the Table 6.3 rows carry their
+// ratios to this run's RT flat and all-off rows (the all-off row is 1.00 of itself) and the
+// thesis's ratio beside them.
+TEST(CliRender, BenchRenderTableRatios) {
+    const std::string out = dir() + "/bench_ratios";
+    const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 "
+                        "--reference-spp 8 --reflections 1 --lighting thesis --sections report --out " +
+                        out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream md(out + "/render_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("Lighting: thesis"), std::string::npos) << text;
+    EXPECT_NE(text.find("| x RT flat | x all off | thesis x all off |"), std::string::npos) << text;
+    const size_t off = text.find("| RT full: shadows off, reflections (1 bounces) off, denoiser off |");
+    ASSERT_NE(off, std::string::npos) << text;
+    const std::string row = text.substr(off, text.find('\n', off) - off);
+    EXPECT_NE(row.find("| 1.00 | 1.00 |"), std::string::npos) << row;
+    EXPECT_NE(text.find("| 34.82 |"), std::string::npos) << text;
+}
+
+// `vx bench render --sections paths` (tiny): a row per path and configuration with RMSE median
+// and p95, and a CSV line per frame; the edit path's row has a recovery figure.
+TEST(CliRender, BenchRenderCameraPaths) {
+    const std::string out = dir() + "/bench_paths";
+    const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --reflections 1 "
+                        "--sections paths --path-frames 6 --path-reference-spp 8 --out " +
+                        out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream md(out + "/render_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("## Camera paths"), std::string::npos) << text;
+    for (const char* path : {"| orbit | ", "| fly-over | ", "| edit | "}) {
+        size_t rows = 0;
+        for (size_t at = text.find(path); at != std::string::npos; at = text.find(path, at + 1))
+            ++rows;
+        EXPECT_EQ(rows, 3u) << path << "\n" << text;
+    }
+    std::ifstream csv(out + "/paths.csv");
+    int frames = 0;
+    for (std::string line; std::getline(csv, line);)
+        frames += line.rfind("orbit,", 0) == 0 ? 1 : 0;
+    EXPECT_EQ(frames, 3 * 6); // Three configurations, six frames.
+    EXPECT_EQ(vx("bench render --sections paths --path-frames 2").code, 2);
+}
+
 // `vx bench render --sections geometry`: three mesher rows (naive > culled > greedy triangles),
 // the refit run refits and the rebuild run only builds, trace rows after k = 0, 1, 10, 100.
 TEST(CliRender, BenchRenderGeometrySection) {

@@ -1,0 +1,270 @@
+// `vx bench render` section 5: camera paths (tools/bench_render_paths.h).
+#include "bench_render_paths.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <vector>
+
+#include "render/image_metrics.h"
+#include "world/base/median.h"
+#include "world/mesh/edit_mesher.h"
+
+namespace vx::tools {
+namespace {
+
+using render::ImageF;
+
+constexpr double kOrbitDegrees = 3.0; // Per frame: a brisk turn (a 2-minute orbit at 60 fps).
+constexpr double kFlyStep = 0.02;     // Per frame, of the eye's distance to the centre.
+constexpr double kRecovered = 1.25;   // After the edit: error within this of its median before.
+
+struct Row {
+    std::string name;
+    render::RenderSettings s;
+};
+
+// The game-like configurations every path runs: denoised with an 8-frame history (reprojected
+// while the camera moves), and raw single frames for comparison.
+std::vector<Row> rows(const PathBenchInfo& info) {
+    auto make = [&](std::string name, uint32_t spp, bool denoise, uint32_t history) {
+        Row row{std::move(name), info.base};
+        row.s.mode = render::ShadingMode::Full;
+        row.s.shadow_samples = spp;
+        row.s.bounce_shadow_samples = spp;
+        row.s.max_bounces = info.reflections;
+        row.s.denoise = denoise;
+        row.s.accumulate = history;
+        return row;
+    };
+    return {make("1 spp, denoiser on, history 8", 1, true, 8), make("4 spp, denoiser on, history 8", 4, true, 8),
+            make("4 spp, raw", 4, false, 1)};
+}
+
+struct Path {
+    std::string name;
+    std::vector<render::Camera> poses;
+    uint32_t edit_frame = 0; // Frame that first shows the edit; 0: no edit.
+};
+
+// The converged reference of one pose: `frames` frames of 8 samples accumulated, no filter.
+// `parity` alternates the history length between successive poses, which restarts the history
+// (render/renderer.h: a change of accumulate does), so no pose inherits the last one's frames.
+ImageF reference(render::Renderer& r, const PathBenchInfo& info, const render::Camera& cam, uint32_t parity) {
+    render::RenderSettings s = info.base;
+    s.mode = render::ShadingMode::Full;
+    s.shadow_samples = 8;
+    s.bounce_shadow_samples = 8;
+    s.max_bounces = info.reflections;
+    s.denoise = false;
+    s.accumulate = std::max(1u, info.reference_spp / 8) + parity;
+    render::RenderImage img;
+    for (uint32_t i = 0; i < s.accumulate; ++i)
+        img = r.render(s, cam);
+    return render::to_float(img);
+}
+
+// The top solid block of the column through the scene's centre, or nullopt.
+std::optional<world::BlockPos> surface_at_centre(const engine::LoadedScene& scene) {
+    const glm::i64vec3 c = (scene.box_min + scene.box_max) / int64_t(2);
+    for (int64_t y = scene.box_max.y - 1; y >= scene.box_min.y; --y)
+        if (scene.world->get_block({c.x, y, c.z}) != world::kAir)
+            return world::BlockPos{c.x, y, c.z};
+    return std::nullopt;
+}
+
+// The edit's cube side: a twelfth of the scene's width (a few pixels at any image size), 3..16.
+int64_t cube_side(const engine::LoadedScene& scene) {
+    return std::clamp<int64_t>((scene.box_max.x - scene.box_min.x) / 12, 3, 16);
+}
+
+// Sets the blocks of the cube standing on `top` (x fastest, then z, then y) to `ids` (one id for
+// all, or one per block) through the engine's edit path, and hands the changed slices to the
+// renderer. Returns the blocks they held, so a second call puts them back.
+std::vector<world::BlockId> set_cube(render::Renderer& r, engine::LoadedScene& scene, world::BlockPos top,
+                                     const std::vector<world::BlockId>& ids) {
+    world::EditMesher em;
+    const int64_t side = cube_side(scene), lo = -side / 2;
+    std::vector<world::BlockId> previous;
+    for (int64_t y = 1; y <= side; ++y)
+        for (int64_t z = lo; z < lo + side; ++z)
+            for (int64_t x = lo; x < lo + side; ++x) {
+                const world::BlockPos p = top + world::BlockPos{x, y, z};
+                const world::BlockId id = ids.size() == 1 ? ids[0] : ids[previous.size()];
+                previous.push_back(scene.world->get_block(p));
+                const world::EditResult e = em.apply(*scene.world, p, id, scene.meshes);
+                for (const world::SliceUpdate& u : e.updates) {
+                    const world::ChunkMesh& mesh = scene.meshes[u.chunk].mesh;
+                    if (u.full)
+                        r.set_chunk(u.chunk, mesh);
+                    else
+                        r.set_chunk(u.chunk, mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
+                }
+            }
+    return previous;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty())
+        return -1;
+    std::sort(v.begin(), v.end());
+    return v[size_t(std::lround(p * double(v.size() - 1)))];
+}
+
+// The pixels the edit changed: any channel of the references before and after differs by more
+// than 0.1 (a tenth of the display range).
+std::vector<bool> changed_pixels(const ImageF& before, const ImageF& after) {
+    std::vector<bool> mask(size_t(before.width) * before.height, false);
+    for (size_t i = 0; i < mask.size(); ++i)
+        for (size_t c = 0; c < 3; ++c)
+            mask[i] = mask[i] || std::abs(before.rgba[i * 4 + c] - after.rgba[i * 4 + c]) > 0.1f;
+    return mask;
+}
+
+// RMSE over R, G, B of the pixels in `mask` (0 when it is empty).
+double masked_rmse(const ImageF& test, const ImageF& reference, const std::vector<bool>& mask) {
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t i = 0; i < mask.size(); ++i)
+        if (mask[i])
+            for (size_t c = 0; c < 3; ++c) {
+                const double d = double(test.rgba[i * 4 + c]) - reference.rgba[i * 4 + c];
+                sum += d * d;
+                ++count;
+            }
+    return count ? std::sqrt(sum / double(count)) : 0.0;
+}
+
+// Median RMS change between successive images.
+double flicker(const std::vector<ImageF>& images) {
+    std::vector<double> change;
+    for (size_t i = 1; i < images.size(); ++i)
+        change.push_back(render::rmse(images[i], images[i - 1]));
+    return median(change);
+}
+
+} // namespace
+
+std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, const PathBenchInfo& info) {
+    const uint32_t n = std::max(info.frames, 4u);
+    // The default view's eye and the point it looks at (Camera: block + offset, forward).
+    const glm::dvec3 eye = glm::dvec3(info.camera.block) + glm::dvec3(info.camera.offset);
+    const glm::dvec3 centre = glm::dvec3(scene.box_min + scene.box_max) * 0.5;
+    std::vector<Path> paths(3);
+    paths[0].name = "orbit";
+    paths[1].name = "fly-over";
+    paths[2].name = "edit";
+    for (uint32_t i = 0; i < n; ++i) {
+        const double a = glm::radians(kOrbitDegrees * double(i));
+        const glm::dvec3 d = eye - centre;
+        const glm::dvec3 rotated(d.x * std::cos(a) - d.z * std::sin(a), d.y, d.x * std::sin(a) + d.z * std::cos(a));
+        paths[0].poses.push_back(render::Camera::look_at(centre + rotated, centre));
+        glm::dvec3 ahead = centre - eye;
+        ahead.y = 0.0;
+        const glm::dvec3 step = kFlyStep * glm::length(d) * double(i) * glm::normalize(ahead);
+        paths[1].poses.push_back(render::Camera::look_at(eye + step, centre + step));
+        paths[2].poses.push_back(info.camera);
+    }
+    const std::optional<world::BlockPos> top = surface_at_centre(scene);
+    const world::BlockId stone = scene.world->registry().find("stone").value_or(world::BlockId(1));
+    if (top)
+        paths[2].edit_frame = n / 2; // After a full history (8 frames) at the default 24.
+    else
+        paths.pop_back(); // Nothing solid under the centre: no surface to build on.
+
+    std::string md = "## Camera paths\n\nEach frame against a converged reference at its pose (" +
+                     std::to_string(std::max(1u, info.reference_spp / 8) * 8) + " samples per pixel, " +
+                     std::to_string(info.reflections) + " reflection bounces). " + std::to_string(n) +
+                     " frames per path: orbit " + std::to_string(int(kOrbitDegrees)) +
+                     " degrees per frame around the centre; fly-over towards the centre, 2% of the view distance "
+                     "per frame; edit: the still default view, a stone cube of side " +
+                     std::to_string(cube_side(scene)) + " added on the surface at the centre in frame " +
+                     std::to_string(n / 2) +
+                     ". Flicker: median RMS change between successive frames (the references': the change the "
+                     "motion itself makes). Recovery: frames after the edit until the error in the pixels it "
+                     "changed (references before and after differ by > 0.1) is within 1.25x of its steady "
+                     "value (median over n/2 more frames of the edited view after the path): it counts the "
+                     "history's restart too. Ghost: frames after the edit whose error there exceeds the raw "
+                     "row's (worse than no history).\n\n"
+                     "| path | configuration | RMSE median | RMSE p95 | flicker | reference flicker | recovery "
+                     "frames | ghost frames |\n|---|---|---|---|---|---|---|---|\n";
+    std::ofstream csv(info.out + "/paths.csv");
+    csv << "path,configuration,frame,rmse,edited_rmse\n"; // edited_rmse: the edit's pixels (edit path).
+    char line[512];
+    for (const Path& path : paths) {
+        // References first: one per pose (two for the still edit path: before and after).
+        std::vector<ImageF> refs;
+        std::vector<bool> mask;
+        if (path.edit_frame > 0) {
+            const ImageF before = reference(r, info, path.poses[0], 0);
+            const std::vector<world::BlockId> held = set_cube(r, scene, *top, {stone});
+            const ImageF after = reference(r, info, path.poses[0], 1);
+            set_cube(r, scene, *top, held);
+            mask = changed_pixels(before, after);
+            for (uint32_t i = 0; i < n; ++i)
+                refs.push_back(i < path.edit_frame ? before : after);
+        } else {
+            for (uint32_t i = 0; i < n; ++i)
+                refs.push_back(reference(r, info, path.poses[i], i % 2));
+        }
+        struct Result {
+            std::string row, recovery;
+            double median = 0, p95 = 0, flicker = 0;
+            std::vector<double> edited;
+        };
+        std::vector<Result> results;
+        for (const Row& row : rows(info)) {
+            std::vector<world::BlockId> held; // What the cube's blocks were before the edit.
+            std::vector<ImageF> frames;
+            std::vector<double> error, edited; // Whole image; the edit's pixels.
+            for (uint32_t i = 0; i < n; ++i) {
+                if (path.edit_frame > 0 && i == path.edit_frame)
+                    held = set_cube(r, scene, *top, {stone});
+                frames.push_back(render::to_float(r.render(row.s, path.poses[i])));
+                error.push_back(render::rmse(frames.back(), refs[i]));
+                if (!mask.empty())
+                    edited.push_back(masked_rmse(frames.back(), refs[i], mask));
+                csv << path.name << ",\"" << row.name << "\"," << i << ',' << error.back() << ','
+                    << (mask.empty() ? -1.0 : edited.back()) << '\n';
+            }
+            std::string recovery = "";
+            if (path.edit_frame > 0) {
+                // The steady error of the edited view: n / 2 more frames, still, after the path.
+                std::vector<double> steady;
+                for (uint32_t i = 0; i < n / 2; ++i)
+                    steady.push_back(masked_rmse(render::to_float(r.render(row.s, path.poses[0])), refs[n - 1], mask));
+                set_cube(r, scene, *top, held);
+                const double normal = kRecovered * median(steady);
+                uint32_t k = path.edit_frame;
+                while (k < n && edited[k] > normal)
+                    ++k;
+                recovery = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
+                if (std::find(mask.begin(), mask.end(), true) == mask.end())
+                    recovery = "edit not visible";
+            }
+            results.push_back(
+                {row.name, recovery, median(error), percentile(error, 0.95), flicker(frames), edited});
+        }
+        for (const Result& res : results) {
+            // The ghost: frames from the edit on whose error in the edited pixels exceeds the raw
+            // row's (rows(): the last), i.e. worse than no history at all.
+            std::string ghost = "";
+            if (path.edit_frame > 0) {
+                const std::vector<double>& raw = results.back().edited;
+                uint32_t k = path.edit_frame;
+                while (k < n && res.edited[k] > raw[k])
+                    ++k;
+                ghost = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
+            }
+            std::snprintf(line, sizeof line, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %s | %s |\n",
+                          path.name.c_str(), res.row.c_str(), res.median, res.p95, res.flicker, flicker(refs),
+                          res.recovery.c_str(), ghost.c_str());
+            md += line;
+            std::printf("  %s", line);
+        }
+    }
+    return md;
+}
+
+} // namespace vx::tools
