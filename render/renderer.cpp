@@ -601,7 +601,7 @@ static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
            a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise &&
-           a.history_clamp == b.history_clamp;
+           a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections;
 }
 
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
@@ -621,9 +621,11 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
     in.albedo = g.albedo.view();
     in.normal_depth = g.normal_depth.view();
     in.reflected = g.reflected.view();
-    in.mirror_light = g.mirror_light.view();
-    in.mirror_albedo = g.mirror_albedo.view();
-    in.mirror_normal_depth = g.mirror_normal_depth.view();
+    if (s.denoise_reflections) {
+        in.mirror_light = g.mirror_light.view();
+        in.mirror_albedo = g.mirror_albedo.view();
+        in.mirror_normal_depth = g.mirror_normal_depth.view();
+    }
     in.reproject = reprojection_matrix(view_from_world(denoised_camera, cam.block), view_from_world(cam, cam.block),
                                        cam.fov_y_degrees, s.width, s.height);
     in.fov_y_degrees = cam.fov_y_degrees;
