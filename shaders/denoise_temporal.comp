@@ -121,9 +121,9 @@ vec3 clamp_mirror(vec3 history, ivec2 p, ivec2 size, vec4 mnd) {
 // Accumulates the mirror light into its history (read at history_pixel; < 0: none) and writes
 // it with its variance for the a-trous passes; returns it remodulated.
 vec3 accumulate_mirror(ivec2 p, ivec2 size, ivec2 history_pixel, float max_frames) {
-    if (!mirror_inputs())
-        return vec3(0);
-    const vec4 mnd = imageLoad(u_mirror_nd, p);
+    // No mirror input this frame: the history is still written (no frames), so a later frame
+    // with mirror inputs never reads an unwritten one.
+    const vec4 mnd = mirror_inputs() ? imageLoad(u_mirror_nd, p) : vec4(0);
     if (!has_surface(mnd)) {
         imageStore(u_hist_mirror_out, p, vec4(0));
         imageStore(u_mirror_filter_out, p, vec4(0));
@@ -283,10 +283,8 @@ void main() {
         imageStore(u_hist_refl_out, p, vec4(0));
         imageStore(u_refl_out, p, vec4(0));
         imageStore(u_filter_out, p, vec4(imageLoad(u_color, p).rgb, 0));
-        if (mirror_inputs()) {
-            imageStore(u_hist_mirror_out, p, vec4(0));
-            imageStore(u_mirror_filter_out, p, vec4(0));
-        }
+        imageStore(u_hist_mirror_out, p, vec4(0));
+        imageStore(u_mirror_filter_out, p, vec4(0));
         if ((pc.params.w & kDenoiseLastPass) != 0)
             store_result(p, imageLoad(u_color, p).rgb, vec3(1), false, vec3(0));
         return;

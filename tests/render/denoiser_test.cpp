@@ -404,6 +404,12 @@ TEST_F(DenoiserTest, MovedMirrorLightLeavesNoGhost) {
                 stale, rmse(out, expected), rmse(out_plain, expected));
     EXPECT_LT(stale, 0.03);
     EXPECT_LT(rmse(out, expected), 1.1 * rmse(out_plain, expected) + 0.005);
+    // Mirror inputs after frames without them: the mirror history starts empty (no stale or
+    // unwritten history), so the noise-free frame comes out as it went in.
+    const ImageF switched = denoise_on_host(*m_ctx, plain, with(after), g.albedo, g.normal_depth, {}, glm::mat4(1.f),
+                                            60.f, &zero, &mirror_after);
+    std::printf("mirror inputs after frames without: RMSE %.4f\n", rmse(switched, expected));
+    EXPECT_LT(rmse(switched, expected), 0.01);
 }
 
 TEST(DenoiserReprojection, StillCameraIsIdentityAndMovedCameraShiftsPixels) {
