@@ -19,7 +19,7 @@ static_assert(sizeof(gpu::DenoisePush) == 112, "DenoisePush must match its std43
 namespace {
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr uint32_t kTemporalBindings = 16, kAtrousBindings = 7;
+constexpr uint32_t kTemporalBindings = 22, kAtrousBindings = 11;
 constexpr VkPipelineStageFlags2 kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 
 VkDescriptorSetLayout make_set_layout(Context& ctx, uint32_t bindings, const char* name) {
@@ -133,6 +133,8 @@ void Denoiser::create_images() {
     m_ping = {make("denoise ping"), make("denoise pong")};
     m_moments = {make("denoise moments 0"), make("denoise moments 1")};
     m_history_reflected = {make("denoise history reflected 0"), make("denoise history reflected 1")};
+    m_history_mirror = {make("denoise history mirror 0"), make("denoise history mirror 1")};
+    m_mirror_ping = {make("denoise mirror ping"), make("denoise mirror pong")};
     m_reflected = make("denoise reflected");
     m_output = make("denoise output");
     ImageCreateInfo ldr;
@@ -174,16 +176,25 @@ void Denoiser::create_pipelines() {
 
 void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {
     const VkImageView ldr = in.ldr_target ? in.ldr_target : m_ldr.view();
+    // Without mirror inputs the shaders read none of them (kDenoiseMirror): any view of the
+    // format keeps the sets valid.
+    const bool mirror = in.mirror_light != VK_NULL_HANDLE;
+    const VkImageView mirror_light = mirror ? in.mirror_light : m_reflected.view();
+    const VkImageView mirror_albedo = mirror ? in.mirror_albedo : m_ldr.view();
+    const VkImageView mirror_nd = mirror ? in.mirror_normal_depth : m_reflected.view();
     for (uint32_t p = 0; p < 2; ++p) {
         const uint32_t q = 1 - p; // History read from [p], written to [q].
         const VkImageView temporal[kTemporalBindings] = {
             in.colour, in.albedo, in.normal_depth, m_history[p].view(), m_history_nd[p].view(),
             m_history[q].view(), m_history_nd[q].view(), m_ping[0].view(), m_output.view(), ldr,
             m_moments[p].view(), m_moments[q].view(), in.reflected, m_history_reflected[p].view(),
-            m_history_reflected[q].view(), m_reflected.view()};
+            m_history_reflected[q].view(), m_reflected.view(), mirror_light, mirror_albedo, mirror_nd,
+            m_history_mirror[p].view(), m_history_mirror[q].view(), m_mirror_ping[0].view()};
         write_images(*m_ctx, m_temporal_sets[slot][p], temporal);
         const VkImageView atrous[kAtrousBindings] = {m_ping[p].view(), in.albedo, in.normal_depth, m_ping[q].view(),
-                                                     m_output.view(), ldr, m_reflected.view()};
+                                                     m_output.view(), ldr, m_reflected.view(),
+                                                     m_mirror_ping[p].view(), mirror_nd,
+                                                     m_mirror_ping[q].view(), mirror_albedo};
         write_images(*m_ctx, m_atrous_sets[slot][p], atrous);
     }
 }
@@ -191,12 +202,17 @@ void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {
 void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const DenoiseSettings& settings) {
     VX_ASSERT_MSG(m_ready, "Denoiser::record without its images (out of memory: see ready())");
     VX_ASSERT(inputs.colour && inputs.albedo && inputs.normal_depth && inputs.reflected);
+    const bool mirror = inputs.mirror_light != VK_NULL_HANDLE;
+    VX_ASSERT_MSG(mirror == (inputs.mirror_albedo != VK_NULL_HANDLE) &&
+                      mirror == (inputs.mirror_normal_depth != VK_NULL_HANDLE),
+                  "Denoiser::record: the mirror images come all or none");
     const uint32_t slot = m_ctx->frame_slot();
     write_sets(inputs, slot);
     if (!m_initialised) {
         for (const Image* img : {&m_history[0], &m_history[1], &m_history_nd[0], &m_history_nd[1], &m_ping[0],
                                  &m_ping[1], &m_output, &m_ldr, &m_moments[0], &m_moments[1],
-                                 &m_history_reflected[0], &m_history_reflected[1], &m_reflected})
+                                 &m_history_reflected[0], &m_history_reflected[1], &m_reflected,
+                                 &m_history_mirror[0], &m_history_mirror[1], &m_mirror_ping[0], &m_mirror_ping[1]})
             image_barrier(cmd, img->handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                           VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, kCompute,
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -209,7 +225,8 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     push.params = {m_width, m_height, 1,
                    (m_history_valid ? gpu::kDenoiseHistoryValid : 0u) |
                        (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u) |
-                       (settings.history_clamp ? gpu::kDenoiseHistoryClamp : 0u)};
+                       (settings.history_clamp ? gpu::kDenoiseHistoryClamp : 0u) |
+                       (mirror ? gpu::kDenoiseMirror : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
                    inputs.exposure, 0.f};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
@@ -230,7 +247,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
         compute_barrier(cmd);
         const uint32_t from = i % 2; // The temporal pass wrote m_ping[0].
         push.params.z = 1u << i;
-        push.params.w = (i + 1 == settings.iterations) ? gpu::kDenoiseLastPass : 0u;
+        push.params.w = ((i + 1 == settings.iterations) ? gpu::kDenoiseLastPass : 0u) | (mirror ? gpu::kDenoiseMirror : 0u);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_atrous_pl, 0, 1, &m_atrous_sets[slot][from],
                                 0, nullptr);
         vkCmdPushConstants(cmd, m_atrous_pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
@@ -287,21 +304,35 @@ void copy_buffer_to_image(VkCommandBuffer cmd, VkBuffer src, VkDeviceSize offset
 
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings, const glm::mat4& reproject,
-                       float fov_y_degrees, const ImageF* reflected) {
+                       float fov_y_degrees, const ImageF* reflected, const MirrorImagesF* mirror) {
     const uint32_t w = denoiser.width(), h = denoiser.height();
     const ImageF zero = reflected ? ImageF{} : ImageF::make(w, h);
     const ImageF& refl = reflected ? *reflected : zero;
-    for (const ImageF* img : {&colour, &albedo, &normal_depth, &refl})
-        VX_ASSERT_MSG(img->width == w && img->height == h && img->rgba.size() == size_t(w) * h * 4,
+    const int inputs_used = mirror ? 7 : 4;
+    const ImageF* images[7] = {&colour, &albedo, &normal_depth, &refl, nullptr, nullptr, nullptr};
+    if (mirror) {
+        images[4] = &mirror->light;
+        images[5] = &mirror->albedo;
+        images[6] = &mirror->normal_depth;
+    }
+    for (int i = 0; i < inputs_used; ++i)
+        VX_ASSERT_MSG(images[i]->width == w && images[i]->height == h && images[i]->rgba.size() == size_t(w) * h * 4,
                       "denoise_on_host: image size differs from the denoiser's");
-    constexpr int kInputs = 4;
-    const std::vector<uint8_t> bytes[kInputs] = {pack(colour, true), pack(albedo, false),
-                                                 pack(normal_depth, true), pack(refl, true)};
-    const VkFormat formats[kInputs] = {kHdrFormat, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat, kHdrFormat};
+    constexpr int kInputs = 7;
+    const bool half[kInputs] = {true, false, true, true, true, false, true};
+    std::vector<uint8_t> bytes[kInputs];
+    VkDeviceSize in_bytes = 0;
+    for (int i = 0; i < inputs_used; ++i) {
+        bytes[i] = pack(*images[i], half[i]);
+        in_bytes += bytes[i].size();
+    }
+    const VkFormat formats[kInputs] = {kHdrFormat, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat, kHdrFormat,
+                                       kHdrFormat, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat};
     const char* names[kInputs] = {"denoise input colour", "denoise input albedo",
-                                  "denoise input normal_depth", "denoise input reflected"};
+                                  "denoise input normal_depth", "denoise input reflected",
+                                  "denoise input mirror light", "denoise input mirror albedo",
+                                  "denoise input mirror normal_depth"};
     const VkDeviceSize out_bytes = VkDeviceSize(w) * h * 8;
-    const VkDeviceSize in_bytes = bytes[0].size() + bytes[1].size() + bytes[2].size() + bytes[3].size();
     Buffer staging = Buffer::create(
         ctx, {in_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, 16, "denoise input staging"});
     Buffer readback =
@@ -309,7 +340,7 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
     VX_ASSERT_MSG(staging.valid() && readback.valid(), "out of memory for denoise_on_host's buffers");
     Image inputs[kInputs];
     VkDeviceSize offsets[kInputs], at = 0;
-    for (int i = 0; i < kInputs; ++i) {
+    for (int i = 0; i < inputs_used; ++i) {
         inputs[i] = Image::create(ctx, {w, h, formats[i], VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                         names[i]});
         VX_ASSERT_MSG(inputs[i].valid(), "out of GPU memory for denoise_on_host's images");
@@ -319,10 +350,16 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
     }
     VX_ASSERT_MSG(denoiser.ready(), "out of GPU memory for the denoiser's images");
     VkCommandBuffer cmd = ctx.begin_frame();
-    for (int i = 0; i < kInputs; ++i)
+    for (int i = 0; i < inputs_used; ++i)
         copy_buffer_to_image(cmd, staging.handle(), offsets[i], inputs[i]);
-    const DenoiseInputs in{inputs[0].view(), inputs[1].view(), inputs[2].view(),
-                           inputs[3].view(), reproject, fov_y_degrees};
+    DenoiseInputs in{inputs[0].view(), inputs[1].view(), inputs[2].view(), inputs[3].view()};
+    in.reproject = reproject;
+    in.fov_y_degrees = fov_y_degrees;
+    if (mirror) {
+        in.mirror_light = inputs[4].view();
+        in.mirror_albedo = inputs[5].view();
+        in.mirror_normal_depth = inputs[6].view();
+    }
     denoiser.record(cmd, in, settings);
     const VkImage output = denoiser.output().handle();
     image_barrier(cmd, output, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kCompute,

@@ -2,8 +2,11 @@
 // The guided denoiser: temporal accumulation with reprojection (and luminance moments for the
 // variance), then an edge-avoiding a-trous wavelet filter guided by normal, depth and luminance
 // variance, on albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
-// al. 2010). Only the primary hit's diffuse lighting is filtered; the reflected part (mirror
-// bounces, emission) is accumulated over frames and added back. Both histories are clamped
+// al. 2010). The primary hit's diffuse lighting is filtered with the primary hit's guides, the
+// first mirror bounce's diffuse lighting (when given) the same way with the reflected surface's
+// own guides (its normal, the path's length; demodulated by its albedo); the rest of the
+// reflected part (emission, sky, haze, deeper bounces) is accumulated over frames and added back
+// unfiltered, so it stays sharp. All histories are clamped
 // (DenoiseSettings::history_clamp) so changed light leaves no ghost. The luminance weight's variance
 // is the pixels' own (from their light samples, render/gbuffer.h; averaged over the history), so
 // the filter fades as samples grow; at 1 sample it is unknown: the 3x3 spatial estimate, which
@@ -19,6 +22,12 @@
 //                          estimated from the 3x3 neighbourhood),
 //   reflected     RGBA16F  the part of colour not filtered with the primary hit's guides
 //                          (emission, mirror bounces; rgb): accumulated over frames only,
+//                          except mirror light x mirror albedo,
+//   mirror_light, mirror_albedo, mirror_normal_depth (optional, all or none): the first
+//                          mirror bounce's diffuse lighting over its surface's albedo (RGBA16F,
+//                          a: variance as colour's), that albedo (RGBA8) and that surface's
+//                          normal and path length (RGBA16F; w <= 0: none), render/gbuffer.h
+//                          bindings 7-9. Without them the reflected part is not filtered.
 //   albedo        RGBA8    linear albedo of the primary hit (UNORM),
 //   normal_depth  RGBA16F  world-space unit normal (xyz) and the distance along the primary
 //                          ray to the hit in blocks (w); w <= 0 marks a miss (sky: passed
@@ -62,6 +71,9 @@ struct DenoiseInputs {
     VkImageView albedo = VK_NULL_HANDLE;
     VkImageView normal_depth = VK_NULL_HANDLE;
     VkImageView reflected = VK_NULL_HANDLE;
+    VkImageView mirror_light = VK_NULL_HANDLE;
+    VkImageView mirror_albedo = VK_NULL_HANDLE;
+    VkImageView mirror_normal_depth = VK_NULL_HANDLE;
     // Maps (x d, y d, d, 1) of this frame's pixel centre (x, y) (pixels, row 0 at the top) at
     // view depth d to (x' d', y' d', d', 1) of the previous frame: identity for a still camera.
     // See reprojection_matrix().
@@ -111,9 +123,9 @@ private:
     Context* m_ctx;
     uint32_t m_width, m_height;
     // Ping-pong: read [m_parity], write the other. Moments: luminance m1, m2 (SVGF's variance).
-    // Reflected: the reflected part's running mean.
-    std::array<Image, 2> m_history, m_history_nd, m_moments, m_history_reflected;
-    std::array<Image, 2> m_ping;                  // A-trous iterations alternate between these.
+    // Reflected: the reflected part's running mean; mirror: the mirror light's.
+    std::array<Image, 2> m_history, m_history_nd, m_moments, m_history_reflected, m_history_mirror;
+    std::array<Image, 2> m_ping, m_mirror_ping;   // A-trous iterations alternate between these.
     Image m_reflected; // This frame's accumulated reflected part (temporal pass -> last pass).
     Image m_output, m_ldr;
     uint32_t m_parity = 0;
@@ -133,13 +145,21 @@ private:
 glm::mat4 reprojection_matrix(const glm::dmat4& prev_view_from_world, const glm::dmat4& view_from_world,
                               float fov_y_degrees, uint32_t width, uint32_t height);
 
-// Host round trip for tests and benchmarks: uploads the images (colour, normal_depth and
-// reflected as RGBA16F, albedo as RGBA8 from 0..1 floats; no `reflected`: zero), runs
+// The first mirror bounce's G-buffer images for denoise_on_host (DenoiseInputs says what they hold).
+struct MirrorImagesF {
+    const ImageF& light;
+    const ImageF& albedo;
+    const ImageF& normal_depth;
+};
+
+// Host round trip for tests and benchmarks: uploads the images (colour, normal_depth,
+// reflected and the mirror's light and normal_depth as RGBA16F, albedos as RGBA8 from 0..1
+// floats; no `reflected`: zero; no `mirror`: the reflected part is not filtered), runs
 // `denoiser` once (it keeps its history between calls) and reads the output back. Waits for
 // the GPU. Sizes must match the denoiser.
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings,
                        const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f,
-                       const ImageF* reflected = nullptr);
+                       const ImageF* reflected = nullptr, const MirrorImagesF* mirror = nullptr);
 
 } // namespace vx::render

@@ -28,9 +28,20 @@
 //   binding 6  reflected     RGBA16F  the part of radiance that is not the primary hit's diffuse
 //                                     lighting, rgb: its emission plus the radiance from mirror
 //                                     bounces and the haze's in-scattered light (the sky colour on
-//                                     a miss); a = 1. The denoiser
-//                                     filters radiance - reflected with the primary hit's guides
+//                                     a miss) except the first mirror bounce's diffuse lighting
+//                                     (bindings 7-9); a = 1. The denoiser filters radiance -
+//                                     reflected - mirror light x mirror albedo with the primary
+//                                     hit's guides, the mirror light with bindings 8-9 as guides,
 //                                     and adds this back unfiltered. Flat mode: 0.
+//   binding 7  mirror_light  RGBA16F  the diffuse lighting of the surface the first mirror bounce
+//                                     hit, over that surface's albedo (the mirror's reflectivity,
+//                                     tint and haze included), rgb; a: its luminance variance as
+//                                     in radiance.a (bounce_shadow_samples). 0 without such a hit.
+//   binding 8  mirror_albedo RGBA8 UNORM  linear albedo of that surface, rgb; a = 1 (0: none).
+//   binding 9  mirror_normal_depth RGBA16F  xyz: its unit world-space normal; w: the path's
+//                                     length from the eye over the mirror to it, in blocks;
+//                                     (0, 0, 0, 0) without such a hit (the primary hit is no
+//                                     mirror, or the reflected ray missed). Flat mode: all 0.
 //
 // The tone-map step: today the last thing raygen does (it writes the output from radiance with
 // vx_display: exposure, tone curve, sRGB; shaders/shared/tonemap.h). A denoiser that filters
@@ -45,6 +56,9 @@ inline constexpr VkFormat kRadianceFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 inline constexpr VkFormat kAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
 inline constexpr VkFormat kNormalDepthFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 inline constexpr VkFormat kReflectedFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+inline constexpr VkFormat kMirrorLightFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+inline constexpr VkFormat kMirrorAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
+inline constexpr VkFormat kMirrorNormalDepthFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 inline constexpr VkImageUsageFlags kGBufferUsage =
     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
 
@@ -57,6 +71,9 @@ enum RtBinding : uint32_t {
     kBindingAlbedo = 4,
     kBindingNormalDepth = 5,
     kBindingReflected = 6,
+    kBindingMirrorLight = 7,
+    kBindingMirrorAlbedo = 8,
+    kBindingMirrorNormalDepth = 9,
 };
 
 } // namespace vx::render

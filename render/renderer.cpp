@@ -47,6 +47,7 @@ struct Renderer::Impl {
     // The G-buffer of each frame slot (render/gbuffer.h), the size of its target.
     struct GBuffer {
         Image radiance, albedo, normal_depth, reflected;
+        Image mirror_light, mirror_albedo, mirror_normal_depth; // The first mirror bounce's.
     };
     std::array<GBuffer, kFramesInFlight> gbuffers;
     // Emissive blocks light the scene only where they are: sky rays look for emitters when some
@@ -209,7 +210,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
 void Renderer::Impl::create_descriptors() {
     const VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, kFramesInFlight},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 5 * kFramesInFlight}, // Output + 4 G-buffer images.
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 8 * kFramesInFlight}, // Output + 7 G-buffer images.
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight},
     };
     VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -370,7 +371,12 @@ bool Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     g.albedo = Image::create(*ctx, {width, height, kAlbedoFormat, kGBufferUsage, "gbuffer albedo"});
     g.normal_depth = Image::create(*ctx, {width, height, kNormalDepthFormat, kGBufferUsage, "gbuffer normal depth"});
     g.reflected = Image::create(*ctx, {width, height, kReflectedFormat, kGBufferUsage, "gbuffer reflected"});
-    if (g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid() && g.reflected.valid())
+    g.mirror_light = Image::create(*ctx, {width, height, kMirrorLightFormat, kGBufferUsage, "gbuffer mirror light"});
+    g.mirror_albedo = Image::create(*ctx, {width, height, kMirrorAlbedoFormat, kGBufferUsage, "gbuffer mirror albedo"});
+    g.mirror_normal_depth =
+        Image::create(*ctx, {width, height, kMirrorNormalDepthFormat, kGBufferUsage, "gbuffer mirror normal depth"});
+    if (g.radiance.valid() && g.albedo.valid() && g.normal_depth.valid() && g.reflected.valid() &&
+        g.mirror_light.valid() && g.mirror_albedo.valid() && g.mirror_normal_depth.valid())
         return true;
     t.reset(); // The next frame makes the target and the whole G-buffer again.
     return false;
@@ -499,12 +505,17 @@ void Renderer::Impl::write_descriptors() {
         {VK_NULL_HANDLE, g.albedo.view(), VK_IMAGE_LAYOUT_GENERAL},
         {VK_NULL_HANDLE, g.normal_depth.view(), VK_IMAGE_LAYOUT_GENERAL},
         {VK_NULL_HANDLE, g.reflected.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.mirror_light.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.mirror_albedo.view(), VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, g.mirror_normal_depth.view(), VK_IMAGE_LAYOUT_GENERAL},
     };
-    const uint32_t image_bindings[] = {kBindingOutput, kBindingRadiance, kBindingAlbedo, kBindingNormalDepth,
-                                       kBindingReflected};
+    const uint32_t image_bindings[] = {kBindingOutput,    kBindingRadiance,    kBindingAlbedo,
+                                       kBindingNormalDepth, kBindingReflected, kBindingMirrorLight,
+                                       kBindingMirrorAlbedo, kBindingMirrorNormalDepth};
+    constexpr uint32_t kImages = uint32_t(std::size(image_bindings));
     VkDescriptorBufferInfo buffer_info{params[slot].handle(), 0, sizeof(gpu::FrameParams)};
-    VkWriteDescriptorSet w[7];
-    for (uint32_t i = 0; i < 7; ++i) {
+    VkWriteDescriptorSet w[2 + kImages];
+    for (uint32_t i = 0; i < 2 + kImages; ++i) {
         w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w[i].dstSet = sets[slot];
         w[i].descriptorCount = 1;
@@ -515,12 +526,12 @@ void Renderer::Impl::write_descriptors() {
     w[1].dstBinding = kBindingParams;
     w[1].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     w[1].pBufferInfo = &buffer_info;
-    for (uint32_t i = 0; i < 5; ++i) {
+    for (uint32_t i = 0; i < kImages; ++i) {
         w[2 + i].dstBinding = image_bindings[i];
         w[2 + i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         w[2 + i].pImageInfo = &images[i];
     }
-    vkUpdateDescriptorSets(ctx->device(), 7, w, 0, nullptr);
+    vkUpdateDescriptorSets(ctx->device(), 2 + kImages, w, 0, nullptr);
 }
 
 // What render() and present() share, after prepare_frame: uploads, BLAS and TLAS builds (an
@@ -580,7 +591,8 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
     // The G-buffer is rewritten whole each frame; readers of the slot's last frame are done
     // (the frame-start barrier orders all earlier commands before this one).
     const GBuffer& g = gbuffers[ctx->frame_slot()];
-    for (VkImage im : {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle(), g.reflected.handle()})
+    for (VkImage im : {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle(), g.reflected.handle(),
+                       g.mirror_light.handle(), g.mirror_albedo.handle(), g.mirror_normal_depth.handle()})
         image_barrier(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                       0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
@@ -605,7 +617,7 @@ static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
            a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise &&
-           a.history_clamp == b.history_clamp;
+           a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections;
 }
 
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
@@ -625,6 +637,11 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
     in.albedo = g.albedo.view();
     in.normal_depth = g.normal_depth.view();
     in.reflected = g.reflected.view();
+    if (s.denoise_reflections) {
+        in.mirror_light = g.mirror_light.view();
+        in.mirror_albedo = g.mirror_albedo.view();
+        in.mirror_normal_depth = g.mirror_normal_depth.view();
+    }
     in.reproject = reprojection_matrix(view_from_world(denoised_camera, cam.block), view_from_world(cam, cam.block),
                                        cam.fov_y_degrees, s.width, s.height);
     in.fov_y_degrees = cam.fov_y_degrees;
@@ -940,10 +957,10 @@ bool Renderer::vsync() const {
 
 uint64_t frame_bytes_per_pixel() {
     // Per frame slot: the 8-bit target and the G-buffer (radiance, albedo, normal_depth,
-    // reflected: render/gbuffer.h); the 8-bit read-back; the denoiser's twelve RGBA16F images
-    // and its 8-bit output (render/denoiser.h).
-    constexpr uint64_t kSlot = 4 + 8 + 4 + 8 + 8;
-    constexpr uint64_t kDenoiser = 12 * 8 + 4;
+    // reflected, mirror light, albedo and normal_depth: render/gbuffer.h); the 8-bit read-back;
+    // the denoiser's sixteen RGBA16F images and its 8-bit output (render/denoiser.h).
+    constexpr uint64_t kSlot = 4 + 8 + 4 + 8 + 8 + 8 + 4 + 8;
+    constexpr uint64_t kDenoiser = 16 * 8 + 4;
     return kFramesInFlight * kSlot + 4 + kDenoiser;
 }
 

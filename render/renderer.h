@@ -144,6 +144,10 @@ struct RenderSettings {
     // Clamp the temporal history so changed light leaves no ghost (DenoiseSettings::
     // history_clamp); off: plain accumulation, for comparisons.
     bool history_clamp = true;
+    // Filter the first mirror bounce's diffuse lighting in the reflected surface's terms
+    // (render/denoiser.h); off: it is only accumulated, like the rest of the reflected part, for
+    // comparisons.
+    bool denoise_reflections = true;
 };
 
 // 8-bit RGBA pixels, row 0 at the top.

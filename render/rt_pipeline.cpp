@@ -37,6 +37,9 @@ void RtPipeline::create_layouts() {
         {kBindingAlbedo, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
         {kBindingNormalDepth, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
         {kBindingReflected, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingMirrorLight, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingMirrorAlbedo, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingMirrorNormalDepth, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     ci.bindingCount = uint32_t(std::size(bindings));

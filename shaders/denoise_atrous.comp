@@ -5,6 +5,8 @@
 // (step 1, 2, 4, ...) weighted by normal, depth (against the local depth gradient) and luminance
 // (against the filtered variance). It filters albedo-demodulated illumination, so block colours
 // stay sharp; the last pass multiplies the albedo back in and adds the (unfiltered) reflected part.
+// With kDenoiseMirror the same pass filters the first mirror bounce's demodulated light guided by
+// the reflected surface's normal and path length, remodulated by its albedo in the last pass.
 
 #include "shared/denoise_types.h"
 
@@ -17,12 +19,57 @@ layout(binding = 3, rgba16f) writeonly uniform image2D u_out;         // Next it
 layout(binding = 4, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 5, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
 layout(binding = 6, rgba16f) readonly uniform image2D u_reflected;    // The temporal pass's.
+layout(binding = 7, rgba16f) readonly uniform image2D u_mirror_in;    // rgb mirror light, a variance.
+layout(binding = 8, rgba16f) readonly uniform image2D u_mirror_nd;    // Its surface's normal, path length.
+layout(binding = 9, rgba16f) writeonly uniform image2D u_mirror_out;
+layout(binding = 10, rgba8) readonly uniform image2D u_mirror_albedo;
 
 #include "shared/denoise_common.glsl"
 
 const float kKernel[3] = float[](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
 
-float depth_at(ivec2 q, ivec2 size) { return imageLoad(u_normal_depth, clamp(q, ivec2(0), size - 1)).w; }
+// The channel's images: the primary hit's illumination and guides, or the mirror bounce's.
+vec4 load_in(bool mirror, ivec2 q) { return mirror ? imageLoad(u_mirror_in, q) : imageLoad(u_in, q); }
+vec4 load_nd(bool mirror, ivec2 q) { return mirror ? imageLoad(u_mirror_nd, q) : imageLoad(u_normal_depth, q); }
+
+float depth_at(bool mirror, ivec2 q, ivec2 size) { return load_nd(mirror, clamp(q, ivec2(0), size - 1)).w; }
+
+// One a-trous step of a channel at p (no surface: unchanged).
+vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
+    const vec4 centre = load_in(mirror, p);
+    const vec4 nd = load_nd(mirror, p);
+    if (!has_surface(nd))
+        return centre;
+    // Screen-space depth gradient (central differences, same-surface neighbours only).
+    const float d = nd.w;
+    vec2 grad = vec2(depth_at(mirror, p + ivec2(1, 0), size) - depth_at(mirror, p - ivec2(1, 0), size),
+                     depth_at(mirror, p + ivec2(0, 1), size) - depth_at(mirror, p - ivec2(0, 1), size)) * 0.5;
+    grad = clamp(grad, vec2(-d), vec2(d));
+    const float lum = luminance(centre.rgb);
+    const float lum_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
+    vec3 sum = vec3(0);
+    float var_sum = 0, w_sum = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+            const ivec2 q = p + ivec2(dx, dy) * step;
+            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
+                continue;
+            const vec4 ndq = load_nd(mirror, q);
+            if (!has_surface(ndq))
+                continue;
+            const vec4 cq = load_in(mirror, q);
+            const float w_normal = pow(max(dot(nd.xyz, ndq.xyz), 0.0), pc.sigmas.x);
+            const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
+            const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
+            const float w_lum = exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
+            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum;
+            sum += w * cq.rgb;
+            var_sum += w * w * cq.a;
+            w_sum += w;
+        }
+    // The centre tap always has weight kKernel[0]^2 > 0.
+    return vec4(sum / w_sum, var_sum / (w_sum * w_sum));
+}
 
 void main() {
     const ivec2 size = ivec2(pc.params.xy);
@@ -30,42 +77,16 @@ void main() {
     if (any(greaterThanEqual(p, size)))
         return;
     const int step = int(pc.params.z);
-    const vec4 centre = imageLoad(u_in, p);
-    const vec4 nd = imageLoad(u_normal_depth, p);
-    vec4 result = centre;
-    if (has_surface(nd)) {
-        // Screen-space depth gradient (central differences, same-surface neighbours only).
-        const float d = nd.w;
-        vec2 grad = vec2(depth_at(p + ivec2(1, 0), size) - depth_at(p - ivec2(1, 0), size),
-                         depth_at(p + ivec2(0, 1), size) - depth_at(p - ivec2(0, 1), size)) * 0.5;
-        grad = clamp(grad, vec2(-d), vec2(d));
-        const float lum = luminance(centre.rgb);
-        const float lum_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
-        vec3 sum = vec3(0);
-        float var_sum = 0, w_sum = 0;
-        for (int dy = -2; dy <= 2; ++dy)
-            for (int dx = -2; dx <= 2; ++dx) {
-                const ivec2 q = p + ivec2(dx, dy) * step;
-                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
-                    continue;
-                const vec4 ndq = imageLoad(u_normal_depth, q);
-                if (!has_surface(ndq))
-                    continue;
-                const vec4 cq = imageLoad(u_in, q);
-                const float w_normal = pow(max(dot(nd.xyz, ndq.xyz), 0.0), pc.sigmas.x);
-                const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
-                const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
-                const float w_lum = exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
-                const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum;
-                sum += w * cq.rgb;
-                var_sum += w * w * cq.a;
-                w_sum += w;
-            }
-        // The centre tap always has weight kKernel[0]^2 > 0.
-        result = vec4(sum / w_sum, var_sum / (w_sum * w_sum));
-    }
+    const vec4 result = filter_at(false, p, size, step);
     imageStore(u_out, p, result);
+    vec3 mirror = vec3(0);
+    if ((pc.params.w & kDenoiseMirror) != 0) {
+        const vec4 m = filter_at(true, p, size, step);
+        imageStore(u_mirror_out, p, m);
+        if (has_surface(imageLoad(u_mirror_nd, p)))
+            mirror = m.rgb * imageLoad(u_mirror_albedo, p).rgb;
+    }
     if ((pc.params.w & kDenoiseLastPass) != 0)
-        store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(nd),
-                     imageLoad(u_reflected, p).rgb);
+        store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(imageLoad(u_normal_depth, p)),
+                     imageLoad(u_reflected, p).rgb + mirror);
 }

@@ -377,7 +377,7 @@ public:
     // Main thread (becomes the engine's thread). Opens the world, starts the threads and the
     // renderer. Errors: a bad description, a store that cannot open, no usable GPU (with a
     // render target), a window target without a GLFWwindow*, a headless target whose frame
-    // resources (about 168 bytes a pixel, the denoiser's included) cannot fit the device's
+    // resources (about 240 bytes a pixel, the denoiser's included) cannot fit the device's
     // largest memory heap (the line names both), a block whose material is out of range (see
     // BlockType), a stored world made by another generator (see Generator::name).
     static Result<std::unique_ptr<Engine>> create(const EngineCreateInfo& info);

@@ -13,6 +13,7 @@ VX_CONST uint kDenoiseGroupSize = 8; // Threads per workgroup side (8 x 8).
 VX_CONST uint kDenoiseHistoryValid = 1u; // Temporal: the history images hold a previous frame.
 VX_CONST uint kDenoiseLastPass = 2u;     // Remodulate by albedo into the outputs (the last pass).
 VX_CONST uint kDenoiseHistoryClamp = 4u; // Temporal: clamp or drop history that left the fast one.
+VX_CONST uint kDenoiseMirror = 8u;       // The mirror images are inputs (else not read).
 
 struct DenoisePush {
     // Temporal pass: maps (x d, y d, d, 1) of the current pixel centre (x, y) at view depth d to

@@ -8,6 +8,9 @@ layout(set = 0, binding = 3, rgba16f) uniform writeonly image2D radiance_image;
 layout(set = 0, binding = 4, rgba8) uniform writeonly image2D albedo_image;
 layout(set = 0, binding = 5, rgba16f) uniform writeonly image2D normal_depth_image;
 layout(set = 0, binding = 6, rgba16f) uniform writeonly image2D reflected_image;
+layout(set = 0, binding = 7, rgba16f) uniform writeonly image2D mirror_light_image;
+layout(set = 0, binding = 8, rgba8) uniform writeonly image2D mirror_albedo_image;
+layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D mirror_normal_depth_image;
 
 layout(location = 0) rayPayloadEXT HitPayload payload;
 const float kTMax = 1.0e7;

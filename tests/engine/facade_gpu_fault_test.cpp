@@ -159,7 +159,7 @@ TEST(FacadeGpuFault, DeviceLossKeepsTheWorldAndItsEdits) {
     EXPECT_EQ((*again)->get_block(edited), lamp);
 }
 
-// 16384^2 pixels need about 42 GiB of frame resources (168 bytes a pixel): more than lavapipe's
+// 16384^2 pixels need about 60 GiB of frame resources (240 bytes a pixel): more than lavapipe's
 // heap on a machine of less memory, so create() refuses it in one line naming the size and the
 // estimate, instead of aborting at the first frame.
 TEST(FacadeGpuFault, HeadlessTargetTooLargeForTheDeviceIsRefusedAtCreate) {

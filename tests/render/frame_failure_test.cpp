@@ -105,7 +105,9 @@ TEST_P(FrameFailure, OneLineErrorThenTheNextFrameRenders) {
 
 INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
                          ::testing::Values(Injection{"render target"}, Injection{"gbuffer radiance"},
-                                           Injection{"gbuffer reflected"}, Injection{"render readback"},
+                                           Injection{"gbuffer reflected"}, Injection{"gbuffer mirror light"},
+                                           Injection{"gbuffer mirror albedo"},
+                                           Injection{"gbuffer mirror normal depth"}, Injection{"render readback"},
                                            Injection{"gbuffer readback", false, true}, Injection{"materials"},
                                            Injection{"emitter chunks"}, Injection{"TLAS"},
                                            Injection{"TLAS instances"}, Injection{"chunk table"}, Injection{"AS scratch"},
@@ -157,7 +159,7 @@ TEST(DeviceLoss, FramesFailUntilANewRendererRendersTheSameImage) {
 }
 
 // The estimate of check_frame_size against this device's largest device-local heap: 16384^2
-// pixels need 16384^2 * frame_bytes_per_pixel() (168 B: about 42 GiB), more than lavapipe's heap
+// pixels need 16384^2 * frame_bytes_per_pixel() (240 B: about 60 GiB), more than lavapipe's heap
 // (the machine's memory); a small frame fits anywhere.
 TEST(FrameSize, TooLargeForTheDeviceIsRefusedWithTheEstimate) {
     std::unique_ptr<Renderer> r = test::make_renderer();
