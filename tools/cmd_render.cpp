@@ -248,17 +248,18 @@ void accumulate_frames(render::Renderer& r, const Settings& s, render::RenderIma
 
 // Frames 2..N of the same view: medians of the GPU phases and the wall time.
 void repeat_frames(render::Renderer& r, const Settings& s, uint32_t n) {
-    std::vector<double> tlas, trace, copy, wall;
+    std::vector<double> tlas, trace, copy, wall, cpu;
     for (uint32_t i = 1; i < n; ++i) {
         wall.push_back(timed_render(r, s, nullptr));
         const render::RenderStats& st = r.last_stats();
         tlas.push_back(st.gpu_tlas_ms);
         trace.push_back(st.gpu_trace_ms);
         copy.push_back(st.gpu_copy_ms);
+        cpu.push_back(st.cpu_ms);
     }
-    std::printf("  frames 2..%u (medians of %u): TLAS %s, trace %s, readback copy %s; frame %s wall\n", n, n - 1,
-                ms(median(tlas)).c_str(), ms(median(trace)).c_str(), ms(median(copy)).c_str(),
-                ms(median(wall)).c_str());
+    std::printf("  frames 2..%u (medians of %u): TLAS %s, trace %s, readback copy %s; frame %s wall, recording %s CPU\n",
+                n, n - 1, ms(median(tlas)).c_str(), ms(median(trace)).c_str(), ms(median(copy)).c_str(),
+                ms(median(wall)).c_str(), ms(median(cpu)).c_str());
 }
 
 struct BurstFigures {

@@ -128,6 +128,8 @@ FrameFigures Game::after_frame(uint64_t frame, double frame_ms) {
     f.frame_ms = frame_ms;
     f.update_ms = s.update_wall_ms;
     f.render_ms = s.render_wall_ms;
+    f.update_cpu_ms = s.update_cpu_ms;
+    f.render_cpu_ms = s.render_cpu_ms;
     f.gpu_ms = s.gpu_ms;
     f.chunks_loaded = s.chunks_loaded;
     f.chunks_in_view = s.chunks_in_view;

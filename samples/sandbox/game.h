@@ -25,6 +25,7 @@ struct Keys {
 struct FrameFigures {
     uint64_t frame = 0;
     double frame_ms = 0, update_ms = 0, render_ms = 0, gpu_ms = -1;
+    double update_cpu_ms = 0, render_cpu_ms = 0; // Main-thread CPU: update(), recording the frame.
     size_t chunks_loaded = 0;
     size_t chunks_in_view = 0, chunks_meshed = 0; // Equal: no holes in the view.
     uint32_t builds = 0, refits = 0;

@@ -26,6 +26,11 @@ def main():
     if rows and "in_view" in rows[0]:
         holes = [int(r["in_view"]) - int(r["meshed"]) for r in rows]
         print(f"  frames with unmeshed chunks in view: {sum(h > 0 for h in holes)}, most at once: {max(holes)}")
+    if rows and "render_cpu_ms" in rows[0]:
+        rc = [float(r["render_cpu_ms"]) for r in rows]
+        uc = [float(r["update_cpu_ms"]) for r in rows]
+        print(f"  CPU: recording a frame median {pct(rc, 50):.3f} p99 {pct(rc, 99):.3f} ms; "
+              f"update() median {pct(uc, 50):.3f} p99 {pct(uc, 99):.3f} ms")
 
 
 main()
