@@ -64,6 +64,27 @@ inline ChunkLoad load_stored(std::span<const uint8_t> record, LodCoord c, Record
     return out;
 }
 
+// An error when `c` is not of a coarse level (1..kMaxLodLevel).
+inline Status check_coarse(LodCoord c) {
+    if (valid_lod_level(c.level) && c.level > 0)
+        return {};
+    return Error{"coarse level " + std::to_string(c.level) + " out of range 1.." + std::to_string(kMaxLodLevel)};
+}
+// The same for every coordinate of a batch, checked before anything is queued (a batch is taken
+// whole or not at all).
+inline Status check_coarse(std::span<const LodWrite> batch) {
+    for (const LodWrite& w : batch)
+        if (Status s = check_coarse(w.coord); !s)
+            return s;
+    return {};
+}
+inline Status check_coarse(std::span<const LodCoord> coords) {
+    for (LodCoord c : coords)
+        if (Status s = check_coarse(c); !s)
+            return s;
+    return {};
+}
+
 // Entry: PendingRecord, or a type with the same `record` member (PgStore adds block edits).
 template <class Coord, class Hash, class Entry = PendingRecord>
 class PendingWrites {
@@ -148,8 +169,11 @@ struct StoreQueue {
         if (edits() == 0 && n > 0)
             since = ChunkStore::Clock::now();
     }
-    // save_lod() of a checked batch: queues and encodes it; a saved coarse chunk is no longer stale.
-    void save_lods(std::span<const LodWrite> batch, RecordBatchEncoder& encoder, RecordCodec& codec) {
+    // save_lod(): queues and encodes the batch (a saved coarse chunk is no longer stale), or queues
+    // nothing when a coordinate is not of a coarse level.
+    Status save_lods(std::span<const LodWrite> batch, RecordBatchEncoder& encoder, RecordCodec& codec) {
+        if (Status s = check_coarse(batch); !s)
+            return s;
         start(batch.size());
         RecordBatchEncoder::Batch encodes;
         for (const LodWrite& w : batch) {
@@ -157,12 +181,16 @@ struct StoreQueue {
             lods.write(w.coord, w.chunk, w.record, encodes);
         }
         lods.encode(encodes, encoder, codec);
+        return {};
     }
-    // mark_lod_dirty() of checked coordinates.
-    void mark_dirty(std::span<const LodCoord> coords) {
+    // mark_lod_dirty(), or nothing when a coordinate is not of a coarse level.
+    Status mark_dirty(std::span<const LodCoord> coords) {
+        if (Status s = check_coarse(coords); !s)
+            return s;
         start(coords.size());
         for (LodCoord c : coords)
             dirty.insert_or_assign(c, true);
+        return {};
     }
     void clear() {
         chunks.clear();
@@ -172,26 +200,5 @@ struct StoreQueue {
         since.reset();
     }
 };
-
-// An error when `c` is not of a coarse level (1..kMaxLodLevel).
-inline Status check_coarse(LodCoord c) {
-    if (valid_lod_level(c.level) && c.level > 0)
-        return {};
-    return Error{"coarse level " + std::to_string(c.level) + " out of range 1.." + std::to_string(kMaxLodLevel)};
-}
-// The same for every coordinate of a batch, checked before anything is queued (a batch is taken
-// whole or not at all).
-inline Status check_coarse(std::span<const LodWrite> batch) {
-    for (const LodWrite& w : batch)
-        if (Status s = check_coarse(w.coord); !s)
-            return s;
-    return {};
-}
-inline Status check_coarse(std::span<const LodCoord> coords) {
-    for (LodCoord c : coords)
-        if (Status s = check_coarse(c); !s)
-            return s;
-    return {};
-}
 
 } // namespace vx::world

@@ -287,18 +287,16 @@ Result<ChunkLoad> PgStore::load_lod(LodCoord c) {
 Status PgStore::save_lod(std::span<const LodWrite> batch) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    if (Status s = check_coarse(batch); !s)
+    if (Status s = m_queue.save_lods(batch, m_encoder, m_codec); !s)
         return s;
-    m_queue.save_lods(batch, m_encoder, m_codec);
     return queued();
 }
 
 Status PgStore::mark_lod_dirty(std::span<const LodCoord> coords) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    if (Status s = check_coarse(coords); !s)
+    if (Status s = m_queue.mark_dirty(coords); !s)
         return s;
-    m_queue.mark_dirty(coords);
     std::lock_guard lock(m_health_mutex);
     m_health.pending_edits = pending_edits();
     return {};

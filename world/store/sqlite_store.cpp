@@ -304,6 +304,10 @@ Status SqliteStore::save(std::span<const ChunkWrite> batch) {
     for (const ChunkWrite& w : batch)
         m_queue.chunks.write(w.coord, w.chunk, w.record, encodes);
     m_queue.chunks.encode(encodes, m_encoder, m_codec);
+    return queued();
+}
+
+Status SqliteStore::queued() {
     if (m_queue.bytes() > m_info.max_pending_bytes)
         return commit();
     return {};
@@ -519,21 +523,15 @@ Result<ChunkLoad> SqliteStore::load_lod(LodCoord c) {
 Status SqliteStore::save_lod(std::span<const LodWrite> batch) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    if (Status s = check_coarse(batch); !s)
+    if (Status s = m_queue.save_lods(batch, m_encoder, m_codec); !s)
         return s;
-    m_queue.save_lods(batch, m_encoder, m_codec);
-    if (m_queue.bytes() > m_info.max_pending_bytes)
-        return commit();
-    return {};
+    return queued();
 }
 
 Status SqliteStore::mark_lod_dirty(std::span<const LodCoord> coords) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    if (Status s = check_coarse(coords); !s)
-        return s;
-    m_queue.mark_dirty(coords);
-    return {};
+    return m_queue.mark_dirty(coords);
 }
 
 Status SqliteStore::commit_lod() {
@@ -553,26 +551,11 @@ Status SqliteStore::commit_lod() {
     return {};
 }
 
-Result<std::vector<LodCoord>> SqliteStore::list_lod_dirty() {
-    if (Status s = commit(); !s)
-        return Error{s.error()};
-    std::vector<LodCoord> out;
-    Result<bool> ready = lod_tables(false);
-    if (!ready)
-        return Error{ready.error()};
-    if (!*ready)
-        return out;
-    sqlite3_stmt* st = m_lod_stmts->dirty_list.s;
-    ResetGuard guard{st};
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW)
-        out.push_back(lod_row(st));
-    if (rc != SQLITE_DONE)
-        return db_error("cannot list dirty coarse chunks");
-    return out;
-}
+Result<std::vector<LodCoord>> SqliteStore::list_lod_dirty() { return list_lod(true); }
 
-Result<std::vector<LodCoord>> SqliteStore::list_lod_coords() {
+Result<std::vector<LodCoord>> SqliteStore::list_lod_coords() { return list_lod(false); }
+
+Result<std::vector<LodCoord>> SqliteStore::list_lod(bool dirty) {
     if (Status s = commit(); !s)
         return Error{s.error()};
     std::vector<LodCoord> out;
@@ -581,13 +564,13 @@ Result<std::vector<LodCoord>> SqliteStore::list_lod_coords() {
         return Error{ready.error()};
     if (!*ready)
         return out;
-    sqlite3_stmt* st = m_lod_stmts->list.s;
+    sqlite3_stmt* st = dirty ? m_lod_stmts->dirty_list.s : m_lod_stmts->list.s;
     ResetGuard guard{st};
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW)
         out.push_back(lod_row(st));
     if (rc != SQLITE_DONE)
-        return db_error("cannot list coarse chunks");
+        return db_error(dirty ? "cannot list dirty coarse chunks" : "cannot list coarse chunks");
     return out;
 }
 

@@ -101,6 +101,8 @@ private:
     // Writes one queued record of `c` (nullopt: deletes it), inside commit()'s transaction.
     Status write_record(LodCoord c, const std::optional<std::vector<uint8_t>>& record, const LevelStmts& stmts);
     Status commit_lod(); // Inside commit()'s transaction.
+    Status queued();     // After a save: commits when the queue passed its byte bound.
+    Result<std::vector<LodCoord>> list_lod(bool dirty); // Dirty marks, or stored coarse chunks.
     Status exec(const char* sql);
     Error db_error(const std::string& what) const;
 
