@@ -88,8 +88,8 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     // order could each hold a row the other waits for (a deadlock, one of them aborted). Sorted
     // by coordinate, every writer locks in the same order.
     std::vector<ChunkCoord> order;
-    order.reserve(m_pending.size());
-    for (const auto& [c, p] : m_pending)
+    order.reserve(m_queue.chunks.size());
+    for (const auto& [c, p] : m_queue.chunks)
         order.push_back(c);
     std::sort(order.begin(), order.end(), coord_less);
     if (PQenterPipelineMode(m_conn) != 1)
@@ -97,7 +97,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     bool sent = true;
     static const uint8_t kEmpty = 0;
     for (size_t i = 0; sent && i < order.size(); ++i) {
-        const Pending& p = m_pending[order[i]];
+        const Pending& p = m_queue.chunks[order[i]];
         pg::Params params;
         params.add_coord(order[i]);
         params.add_i64(int64_t(known_version(order[i])));
@@ -110,14 +110,14 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     // Coarse chunks and dirty marks: plain upserts and deletes (last writer wins), in a fixed
     // order for the same reason as above.
     std::vector<LodCoord> lod_order, dirty_order;
-    for (const auto& [c, record] : m_pending_lod)
+    for (const auto& [c, pending] : m_queue.lods)
         lod_order.push_back(c);
-    for (const auto& [c, dirty] : m_pending_dirty)
+    for (const auto& [c, dirty] : m_queue.dirty)
         dirty_order.push_back(c);
     std::sort(lod_order.begin(), lod_order.end(), lod_less);
     std::sort(dirty_order.begin(), dirty_order.end(), lod_less);
     for (size_t i = 0; sent && i < lod_order.size(); ++i) {
-        const std::optional<std::vector<uint8_t>>& record = m_pending_lod[lod_order[i]];
+        const std::optional<std::vector<uint8_t>>& record = m_queue.lods[lod_order[i]].record;
         pg::Params params;
         params.add_i16(int16_t(lod_order[i].level));
         params.add_coord(lod_order[i].chunk);
@@ -129,9 +129,9 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
         pg::Params params;
         params.add_i16(int16_t(dirty_order[i].level));
         params.add_coord(dirty_order[i].chunk);
-        sent = send(m_conn, m_pending_dirty[dirty_order[i]] ? "vx_lod_dirty_put" : "vx_lod_dirty_del", params);
+        sent = send(m_conn, m_queue.dirty[dirty_order[i]] ? "vx_lod_dirty_put" : "vx_lod_dirty_del", params);
     }
-    for (auto it = m_pending_meta.begin(); sent && it != m_pending_meta.end(); ++it) {
+    for (auto it = m_queue.meta.begin(); sent && it != m_queue.meta.end(); ++it) {
         pg::Params params;
         params.add_text(it->first);
         params.add_ref(it->second.data(), it->second.size());
@@ -163,7 +163,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
             conflicted |= state && std::string_view(state) == pg::kConflictState;
         }
     }
-    for (size_t i = 0; i < lod_order.size() + dirty_order.size() + m_pending_meta.size() + payloads.size(); ++i)
+    for (size_t i = 0; i < lod_order.size() + dirty_order.size() + m_queue.meta.size() + payloads.size(); ++i)
         reader.next();
     const bool synced = reader.sync(); // The commit (or the rollback) is done when it arrives.
     if (!synced || PQexitPipelineMode(m_conn) != 1 || (!conflicted && !reader.first_error.empty())) {
@@ -191,7 +191,7 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
     pg::ResultPtr r = pg::exec(m_conn, "vx_load", params);
     if (!pg::ok(r.get()))
         return error("cannot reload chunk " + pg::coord_str(c) + " after a conflict");
-    Pending& p = m_pending[c];
+    Pending& p = m_queue.chunks[c];
     std::optional<Chunk> theirs;
     uint64_t version = 0;
     if (PQntuples(r.get()) == 1) {
@@ -202,7 +202,7 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
             Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(data, n), c);
             if (chunk)
                 theirs = std::move(*chunk);
-            else if (Status s = quarantine(c, version, chunk.error()); !s)
+            else if (Status s = quarantine(lod_key(c), version, chunk.error()); !s)
                 return s;
             else
                 version = known_version(c); // The tombstone's version.
@@ -213,17 +213,15 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
         return {};
     for (const BlockEdit& e : p.edits)
         theirs->set(e.pos, e.id);
-    m_pending_bytes -= p.record->size();
-    m_codec.encode(c, *theirs, *p.record);
-    m_pending_bytes += p.record->size();
+    m_queue.chunks.reencode(c, p, *theirs, m_codec);
     std::lock_guard lock(m_health_mutex);
     m_local_changes.push_back(c); // This process's copy lacks their edits: it should reload.
     return {};
 }
 
 Result<bool> PgStore::contains(ChunkCoord c) {
-    if (auto it = m_pending.find(c); it != m_pending.end())
-        return it->second.record.has_value();
+    if (const auto* queued = m_queue.chunks.find(c))
+        return queued->has_value();
     if (Status s = ensure_connected(false); !s)
         return Error{s.error()};
     pg::Params p;
@@ -260,7 +258,7 @@ Status PgStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
 }
 
 Result<std::optional<std::string>> PgStore::get_meta(std::string_view key) {
-    if (auto it = m_pending_meta.find(key); it != m_pending_meta.end())
+    if (auto it = m_queue.meta.find(key); it != m_queue.meta.end())
         return std::optional<std::string>(it->second);
     if (Status s = ensure_connected(false); !s)
         return Error{s.error()};
@@ -277,9 +275,8 @@ Result<std::optional<std::string>> PgStore::get_meta(std::string_view key) {
 Status PgStore::set_meta(std::string_view key, std::string_view value) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    if (pending_edits() == 0)
-        m_pending_since = Clock::now();
-    m_pending_meta[std::string(key)] = std::string(value);
+    m_queue.start(1);
+    m_queue.meta[std::string(key)] = std::string(value);
     return {};
 }
 

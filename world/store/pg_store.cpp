@@ -185,78 +185,69 @@ Status PgStore::ensure_connected(bool now) {
     return {};
 }
 
-Result<ChunkLoad> PgStore::load(ChunkCoord c) {
-    ChunkLoad out;
-    if (auto it = m_pending.find(c); it != m_pending.end()) {
-        if (!it->second.record)
-            return out; // Erase queued.
-        Result<Chunk> chunk = m_codec.decode(*it->second.record, c);
-        VX_ASSERT_MSG(chunk.ok(), "a queued record failed to decode");
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    if (Status s = ensure_connected(false); !s)
-        return Error{s.error()};
-    pg::Params p;
-    p.add_coord(c);
-    pg::ResultPtr r = pg::exec(m_conn, "vx_load", p);
-    if (!pg::ok(r.get()))
-        return error("cannot load chunk " + pg::coord_str(c));
-    if (PQntuples(r.get()) == 0) {
-        note_version(c, 0); // Known absent: catch_up() notices when another process creates it.
-        return out;
-    }
-    const uint64_t version = uint64_t(pg::get_i64(r.get(), 0, 0));
-    note_version(c, version);
-    const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
-    const size_t n = size_t(PQgetlength(r.get(), 0, 1));
-    if (n == 0)
-        return out; // A tombstone: erased.
-    Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(data, n), c);
-    if (chunk) {
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    out.state = LoadState::Corrupt;
-    out.problem = chunk.error();
-    if (Status s = quarantine(c, version, out.problem); !s)
-        return Error{s.error()};
-    return out;
-}
-
-Status PgStore::quarantine(ChunkCoord c, uint64_t version, const std::string& reason) {
-    VX_LOG_WARN("PostgreSQL world '%s': chunk %s: %s%s", m_name.c_str(), pg::coord_str(c).c_str(), reason.c_str(),
-                m_info.read_only ? "" : "; moved to quarantine");
-    if (m_info.read_only)
-        return {};
-    pg::Params p;
-    p.add_coord(c);
-    p.add_i64(int64_t(version));
-    p.add_text(reason);
-    pg::ResultPtr r = pg::exec(m_conn, "vx_quarantine", p);
-    if (!pg::ok(r.get()))
-        return error("cannot quarantine chunk " + pg::coord_str(c));
-    if (PQntuples(r.get()) == 1)
-        note_version(c, uint64_t(pg::get_i64(r.get(), 0, 0)));
-    return {}; // No row: another process replaced the record meanwhile; nothing to move.
-}
+Result<ChunkLoad> PgStore::load(ChunkCoord c) { return load_level(lod_key(c)); }
 
 namespace {
 
-std::string lod_str(LodCoord c) { return "level " + std::to_string(c.level) + " chunk " + pg::coord_str(c.chunk); }
-
-Error bad_level(LodCoord c) {
-    return Error{"coarse level " + std::to_string(c.level) + " out of range 1.." + std::to_string(kMaxLodLevel)};
-}
-
-void add_lod(pg::Params& p, LodCoord c) {
-    p.add_i16(int16_t(c.level));
+// Level 0: x, y, z; coarse levels: level, x, y, z.
+void add_key(pg::Params& p, LodCoord c) {
+    if (c.level > 0)
+        p.add_i16(int16_t(c.level));
     p.add_coord(c.chunk);
 }
 
 } // namespace
+
+Result<ChunkLoad> PgStore::load_level(LodCoord c) {
+    if (const auto* queued = c.level == 0 ? m_queue.chunks.find(c.chunk) : m_queue.lods.find(c))
+        return load_queued(*queued, c, m_codec);
+    if (Status s = ensure_connected(false); !s)
+        return Error{s.error()};
+    if (c.level > 0) {
+        Result<bool> ready = lod_tables(false);
+        if (!ready)
+            return Error{ready.error()};
+        if (!*ready)
+            return ChunkLoad{}; // No coarse level saved yet.
+    }
+    pg::Params p;
+    add_key(p, c);
+    pg::ResultPtr r = pg::exec(m_conn, c.level == 0 ? "vx_load" : "vx_lod_load", p);
+    if (!pg::ok(r.get()))
+        return error("cannot load " + record_name(c));
+    const bool found = PQntuples(r.get()) != 0;
+    const uint64_t version = found ? uint64_t(pg::get_i64(r.get(), 0, 0)) : 0;
+    if (c.level == 0)
+        note_version(c.chunk, version); // 0, known absent: catch_up() notices when another process creates it.
+    if (!found)
+        return ChunkLoad{};
+    const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
+    const size_t n = size_t(PQgetlength(r.get(), 0, 1));
+    if (n == 0 && c.level == 0)
+        return ChunkLoad{}; // A tombstone: erased.
+    ChunkLoad out = load_stored(std::span<const uint8_t>(data, n), c, m_codec);
+    if (out.state == LoadState::Corrupt)
+        if (Status s = quarantine(c, version, out.problem); !s)
+            return Error{s.error()};
+    return out;
+}
+
+Status PgStore::quarantine(LodCoord c, uint64_t version, const std::string& reason) {
+    VX_LOG_WARN("PostgreSQL world '%s': %s: %s%s", m_name.c_str(), record_name(c).c_str(), reason.c_str(),
+                m_info.read_only ? "" : "; moved to quarantine");
+    if (m_info.read_only)
+        return {};
+    pg::Params p;
+    add_key(p, c);
+    p.add_i64(int64_t(version));
+    p.add_text(reason);
+    pg::ResultPtr r = pg::exec(m_conn, c.level == 0 ? "vx_quarantine" : "vx_lod_quarantine", p);
+    if (!pg::ok(r.get()))
+        return error("cannot quarantine " + record_name(c));
+    if (c.level == 0 && PQntuples(r.get()) == 1)
+        note_version(c.chunk, uint64_t(pg::get_i64(r.get(), 0, 0)));
+    return {}; // No row: another process replaced the record meanwhile; nothing to move.
+}
 
 Result<bool> PgStore::lod_tables(bool create) {
     if (m_lod_ready)
@@ -288,115 +279,24 @@ Result<bool> PgStore::lod_tables(bool create) {
 }
 
 Result<ChunkLoad> PgStore::load_lod(LodCoord c) {
-    if (!valid_lod_level(c.level) || c.level == 0)
-        return bad_level(c);
-    ChunkLoad out;
-    if (auto it = m_pending_lod.find(c); it != m_pending_lod.end()) {
-        if (!it->second)
-            return out; // Erase queued.
-        Result<Chunk> chunk = m_codec.decode_lod(*it->second, c);
-        VX_ASSERT_MSG(chunk.ok(), "a queued coarse record failed to decode");
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    if (Status s = ensure_connected(false); !s)
+    if (Status s = check_coarse(c); !s)
         return Error{s.error()};
-    Result<bool> ready = lod_tables(false);
-    if (!ready)
-        return Error{ready.error()};
-    if (!*ready)
-        return out;
-    pg::Params p;
-    add_lod(p, c);
-    pg::ResultPtr r = pg::exec(m_conn, "vx_lod_load", p);
-    if (!pg::ok(r.get()))
-        return error("cannot load " + lod_str(c));
-    if (PQntuples(r.get()) == 0)
-        return out;
-    const uint64_t version = uint64_t(pg::get_i64(r.get(), 0, 0));
-    const auto* data = reinterpret_cast<const uint8_t*>(PQgetvalue(r.get(), 0, 1));
-    const size_t n = size_t(PQgetlength(r.get(), 0, 1));
-    Result<Chunk> chunk = m_codec.decode_lod(std::span<const uint8_t>(data, n), c);
-    if (chunk) {
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    out.state = LoadState::Corrupt;
-    out.problem = chunk.error();
-    if (Status s = quarantine_lod(c, version, out.problem); !s)
-        return Error{s.error()};
-    return out;
-}
-
-Status PgStore::quarantine_lod(LodCoord c, uint64_t version, const std::string& reason) {
-    VX_LOG_WARN("PostgreSQL world '%s': %s: %s%s", m_name.c_str(), lod_str(c).c_str(), reason.c_str(),
-                m_info.read_only ? "" : "; moved to quarantine");
-    if (m_info.read_only)
-        return {};
-    pg::Params p;
-    add_lod(p, c);
-    p.add_i64(int64_t(version));
-    p.add_text(reason);
-    pg::ResultPtr r = pg::exec(m_conn, "vx_lod_quarantine", p);
-    if (!pg::ok(r.get()))
-        return error("cannot quarantine " + lod_str(c));
-    return {}; // Nothing moved: another process replaced the record meanwhile.
+    return load_level(c);
 }
 
 Status PgStore::save_lod(std::span<const LodWrite> batch) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    for (const LodWrite& w : batch)
-        if (!valid_lod_level(w.coord.level) || w.coord.level == 0)
-            return bad_level(w.coord); // Before anything is queued: a batch is taken whole or not at all.
-    if (pending_edits() == 0 && !batch.empty())
-        m_pending_since = Clock::now();
-    RecordBatchEncoder::Batch encodes;
-    for (const LodWrite& w : batch) {
-        m_pending_dirty.insert_or_assign(w.coord, false); // Saved: no longer stale.
-        auto [it, inserted] = m_pending_lod.try_emplace(w.coord);
-        if (!inserted && it->second)
-            m_pending_bytes -= it->second->size();
-        encodes.supersede(w.coord);
-        if (!w.chunk) {
-            it->second.reset();
-            continue;
-        }
-        if (!it->second)
-            it->second.emplace();
-        if (w.record.empty()) {
-            it->second->clear();
-            encodes.add(w.coord, *w.chunk, *it->second);
-        } else {
-            it->second->assign(w.record.begin(), w.record.end());
-            m_pending_bytes += it->second->size();
-        }
-    }
-    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
-    m_encoder.encode(jobs, m_codec);
-    for (const RecordBatchEncoder::Job& j : jobs)
-        m_pending_bytes += j.out->size();
-    {
-        std::lock_guard lock(m_health_mutex);
-        m_health.pending_edits = pending_edits();
-    }
-    if (m_pending_bytes > m_info.max_pending_bytes)
-        return commit();
-    return {};
+    if (Status s = m_queue.save_lods(batch, m_encoder, m_codec); !s)
+        return s;
+    return queued();
 }
 
 Status PgStore::mark_lod_dirty(std::span<const LodCoord> coords) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    for (LodCoord c : coords)
-        if (!valid_lod_level(c.level) || c.level == 0)
-            return bad_level(c);
-    if (pending_edits() == 0 && !coords.empty())
-        m_pending_since = Clock::now();
-    for (LodCoord c : coords)
-        m_pending_dirty.insert_or_assign(c, true);
+    if (Status s = m_queue.mark_dirty(coords); !s)
+        return s;
     std::lock_guard lock(m_health_mutex);
     m_health.pending_edits = pending_edits();
     return {};
@@ -432,46 +332,28 @@ Result<std::vector<LodCoord>> PgStore::list_lod_coords() { return list_lod("vx_l
 Status PgStore::save(std::span<const ChunkWrite> batch) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    if (pending_edits() == 0 && !batch.empty())
-        m_pending_since = Clock::now();
+    m_queue.start(batch.size());
     // Records the caller did not encode are encoded together afterwards, on several threads.
     RecordBatchEncoder::Batch encodes;
     for (const ChunkWrite& w : batch) {
-        Pending& p = m_pending[w.coord];
-        if (p.record)
-            m_pending_bytes -= p.record->size();
-        encodes.supersede(w.coord);
-        if (!w.chunk) {
-            p.record.reset();
-            p.whole = true;
-            p.edits.clear();
-            continue;
-        }
-        if (!p.record)
-            p.record.emplace();
-        if (w.record.empty()) {
-            p.record->clear();
-            encodes.add(w.coord, *w.chunk, *p.record);
-        } else {
-            p.record->assign(w.record.begin(), w.record.end());
-            m_pending_bytes += p.record->size();
-        }
-        if (w.edits.empty()) {
+        Pending& p = m_queue.chunks.write(w.coord, w.chunk, w.record, encodes);
+        if (!w.chunk || w.edits.empty()) {
             p.whole = true;
             p.edits.clear();
         } else if (!p.whole) {
             p.edits.insert(p.edits.end(), w.edits.begin(), w.edits.end());
         }
     }
-    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
-    m_encoder.encode(jobs, m_codec);
-    for (const RecordBatchEncoder::Job& j : jobs)
-        m_pending_bytes += j.out->size();
+    m_queue.chunks.encode(encodes, m_encoder, m_codec);
+    return queued();
+}
+
+Status PgStore::queued() {
     {
         std::lock_guard lock(m_health_mutex);
         m_health.pending_edits = pending_edits();
     }
-    if (m_pending_bytes > m_info.max_pending_bytes)
+    if (m_queue.bytes() > m_info.max_pending_bytes)
         return commit();
     return {};
 }
@@ -483,7 +365,7 @@ Status PgStore::tick(Clock::time_point now) {
         return {};
     if (Status s = catch_up(); !s)
         return m_conn ? s : Status{}; // Lost meanwhile: retried once reconnected.
-    if (m_pending_since && now - *m_pending_since >= m_info.max_pending_age)
+    if (m_queue.since && now - *m_queue.since >= m_info.max_pending_age)
         return commit();
     return {};
 }
@@ -507,7 +389,7 @@ Status PgStore::commit() {
 Status PgStore::commit_attempts() {
     if (Status s = ensure_connected(true); !s)
         return s;
-    if (!m_pending_lod.empty() || !m_pending_dirty.empty())
+    if (!m_queue.lods.empty() || !m_queue.dirty.empty())
         if (Result<bool> r = lod_tables(true); !r)
             return Error{r.error() + "; " + std::to_string(pending_edits()) + " edits kept in memory"};
     std::vector<ChunkCoord> conflicts;
@@ -517,12 +399,7 @@ Status PgStore::commit_attempts() {
         if (!done)
             return Error{done.error() + "; " + std::to_string(pending_edits()) + " edits kept in memory"};
         if (*done) {
-            m_pending.clear();
-            m_pending_meta.clear();
-            m_pending_lod.clear();
-            m_pending_dirty.clear();
-            m_pending_bytes = 0;
-            m_pending_since.reset();
+            m_queue.clear();
             trim_versions();
             std::lock_guard lock(m_health_mutex);
             m_health.pending_edits = 0;
@@ -601,11 +478,11 @@ void PgStore::note_version(ChunkCoord c, uint64_t version) {
 
 void PgStore::trim_versions() {
     const size_t keep = m_info.max_known_versions / 2;
-    if (m_versions.size() <= m_info.max_known_versions || m_pending.size() >= keep)
+    if (m_versions.size() <= m_info.max_known_versions || m_queue.chunks.size() >= keep)
         return; // (A commit of more than `keep` chunks trims once it is done.)
     // Forget (in hash order: no recency is kept, forgetting is only slower) until half remain.
     for (auto it = m_versions.begin(); it != m_versions.end() && m_versions.size() > keep;)
-        it = m_pending.count(it->first) ? std::next(it) : m_versions.erase(it);
+        it = m_queue.chunks.contains(it->first) ? std::next(it) : m_versions.erase(it);
 }
 
 uint64_t PgStore::known_version(ChunkCoord c) const {

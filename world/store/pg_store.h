@@ -43,7 +43,6 @@
 
 #include <atomic>
 #include <chrono>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -53,6 +52,7 @@
 
 #include "world/store/chunk_record.h"
 #include "world/store/chunk_store.h"
+#include "world/store/pending_writes.h"
 #include "world/store/record_batch_encoder.h"
 
 struct pg_conn;
@@ -121,9 +121,7 @@ public:
 
     // Commits queued edits now (a synchronous commit: durable when it returns success).
     Status commit();
-    size_t pending_edits() const override {
-        return m_pending.size() + m_pending_meta.size() + m_pending_lod.size() + m_pending_dirty.size();
-    }
+    size_t pending_edits() const override { return m_queue.edits(); }
     // The version of chunk `c` this store last read or wrote (0: absent or never seen).
     uint64_t known_version(ChunkCoord c) const;
 
@@ -142,10 +140,13 @@ private:
     // Prepares the coarse-level statements once their tables exist; `create`: creates the tables
     // first. False when they do not exist (and `create` is false). Needs a connection.
     Result<bool> lod_tables(bool create);
-    Status quarantine_lod(LodCoord c, uint64_t version, const std::string& reason);
     Result<std::vector<LodCoord>> list_lod(const char* statement, const char* what);
     void lost(const std::string& what);
-    Status quarantine(ChunkCoord c, uint64_t version, const std::string& reason);
+    // load() and load_lod() (level 0: vx_chunks, with versions and tombstones).
+    Result<ChunkLoad> load_level(LodCoord c);
+    Status quarantine(LodCoord c, uint64_t version, const std::string& reason);
+    // After a save: publishes the queue length; commits when the queue passed its byte bound.
+    Status queued();
     Status commit_attempts(); // commit() on one connection: rounds of try_commit + conflicts.
     Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
     Status catch_up(); // After the listener (re)started: report chunks changed meanwhile.
@@ -164,12 +165,7 @@ private:
     RecordCodec m_codec;
     RecordBatchEncoder m_encoder;
     std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> m_versions; // Last version seen.
-    std::unordered_map<ChunkCoord, Pending, ChunkCoordHash> m_pending;
-    std::map<std::string, std::string, std::less<>> m_pending_meta;
-    std::unordered_map<LodCoord, std::optional<std::vector<uint8_t>>, LodCoordHash> m_pending_lod;
-    std::unordered_map<LodCoord, bool, LodCoordHash> m_pending_dirty; // true: mark, false: clear.
-    size_t m_pending_bytes = 0;
-    std::optional<Clock::time_point> m_pending_since;
+    StoreQueue<Pending> m_queue; // Edits not yet committed.
     Clock::time_point m_next_retry{};
     std::chrono::milliseconds m_backoff{250};
     std::unique_ptr<pg::ChangeListener> m_listener;

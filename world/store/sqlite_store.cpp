@@ -61,10 +61,6 @@ void bind_coord(sqlite3_stmt* s, ChunkCoord c) {
     sqlite3_bind_int64(s, 3, c.z);
 }
 
-std::string coord_str(ChunkCoord c) {
-    return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
-}
-
 // Level, then the chunk: parameters 1..4.
 void bind_lod(sqlite3_stmt* s, LodCoord c) {
     sqlite3_bind_int64(s, 1, c.level);
@@ -73,16 +69,21 @@ void bind_lod(sqlite3_stmt* s, LodCoord c) {
     sqlite3_bind_int64(s, 4, c.chunk.z);
 }
 
-std::string lod_str(LodCoord c) { return "level " + std::to_string(c.level) + " chunk " + coord_str(c.chunk); }
-
 LodCoord lod_row(sqlite3_stmt* s) {
     return {int(sqlite3_column_int64(s, 0)), ChunkCoord(int32_t(sqlite3_column_int64(s, 1)),
                                                         int32_t(sqlite3_column_int64(s, 2)),
                                                         int32_t(sqlite3_column_int64(s, 3)))};
 }
 
-Error bad_level(LodCoord c) { return Error{"coarse level " + std::to_string(c.level) + " out of range 1.." +
-                                           std::to_string(kMaxLodLevel)}; }
+// Binds the key of `c` (level 0: x, y, z; coarse: level, x, y, z); returns the next parameter.
+int bind_key(sqlite3_stmt* s, LodCoord c) {
+    if (c.level > 0) {
+        bind_lod(s, c);
+        return 5;
+    }
+    bind_coord(s, c.chunk);
+    return 4;
+}
 
 } // namespace
 
@@ -92,6 +93,16 @@ struct SqliteStore::Stmts {
 
 struct SqliteStore::LodStmts {
     Stmt load, put, del, list, dirty_put, dirty_del, dirty_list, q_put, q_count;
+};
+
+struct SqliteStore::LevelStmts {
+    sqlite3_stmt* load = nullptr;
+    sqlite3_stmt* put = nullptr;
+    sqlite3_stmt* del = nullptr;
+    sqlite3_stmt* q_put = nullptr;
+    LevelStmts() = default;
+    template <class S> // Stmts or LodStmts.
+    explicit LevelStmts(const S& s) : load(s.load.s), put(s.put.s), del(s.del.s), q_put(s.q_put.s) {}
 };
 
 SqliteStore::SqliteStore(SqliteStoreCreateInfo info) : m_info(std::move(info)), m_codec(m_info.zstd_level),
@@ -213,66 +224,71 @@ Status SqliteStore::init_schema() {
     return {};
 }
 
-Result<ChunkLoad> SqliteStore::load(ChunkCoord c) {
-    ChunkLoad out;
-    if (auto it = m_pending.find(c); it != m_pending.end()) {
-        if (!it->second)
-            return out; // Erase queued.
-        // Our own encoder's output: decoding cannot fail short of a bug, so nothing to quarantine.
-        Result<Chunk> chunk = m_codec.decode(*it->second, c);
-        VX_ASSERT_MSG(chunk.ok(), "a queued record failed to decode");
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    sqlite3_stmt* st = m_stmts->load.s;
+Result<ChunkLoad> SqliteStore::load(ChunkCoord c) { return load_level(lod_key(c)); }
+
+Result<SqliteStore::LevelStmts> SqliteStore::level_stmts(int level) {
+    if (level == 0)
+        return LevelStmts(*m_stmts);
+    Result<bool> ready = lod_tables(false);
+    if (!ready)
+        return Error{ready.error()};
+    if (!*ready)
+        return LevelStmts{};
+    return LevelStmts(*m_lod_stmts);
+}
+
+Result<ChunkLoad> SqliteStore::load_level(LodCoord c) {
+    if (const auto* queued = c.level == 0 ? m_queue.chunks.find(c.chunk) : m_queue.lods.find(c))
+        return load_queued(*queued, c, m_codec);
+    Result<LevelStmts> stmts = level_stmts(c.level);
+    if (!stmts)
+        return Error{stmts.error()};
+    if (!stmts->load)
+        return ChunkLoad{}; // No coarse level saved yet.
+    sqlite3_stmt* st = stmts->load;
     ResetGuard guard{st};
-    bind_coord(st, c);
+    bind_key(st, c);
     const int rc = sqlite3_step(st);
     if (rc == SQLITE_DONE)
-        return out;
+        return ChunkLoad{};
     if (rc != SQLITE_ROW)
-        return db_error("cannot load chunk " + coord_str(c));
+        return db_error("cannot load " + record_name(c));
     // Decoded straight from SQLite's buffer, which stays valid until the statement is reset.
     const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
     const size_t n = size_t(sqlite3_column_bytes(st, 0));
-    Result<Chunk> chunk = m_codec.decode(std::span<const uint8_t>(p, p ? n : 0), c);
-    if (chunk) {
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
+    ChunkLoad out = load_stored(std::span<const uint8_t>(p, p ? n : 0), c, m_codec);
+    if (out.state != LoadState::Corrupt)
         return out;
-    }
     sqlite3_reset(st);
-    out.state = LoadState::Corrupt;
-    out.problem = chunk.error();
     if (Status s = quarantine(c, out.problem); !s)
         return Error{s.error()};
     return out;
 }
 
-Status SqliteStore::quarantine(ChunkCoord c, const std::string& reason) {
+Status SqliteStore::quarantine(LodCoord c, const std::string& reason) {
     if (m_info.read_only) {
         // Nothing can be moved: log each bad record once per session.
-        if (m_reported.insert({0, c.x, c.y, c.z}).second && m_info.log_corrupt)
-            VX_LOG_WARN("store '%s': chunk %s: %s", m_info.path.c_str(), coord_str(c).c_str(), reason.c_str());
+        if (m_reported.insert({c.level, c.chunk.x, c.chunk.y, c.chunk.z}).second && m_info.log_corrupt)
+            VX_LOG_WARN("store '%s': %s: %s", m_info.path.c_str(), record_name(c).c_str(), reason.c_str());
         return {};
     }
     // Logged once: after the move, the coordinate reads as absent.
     if (m_info.log_corrupt)
-        VX_LOG_WARN("store '%s': chunk %s: %s; moved to quarantine", m_info.path.c_str(), coord_str(c).c_str(),
+        VX_LOG_WARN("store '%s': %s: %s; moved to quarantine", m_info.path.c_str(), record_name(c).c_str(),
                     reason.c_str());
+    Result<LevelStmts> stmts = level_stmts(c.level); // The tables exist: the record was read.
+    if (!stmts)
+        return Error{stmts.error()};
     if (Status s = exec("BEGIN IMMEDIATE"); !s)
         return s;
     // The row is copied inside SQLite (INSERT ... SELECT): its bytes are kept verbatim, whatever
     // their size, without passing through us.
-    sqlite3_stmt* q = m_stmts->q_put.s;
-    sqlite3_stmt* d = m_stmts->del.s;
-    ResetGuard gq{q}, gd{d};
-    bind_coord(q, c);
-    sqlite3_bind_text(q, 4, reason.c_str(), int(reason.size()), SQLITE_STATIC);
-    bind_coord(d, c);
-    if (sqlite3_step(q) != SQLITE_DONE || sqlite3_step(d) != SQLITE_DONE || !exec("COMMIT")) {
-        Error e = db_error("cannot quarantine chunk " + coord_str(c));
+    ResetGuard gq{stmts->q_put}, gd{stmts->del};
+    const int reason_param = bind_key(stmts->q_put, c);
+    sqlite3_bind_text(stmts->q_put, reason_param, reason.c_str(), int(reason.size()), SQLITE_STATIC);
+    bind_key(stmts->del, c);
+    if (sqlite3_step(stmts->q_put) != SQLITE_DONE || sqlite3_step(stmts->del) != SQLITE_DONE || !exec("COMMIT")) {
+        Error e = db_error("cannot quarantine " + record_name(c));
         exec("ROLLBACK");
         return e;
     }
@@ -282,40 +298,23 @@ Status SqliteStore::quarantine(ChunkCoord c, const std::string& reason) {
 Status SqliteStore::save(std::span<const ChunkWrite> batch) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    if (pending_edits() == 0 && !batch.empty())
-        m_pending_since = Clock::now();
+    m_queue.start(batch.size());
     // Records the caller did not encode are encoded together afterwards, on several threads.
     RecordBatchEncoder::Batch encodes;
-    for (const ChunkWrite& w : batch) {
-        auto [it, inserted] = m_pending.try_emplace(w.coord);
-        if (!inserted && it->second)
-            m_pending_bytes -= it->second->size();
-        encodes.supersede(w.coord);
-        if (!w.chunk) {
-            it->second.reset();
-            continue;
-        }
-        if (!it->second)
-            it->second.emplace();
-        if (w.record.empty()) {
-            it->second->clear();
-            encodes.add(w.coord, *w.chunk, *it->second);
-        } else {
-            it->second->assign(w.record.begin(), w.record.end());
-            m_pending_bytes += it->second->size();
-        }
-    }
-    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
-    m_encoder.encode(jobs, m_codec);
-    for (const RecordBatchEncoder::Job& j : jobs)
-        m_pending_bytes += j.out->size();
-    if (m_pending_bytes > m_info.max_pending_bytes)
+    for (const ChunkWrite& w : batch)
+        m_queue.chunks.write(w.coord, w.chunk, w.record, encodes);
+    m_queue.chunks.encode(encodes, m_encoder, m_codec);
+    return queued();
+}
+
+Status SqliteStore::queued() {
+    if (m_queue.bytes() > m_info.max_pending_bytes)
         return commit();
     return {};
 }
 
 Status SqliteStore::tick(Clock::time_point now) {
-    if (m_pending_since && now - *m_pending_since >= m_info.max_pending_age)
+    if (m_queue.since && now - *m_queue.since >= m_info.max_pending_age)
         return commit();
     return {};
 }
@@ -328,7 +327,7 @@ Status SqliteStore::flush() {
 Status SqliteStore::commit() {
     if (pending_edits() == 0)
         return {};
-    if (!m_pending_lod.empty() || !m_pending_dirty.empty()) {
+    if (!m_queue.lods.empty() || !m_queue.dirty.empty()) {
         Result<bool> ready = lod_tables(/*create=*/true);
         if (!ready)
             return Error{ready.error()};
@@ -339,19 +338,14 @@ Status SqliteStore::commit() {
         exec("ROLLBACK"); // The queue is kept: a later commit retries.
         return s;
     }
-    for (const auto& [c, record] : m_pending) {
-        sqlite3_stmt* st = record ? m_stmts->put.s : m_stmts->del.s;
-        ResetGuard guard{st};
-        bind_coord(st, c);
-        if (record)
-            sqlite3_bind_blob(st, 4, record->data(), int(record->size()), SQLITE_STATIC);
-        if (sqlite3_step(st) != SQLITE_DONE) {
-            Error e = db_error("cannot write chunk " + coord_str(c));
+    const LevelStmts chunks(*m_stmts);
+    for (const auto& [c, pending] : m_queue.chunks) {
+        if (Status s = write_record(lod_key(c), pending.record, chunks); !s) {
             exec("ROLLBACK"); // The queue is kept: a later commit retries.
-            return e;
+            return s;
         }
     }
-    for (const auto& [key, value] : m_pending_meta) {
+    for (const auto& [key, value] : m_queue.meta) {
         sqlite3_stmt* st = m_stmts->meta_put.s;
         ResetGuard guard{st};
         sqlite3_bind_text(st, 1, key.data(), int(key.size()), SQLITE_STATIC);
@@ -366,24 +360,31 @@ Status SqliteStore::commit() {
         exec("ROLLBACK");
         return s;
     }
-    m_pending.clear();
-    m_pending_meta.clear();
-    m_pending_lod.clear();
-    m_pending_dirty.clear();
-    m_pending_bytes = 0;
-    m_pending_since.reset();
+    m_queue.clear();
+    return {};
+}
+
+Status SqliteStore::write_record(LodCoord c, const std::optional<std::vector<uint8_t>>& record,
+                                 const LevelStmts& stmts) {
+    sqlite3_stmt* st = record ? stmts.put : stmts.del;
+    ResetGuard guard{st};
+    const int data_param = bind_key(st, c);
+    if (record)
+        sqlite3_bind_blob(st, data_param, record->data(), int(record->size()), SQLITE_STATIC);
+    if (sqlite3_step(st) != SQLITE_DONE)
+        return db_error("cannot write " + record_name(c));
     return {};
 }
 
 Result<bool> SqliteStore::contains(ChunkCoord c) {
-    if (auto it = m_pending.find(c); it != m_pending.end())
-        return it->second.has_value();
+    if (const auto* queued = m_queue.chunks.find(c))
+        return queued->has_value();
     sqlite3_stmt* st = m_stmts->has.s;
     ResetGuard guard{st};
     bind_coord(st, c);
     const int rc = sqlite3_step(st);
     if (rc != SQLITE_ROW && rc != SQLITE_DONE)
-        return db_error("cannot look up chunk " + coord_str(c));
+        return db_error("cannot look up " + record_name(lod_key(c)));
     return rc == SQLITE_ROW;
 }
 
@@ -450,7 +451,7 @@ Status SqliteStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
 }
 
 Result<std::optional<std::string>> SqliteStore::get_meta(std::string_view key) {
-    if (auto it = m_pending_meta.find(key); it != m_pending_meta.end())
+    if (auto it = m_queue.meta.find(key); it != m_queue.meta.end())
         return std::optional<std::string>(it->second);
     sqlite3_stmt* st = m_stmts->meta_get.s;
     ResetGuard guard{st};
@@ -467,9 +468,8 @@ Result<std::optional<std::string>> SqliteStore::get_meta(std::string_view key) {
 Status SqliteStore::set_meta(std::string_view key, std::string_view value) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    if (pending_edits() == 0)
-        m_pending_since = Clock::now();
-    m_pending_meta.insert_or_assign(std::string(key), std::string(value));
+    m_queue.start(1);
+    m_queue.meta.insert_or_assign(std::string(key), std::string(value));
     return {};
 }
 
@@ -515,146 +515,47 @@ Result<bool> SqliteStore::lod_tables(bool create) {
 }
 
 Result<ChunkLoad> SqliteStore::load_lod(LodCoord c) {
-    if (!valid_lod_level(c.level) || c.level == 0)
-        return bad_level(c);
-    ChunkLoad out;
-    if (auto it = m_pending_lod.find(c); it != m_pending_lod.end()) {
-        if (!it->second)
-            return out; // Erase queued.
-        Result<Chunk> chunk = m_codec.decode_lod(*it->second, c);
-        VX_ASSERT_MSG(chunk.ok(), "a queued coarse record failed to decode");
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    Result<bool> ready = lod_tables(false);
-    if (!ready)
-        return Error{ready.error()};
-    if (!*ready)
-        return out;
-    sqlite3_stmt* st = m_lod_stmts->load.s;
-    ResetGuard guard{st};
-    bind_lod(st, c);
-    const int rc = sqlite3_step(st);
-    if (rc == SQLITE_DONE)
-        return out;
-    if (rc != SQLITE_ROW)
-        return db_error("cannot load " + lod_str(c));
-    const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
-    const size_t n = size_t(sqlite3_column_bytes(st, 0));
-    Result<Chunk> chunk = m_codec.decode_lod(std::span<const uint8_t>(p, p ? n : 0), c);
-    if (chunk) {
-        out.state = LoadState::Present;
-        out.chunk = std::move(*chunk);
-        return out;
-    }
-    sqlite3_reset(st);
-    out.state = LoadState::Corrupt;
-    out.problem = chunk.error();
-    if (Status s = quarantine_lod(c, out.problem); !s)
+    if (Status s = check_coarse(c); !s)
         return Error{s.error()};
-    return out;
-}
-
-Status SqliteStore::quarantine_lod(LodCoord c, const std::string& reason) {
-    if (m_info.read_only) {
-        if (m_reported.insert({c.level, c.chunk.x, c.chunk.y, c.chunk.z}).second && m_info.log_corrupt)
-            VX_LOG_WARN("store '%s': %s: %s", m_info.path.c_str(), lod_str(c).c_str(), reason.c_str());
-        return {};
-    }
-    if (m_info.log_corrupt)
-        VX_LOG_WARN("store '%s': %s: %s; moved to quarantine", m_info.path.c_str(), lod_str(c).c_str(),
-                    reason.c_str());
-    if (Status s = exec("BEGIN IMMEDIATE"); !s)
-        return s;
-    sqlite3_stmt* q = m_lod_stmts->q_put.s;
-    sqlite3_stmt* d = m_lod_stmts->del.s;
-    ResetGuard gq{q}, gd{d};
-    bind_lod(q, c);
-    sqlite3_bind_text(q, 5, reason.c_str(), int(reason.size()), SQLITE_STATIC);
-    bind_lod(d, c);
-    if (sqlite3_step(q) != SQLITE_DONE || sqlite3_step(d) != SQLITE_DONE || !exec("COMMIT")) {
-        Error e = db_error("cannot quarantine " + lod_str(c));
-        exec("ROLLBACK");
-        return e;
-    }
-    return {};
+    return load_level(c);
 }
 
 Status SqliteStore::save_lod(std::span<const LodWrite> batch) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    for (const LodWrite& w : batch)
-        if (!valid_lod_level(w.coord.level) || w.coord.level == 0)
-            return bad_level(w.coord); // Before anything is queued: a batch is taken whole or not at all.
-    if (pending_edits() == 0 && !batch.empty())
-        m_pending_since = Clock::now();
-    RecordBatchEncoder::Batch encodes;
-    for (const LodWrite& w : batch) {
-        m_pending_dirty.insert_or_assign(w.coord, false); // Saved: no longer stale.
-        auto [it, inserted] = m_pending_lod.try_emplace(w.coord);
-        if (!inserted && it->second)
-            m_pending_bytes -= it->second->size();
-        encodes.supersede(w.coord);
-        if (!w.chunk) {
-            it->second.reset();
-            continue;
-        }
-        if (!it->second)
-            it->second.emplace();
-        if (w.record.empty()) {
-            it->second->clear();
-            encodes.add(w.coord, *w.chunk, *it->second);
-        } else {
-            it->second->assign(w.record.begin(), w.record.end());
-            m_pending_bytes += it->second->size();
-        }
-    }
-    const std::span<const RecordBatchEncoder::Job> jobs = encodes.jobs();
-    m_encoder.encode(jobs, m_codec);
-    for (const RecordBatchEncoder::Job& j : jobs)
-        m_pending_bytes += j.out->size();
-    if (m_pending_bytes > m_info.max_pending_bytes)
-        return commit();
-    return {};
+    if (Status s = m_queue.save_lods(batch, m_encoder, m_codec); !s)
+        return s;
+    return queued();
 }
 
 Status SqliteStore::mark_lod_dirty(std::span<const LodCoord> coords) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    for (LodCoord c : coords)
-        if (!valid_lod_level(c.level) || c.level == 0)
-            return bad_level(c);
-    if (pending_edits() == 0 && !coords.empty())
-        m_pending_since = Clock::now();
-    for (LodCoord c : coords)
-        m_pending_dirty.insert_or_assign(c, true);
-    return {};
+    return m_queue.mark_dirty(coords);
 }
 
 Status SqliteStore::commit_lod() {
-    if (m_pending_lod.empty() && m_pending_dirty.empty())
+    if (m_queue.lods.empty() && m_queue.dirty.empty())
         return {};
-    for (const auto& [c, record] : m_pending_lod) {
-        sqlite3_stmt* st = record ? m_lod_stmts->put.s : m_lod_stmts->del.s;
-        ResetGuard guard{st};
-        bind_lod(st, c);
-        if (record)
-            sqlite3_bind_blob(st, 5, record->data(), int(record->size()), SQLITE_STATIC);
-        if (sqlite3_step(st) != SQLITE_DONE)
-            return db_error("cannot write " + lod_str(c));
-    }
-    for (const auto& [c, dirty] : m_pending_dirty) {
+    const LevelStmts lods(*m_lod_stmts);
+    for (const auto& [c, pending] : m_queue.lods)
+        if (Status s = write_record(c, pending.record, lods); !s)
+            return s;
+    for (const auto& [c, dirty] : m_queue.dirty) {
         sqlite3_stmt* st = dirty ? m_lod_stmts->dirty_put.s : m_lod_stmts->dirty_del.s;
         ResetGuard guard{st};
         bind_lod(st, c);
         if (sqlite3_step(st) != SQLITE_DONE)
-            return db_error("cannot write the dirty mark of " + lod_str(c));
+            return db_error("cannot write the dirty mark of " + record_name(c));
     }
     return {};
 }
 
-Result<std::vector<LodCoord>> SqliteStore::list_lod_dirty() {
+Result<std::vector<LodCoord>> SqliteStore::list_lod_dirty() { return list_lod(true); }
+
+Result<std::vector<LodCoord>> SqliteStore::list_lod_coords() { return list_lod(false); }
+
+Result<std::vector<LodCoord>> SqliteStore::list_lod(bool dirty) {
     if (Status s = commit(); !s)
         return Error{s.error()};
     std::vector<LodCoord> out;
@@ -663,91 +564,13 @@ Result<std::vector<LodCoord>> SqliteStore::list_lod_dirty() {
         return Error{ready.error()};
     if (!*ready)
         return out;
-    sqlite3_stmt* st = m_lod_stmts->dirty_list.s;
+    sqlite3_stmt* st = dirty ? m_lod_stmts->dirty_list.s : m_lod_stmts->list.s;
     ResetGuard guard{st};
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW)
         out.push_back(lod_row(st));
     if (rc != SQLITE_DONE)
-        return db_error("cannot list dirty coarse chunks");
-    return out;
-}
-
-Result<std::vector<LodCoord>> SqliteStore::list_lod_coords() {
-    if (Status s = commit(); !s)
-        return Error{s.error()};
-    std::vector<LodCoord> out;
-    Result<bool> ready = lod_tables(false);
-    if (!ready)
-        return Error{ready.error()};
-    if (!*ready)
-        return out;
-    sqlite3_stmt* st = m_lod_stmts->list.s;
-    ResetGuard guard{st};
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW)
-        out.push_back(lod_row(st));
-    if (rc != SQLITE_DONE)
-        return db_error("cannot list coarse chunks");
-    return out;
-}
-
-Result<StoreCheck> check_store(const std::string& path) {
-    SqliteStoreCreateInfo info;
-    info.path = path;
-    info.read_only = true;
-    info.log_corrupt = false;
-    Result<std::unique_ptr<SqliteStore>> opened = SqliteStore::open(info);
-    if (!opened)
-        return Error{opened.error()};
-    SqliteStore& store = **opened;
-    StoreCheck out;
-    constexpr size_t kMaxProblems = 16;
-    auto note = [&](std::string line) {
-        if (out.problems.size() < kMaxProblems)
-            out.problems.push_back(std::move(line));
-    };
-    if (Status s = store.verify_database(); !s) {
-        out.database_ok = false;
-        note(s.error());
-    }
-    // Coordinates first, then one load each: the list statement is not kept open across loads.
-    Result<std::vector<ChunkCoord>> coords = store.list_coords();
-    if (!coords)
-        return Error{coords.error()};
-    for (ChunkCoord c : *coords) {
-        ++out.records;
-        Result<ChunkLoad> r = store.load(c);
-        if (!r)
-            return Error{r.error()};
-        if (r->state == LoadState::Corrupt) {
-            ++out.corrupt;
-            note("chunk " + coord_str(c) + ": " + r->problem);
-        } else if (r->state == LoadState::Absent) {
-            ++out.corrupt; // Listed but not found by its key: coordinates outside the i32 range.
-            note("chunk row with coordinates out of range near " + coord_str(c));
-        }
-    }
-    Result<std::vector<LodCoord>> lods = store.list_lod_coords();
-    if (!lods)
-        return Error{lods.error()};
-    for (LodCoord c : *lods) {
-        ++out.records;
-        Result<ChunkLoad> r = valid_lod_level(c.level) && c.level > 0 ? store.load_lod(c) : Result<ChunkLoad>(ChunkLoad{});
-        if (!r)
-            return Error{r.error()};
-        if (r->state == LoadState::Corrupt) {
-            ++out.corrupt;
-            note(lod_str(c) + ": " + r->problem);
-        } else if (r->state == LoadState::Absent) {
-            ++out.corrupt;
-            note("coarse chunk row with level or coordinates out of range near " + lod_str(c));
-        }
-    }
-    Result<uint64_t> q = store.quarantine_count();
-    if (!q)
-        return Error{q.error()};
-    out.quarantined = *q;
+        return db_error(dirty ? "cannot list dirty coarse chunks" : "cannot list coarse chunks");
     return out;
 }
 

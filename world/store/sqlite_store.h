@@ -13,16 +13,15 @@
 // Thread affinity: not thread-safe; one serial I/O lane thread only (as every ChunkStore).
 
 #include <chrono>
-#include <map>
 #include <memory>
 #include <set>
 #include <string>
 #include <tuple>
-#include <unordered_map>
 #include <vector>
 
 #include "world/store/chunk_record.h"
 #include "world/store/chunk_store.h"
+#include "world/store/pending_writes.h"
 #include "world/store/record_batch_encoder.h"
 
 struct sqlite3;
@@ -73,9 +72,7 @@ public:
     Result<std::vector<LodCoord>> list_lod_coords() override;
 
     // Queued edits (chunks, coarse chunks, dirty marks and metadata) not yet committed.
-    size_t pending_edits() const override {
-        return m_pending.size() + m_pending_meta.size() + m_pending_lod.size() + m_pending_dirty.size();
-    }
+    size_t pending_edits() const override { return m_queue.edits(); }
     // Records in the quarantine tables (level 0 and coarse).
     Result<uint64_t> quarantine_count();
     // Runs SQLite's PRAGMA quick_check over the whole file (O(size)); the error names the first
@@ -88,15 +85,24 @@ public:
 private:
     struct Stmts;
     struct LodStmts;
+    struct LevelStmts; // The statements of one level's records.
     explicit SqliteStore(SqliteStoreCreateInfo info);
     Status init();
     Status init_schema();
     // Prepares the coarse-level statements once their tables exist; `create`: creates the tables
     // first (read-write only). Returns false when they do not exist (and `create` is false).
     Result<bool> lod_tables(bool create);
-    Status quarantine(ChunkCoord c, const std::string& reason);
-    Status quarantine_lod(LodCoord c, const std::string& reason);
+    // The statements of level `level` (0: the chunks table); all null when the coarse-level tables
+    // do not exist yet.
+    Result<LevelStmts> level_stmts(int level);
+    // load() and load_lod() (level 0: the chunks table).
+    Result<ChunkLoad> load_level(LodCoord c);
+    Status quarantine(LodCoord c, const std::string& reason);
+    // Writes one queued record of `c` (nullopt: deletes it), inside commit()'s transaction.
+    Status write_record(LodCoord c, const std::optional<std::vector<uint8_t>>& record, const LevelStmts& stmts);
     Status commit_lod(); // Inside commit()'s transaction.
+    Status queued();     // After a save: commits when the queue passed its byte bound.
+    Result<std::vector<LodCoord>> list_lod(bool dirty); // Dirty marks, or stored coarse chunks.
     Status exec(const char* sql);
     Error db_error(const std::string& what) const;
 
@@ -106,13 +112,7 @@ private:
     std::unique_ptr<LodStmts> m_lod_stmts; // Null until the coarse-level tables are found.
     RecordCodec m_codec;
     RecordBatchEncoder m_encoder;
-    // Queued edits: coordinate -> record bytes, or nullopt for an erase.
-    std::unordered_map<ChunkCoord, std::optional<std::vector<uint8_t>>, ChunkCoordHash> m_pending;
-    std::map<std::string, std::string, std::less<>> m_pending_meta;
-    std::unordered_map<LodCoord, std::optional<std::vector<uint8_t>>, LodCoordHash> m_pending_lod;
-    std::unordered_map<LodCoord, bool, LodCoordHash> m_pending_dirty; // true: mark, false: clear.
-    size_t m_pending_bytes = 0;
-    std::optional<Clock::time_point> m_pending_since; // Time of the oldest queued edit.
+    StoreQueue<> m_queue; // Edits not yet committed.
     std::set<std::tuple<int, int, int, int>> m_reported; // Corrupt records logged (read-only): level, x, y, z.
 };
 

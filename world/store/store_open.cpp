@@ -2,6 +2,7 @@
 
 #include <atomic>
 
+#include "world/store/pending_writes.h"
 #include "world/store/pg_store.h"
 
 namespace vx::world {
@@ -53,17 +54,20 @@ Result<StoreCheck> check_world(const std::string& name) {
     if (!coords)
         return Error{coords.error()};
     StoreCheck check;
+    // Counts one loaded record, naming the first few corrupt ones.
+    auto tally = [&](LodCoord c, const ChunkLoad& load) {
+        ++check.records;
+        if (load.state != LoadState::Corrupt)
+            return;
+        ++check.corrupt;
+        if (check.problems.size() < 8)
+            check.problems.push_back(record_name(c) + ": " + load.problem);
+    };
     for (ChunkCoord c : *coords) {
         auto load = (*store)->load(c);
         if (!load)
             return Error{load.error()};
-        ++check.records;
-        if (load->state == LoadState::Corrupt) {
-            ++check.corrupt;
-            if (check.problems.size() < 8)
-                check.problems.push_back("chunk " + std::to_string(c.x) + "," + std::to_string(c.y) + "," +
-                                         std::to_string(c.z) + ": " + load->problem);
-        }
+        tally(lod_key(c), *load);
     }
     auto lods = (*store)->list_lod_coords();
     if (!lods)
@@ -72,14 +76,7 @@ Result<StoreCheck> check_world(const std::string& name) {
         auto load = (*store)->load_lod(c);
         if (!load)
             return Error{load.error()};
-        ++check.records;
-        if (load->state == LoadState::Corrupt) {
-            ++check.corrupt;
-            if (check.problems.size() < 8)
-                check.problems.push_back("level " + std::to_string(c.level) + " chunk " + std::to_string(c.chunk.x) +
-                                         "," + std::to_string(c.chunk.y) + "," + std::to_string(c.chunk.z) + ": " +
-                                         load->problem);
-        }
+        tally(c, *load);
     }
     return check;
 }
