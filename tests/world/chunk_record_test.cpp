@@ -227,13 +227,29 @@ TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
         reseal(rec);
         vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
         ASSERT_FALSE(r.ok()) << what;
+        if (std::string(what) == "index out of range") {
+            EXPECT_NE(r.error().find("palette index out of range"), std::string::npos) << r.error();
+        }
     };
     std::vector<uint8_t> raw(2 * 2 + kChunkVolume, 0);
     raw[0] = 1;                                               // ids {1, 0}
     raw[4] = 1;                                               // index 0 -> entry 1, rest entry 0
     raw[100] = 2;                                             // entry 2 of 2
     refused_raw(raw, 2, "index out of range");
+    raw[100] = 255;                                           // far out, counted by compares
+    refused_raw(raw, 2, "index out of range");
     raw[100] = 0;
+    {   // A palette of 12 entries (counted by histogram, not by compares), index 12 and 200 out.
+        std::vector<uint8_t> wide(2 * 12 + kChunkVolume, 0);
+        for (int e = 0; e < 12; ++e) {
+            wide[size_t(2 * e)] = uint8_t(e + 1);
+            wide[size_t(2 * 12 + e)] = uint8_t(e); // Every entry used once at least.
+        }
+        for (uint8_t bad : {uint8_t(12), uint8_t(200)}) {
+            wide[2 * 12 + 500] = bad;
+            refused_raw(wide, 12, "index out of range");
+        }
+    }
     raw[0] = 0;                                               // ids {0, 0}
     refused_raw(raw, 2, "repeated id");
     raw[0] = 1;

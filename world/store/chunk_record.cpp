@@ -73,6 +73,25 @@ void histogram8(const uint8_t* v, std::vector<uint32_t>& counts) {
         counts[e] = h[0][e] + h[1][e] + h[2][e] + h[3][e];
 }
 
+// Palettes up to this size are counted entry by entry with byte compares (one vectorised pass
+// per entry) rather than with histogram8's scalar increments: terrain chunks hold 2-8 entries.
+constexpr uint32_t kCountByCompare = 8;
+
+// counts[e] = how many of the kChunkVolume bytes equal e, for every e < counts.size().
+void count_small8(const uint8_t* v, std::vector<uint32_t>& counts) {
+    for (size_t e = 0; e < counts.size(); ++e) {
+        const uint8_t want = uint8_t(e);
+        uint32_t total = 0;
+        for (size_t block = 0; block < size_t(kChunkVolume); block += 128) {
+            uint8_t run = 0; // At most 128 per block: a byte cannot overflow.
+            for (size_t i = 0; i < 128; ++i)
+                run += uint8_t(v[block + i] == want);
+            total += run;
+        }
+        counts[e] = total;
+    }
+}
+
 // Packs kChunkVolume values of B bits in PackedArray's layout (entry i at bit i*B, straddling
 // words). 64 entries fill exactly B words, so each group is a fully unrolled loop with constant
 // shifts: ~10x faster than PackedArray::set_all's variable-shift loop.
@@ -374,9 +393,20 @@ Result<Chunk> RecordCodec::decode_palette(const RecordHeader& h, std::span<const
     const uint32_t bits = bits_for_count(n);
     pal.indices = PackedArray(kChunkVolume, bits);
     if (width == 1) {
-        if (max_value(src) >= n) // Checked before counting: counts[] has only n slots.
-            return fail("palette index out of range");
-        histogram8(src, counts);
+        if (n <= kCountByCompare) {
+            // Counting only values below n: all kChunkVolume of them are in range exactly when
+            // the counts add up, so no separate range pass.
+            count_small8(src, counts);
+            uint32_t total = 0;
+            for (uint32_t c : counts)
+                total += c;
+            if (total != uint32_t(kChunkVolume))
+                return fail("palette index out of range");
+        } else {
+            if (max_value(src) >= n) // Checked before counting: counts[] has only n slots.
+                return fail("palette index out of range");
+            histogram8(src, counts);
+        }
         pack_indices8(src, bits, pal.indices.words()); // PackedArray starts zeroed.
     } else {
         m_indices.resize(kChunkVolume);
