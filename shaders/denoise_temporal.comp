@@ -70,8 +70,7 @@ vec3 illumination(ivec2 p) {
 
 // Whether q's mirror surface continues p's (same normal, path length within 5%).
 bool same_mirror_surface(vec4 mnd, ivec2 q) {
-    const vec4 mq = imageLoad(u_mirror_nd, q);
-    return has_surface(mq) && dot(mq.xyz, mnd.xyz) >= 0.9 && abs(mq.w - mnd.w) <= 0.05 * mnd.w;
+    return same_surface(mnd, imageLoad(u_mirror_nd, q));
 }
 
 // Variance of one frame's mirror light at p: the spread of the values over the 3x3 neighbourhood
@@ -152,8 +151,7 @@ float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-            const vec4 nq = imageLoad(u_normal_depth, q);
-            if (!has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9 || abs(nq.w - nd.w) > 0.05 * nd.w)
+            if (!same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
             const float l = luminance(illumination(q));
             m1 += l;
@@ -174,9 +172,8 @@ float own_variance(ivec2 p, ivec2 size, vec4 nd) {
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-            const vec4 nq = imageLoad(u_normal_depth, q);
             const float v = imageLoad(u_color, q).a;
-            if (v < 0.0 || !has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9 || abs(nq.w - nd.w) > 0.05 * nd.w)
+            if (v < 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
             sum += v;
             n += 1;
@@ -206,8 +203,7 @@ vec3 clamp_to_neighbourhood(vec3 history, ivec2 p, ivec2 size, vec4 nd) {
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-            const vec4 nq = imageLoad(u_normal_depth, q);
-            if (!has_surface(nq) || dot(nq.xyz, nd.xyz) < 0.9 || abs(nq.w - nd.w) > 0.05 * nd.w)
+            if (!same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
             const vec3 r = imageLoad(u_reflected, q).rgb;
             lo = min(lo, r);

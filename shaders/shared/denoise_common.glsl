@@ -15,6 +15,12 @@ vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }
 // A pixel with geometry: distance > 0 (render/gbuffer.h: a miss stores 0).
 bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0; }
 
+// Whether `q` (normal + distance) continues the surface of `p`: a hit, the same normal, the
+// distance within 5% (SVGF's neighbourhood test for variance and history clamping).
+bool same_surface(vec4 p, vec4 q) {
+    return has_surface(q) && dot(q.xyz, p.xyz) >= 0.9 && abs(q.w - p.w) <= 0.05 * p.w;
+}
+
 // The last pass's outputs: HDR radiance (the remodulated illumination plus the unfiltered
 // reflected part), and the 8-bit image as the ray tracer writes it (render/gbuffer.h: exposed,
 // tone-mapped, sRGB encoded).
