@@ -61,7 +61,8 @@ struct DenoiseSettings {
     // the history's by 4.5 standard errors) and clamp the reflected part's history to this
     // frame's neighbourhood (shaders/denoise_temporal.comp): a light change (an edit's new
     // shadow, a reflection sliding over a mirror) is gone within a frame instead of fading over
-    // max_history. Costs ~9% of a still camera's 8-frame RMSE. Off: SVGF's plain accumulation.
+    // max_history. Costs 9-15% of a still camera's 8-frame RMSE (docs/render_report.md). Off:
+    // SVGF's plain accumulation.
     bool history_clamp = true;
 };
 

@@ -16,8 +16,9 @@
 // history's by 4.5 standard errors, the history is dropped as on a disocclusion, the test A-SVGF
 // makes with its temporal gradients (Schied et al. 2018). 4 dropped enough still pixels on noise
 // alone to cost 15% of an 8-frame accumulation's RMSE (tests/render/denoise_render_test.cpp);
-// 4.5 costs 9% and still catches a shadow's edge at 4 spp. The reflected part keeps its own
-// length and is clamped to this frame's neighbourhood (Karis 2014).
+// 4.5 costs 9% (15% with the Sobol sampler, docs/render_report.md) and still catches a shadow's
+// edge at 4 spp. The reflected part keeps its own length and is clamped to this frame's
+// neighbourhood (Karis 2014).
 //
 // Mirrors (kDenoiseMirror): the first mirror bounce's diffuse lighting over its surface's albedo
 // is taken out of the reflected part and accumulated like it (same reprojection through the
