@@ -5,6 +5,7 @@
 #include <ctime>
 #include <tuple>
 
+#include "engine/box_difference.h"
 #include "engine/stream_jobs.h"
 #include "world/base/log.h"
 
@@ -24,29 +25,6 @@ std::chrono::nanoseconds thread_cpu_now() {
 const ChunkMesh& empty_mesh() {
     static const ChunkMesh kEmpty;
     return kEmpty;
-}
-
-// Calls f(c) for every chunk c of the box around `a` that is not in the box around `b` (half
-// widths r horizontally, rv vertically), or of the whole box when `all`. A one-chunk move visits
-// one slab of the box, plus (2r+1)(2rv+1) cheap range tests: no hash lookups outside the slab.
-template <class F> void for_each_in_difference(ChunkCoord a, ChunkCoord b, bool all, int r, int rv, F&& f) {
-    const glm::ivec3 half(r, rv, r);
-    const glm::ivec3 lo = a - half, hi = a + half;
-    const glm::ivec3 blo = all ? glm::ivec3(1) : b - half, bhi = all ? glm::ivec3(0) : b + half; // all: empty b.
-    for (int x = lo.x; x <= hi.x; ++x) {
-        const bool in_x = x >= blo.x && x <= bhi.x;
-        for (int y = lo.y; y <= hi.y; ++y) {
-            if (!in_x || y < blo.y || y > bhi.y) {
-                for (int z = lo.z; z <= hi.z; ++z)
-                    f(ChunkCoord(x, y, z));
-                continue;
-            }
-            for (int z = lo.z; z <= std::min(hi.z, blo.z - 1); ++z)
-                f(ChunkCoord(x, y, z));
-            for (int z = std::max(lo.z, bhi.z + 1); z <= hi.z; ++z)
-                f(ChunkCoord(x, y, z));
-        }
-    }
 }
 
 int64_t distance2(ChunkCoord a, ChunkCoord b) {

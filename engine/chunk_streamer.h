@@ -140,6 +140,8 @@ public:
     bool settled() const;
     StreamingMetrics metrics() const;
     const world::World& world() const { return m_world; }
+    // Main thread. The job system the streamer's jobs run on (the LodStreamer's run there too).
+    JobSystem& jobs() { return *m_jobs; }
     // Main thread. The mesh of chunk c, or null.
     const world::ChunkMesh* mesh(world::ChunkCoord c) const;
     // Main thread. Calls fn(coord, mesh) for every chunk whose current (non-empty) mesh was

@@ -47,6 +47,7 @@ const char* job_kind_name(JobKind kind);
 struct JobKey {
     world::ChunkCoord chunk{0};
     JobKind kind = JobKind::Task;
+    uint8_t level = 0; // Level of detail of `chunk` (world/lod/lod_coords.h); 0: blocks.
 
     bool operator==(const JobKey&) const = default;
 };
@@ -54,7 +55,8 @@ struct JobKey {
 // Thread-safe (pure).
 struct JobKeyHash {
     size_t operator()(const JobKey& k) const noexcept {
-        return world::ChunkCoordHash{}(k.chunk) ^ (size_t(k.kind) * 0x9E3779B97F4A7C15ull);
+        return world::ChunkCoordHash{}(k.chunk) ^ (size_t(k.kind) * 0x9E3779B97F4A7C15ull) ^
+               (size_t(k.level) * 0xC2B2AE3D27D4EB4Full);
     }
 };
 

@@ -1,0 +1,312 @@
+// Levels of detail in the engine (engine/lod_streamer.h): the drawn chunks form a cut with no
+// hole and no overlap in every frame of a flight (synthetic clock, a moving viewer), also when
+// full detail lags behind; the cut settles on LodView's target; edits climb the levels and
+// survive reopening a stored world.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+#include <unordered_set>
+
+#include "engine/chunk_streamer.h"
+#include "engine/lod_streamer.h"
+#include "world/gen/terrain.h"
+#include "world/lod/downsample.h"
+#include "world/store/sqlite_store.h"
+
+namespace vx::engine {
+namespace {
+
+using namespace vx::world;
+using Clock = std::chrono::steady_clock;
+using LodSet = std::unordered_set<LodCoord, LodCoordHash>;
+
+// What a renderer would draw: every chunk handed over and not taken back (an empty mesh counts:
+// it covers air).
+class DrawnRecorder final : public LodMeshSink {
+public:
+    void on_mesh(ChunkCoord c, const ChunkMesh&, std::span<const int>) override { drawn.insert({0, c}); }
+    void on_unload(ChunkCoord c) override { drawn.erase({0, c}); }
+    void on_lod_mesh(LodCoord c, const ChunkMesh&) override { drawn.insert(c); }
+    void on_lod_unload(LodCoord c) override { drawn.erase(c); }
+    LodSet drawn;
+};
+
+// The built-in terrain, level-0 chunks slowed down: full detail then lags far behind the flight.
+class SlowTerrain final : public ChunkGenerator {
+public:
+    SlowTerrain(const TerrainGenerator& inner, std::chrono::microseconds delay) : m_inner(inner), m_delay(delay) {}
+    Chunk generate(ChunkCoord c) const override {
+        std::this_thread::sleep_for(m_delay);
+        return m_inner.generate(c);
+    }
+    bool generate_coarse(LodCoord c, Chunk& out) const override { return m_inner.generate_coarse(c, out); }
+
+private:
+    const TerrainGenerator& m_inner;
+    std::chrono::microseconds m_delay;
+};
+
+LodViewSettings small_view() {
+    LodViewSettings s;
+    s.radius0 = 2;
+    s.vradius0 = 1;
+    s.ring = 2;
+    s.vertical_reach = 64;
+    s.view_distance = 420;
+    return s;
+}
+
+StreamingSettings streaming_for(const LodViewSettings& v) {
+    StreamingSettings s;
+    s.view_radius = v.radius0;
+    s.view_radius_vertical = v.vradius0;
+    s.worker_count = 2;
+    s.lookahead_s = 0.5;
+    return s;
+}
+
+// How many drawn chunks cover block p (walks p's chunk at every level).
+int covering(const LodSet& drawn, BlockPos p, int top) {
+    int n = 0;
+    for (int k = 0; k <= top; ++k)
+        n += int(drawn.contains(lod_chunk_of(p, k)));
+    return n;
+}
+
+// The roots with something drawn under them (all of it, by construction: checked by the samples).
+LodSet covered_roots(const LodSet& drawn, int top) {
+    LodSet out;
+    for (LodCoord d : drawn)
+        out.insert(lod_ancestor(d, top));
+    return out;
+}
+
+// Blocks within the view distance (less the half chunk the view is built off centre) at heights
+// every level reaches, under roots with something drawn: each must be covered exactly once.
+// Returns the uncovered or doubly covered blocks.
+int coverage_faults(const LodSet& drawn, const LodSet& covered, const glm::dvec3& eye, const LodViewSettings& s,
+                    int top) {
+    int faults = 0;
+    const double d = double(s.view_distance) - kChunkSize;
+    for (double x = -d; x <= d; x += 23.0)
+        for (double z = -d; z <= d; z += 29.0)
+            for (double y = -40.0; y <= 40.0; y += 20.0) {
+                if (std::hypot(x, z) > d)
+                    continue;
+                const BlockPos p(int64_t(std::floor(eye.x + x)), int64_t(std::floor(eye.y + y)),
+                                 int64_t(std::floor(eye.z + z)));
+                if (covered.contains(lod_chunk_of(p, top)))
+                    faults += int(covering(drawn, p, top) != 1);
+            }
+    return faults;
+}
+
+// No drawn chunk has a drawn ancestor.
+int overlaps(const LodSet& drawn, int top) {
+    int n = 0;
+    for (LodCoord c : drawn)
+        for (LodCoord a = c; a.level < top;) {
+            a = lod_parent(a);
+            n += int(drawn.contains(a));
+        }
+    return n;
+}
+
+struct Flight {
+    int frames_checked = 0, frames_with_faults = 0, overlap_frames = 0;
+    // Frames where a root drawn the frame before had nothing drawn: a swap (or a drop) opened a
+    // hole. Roots not ready when they come into view are counted apart (arrival_holes): that is
+    // the prefetch margin against this machine's speed, not the swaps.
+    int swap_holes = 0, arrival_hole_frames = 0;
+    int first_full_frame = -1;
+    int frames_lagging = 0; // Frames where the drawn cut was coarser than the target somewhere.
+};
+
+// Flies along +x at `speed` blocks/s for `seconds` of synthetic time (16 ms frames), after the
+// first frame with every root drawn; checks every frame from then on.
+Flight fly(ChunkStreamer& streamer, LodStreamer& lod, const DrawnRecorder& rec, glm::dvec3& eye, Clock::time_point& now,
+           double speed, double seconds, const LodViewSettings& s) {
+    Flight f;
+    const auto real_limit = Clock::now() + std::chrono::minutes(3);
+    // Fill: until the roots are drawn (a game's loading screen).
+    for (int i = 0; Clock::now() < real_limit; ++i) {
+        now += std::chrono::milliseconds(16);
+        streamer.update(eye, glm::dvec3(1, 0, 0), now);
+        lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+        if (lod.metrics().holes == 0 && lod.metrics().root_chunks > 0) {
+            f.first_full_frame = i;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    const int frames = int(seconds / 0.016);
+    LodSet before = covered_roots(rec.drawn, lod.top_level());
+    for (int i = 0; i < frames; ++i) {
+        now += std::chrono::milliseconds(16);
+        eye.x += speed * 0.016;
+        streamer.update(eye, glm::dvec3(1, 0, 0), now);
+        lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+        ++f.frames_checked;
+        const LodSet covered = covered_roots(rec.drawn, lod.top_level());
+        for (LodCoord r : before)
+            f.swap_holes += int(lod.is_root(r) && !covered.contains(r));
+        before = covered;
+        f.arrival_hole_frames += int(lod.metrics().holes > 0);
+        f.frames_with_faults += int(coverage_faults(rec.drawn, covered, eye, s, lod.top_level()) > 0);
+        f.overlap_frames += int(overlaps(rec.drawn, lod.top_level()) > 0);
+        f.frames_lagging += int(!lod.settled());
+    }
+    return f;
+}
+
+bool settle(ChunkStreamer& streamer, LodStreamer& lod, const glm::dvec3& eye, Clock::time_point& now) {
+    const auto limit = Clock::now() + std::chrono::minutes(3);
+    while (Clock::now() < limit) {
+        now += std::chrono::milliseconds(16);
+        streamer.update(eye, glm::dvec3(1, 0, 0), now);
+        lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+        if (streamer.settled() && lod.settled())
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+void expect_target_cut(const LodSet& drawn, const glm::dvec3& eye, const LodViewSettings& s) {
+    const BlockPos o = chunk_origin(chunk_of(BlockPos(int64_t(std::floor(eye.x)), int64_t(std::floor(eye.y)),
+                                                      int64_t(std::floor(eye.z)))));
+    const LodView view(glm::dvec3(o) + glm::dvec3(kChunkSize * 0.5), s);
+    std::vector<LodCoord> cut;
+    view.cut(cut);
+    for (LodCoord c : cut)
+        EXPECT_TRUE(drawn.contains(c)) << "target chunk " << c.level << ":" << c.chunk.x << "," << c.chunk.y << ","
+                                       << c.chunk.z << " not drawn";
+    const LodSet target(cut.begin(), cut.end());
+    for (LodCoord c : drawn)
+        if (!target.contains(c)) { // Only the children of a refined chunk beyond the view distance.
+            EXPECT_GT(view.distance(c), double(s.view_distance)) << "level " << c.level;
+        }
+}
+
+TEST(LodStreamer, FlightNeverShowsAHoleAndSettlesOnTheTargetCut) {
+    const TerrainGenerator terrain(7);
+    const LodViewSettings s = small_view();
+    DrawnRecorder rec;
+    LodStreamer lod(terrain, nullptr, rec, s, BlockRegistry::default_registry());
+    ChunkStreamer streamer(terrain, nullptr, lod, streaming_for(s));
+    lod.attach(streamer.jobs(), streamer.world());
+    glm::dvec3 eye(10.5, 40.0, -3.5);
+    Clock::time_point now{};
+    const Flight f = fly(streamer, lod, rec, eye, now, 100.0, 2.5, s);
+    ASSERT_GE(f.first_full_frame, 0) << "the roots were never all drawn";
+    EXPECT_GE(lod.top_level(), 2);
+    EXPECT_EQ(f.swap_holes, 0);
+    EXPECT_EQ(f.frames_with_faults, 0) << "of " << f.frames_checked << " frames";
+    EXPECT_EQ(f.overlap_frames, 0);
+    RecordProperty("arrival_hole_frames", f.arrival_hole_frames);
+    ASSERT_TRUE(settle(streamer, lod, eye, now));
+    expect_target_cut(rec.drawn, eye, s);
+    const LodMetrics m = lod.metrics();
+    EXPECT_GT(m.swaps, 10u);
+    EXPECT_EQ(m.forced_drops, 0u);
+    for (int k = 0; k <= lod.top_level(); ++k)
+        EXPECT_GT(m.drawn[size_t(k)], 0u) << "level " << k;
+}
+
+TEST(LodStreamer, FullDetailLaggingFarBehindStillLeavesNoHole) {
+    const TerrainGenerator terrain(11);
+    const SlowTerrain slow(terrain, std::chrono::milliseconds(10));
+    const LodViewSettings s = small_view();
+    DrawnRecorder rec;
+    LodStreamer lod(slow, nullptr, rec, s, BlockRegistry::default_registry());
+    ChunkStreamer streamer(slow, nullptr, lod, streaming_for(s));
+    lod.attach(streamer.jobs(), streamer.world());
+    glm::dvec3 eye(-200.5, 30.0, 77.5);
+    Clock::time_point now{};
+    // Fast enough that level 0 (10 ms a chunk on 2 workers) cannot keep up.
+    const Flight f = fly(streamer, lod, rec, eye, now, 200.0, 2.5, s);
+    ASSERT_GE(f.first_full_frame, 0);
+    EXPECT_EQ(f.swap_holes, 0);
+    EXPECT_EQ(f.frames_with_faults, 0) << "of " << f.frames_checked << " frames";
+    EXPECT_EQ(f.overlap_frames, 0);
+    EXPECT_EQ(lod.metrics().forced_drops, 0u);
+    RecordProperty("arrival_hole_frames", f.arrival_hole_frames);
+    EXPECT_GT(f.frames_lagging, 0) << "full detail kept up: the test did not test the lag";
+    ASSERT_TRUE(settle(streamer, lod, eye, now));
+    expect_target_cut(rec.drawn, eye, s);
+}
+
+TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
+    const TerrainGenerator terrain(5);
+    LodViewSettings s = small_view();
+    s.view_distance = 300;
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / "vx_lod_streamer_edits.sqlite";
+    std::filesystem::remove(path);
+    const glm::dvec3 eye(16.5, 20.0, 16.5);
+    // A column of stone high in the air above the viewer: it changes every level's cells.
+    std::vector<BlockPos> column;
+    for (int y = 40; y < 50; ++y)
+        column.push_back(BlockPos(20, y, 20));
+    {
+        SqliteStoreCreateInfo info;
+        info.path = path.string();
+        auto store = SqliteStore::open(info);
+        ASSERT_TRUE(store) << store.error();
+        DrawnRecorder rec;
+        LodStreamer lod(terrain, store->get(), rec, s, BlockRegistry::default_registry());
+        ChunkStreamer streamer(terrain, store->get(), lod, streaming_for(s));
+        lod.attach(streamer.jobs(), streamer.world());
+        Clock::time_point now{};
+        ASSERT_TRUE(settle(streamer, lod, eye, now));
+        for (BlockPos p : column) {
+            ASSERT_TRUE(streamer.set_block(p, 1));
+            lod.note_edit(chunk_of(p));
+        }
+        // One frame later the coarse levels hold the edit (their meshes follow on the pool).
+        now += std::chrono::milliseconds(16);
+        streamer.update(eye, glm::dvec3(1, 0, 0), now);
+        lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+        EXPECT_GE(lod.metrics().edits_applied, uint64_t(lod.top_level()));
+        for (int k = 1; k <= lod.top_level(); ++k) {
+            const LodCoord c = lod_chunk_of(column.front(), k);
+            const Chunk* coarse = lod.coarse_chunk(c);
+            ASSERT_NE(coarse, nullptr) << "level " << k;
+            EXPECT_NE(coarse->get(local_index(lod_local_of(column.front(), k))), kAir) << "level " << k;
+            if (k == 1) { // The octant over the edited chunk is its downsampling, cell for cell.
+                std::vector<BlockId> want(kChunkVolume), got(kChunkVolume);
+                const LodCoord fine{0, chunk_of(column.front())};
+                downsample_octant(*streamer.world().find_chunk(fine.chunk), lod_octant(fine), want);
+                for (int i = 0; i < kChunkVolume; ++i)
+                    got[size_t(i)] = coarse->get(i);
+                int differ = 0;
+                const ChunkCoord base = ChunkCoord(lod_octant(fine) & 1, (lod_octant(fine) >> 1) & 1, lod_octant(fine) >> 2) * 16;
+                for (int x = 0; x < 16; ++x)
+                    for (int y = 0; y < 16; ++y)
+                        for (int z = 0; z < 16; ++z) {
+                            const int i = local_index(base.x + x, base.y + y, base.z + z);
+                            differ += int(want[size_t(i)] != got[size_t(i)]);
+                        }
+                EXPECT_EQ(differ, 0);
+            }
+        }
+        ASSERT_TRUE(settle(streamer, lod, eye, now));
+        ASSERT_TRUE(streamer.flush());
+    }
+    SqliteStoreCreateInfo info;
+    info.path = path.string();
+    auto store = SqliteStore::open(info);
+    ASSERT_TRUE(store) << store.error();
+    for (int k = 1; k <= LodView(eye, s).top_level(); ++k) {
+        const LodCoord c = lod_chunk_of(column.front(), k);
+        auto loaded = (*store)->load_lod(c);
+        ASSERT_TRUE(loaded) << loaded.error();
+        ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k;
+        EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(column.front(), k))), kAir) << "level " << k;
+    }
+    std::filesystem::remove(path);
+}
+
+} // namespace
+} // namespace vx::engine
