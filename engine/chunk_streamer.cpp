@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "engine/box_difference.h"
+#include "engine/cpu_time.h"
 #include "engine/stream_jobs.h"
 #include "world/base/log.h"
 
@@ -15,13 +16,6 @@ using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-// CPU time of the calling thread: the work update() does, without time the OS gave others.
-std::chrono::nanoseconds thread_cpu_now() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
-}
-
 const ChunkMesh& empty_mesh() {
     static const ChunkMesh kEmpty;
     return kEmpty;
@@ -88,7 +82,7 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
 void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,
                                   Clock::time_point now) {
     const Clock::time_point t0 = Clock::now();
-    const std::chrono::nanoseconds cpu0 = thread_cpu_now();
+    const std::chrono::nanoseconds cpu0 = thread_cpu_time();
     // Work stops 5% short of the budget: the checks themselves and the bookkeeping after the
     // last one must fit too (measured on a quiet 16-core host, p99 sat on the budget otherwise).
     const Clock::time_point deadline = t0 + m_settings.frame_budget * 19 / 20;
@@ -145,7 +139,7 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
         m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store));
     }
     m_last_update = Clock::now() - t0;
-    m_last_update_cpu = thread_cpu_now() - cpu0;
+    m_last_update_cpu = thread_cpu_time() - cpu0;
 }
 
 void ChunkStreamer::refresh_region(ChunkCoord old_center, ChunkCoord old_lead, bool first, Clock::time_point now) {

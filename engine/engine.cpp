@@ -4,6 +4,7 @@
 
 #include <vx/vx.h>
 
+#include "engine/cpu_time.h"
 #include "engine/engine_impl.h"
 #include "world/base/log.h"
 #include "world/raycast.h"
@@ -14,6 +15,7 @@ namespace vx {
 static_assert(int(Face::NegX) == int(world::Face::NegX) && int(Face::PosX) == int(world::Face::PosX));
 static_assert(int(Face::NegY) == int(world::Face::NegY) && int(Face::PosY) == int(world::Face::PosY));
 static_assert(int(Face::NegZ) == int(world::Face::NegZ) && int(Face::PosZ) == int(world::Face::PosZ));
+static_assert(kLodLevels == world::kMaxLodLevel + 1);
 static_assert(kChunkSize == world::kChunkSize && kChunkVolume == world::kChunkVolume);
 static_assert(chunk_index(1, 2, 3) == world::local_index(1, 2, 3));
 
@@ -29,6 +31,12 @@ Status validate(const EngineCreateInfo& info) {
         return Error{"streaming delays must be >= 0 and the update budget > 0"};
     if (s.worker_threads < 0)
         return Error{"worker_threads must be >= 0 (0: cores - 1)"};
+    if (s.view_distance < 0 || s.view_distance > 65536)
+        return Error{"view_distance must be 0..65536 blocks, got " + std::to_string(s.view_distance)};
+    if (s.lod_ring < 1 || s.lod_ring > 64)
+        return Error{"lod_ring must be 1..64 chunks, got " + std::to_string(s.lod_ring)};
+    if (s.lod_vertical_reach < 0 || s.lod_vertical_reach > 65536)
+        return Error{"lod_vertical_reach must be 0..65536 blocks"};
     const RenderTarget& t = info.render.target;
     if (t.kind == RenderTarget::Kind::Window && !t.window)
         return Error{"a window target needs a GLFWwindow* (RenderTarget::glfw_window)"};
@@ -48,6 +56,21 @@ engine::StreamingSettings streaming_settings(const StreamingDesc& d) {
     s.memory_cap_bytes = d.memory_cap_bytes;
     s.frame_budget = std::chrono::nanoseconds(int64_t(d.update_budget_ms * 1e6));
     s.worker_count = d.worker_threads;
+    return s;
+}
+
+// The levels of detail around the viewer, or nullopt when the view distance stays within the
+// full-detail radius. A generator without coarse chunks keeps to levels 1 and 2 (vx.h).
+std::optional<world::LodViewSettings> lod_settings(const StreamingDesc& d, const world::ChunkGenerator& gen) {
+    world::LodViewSettings s;
+    s.radius0 = d.view_radius;
+    s.vradius0 = d.view_radius_vertical;
+    s.ring = d.lod_ring;
+    s.vertical_reach = d.lod_vertical_reach;
+    s.view_distance = d.view_distance;
+    s.max_level = std::min(world::kMaxLodLevel, std::max(gen.coarse_levels(), 2));
+    if (world::LodView(glm::dvec3(0.0), s).top_level() == 0)
+        return std::nullopt;
     return s;
 }
 
@@ -143,9 +166,17 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
         m.renderer = std::move(*renderer);
     }
     m.sink = std::make_unique<engine::EngineSink>(m.renderer.get(), info.chunk_events);
-    m.streamer = std::make_unique<engine::ChunkStreamer>(*m.world.generator, m.world.store.get(), *m.sink,
+    engine::MeshSink* meshes = m.sink.get();
+    if (auto lod = lod_settings(info.streaming, *m.world.generator)) {
+        m.lod = std::make_unique<engine::LodStreamer>(*m.world.generator, m.world.store.get(), *m.sink, *lod,
+                                                      m.world.registry);
+        meshes = m.lod.get();
+    }
+    m.streamer = std::make_unique<engine::ChunkStreamer>(*m.world.generator, m.world.store.get(), *meshes,
                                                          streaming_settings(info.streaming), m.world.registry);
     m.streamer->set_observer(m.sink.get());
+    if (m.lod)
+        m.lod->attach(m.streamer->jobs(), m.streamer->world());
     m.saves = m.streamer->save_tracker();
     return e;
 }
@@ -172,16 +203,22 @@ void Engine::update(std::chrono::steady_clock::time_point now) {
     if (m->shut_down)
         return;
     const glm::dvec3 forward = m->viewer.forward;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::chrono::nanoseconds cpu0 = engine::thread_cpu_time();
     if (m->viewer.velocity)
         m->streamer->update(m->eye(), forward, *m->viewer.velocity, now);
     else
         m->streamer->update(m->eye(), forward, now);
-    const engine::StreamingMetrics sm = m->streamer->metrics();
-    m->frame.update_cpu_ms = std::chrono::duration<double, std::milli>(sm.last_update_cpu).count();
-    m->frame.update_wall_ms = std::chrono::duration<double, std::milli>(sm.last_update_time).count();
+    if (m->lod) // What the streamer left of the budget (a few swaps always happen).
+        m->lod->update(m->eye(), now, t0 + std::chrono::nanoseconds(int64_t(m->info.streaming.update_budget_ms * 1e6)));
+    m->frame.update_cpu_ms = std::chrono::duration<double, std::milli>(engine::thread_cpu_time() - cpu0).count();
+    m->frame.update_wall_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-bool Engine::settled() const { return !m->shut_down && m->streamer->settled(); }
+bool Engine::settled() const {
+    return !m->shut_down && m->streamer->settled() && (!m->lod || m->lod->settled());
+}
 
 namespace {
 // Why `id` at `pos` cannot be set now, or success.
@@ -212,9 +249,12 @@ Status Engine::set_blocks(std::span<const BlockEdit> edits) {
     for (const BlockEdit& e : edits)
         if (Status s = check_edit(*m->streamer, m->world.registry, e.pos, e.id); !s)
             return s;
-    for (const BlockEdit& e : edits)
+    for (const BlockEdit& e : edits) {
         if (Status s = m->streamer->set_block(e.pos, e.id); !s)
             return s; // Unreachable after the checks; kept so a future check cannot be silently lost.
+        if (m->lod)
+            m->lod->note_edit(world::chunk_of(e.pos));
+    }
     return {};
 }
 
@@ -312,7 +352,11 @@ Status Engine::recreate_renderer() {
         return Error{"recreate_renderer: " + renderer.error()};
     m->renderer = std::move(*renderer);
     m->sink->attach_renderer(m->renderer.get());
-    m->streamer->for_each_mesh([&](world::ChunkCoord c, const world::ChunkMesh& mesh) { m->renderer->set_chunk(c, mesh); });
+    if (m->lod)
+        m->lod->for_each_drawn([&](world::LodCoord c, const world::ChunkMesh& mesh) { m->renderer->set_chunk(c, mesh); });
+    else
+        m->streamer->for_each_mesh(
+            [&](world::ChunkCoord c, const world::ChunkMesh& mesh) { m->renderer->set_chunk(c, mesh); });
     if (Status s = m->resend_ui(); !s)
         return Error{"recreate_renderer: " + s.error()};
     return {};
@@ -330,6 +374,7 @@ Status Engine::Impl::shutdown() {
     if (streamer && world.store && !world.store->read_only())
         result = streamer->flush(); // Every edit saved and synced before the threads stop.
     streamer.reset();               // Joins the workers and the I/O thread.
+    lod.reset();                    // Its jobs ran on those.
     if (sink)
         sink->detach_renderer();
     if (renderer) // Kept for stats() after shutdown.

@@ -10,6 +10,7 @@
 
 #include "engine/chunk_streamer.h"
 #include "engine/engine_sink.h"
+#include "engine/lod_streamer.h"
 #include "engine/save_tracker.h"
 #include "engine/sky_access.h"
 #include "engine/world_setup.h"
@@ -37,6 +38,9 @@ struct Engine::Impl {
     UiDrawList ui;
     std::vector<uint8_t> ui_texture;
     uint32_t ui_texture_width = 0, ui_texture_height = 0;
+    // Levels of detail (null without): the streamer's mesh sink. Declared before the streamer,
+    // so it outlives the job system its jobs run on.
+    std::unique_ptr<engine::LodStreamer> lod;
     // Declared last: destroyed first, while everything it points to still exists.
     std::unique_ptr<engine::ChunkStreamer> streamer;
 

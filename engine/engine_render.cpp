@@ -72,6 +72,8 @@ void record_frame_stats(Stats& f, const render::RenderStats& rs) {
     f.triangles = rs.triangles;
     f.upload_bytes = rs.upload_bytes;
     f.failed_chunks = rs.failed_chunks;
+    for (size_t k = 0; k < f.level_gpu_bytes.size(); ++k)
+        f.level_gpu_bytes[k] = rs.level_gpu_bytes[k];
     f.ev100 = rs.ev100;
 }
 
@@ -286,6 +288,24 @@ Stats Engine::stats() const {
         s.chunks_reloaded = sm.reloaded;
         s.chunks_generate_failed = sm.generate_failed;
         s.generate_failures = sm.generate_failures;
+        s.level_chunks_kept[0] = uint32_t(sm.loaded);
+        s.level_block_bytes[0] = sm.block_bytes;
+        // Without LOD, a hole is a chunk of the view not meshed yet (failed ones stay holes).
+        s.holes = uint32_t(sm.wanted_meshes - std::min(sm.wanted_meshes, sm.meshed));
+        s.level_chunks_drawn[0] = uint32_t(sm.meshed);
+    }
+    if (m->lod) {
+        const engine::LodMetrics lm = m->lod->metrics();
+        s.lod_top_level = lm.top_level;
+        for (int k = 0; k < kLodLevels; ++k) {
+            s.level_chunks_drawn[size_t(k)] = lm.drawn[size_t(k)];
+            if (k > 0) {
+                s.level_chunks_kept[size_t(k)] = lm.kept[size_t(k)];
+                s.level_block_bytes[size_t(k)] = lm.block_bytes[size_t(k)];
+            }
+        }
+        s.holes = lm.holes;
+        s.lod_swaps = lm.swaps;
     }
     if (m->renderer) {
         const render::GpuHeapStats mem = m->renderer->memory_stats();

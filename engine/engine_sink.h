@@ -1,6 +1,7 @@
 #pragma once
-// Where the facade's streamer reports: meshes go on to the renderer (when there is one), and
-// loads, meshes and unloads become ChunkEvents for the game (when it asked for them). Main thread
+// Where the facade's streamer reports: meshes go on to the renderer (when there is one; with
+// levels of detail through the LodStreamer, which passes on the drawn ones), and loads, meshes
+// and unloads become ChunkEvents for the game (when it asked for them). Main thread
 // only, like the streamer that calls it.
 
 #include <utility>
@@ -9,12 +10,13 @@
 #include <vx/vx.h>
 
 #include "engine/chunk_streamer.h"
+#include "engine/lod_streamer.h"
 #include "engine/mesh_sink.h"
 #include "render/renderer.h"
 
 namespace vx::engine {
 
-class EngineSink final : public MeshSink, public StreamObserver {
+class EngineSink final : public LodMeshSink, public StreamObserver {
 public:
     // `renderer` may be null (no GPU); it must outlive the sink's use.
     EngineSink(render::Renderer* renderer, bool record_events) : m_renderer(renderer), m_record(record_events) {}
@@ -29,6 +31,16 @@ public:
     }
     void on_unload(world::ChunkCoord c) override {
         ++m_world_changes;
+        if (m_renderer)
+            m_renderer->remove_chunk(c);
+    }
+    // Coarse levels (LodStreamer): drawn scaled by their cell size; no ChunkEvents (the game's
+    // events are about block data).
+    void on_lod_mesh(world::LodCoord c, const world::ChunkMesh& mesh) override {
+        if (m_renderer)
+            m_renderer->set_chunk(c, mesh);
+    }
+    void on_lod_unload(world::LodCoord c) override {
         if (m_renderer)
             m_renderer->remove_chunk(c);
     }

@@ -1,6 +1,7 @@
 #include "engine/world_setup.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -31,6 +32,35 @@ world::Chunk GameGenerator::generate(world::ChunkCoord c) const {
     Result<world::Chunk> chunk = try_generate(c);
     VX_ASSERT_MSG(chunk, "a game's generator failed where no failure can be reported");
     return std::move(*chunk);
+}
+
+bool GameGenerator::generate_coarse(world::LodCoord c, world::Chunk& out) const {
+    thread_local std::vector<BlockId> dense(kChunkVolume);
+    try {
+        std::fill(dense.begin(), dense.end(), kAir);
+        if (!m_game->generate_coarse(c.level, c.chunk, std::span<BlockId>(dense)))
+            return false;
+    } catch (const std::exception& e) {
+        static std::atomic<bool> logged{false};
+        if (!logged.exchange(true))
+            VX_LOG_ERROR("the game's generate_coarse threw (%s); coarse chunks are built from blocks instead", e.what());
+        return false;
+    } catch (...) {
+        static std::atomic<bool> logged{false};
+        if (!logged.exchange(true))
+            VX_LOG_ERROR("the game's generate_coarse threw; coarse chunks are built from blocks instead");
+        return false;
+    }
+    out = world::Chunk::from_dense(dense);
+    return true;
+}
+
+int GameGenerator::coarse_levels() const {
+    try {
+        return std::clamp(m_game->coarse_levels(), 0, world::kMaxLodLevel);
+    } catch (...) {
+        return 0;
+    }
 }
 
 namespace {

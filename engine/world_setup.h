@@ -26,6 +26,10 @@ public:
     // Only for callers that cannot report a failure: aborts if the game's generator throws. The
     // engine calls try_generate.
     world::Chunk generate(world::ChunkCoord c) const override;
+    // The game's generate_coarse(); false when it offers none, or throws (logged once: the engine
+    // then builds the chunk from generated blocks, which reports any error of its own).
+    bool generate_coarse(world::LodCoord c, world::Chunk& out) const override;
+    int coarse_levels() const override;
 
 private:
     std::shared_ptr<const Generator> m_game;

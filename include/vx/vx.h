@@ -19,6 +19,7 @@
 // The structs are plain values (copy them; not thread-safe to share while one thread writes).
 // Nothing here exposes Vulkan, SQLite or OpenVDB.
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -62,6 +63,24 @@ public:
     // Worker threads. Optional fast path: when chunk `chunk` is all one id (open sky, deep rock),
     // return it and generate() is not called for that chunk. Default: never.
     virtual std::optional<BlockId> uniform(ChunkCoord) const { return std::nullopt; }
+    // Worker threads. Optional, for levels of detail (StreamingDesc::view_distance): fills `cells`
+    // (kChunkVolume ids, chunk_index order, arriving all air) with the level-`level` chunk at
+    // `chunk` and returns true. Level k has cells of 2^k blocks: cell (x, y, z) covers blocks
+    // chunk * 32 * 2^k + 2^k * (x, y, z) ... + 2^k - 1 on each axis. A cell must be non-air
+    // wherever any block under it would be (coarse ground may rise by less than a cell, never
+    // sink: a ray must never pass through it); its id is what the surface shows from afar.
+    // Returning false (the default) or throwing: the engine builds that chunk by generating the
+    // blocks under it and downsampling them (8^level generate() calls).
+    virtual bool generate_coarse(int level, ChunkCoord chunk, std::span<BlockId> cells) const {
+        (void)level;
+        (void)chunk;
+        (void)cells;
+        return false;
+    }
+    // Any thread. The highest level generate_coarse() makes (0: none). Without coarse chunks the
+    // engine keeps to levels 1 and 2 (cells of 2 and 4 blocks, 64 generate() calls per level-2
+    // chunk), so the view reaches about lod_ring * 128 blocks, not view_distance.
+    virtual int coarse_levels() const { return 0; }
     // Any thread. The generator's identity. A stored world (WorldSource::sqlite) records the
     // generator that made it and refuses to reopen with another one (another name or version,
     // or the built-in terrain), whose unedited chunks would not meet the stored ones. Put what
@@ -110,6 +129,9 @@ struct WorldSource {
     static WorldSource vdb(std::string path, std::shared_ptr<const Generator> generator = nullptr);
 };
 
+// Levels of detail 0..kLodLevels-1 (level k: cells of 2^k blocks; level 0 is the blocks).
+inline constexpr int kLodLevels = 11;
+
 // How much of the world is kept around the viewer. Radii in chunks from the viewer's chunk
 // (square horizontally, separately vertically). Chunks within the view radius are meshed (and
 // drawn); one more ring is loaded so meshes see their neighbours; beyond view + 1 + margin for
@@ -123,6 +145,17 @@ struct StreamingDesc {
     size_t memory_cap_bytes = 0;  // Block data cap (0: none); never evicts inside the view.
     double update_budget_ms = 2.0; // Main-thread time update() may spend applying results.
     int worker_threads = 0;       // Generation/meshing threads (0: cores - 1, at least 1).
+    // Levels of detail: terrain is drawn to `view_distance` blocks (horizontal, 0..65536): full
+    // detail within view_radius, then levels with cells of 2, 4, 8, ... blocks, each reaching
+    // lod_ring of its own chunks (chunks of 32 cells) around the viewer. Coarse levels are
+    // generated directly (the built-in terrain; a Generator with generate_coarse) or loaded from
+    // a stored world's coarse levels; edits reach them within the next update. Swaps between
+    // levels never leave a hole: a coarse chunk stays drawn until all finer chunks replacing it
+    // are meshed. 0 (or a distance within view_radius): full detail only, as without LOD.
+    int64_t view_distance = 0;
+    int lod_ring = 12;                 // 1..64; larger: finer far away, more chunks (R = 12:
+                                       // a cell spans about 2.3 pixels at each level's edge, 1080p).
+    int64_t lod_vertical_reach = 256;  // Blocks above and below the viewer coarse levels cover.
 };
 
 // What the engine draws into.
@@ -334,6 +367,17 @@ struct Stats {
     uint64_t store_conflicts = 0;   // Writes that met another process's and merged.
     uint64_t store_reconnects = 0;
     uint64_t chunks_reloaded = 0;   // Reloaded because another process changed them.
+    // Levels of detail (StreamingDesc::view_distance; index = level, cells of 2^level blocks).
+    int lod_top_level = 0;          // Coarsest level in use (0: full detail only).
+    std::array<uint32_t, kLodLevels> level_chunks_drawn{}; // Chunks drawn per level (empty ones too).
+    std::array<uint32_t, kLodLevels> level_chunks_kept{};  // Coarse chunks kept per level (level 0: loaded).
+    std::array<uint64_t, kLodLevels> level_block_bytes{};  // Their block data.
+    std::array<uint64_t, kLodLevels> level_gpu_bytes{};    // GPU memory of the chunks drawn (BLAS + quads).
+    // Holes: top-level chunks within the view distance that nothing drawn covers (a coarse chunk
+    // not generated yet as it comes into view). Without LOD: chunks in the view radius not
+    // meshed yet. 0 once the view is filled: level swaps never open one.
+    uint32_t holes = 0;
+    uint64_t lod_swaps = 0;         // Refinements and coarsenings since creation.
 };
 
 // A game's 2D UI (HUD, menus) over the rendered frames, without exposing a graphics API: each

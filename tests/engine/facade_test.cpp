@@ -359,3 +359,64 @@ TEST(Facade, VdbWorldIsReadOnly) {
 #endif
 
 } // namespace
+
+namespace {
+
+vx::EngineCreateInfo lod_info(vx::WorldSource source) {
+    vx::EngineCreateInfo info = small_info(std::move(source));
+    info.streaming.view_distance = 420;
+    info.streaming.lod_ring = 2;
+    info.streaming.lod_vertical_reach = 64;
+    info.chunk_events = false;
+    return info;
+}
+
+} // namespace
+
+// Levels of detail through the facade: the view fills to the view distance with coarse levels,
+// no hole once settled, edits reach the coarse levels, and the settings are checked.
+TEST(Facade, LevelsOfDetailFillTheViewDistance) {
+    auto engine = vx::Engine::create(lod_info(vx::WorldSource::terrain(kSeed)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
+    ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
+    ASSERT_TRUE(settle(e));
+    vx::Stats s = e.stats();
+    EXPECT_GE(s.lod_top_level, 2);
+    EXPECT_EQ(s.holes, 0u);
+    for (int k = 0; k <= s.lod_top_level; ++k) {
+        EXPECT_GT(s.level_chunks_drawn[size_t(k)], 0u) << "level " << k;
+        EXPECT_GT(s.level_chunks_kept[size_t(k)], 0u) << "level " << k;
+    }
+    EXPECT_GT(s.lod_swaps, 0u);
+    // Level 0 near the viewer is full detail: edits work as without LOD, and the swaps go on.
+    ASSERT_TRUE(e.set_block({x, h + 1, 16}, 1));
+    e.update();
+    ASSERT_TRUE(settle(e));
+    EXPECT_EQ(e.stats().holes, 0u);
+    EXPECT_EQ(e.get_block({x, h + 1, 16}), std::optional<vx::BlockId>(1));
+}
+
+TEST(Facade, LevelOfDetailSettingsAreChecked) {
+    using Edit = void (*)(vx::StreamingDesc&);
+    for (Edit bad : std::initializer_list<Edit>{[](vx::StreamingDesc& d) { d.view_distance = -1; },
+                     [](vx::StreamingDesc& d) { d.view_distance = 1 << 20; },
+                     [](vx::StreamingDesc& d) { d.lod_ring = 0; },
+                     [](vx::StreamingDesc& d) { d.lod_vertical_reach = -5; }}) {
+        vx::EngineCreateInfo info = lod_info(vx::WorldSource::terrain(1));
+        bad(info.streaming);
+        auto e = vx::Engine::create(info);
+        ASSERT_FALSE(e);
+        EXPECT_FALSE(e.error().empty());
+    }
+    // A view distance within the full-detail radius is full detail only.
+    vx::EngineCreateInfo info = lod_info(vx::WorldSource::terrain(1));
+    info.streaming.view_distance = 64;
+    auto e = vx::Engine::create(info);
+    ASSERT_TRUE(e) << e.error();
+    ASSERT_TRUE((*e)->set_viewer(viewer_at({0, 40, 0})));
+    ASSERT_TRUE(settle(**e));
+    EXPECT_EQ((*e)->stats().lod_top_level, 0);
+    EXPECT_EQ((*e)->stats().holes, 0u);
+}

@@ -36,6 +36,9 @@ public:
         (void)out;
         return false;
     }
+    // Thread-safe. The highest level generate_coarse() makes (0: none): the engine keeps coarser
+    // levels it would have to build from 8^k generated chunks out of its views.
+    virtual int coarse_levels() const { return 0; }
 };
 
 } // namespace vx::world

@@ -59,6 +59,7 @@ public:
     explicit TerrainGenerator(uint64_t seed, TerrainParams params = {});
 
     // The chunk at `c`. Pure: equal inputs give equal chunks (operator==) on any thread.
+    int coarse_levels() const override { return kMaxDirectLevel; }
     Chunk generate(ChunkCoord c) const override;
 
     // Levels 1..kMaxDirectLevel: the level-c.level chunk at c.chunk, as described above; ids by
