@@ -244,7 +244,9 @@ public:
     vx::Status flush() override { return m_inner->flush(); }
     vx::Result<bool> contains(ChunkCoord c) override { return m_inner->contains(c); }
     vx::Result<uint64_t> count() override { return m_inner->count(); }
-    vx::Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override { return m_inner->for_each_coord(fn); }
+    vx::Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override {
+        return m_inner->for_each_coord(fn);
+    }
     vx::Result<std::optional<std::string>> get_meta(std::string_view k) override { return m_inner->get_meta(k); }
     vx::Status set_meta(std::string_view k, std::string_view v) override { return m_inner->set_meta(k, v); }
     bool supports_lod() const override { return true; }

@@ -150,7 +150,8 @@ std::vector<TestRay> make_rays(const TerrainGenerator& gen, const LodScene& scen
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const BlockPos v0(glm::floor(viewer));
     for (int dir = 0; dir < 8; ++dir) {
-        const BlockPos step(int64_t(std::lround(std::cos(dir * kPi / 4))), 0, int64_t(std::lround(std::sin(dir * kPi / 4))));
+        const BlockPos step(int64_t(std::lround(std::cos(dir * kPi / 4))), 0,
+                            int64_t(std::lround(std::sin(dir * kPi / 4))));
         int last_level = -2;
         for (int i = 0; i < 1200; ++i) {
             BlockPos b = v0 + step * int64_t(i);
@@ -208,7 +209,8 @@ double to_block(glm::dvec3 p, BlockPos b) {
     return glm::length(d);
 }
 
-Stats cast_all(const LodScene& scene, FullDetail& full, const std::vector<TestRay>& rays, int kind, double max_distance) {
+Stats cast_all(const LodScene& scene, FullDetail& full, const std::vector<TestRay>& rays, int kind,
+               double max_distance) {
     Stats s;
     for (const TestRay& tr : rays) {
         if (tr.kind != kind)
@@ -313,7 +315,8 @@ void run_case(const Case& c) {
                     " hit point to nearest block of its cell median %.2f max %.2f, cells without a block %d\n",
                     kKindNames[kind], s.rays, s.lod_hits, s.full_hits, s.passes, s.late, s.lod_only,
                     percentile(s.early, 0.5), percentile(s.early, 0.99), percentile(s.early, 1.0),
-                    int(std::count_if(s.early_over_diag.begin(), s.early_over_diag.end(), [](double e) { return e > 1.0; })),
+                    int(std::count_if(s.early_over_diag.begin(), s.early_over_diag.end(),
+                                      [](double e) { return e > 1.0; })),
                     percentile(s.gap, 0.5), percentile(s.gap, 1.0), s.no_block);
         std::printf("    LOD hits per level:");
         for (int k = 0; k <= view.top_level(); ++k)
@@ -368,14 +371,15 @@ TEST(LodRaycast, SceneRefusesOverlapsAndCoversByLevel) {
     EXPECT_EQ(scene.cell_at(BlockPos(0, 0, 0), &level), kAir);
     EXPECT_EQ(level, -1);
     // A ray along +x at y 70, z -100 from x 100: enters the level-1 chunk at x 192.
-    const LodRaycastHit h = raycast_lod(scene, Ray::from_world(glm::dvec3(100.5, 70.5, -99.5), glm::dvec3(1, 0, 0)), 500.0);
+    const glm::dvec3 o(100.5, 70.5, -99.5);
+    const LodRaycastHit h = raycast_lod(scene, Ray::from_world(o, glm::dvec3(1, 0, 0)), 500.0);
     ASSERT_TRUE(h.hit.hit);
     EXPECT_EQ(h.level, 1);
     EXPECT_EQ(h.hit.id, 5);
     EXPECT_DOUBLE_EQ(h.hit.distance, 91.5);
     EXPECT_EQ(h.hit.block, BlockPos(192, 70, -100));
     EXPECT_EQ(h.cell, BlockPos(192, 70, -100));
-    EXPECT_FALSE(raycast_lod(scene, Ray::from_world(glm::dvec3(100.5, 70.5, -99.5), glm::dvec3(-1, 0, 0)), 500.0).hit.hit);
+    EXPECT_FALSE(raycast_lod(scene, Ray::from_world(o, glm::dvec3(-1, 0, 0)), 500.0).hit.hit);
 }
 
 TEST(LodRaycast, DirectCoarseTerrainLetsNoRayThrough) {

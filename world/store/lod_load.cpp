@@ -28,8 +28,8 @@ Result<Chunk> level0(ChunkStore& store, const ChunkGenerator& gen, ChunkCoord c)
 
 } // namespace
 
-Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c, const LodDirtySet& dirty,
-                                 LodDerived* derived) {
+Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c,
+                                 const LodDirtySet& dirty, LodDerived* derived) {
     VX_ASSERT_RETURN(valid_lod_level(c.level), failed(c, "level out of range"));
     if (c.level == 0)
         return level0(store, gen, c.chunk);

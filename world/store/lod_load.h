@@ -43,7 +43,7 @@ using LodDerived = std::vector<std::pair<LodCoord, Chunk>>;
 
 // The chunk at `c` by the rule above (level 0: the store's chunk, else the generator's).
 // `derived` may be null.
-Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c, const LodDirtySet& dirty,
-                                 LodDerived* derived = nullptr);
+Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c,
+                                 const LodDirtySet& dirty, LodDerived* derived = nullptr);
 
 } // namespace vx::world
