@@ -3,10 +3,12 @@
 //
 // The rule, per coarse cell over the 2×2×2 sub-cells under it:
 //   - Solid if any sub-cell is non-air; air only if all 8 are. Air never wins, so coarse ground
-//     lies on or outside the fine ground (a ray may stop early by less than a cell, never pass
-//     through), and nothing is invented (a coarse cell is non-air only if something under it is).
-//     Applied level after level, a level-k cell is non-air exactly when one of the (2^k)³ blocks
-//     under it is. Water and every other drawn block count as solid.
+//     lies on or outside the fine ground, within one cell of it (a ray may stop early at a point
+//     less than a cell from fine ground, never pass through; along a grazing ray the early stop
+//     can be far longer: lod_raycast_test measures both), and nothing is invented (a coarse cell
+//     is non-air only if something under it is). Applied level after level, a level-k cell is
+//     non-air exactly when one of the (2^k)³ blocks under it is. Water and every other drawn
+//     block count as solid.
 //   - The id: each of the 4 sub-columns votes for its topmost non-air sub-cell; the id with the
 //     most votes wins, ties going to the smaller id. A surface is what is seen from above, so a
 //     hillside keeps its grass (the dirt under a grass block never outvotes it, however many dirt
