@@ -1,5 +1,6 @@
 #include "engine/lod_jobs.h"
 
+#include "world/base/log.h"
 #include "world/lod/downsample.h"
 #include "world/mesh/apron.h"
 #include "world/mesh/mesher.h"
@@ -49,6 +50,27 @@ std::unique_ptr<Job> LodLoadJob::take_continuation() { return m_done ? nullptr :
 void LodLoadJob::complete() {
     if (m_done) // A miss reports through its generate job.
         m_owner.on_lod_data(lod_of(key()), std::move(m_chunk), m_error);
+}
+
+void LodDeriveJob::run(JobContext& ctx) {
+    if (ctx.is_cancelled())
+        return;
+    world::LodDerived derived;
+    Result<world::Chunk> r = world::load_or_derive_lod(m_store, m_gen, lod_of(key()), *m_dirty, &derived);
+    if (!r) {
+        m_error = r.error();
+        return;
+    }
+    m_chunk = std::move(*r);
+    for (const auto& [c, chunk] : derived) // Clears their marks; a failure only means deriving again.
+        (void)m_store.save_lod(c, chunk);
+}
+
+void LodDeriveJob::complete() { m_owner.on_lod_data(lod_of(key()), std::move(m_chunk), m_error); }
+
+void LodMarkDirtyJob::run(JobContext&) {
+    if (Status s = m_store.mark_lod_dirty(m_coords); !s)
+        VX_LOG_WARN("marking coarse chunks stale failed (%s): they may show an edit late", s.error().c_str());
 }
 
 void LodMeshJob::run(JobContext& ctx) {

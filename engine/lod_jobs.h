@@ -16,6 +16,7 @@
 #include "world/lod/lod_coords.h"
 #include "world/mesh/chunk_mesh.h"
 #include "world/store/chunk_store.h"
+#include "world/store/lod_load.h"
 
 namespace vx::engine {
 
@@ -78,6 +79,41 @@ private:
     std::optional<world::Chunk> m_chunk;
     std::string m_error;
     bool m_done = false; // Found, or the store failed: no fallback.
+};
+
+// I/O lane: a coarse chunk the store marks stale (a level-0 edit under it was saved after it):
+// re-derived from the levels below (world::load_or_derive_lod); what was rebuilt is saved,
+// which clears its marks. A store failure reports an error.
+class LodDeriveJob final : public Job {
+public:
+    LodDeriveJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
+                 std::shared_ptr<const world::LodDirtySet> dirty)
+        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_dirty(std::move(dirty)) {}
+    void run(JobContext& ctx) override;
+    void complete() override;
+
+private:
+    LodJobEvents& m_owner;
+    world::ChunkStore& m_store;
+    const world::ChunkGenerator& m_gen;
+    std::shared_ptr<const world::LodDirtySet> m_dirty;
+    std::optional<world::Chunk> m_chunk;
+    std::string m_error;
+};
+
+// I/O lane: marks the coarse ancestors of an edited chunk above the levels kept in memory as
+// stale (ChunkStore::mark_lod_dirty), so a later view that loads them re-derives them.
+class LodMarkDirtyJob final : public Job {
+public:
+    LodMarkDirtyJob(world::ChunkCoord edited, world::ChunkStore& store, std::vector<world::LodCoord> coords)
+        : Job({edited, JobKind::IoTask, kMarkLevel}), m_store(store), m_coords(std::move(coords)) {}
+    void run(JobContext& ctx) override;
+    void complete() override {}
+
+private:
+    static constexpr uint8_t kMarkLevel = 0xFF; // Keys apart from every chunk's.
+    world::ChunkStore& m_store;
+    std::vector<world::LodCoord> m_coords;
 };
 
 // Pool: meshes a coarse chunk with air on all six sides. Every border face is drawn, so where a

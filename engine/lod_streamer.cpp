@@ -24,7 +24,16 @@ constexpr int kMinSteps = 64;
 
 LodStreamer::LodStreamer(const ChunkGenerator& generator, ChunkStore* store, LodMeshSink& downstream,
                          const LodViewSettings& settings, const BlockRegistry& registry)
-    : m_generator(generator), m_store(store), m_down(downstream), m_settings(settings), m_registry(registry) {}
+    : m_generator(generator), m_store(store), m_down(downstream), m_settings(settings), m_registry(registry) {
+    if (m_store && m_store->supports_lod()) { // Before any job: the store is still this thread's.
+        Result<std::vector<LodCoord>> stale = m_store->list_lod_dirty();
+        if (!stale)
+            VX_LOG_WARN("listing stale coarse chunks failed (%s): stored ones are used as they are",
+                        stale.error().c_str());
+        else if (!stale->empty())
+            m_stale = std::make_shared<const LodDirtySet>(stale->begin(), stale->end());
+    }
+}
 
 LodStreamer::~LodStreamer() = default;
 
@@ -127,6 +136,10 @@ void LodStreamer::release(LodCoord c) {
 void LodStreamer::request_data(LodCoord c, Node& n) {
     n.data = Data::Requested;
     ++m_metrics.pending_data;
+    if (m_stale && m_stale->contains(c)) {
+        m_batch.push_back(std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale));
+        return;
+    }
     auto generate = std::make_unique<LodGenerateJob>(events(), c, m_generator, m_viewer);
     if (m_store && m_store->supports_lod())
         m_batch.push_back(std::make_unique<LodLoadJob>(events(), c, *m_store, std::move(generate)));
@@ -280,6 +293,13 @@ void LodStreamer::apply_edits() {
                 m_batch.push_back(std::make_unique<LodSaveJob>(events(), p, n.chunk, *m_store));
             x = p;
             child = &n.chunk;
+        }
+        if (!retry && m_store && m_store->supports_lod() && !m_store->read_only()) {
+            // Levels above those kept here: stored ones (vx world gen --lod-levels) go stale.
+            std::vector<LodCoord> above;
+            for (int k = top + 1; k <= kMaxLodLevel; ++k)
+                above.push_back(lod_ancestor({0, *it}, k));
+            m_batch.push_back(std::make_unique<LodMarkDirtyJob>(*it, *m_store, std::move(above)));
         }
         it = retry ? std::next(it) : m_edited.erase(it);
     }

@@ -180,6 +180,8 @@ private:
     std::vector<std::pair<world::LodCoord, std::chrono::steady_clock::time_point>> m_retry;
     std::vector<std::unique_ptr<Job>> m_batch; // Jobs made this update, submitted at its end.
     std::chrono::steady_clock::time_point m_last_now{};
+    // Coarse chunks the store marked stale when this object was made (re-derived on load).
+    std::shared_ptr<const world::LodDirtySet> m_stale;
     bool m_holes_dirty = true;
     LodMetrics m_metrics;
 };

@@ -4,6 +4,7 @@
 // survive reopening a stored world.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -305,6 +306,115 @@ TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
         ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k;
         EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(column.front(), k))), kAir) << "level " << k;
     }
+    std::filesystem::remove(path);
+}
+
+} // namespace
+} // namespace vx::engine
+
+namespace vx::engine {
+namespace {
+
+// generate_coarse() is how generate_lod() reaches the generator for a coarse chunk; a failing
+// one is modelled by a generator whose coarse path fails and whose blocks throw.
+class FailingRootGenerator final : public ChunkGenerator {
+public:
+    FailingRootGenerator(const TerrainGenerator& inner, LodCoord root) : m_inner(inner), m_root(root) {}
+    Chunk generate(ChunkCoord c) const override { return m_inner.generate(c); }
+    Result<Chunk> try_generate(ChunkCoord c) const override {
+        if (failing.load() && lod_ancestor({0, c}, m_root.level) == m_root)
+            return Error{"injected generator failure"};
+        return m_inner.generate(c);
+    }
+    bool generate_coarse(LodCoord c, Chunk& out) const override {
+        if (failing.load() && c.level <= m_root.level && lod_ancestor(c, m_root.level) == m_root)
+            return false; // Then generate_lod() builds it from blocks, which fail.
+        return m_inner.generate_coarse(c, out);
+    }
+    int coarse_levels() const override { return m_inner.coarse_levels(); }
+    mutable std::atomic<bool> failing{true};
+
+private:
+    const TerrainGenerator& m_inner;
+    LodCoord m_root;
+};
+
+TEST(LodStreamer, AFailedCoarseChunkIsAHoleUntilItsRetryNeverInventedTerrain) {
+    const TerrainGenerator terrain(3);
+    LodViewSettings s = small_view();
+    s.max_level = 2; // Roots of level 2: a failing root is rebuilt from 64 chunks, not 512.
+    const glm::dvec3 eye(40.5, 30.0, 40.5);
+    const BlockPos o = chunk_origin(chunk_of(BlockPos(40, 30, 40)));
+    const LodView view(glm::dvec3(o) + glm::dvec3(16.0), s);
+    ASSERT_EQ(view.top_level(), 2);
+    std::vector<LodCoord> roots;
+    view.roots(roots);
+    const LodCoord victim = roots.front();
+    FailingRootGenerator gen(terrain, victim);
+    DrawnRecorder rec;
+    LodStreamer lod(gen, nullptr, rec, s, BlockRegistry::default_registry());
+    ChunkStreamer streamer(gen, nullptr, lod, streaming_for(s));
+    lod.attach(streamer.jobs(), streamer.world());
+    Clock::time_point now{};
+    // Until the failure is seen: the root is a hole, nothing drawn under it.
+    const auto limit = Clock::now() + std::chrono::minutes(3);
+    while (lod.metrics().data_failures == 0 && Clock::now() < limit) {
+        now += std::chrono::milliseconds(16);
+        streamer.update(eye, glm::dvec3(1, 0, 0), now);
+        lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_GE(lod.metrics().data_failures, 1u);
+    for (int i = 0; i < 20; ++i) { // Less than the 1 s back-off.
+        now += std::chrono::milliseconds(16);
+        streamer.update(eye, glm::dvec3(1, 0, 0), now);
+        lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+    }
+    EXPECT_GE(lod.metrics().holes, 1u);
+    EXPECT_FALSE(covered_roots(rec.drawn, lod.top_level()).contains(victim)) << "terrain invented for a failed root";
+    EXPECT_FALSE(lod.settled());
+    gen.failing = false; // The game's generator works again: the retry fills the hole.
+    ASSERT_TRUE(settle(streamer, lod, eye, now));
+    EXPECT_EQ(lod.metrics().holes, 0u);
+    EXPECT_TRUE(covered_roots(rec.drawn, lod.top_level()).contains(victim));
+}
+
+TEST(LodStreamer, StaleStoredCoarseChunksAreDerivedFromTheEditedBlocks) {
+    const TerrainGenerator terrain(9);
+    const LodViewSettings s = small_view();
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / "vx_lod_streamer_stale.sqlite";
+    std::filesystem::remove(path);
+    const glm::dvec3 eye(16.5, 20.0, 16.5);
+    const BlockPos edit(21, 60, 21); // In the air: every level's cell there was air.
+    const LodCoord l1 = lod_chunk_of(edit, 1);
+    SqliteStoreCreateInfo info;
+    info.path = path.string();
+    {
+        auto store = SqliteStore::open(info);
+        ASSERT_TRUE(store) << store.error();
+        Chunk c = terrain.generate(chunk_of(edit));
+        c.set(local_of(edit), 1);
+        ASSERT_TRUE((*store)->save(chunk_of(edit), c));
+        // The level-1 chunk stored before the edit, then marked stale with it (as the engine does).
+        auto coarse = generate_lod(terrain, l1);
+        ASSERT_TRUE(coarse);
+        ASSERT_EQ(coarse->get(local_index(lod_local_of(edit, 1))), kAir);
+        ASSERT_TRUE((*store)->save_lod(l1, *coarse));
+        const LodCoord mark[] = {l1};
+        ASSERT_TRUE((*store)->mark_lod_dirty(mark));
+        ASSERT_TRUE((*store)->flush());
+    }
+    auto store = SqliteStore::open(info);
+    ASSERT_TRUE(store) << store.error();
+    DrawnRecorder rec;
+    LodStreamer lod(terrain, store->get(), rec, s, BlockRegistry::default_registry());
+    ChunkStreamer streamer(terrain, store->get(), lod, streaming_for(s));
+    lod.attach(streamer.jobs(), streamer.world());
+    Clock::time_point now{};
+    ASSERT_TRUE(settle(streamer, lod, eye, now));
+    const Chunk* derived = lod.coarse_chunk(l1);
+    ASSERT_NE(derived, nullptr);
+    EXPECT_NE(derived->get(local_index(lod_local_of(edit, 1))), kAir) << "the stale stored chunk was used";
     std::filesystem::remove(path);
 }
 
