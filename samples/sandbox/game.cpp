@@ -136,6 +136,9 @@ FrameFigures Game::after_frame(uint64_t frame, double frame_ms) {
     f.chunks_meshed = s.chunks_meshed;
     f.builds = s.blas_builds;
     f.refits = s.blas_refits;
+    f.holes = s.holes;
+    for (int k = 1; k <= s.lod_top_level; ++k)
+        f.coarse_drawn += s.level_chunks_drawn[size_t(k)];
     if (m_edit_frames >= 0) {
         ++m_edit_frames; // This frame was rendered after the edit call.
         if (s.upload_bytes > 0 && s.blas_refits + s.blas_builds > 0) {

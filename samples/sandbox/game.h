@@ -29,6 +29,8 @@ struct FrameFigures {
     size_t chunks_loaded = 0;
     size_t chunks_in_view = 0, chunks_meshed = 0; // Equal: no holes in the view.
     uint32_t builds = 0, refits = 0;
+    uint32_t holes = 0;        // vx::Stats::holes: top-level chunks in view with nothing drawn.
+    uint32_t coarse_drawn = 0; // Chunks of levels >= 1 drawn.
     int edit_to_screen = -1; // Frames from an edit call to the frame that uploaded it; -1: none ended here.
 };
 

@@ -22,7 +22,7 @@ bool parse_size(const std::string& s, uint32_t& w, uint32_t& h) {
 
 const char* usage() {
     return "usage: vx_sandbox [--world PATH] [--seed S] [--vdb FILE [--read-only]] [--size WxH] [--fullscreen]\n"
-           "                  [--no-vsync] [--view-radius R] [--fly-speed B] [--device auto|cpu|gpu|N]\n"
+           "                  [--no-vsync] [--view-radius R] [--view-distance BLOCKS] [--fly-speed B] [--device auto|cpu|gpu|N]\n"
            "                  [--validation] [--replay FILE [--frames N] [--screenshot PATH]]\n"
            "                  [--stats-out FILE.csv] [--headless (with --replay: no window)]\n";
 }
@@ -81,6 +81,9 @@ vx::Result<Options> parse_options(const std::vector<std::string>& args) {
         else if (a == "--view-radius") {
             if (!parse_number(value(), o.view_radius) || o.view_radius < 1 || o.view_radius > 64)
                 return bad("wants 1..64 chunks");
+        } else if (a == "--view-distance") {
+            if (!parse_number(value(), o.view_distance) || o.view_distance < 0 || o.view_distance > 65536)
+                return bad("wants 0..65536 blocks (0: full detail only)");
         } else if (a == "--fly-speed") {
             if (!parse_number(value(), o.fly_speed) || !(o.fly_speed > 0) || o.fly_speed > 10000)
                 return bad("wants blocks per second in (0, 10000]");

@@ -21,7 +21,8 @@ struct Options {
     uint64_t frames = 0;                 // --frames N: stop (save, exit 0) after N frames (0: no limit).
     std::string screenshot;              // --screenshot PATH: PNG of the last frame on exit.
     std::string stats_out;               // --stats-out FILE: CSV, one row per frame.
-    int view_radius = 8;                 // --view-radius R (chunks).
+    int view_radius = 8;                 // --view-radius R (chunks): full detail.
+    int64_t view_distance = 2048;        // --view-distance BLOCKS: coarse levels beyond (0: none).
     double fly_speed = 10.0;             // --fly-speed B: blocks per second in fly mode.
     std::string device = "auto";         // --device auto|cpu|gpu|N.
     bool validation = false;             // --validation: exit 1 if the layer reports errors.

@@ -223,7 +223,16 @@ std::vector<std::string> stats_lines(const App& app) {
                   s.blas_builds, s.blas_refits, s.instances, app.game->last_edit_to_screen());
     std::snprintf(l[4], sizeof l[4], "memory: blocks %.0f MB, GPU %.0f / %.0f MB", s.block_memory_bytes / 1048576.0,
                   s.gpu_memory_used_bytes / 1048576.0, s.gpu_memory_bytes / 1048576.0);
-    return {l[0], l[1], l[2], l[3], l[4]};
+    std::string levels = "levels (drawn/kept): ";
+    for (int k = 0; k <= s.lod_top_level; ++k) {
+        char t[64];
+        std::snprintf(t, sizeof t, "%s%d: %u/%u", k ? ", " : "", k, s.level_chunks_drawn[size_t(k)],
+                      s.level_chunks_kept[size_t(k)]);
+        levels += t;
+    }
+    char h[96];
+    std::snprintf(h, sizeof h, "; holes %u, swaps %llu", s.holes, (unsigned long long)s.lod_swaps);
+    return {l[0], l[1], l[2], l[3], l[4], levels + h};
 }
 
 UiView ui_view(const App& app) {
@@ -287,6 +296,7 @@ vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwind
     }
     info.streaming.view_radius = o.view_radius;
     info.streaming.view_radius_vertical = std::max(1, std::min(o.view_radius, 4));
+    info.streaming.view_distance = o.view_distance;
     info.render.target =
         window ? vx::RenderTarget::glfw_window(window) : vx::RenderTarget::headless(o.width, o.height);
     info.render.device = o.device;
@@ -296,9 +306,10 @@ vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwind
 }
 
 bool write_csv_row(std::FILE* f, const FrameFigures& r) {
-    return std::fprintf(f, "%llu,%.3f,%.3f,%.3f,%.3f,%zu,%u,%u,%d,%zu,%zu,%.3f,%.3f\n", (unsigned long long)r.frame,
+    return std::fprintf(f, "%llu,%.3f,%.3f,%.3f,%.3f,%zu,%u,%u,%d,%zu,%zu,%.3f,%.3f,%u,%u\n", (unsigned long long)r.frame,
                         r.frame_ms, r.update_ms, r.render_ms, r.gpu_ms, r.chunks_loaded, r.builds, r.refits,
-                        r.edit_to_screen, r.chunks_in_view, r.chunks_meshed, r.update_cpu_ms, r.render_cpu_ms) > 0;
+                        r.edit_to_screen, r.chunks_in_view, r.chunks_meshed, r.update_cpu_ms, r.render_cpu_ms, r.holes,
+                        r.coarse_drawn) > 0;
 }
 
 // The frame loop. Returns the exit code.
@@ -436,7 +447,7 @@ int main_headless(App& app) {
             std::fprintf(stderr, "vx_sandbox: cannot write %s\n", app.opt.stats_out.c_str());
             return 2;
         }
-        std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms\n");
+        std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms,holes,coarse_drawn\n");
     }
     return finish(app, run(app));
 }
@@ -493,7 +504,7 @@ int main_with(const Options& opt) {
                 std::fprintf(stderr, "vx_sandbox: cannot write %s\n", opt.stats_out.c_str());
                 code = 2;
             } else
-                std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms\n");
+                std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms,holes,coarse_drawn\n");
         }
         glfwSetWindowUserPointer(app.window, &app);
         glfwSetKeyCallback(app.window, on_key);

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Summarises a vx_sandbox --stats-out CSV: frame time median and p99 (frames after the first
-`--skip` frames), update/render medians, BLAS builds/refits, and edit-to-screen frames.
+`--skip` frames), update/render medians, BLAS builds/refits, edit-to-screen frames, and (newer
+CSVs) main-thread CPU and levels of detail: frames with holes, coarse chunks drawn.
 Usage: stats_summary.py FILE.csv [--skip N]"""
 import csv
 import sys
@@ -31,6 +32,11 @@ def main():
         uc = [float(r["update_cpu_ms"]) for r in rows]
         print(f"  CPU: recording a frame median {pct(rc, 50):.3f} p99 {pct(rc, 99):.3f} ms; "
               f"update() median {pct(uc, 50):.3f} p99 {pct(uc, 99):.3f} ms")
+    if rows and "holes" in rows[0]:
+        holes = [int(r["holes"]) for r in rows]
+        coarse = [int(r["coarse_drawn"]) for r in rows]
+        print(f"  levels of detail: frames with holes {sum(h > 0 for h in holes)} (most {max(holes)}); "
+              f"coarse chunks drawn median {pct(coarse, 50):.0f}")
 
 
 main()

@@ -29,7 +29,8 @@ TEST(Hotbar, SelectScrollPick) {
 
 TEST(Options, ParsesAndRejects) {
     auto o = sandbox::parse_options({"--size", "160x120", "--world", "/tmp/w.sqlite", "--seed", "7", "--replay",
-                                     "r.txt", "--frames", "30", "--view-radius", "2", "--no-vsync", "--validation"});
+                                     "r.txt", "--frames", "30", "--view-radius", "2", "--no-vsync", "--validation",
+                                     "--view-distance", "4096"});
     ASSERT_TRUE(o) << o.error();
     EXPECT_EQ(o->width, 160u);
     EXPECT_EQ(o->height, 120u);
@@ -37,12 +38,16 @@ TEST(Options, ParsesAndRejects) {
     EXPECT_EQ(o->seed, 7u);
     EXPECT_EQ(o->frames, 30u);
     EXPECT_EQ(o->view_radius, 2);
+    EXPECT_EQ(o->view_distance, 4096);
+    EXPECT_EQ(sandbox::parse_options({})->view_distance, 2048) << "the default reaches 2,048 blocks";
     EXPECT_FALSE(o->vsync);
     EXPECT_TRUE(o->validation);
     for (auto bad : std::vector<std::vector<std::string>>{{"--size", "160"},
                                                           {"--size", "0x5"},
                                                           {"--seed", "-1"},
                                                           {"--view-radius", "0"},
+                                                          {"--view-distance", "-1"},
+                                                          {"--view-distance", "100000"},
                                                           {"--frames"},
                                                           {"--bogus", "1"},
                                                           {"--world", "a", "--vdb", "b"},

@@ -3,11 +3,12 @@
 # on): an edit replay flies, places and removes a block at the crosshair with screenshots; the
 # crosshair pixel changes when the block is placed and returns when it is removed; a second run
 # on the same world shows the placed block again (saved); the Esc menu covers the centre; a walk replay never ends a frame inside
-# a block; a bad replay line exits 2 naming the line. Usage: sandbox_replay_test.sh EXE SRC WORK
+# a block; a bad replay line exits 2 naming the line. Coarse levels are on (--view-distance 300):
+# level 0 near the player, levels of detail beyond, drawn with the validation layer on. Usage: sandbox_replay_test.sh EXE SRC WORK
 set -euo pipefail
 exe=$1 src=$2 work=$3
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-common=(--world "$work/world.sqlite" --seed 3 --size 160x120 --view-radius 2 --device cpu --validation)
+common=(--world "$work/world.sqlite" --seed 3 --size 160x120 --view-radius 2 --view-distance 300 --device cpu --validation)
 fail() { echo "FAIL: $*" >&2; exit 1; }
 centre() { sed -n "s/^vx_sandbox: screenshot $1 centre \(.*\)$/\1/p" "$2"; }
 # Channels of two "R G B" triples differ by at most $3.
