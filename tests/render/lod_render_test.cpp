@@ -198,6 +198,27 @@ TEST_F(RendererTest, LodLevel1EmittersReachTheWholeCoarseChunk) {
     EXPECT_LE(d.over, int(p.coarse.width * p.coarse.height / 100));
 }
 
+// The raster pipeline skips chunks whose box is outside the view: a level-1 chunk's box is 64
+// blocks, not 32. Looking straight down at its far corner (x, z in 48..64, a 30 degree view from
+// 26 blocks above the floor top), the first 32 blocks of the chunk are out of view and the
+// coarse chunk must still be drawn, as the blocks are.
+TEST_F(RendererTest, LodRasterCullsByTheWholeCoarseBox) {
+    const glm::dvec3 o(world::lod_origin(kNear));
+    const Camera cam = Camera::look_at(o + glm::dvec3(56.2, 30.1, 56.3), o + glm::dvec3(56.2, 0.0, 56.3), {0, 0, -1}, 30.f);
+    RenderSettings s = settings(ShadingMode::Flat, PipelineKind::Raster, kNear);
+    Renderer& r = *m_renderer;
+    r.set_chunk(kNear, coarse_mesh());
+    const RenderImage coarse = r.render(s, cam);
+    EXPECT_EQ(r.last_stats().raster_chunks, 1u);
+    r.clear_chunks();
+    test::load_meshes(r, test::mesh_world(expanded_world(kNear)));
+    const RenderImage expanded = r.render(s, cam);
+    test::maybe_save(coarse, "lod_cull_coarse");
+    EXPECT_LT(r.last_stats().raster_chunks, 8u); // The view holds only some of the level-0 chunks.
+    EXPECT_GE(distinct_colours(coarse), 2);     // Grass and the lamp at cells (27, 2, 27).
+    EXPECT_LE(pixel_diff(coarse, expanded, 0).any, 3);
+}
+
 // A level-0 and a level-1 entry with the same chunk coordinates are different chunks (level-1
 // chunk (1,0,0) covers blocks x 64..127, level-0 chunk (1,0,0) x 32..63): removing one leaves
 // the other, drawn exactly as when it was alone.
