@@ -324,5 +324,23 @@ TEST_F(RendererTest, LodStatsCountEachLevel) {
     }
 }
 
+// Out of GPU memory (a one-byte budget): a coarse chunk that cannot be allocated is not drawn,
+// counted as failed, and holds no bytes in its level (the log line names the level).
+TEST(LodAllocationFailure, AFailedCoarseChunkCountsNothingInItsLevel) {
+    RendererCreateInfo ci;
+    ci.gpu_memory_budget_bytes = 1;
+    std::unique_ptr<Renderer> r = test::make_renderer(ci);
+    ASSERT_NE(r, nullptr);
+    const world::ChunkMesh mesh = coarse_mesh();
+    r->set_chunk(LodCoord{2, ChunkCoord(0, 0, 0)}, mesh);
+    const RenderSettings s = settings(ShadingMode::Flat, PipelineKind::RayTraced, kNear);
+    r->render(s, camera_for(kNear));
+    EXPECT_EQ(r->last_stats().failed_chunks, 1u);
+    EXPECT_EQ(r->last_stats().instances, 0u);
+    EXPECT_EQ(r->last_stats().level_instances[2], 0u);
+    EXPECT_EQ(r->last_stats().level_gpu_bytes[2], 0u);
+    EXPECT_EQ(r->validation_errors(), 0u);
+}
+
 } // namespace
 } // namespace vx::render
