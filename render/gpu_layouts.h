@@ -2,6 +2,7 @@
 // C++ view of shaders/shared/render_types.h, with its layout checked against std140/std430.
 
 #include "shaders/shared/render_types.h"
+#include "world/coords.h"
 
 namespace vx::render::gpu {
 
@@ -19,5 +20,6 @@ static_assert(offsetof(FrameParams, materials) == 17 * 16 + 8);
 static_assert(sizeof(ExposureMeter) == 8);
 static_assert(sizeof(Material) == 32);
 static_assert(offsetof(Material, emission) == 16);
+static_assert(kChunkCells == float(world::kChunkSize), "kChunkCells: cells per chunk edge");
 
 } // namespace vx::render::gpu

@@ -114,18 +114,18 @@ uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
     gpu::RasterPush push{};
     push.clip_from_eye = f.clip_from_eye;
     push.light_position = glm::vec4(glm::vec3(f.light_position - glm::dvec3(f.camera_offset)), float(f.mode));
-    push.light_power = glm::vec4(f.light_power, f.ambient);
+    push.light_power = glm::vec4(f.light_power, f.exposure);
     push.materials = f.materials;
     uint32_t drawn = 0;
     if (!chunks.empty())
         vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
     for (const SceneAccel::DrawChunk& c : chunks) {
         // 64-bit difference first, then float, as the TLAS transforms.
-        const world::BlockPos rel = world::chunk_origin(c.coord) - f.camera_block;
+        const world::BlockPos rel = world::lod_origin(c.coord) - f.camera_block;
         const glm::vec3 origin = glm::vec3(rel) - f.camera_offset;
-        if (!raster_box_visible(f.clip_from_eye, origin, origin + float(world::kChunkSize)))
+        if (!raster_box_visible(f.clip_from_eye, origin, origin + float(world::lod_chunk_blocks(c.coord.level))))
             continue;
-        push.chunk_origin = glm::vec4(origin, f.exposure);
+        push.chunk_origin = glm::vec4(origin, float(world::lod_cell_size(c.coord.level)));
         push.quads = c.quads;
         vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                            &push);

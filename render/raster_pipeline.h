@@ -31,7 +31,6 @@ struct RasterFrame {
     uint32_t mode = 0;            // gpu::kModeFlat / kModeFull / kModeVisibility.
     glm::dvec3 light_position{0}; // Relative to the camera's block (the area light's centre).
     glm::vec3 light_power{0};     // Point-light intensity, linear RGB.
-    float ambient = 0;            // Grey ambient radiance.
     float exposure = 1;           // Full mode: radiance to tone-curve input (vx_exposure_scale).
     glm::vec3 sky{0};             // Clear colour (the ray tracer's sky on a miss), written as is.
     VkDeviceAddress materials = 0;
@@ -45,7 +44,8 @@ public:
     RasterPipeline(const RasterPipeline&) = delete;
     RasterPipeline& operator=(const RasterPipeline&) = delete;
 
-    // Records the clear and one draw per chunk inside the view frustum into `cmd`, leaving the
+    // Records the clear and one draw per chunk inside the view frustum (a level-k chunk: its
+    // quads scaled by 2^k at lod_origin, render/tlas_instances.h) into `cmd`, leaving the
     // target in TRANSFER_SRC_OPTIMAL (as the ray tracer's trace does). The chunks' quad buffers
     // must have been uploaded earlier in `cmd` or before (SceneAccel::record_builds);
     // `indices` is SceneAccel::index_buffer(), covering every chunk's slots. Returns the number

@@ -52,11 +52,11 @@ struct Renderer::Impl {
     std::array<GBuffer, kFramesInFlight> gbuffers;
     // Emissive blocks light the scene only where they are: sky rays look for emitters when some
     // drawn chunk holds a block whose material emits. The block ids of each chunk's quads:
-    std::unordered_map<world::ChunkCoord, std::vector<world::BlockId>, world::ChunkCoordHash> chunk_blocks;
+    std::unordered_map<world::LodCoord, std::vector<world::BlockId>, world::LodCoordHash> chunk_blocks;
     // Drawn chunks holding an emissive block: kept as chunks are set and removed, remade from
     // chunk_blocks only when the materials change (a frame never scans every chunk).
-    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> emitter_set;
-    std::vector<world::ChunkCoord> emitter_chunks; // emitter_set as a list (sorted by distance each frame).
+    std::unordered_set<world::LodCoord, world::LodCoordHash> emitter_set;
+    std::vector<world::LodCoord> emitter_chunks; // emitter_set as a list (sorted by distance each frame).
     bool emitters_dirty = true; // The materials changed since emitter_set was made.
     bool emitter_list_dirty = true; // emitter_set changed since emitter_chunks was made.
     std::vector<bool> emissive; // Per registered block id (set_registry): its material emits.
@@ -155,6 +155,8 @@ struct Renderer::Impl {
         out.upload_bytes = a.upload_bytes;
         out.instance_writes = a.instance_writes;
         out.rebases = a.rebases;
+        out.level_instances = a.level_instances;
+        out.level_gpu_bytes = a.level_gpu_bytes;
         out.memory = accel->memory();
         out.raster_chunks = raster_chunks;
     }
@@ -333,25 +335,30 @@ void Renderer::Impl::update_emitters() {
     }
 }
 
-// The kMaxEmitterChunks emissive chunks nearest the camera, relative to the render origin
-// (SceneAccel::origin()), into this frame slot's list; returns how many.
+// The kMaxEmitterChunks emissive chunks nearest the camera (of any level: by the distance from
+// the camera's block to the chunk's box), relative to the render origin (SceneAccel::origin()),
+// into this frame slot's list; returns how many.
 uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
     Buffer& list = emitter_lists[ctx->frame_slot()]; // Allocated by prepare_frame.
-    auto origin = [&](world::ChunkCoord c) {
-        const world::BlockPos o = world::chunk_origin(c) - camera_block;
-        return glm::dvec3(o);
+    auto distance2 = [&](world::LodCoord c) {
+        const world::LodBlockBox box = world::lod_block_box(c);
+        const glm::dvec3 d = glm::dvec3(glm::max(box.min - camera_block, world::BlockPos(0))) +
+                             glm::dvec3(glm::max(camera_block - box.max, world::BlockPos(0)));
+        return glm::dot(d, d);
     };
     const size_t n = std::min<size_t>(emitter_chunks.size(), gpu::kMaxEmitterChunks);
     // Ties by coordinate: the list does not depend on the set's hash order.
     std::partial_sort(emitter_chunks.begin(), emitter_chunks.begin() + ptrdiff_t(n), emitter_chunks.end(),
-                      [&](world::ChunkCoord a, world::ChunkCoord b) {
-                          const glm::dvec3 da = origin(a), db = origin(b);
-                          const double la = glm::dot(da, da), lb = glm::dot(db, db);
-                          return la != lb ? la < lb : std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+                      [&](world::LodCoord a, world::LodCoord b) {
+                          const double la = distance2(a), lb = distance2(b);
+                          return la != lb ? la < lb
+                                          : std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) <
+                                                std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
                       });
     auto* dst = static_cast<glm::vec4*>(list.mapped());
     for (size_t i = 0; i < n; ++i) // 64-bit difference, then float, as the TLAS's translations.
-        dst[i] = glm::vec4(glm::vec3(world::chunk_origin(emitter_chunks[i]) - accel->origin()), 0.f);
+        dst[i] = glm::vec4(glm::vec3(world::lod_origin(emitter_chunks[i]) - accel->origin()),
+                           float(world::lod_chunk_blocks(emitter_chunks[i].level)));
     return uint32_t(n);
 }
 
@@ -891,15 +898,19 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
 
 RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, const Scene& scene) {
     set_registry(scene.registry ? *scene.registry : world::BlockRegistry::default_registry());
-    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> keep;
-    for (const auto& [c, mesh] : scene.chunks) {
+    std::unordered_set<world::LodCoord, world::LodCoordHash> keep;
+    auto add = [&](world::LodCoord c, const world::ChunkMesh* mesh) {
         VX_ASSERT(mesh != nullptr);
         keep.insert(c);
         set_chunk(c, *mesh);
-    }
+    };
+    for (const auto& [c, mesh] : scene.chunks)
+        add(world::LodCoord{0, c}, mesh);
+    for (const auto& [c, mesh] : scene.lod_chunks)
+        add(c, mesh);
     m->accel->retain_only(keep);
     std::erase_if(m->chunk_blocks, [&](const auto& kv) { return !keep.contains(kv.first); });
-    if (std::erase_if(m->emitter_set, [&](world::ChunkCoord c) { return !keep.contains(c); }) > 0)
+    if (std::erase_if(m->emitter_set, [&](world::LodCoord c) { return !keep.contains(c); }) > 0)
         m->emitter_list_dirty = true;
     return render(settings, camera);
 }
@@ -916,6 +927,13 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
+    set_chunk(world::LodCoord{0, c}, mesh, changed_slices);
+}
+
+void Renderer::remove_chunk(world::ChunkCoord c) { remove_chunk(world::LodCoord{0, c}); }
+
+void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
+    VX_ASSERT_MSG(world::valid_lod_level(c.level), "set_chunk: LOD level outside 0..world::kMaxLodLevel");
     std::vector<world::BlockId>& ids = m->chunk_blocks[c];
     ids.clear();
     mesh.for_each_quad([&](const world::Quad& q) {
@@ -930,7 +948,7 @@ void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std:
     m->accel->set_chunk(c, mesh, changed_slices, opaque);
 }
 
-void Renderer::remove_chunk(world::ChunkCoord c) {
+void Renderer::remove_chunk(world::LodCoord c) {
     m->accel->remove_chunk(c);
     m->chunk_blocks.erase(c);
     if (m->emitter_set.erase(c) > 0)

@@ -1,14 +1,19 @@
 #pragma once
 // vx's ray-tracing renderer: the public API. A scene is a set of chunk meshes
-// (ChunkCoord -> world::ChunkMesh) plus a BlockRegistry for materials; render() traces one image
+// (LodCoord -> world::ChunkMesh; a ChunkCoord means level 0) plus a BlockRegistry for materials;
+// render() traces one image
 // and reads it back (headless); present() traces a frame into a GLFW window with two frames in
 // flight. No Vulkan or GLFW types here: only render/ touches Vk* objects.
 //
 // Coordinates: world block units (y up). The camera and the light are given as a 64-bit block
 // position plus a float offset inside (or from) that block; everything the GPU sees is relative
 // to the camera's block, so far-away worlds (2^24 blocks and beyond) render like the origin.
+// Levels of detail (world/lod/lod_coords.h): a level-k chunk's mesh is in cells of 2^k blocks
+// (the same mesher, chunk-local cell units) and is drawn scaled by 2^k at lod_origin(); every
+// shading path sees it as the blocks it covers.
 // Main thread only.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -22,6 +27,7 @@
 #include "world/block_registry.h"
 #include "world/mesh/chunk_mesh.h"
 #include "world/coords.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::render {
 
@@ -196,6 +202,12 @@ struct RenderStats {
     uint32_t instance_writes = 0; // TLAS instances written this frame (changed ones: not every chunk).
     uint64_t rebases = 0;      // Render-origin moves that rewrote every TLAS instance, since creation.
     GpuMemoryStats memory;
+    // Per LOD level (index = level): drawn chunks (TLAS instances; they sum to `instances`), and
+    // the device memory their chunks hold, bytes: BLAS + vertices (hot chunks) + quad records,
+    // drawn or not (they sum to memory.blas + memory.vertices + memory.quads). Kept as chunks
+    // are set and removed: no per-frame cost per chunk.
+    std::array<uint32_t, world::kMaxLodLevel + 1> level_instances{};
+    std::array<uint64_t, world::kMaxLodLevel + 1> level_gpu_bytes{};
     double cpu_ms = 0;       // Recording, including CPU-side geometry work (present(): and submit).
     double gpu_ms = 0;       // Submit to fence (builds + trace + copy), wall clock.
     // GPU time of each phase from timestamp queries, milliseconds; -1 where the queue has no
@@ -225,7 +237,10 @@ enum class PresentResult : uint8_t {
 
 // A whole scene for the one-call API: chunk meshes (not owned) plus the materials.
 struct Scene {
-    std::vector<std::pair<world::ChunkCoord, const world::ChunkMesh*>> chunks;
+    std::vector<std::pair<world::ChunkCoord, const world::ChunkMesh*>> chunks; // Level 0.
+    // Coarse chunks (any level; level 0 here is the same as in `chunks`): meshes in cells of
+    // 2^level blocks, drawn at lod_origin() scaled by 2^level.
+    std::vector<std::pair<world::LodCoord, const world::ChunkMesh*>> lod_chunks;
     const world::BlockRegistry* registry = nullptr; // Null: the default registry.
 };
 
@@ -296,9 +311,19 @@ public:
     // values, as MeshSink::on_mesh gives them) marks an edit: only those slices' slots are
     // uploaded and the BLAS refitted when they fit (else the chunk is rebuilt). Empty: the whole
     // mesh is new (a chunk not edited lately is rebuilt exact-size and compacted).
+    // Levels of detail: chunk c.chunk of level c.level (0..world::kMaxLodLevel; asserted), its
+    // mesh in chunk-local cell units (cells of 2^level blocks, as the mesher makes it from a
+    // level-k Chunk), drawn scaled by 2^level at world::lod_origin(c). Entries are keyed by the
+    // whole LodCoord: a level-0 chunk and a level-k chunk with the same chunk coordinates are
+    // different entries, both drawn (the caller decides which levels cover what). An empty mesh
+    // removes the entry. Main thread only.
+    void set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {});
+    // Removes exactly that level's entry (no-op when absent). Main thread only.
+    void remove_chunk(world::LodCoord c);
+    // Level 0: the same as set_chunk(LodCoord{0, c}, ...) and remove_chunk(LodCoord{0, c}).
     void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {});
     void remove_chunk(world::ChunkCoord c);
-    void clear_chunks();
+    void clear_chunks(); // Every entry of every level.
 
     // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
     // that frame's G-buffer into *gbuffer (tests, tools; costs three more copies).
@@ -310,9 +335,9 @@ public:
     Result<RenderImage> try_render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);
     // try_render for tests and tools that own the device: aborts with its error line instead.
     RenderImage render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer = nullptr);
-    // One call: makes `scene` the renderer's scene, then renders. Chunks absent from `scene` are
-    // dropped; every chunk in it is re-sent (a refit when its slots fit), so for small edits
-    // prefer set_chunk + render.
+    // One call: makes `scene` the renderer's scene (chunks and lod_chunks), then renders. Chunks
+    // absent from `scene` are dropped; every chunk in it is re-sent (a refit when its slots fit),
+    // so for small edits prefer set_chunk + render.
     RenderImage render(const RenderSettings& settings, const Camera& camera, const Scene& scene);
 
     // Traces a frame and presents it to the window (a renderer created with glfw_window; an

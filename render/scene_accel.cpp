@@ -12,7 +12,7 @@ struct SceneAccel::BuildBatch {
     std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
     std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
     std::vector<VkDeviceSize> scratch_sizes;
-    std::vector<world::ChunkCoord> coords; // The chunk of each build.
+    std::vector<world::LodCoord> coords; // The chunk of each build.
 };
 
 // A refit keeps the tree built for the old geometry, whose boxes loosen as edits pile up, so
@@ -43,20 +43,22 @@ SceneAccel::~SceneAccel() {
             vkDestroyQueryPool(m_ctx->device(), q.pool, nullptr);
 }
 
-void SceneAccel::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices,
+void SceneAccel::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices,
                            bool opaque) {
     if (mesh.empty()) {
         remove_chunk(c);
         return;
     }
+    VX_ASSERT(world::valid_lod_level(c.level));
     auto [it, inserted] = m_chunks.try_emplace(c);
     ChunkGpu& g = it->second;
+    g.level = uint8_t(c.level);
     apply_mesh(c, g, inserted, mesh, changed_slices, opaque);
     queue(c, g);
     retally(g);
 }
 
-void SceneAccel::apply_mesh(world::ChunkCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
+void SceneAccel::apply_mesh(world::LodCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
                             std::span<const int> changed_slices, bool opaque) {
     const bool fresh = inserted || g.failed;
     const uint64_t hash = mesh_hash(mesh);
@@ -101,7 +103,7 @@ void SceneAccel::apply_mesh(world::ChunkCoord c, ChunkGpu& g, bool inserted, con
     g.dirty.set();
 }
 
-void SceneAccel::remove_chunk(world::ChunkCoord c) {
+void SceneAccel::remove_chunk(world::LodCoord c) {
     auto it = m_chunks.find(c);
     if (it == m_chunks.end())
         return;
@@ -115,9 +117,10 @@ void SceneAccel::clear() {
     m_pending.clear();
     m_hot_queue.clear();
     m_total = {};
+    m_level_bytes.fill(0);
 }
 
-void SceneAccel::retain_only(const std::unordered_set<world::ChunkCoord, world::ChunkCoordHash>& keep) {
+void SceneAccel::retain_only(const std::unordered_set<world::LodCoord, world::LodCoordHash>& keep) {
     for (auto it = m_chunks.begin(); it != m_chunks.end();) {
         if (keep.count(it->first)) {
             ++it;
@@ -128,7 +131,7 @@ void SceneAccel::retain_only(const std::unordered_set<world::ChunkCoord, world::
     }
 }
 
-void SceneAccel::queue(world::ChunkCoord c, ChunkGpu& g) {
+void SceneAccel::queue(world::LodCoord c, ChunkGpu& g) {
     if (g.pending == Pending::None || g.queued)
         return;
     g.queued = true;
@@ -147,6 +150,7 @@ void SceneAccel::retally(ChunkGpu& g) {
     t.hot = g.hot;
     t.failed = g.failed;
     ChunkGpu::Tally& o = g.counted;
+    m_level_bytes[g.level] += (t.blas + t.vertices + t.quads) - (o.blas + o.vertices + o.quads);
     m_total.blas += t.blas - o.blas;
     m_total.vertices += t.vertices - o.vertices;
     m_total.quads += t.quads - o.quads;
@@ -157,12 +161,12 @@ void SceneAccel::retally(ChunkGpu& g) {
     o = t;
 }
 
-void SceneAccel::sync_instance(world::ChunkCoord c, ChunkGpu& g) {
+void SceneAccel::sync_instance(world::LodCoord c, ChunkGpu& g) {
     if (!g.blas.valid()) {
         drop_instance(g);
         return;
     }
-    const DrawChunk d{c, g.quads.address(), g.layout.total};
+    const DrawChunk d{c, g.quads.address(), g.layout.total}; // c's level scales its instance.
     if (g.instance == TlasInstances::kNone)
         g.instance = m_instances.add(d, g.blas.address());
     else
@@ -172,7 +176,7 @@ void SceneAccel::sync_instance(world::ChunkCoord c, ChunkGpu& g) {
 void SceneAccel::drop_instance(ChunkGpu& g) {
     if (g.instance == TlasInstances::kNone)
         return;
-    if (const std::optional<world::ChunkCoord> moved = m_instances.remove(g.instance))
+    if (const std::optional<world::LodCoord> moved = m_instances.remove(g.instance))
         m_chunks.at(*moved).instance = g.instance;
     g.instance = TlasInstances::kNone;
 }
@@ -180,6 +184,7 @@ void SceneAccel::drop_instance(ChunkGpu& g) {
 void SceneAccel::forget(ChunkGpu& g) {
     drop_instance(g);
     // Unsigned sums: subtracting the chunk's share wraps back exactly.
+    m_level_bytes[g.level] -= g.counted.blas + g.counted.vertices + g.counted.quads;
     m_total.blas -= g.counted.blas;
     m_total.vertices -= g.counted.vertices;
     m_total.quads -= g.counted.quads;
@@ -257,11 +262,11 @@ VkDeviceSize SceneAccel::staging_bytes(const ChunkGpu& g) const {
     return bytes;
 }
 
-void SceneAccel::fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes) {
+void SceneAccel::fail_chunk(world::LodCoord c, ChunkGpu& g, VkDeviceSize bytes) {
     if (!m_logged_failure)
-        VX_LOG_ERROR("renderer: out of GPU memory for chunk %d,%d,%d (%llu bytes): not drawn; further failures are "
-                     "only counted (RenderStats::failed_chunks)",
-                     c.x, c.y, c.z, (unsigned long long)bytes);
+        VX_LOG_ERROR("renderer: out of GPU memory for chunk %d,%d,%d of level %d (%llu bytes): not drawn; further "
+                     "failures are only counted (RenderStats::failed_chunks)",
+                     c.chunk.x, c.chunk.y, c.chunk.z, c.level, (unsigned long long)bytes);
     m_logged_failure = true;
     g.vertices.reset();
     g.quads.reset();
@@ -277,7 +282,7 @@ void SceneAccel::fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes
 }
 
 // New buffers and BLAS for a build; on failure the chunk is dropped from the scene (not drawn).
-bool SceneAccel::allocate_chunk(world::ChunkCoord c, ChunkGpu& g,
+bool SceneAccel::allocate_chunk(world::LodCoord c, ChunkGpu& g,
                                 const VkAccelerationStructureBuildSizesInfoKHR& sizes) {
     const VkDeviceSize slots = g.layout.total;
     const VkBufferUsageFlags input =
@@ -288,7 +293,8 @@ bool SceneAccel::allocate_chunk(world::ChunkCoord c, ChunkGpu& g,
                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                            MemoryUse::Device, 0, "chunk quads", true});
     char name[96];
-    std::snprintf(name, sizeof name, "BLAS chunk %d,%d,%d%s", c.x, c.y, c.z, g.hot ? " (hot)" : "");
+    std::snprintf(name, sizeof name, "BLAS chunk %d,%d,%d L%d%s", c.chunk.x, c.chunk.y, c.chunk.z, c.level,
+                  g.hot ? " (hot)" : "");
     AccelStruct blas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
                                            sizes.accelerationStructureSize, name, true);
     if (!vertices.valid() || !quads.valid() || !blas.valid()) {
@@ -333,7 +339,7 @@ void SceneAccel::upload_chunk(ChunkGpu& g, bool whole) {
     }
 }
 
-void SceneAccel::prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch) {
+void SceneAccel::prepare_chunk(world::LodCoord c, ChunkGpu& g, BuildBatch& batch) {
     const uint32_t slots = g.layout.total;
     const bool build = g.pending == Pending::Build;
     VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
@@ -413,9 +419,9 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
     demote_idle_hot_chunks();
     uint32_t max_slots = 0;
     VkDeviceSize staging = 0;
-    std::vector<std::pair<world::ChunkCoord, ChunkGpu*>> pending; // Element pointers survive rehashing.
+    std::vector<std::pair<world::LodCoord, ChunkGpu*>> pending; // Element pointers survive rehashing.
     pending.reserve(m_pending.size());
-    for (world::ChunkCoord c : m_pending) {
+    for (world::LodCoord c : m_pending) {
         auto it = m_chunks.find(c);
         if (it == m_chunks.end() || !it->second.queued)
             continue; // Removed since, or listed twice (removed and set again).
@@ -446,7 +452,7 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
     if (!record_blas_builds(cmd, batch)) {
         // No scratch: none of the batch is built. Each chunk is rebuilt whole next frame (its
         // mesh is still here), and is not drawn meanwhile (an unbuilt BLAS must not be traced).
-        for (world::ChunkCoord c : batch.coords) {
+        for (world::LodCoord c : batch.coords) {
             ChunkGpu& g = m_chunks.at(c);
             g.blas.reset();
             g.pending = Pending::Build;
@@ -456,7 +462,7 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
         }
         return false;
     }
-    for (world::ChunkCoord c : batch.coords) {
+    for (world::LodCoord c : batch.coords) {
         ChunkGpu& g = m_chunks.at(c);
         if (!g.hot) {
             // Cold: never refitted, so the vertices are needed only by this build; they retire

@@ -24,6 +24,7 @@
 #include "render/renderer.h"
 #include "render/tlas_instances.h"
 #include "world/coords.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::render {
 
@@ -38,6 +39,10 @@ struct AccelStats {
     uint64_t upload_bytes = 0;     // Chunk vertices + quad records staged and copied in the last record().
     uint32_t instance_writes = 0;  // TLAS instances written into the frame slot's buffer in the last record().
     uint64_t rebases = 0;          // Render-origin moves that rewrote every instance, since creation.
+    // Per level (world/lod/lod_coords.h): TLAS instances, and device memory (BLAS + vertices +
+    // quad records) of that level's chunks; kept as chunks change, copied once per frame.
+    std::array<uint32_t, world::kMaxLodLevel + 1> level_instances{};
+    std::array<uint64_t, world::kMaxLodLevel + 1> level_gpu_bytes{};
 };
 
 // Device memory by kind: GpuMemoryStats (render/renderer.h).
@@ -68,19 +73,21 @@ public:
     SceneAccel(const SceneAccel&) = delete;
     SceneAccel& operator=(const SceneAccel&) = delete;
 
-    // Sets chunk `c`'s mesh (chunk-local block units); applied at the next record(). An empty
+    // Sets chunk `c`'s mesh (chunk-local cell units: cells of 2^c.level blocks; level 0 is
+    // blocks); applied at the next record(). Chunks of different levels are different entries,
+    // whatever their chunk coordinates. An empty
     // mesh removes the chunk. `changed_slices` (slice_index() values) marks an edit: the chunk
     // turns hot and, when it is hot already and every slice still fits its slots, only those
     // slices are uploaded before a refit. Empty: the whole mesh is new (a hot chunk refits with
     // a full upload when it fits, a cold one is rebuilt; a mesh equal to the current one is
     // ignored). A chunk whose GPU memory cannot be allocated is not drawn and is counted in
     // AccelStats::failed_chunks until it is set again or removed.
-    void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {},
+    void set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {},
                    bool opaque = false);
-    void remove_chunk(world::ChunkCoord c);
+    void remove_chunk(world::LodCoord c);
     void clear();
     // Removes every chunk not in `keep` (O(chunks): for whole-scene calls).
-    void retain_only(const std::unordered_set<world::ChunkCoord, world::ChunkCoordHash>& keep);
+    void retain_only(const std::unordered_set<world::LodCoord, world::LodCoordHash>& keep);
     size_t chunk_count() const { return m_chunks.size(); }
 
     // Records the frame's uploads, BLAS builds/refits and the TLAS build into `cmd` (between
@@ -129,6 +136,7 @@ private:
         bool opaque = false;           // Only opaque blocks: OPAQUE geometry (no any-hit calls,
                                        // and the builder may split primitives: faster traversal).
         bool failed = false;           // Out of memory at its last build: not drawn.
+        uint8_t level = 0;             // Its LodCoord's level (which m_level_bytes entry it adds to).
         uint32_t refits_since_build = 0;
         uint32_t quad_count = 0;
         uint64_t last_edit_frame = 0;  // record() count at its last edit (hot chunks).
@@ -152,47 +160,48 @@ private:
     struct CompactionQueries {
         VkQueryPool pool = VK_NULL_HANDLE;
         uint32_t capacity = 0;
-        std::vector<std::pair<world::ChunkCoord, uint64_t>> chunks; // Query i: chunk, build serial.
+        std::vector<std::pair<world::LodCoord, uint64_t>> chunks; // Query i: chunk, build serial.
     };
     struct BuildBatch; // Geometry and build infos of one frame's BLAS call.
 
     bool ensure_indices(uint32_t slots);
-    void apply_mesh(world::ChunkCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
+    void apply_mesh(world::LodCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
                     std::span<const int> changed_slices, bool opaque);
     void demote_idle_hot_chunks();
     VkDeviceSize staging_bytes(const ChunkGpu& g) const;
-    bool allocate_chunk(world::ChunkCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);
-    void fail_chunk(world::ChunkCoord c, ChunkGpu& g, VkDeviceSize bytes);
+    bool allocate_chunk(world::LodCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);
+    void fail_chunk(world::LodCoord c, ChunkGpu& g, VkDeviceSize bytes);
     void upload_chunk(ChunkGpu& g, bool whole);
-    void prepare_chunk(world::ChunkCoord c, ChunkGpu& g, BuildBatch& batch);
+    void prepare_chunk(world::LodCoord c, ChunkGpu& g, BuildBatch& batch);
     bool record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
     void record_compactions(VkCommandBuffer cmd);
     void record_compaction_queries(VkCommandBuffer cmd);
     bool record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
     void count_memory();
-    void queue(world::ChunkCoord c, ChunkGpu& g); // Lists a pending chunk for the next record_builds().
+    void queue(world::LodCoord c, ChunkGpu& g); // Lists a pending chunk for the next record_builds().
     void retally(ChunkGpu& g);                    // Brings its share of m_total up to date.
-    void sync_instance(world::ChunkCoord c, ChunkGpu& g); // Adds, updates or drops its TLAS instance.
+    void sync_instance(world::LodCoord c, ChunkGpu& g); // Adds, updates or drops its TLAS instance.
     void drop_instance(ChunkGpu& g);
     void forget(ChunkGpu& g); // Before it is erased: its instance and tally go.
     VkDeviceAddress scratch(VkDeviceSize bytes); // 0: out of memory (logged).
 
     Context* m_ctx;
-    std::unordered_map<world::ChunkCoord, ChunkGpu, world::ChunkCoordHash> m_chunks;
+    std::unordered_map<world::LodCoord, ChunkGpu, world::LodCoordHash> m_chunks;
     Buffer m_indices;
     uint32_t m_index_slots = 0;
     StagingRing m_staging;
     Buffer m_scratch; // Shared by the frame's BLAS call and TLAS build (a barrier separates them).
     std::array<FrameData, kFramesInFlight> m_frames;
     std::array<CompactionQueries, kFramesInFlight> m_queries;
-    std::vector<world::ChunkCoord> m_built_cold; // Chunks built cold this frame (to query).
+    std::vector<world::LodCoord> m_built_cold; // Chunks built cold this frame (to query).
     TlasInstances m_instances{kFramesInFlight};
     // Chunks with a pending build or refit (entries of chunks removed or re-added since are
     // skipped: ChunkGpu::queued), and hot chunks by the frame of their last edit (oldest first;
     // entries whose chunk was edited again since are stale).
-    std::vector<world::ChunkCoord> m_pending;
-    std::deque<std::pair<world::ChunkCoord, uint64_t>> m_hot_queue;
+    std::vector<world::LodCoord> m_pending;
+    std::deque<std::pair<world::LodCoord, uint64_t>> m_hot_queue;
     ChunkGpu::Tally m_total;
+    std::array<uint64_t, world::kMaxLodLevel + 1> m_level_bytes{}; // blas + vertices + quads by level.
     AccelStats m_stats;
     AccelMemory m_memory;
     SceneAccelCreateInfo m_info;

@@ -29,7 +29,8 @@ void SceneAccel::record_compactions(VkCommandBuffer cmd) {
         if (g.build_serial != serial || g.hot || g.pending != Pending::None || !g.blas.valid() || sizes[i] == 0)
             continue;
         char name[96];
-        std::snprintf(name, sizeof name, "BLAS chunk %d,%d,%d (compacted)", c.x, c.y, c.z);
+        std::snprintf(name, sizeof name, "BLAS chunk %d,%d,%d L%d (compacted)", c.chunk.x, c.chunk.y, c.chunk.z,
+                      c.level);
         AccelStruct compact =
             AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, sizes[i], name, true);
         if (!compact.valid())
@@ -66,7 +67,7 @@ void SceneAccel::record_compaction_queries(VkCommandBuffer cmd) {
     }
     std::vector<VkAccelerationStructureKHR> handles;
     handles.reserve(n);
-    for (world::ChunkCoord c : m_built_cold) {
+    for (world::LodCoord c : m_built_cold) {
         const ChunkGpu& g = m_chunks.at(c); // Nothing removes chunks between the builds and here.
         handles.push_back(g.blas.handle());
         q.chunks.emplace_back(c, g.build_serial);
@@ -119,6 +120,8 @@ void SceneAccel::count_memory() {
     m_stats.triangles = m_total.triangles;
     m_stats.hot_chunks = m_total.hot;
     m_stats.failed_chunks = m_total.failed;
+    m_stats.level_instances = m_instances.level_counts();
+    m_stats.level_gpu_bytes = m_level_bytes;
     for (const FrameData& f : m_frames)
         m_memory.tlas += f.tlas.size() + f.instances.size() + f.table.size();
     m_memory.scratch = m_scratch.size();

@@ -11,12 +11,15 @@ TlasInstances::TlasInstances(uint32_t frame_slots)
     VX_ASSERT(frame_slots >= 1 && frame_slots <= 8); // One bit of m_marked per slot.
 }
 
-VkAccelerationStructureInstanceKHR TlasInstances::make_instance(world::ChunkCoord chunk, world::BlockPos origin,
+VkAccelerationStructureInstanceKHR TlasInstances::make_instance(world::LodCoord chunk, world::BlockPos origin,
                                                                 uint32_t index, VkDeviceAddress blas) {
+    VX_ASSERT(world::valid_lod_level(chunk.level));
     // 64-bit difference first, then float: exact while the chunk is within 2^24 blocks of the origin.
-    const world::BlockPos rel = world::chunk_origin(chunk) - origin;
+    const world::BlockPos rel = world::lod_origin(chunk) - origin;
     VkAccelerationStructureInstanceKHR d{};
-    d.transform.matrix[0][0] = d.transform.matrix[1][1] = d.transform.matrix[2][2] = 1.f;
+    // A power of two: the traversal's world-to-object transform (1 / scale) is exact too.
+    const float scale = float(world::lod_cell_size(chunk.level));
+    d.transform.matrix[0][0] = d.transform.matrix[1][1] = d.transform.matrix[2][2] = scale;
     d.transform.matrix[0][3] = float(rel.x);
     d.transform.matrix[1][3] = float(rel.y);
     d.transform.matrix[2][3] = float(rel.z);
@@ -44,8 +47,10 @@ void TlasInstances::write(uint32_t i) {
 }
 
 uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
+    VX_ASSERT(world::valid_lod_level(chunk.coord.level));
     const uint32_t i = size();
     m_draw.push_back(chunk);
+    ++m_level_counts[size_t(chunk.coord.level)];
     m_instances.push_back(make_instance(chunk.coord, m_origin, i, blas));
     mark(i);
     return i;
@@ -61,10 +66,11 @@ void TlasInstances::update(uint32_t i, const DrawChunk& chunk, VkDeviceAddress b
     mark(i);
 }
 
-std::optional<world::ChunkCoord> TlasInstances::remove(uint32_t i) {
+std::optional<world::LodCoord> TlasInstances::remove(uint32_t i) {
     VX_ASSERT(i < size());
     const uint32_t last = size() - 1;
-    std::optional<world::ChunkCoord> moved;
+    --m_level_counts[size_t(m_draw[i].coord.level)];
+    std::optional<world::LodCoord> moved;
     if (i != last) {
         m_draw[i] = m_draw[last];
         m_instances[i] = m_instances[last];
@@ -81,6 +87,7 @@ std::optional<world::ChunkCoord> TlasInstances::remove(uint32_t i) {
 
 void TlasInstances::clear() {
     m_draw.clear();
+    m_level_counts.fill(0);
     m_instances.clear();
     m_origin_free = true;
 }

@@ -8,7 +8,9 @@
 //
 // Translations are relative to a render origin, not to the camera: the 64-bit difference
 // chunk origin - render origin is exact and then rounded to float, as the camera-relative
-// transforms were. The origin follows the camera only when the camera strays more than
+// transforms were. A level-k chunk (world/lod/lod_coords.h: cells of 2^k blocks) is the same
+// chunk-local mesh scaled by 2^k (the 3x3 part of its transform) at lod_origin(); level 0 is the
+// identity scale. The origin follows the camera only when the camera strays more than
 // kRebaseDistance blocks from it (every instance is rewritten once then; counted in rebases()),
 // so shaders see positions within about 2^12 blocks of the origin plus the view distance, and
 // a world at 2^24 blocks still renders like one at the origin (tests/render/far_origin_test.cpp).
@@ -18,6 +20,7 @@
 // only on the sequence of calls (never on hash order).
 // Not thread-safe (a value; the renderer's main thread).
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -25,12 +28,13 @@
 
 #include "render/vk_common.h"
 #include "world/coords.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::render {
 
 // A chunk the TLAS draws, in instance order (the raster pipeline draws them too).
 struct DrawChunk {
-    world::ChunkCoord coord;
+    world::LodCoord coord;     // Level and chunk: the mesh is in cells of 2^level blocks.
     VkDeviceAddress quads = 0; // Quad records, one per slot (Quad{} in spare slots).
     uint32_t slots = 0;
 };
@@ -52,9 +56,11 @@ public:
     void update(uint32_t i, const DrawChunk& chunk, VkDeviceAddress blas);
     // Removes instance i. The last instance moves to index i: returns its chunk (nullopt when i
     // was the last), whose recorded index the caller updates.
-    std::optional<world::ChunkCoord> remove(uint32_t i);
+    std::optional<world::LodCoord> remove(uint32_t i);
     void clear();
     uint32_t size() const { return uint32_t(m_draw.size()); }
+    // Instances of level-`level` chunks (kept as they are added and removed: O(1)).
+    const std::array<uint32_t, world::kMaxLodLevel + 1>& level_counts() const { return m_level_counts; }
 
     // Before a frame's sync: moves the origin to `camera` when it is more than kRebaseDistance
     // from it, or when the array was empty since the last call (free: nothing to rewrite).
@@ -70,8 +76,10 @@ public:
 
     std::span<const DrawChunk> draw_list() const { return m_draw; }
     std::span<const VkAccelerationStructureInstanceKHR> instances() const { return m_instances; }
-    // The instance of `chunk` at index `index` for origin `origin` (what sync() writes).
-    static VkAccelerationStructureInstanceKHR make_instance(world::ChunkCoord chunk, world::BlockPos origin,
+    // The instance of `chunk` at index `index` for origin `origin` (what sync() writes): the
+    // chunk-local mesh (cell units) scaled by lod_cell_size(chunk.level) and translated by
+    // lod_origin(chunk) - origin (blocks).
+    static VkAccelerationStructureInstanceKHR make_instance(world::LodCoord chunk, world::BlockPos origin,
                                                             uint32_t index, VkDeviceAddress blas);
 
 private:
@@ -81,6 +89,7 @@ private:
     uint32_t m_slots;
     std::vector<VkAccelerationStructureInstanceKHR> m_instances;
     std::vector<DrawChunk> m_draw;
+    std::array<uint32_t, world::kMaxLodLevel + 1> m_level_counts{};
     std::vector<uint8_t> m_marked;                 // Per index: bit s = listed in m_dirty[s].
     std::vector<std::vector<uint32_t>> m_dirty;    // Per slot: indices changed since its sync.
     std::vector<bool> m_all_dirty;                 // Per slot: every entry changed (a re-base).

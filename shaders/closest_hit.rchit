@@ -2,8 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // Nearest hit of a primary or reflection ray: looks up the quad of the hit triangle (two
 // triangles per quad slot) and returns a robust secondary-ray origin: the hit point snapped onto
-// the quad's integer face plane (chunk-local, exact in float), clamped inside the quad, and
-// offset by kSurfaceOffset along the face normal, then moved to origin-relative space and pushed
+// the quad's integer face plane (chunk-local cell units, exact in float), clamped inside the quad,
+// and offset by kSurfaceOffset along the face normal, then moved to origin-relative space by the
+// instance's transform (gl_ObjectToWorldEXT: a level-k chunk's is scaled by 2^k) and pushed
 // kOffsetUlps ulps further along the normal (far from the render origin the rounding of that move is
 // larger than kSurfaceOffset). No tMin is needed: the origin is strictly on the air side of the
 // face it left, also after the traversal moves it back into the instance's space. `through` is

@@ -41,7 +41,6 @@ void main() {
     const float shininess = 64.0;
     const float specular = mat.albedo_reflectivity.w * (shininess + 8.0) / 8.0 *
                            pow(max(dot(n, normalize(l + v)), 0.0), shininess);
-    const vec3 radiance = (albedo + vec3(specular)) / 3.14159265 * irradiance + albedo * pc.light_power.w +
-                          mat.emission.xyz;
-    o_color = vec4(vx_display(radiance, pc.chunk_origin.w), 1.0);
+    const vec3 radiance = (albedo + vec3(specular)) / 3.14159265 * irradiance + mat.emission.xyz;
+    o_color = vec4(vx_display(radiance, pc.light_power.w), 1.0);
 }

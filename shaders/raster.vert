@@ -36,9 +36,11 @@ void main() {
     }
     const uint packed = q.x;
     // The face's plane relative to the eye: a +axis face is seen from the eye only when the
-    // plane lies below it (eye - plane > 0), a -axis face when it lies above.
+    // plane lies below it (eye - plane > 0), a -axis face when it lies above. Quads are in
+    // chunk-local cells of chunk_origin.w blocks (a level-k chunk: 2^k).
+    const float cell = pc.chunk_origin.w;
     const uint cull_axis = (packed >> 26u) & 3u;
-    const float plane_rel = pc.chunk_origin[cull_axis] + float((packed >> 20u) & 63u);
+    const float plane_rel = pc.chunk_origin[cull_axis] + cell * float((packed >> 20u) & 63u);
     const bool front = ((packed >> 28u) & 1u) != 0u ? plane_rel < 0.0 : plane_rel > 0.0;
     if (!front && Materials(pc.materials).m[v_block].emission.w == 0.0) { // An opaque block's back face.
         cull();
@@ -55,7 +57,7 @@ void main() {
     local[axis] = float(plane);
     local[ua] = float(u0 + ((corner == 1u || corner == 2u) ? w : 0u));
     local[va] = float(v0 + ((corner >= 2u) ? h : 0u));
-    v_position = pc.chunk_origin.xyz + local;
+    v_position = pc.chunk_origin.xyz + cell * local;
     v_face = axis * 2u + positive;
     gl_Position = pc.clip_from_eye * vec4(v_position, 1.0);
 }

@@ -22,17 +22,22 @@ VX_CONST uint kShadowMiss = 1;
 // before it counts as blocked: deep water or a stack of glass panes ends there.
 VX_CONST uint kMaxTransparentLayers = 8;
 
-// Emissive blocks light points within this many blocks of their chunk's box (farther, a lamp
-// block's light is under 1% of its emission: solid angle < 1/kEmitterRange^2). Sky rays look
+// Emissive blocks light points within this many cells of their chunk's box (farther, a lamp
+// cell's light is under 1% of its emission: solid angle < 1/kEmitterRange^2; a cell of a level-k
+// chunk is 2^k blocks, so is its reach). Sky rays look
 // for emitters only at hits that near one of the kMaxEmitterChunks emissive chunks nearest the
 // camera (FrameParams::emitter_chunks); farther emissive chunks light nothing.
 VX_CONST float kEmitterRange = 16.0f;
 VX_CONST uint kMaxEmitterChunks = 64;
+// Cells per chunk edge (world::kChunkSize, checked in render/gpu_layouts.h), at every LOD level.
+VX_CONST float kChunkCells = 32.0f;
 
 // Secondary rays start this far off the hit's face plane, along the face normal, in chunk-local
-// block units (64 ulps at 32.0). It survives the move to origin-relative space (positions relative
+// cell units (64 ulps at 32.0): blocks at level 0, 2^k / 1024 blocks for a level-k chunk drawn
+// scaled by 2^k (world/lod/lod_coords.h), the same fraction of a cell at every level, as robust
+// in the instance's own space. It survives the move to origin-relative space (positions relative
 // to the render origin, which stays within 2^12 blocks of the camera: render/tlas_instances.h)
-// only near the origin: it is 32 ulps at 256 blocks and less than one beyond 8,192.
+// only near the origin: at level 0 it is 32 ulps at 256 blocks and less than one beyond 8,192.
 VX_CONST float kSurfaceOffset = 1.0f / 1024.0f;
 
 // So the origin-relative ray origin is then also pushed this many ulps of its own normal component
@@ -73,7 +78,8 @@ struct FrameParams {
                          // height, blocks; w: 0.
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
-    uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz chunk origin (origin-relative), w 0.
+    uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz chunk origin (origin-relative), w its
+                             // edge in blocks (32 << LOD level).
     uint64_t exposure_meter; // Address of an ExposureMeter (exposure.y = 1), else 0.
 };
 

@@ -1,7 +1,9 @@
 // TlasInstances without a GPU: random adds, updates and removes, each frame slot's buffers
 // written only with what changed since that slot's last sync, must always hold what a rebuild
 // from scratch of the same chunks would write: every chunk once, instance i with custom index i
-// and the chunk table's entry i its chunk's quads, translations relative to the origin.
+// and the chunk table's entry i its chunk's quads, translations relative to the origin, a
+// level-k chunk scaled by 2^k; per-level instance counts as the reference's.
+#include <array>
 #include <cstring>
 #include <map>
 #include <random>
@@ -20,7 +22,9 @@ struct Chunk {
     VkDeviceAddress blas = 0, quads = 0;
     uint32_t slots = 0;
 };
-using Reference = std::map<std::tuple<int, int, int>, Chunk>;
+using Key = std::tuple<int, int, int, int>; // Level, x, y, z.
+using Reference = std::map<Key, Chunk>;
+Key key_of(world::LodCoord c) { return {c.level, c.chunk.x, c.chunk.y, c.chunk.z}; }
 
 // A frame slot's host-visible buffers: replaced (contents lost) when they must grow.
 struct SlotBuffers {
@@ -42,10 +46,14 @@ struct SlotBuffers {
 // What the slot's buffers must hold: the from-scratch rebuild of `ref` in the array's order.
 void expect_matches(const TlasInstances& a, const SlotBuffers& b, const Reference& ref, BlockPos origin) {
     ASSERT_EQ(a.size(), ref.size());
-    std::map<std::tuple<int, int, int>, int> seen;
+    std::array<uint32_t, world::kMaxLodLevel + 1> levels{};
+    for (const auto& kv : ref)
+        ++levels[size_t(std::get<0>(kv.first))];
+    EXPECT_EQ(a.level_counts(), levels);
+    std::map<Key, int> seen;
     for (uint32_t i = 0; i < a.size(); ++i) {
         const DrawChunk& d = a.draw_list()[i];
-        const auto key = std::make_tuple(d.coord.x, d.coord.y, d.coord.z);
+        const Key key = key_of(d.coord);
         ASSERT_EQ(seen[key]++, 0) << "chunk listed twice";
         const auto it = ref.find(key);
         ASSERT_NE(it, ref.end()) << "a removed chunk is still drawn";
@@ -62,12 +70,14 @@ public:
     static constexpr uint32_t kSlots = 2;
     TlasInstances array{kSlots};
     Reference ref;
-    std::map<std::tuple<int, int, int>, uint32_t> index; // What the owner (SceneAccel) records.
+    std::map<Key, uint32_t> index; // What the owner (SceneAccel) records.
     SlotBuffers slots[kSlots];
     VkDeviceAddress next_address = 0x1000;
 
-    void set(ChunkCoord c) {
-        const auto key = std::make_tuple(c.x, c.y, c.z);
+    void set(ChunkCoord c) { set(world::LodCoord{0, c}); }
+    void remove(ChunkCoord c) { remove(world::LodCoord{0, c}); }
+    void set(world::LodCoord c) {
+        const Key key = key_of(c);
         Chunk& ch = ref[key];
         ch = {next_address, next_address + 8, uint32_t(next_address % 97)};
         next_address += 0x100;
@@ -77,26 +87,27 @@ public:
         else
             index[key] = array.add(d, ch.blas);
     }
-    void remove(ChunkCoord c) {
-        const auto key = std::make_tuple(c.x, c.y, c.z);
+    void remove(world::LodCoord c) {
+        const Key key = key_of(c);
         auto it = index.find(key);
         if (it == index.end())
             return;
         const uint32_t i = it->second;
         index.erase(it);
         ref.erase(key);
-        if (const std::optional<ChunkCoord> moved = array.remove(i))
-            index.at(std::make_tuple(moved->x, moved->y, moved->z)) = i;
+        if (const std::optional<world::LodCoord> moved = array.remove(i))
+            index.at(key_of(*moved)) = i;
     }
 };
 
 TEST(TlasInstances, RandomChangesMatchARebuildInEverySlot) {
     Harness h;
     std::mt19937 rng(1234);
-    std::uniform_int_distribution<int> coord(-6, 6), op(0, 9);
+    std::uniform_int_distribution<int> coord(-6, 6), op(0, 9), level(0, 2);
     uint32_t frame = 0;
     for (int step = 0; step < 4000; ++step) {
-        const ChunkCoord c(coord(rng), coord(rng) / 3, coord(rng));
+        // Levels 0..2 over the same chunk coordinates: different entries.
+        const world::LodCoord c{level(rng), ChunkCoord(coord(rng), coord(rng) / 3, coord(rng))};
         const int o = op(rng);
         if (o < 5)
             h.set(c); // Add, or a rebuild's new addresses.
@@ -158,7 +169,7 @@ TEST(TlasInstances, TheOriginMovesOnlyFarOrWhenEmpty) {
         expect_matches(h.array, h.slots[s], h.ref, moved);
     }
     // Exact translations: the 64-bit difference, then float.
-    const world::BlockPos rel = world::chunk_origin(h.array.draw_list()[0].coord) - moved;
+    const world::BlockPos rel = world::lod_origin(h.array.draw_list()[0].coord) - moved;
     EXPECT_EQ(h.array.instances()[0].transform.matrix[0][3], float(rel.x));
     // Emptied, then filled again: the next frame's origin follows the camera without a re-base.
     for (int x = 0; x < 10; ++x)
@@ -170,6 +181,27 @@ TEST(TlasInstances, TheOriginMovesOnlyFarOrWhenEmpty) {
         h.slots[s].sync(h.array, s);
         expect_matches(h.array, h.slots[s], h.ref, start);
     }
+}
+
+// A level-k instance is the chunk-local mesh (cells) scaled by 2^k, translated by lod_origin -
+// origin (64-bit first): level 3, chunk (-2, 5, 2^20) from origin (7, -9, 2^25 + 3) has origin
+// (-2, 5, 2^20) * 256 = (-512, 1280, 2^28), so the translation is (-519, 1289, 2^28 - 2^25 - 3).
+TEST(TlasInstances, ALevelKInstanceIsScaledByTwoToTheK) {
+    const world::LodCoord c{3, ChunkCoord(-2, 5, 1 << 20)};
+    const BlockPos origin(7, -9, (int64_t(1) << 25) + 3);
+    const VkAccelerationStructureInstanceKHR d = TlasInstances::make_instance(c, origin, 5, 0x1234);
+    for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 3; ++col)
+            EXPECT_EQ(d.transform.matrix[r][col], r == col ? 8.f : 0.f) << r << "," << col;
+    EXPECT_EQ(d.transform.matrix[0][3], -519.f);
+    EXPECT_EQ(d.transform.matrix[1][3], 1289.f);
+    EXPECT_EQ(d.transform.matrix[2][3], float((int64_t(1) << 28) - (int64_t(1) << 25) - 3));
+    EXPECT_EQ(d.instanceCustomIndex, 5u);
+    EXPECT_EQ(d.accelerationStructureReference, 0x1234u);
+    // Level 0 keeps the identity.
+    const VkAccelerationStructureInstanceKHR d0 = TlasInstances::make_instance({0, c.chunk}, origin, 0, 1);
+    EXPECT_EQ(d0.transform.matrix[0][0], 1.f);
+    EXPECT_EQ(d0.transform.matrix[2][3], float((int64_t(1) << 25) - (int64_t(1) << 25) - 3));
 }
 
 } // namespace
