@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/job_batch.h"
+#include "render/renderer.h"
 #include "world/base/assert.h"
 #include "world/gen/seed_scene.h"
 #include "world/gen/terrain.h"
@@ -376,6 +377,21 @@ Result<LoadedScene> load_scene(JobSystem& jobs, const SceneLoadInfo& info) {
         return Error{s.error()};
     finish(scene);
     return scene;
+}
+
+uint32_t send_scene(const LoadedScene& scene, render::Renderer& renderer) {
+    uint32_t sent = 0;
+    for (const auto& [c, mc] : scene.meshes)
+        if (mc.mesh.quad_count() > 0) {
+            renderer.set_chunk(c, mc.mesh);
+            ++sent;
+        }
+    for (const auto& [c, mesh] : scene.coarse)
+        if (mesh.quad_count() > 0) {
+            renderer.set_chunk(c, mesh);
+            ++sent;
+        }
+    return sent;
 }
 
 void remesh_chunk(LoadedScene& scene, ChunkCoord c, const ChunkMeshFn& mesh_fn) {

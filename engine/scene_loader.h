@@ -26,6 +26,10 @@
 #include "world/mesh/edit_mesher.h"
 #include "world/world.h"
 
+namespace vx::render {
+class Renderer;
+}
+
 namespace vx::engine {
 
 // A world position in block units: block + frac, frac in [0, 1) per axis, so it stays exact for
@@ -102,6 +106,10 @@ struct LoadedScene {
 // block, unreadable store or file, radius, view distance or ring out of range, a view distance
 // for a scene other than terrain).
 Result<LoadedScene> load_scene(JobSystem& jobs, const SceneLoadInfo& info);
+
+// Main thread (the renderer's). Sends every chunk of `scene` that has quads to `renderer`: level 0
+// and the coarse chunks, each at its LodCoord. Returns how many (a BLAS each once built).
+uint32_t send_scene(const LoadedScene& scene, render::Renderer& renderer);
 
 // Main thread. Remeshes chunk `c` of `scene` on this thread after an edit (its own apron, or air
 // when isolated), with the mesher the scene was loaded with.
