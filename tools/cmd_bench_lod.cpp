@@ -32,6 +32,7 @@
 #include "render/image_metrics.h"
 #include "render/renderer.h"
 #include "scene_args.h"
+#include "world/base/assert.h"
 #include "world/base/median.h"
 
 namespace vx::tools {
@@ -72,6 +73,7 @@ Result<render::Camera> make_camera(const BenchLodArgs& a, const engine::LoadedSc
         return Error{"--eye must be X,Y,Z (decimals, inside the world), got '" + a.eye + "'"};
     if (!a.target.empty() && !(target = parse_world_pos(a.target)))
         return Error{"--target must be X,Y,Z (decimals, inside the world), got '" + a.target + "'"};
+    VX_ASSERT(eye && target); // The terrain's default view has both; run_bench_lod() checks --eye has --target.
     const glm::dvec3 fwd = world_delta(*target, *eye);
     if (glm::length(fwd) == 0.0 || glm::length(glm::cross(glm::normalize(fwd), glm::dvec3(0, 1, 0))) < 1e-6)
         return Error{"--target must differ from --eye and not lie straight above or below it"};
@@ -157,6 +159,8 @@ int run_bench_lod(const BenchLodArgs& a) {
             return bad_input("--radii must be level-0 radii in chunks, 0..64, comma separated; got '" + a.radii + "'");
         radii.push_back(int(v));
     }
+    if (!a.eye.empty() && a.target.empty())
+        return bad_input("--eye needs --target X,Y,Z");
     const auto choice = render::parse_device_choice(a.device);
     if (!choice)
         return bad_input(choice.error());

@@ -400,7 +400,11 @@ TEST(CliRender, BenchLodReport) {
     EXPECT_EQ(rows, 3);
     for (const char* png : {"/full_flat.png", "/full_full.png", "/lod_r1_flat.png", "/lod_r2_full.png"})
         EXPECT_EQ(read_png(out + png).w, 24) << png;
-    EXPECT_EQ(vx("bench lod --radii 2,x").code, 2);
+    for (const char* bad : {"--radii 2,x", "--eye 0,100,0", "--size 0x9"}) {
+        const CliRun b = vx(std::string("bench lod ") + bad);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
+        EXPECT_EQ(std::count(b.out.begin(), b.out.end(), '\n'), 1) << "one line: " << b.out;
+    }
 }
 
 TEST(CliRender, InfoListsTheRayTracingDevice) {
