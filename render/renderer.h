@@ -1,9 +1,8 @@
 #pragma once
 // vx's ray-tracing renderer: the public API. A scene is a set of chunk meshes
 // (LodCoord -> world::ChunkMesh; a ChunkCoord means level 0) plus a BlockRegistry for materials;
-// render() traces one image
-// and reads it back (headless); present() traces a frame into a GLFW window with two frames in
-// flight. No Vulkan or GLFW types here: only render/ touches Vk* objects.
+// render() traces one image and reads it back (headless); present() traces a frame into a GLFW
+// window with two frames in flight. No Vulkan or GLFW types here: only render/ touches Vk* objects.
 //
 // Coordinates: world block units (y up). The camera and the light are given as a 64-bit block
 // position plus a float offset inside (or from) that block; everything the GPU sees is relative
