@@ -1,12 +1,18 @@
 #include "engine/scene_loader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <unordered_set>
 #include <vector>
 
 #include "engine/job_batch.h"
+#include "render/renderer.h"
+#include "world/base/assert.h"
 #include "world/gen/seed_scene.h"
 #include "world/gen/terrain.h"
+#include "world/lod/downsample.h"
+#include "world/lod/lod_cut.h"
 #include "world/store/store_open.h"
 
 namespace vx::engine {
@@ -84,15 +90,18 @@ bool near(ChunkCoord c, ChunkCoord centre, int radius, int vradius) {
     return d.x <= radius && d.z <= radius && d.y <= vradius;
 }
 
+// Terrain's default camera: above the surface at the origin, looking across the terrain.
+void terrain_default_view(const TerrainGenerator& gen, LoadedScene& scene) {
+    const int h = std::max(gen.surface_height(0, 0), gen.params().sea_level);
+    const int ht = std::max(gen.surface_height(160, 160), gen.params().sea_level);
+    scene.default_eye = world_pos_at({0.5, h + 40.5, 0.5});
+    scene.default_target = world_pos_at({160.5, ht + 0.5, 160.5});
+}
+
 Status load_terrain(JobSystem& jobs, LoadedScene& scene, const SceneLoadInfo& a) {
     const TerrainGenerator gen(a.seed);
-    if (!a.eye) {
-        // Default: above the surface at the origin, looking across the terrain.
-        const int h = std::max(gen.surface_height(0, 0), gen.params().sea_level);
-        const int ht = std::max(gen.surface_height(160, 160), gen.params().sea_level);
-        scene.default_eye = world_pos_at({0.5, h + 40.5, 0.5});
-        scene.default_target = world_pos_at({160.5, ht + 0.5, 160.5});
-    }
+    if (!a.eye)
+        terrain_default_view(gen, scene);
     const ChunkCoord centre = chunk_of(a.eye ? a.eye->block : scene.default_eye->block);
     const int r = a.radius < 0 ? 8 : a.radius;
     std::vector<ChunkCoord> all, inner;
@@ -113,6 +122,135 @@ Status load_terrain(JobSystem& jobs, LoadedScene& scene, const SceneLoadInfo& a)
     scene.description = "terrain seed " + std::to_string(a.seed) + ": " + std::to_string(inner.size()) +
                         " chunks within " + std::to_string(r) + " (vertical " + std::to_string(a.vradius) +
                         ") of the camera's chunk, generated with a ring of neighbours for the aprons";
+    return {};
+}
+
+// Pool: one coarse chunk of a LOD scene, generated (generate_lod) and meshed with air aprons
+// into its output slot, which exists before the batch runs (as RegionMeshJob: nothing copied).
+// Keyed by the chunk at one level: a batch holds one level.
+class CoarseChunkJob final : public Job {
+public:
+    CoarseChunkJob(LodCoord c, const ChunkGenerator& gen, const BlockRegistry& registry, const ChunkMeshFn& mesh_fn,
+                   ChunkMesh& slot)
+        : Job({c.chunk, JobKind::Task}), m_coord(c), m_gen(gen), m_registry(registry), m_mesh_fn(mesh_fn),
+          m_slot(slot) {}
+    void run(JobContext& ctx) override {
+        if (ctx.is_cancelled())
+            return;
+        const Result<Chunk> chunk = generate_lod(m_gen, m_coord);
+        VX_ASSERT(bool(chunk)); // The built-in terrain never fails.
+        static const Apron kAirApron = Apron::air();
+        thread_local GreedyMesher scratch; // One per worker, reused by every job it runs.
+        const MesherInput in{*chunk, kAirApron, m_registry};
+        if (m_mesh_fn)
+            m_mesh_fn(scratch, in, m_slot);
+        else
+            scratch.mesh(in, m_slot);
+    }
+    void complete() override {}
+
+private:
+    LodCoord m_coord;
+    const ChunkGenerator& m_gen;
+    const BlockRegistry& m_registry;
+    const ChunkMeshFn& m_mesh_fn;
+    ChunkMesh& m_slot;
+};
+
+// Generates and meshes `coarse` (any levels) into scene.coarse, one batch per level.
+void make_coarse(JobSystem& jobs, LoadedScene& scene, const ChunkGenerator& gen, const ChunkMeshFn& mesh_fn,
+                 const std::vector<LodCoord>& coarse) {
+    for (int level = 1; level <= kMaxLodLevel; ++level) {
+        std::vector<std::unique_ptr<Job>> batch;
+        for (LodCoord c : coarse)
+            if (c.level == level)
+                batch.push_back(std::make_unique<CoarseChunkJob>(c, gen, scene.world->registry(), mesh_fn,
+                                                                 scene.coarse[c])); // Slots first: stable addresses.
+        if (!batch.empty())
+            run_batch(jobs, std::move(batch));
+    }
+}
+
+// The level-0 chunks of a full-detail view: every chunk column within the view distance, rows
+// over the terrain's height and the eye's vertical box.
+std::vector<ChunkCoord> full_detail_chunks(const LodView& view, ChunkCoord eye, int vradius, int64_t y_lo,
+                                           int64_t y_hi) {
+    const int lo = std::min(chunk_of(BlockPos(0, y_lo, 0)).y, eye.y - vradius);
+    const int hi = std::max(chunk_of(BlockPos(0, y_hi, 0)).y, eye.y + vradius);
+    const int h = int(view.settings().view_distance / kChunkSize) + 1;
+    std::vector<ChunkCoord> out;
+    for (int z = -h; z <= h; ++z)
+        for (int x = -h; x <= h; ++x) {
+            const ChunkCoord column(eye.x + x, eye.y, eye.z + z);
+            if (view.distance({0, column}) > double(view.settings().view_distance))
+                continue;
+            for (int y = lo; y <= hi; ++y)
+                out.push_back(ChunkCoord(column.x, y, column.z));
+        }
+    return out;
+}
+
+// Terrain to a view distance: with LOD, the cut of a LodView; without, full detail (the
+// reference). Level-0 chunks are generated with their face neighbours, for real aprons.
+Status load_terrain_view(JobSystem& jobs, LoadedScene& scene, const SceneLoadInfo& a) {
+    const TerrainGenerator gen(a.seed);
+    if (!a.eye)
+        terrain_default_view(gen, scene);
+    const WorldPos eye = a.eye ? *a.eye : *scene.default_eye;
+    const glm::dvec3 viewer = glm::dvec3(eye.block) + eye.frac;
+    const int64_t y_lo = std::min<int64_t>(gen.height_min(), gen.params().sea_level);
+    const int64_t y_hi = std::max<int64_t>(gen.height_max(), gen.params().sea_level);
+    const int r = a.radius < 0 ? 8 : a.radius;
+    LodViewSettings vs;
+    vs.radius0 = r;
+    vs.vradius0 = a.vradius;
+    vs.ring = a.lod_ring;
+    // Coarse boxes reach the terrain's whole height: from the eye to its lowest and highest block.
+    vs.vertical_reach = int64_t(std::ceil(std::max({viewer.y - double(y_lo), double(y_hi + 1) - viewer.y, 0.0})));
+    vs.view_distance = a.view_distance;
+    vs.max_level = a.lod ? kMaxLodLevel : 0;
+    const LodView view(viewer, vs);
+    std::vector<ChunkCoord> inner;
+    std::vector<LodCoord> coarse;
+    if (a.lod) {
+        std::vector<LodCoord> cut;
+        view.cut(cut);
+        for (LodCoord c : cut) {
+            if (c.level == 0)
+                inner.push_back(c.chunk);
+            else
+                coarse.push_back(c);
+        }
+        scene.top_level = view.top_level();
+    } else {
+        inner = full_detail_chunks(view, chunk_of(eye.block), a.vradius, y_lo, y_hi);
+    }
+    std::unordered_set<ChunkCoord, ChunkCoordHash> all(inner.begin(), inner.end());
+    for (ChunkCoord c : inner)
+        for (int f = 0; f < 6; ++f)
+            all.insert(c + face_normal(Face(f)));
+    const ChunkSource source = [&gen](ChunkCoord c) { return gen.generate(c); };
+    const auto t0 = std::chrono::steady_clock::now();
+    make_chunks(jobs, *scene.world, source, std::vector<ChunkCoord>(all.begin(), all.end()));
+    scene.load_ms = ms(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    mesh_scene(jobs, scene, a, inner);
+    const auto t1 = std::chrono::steady_clock::now();
+    make_coarse(jobs, scene, gen, a.mesh_fn, coarse);
+    scene.coarse_ms = ms(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
+    const int64_t vd = a.view_distance;
+    scene.volume_box = std::pair{glm::i64vec3(eye.block.x - vd, y_lo, eye.block.z - vd),
+                                 glm::i64vec3(eye.block.x + vd + 1, y_hi + 1, eye.block.z + vd + 1)};
+    std::string d = "terrain seed " + std::to_string(a.seed) + " to " + std::to_string(vd) + " blocks, ";
+    if (a.lod)
+        d += "LOD (levels 0.." + std::to_string(scene.top_level) + ", ring " + std::to_string(a.lod_ring) + "): " +
+             std::to_string(inner.size()) + " level-0 chunks within " + std::to_string(r) + " (vertical " +
+             std::to_string(a.vradius) + ") of the camera's chunk, real aprons; " + std::to_string(coarse.size()) +
+             " coarse chunks, air aprons";
+    else
+        d += "full detail: " + std::to_string(inner.size()) + " chunks, every column within the view distance over " +
+             "the terrain's height (y " + std::to_string(y_lo) + ".." + std::to_string(y_hi) +
+             "), generated with a ring of neighbours for the aprons";
+    scene.description = d;
     return {};
 }
 
@@ -182,7 +320,17 @@ Status load_raw(JobSystem& jobs, LoadedScene& scene, const SceneLoadInfo& a) {
 
 void finish(LoadedScene& scene) {
     bool first = true;
+    for (const auto& [c, mesh] : scene.coarse) {
+        LevelCounts& n = scene.levels[size_t(c.level)];
+        ++n.chunks;
+        n.meshed += mesh.quad_count() > 0;
+        n.quads += mesh.quad_count();
+        scene.quads += mesh.quad_count();
+    }
     for (const auto& [c, mc] : scene.meshes) {
+        ++scene.levels[0].chunks;
+        scene.levels[0].meshed += mc.mesh.quad_count() > 0;
+        scene.levels[0].quads += mc.mesh.quad_count();
         scene.quads += mc.mesh.quad_count();
         const glm::i64vec3 lo = chunk_origin(c), hi = lo + glm::i64vec3(kChunkSize);
         scene.box_min = first ? lo : glm::min(scene.box_min, lo);
@@ -206,12 +354,22 @@ WorldPos world_pos_at(glm::dvec3 p) {
 Result<LoadedScene> load_scene(JobSystem& jobs, const SceneLoadInfo& info) {
     if (info.radius > 64 || info.vradius < 0 || info.vradius > 64)
         return Error{"--radius and --vradius must be 0..64 chunks"};
+    if (info.view_distance != 0) {
+        if (info.kind != SceneKind::Terrain)
+            return Error{"--view-distance needs generated terrain (--seed)"};
+        if (info.view_distance < 1 || info.view_distance > 16384)
+            return Error{"--view-distance must be 1..16384 blocks, got " + std::to_string(info.view_distance)};
+        if (info.lod_ring < 1 || info.lod_ring > 64)
+            return Error{"--lod-ring must be 1..64 chunks, got " + std::to_string(info.lod_ring)};
+    }
     LoadedScene scene;
     scene.world = std::make_unique<World>();
     Status s;
     switch (info.kind) {
     case SceneKind::StoredWorld: s = load_world(jobs, scene, info); break;
-    case SceneKind::Terrain: s = load_terrain(jobs, scene, info); break;
+    case SceneKind::Terrain:
+        s = info.view_distance > 0 ? load_terrain_view(jobs, scene, info) : load_terrain(jobs, scene, info);
+        break;
     case SceneKind::SeedScene: s = load_seed_scene(jobs, scene, info); break;
     case SceneKind::RawVolume: s = load_raw(jobs, scene, info); break;
     }
@@ -219,6 +377,21 @@ Result<LoadedScene> load_scene(JobSystem& jobs, const SceneLoadInfo& info) {
         return Error{s.error()};
     finish(scene);
     return scene;
+}
+
+uint32_t send_scene(const LoadedScene& scene, render::Renderer& renderer) {
+    uint32_t sent = 0;
+    for (const auto& [c, mc] : scene.meshes)
+        if (mc.mesh.quad_count() > 0) {
+            renderer.set_chunk(c, mc.mesh);
+            ++sent;
+        }
+    for (const auto& [c, mesh] : scene.coarse)
+        if (mesh.quad_count() > 0) {
+            renderer.set_chunk(c, mesh);
+            ++sent;
+        }
+    return sent;
 }
 
 void remesh_chunk(LoadedScene& scene, ChunkCoord c, const ChunkMeshFn& mesh_fn) {

@@ -16,6 +16,8 @@ namespace vx::tools {
 int run_bench(int argc, char** argv) {
     if (argc >= 2 && std::string(argv[1]) == "render") // A renderer report, not Google Benchmark.
         return run_bench_render_command(argc - 1, argv + 1);
+    if (argc >= 2 && std::string(argv[1]) == "lod") // LOD against full detail (a renderer report too).
+        return run_bench_lod_command(argc - 1, argv + 1);
 #ifndef VX_HAVE_BENCHMARKS
     (void)argc, (void)argv;
     std::fprintf(stderr, "vx: this build has no benchmarks (configure with -DVX_BUILD_BENCHMARKS=ON)\n");

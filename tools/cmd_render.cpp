@@ -2,6 +2,8 @@
 // the time went (GPU timestamps per phase where the device has them). --repeat and --edit-burst
 // make it a benchmark: medians over many frames and over edit bursts (slice uploads + refits,
 // whole-chunk uploads + refits, rebuilds). It also prints the scene's GPU memory by kind.
+// --view-distance draws terrain to that distance, with levels of detail (--lod on) or at full
+// detail (--lod off, the reference), and prints chunks, BLASes and GPU memory per level.
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
@@ -215,6 +217,20 @@ void print_memory(const render::RenderStats& st) {
                 st.hot_chunks);
 }
 
+// View-distance scenes: per level, the chunks loaded, those with triangles (a BLAS each), their
+// triangles, the chunks drawn (TLAS instances) and the device memory their chunks hold.
+void print_levels(const engine::LoadedScene& scene, const render::RenderStats& st) {
+    for (int k = 0; k <= world::kMaxLodLevel; ++k) {
+        const engine::LevelCounts& n = scene.levels[size_t(k)];
+        if (n.chunks == 0)
+            continue;
+        std::printf("  level %d (cells of %" PRId64 " blocks): %" PRIu64 " chunks, %" PRIu64
+                    " with triangles (BLAS), %" PRIu64 " triangles; %u drawn, GPU memory %s\n",
+                    k, world::lod_cell_size(k), n.chunks, n.meshed, 2 * n.quads, st.level_instances[size_t(k)],
+                    mb(st.level_gpu_bytes[size_t(k)]).c_str());
+    }
+}
+
 // Renders and returns the wall time of the call (it waits for the GPU).
 double timed_render(render::Renderer& r, const Settings& s, render::RenderImage* image) {
     const auto t0 = Clock::now();
@@ -368,16 +384,14 @@ int run_render(RenderArgs a) {
         return bad_input("cannot render: " + renderer.error());
     render::Renderer& r = **renderer;
     r.set_registry(scene->world->registry());
-    uint32_t non_empty = 0;
-    for (const auto& [c, mc] : scene->meshes)
-        if (mc.mesh.quad_count() > 0) {
-            r.set_chunk(c, mc.mesh);
-            ++non_empty;
-        }
+    const uint32_t non_empty = engine::send_scene(*scene, r);
     std::printf("vx render: %s\n", scene->description.c_str());
-    std::printf("  scene: %zu chunks (%u with triangles), %" PRIu64 " triangles; load %s, mesh %s\n",
-                scene->meshes.size(), non_empty, scene->triangles, ms(scene->load_ms).c_str(),
+    std::printf("  scene: %zu chunks (%u with triangles), %" PRIu64 " triangles; load %s, mesh %s",
+                scene->meshes.size() + scene->coarse.size(), non_empty, scene->triangles, ms(scene->load_ms).c_str(),
                 ms(scene->mesh_ms).c_str());
+    if (!scene->coarse.empty())
+        std::printf(", coarse levels %s (generated and meshed)", ms(scene->coarse_ms).c_str());
+    std::printf("\n");
     const render::DeviceReport& dev = r.device();
     std::printf("  device: %s (%s, %s)%s\n", dev.name.c_str(), render::device_type_name(dev.type),
                 dev.driver_info.c_str(), validation ? ", validation on" : "");
@@ -405,6 +419,8 @@ int run_render(RenderArgs a) {
     for (uint32_t i = std::max<uint32_t>(a.repeat, 1); i < 3; ++i)
         timed_render(r, s, nullptr); // Cold chunks are compacted in frame 3.
     print_memory(r.last_stats());
+    if (a.scene.view_distance > 0)
+        print_levels(*scene, r.last_stats());
     if (a.edit_burst > 0)
         edit_bursts(r, *scene, s, a.edit_burst, std::max<uint32_t>(a.repeat, 1));
     if (Status w = render::write_png(a.out, image); !w)
@@ -435,6 +451,14 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--origin", a->scene.origin, "World position X,Y,Z of the raw volume's first block");
     cmd->add_option("--radius", a->scene.radius, "Chunks around the camera, horizontal (--seed: default 8)");
     cmd->add_option("--vradius", a->scene.vradius, "Chunks around the camera, vertical (default 4)");
+    cmd->add_option("--view-distance", a->scene.view_distance,
+                    "Terrain (--seed) to this many blocks: --radius/--vradius stay the full-detail box, levels "
+                    "of detail beyond it (--lod on), or full detail all the way (--lod off)");
+    cmd->add_option("--lod", a->scene.lod, "With --view-distance: levels of detail (on, default) or full detail (off)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--lod-ring", a->scene.lod_ring,
+                    "Coarse levels' box half-width in their own chunks (default 12; each level reaches about "
+                    "ring x 32 x 2^level blocks)");
     cmd->add_option("--threads", a->scene.threads, "Generation and meshing threads (0 = all cores)");
     cmd->add_option("--eye", a->eye, "Camera position X,Y,Z in blocks (decimal; integer part read as 64-bit)");
     cmd->add_option("--target", a->target, "Point looked at, X,Y,Z in blocks");

@@ -20,5 +20,7 @@ int run_bench(int argc, char** argv);
 int run_bench_vdb(int argc, char** argv); // `vx bench vdb` (argv[0] = "vdb").
 // `vx bench render [flags]` (tools/cmd_bench_render.cpp): argv[0] is "render".
 int run_bench_render_command(int argc, char** argv);
+// `vx bench lod [flags]` (tools/cmd_bench_lod.cpp): argv[0] is "lod".
+int run_bench_lod_command(int argc, char** argv);
 
 } // namespace vx::tools

@@ -1,5 +1,6 @@
 #include "scene_args.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <utility>
@@ -60,7 +61,14 @@ Result<engine::SceneLoadInfo> scene_load_info(const SceneArgs& a) {
         return Error{"unknown scene '" + a.scene + "' (known: seed)"};
     if (!a.raw.empty() && a.dims.empty())
         return Error{"--raw needs --dims X,Y,Z"};
+    if (!a.lod.empty() && a.view_distance < 0)
+        return Error{"--lod needs --view-distance BLOCKS"};
+    if (a.view_distance == 0) // 0 would mean "none" to the engine.
+        return Error{"--view-distance must be 1..16384 blocks, got 0"};
     engine::SceneLoadInfo info;
+    info.view_distance = std::max<int64_t>(a.view_distance, 0);
+    info.lod = a.lod != "off";
+    info.lod_ring = a.lod_ring;
     info.radius = a.radius;
     info.vradius = a.vradius;
     info.eye = a.eye;

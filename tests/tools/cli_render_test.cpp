@@ -352,6 +352,61 @@ TEST(CliRender, BenchRenderGeometrySection) {
     EXPECT_EQ(vx("bench render --sections everything").code, 2);
 }
 
+// --view-distance (terrain to 200 blocks; level 0 within 2 chunks, coarse rings of 2): with LOD
+// the levels' lines (level 2: cells of 4 blocks), without it full detail alone and more chunks;
+// bad values are one line and exit 2.
+TEST(CliRender, ViewDistanceWithAndWithoutLod) {
+    const std::string base = "--seed 1 --view-distance 200 --radius 2 --vradius 1 --lod-ring 2 --size 24x16 "
+                             "--shading flat --out " + dir() + "/lod.png";
+    const CliRun lod = render(base + " --lod on");
+    EXPECT_NE(lod.out.find("level 0 (cells of 1 blocks)"), std::string::npos) << lod.out;
+    EXPECT_NE(lod.out.find("level 2 (cells of 4 blocks)"), std::string::npos) << lod.out;
+    const CliRun full = render(base + " --lod off");
+    EXPECT_NE(full.out.find("full detail"), std::string::npos) << full.out;
+    EXPECT_NE(full.out.find("level 0 (cells of 1 blocks)"), std::string::npos) << full.out;
+    EXPECT_EQ(full.out.find("level 1 ("), std::string::npos) << full.out;
+    for (const char* bad : {"--seed 1 --lod off", "--seed 1 --view-distance 0", "--seed 1 --view-distance 16385",
+                            "--scene seed --view-distance 100", "--seed 1 --view-distance 100 --lod-ring 65"}) {
+        const CliRun r = vx(std::string("render ") + bad + " --out " + dir() + "/bad.png", kEnv);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+    }
+}
+
+// `vx bench lod` (tiny): a full-detail row and a row per radius, no uncovered pixel, the CSV and
+// the picture pairs.
+TEST(CliRender, BenchLodReport) {
+    const std::string out = dir() + "/bench_lod";
+    const CliRun r = vx("bench lod --seed 1 --view-distance 160 --radii 1,2 --vradius 1 --lod-ring 2 --size 24x16 "
+                        "--repeat 1 --out " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream md(out + "/lod_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    for (const char* row : {"| full detail | 160 | 0 |", "| LOD r=1 | 32 |", "| LOD r=2 | 64 |"})
+        EXPECT_NE(text.find(row), std::string::npos) << row << "\n" << text;
+    std::ifstream csv(out + "/lod_bench.csv");
+    int rows = 0;
+    for (std::string line; std::getline(csv, line);) {
+        if (line.rfind("scene,", 0) == 0)
+            continue;
+        ++rows;
+        // The uncovered column (16th) is 0: LOD leaves no ground pixel of full detail as sky.
+        std::stringstream ss(line);
+        std::string cell;
+        for (int i = 0; i < 16; ++i)
+            std::getline(ss, cell, ',');
+        EXPECT_EQ(cell, "0") << line;
+    }
+    EXPECT_EQ(rows, 3);
+    for (const char* png : {"/full_flat.png", "/full_full.png", "/lod_r1_flat.png", "/lod_r2_full.png"})
+        EXPECT_EQ(read_png(out + png).w, 24) << png;
+    for (const char* bad : {"--radii 2,x", "--eye 0,100,0", "--size 0x9"}) {
+        const CliRun b = vx(std::string("bench lod ") + bad);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
+        EXPECT_EQ(std::count(b.out.begin(), b.out.end(), '\n'), 1) << "one line: " << b.out;
+    }
+}
+
 TEST(CliRender, InfoListsTheRayTracingDevice) {
     const CliRun r = vx("info");
     EXPECT_EQ(r.code, 0) << r.out;

@@ -105,6 +105,9 @@ int TerrainGenerator::surface_height(int64_t x, int64_t z) const {
                         coarse_height(gx + kGrid, gz + kGrid), int(x - gx), int(z - gz));
 }
 
+int64_t TerrainGenerator::height_min() const { return height_lo(m_params); }
+int64_t TerrainGenerator::height_max() const { return height_hi(m_params); }
+
 // Heights on the chunk's 9 x 9 grid, and integer bounds of every column height (bilinear
 // interpolation stays within its samples).
 void TerrainGenerator::fill_grid(ChunkCoord c, Columns& cols) const {

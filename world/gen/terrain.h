@@ -73,6 +73,10 @@ public:
 
     // Surface height (world y of the topmost terrain block, before caves) of column (x, z).
     int surface_height(int64_t x, int64_t z) const;
+    // Bounds of surface_height() over every column, world y (from the params alone, with a
+    // little margin): every surface block of any seed lies in [height_min(), height_max()].
+    int64_t height_min() const;
+    int64_t height_max() const;
 
     uint64_t seed() const { return m_seed; }
     const TerrainParams& params() const { return m_params; }
