@@ -172,8 +172,11 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
                                                       m.world.registry);
         meshes = m.lod.get();
     }
+    engine::StreamingSettings streaming = streaming_settings(info.streaming);
+    if (m.lod) // The level swaps get the last quarter of the update budget.
+        streaming.frame_budget = streaming.frame_budget * 3 / 4;
     m.streamer = std::make_unique<engine::ChunkStreamer>(*m.world.generator, m.world.store.get(), *meshes,
-                                                         streaming_settings(info.streaming), m.world.registry);
+                                                         streaming, m.world.registry);
     m.streamer->set_observer(m.sink.get());
     if (m.lod)
         m.lod->attach(m.streamer->jobs(), m.streamer->world());
@@ -209,8 +212,9 @@ void Engine::update(std::chrono::steady_clock::time_point now) {
         m->streamer->update(m->eye(), forward, *m->viewer.velocity, now);
     else
         m->streamer->update(m->eye(), forward, now);
-    if (m->lod) // What the streamer left of the budget (a few swaps always happen).
-        m->lod->update(m->eye(), now, t0 + std::chrono::nanoseconds(int64_t(m->info.streaming.update_budget_ms * 1e6)));
+    if (m->lod) // Up to 95% of the budget (the streamer keeps to 3/4 of it; a few swaps always happen).
+        m->lod->update(m->eye(), now,
+                       t0 + std::chrono::nanoseconds(int64_t(m->info.streaming.update_budget_ms * 0.95e6)));
     m->frame.update_cpu_ms = std::chrono::duration<double, std::milli>(engine::thread_cpu_time() - cpu0).count();
     m->frame.update_wall_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

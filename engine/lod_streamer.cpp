@@ -20,6 +20,11 @@ const ChunkMesh& empty_mesh() {
 // Swaps and checks done per update() whatever the budget says, so the cut keeps moving on a
 // machine too busy to leave time (each is a few hash lookups; a swap is 9 sink calls).
 constexpr int kMinSteps = 64;
+// Chunks drawn per update by the queue (refinements and coarsenings; roots coming into view are
+// drawn whatever the count): each is a BLAS build in the next frame, so a chunk crossing's swaps
+// spread over a few frames instead of spiking one (a swap is atomic, so a refine of 8 may pass
+// the count by 7).
+constexpr int kMaxDraws = 64;
 } // namespace
 
 LodStreamer::LodStreamer(const ChunkGenerator& generator, ChunkStore* store, LodMeshSink& downstream,
@@ -83,18 +88,15 @@ void LodStreamer::move_view(const glm::dvec3& viewer) {
     std::vector<LodCoord> roots;
     v.roots(roots);
     std::unordered_set<LodCoord, LodCoordHash> now(roots.begin(), roots.end());
+    std::vector<LodCoord> changed;
     for (LodCoord r : roots)
         if (!m_roots.contains(r))
-            enqueue(r);
+            changed.push_back(r); // Came into view: drawn at once when ready (kept, so usually).
     for (LodCoord r : m_roots)
         if (!now.contains(r))
-            enqueue(r); // Left the view: process() clears what is drawn under it.
-    std::vector<LodCoord> gone;
-    for (LodCoord r : m_roots)
-        if (!now.contains(r))
-            gone.push_back(r);
+            changed.push_back(r); // Left it: what is drawn under it goes at once.
     m_roots = std::move(now);
-    for (LodCoord r : gone) // Processed at once: nothing beyond the view stays drawn for a frame.
+    for (LodCoord r : changed) // Outside the draw budget: a root waiting in the queue is a hole.
         process(r);
     m_holes_dirty = true;
 }
@@ -353,6 +355,7 @@ void LodStreamer::became_ready(LodCoord c) {
 }
 
 void LodStreamer::draw(LodCoord c) {
+    ++m_draws;
     m_drawn.insert(c);
     for (LodCoord a = c; a.level < top_level();) {
         a = lod_parent(a);
@@ -461,9 +464,12 @@ void LodStreamer::update(const glm::dvec3& viewer, Clock::time_point now, Clock:
     move_view(viewer);
     retry_failed(now);
     apply_edits();
+    m_draws = 0;
     for (int steps = 0; !m_queue.empty(); ++steps) {
         if (steps >= kMinSteps && Clock::now() >= deadline)
             break;
+        if (m_draws >= kMaxDraws)
+            break; // The rest next frame: each draw is a BLAS build in the next frame.
         const LodCoord c = m_queue.front();
         m_queue.pop_front();
         m_queued.erase(c);

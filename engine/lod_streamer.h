@@ -182,6 +182,7 @@ private:
     std::chrono::steady_clock::time_point m_last_now{};
     // Coarse chunks the store marked stale when this object was made (re-derived on load).
     std::shared_ptr<const world::LodDirtySet> m_stale;
+    int m_draws = 0; // Chunks drawn in this update (the queue's budget).
     bool m_holes_dirty = true;
     LodMetrics m_metrics;
 };
