@@ -8,11 +8,13 @@
 // reflected part (emission, sky, haze, deeper bounces) is accumulated over frames and added back
 // unfiltered, so it stays sharp. All histories are clamped
 // (DenoiseSettings::history_clamp) so changed light leaves no ghost. The luminance weight's variance
-// is the pixels' own (from their light samples, render/gbuffer.h; averaged over the history), so
-// the filter fades as samples grow; at 1 sample it is unknown: the 3x3 spatial estimate, which
-// also counts pixel-sized detail as noise (docs/render_report.md), then from 4 frames of history
-// SVGF's temporal moments. Compute shaders
-// shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
+// is the pixels' own (from their light samples, render/gbuffer.h; averaged over 5x5 pixels of the
+// surface and over the history), so the filter fades as samples grow; at 1 sample it is unknown:
+// the 3x3 spatial estimate, which also counts pixel-sized detail as noise
+// (docs/render_report.md), then from 4 frames of history SVGF's temporal moments. The first pass
+// compares neighbours with the centre's 3x3-blurred luminance, not its own noisy one, so an
+// outlier pixel is filtered too. Compute shaders shaders/denoise_temporal.comp and
+// shaders/denoise_atrous.comp.
 //
 // Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by
 // denoise_on_host): storage images in VK_IMAGE_LAYOUT_GENERAL, written before record() with a

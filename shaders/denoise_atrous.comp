@@ -3,7 +3,8 @@
 // One iteration of the edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
 // edge-stopping functions (Schied et al. 2017, section 4.2): a 5x5 B3-spline kernel with holes
 // (step 1, 2, 4, ...) weighted by normal, depth (against the local depth gradient) and luminance
-// (against the filtered variance). It filters albedo-demodulated illumination, so block colours
+// (against the filtered variance; the first pass compares with the centre's 3x3-blurred luminance,
+// see prefiltered_luminance()). It filters albedo-demodulated illumination, so block colours
 // stay sharp; the last pass multiplies the albedo back in and adds the (unfiltered) reflected part.
 // With kDenoiseMirror the same pass filters the first mirror bounce's demodulated light guided by
 // the reflected surface's normal and path length, remodulated by its albedo in the last pass.
@@ -34,6 +35,24 @@ vec4 load_nd(bool mirror, ivec2 q) { return mirror ? imageLoad(u_mirror_nd, q) :
 
 float depth_at(bool mirror, ivec2 q, ivec2 size) { return load_nd(mirror, clamp(q, ivec2(0), size - 1)).w; }
 
+// The primary illumination's luminance at p blurred over the 3x3 neighbourhood on the same
+// surface (weights 1-2-1): what the first pass compares its neighbours with. At a few samples a
+// pixel's own value is often an outlier (a shadow sample that got through), and against it every
+// neighbour looks like an edge, so the outlier stayed; the blurred value is near the truth there.
+// Only the first pass: later ones see filtered values. Not for the mirror light: at 16 spp the
+// blur cost the mirror field's reflections more than it gained (docs/render_report.md).
+float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
+    float sum = 0.0, weight = 0.0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+            const float w = same_surface(nd, imageLoad(u_normal_depth, q)) ? float((2 - abs(dx)) * (2 - abs(dy))) : 0.0;
+            sum += w * luminance(imageLoad(u_in, q).rgb);
+            weight += w;
+        }
+    return sum / weight; // The centre always counts.
+}
+
 // One a-trous step of a channel at p (no surface: unchanged).
 vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     const vec4 centre = load_in(mirror, p);
@@ -45,7 +64,8 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     vec2 grad = vec2(depth_at(mirror, p + ivec2(1, 0), size) - depth_at(mirror, p - ivec2(1, 0), size),
                      depth_at(mirror, p + ivec2(0, 1), size) - depth_at(mirror, p - ivec2(0, 1), size)) * 0.5;
     grad = clamp(grad, vec2(-d), vec2(d));
-    const float lum = luminance(centre.rgb);
+    const bool prefiltered = step == 1 && !mirror;
+    const float lum = prefiltered ? prefiltered_luminance(p, size, nd) : luminance(centre.rgb);
     const float lum_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
     vec3 sum = vec3(0);
     float var_sum = 0, w_sum = 0;
@@ -61,7 +81,8 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
             const float w_normal = pow(max(dot(nd.xyz, ndq.xyz), 0.0), pc.sigmas.x);
             const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
             const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
-            const float w_lum = exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
+            // The centre keeps weight 1 also against a prefiltered luminance far from its own.
+            const float w_lum = (dx == 0 && dy == 0) ? 1.0 : exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
             const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum;
             sum += w * cq.rgb;
             var_sum += w * w * cq.a;

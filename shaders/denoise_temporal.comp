@@ -163,21 +163,25 @@ float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
     return max(m2 / n - m1 * m1, 0.0);
 }
 
-// The pixels' own variances (render/gbuffer.h) averaged over the 3x3 neighbourhood on the same
+// The pixels' own variances (render/gbuffer.h) averaged over the neighbourhood on the same
 // surface (SVGF prefilters its variance the same way): a pixel whose few samples happened to
-// agree says variance 0 although its neighbours show the noise. Negative: unknown (1 sample).
-float own_variance(ivec2 p, ivec2 size, vec4 nd) {
+// agree says variance 0 although its neighbours show the noise. x: over 3x3, for the history
+// clamp (a 5x5 mean across a new shadow's edge hid the change: ghosts); y: over 5x5, for the
+// filter (at 4 spp a 3x3 mean still left such pixels under-filtered, docs/render_report.md).
+// One loop for both. Negative: unknown (1 sample).
+vec2 own_variance(ivec2 p, ivec2 size, vec4 nd) {
     if (imageLoad(u_color, p).a < 0.0)
-        return -1.0;
-    float sum = 0, n = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
+        return vec2(-1.0);
+    vec2 sum = vec2(0), n = vec2(0);
+    for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
             const float v = imageLoad(u_color, q).a;
             if (v < 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
-            sum += v;
-            n += 1;
+            const float inner = max(abs(dx), abs(dy)) <= 1 ? 1.0 : 0.0;
+            sum += vec2(inner * v, v);
+            n += vec2(inner, 1.0);
         }
     return sum / n; // The centre always counts.
 }
@@ -314,7 +318,8 @@ void main() {
     }
     const float max_frames = max(pc.sigmas.w, 1.0);
     const float lum = luminance(illum);
-    const float own = own_variance(p, size, nd);
+    const vec2 owns = own_variance(p, size, nd);
+    const float own = owns.x;
     // One frame's luminance variance for the clamp: now, the pixels' own from this frame's light
     // samples (pooled_gap also takes the window's spread); in the history, its temporal variance
     // (SVGF's moments, from 2 frames on), else the pixels' own. Unknown (1 sample): the
@@ -333,7 +338,7 @@ void main() {
     reflected_frames = min(reflected_frames + 1, max_frames);
     const vec3 reflected = mix(history_reflected, imageLoad(u_reflected, p).rgb, 1.0 / reflected_frames);
     frames = min(frames + 1, max_frames);
-    moments.xyz = mix(moments.xyz, vec3(lum, lum * lum, own), 1.0 / frames);
+    moments.xyz = mix(moments.xyz, vec3(lum, lum * lum, owns.y), 1.0 / frames);
     // Variance of one frame's estimate: the pixels' own from their light samples
     // (render/gbuffer.h; the sample counts are the same in every frame of the history, so it is
     // averaged over it); unknown (1 sample): from the temporal moments once 4 frames are in

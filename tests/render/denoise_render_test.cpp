@@ -74,7 +74,9 @@ TEST_F(RendererTest, DenoiserLowersTheErrorOfTheRayTracer) {
     // still camera (32 samples) lowers the error by about sqrt(8) where noise dominates.
     const ImageError noisy4 = measure("4 spp", 4, false, 1);
     const ImageError filtered4_single = measure("4 spp denoised", 4, true, 1);
-    EXPECT_LT(filtered4_single.rmse, noisy4.rmse);
+    // 2026-12-01: 0.0287 -> 0.0198 (0.0210, 0.73x, before the first a-trous pass compared
+    // neighbours with the centre's blurred luminance and the own variance was averaged over 5x5).
+    EXPECT_LT(filtered4_single.rmse, 0.71 * noisy4.rmse);
     const ImageError accumulated4 = measure("4 spp, 8 frames accumulated", 4, false, 8);
     EXPECT_LT(accumulated4.rmse, 0.6 * noisy4.rmse);
     s.history_clamp = false;
@@ -160,20 +162,32 @@ TEST_F(RendererTest, DenoiserFiltersTheLightSeenInAMirror) {
                 n += 3;
             }
         const double on_mirror = std::sqrt(sum / double(std::max<size_t>(n, 1)));
-        std::printf("mirror room, 4 spp, %s: RMSE %.4f (the mirror's %zu pixels: %.4f), SSIM %.3f\n", what, e.rmse,
-                    n / 3, on_mirror, e.ssim);
+        std::printf("mirror room, %u spp, %s: RMSE %.4f (the mirror's %zu pixels: %.4f), SSIM %.3f\n", s.shadow_samples,
+                    what, e.rmse, n / 3, on_mirror, e.ssim);
         return std::pair{e, on_mirror};
     };
     const auto [raw, raw_mirror] = measure("mirror_room_raw", false, true);
     const auto [before, before_mirror] = measure("mirror_room_denoised_unfiltered_reflections", true, false);
     const auto [after, after_mirror] = measure("mirror_room_denoised", true, true);
+    s.shadow_samples = 25;
+    const auto [raw25, raw25_mirror] = measure("mirror_room_raw_25spp", false, true);
+    std::printf("mirror room: 4 spp denoised / 25 spp raw: RMSE %.2fx, the mirror's %.2fx\n", after.rmse / raw25.rmse,
+                after_mirror / raw25_mirror);
     ASSERT_GT(std::count(mirror.begin(), mirror.end(), true), int(mirror.size() / 3)); // The view is the mirror's.
     EXPECT_LT(before.rmse, raw.rmse);
-    // 2026-12-01, lavapipe: the mirror's pixels 0.0414 -> 0.0247, the image 0.0490 -> 0.0417.
+    // 2026-12-01, lavapipe: the mirror's pixels 0.0414 -> 0.0247, the image 0.0490 -> 0.0417;
+    // since the first a-trous pass compares with the centre's blurred luminance (5x5 own
+    // variance): the mirror's pixels 0.0382 -> 0.0224, the image 0.0412 -> 0.0335 (0.0747 raw;
+    // 0.0448 before that change).
     EXPECT_LT(after_mirror, 0.75 * before_mirror);
     EXPECT_LT(after.rmse, 0.92 * before.rmse);
+    EXPECT_LT(after.rmse, 0.5 * raw.rmse);
     EXPECT_GT(after.ssim, before.ssim);
     EXPECT_LT(after_mirror, 0.75 * raw_mirror);
+    // Issue 18's one-frame target is 4 spp denoised at most 25 spp raw; reached (2026-12-01,
+    // lavapipe): 0.0335 against 0.0192, 1.74x (2.33x before the first pass compared neighbours
+    // with the blurred centre; docs/render_report.md). Not met yet: this bound holds what is.
+    EXPECT_LT(after.rmse, 1.85 * raw25.rmse);
 }
 
 // Noise-free light (shadows off): filtering the mirror's part changes nothing, so the floor's
