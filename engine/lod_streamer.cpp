@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/box_difference.h"
+#include "world/base/assert.h"
 #include "world/base/log.h"
 #include "world/lod/downsample.h"
 
@@ -25,6 +26,9 @@ constexpr int kMinSteps = 64;
 // spread over a few frames instead of spiking one (a swap is atomic, so a refine of 8 may pass
 // the count by 7).
 constexpr int kMaxDraws = 64;
+// Coarse chunks whose data is requested per update whatever the budget (a request is a job or
+// two; a box slab of a level is hundreds, spread over frames).
+constexpr int kMinRequests = 32;
 } // namespace
 
 LodStreamer::LodStreamer(const ChunkGenerator& generator, ChunkStore* store, LodMeshSink& downstream,
@@ -104,9 +108,9 @@ void LodStreamer::move_view(const glm::dvec3& viewer) {
 void LodStreamer::keep(LodCoord c) {
     auto [it, inserted] = m_coarse.try_emplace(c);
     it->second.kept = true;
-    if (inserted) {
+    if (inserted) { // Requested in update(), within the budget: a box slab is hundreds of jobs.
         ++m_metrics.kept[size_t(c.level)];
-        request_data(c, it->second);
+        m_to_request.push_back(c);
     }
 }
 
@@ -118,7 +122,7 @@ void LodStreamer::release(LodCoord c) {
     n.kept = false;
     if (drawn(c))
         return; // Dropped when undrawn (undraw()).
-    if (n.data == Data::Requested) {
+    if (n.data == Data::Requested && n.submitted) {
         m_jobs->cancel(lod_job_key(c, JobKind::Load));
         m_jobs->cancel(lod_job_key(c, JobKind::Generate));
         --m_metrics.pending_data;
@@ -137,6 +141,7 @@ void LodStreamer::release(LodCoord c) {
 
 void LodStreamer::request_data(LodCoord c, Node& n) {
     n.data = Data::Requested;
+    n.submitted = true;
     ++m_metrics.pending_data;
     if (m_stale && m_stale->contains(c)) {
         m_batch.push_back(std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale));
@@ -152,6 +157,7 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
 void LodStreamer::request_mesh(LodCoord c, Node& n) {
     if (!n.mesh_pending)
         ++m_metrics.pending_meshes;
+    VX_ASSERT(n.data == Data::Present);
     n.mesh_pending = true;
     n.mesh_stale = false;
     m_batch.push_back(std::make_unique<LodMeshJob>(events(), c, n.chunk, m_registry, m_viewer));
@@ -475,6 +481,16 @@ void LodStreamer::update(const glm::dvec3& viewer, Clock::time_point now, Clock:
         m_queued.erase(c);
         process(c);
     }
+    // New box chunks' data, nearest level first as they were listed, within what is left.
+    for (int n = 0; !m_to_request.empty(); ++n) {
+        if (n >= kMinRequests && Clock::now() >= deadline)
+            break;
+        const LodCoord c = m_to_request.front();
+        m_to_request.pop_front();
+        auto it = m_coarse.find(c);
+        if (it != m_coarse.end() && it->second.data == Data::Requested && !it->second.submitted)
+            request_data(c, it->second);
+    }
     if (!m_batch.empty())
         m_jobs->submit_batch(std::exchange(m_batch, {}));
     if (m_holes_dirty)
@@ -483,7 +499,7 @@ void LodStreamer::update(const glm::dvec3& viewer, Clock::time_point now, Clock:
 }
 
 bool LodStreamer::settled() const {
-    return m_view && m_queue.empty() && m_batch.empty() && m_edited.empty() && m_metrics.holes == 0 &&
+    return m_view && m_queue.empty() && m_batch.empty() && m_to_request.empty() && m_edited.empty() && m_metrics.holes == 0 &&
            m_metrics.pending_data == 0 && m_metrics.pending_meshes == 0;
 }
 

@@ -124,6 +124,7 @@ private:
         bool meshed = false;        // `mesh` is current (null: nothing to draw).
         bool mesh_pending = false;  // A mesh job is in flight.
         bool mesh_stale = false;    // Its snapshot predates an edit: mesh again when it returns.
+        bool submitted = false;     // Requested: its load/generate job was submitted.
         uint8_t failures = 0;       // Data failures in a row (retry back-off).
         std::chrono::steady_clock::time_point retry_at{};
         world::Chunk chunk;         // Present: the cells.
@@ -175,6 +176,7 @@ private:
     std::unordered_map<world::LodCoord, int, world::LodCoordHash> m_below;
     std::unordered_set<world::LodCoord, world::LodCoordHash> m_roots;
     std::deque<world::LodCoord> m_queue;
+    std::deque<world::LodCoord> m_to_request; // Kept chunks whose data is not requested yet.
     std::unordered_set<world::LodCoord, world::LodCoordHash> m_queued;
     std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_edited;
     std::vector<std::pair<world::LodCoord, std::chrono::steady_clock::time_point>> m_retry;
