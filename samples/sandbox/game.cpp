@@ -137,6 +137,7 @@ FrameFigures Game::after_frame(uint64_t frame, double frame_ms) {
     f.builds = s.blas_builds;
     f.refits = s.blas_refits;
     f.holes = s.holes;
+    f.gpu_mb = double(s.gpu_memory_bytes) / 1048576.0;
     for (int k = 1; k <= s.lod_top_level; ++k)
         f.coarse_drawn += s.level_chunks_drawn[size_t(k)];
     if (m_edit_frames >= 0) {

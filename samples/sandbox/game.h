@@ -31,6 +31,7 @@ struct FrameFigures {
     uint32_t builds = 0, refits = 0;
     uint32_t holes = 0;        // vx::Stats::holes: top-level chunks in view with nothing drawn.
     uint32_t coarse_drawn = 0; // Chunks of levels >= 1 drawn.
+    double gpu_mb = 0;         // Device memory the renderer holds (vx::Stats::gpu_memory_bytes), MiB.
     int edit_to_screen = -1; // Frames from an edit call to the frame that uploaded it; -1: none ended here.
 };
 

@@ -306,10 +306,10 @@ vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwind
 }
 
 bool write_csv_row(std::FILE* f, const FrameFigures& r) {
-    return std::fprintf(f, "%llu,%.3f,%.3f,%.3f,%.3f,%zu,%u,%u,%d,%zu,%zu,%.3f,%.3f,%u,%u\n", (unsigned long long)r.frame,
+    return std::fprintf(f, "%llu,%.3f,%.3f,%.3f,%.3f,%zu,%u,%u,%d,%zu,%zu,%.3f,%.3f,%u,%u,%.1f\n", (unsigned long long)r.frame,
                         r.frame_ms, r.update_ms, r.render_ms, r.gpu_ms, r.chunks_loaded, r.builds, r.refits,
                         r.edit_to_screen, r.chunks_in_view, r.chunks_meshed, r.update_cpu_ms, r.render_cpu_ms, r.holes,
-                        r.coarse_drawn) > 0;
+                        r.coarse_drawn, r.gpu_mb) > 0;
 }
 
 // The frame loop. Returns the exit code.
@@ -447,7 +447,7 @@ int main_headless(App& app) {
             std::fprintf(stderr, "vx_sandbox: cannot write %s\n", app.opt.stats_out.c_str());
             return 2;
         }
-        std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms,holes,coarse_drawn\n");
+        std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms,holes,coarse_drawn,gpu_mb\n");
     }
     return finish(app, run(app));
 }
@@ -504,7 +504,7 @@ int main_with(const Options& opt) {
                 std::fprintf(stderr, "vx_sandbox: cannot write %s\n", opt.stats_out.c_str());
                 code = 2;
             } else
-                std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms,holes,coarse_drawn\n");
+                std::fprintf(app.csv, "frame,frame_ms,update_ms,render_ms,gpu_ms,chunks,builds,refits,edit_to_screen,in_view,meshed,update_cpu_ms,render_cpu_ms,holes,coarse_drawn,gpu_mb\n");
         }
         glfwSetWindowUserPointer(app.window, &app);
         glfwSetKeyCallback(app.window, on_key);

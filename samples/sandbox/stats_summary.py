@@ -37,6 +37,8 @@ def main():
         coarse = [int(r["coarse_drawn"]) for r in rows]
         print(f"  levels of detail: frames with holes {sum(h > 0 for h in holes)} (most {max(holes)}); "
               f"coarse chunks drawn median {pct(coarse, 50):.0f}")
+    if rows and "gpu_mb" in rows[0]:
+        print(f"  GPU memory held: max {max(float(r['gpu_mb']) for r in rows):.0f} MiB")
 
 
 main()
