@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <set>
+#include <stdexcept>
 #include <thread>
 
 #include <unistd.h>
@@ -419,4 +420,67 @@ TEST(Facade, LevelOfDetailSettingsAreChecked) {
     ASSERT_TRUE(settle(**e));
     EXPECT_EQ((*e)->stats().lod_top_level, 0);
     EXPECT_EQ((*e)->stats().holes, 0u);
+}
+
+namespace {
+
+// Flat ground (stone below y = 0) with coarse chunks offered, or not, or thrown from.
+class FlatGenerator final : public vx::Generator {
+public:
+    enum class Coarse { Offered, None, Throws };
+    explicit FlatGenerator(Coarse coarse) : m_coarse(coarse) {}
+    void generate(vx::ChunkCoord c, std::span<vx::BlockId> blocks) const override {
+        const vx::BlockPos o = vx::chunk_origin(c);
+        for (int y = 0; y < 32; ++y)
+            if (o.y + y < 0)
+                for (int z = 0; z < 32; ++z)
+                    for (int x = 0; x < 32; ++x)
+                        blocks[vx::chunk_index(x, y, z)] = 1;
+    }
+    bool generate_coarse(int level, vx::ChunkCoord c, std::span<vx::BlockId> cells) const override {
+        ++coarse_calls;
+        if (m_coarse == Coarse::Throws)
+            throw std::runtime_error("coarse generator failed");
+        if (m_coarse == Coarse::None)
+            return false;
+        const int64_t y0 = int64_t(c.y) * (int64_t(32) << level);
+        for (int y = 0; y < 32; ++y)
+            if (y0 + (int64_t(y) << level) < 0) // The cell holds a block below 0: solid.
+                for (int z = 0; z < 32; ++z)
+                    for (int x = 0; x < 32; ++x)
+                        cells[vx::chunk_index(x, y, z)] = 1;
+        return true;
+    }
+    int coarse_levels() const override { return m_coarse == Coarse::None ? 0 : 6; }
+    mutable std::atomic<int> coarse_calls{0};
+
+private:
+    Coarse m_coarse;
+};
+
+} // namespace
+
+// A game's generator: its coarse chunks reach the view distance; without them the levels stop at
+// 2 (chunks built from blocks); one that throws is logged and built from blocks: no hole stays.
+TEST(Facade, GameGeneratorCoarseChunksOfferedAbsentOrThrowing) {
+    for (auto mode : {FlatGenerator::Coarse::Offered, FlatGenerator::Coarse::None, FlatGenerator::Coarse::Throws}) {
+        auto gen = std::make_shared<FlatGenerator>(mode);
+        vx::EngineCreateInfo info = lod_info(vx::WorldSource::custom(gen));
+        info.streaming.view_distance = 420;
+        auto engine = vx::Engine::create(info);
+        ASSERT_TRUE(engine) << engine.error();
+        vx::Engine& e = **engine;
+        ASSERT_TRUE(e.set_viewer(viewer_at({5, 3, 5})));
+        ASSERT_TRUE(settle(e));
+        const vx::Stats s = e.stats();
+        EXPECT_EQ(s.holes, 0u);
+        if (mode == FlatGenerator::Coarse::None) {
+            EXPECT_EQ(s.lod_top_level, 2) << "without coarse chunks the levels stop at 2";
+        } else {
+            EXPECT_GE(s.lod_top_level, 3);
+            EXPECT_GT(gen->coarse_calls.load(), 0);
+        }
+        for (int k = 1; k <= s.lod_top_level; ++k)
+            EXPECT_GT(s.level_chunks_drawn[size_t(k)], 0u) << "level " << k;
+    }
 }
