@@ -716,8 +716,8 @@ uint64_t ChunkStreamer::request_save() {
 }
 
 bool ChunkStreamer::settled() const {
-    if (!m_have_center)
-        return false;
+    if (!m_have_center || m_requested > 0)
+        return false; // A load or generation in flight (counted: no walk while filling the view).
     const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
     for (const auto& [c, s] : m_chunks) {
         // A failed chunk waits for its retry: nothing to do until then.
