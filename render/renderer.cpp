@@ -918,7 +918,13 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
     std::vector<world::BlockId>& ids = m->chunk_blocks[c];
     ids.clear();
+    bool any = false;
+    world::BlockId last = world::kAir;
     mesh.for_each_quad([&](const world::Quad& q) {
+        if (any && q.block == last)
+            return; // Runs of one block: most quads (the loop ran for every quad of every chunk streamed in).
+        any = true;
+        last = q.block;
         m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block);
         if (std::find(ids.begin(), ids.end(), q.block) == ids.end()) // Few ids per chunk.
             ids.push_back(q.block);
