@@ -40,6 +40,7 @@ ChunkStreamer::ChunkStreamer(const ChunkGenerator& generator, ChunkStore* store,
     m_chunks.reserve(expected);
     m_world.reserve_chunks(expected);
     m_mesh_candidates.reserve(expected / 4);
+    m_ahead_candidates.reserve(expected / 4);
 }
 
 ChunkStreamer::~ChunkStreamer() {
@@ -157,7 +158,7 @@ void ChunkStreamer::refresh_region(ChunkCoord old_center, ChunkCoord old_lead, b
     auto enter_view = [&](ChunkCoord c) { // Loaded chunks that now want a mesh.
         auto it = m_chunks.find(c);
         if (it != m_chunks.end() && it->second.data == Data::Present && !it->second.has_mesh)
-            m_mesh_candidates.insert(c);
+            queue_mesh(c);
     };
     auto count_meshed = [&](ChunkCoord c, int sign) { // Keeps m_view_meshed relative to m_center.
         auto it = m_chunks.find(c);
@@ -290,7 +291,7 @@ void ChunkStreamer::on_generate_failed(ChunkCoord c, const std::string& error) {
                  error.c_str(), wait_s);
     // Its neighbours need not wait: they mesh as if it were air.
     for (int f = 0; f < 6; ++f)
-        m_mesh_candidates.insert(c + face_normal(Face(f)));
+        queue_mesh(c + face_normal(Face(f)));
 }
 
 void ChunkStreamer::retry_failed(Clock::time_point now) {
@@ -327,9 +328,9 @@ void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
     // failed generation the neighbours were meshed against air: they mesh again.
     if (was_failed)
         remesh_around(c);
-    m_mesh_candidates.insert(c);
+    queue_mesh(c);
     for (int f = 0; f < 6; ++f)
-        m_mesh_candidates.insert(c + face_normal(Face(f)));
+        queue_mesh(c + face_normal(Face(f)));
     if (m_observer)
         m_observer->on_chunk_loaded(c);
 }
@@ -343,26 +344,45 @@ bool ChunkStreamer::neighbours_settled(ChunkCoord c) const {
     return true;
 }
 
+void ChunkStreamer::queue_mesh(ChunkCoord c) {
+    // A chunk that wants no mesh now is not queued: refresh_region() queues it when it enters
+    // either box, and put_chunk() when its data arrives.
+    if (in_view(c))
+        m_mesh_candidates.insert(c);
+    else if (wants_mesh(c))
+        m_ahead_candidates.insert(c);
+}
+
 void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
     // One batch: one lock of the job system for the frame's mesh jobs, not one per job. Chunks in
-    // the view go first (one missing now is a hole), then those around the lookahead point.
+    // the view go first (one missing now is a hole), then those around the lookahead point. The
+    // clock is read after each chunk handed on (a chunk copy) and every kCheckEvery candidates
+    // skipped: reading it costs about as much as skipping one.
+    constexpr int kCheckEvery = 16;
     std::vector<std::unique_ptr<Job>> jobs;
-    for (int pass = 0; pass < 2 && Clock::now() < deadline; ++pass) {
-        for (auto it = m_mesh_candidates.begin(); it != m_mesh_candidates.end();) {
-            if (Clock::now() >= deadline)
+    int unchecked = kCheckEvery;
+    auto out_of_time = [&] {
+        if (unchecked < kCheckEvery)
+            return false;
+        unchecked = 0;
+        return Clock::now() >= deadline;
+    };
+    bool late = false;
+    for (int pass = 0; pass < 2 && !late; ++pass) {
+        auto& candidates = pass == 0 ? m_mesh_candidates : m_ahead_candidates;
+        for (auto it = candidates.begin(); it != candidates.end();) {
+            if ((late = out_of_time()))
                 break; // The rest wait for the next frame.
+            ++unchecked;
             const ChunkCoord c = *it;
-            if (pass == 0 && !in_view(c)) {
-                ++it;
-                continue;
-            }
-            it = m_mesh_candidates.erase(it);
+            it = candidates.erase(it);
             auto st = m_chunks.find(c);
             if (st == m_chunks.end())
                 continue;
             ChunkState& s = st->second;
             if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_settled(c))
                 continue; // A later put_chunk() or refresh_region() brings it back.
+            unchecked = kCheckEvery;
             if (std::unique_ptr<Job> job = request_mesh(c, s))
                 jobs.push_back(std::move(job));
         }
@@ -379,10 +399,9 @@ std::unique_ptr<Job> ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
         m_sink.on_mesh(c, empty_mesh(), {});
         return nullptr;
     }
-    auto apron = std::make_unique<Apron>(make_apron(m_world, c));
     set_mesh_flags(c, s, false, true);
     s.mesh_stale = false;
-    return std::make_unique<MeshJob>(events(), c, chunk, std::move(apron), m_world.registry());
+    return std::make_unique<MeshJob>(events(), c, m_world);
 }
 
 void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
@@ -393,7 +412,7 @@ void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
     set_mesh_flags(c, s, s.has_mesh, false);
     if (s.mesh_stale || s.data != Data::Present) {
         // Edited while the job ran: its snapshot is out of date; mesh again.
-        m_mesh_candidates.insert(c);
+        queue_mesh(c);
         return;
     }
     s.mesh = mesh.empty() ? nullptr : std::make_unique<ChunkMesh>(std::move(mesh));
@@ -489,7 +508,7 @@ void ChunkStreamer::remesh_around(ChunkCoord c) {
             s.mesh_stale = true;
         else if (s.has_mesh)
             set_mesh_flags(q, s, false, false);
-        m_mesh_candidates.insert(q);
+        queue_mesh(q);
     }
 }
 
@@ -592,6 +611,7 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     (s.data == Data::Present ? m_present : s.data == Data::Failed ? m_failed : m_requested) -= 1;
     m_dirty_count -= size_t(s.dirty);
     m_mesh_candidates.erase(c);
+    m_ahead_candidates.erase(c);
     m_chunks.erase(c);
     if (had_data && m_observer)
         m_observer->on_chunk_unloaded(c);
@@ -668,8 +688,8 @@ uint64_t ChunkStreamer::request_save() {
 }
 
 bool ChunkStreamer::settled() const {
-    if (!m_have_center)
-        return false;
+    if (!m_have_center || m_requested > 0)
+        return false; // A load or generation in flight (counted: no walk while filling the view).
     const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
     for (const auto& [c, s] : m_chunks) {
         // A failed chunk waits for its retry: nothing to do until then.

@@ -200,6 +200,7 @@ private:
     std::unique_ptr<Job> request_data(world::ChunkCoord c);
     void put_chunk(world::ChunkCoord c, world::Chunk chunk);
     bool neighbours_settled(world::ChunkCoord c) const; // Present, or failed (meshed as air).
+    void queue_mesh(world::ChunkCoord c); // A mesh candidate, if it wants a mesh now.
     void schedule_meshes(std::chrono::steady_clock::time_point deadline);
     std::unique_ptr<Job> request_mesh(world::ChunkCoord c, ChunkState& s); // Null: no job needed.
     void set_mesh_flags(world::ChunkCoord c, ChunkState& s, bool has_mesh, bool pending);
@@ -221,7 +222,10 @@ private:
     world::World m_world;
     world::EditMesher m_edits;
     std::unordered_map<world::ChunkCoord, ChunkState, world::ChunkCoordHash> m_chunks;
-    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_mesh_candidates;
+    // Chunks that may be ready to mesh: in the view (meshed first), and around the lookahead
+    // point only. Chunks that want no mesh are never queued (queue_mesh()), so a frame's walk
+    // visits only chunks it may mesh, not every chunk of the loaded ring's edge again and again.
+    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_mesh_candidates, m_ahead_candidates;
     // Per-frame work follows what changed, never every loaded chunk: chunks that left the unload
     // radius wait in m_outside by the time they left, edited chunks in m_dirty by edit time (both
     // oldest first), memory-cap candidates (outside the loaded ring) in m_evict.

@@ -51,12 +51,21 @@ void GenerateJob::complete() {
         m_owner.on_generate_failed(key().chunk, m_error.empty() ? std::string("no chunk generated") : m_error);
 }
 
+MeshJob::MeshJob(StreamJobEvents& owner, world::ChunkCoord c, const world::World& world)
+    : Job({c, JobKind::Mesh}), m_owner(owner), m_chunk(*world.find_chunk(c)), m_registry(world.registry()) {
+    for (int f = 0; f < 6; ++f)
+        m_layers[size_t(f)].take(world::Face(f), world.find_chunk(c + world::face_normal(world::Face(f))));
+}
+
 void MeshJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
         return;
-    // One mesher (and its scratch) per worker thread, reused by every mesh job it runs.
+    // One mesher and apron (and their scratch) per worker thread, reused by every mesh job it runs.
     thread_local world::GreedyMesher mesher;
-    mesher.mesh({m_chunk, *m_apron, m_registry}, m_mesh);
+    thread_local world::Apron apron;
+    for (int f = 0; f < 6; ++f)
+        apron.set_face(world::Face(f), m_layers[size_t(f)], m_registry);
+    mesher.mesh({m_chunk, apron, m_registry}, m_mesh);
 }
 
 void MeshJob::complete() { m_owner.on_meshed(key().chunk, std::move(m_mesh)); }

@@ -1,8 +1,9 @@
 #pragma once
-// The jobs of chunk streaming. Each owns its snapshot (coordinates, a chunk copy, an apron) and
+// The jobs of chunk streaming. Each owns its snapshot (coordinates, chunk copies) and
 // reports back through StreamJobEvents in complete(), on the main thread; the receiver (the
 // ChunkStreamer) re-checks that the chunk is still wanted (it may have been unloaded since).
 
+#include <array>
 #include <climits>
 #include <functional>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "world/mesh/chunk_mesh.h"
 #include "world/store/chunk_store.h"
 #include "world/gen/chunk_generator.h"
+#include "world/world.h"
 
 namespace vx::engine {
 
@@ -96,21 +98,22 @@ private:
     std::string m_error; // The generator's failure.
 };
 
-// Pool: meshes a snapshot (chunk copy + apron).
+// Pool: meshes a snapshot: a copy of the chunk and the layers of its six face neighbours that
+// touch it (as palette entries, world::ApronLayer), taken on the main thread; the apron is
+// expanded from them on the worker. Expanding an apron (~6,000 blocks classified and written)
+// was the largest main-thread cost of a mesh job; taking the layers is a few row unpacks.
 class MeshJob final : public Job {
 public:
-    MeshJob(StreamJobEvents& owner, world::ChunkCoord c, world::Chunk chunk, std::unique_ptr<world::Apron> apron,
-            const world::BlockRegistry& registry)
-        : Job({c, JobKind::Mesh}), m_owner(owner), m_chunk(std::move(chunk)), m_apron(std::move(apron)),
-          m_registry(registry) {}
+    // Main thread (reads `world`): chunk `c` must be loaded; absent neighbours are air.
+    MeshJob(StreamJobEvents& owner, world::ChunkCoord c, const world::World& world);
     void run(JobContext& ctx) override;
     void complete() override;
 
 private:
     StreamJobEvents& m_owner;
     world::Chunk m_chunk;
-    std::unique_ptr<world::Apron> m_apron;
-    const world::BlockRegistry& m_registry; // The streamer's; outlives the job system.
+    std::array<world::ApronLayer, 6> m_layers; // Indexed by world::Face.
+    const world::BlockRegistry& m_registry;    // The world's; outlives the job system.
     world::ChunkMesh m_mesh;
 };
 

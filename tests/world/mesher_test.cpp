@@ -153,6 +153,66 @@ TEST(GreedyMesher, RepeatedRowsMatchClassicGreedyAtEveryPaletteWidth) {
     }
 }
 
+// copy_face unpacks whole rows and looks palette entries up once; the expected face is read block
+// by block with Chunk::get and classified with refresh_face. Widths 1..8 bits take the fast path,
+// 9 bits (300 types) the block-by-block one; a third of the blocks are air, and a transparent
+// type makes any_transparent true wherever one lands on the face.
+TEST(Apron, CopyFaceMatchesBlockByBlockAtEveryPaletteWidth) {
+    std::mt19937 rng(11);
+    for (const int types : {1, 2, 5, 12, 30, 60, 120, 250, 300}) {
+        const BlockRegistry reg = make_registry(types - 1, 1); // The last type is transparent.
+        for (int rep = 0; rep < 2; ++rep) {
+            std::vector<BlockId> ids(kChunkVolume);
+            for (BlockId& b : ids) // rep 1: transparent blocks are rare (often none on a face).
+                b = rng() % 3 == 0 ? kAir : BlockId(1 + rng() % (rep == 0 ? types : std::max(1, types - 1)));
+            if (rep == 1)
+                ids[size_t(local_index(31, 5, 7))] = BlockId(types); // On the -x face's neighbour layer only.
+            for (int t = 0; t <= types; ++t)
+                ids[size_t(t) * 97 % kChunkVolume] = BlockId(t);
+            const Chunk chunk = Chunk::from_dense(ids);
+            ASSERT_FALSE(chunk.is_uniform());
+            for (int f = 0; f < 6; ++f) {
+                Apron got, want;
+                got.copy_face(Face(f), &chunk, reg);
+                const int axis = face_axis(Face(f)), layer = face_positive(Face(f)) ? 0 : kChunkSize - 1;
+                for (int v = 0; v < kChunkSize; ++v)
+                    for (int u = 0; u < kChunkSize; ++u)
+                        want.ids[f][u + kChunkSize * v] = chunk.get(plane_to_local(axis, layer, u, v));
+                want.refresh_face(Face(f), reg);
+                ASSERT_EQ(got.ids[f], want.ids[f]) << types << " types, face " << f;
+                ASSERT_EQ(got.opaque[f], want.opaque[f]) << types << " types, face " << f;
+                ASSERT_EQ(got.any_transparent[f], want.any_transparent[f]) << types << " types, face " << f;
+                // Taken here, expanded later (a mesh job): the same face.
+                ApronLayer taken;
+                taken.take(Face(f), &chunk);
+                Apron later;
+                later.set_face(Face(f), taken, reg);
+                ASSERT_EQ(later.ids[f], want.ids[f]) << types << " types, face " << f;
+                ASSERT_EQ(later.opaque[f], want.opaque[f]) << types << " types, face " << f;
+                ASSERT_EQ(later.any_transparent[f], want.any_transparent[f]) << types << " types, face " << f;
+            }
+        }
+    }
+    // Uniform and absent neighbours through a layer: filled faces (an earlier take leaves nothing).
+    const BlockRegistry reg = make_registry(1, 1);
+    const Chunk stone(BlockId(1)), glass(BlockId(2));
+    ApronLayer layer;
+    layer.take(Face(0), &stone);
+    Apron a = Apron::filled(2, reg), want = Apron::filled(1, reg);
+    a.set_face(Face(0), layer, reg);
+    EXPECT_EQ(a.ids[0], want.ids[0]);
+    EXPECT_EQ(a.opaque[0], want.opaque[0]);
+    EXPECT_EQ(a.any_transparent[0], 0);
+    layer.take(Face(0), &glass);
+    a.set_face(Face(0), layer, reg);
+    EXPECT_EQ(a.any_transparent[0], 1);
+    EXPECT_EQ(a.opaque[0][5], 0u);
+    layer.take(Face(0), nullptr);
+    a.set_face(Face(0), layer, reg);
+    EXPECT_EQ(a.ids[0], Apron::air().ids[0]);
+    EXPECT_EQ(a.any_transparent[0], 0);
+}
+
 // Terrain inside a generated world (the mesher benchmark's "terrain inside a world"): 2- and
 // 3-bit palettes, water, aprons from the neighbours.
 TEST(GreedyMesher, TerrainInsideAWorldMatchesClassicGreedy) {

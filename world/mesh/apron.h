@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "world/block_registry.h"
 #include "world/chunk.h"
@@ -14,6 +15,20 @@
 namespace vx::world {
 
 class World;
+
+// One face of an apron in transit: the neighbour's touching layer as palette entries, taken on
+// the thread that owns the world (whole rows unpacked, no per-block lookups: ~1 µs) and expanded
+// into an Apron elsewhere (a mesh job's worker; the expansion is most of copy_face's cost).
+// Not thread-safe; a plain value once taken (it points into nothing).
+struct ApronLayer {
+    BlockId uniform = kAir;                                 // The whole face, when `palette` is empty.
+    std::vector<BlockId> palette;                           // Entry -> id (palettes of <= 256 entries).
+    std::array<uint8_t, kChunkSize * kChunkSize> entries;   // Index u + 32 v, when `palette` is set.
+    std::vector<BlockId> ids;                               // Wider palettes: the ids, index u + 32 v.
+
+    // The layer of `neighbour` that touches face `f` of a chunk (null: air).
+    void take(Face f, const Chunk* neighbour);
+};
 
 struct Apron {
     std::array<std::array<BlockId, kChunkSize * kChunkSize>, 6> ids{}; // Indexed by Face.
@@ -28,6 +43,8 @@ struct Apron {
     void set(Face f, int u, int v, BlockId id, const BlockRegistry& registry);
     // Copies the layer of `neighbour` that touches face `f` of the chunk (its opposite border).
     void copy_face(Face f, const Chunk* neighbour, const BlockRegistry& registry);
+    // The same from a layer taken earlier (ApronLayer::take).
+    void set_face(Face f, const ApronLayer& layer, const BlockRegistry& registry);
     // Recomputes opaque rows and flags of one face from its ids.
     void refresh_face(Face f, const BlockRegistry& registry);
 };
