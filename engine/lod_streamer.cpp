@@ -22,10 +22,11 @@ const ChunkMesh& empty_mesh() {
 // machine too busy to leave time (each is a few hash lookups; a swap is 9 sink calls).
 constexpr int kMinSteps = 64;
 // Chunks drawn per update by the queue (refinements and coarsenings; roots coming into view are
-// drawn whatever the count): each is a BLAS build in the next frame, so a chunk crossing's swaps
-// spread over a few frames instead of spiking one (a swap is atomic, so a refine of 8 may pass
-// the count by 7).
-constexpr int kMaxDraws = 64;
+// drawn whatever the count): each is a BLAS build in the next frame (30-50 us of recording on the
+// H200 host), so a chunk crossing's swaps spread over a few frames instead of spiking one (a swap
+// is atomic, so a refine of 8 may pass the count by 7). Flying at 100 blocks/s needs about 14 a
+// frame on average (sandbox defaults, 4,096 blocks).
+constexpr int kMaxDraws = 32;
 // Coarse chunks whose data is requested per update whatever the budget (a request is a job or
 // two; a box slab of a level is hundreds, spread over frames).
 constexpr int kMinRequests = 32;
