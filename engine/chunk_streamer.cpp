@@ -16,10 +16,6 @@ using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-const ChunkMesh& empty_mesh() {
-    static const ChunkMesh kEmpty;
-    return kEmpty;
-}
 
 int64_t distance2(ChunkCoord a, ChunkCoord b) {
     const glm::i64vec3 d = glm::i64vec3(a - b);

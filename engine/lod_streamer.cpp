@@ -14,10 +14,6 @@ using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-const ChunkMesh& empty_mesh() {
-    static const ChunkMesh kEmpty;
-    return kEmpty;
-}
 // Swaps and checks done per update() whatever the budget says, so the cut keeps moving on a
 // machine too busy to leave time (each is a few hash lookups; a swap is 9 sink calls).
 constexpr int kMinSteps = 64;

@@ -10,6 +10,12 @@
 
 namespace vx::engine {
 
+// An empty mesh (nothing to draw: air, or fully buried) that outlives every sink call. Thread-safe.
+inline const world::ChunkMesh& empty_mesh() {
+    static const world::ChunkMesh kEmpty;
+    return kEmpty;
+}
+
 class MeshSink {
 public:
     virtual ~MeshSink() = default;

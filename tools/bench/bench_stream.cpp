@@ -212,6 +212,19 @@ void run_flythrough(benchmark::State& state, bool use_store) {
     }
 }
 
+// A renderer on $VX_BENCH_DEVICE (auto, cpu, gpu, N), or null when unset or not made: the
+// streaming benchmarks then measure without the GPU side of set_chunk.
+std::unique_ptr<render::Renderer> bench_renderer() {
+    const char* dev = std::getenv("VX_BENCH_DEVICE");
+    if (!dev)
+        return nullptr;
+    render::RendererCreateInfo ci;
+    if (auto choice = render::parse_device_choice(dev))
+        ci.device = *choice;
+    auto made = render::Renderer::create(ci);
+    return made ? std::move(*made) : nullptr;
+}
+
 // Counts the chunks handed on (meshes, empty ones included) on the way to the real sink.
 struct CountingSink : MeshSink {
     explicit CountingSink(MeshSink& to) : next(to) {}
@@ -236,14 +249,7 @@ struct CountingSink : MeshSink {
 void bench_apply(benchmark::State& state) {
     const int radius = int(state.range(0));
     const TerrainGenerator gen(77);
-    std::unique_ptr<render::Renderer> renderer;
-    if (const char* dev = std::getenv("VX_BENCH_DEVICE")) {
-        render::RendererCreateInfo ci;
-        if (auto choice = render::parse_device_choice(dev))
-            ci.device = *choice;
-        if (auto made = render::Renderer::create(ci))
-            renderer = std::move(*made);
-    }
+    std::unique_ptr<render::Renderer> renderer = bench_renderer();
     for (auto _ : state) {
         if (renderer)
             renderer->clear_chunks();
@@ -309,14 +315,7 @@ struct CountingObserver : StreamObserver {
 void bench_apply_flight(benchmark::State& state) {
     const int radius = int(state.range(0));
     const TerrainGenerator gen(77);
-    std::unique_ptr<render::Renderer> renderer;
-    if (const char* dev = std::getenv("VX_BENCH_DEVICE")) {
-        render::RendererCreateInfo ci;
-        if (auto choice = render::parse_device_choice(dev))
-            ci.device = *choice;
-        if (auto made = render::Renderer::create(ci))
-            renderer = std::move(*made);
-    }
+    std::unique_ptr<render::Renderer> renderer = bench_renderer();
     for (auto _ : state) {
         if (renderer)
             renderer->clear_chunks();
