@@ -73,7 +73,7 @@ void LodStreamer::move_view(const glm::dvec3& viewer) {
                                [&](ChunkCoord c) { keep({k, c}); });
         if (!first)
             for_each_in_difference(b, a, false, v.half_width(k), v.half_height(k),
-                                   [&](ChunkCoord c) { release({k, c}); });
+                                   [&](ChunkCoord c) { m_to_release.push_back({k, c}); });
     }
     // Whether a chunk refines depends on the finer box: the parents of what entered or left it
     // are looked at again.
@@ -478,6 +478,16 @@ void LodStreamer::update(const glm::dvec3& viewer, Clock::time_point now, Clock:
         m_queued.erase(c);
         process(c);
     }
+    // Chunks that left their box: their data and meshes go within what is left of the budget (a
+    // slab is hundreds of frees and cancels); one back in its box since stays.
+    for (int n = 0; !m_to_release.empty(); ++n) {
+        if (n >= kMinRequests && Clock::now() >= deadline)
+            break;
+        const LodCoord c = m_to_release.front();
+        m_to_release.pop_front();
+        if (!m_view->in_box(c))
+            release(c);
+    }
     // New box chunks' data, nearest level first as they were listed, within what is left.
     for (int n = 0; !m_to_request.empty(); ++n) {
         if (n >= kMinRequests && Clock::now() >= deadline)
@@ -496,8 +506,8 @@ void LodStreamer::update(const glm::dvec3& viewer, Clock::time_point now, Clock:
 }
 
 bool LodStreamer::settled() const {
-    return m_view && m_queue.empty() && m_batch.empty() && m_to_request.empty() && m_edited.empty() && m_metrics.holes == 0 &&
-           m_metrics.pending_data == 0 && m_metrics.pending_meshes == 0;
+    return m_view && m_queue.empty() && m_batch.empty() && m_to_request.empty() && m_to_release.empty() &&
+           m_edited.empty() && m_metrics.holes == 0 && m_metrics.pending_data == 0 && m_metrics.pending_meshes == 0;
 }
 
 LodMetrics LodStreamer::metrics() const { return m_metrics; }

@@ -177,6 +177,7 @@ private:
     std::unordered_set<world::LodCoord, world::LodCoordHash> m_roots;
     std::deque<world::LodCoord> m_queue;
     std::deque<world::LodCoord> m_to_request; // Kept chunks whose data is not requested yet.
+    std::deque<world::LodCoord> m_to_release; // Chunks that left their box, to drop.
     std::unordered_set<world::LodCoord, world::LodCoordHash> m_queued;
     std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_edited;
     std::vector<std::pair<world::LodCoord, std::chrono::steady_clock::time_point>> m_retry;
