@@ -392,10 +392,16 @@ void main() {
             }
         }
     }
-    const float max_frames = max(pc.sigmas.w, 1.0);
-    const float lum = luminance(illum);
     const vec2 owns = own_variance(p, size, nd);
     const float own = owns.x;
+    // While the camera moves, a pixel of several samples (its own variance known) takes no
+    // illumination history: the a-trous filter guided by that variance does better alone than
+    // with reprojected history, which costs more than it gives under motion (terrain 160x90, 4
+    // spp: fly-over 0.0327 -> 0.0153 RMSE against raw 0.0185; issue 18 scene 0.0107 -> 0.0090,
+    // docs/render_report.md). One sample keeps it: there the filter alone loses (1 spp 0.0188
+    // -> 0.0230 on the issue 18 scene).
+    const float max_frames = moved && own >= 0.0 ? 1.0 : max(pc.sigmas.w, 1.0);
+    const float lum = luminance(illum);
     // One frame's luminance variance for the clamp: now, the pixels' own from this frame's light
     // samples (pooled_gap also takes the window's spread); in the history, its temporal variance
     // (SVGF's moments, from 2 frames on), else the pixels' own. Unknown (1 sample): the
