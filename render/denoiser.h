@@ -1,7 +1,8 @@
 #pragma once
 // The guided denoiser: temporal accumulation with reprojection (bilinear history taps, each
 // tested for the same surface; a mirror's picture follows its virtual image and, while the
-// camera moves, keeps at most 2 frames) and luminance moments for the variance, then an
+// camera moves, keeps at most 2 frames; while it moves, pixels of several samples take no
+// illumination history: the filter does better alone) and luminance moments for the variance, then an
 // edge-avoiding a-trous wavelet filter guided by normal, depth and luminance variance, on
 // albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
 // al. 2010). The primary hit's diffuse lighting is filtered with the primary hit's guides, the
