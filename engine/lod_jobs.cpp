@@ -77,8 +77,8 @@ void LodMeshJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
         return;
     thread_local world::GreedyMesher mesher;
-    const world::Apron air = world::Apron::air();
-    mesher.mesh({m_chunk, air, m_registry}, m_mesh);
+    static const world::Apron kAir = world::Apron::air(); // As the LOD scene loader's.
+    mesher.mesh({m_chunk, kAir, m_registry}, m_mesh);
 }
 
 void LodMeshJob::complete() { m_owner.on_lod_meshed(lod_of(key()), std::move(m_mesh)); }

@@ -36,23 +36,21 @@ world::Chunk GameGenerator::generate(world::ChunkCoord c) const {
 
 bool GameGenerator::generate_coarse(world::LodCoord c, world::Chunk& out) const {
     thread_local std::vector<BlockId> dense(kChunkVolume);
+    std::string why;
     try {
         std::fill(dense.begin(), dense.end(), kAir);
         if (!m_game->generate_coarse(c.level, c.chunk, std::span<BlockId>(dense)))
             return false;
+        out = world::Chunk::from_dense(dense);
+        return true;
     } catch (const std::exception& e) {
-        static std::atomic<bool> logged{false};
-        if (!logged.exchange(true))
-            VX_LOG_ERROR("the game's generate_coarse threw (%s); coarse chunks are built from blocks instead", e.what());
-        return false;
+        why = std::string(" (") + e.what() + ")";
     } catch (...) {
-        static std::atomic<bool> logged{false};
-        if (!logged.exchange(true))
-            VX_LOG_ERROR("the game's generate_coarse threw; coarse chunks are built from blocks instead");
-        return false;
     }
-    out = world::Chunk::from_dense(dense);
-    return true;
+    static std::atomic<bool> logged{false}; // Once, whatever was thrown.
+    if (!logged.exchange(true))
+        VX_LOG_ERROR("the game's generate_coarse threw%s; coarse chunks are built from blocks instead", why.c_str());
+    return false;
 }
 
 int GameGenerator::coarse_levels() const {
