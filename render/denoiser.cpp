@@ -14,7 +14,7 @@
 
 namespace vx::render {
 
-static_assert(sizeof(gpu::DenoisePush) == 112, "DenoisePush must match its std430 layout");
+static_assert(sizeof(gpu::DenoisePush) == 128, "DenoisePush must match its std430 layout");
 
 namespace {
 
@@ -229,6 +229,8 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
                        (mirror ? gpu::kDenoiseMirror : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
                    inputs.exposure, 0.f};
+    const glm::quat r = inputs.history_rotation;
+    push.history_rotation = {r.x, r.y, r.z, r.w};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     const uint32_t gy = (m_height + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
     // Earlier work on these images (the previous frame's passes, a read-back copy) finishes first.
@@ -270,6 +272,10 @@ glm::mat4 reprojection_matrix(const glm::dmat4& prev_view_from_world, const glm:
     return glm::mat4(pixel_from_view * prev_view_from_world * glm::inverse(view_from_world) * view_from_pixel);
 }
 
+glm::quat history_rotation(const glm::dmat4& prev_view_from_world) {
+    return glm::quat(glm::quat_cast(glm::dmat3(prev_view_from_world)));
+}
+
 namespace {
 
 // Packs float RGBA into half (RGBA16F) or UNORM8 (RGBA8) texel bytes.
@@ -304,7 +310,8 @@ void copy_buffer_to_image(VkCommandBuffer cmd, VkBuffer src, VkDeviceSize offset
 
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings, const glm::mat4& reproject,
-                       float fov_y_degrees, const ImageF* reflected, const MirrorImagesF* mirror) {
+                       float fov_y_degrees, const ImageF* reflected, const MirrorImagesF* mirror,
+                       const glm::quat& history_rotation) {
     const uint32_t w = denoiser.width(), h = denoiser.height();
     const ImageF zero = reflected ? ImageF{} : ImageF::make(w, h);
     const ImageF& refl = reflected ? *reflected : zero;
@@ -354,6 +361,7 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
         copy_buffer_to_image(cmd, staging.handle(), offsets[i], inputs[i]);
     DenoiseInputs in{inputs[0].view(), inputs[1].view(), inputs[2].view(), inputs[3].view()};
     in.reproject = reproject;
+    in.history_rotation = history_rotation;
     in.fov_y_degrees = fov_y_degrees;
     if (mirror) {
         in.mirror_light = inputs[4].view();

@@ -1,8 +1,9 @@
 #pragma once
 // The guided denoiser: temporal accumulation with reprojection (bilinear history taps, each
-// tested for the same surface; a mirror's picture follows its virtual image and, while the
-// camera moves, keeps at most 2 frames; while it moves, pixels of several samples take no
-// illumination history: the filter does better alone) and luminance moments for the variance, then an
+// tested for the same plane; a mirror's picture follows its virtual image and, while the
+// camera moves, keeps at most 2 frames; while it moves, pixels of several samples weigh their
+// illumination history by its resampling error against their own noise) and luminance moments
+// for the variance, then an
 // edge-avoiding a-trous wavelet filter guided by normal, depth and luminance variance, on
 // albedo-demodulated illumination (SVGF: Schied et al. 2017; a-trous: Dammertz et
 // al. 2010). The primary hit's diffuse lighting is filtered with the primary hit's guides, the
@@ -47,6 +48,7 @@
 #include <cstdint>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "render/image_metrics.h"
 #include "render/resources.h"
@@ -84,6 +86,10 @@ struct DenoiseInputs {
     // view depth d to (x' d', y' d', d', 1) of the previous frame: identity for a still camera.
     // See reprojection_matrix().
     glm::mat4 reproject{1.f};
+    // The rotation from world to the previous frame's view space (history_rotation()): the
+    // history's plane test compares world normals there. Identity: that view looks down -z
+    // with +y up.
+    glm::quat history_rotation{1.f, 0.f, 0.f, 0.f};
     float fov_y_degrees = 60.f; // The camera's (with the image's aspect: distances to depths).
     // RGBA8 UNORM storage view (GENERAL layout) for the 8-bit output; null: ldr().
     VkImageView ldr_target = VK_NULL_HANDLE;
@@ -151,6 +157,9 @@ private:
 glm::mat4 reprojection_matrix(const glm::dmat4& prev_view_from_world, const glm::dmat4& view_from_world,
                               float fov_y_degrees, uint32_t width, uint32_t height);
 
+// The rotation part of a view matrix (DenoiseInputs::history_rotation).
+glm::quat history_rotation(const glm::dmat4& prev_view_from_world);
+
 // The first mirror bounce's G-buffer images for denoise_on_host (DenoiseInputs says what they hold).
 struct MirrorImagesF {
     const ImageF& light;
@@ -166,6 +175,7 @@ struct MirrorImagesF {
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings,
                        const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f,
-                       const ImageF* reflected = nullptr, const MirrorImagesF* mirror = nullptr);
+                       const ImageF* reflected = nullptr, const MirrorImagesF* mirror = nullptr,
+                       const glm::quat& history_rotation = glm::quat(1.f, 0.f, 0.f, 0.f));
 
 } // namespace vx::render

@@ -649,8 +649,9 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
         in.mirror_albedo = g.mirror_albedo.view();
         in.mirror_normal_depth = g.mirror_normal_depth.view();
     }
-    in.reproject = reprojection_matrix(view_from_world(denoised_camera, cam.block), view_from_world(cam, cam.block),
-                                       cam.fov_y_degrees, s.width, s.height);
+    const glm::dmat4 prev_view = view_from_world(denoised_camera, cam.block);
+    in.reproject = reprojection_matrix(prev_view, view_from_world(cam, cam.block), cam.fov_y_degrees, s.width, s.height);
+    in.history_rotation = history_rotation(prev_view);
     in.fov_y_degrees = cam.fov_y_degrees;
     in.ldr_target = target().view();
     in.exposure = gpu::vx_exposure_scale(frame_ev100);

@@ -214,22 +214,46 @@ float ray_scale(vec2 pixel) {
     return length(vec3(ndc.x * pc.camera.x * pc.camera.y, ndc.y * pc.camera.x, 1.0));
 }
 
-// expected_distance: along the previous frame's primary ray.
-bool history_matches(vec4 nd, vec4 hist_nd, float expected_distance) {
-    return has_surface(hist_nd) && dot(nd.xyz, hist_nd.xyz) > 0.9 &&
-           abs(hist_nd.w - expected_distance) <= 0.02 * expected_distance + 1e-3;
+// The previous frame's view-space point (right-handed, looking down -z) at its pixel `pixel`
+// (continuous, centres at +0.5) and view depth `depth`: the pinhole of reprojection_matrix().
+vec3 history_view_point(vec2 pixel, float depth) {
+    const vec2 ndc = pixel / vec2(pc.params.xy) * 2.0 - 1.0;
+    return depth * vec3(ndc.x * pc.camera.x * pc.camera.y, -ndc.y * pc.camera.x, -1.0);
+}
+
+// World vector v in the previous frame's view space (pc.history_rotation).
+vec3 to_history_view(vec3 v) {
+    const vec3 q = pc.history_rotation.xyz;
+    return v + 2.0 * cross(q, cross(q, v) + pc.history_rotation.w * v);
+}
+
+// Whether the history pixel q (its normal_depth hnd) shows the plane of this pixel's surface:
+// the same normal and the history's point within a tenth of a block (plus what half-float
+// distances lose, 1e-3 of the distance) of the plane through this pixel's point (`point`: in the
+// previous view space, `normal`: there too). Voxel faces lie on planes a whole cell apart, so a
+// step's lower or upper face (same normal, a distance a few percent off) is another surface,
+// which a tolerance on the distance alone let in at any range over ~50 blocks: terrain history
+// mixed the lit top of a step into the dark corner below it (docs/render_report.md, 2026-12-02).
+bool history_on_plane(vec4 nd, vec4 hnd, ivec2 q, vec3 point, vec3 normal) {
+    if (!has_surface(hnd) || dot(nd.xyz, hnd.xyz) <= 0.9)
+        return false;
+    const vec2 centre = vec2(q) + 0.5;
+    const vec3 seen = history_view_point(centre, hnd.w / ray_scale(centre));
+    return abs(dot(normal, seen - point)) <= 0.1 + 1e-3 * hnd.w;
 }
 
 // SVGF's bilinear tap of the history: the four previous pixels around `prev_pixel` (continuous,
 // pixel centres at +0.5), each weighted by its bilinear weight if it shows a surface with nd's
-// normal and, when prev_depth > 0, at the distance a point at that view depth would have there.
-// A nearest tap snaps by up to half a pixel every frame; on a moving camera the snaps compound
-// into a smear of the history (fly-over, docs/render_report.md). w: normalised weights (all 0:
-// no history); nearest: the matching tap of largest weight (the clamp's window).
+// normal and, when prev_depth > 0, on the plane through the point at that view depth
+// (history_on_plane). A nearest tap snaps by up to half a pixel every frame; on a moving camera
+// the snaps compound into a smear of the history (fly-over, docs/render_report.md). w:
+// normalised weights (all 0: no history); nearest: the matching tap of largest weight (the
+// clamp's window).
 Taps history_taps(vec2 prev_pixel, ivec2 size, vec4 nd, float prev_depth) {
     const vec2 f = prev_pixel - 0.5;
     Taps taps = Taps(ivec2(floor(f)), vec4(0), ivec2(-1));
     const vec2 t = f - vec2(taps.base);
+    const vec3 point = history_view_point(prev_pixel, prev_depth), normal = to_history_view(nd.xyz);
     float best = 0;
     for (int i = 0; i < 4; ++i) {
         const ivec2 o = ivec2(i & 1, i >> 1);
@@ -238,7 +262,7 @@ Taps history_taps(vec2 prev_pixel, ivec2 size, vec4 nd, float prev_depth) {
         if (w <= 0.0 || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
             continue;
         const vec4 hnd = imageLoad(u_hist_nd_in, q);
-        const bool match = prev_depth > 0.0 ? history_matches(nd, hnd, prev_depth * ray_scale(vec2(q) + 0.5))
+        const bool match = prev_depth > 0.0 ? history_on_plane(nd, hnd, q, point, normal)
                                             : has_surface(hnd) && dot(nd.xyz, hnd.xyz) > 0.9;
         if (!match)
             continue;
@@ -327,6 +351,23 @@ float pooled_gap(ivec2 p, ivec2 q, ivec2 size, vec4 nd, float now, float before,
     return z;
 }
 
+// The most frames a moving pixel of several samples may average: the weight that minimises the
+// blend's expected squared error when the history, `frames` frames of variance `own` each, is
+// off by up to `bias` (in luminance) and this frame is unbiased with variance `own`: history
+// weight own / (own + bias^2 + own / frames), i.e. frames (own + bias^2 + h) / (bias^2 + h) with
+// h = own / frames. Bilinear resampling is off by at most f (1 - f) times the taps' range (a
+// linear ramp through them: none); with a tap off the surface (bias < 0) the renormalised taps
+// extrapolate, with no bound: no history. own is the pixels' own variance without the
+// stratification discount (x16, shaders/raygen.rgen: an upper bound). Reprojected history of a
+// moving camera had cost more than it gave (H200 terrain 1080p, 25 spp and 2 frames: 0.0167
+// RMSE against raw 0.0077; with this cap 0.0075; docs/render_report.md, 2026-12-02).
+float moving_history_cap(float own, float frames, float bias) {
+    if (bias < 0.0)
+        return 1.0;
+    const float variance = 16.0 * own, h = variance / max(frames, 1.0);
+    return max((variance + bias * bias + h) / max(bias * bias + h, 1e-20), 1.0);
+}
+
 void main() {
     const ivec2 size = ivec2(pc.params.xy);
     const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -354,6 +395,9 @@ void main() {
     ivec2 history_pixel = ivec2(-1);
     Taps mirror_taps = Taps(ivec2(0), vec4(0), ivec2(-1));
     bool moved = false;
+    // The taps' luminance range and count, and the resample's largest f (1 - f): its bias bound.
+    float tap_lo = 1e30, tap_hi = -1e30, tap_f = 0.0;
+    int tap_count = 0;
     if ((pc.params.w & kDenoiseHistoryValid) != 0) {
         const vec2 centre = vec2(p) + 0.5;
         const float depth = nd.w / ray_scale(centre);
@@ -362,6 +406,8 @@ void main() {
         if (prev.z > 0) {
             taps = history_taps(prev.xy / prev.z, size, nd, prev.z);
             moved = any(greaterThan(abs(prev.xy / prev.z - centre), vec2(0.01))); // Pixels.
+            const vec2 fr = fract(prev.xy / prev.z - 0.5);
+            tap_f = max(fr.x * (1.0 - fr.x), fr.y * (1.0 - fr.y));
         }
         Taps reflected_taps = taps;
         // What a flat mirror shows moves as its virtual image does: the point at the path's
@@ -381,6 +427,9 @@ void main() {
         for (int i = 0; i < 4; ++i) {
             if (taps.w[i] > 0.0) {
                 const vec4 h = imageLoad(u_hist_in, tap_pixel(taps, i));
+                tap_lo = min(tap_lo, luminance(h.rgb));
+                tap_hi = max(tap_hi, luminance(h.rgb));
+                ++tap_count;
                 history += taps.w[i] * h.rgb;
                 frames += taps.w[i] * h.a;
                 moments += taps.w[i] * imageLoad(u_moments_in, tap_pixel(taps, i));
@@ -394,13 +443,14 @@ void main() {
     }
     const vec2 owns = own_variance(p, size, nd);
     const float own = owns.x;
-    // While the camera moves, a pixel of several samples (its own variance known) takes no
-    // illumination history: the a-trous filter guided by that variance does better alone than
-    // with reprojected history, which costs more than it gives under motion (terrain 160x90, 4
-    // spp: fly-over 0.0327 -> 0.0153 RMSE against raw 0.0185; issue 18 scene 0.0107 -> 0.0090,
-    // docs/render_report.md). One sample keeps it: there the filter alone loses (1 spp 0.0188
-    // -> 0.0230 on the issue 18 scene).
-    const float max_frames = moved && own >= 0.0 ? 1.0 : max(pc.sigmas.w, 1.0);
+    // While the camera moves, a pixel of several samples (its own variance known) weighs its
+    // history by what resampling it costs (moving_history_cap); one sample keeps it: there the
+    // filter alone loses (1 spp 0.0188 -> 0.0230 on the issue 18 scene, docs/render_report.md).
+    float max_frames = max(pc.sigmas.w, 1.0);
+    if (moved && own >= 0.0) {
+        const float bias = tap_count == 4 ? (tap_hi - tap_lo) * tap_f : -1.0;
+        max_frames = min(max_frames, moving_history_cap(own, frames, bias));
+    }
     const float lum = luminance(illum);
     // One frame's luminance variance for the clamp: now, the pixels' own from this frame's light
     // samples (pooled_gap also takes the window's spread); in the history, its temporal variance

@@ -28,6 +28,10 @@ struct DenoisePush {
     // (shaders/raygen.rgen): turns distances along primary rays into view depths. z: exposure
     // of the 8-bit output (vx_exposure_scale, tonemap.h).
     vec4 camera;
+    // Temporal pass: the rotation (unit quaternion x, y, z, w) from world to the previous
+    // frame's view space, whose pixels `reproject` maps to: turns world normals into that space
+    // for the history's plane test (denoise_temporal.comp, history_taps).
+    vec4 history_rotation;
 };
 
 VX_GPU_END

@@ -493,8 +493,8 @@ TEST_F(DenoiserTest, MovedCameraReprojectsTheHistoryOfTheSamePoints) {
     const double pixel = 2.0 * std::tan(glm::radians(double(kMoveFov)) * 0.5) * 8.0 / kMoveH; // At the wall.
     const double step = 1.37 * pixel;
     MovedView before = moved_view(0.0), after = moved_view(step);
-    // One sample per pixel (own variance unknown): a moving camera's pixels of several samples
-    // take no illumination history (MovingCameraWithSeveralSamplesTakesNoIlluminationHistory).
+    // One sample per pixel (own variance unknown): a moving camera's noise-free pixels of several
+    // samples take no illumination history (MovingCameraWithSeveralSamplesTakesNoIlluminationHistory).
     set_one_sample(before.colour);
     set_one_sample(after.colour);
     const glm::dmat4 prev = glm::lookAt(glm::dvec3(0, 0, 0), glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0));
@@ -524,10 +524,10 @@ TEST_F(DenoiserTest, MovedCameraReprojectsTheHistoryOfTheSamePoints) {
     EXPECT_LT(mirror, 0.025);
 }
 
-// Under a moving camera, reprojected illumination history cost more than it gave where the
-// pixels' own variance guides the filter (terrain 4 spp: fly-over 0.0327 against raw 0.0185,
-// docs/render_report.md), so such pixels start again; one sample still accumulates. The first
-// frame here is half as bright: history shows as an error on the wall.
+// Under a moving camera, pixels of several samples weigh reprojected illumination history by its
+// resampling error against their own noise (tests/render/denoiser_history_test.cpp); these are
+// noise-free (variance 0), so history can only cost: they start again. One sample still
+// accumulates. The first frame here is half as bright: history shows as an error on the wall.
 TEST_F(DenoiserTest, MovingCameraWithSeveralSamplesTakesNoIlluminationHistory) {
     const double pixel = 2.0 * std::tan(glm::radians(double(kMoveFov)) * 0.5) * 8.0 / kMoveH; // At the wall.
     const double step = 1.37 * pixel;
