@@ -85,7 +85,8 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
     render::RenderSettings ref_s = ctx.info.base;
     ref_s.max_bounces = bounces;
     ref_s.seed = kReferenceSeed;
-    const render::ImageF reference = render::to_float(render_reference(ctx.r, ref_s, ctx.info.camera, ctx.info.reference_spp));
+    const render::RenderImage ref_img = render_reference(ctx.r, ref_s, ctx.info.camera, ctx.info.reference_spp);
+    const render::ImageF reference = render::to_float(ref_img);
     ctx.frames += reference_frames(ctx.info.reference_spp);
     for (size_t i = 0; i < set.candidates.size(); ++i) {
         const EqualErrorCandidate& c = set.candidates[i];

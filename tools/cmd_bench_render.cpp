@@ -15,10 +15,11 @@
 //      rebuild over k edits;
 //   5. camera paths (tools/bench_render_paths.h): orbit, fly-over and an edit, every frame
 //      against a converged reference at its pose.
-// --sections picks them: all (default), report (1-3), equal-error, geometry (4) or paths (5). --lighting thesis lights
-// every row with the area light alone (no sun, no sky light), as the thesis did.
-// Writes DIR/render_report.md (tables), DIR/render_bench.csv, PNGs of the reference and of
-// each sweep image; scripts/plot_render_bench.py draws error against frame time from the CSV.
+// --sections picks them: all (default), report (1-3), equal-error, geometry (4) or paths (5).
+// --lighting thesis lights every row with the area light alone (no sun, no sky light), as the
+// thesis did. Writes DIR/render_report.md (tables), DIR/render_bench.csv (equal_error.csv), PNGs
+// of the reference and of each sweep image; scripts/plot_render_bench.py draws error against
+// frame time from either CSV.
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -251,7 +252,8 @@ int run_bench_render(const BenchRenderArgs& a) {
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out};
-    const EqualErrorBenchInfo equal{base, cam, a.repeat, a.reflections, a.reference_spp, a.error_seeds, a.lighting, a.out};
+    const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections, a.reference_spp,
+                                    a.error_seeds, a.lighting, a.out};
     if (a.sections == "equal-error") {
         md += run_equal_error_bench(r, equal);
         std::ofstream(a.out + "/render_report.md") << md;
