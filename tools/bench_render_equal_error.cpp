@@ -18,8 +18,7 @@ constexpr uint32_t kReferenceSeed = 1000;
 
 // One feature set's search: its candidates (measured or skipped) and its target.
 struct FeatureSet {
-    const char* name = "";    // CSV: "shadows" or "shadows+reflections".
-    uint32_t bounces = 0;     // Mirror bounces: 0 or info.reflections.
+    const char* name = ""; // CSV: "shadows" or "shadows+reflections".
     std::vector<EqualErrorCandidate> candidates;
     size_t thesis = 0; // Index of 25 spp (bounce spp 25 with reflections), raw.
     size_t skipped = 0;
@@ -81,7 +80,7 @@ std::string candidate_name(const EqualErrorCandidate& c) {
 // The thesis's configuration first (it sets the target), then the rest in order, each skipped
 // when a cheaper-or-equal one already meets the target (equal_error_skip()).
 FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
-    FeatureSet set{name, bounces, equal_error_candidates(bounces > 0)};
+    FeatureSet set{name, equal_error_candidates(bounces > 0)};
     render::RenderSettings ref_s = ctx.info.base;
     ref_s.max_bounces = bounces;
     ref_s.seed = kReferenceSeed;
