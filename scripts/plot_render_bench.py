@@ -2,6 +2,9 @@
 """Error against frame time from `vx bench render`'s CSV: one PNG per metric next to the CSV.
 
 Usage: scripts/plot_render_bench.py DIR/render_bench.csv  (Debian python3: /usr/bin/python3)
+       scripts/plot_render_bench.py DIR/equal_error.csv   (--sections equal-error: one PNG per
+       feature set, RMSE against frame time as a multiple of RT flat, with the target RMSE and the
+       thesis's ratios marked)
 Needs python3-matplotlib (scripts/setup.sh installs it).
 """
 import csv
@@ -14,9 +17,52 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+# The thesis's Table 6.3 ratios (RTX 2080 Ti, over its all-off row) per feature set of
+# equal_error.csv, as tools/bench_render_equal_error.cpp prints them.
+THESIS_RATIOS = {
+    "shadows": (("shadows", 8.14),),
+    "shadows+reflections": (("shadows + reflections", 19.12), ("all on", 34.82)),
+}
+
+
+def plot_equal_error(rows, out_dir):
+    for name in sorted({r["feature_set"] for r in rows}):
+        pts = [r for r in rows if r["feature_set"] == name]
+        flat = float(pts[0]["flat_ms"])
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for denoise, marker in ((0, "o"), (1, "^")):
+            sel = [r for r in pts if int(r["denoise"]) == denoise]
+            if not sel:
+                continue
+            xs = [float(r["frame_ms"]) / flat for r in sel]
+            ys = [float(r["rmse"]) for r in sel]
+            ax.scatter(xs, ys, marker=marker, label="denoised" if denoise else "raw")
+            for r, x, y in zip(sel, xs, ys):
+                tag = r["spp"] + ("/" + r["bounce_spp"] if int(r["bounce_spp"]) else "")
+                ax.annotate(tag, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.axhline(float(pts[0]["target_rmse"]), color="k", linestyle="--", linewidth=0.8,
+                   label="target: 25 spp raw")
+        for label, ratio in THESIS_RATIOS.get(name, ()):
+            ax.axvline(ratio, color="r", linestyle=":", linewidth=0.8)
+            ax.annotate(f"thesis {label} {ratio}x", (ratio, ax.get_ylim()[1]), fontsize=6, rotation=90,
+                        va="top", ha="right", color="r")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("GPU frame time / RT flat frame time")
+        ax.set_ylabel("one-frame RMSE against the reference")
+        ax.set_title(name, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        png = os.path.join(out_dir, f"equal_error_{name.replace('+', '_')}.png")
+        fig.savefig(png, dpi=120)
+        plt.close(fig)
+        print(f"wrote {png}")
+
+
 def main() -> int:
     if len(sys.argv) != 2:
-        print("usage: plot_render_bench.py render_bench.csv", file=sys.stderr)
+        print("usage: plot_render_bench.py render_bench.csv|equal_error.csv", file=sys.stderr)
         return 2
     path = sys.argv[1]
     with open(path, newline="") as f:
@@ -25,6 +71,9 @@ def main() -> int:
         print(f"plot_render_bench.py: no rows in {path}", file=sys.stderr)
         return 1
     out_dir = os.path.dirname(os.path.abspath(path))
+    if "feature_set" in rows[0]:
+        plot_equal_error(rows, out_dir)
+        return 0
     for metric, label in (("rmse", "RMSE"), ("psnr", "PSNR (dB)"), ("ssim", "SSIM")):
         fig, ax = plt.subplots(figsize=(6, 4))
         for denoise, bounce_all, marker in ((0, False, "o"), (0, True, "s"), (1, False, "^"), (1, True, "D")):

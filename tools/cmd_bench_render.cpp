@@ -9,14 +9,17 @@
 //      against the reference (render/image_metrics.h); then a still camera's accumulated frames;
 //      last a line naming the cheapest row that matches the thesis-style frame's error (25 spp,
 //      bounce spp 25, raw) and its frame-time ratio (the target: >= 4x less frame time).
+//   equal error (tools/bench_render_equal_error.h): Table 6.3's noisy rows at the error of the
+//      thesis's 25 samples raw, the cheapest configuration reaching it beside the thesis's ratio;
 //   4. geometry (tools/bench_render_geometry.h): naive, culled and greedy meshes; refit against
 //      rebuild over k edits;
 //   5. camera paths (tools/bench_render_paths.h): orbit, fly-over and an edit, every frame
 //      against a converged reference at its pose.
-// --sections picks them: all (default), report (1-3), geometry (4) or paths (5). --lighting thesis lights
-// every row with the area light alone (no sun, no sky light), as the thesis did.
-// Writes DIR/render_report.md (tables), DIR/render_bench.csv, PNGs of the reference and of
-// each sweep image; scripts/plot_render_bench.py draws error against frame time from the CSV.
+// --sections picks them: all (default), report (1-3), equal-error, geometry (4) or paths (5).
+// --lighting thesis lights every row with the area light alone (no sun, no sky light), as the
+// thesis did. Writes DIR/render_report.md (tables), DIR/render_bench.csv (equal_error.csv), PNGs
+// of the reference and of each sweep image; scripts/plot_render_bench.py draws error against
+// frame time from either CSV.
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -28,6 +31,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_render_equal_error.h"
+#include "bench_render_frames.h"
 #include "bench_render_geometry.h"
 #include "bench_render_paths.h"
 #include "cli_common.h"
@@ -48,6 +53,7 @@ struct BenchRenderArgs {
     std::string lighting = "default"; // --lighting: default (sun, sky, area light) or thesis.
     uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
     uint32_t path_frames = 24, path_reference_spp = 64; // Section 5.
+    uint32_t error_seeds = 4;                           // Equal error: sample seeds per RMSE.
 };
 
 struct Config {
@@ -55,25 +61,6 @@ struct Config {
     render::RenderSettings s;
     double thesis_ratio = -1; // The thesis's Table 6.3 frame time over its "all off" row; -1: none.
 };
-
-struct Timing {
-    double frame = -1, trace = -1, denoise = -1; // GPU ms (medians); -1 without timestamps.
-};
-
-// Renders `repeat` frames (after one warm-up) and returns the medians and the last image.
-Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
-                   render::RenderImage* image) {
-    r.render(s, cam);
-    std::vector<double> frame, trace, denoise;
-    for (uint32_t i = 0; i < repeat; ++i) {
-        *image = r.render(s, cam);
-        const render::RenderStats& st = r.last_stats();
-        frame.push_back(st.gpu_frame_ms);
-        trace.push_back(st.gpu_trace_ms);
-        denoise.push_back(st.gpu_denoise_ms);
-    }
-    return {median(frame), median(trace), median(denoise)};
-}
 
 // The view `vx render` picks by default: over the scene's box from (-1, 0.9, -1), light above.
 render::Camera default_view(const engine::LoadedScene& scene, render::RenderSettings& s) {
@@ -265,6 +252,14 @@ int run_bench_render(const BenchRenderArgs& a) {
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out};
+    const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections, a.reference_spp,
+                                    a.error_seeds, a.lighting, a.out};
+    if (a.sections == "equal-error") {
+        md += run_equal_error_bench(r, equal);
+        std::ofstream(a.out + "/render_report.md") << md;
+        std::printf("  wrote %s/render_report.md and equal_error.csv\n", a.out.c_str());
+        return kExitOk;
+    }
     if (a.sections == "paths") { // Only section 5.
         md += run_path_bench(r, *scene, paths);
         std::ofstream(a.out + "/render_report.md") << md;
@@ -286,16 +281,13 @@ int run_bench_render(const BenchRenderArgs& a) {
     // 2. Speed against error.
     render::RenderSettings ref_s = base;
     ref_s.max_bounces = a.reflections;
-    ref_s.shadow_samples = 8;
-    ref_s.accumulate = std::max(1u, a.reference_spp / 8);
-    for (uint32_t i = 0; i < ref_s.accumulate; ++i)
-        img = r.render(ref_s, cam);
+    img = render_reference(r, ref_s, cam, a.reference_spp);
     const render::ImageF reference = render::to_float(img);
     (void)render::write_png(a.out + "/reference.png", img);
     std::snprintf(line, sizeof line,
                   "\n## Speed against error\n\nReference: %u samples per pixel (%u frames of 8, accumulated, no "
                   "filter), %u reflection bounces.\n\n",
-                  ref_s.accumulate * 8, ref_s.accumulate, a.reflections);
+                  reference_frames(a.reference_spp) * 8, reference_frames(a.reference_spp), a.reflections);
     md += line;
     md += "| spp | bounce spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n|---|---|---|---|---|---|---|\n";
     std::vector<SweepRow> candidates;
@@ -354,6 +346,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
           "frame time (PNG) next to the CSV.\n";
     if (a.sections == "all") {
+        md += "\n" + run_equal_error_bench(r, equal);
         md += "\n" + run_path_bench(r, *scene, paths);
         renderer->reset();
         md += run_geometry_bench(*scene, geometry);
@@ -389,9 +382,12 @@ int run_bench_render_command(int argc, char** argv) {
                    "for like)")
         ->check(CLI::IsMember({"default", "thesis"}));
     app.add_option("--sections", a.sections,
-                   "all; report: pipelines, features, speed against error; geometry: meshers, refit against "
-                   "rebuild; paths: orbit, fly-over and an edit against references at every pose")
-        ->check(CLI::IsMember({"all", "report", "geometry", "paths"}));
+                   "all; report: pipelines, features, speed against error; equal-error: Table 6.3's shadow and "
+                   "reflection rows at the thesis's one-frame error; geometry: meshers, refit against rebuild; "
+                   "paths: orbit, fly-over and an edit against references at every pose")
+        ->check(CLI::IsMember({"all", "report", "equal-error", "geometry", "paths"}));
+    app.add_option("--error-seeds", a.error_seeds, "Equal error: sample seeds per one-frame RMSE")
+        ->check(CLI::Range(1u, 64u));
     app.add_option("--path-frames", a.path_frames, "Frames per camera path")->check(CLI::Range(4u, 10000u));
     app.add_option("--path-reference-spp", a.path_reference_spp, "Samples per pixel of each path pose's reference")
         ->check(CLI::Range(8u, 1u << 20));

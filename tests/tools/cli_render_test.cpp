@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -285,6 +286,43 @@ TEST(CliRender, BenchRenderTableRatios) {
     const std::string row = text.substr(off, text.find('\n', off) - off);
     EXPECT_NE(row.find("| 1.00 | 1.00 |"), std::string::npos) << row;
     EXPECT_NE(text.find("| 34.82 |"), std::string::npos) << text;
+}
+
+// `vx bench render --sections equal-error` (tiny): the three thesis rows, each with a cheapest
+// configuration (the thesis's own 25 spp raw meets its target, so one always does), and a CSV
+// line per measured candidate of both feature sets (shadows: bounce spp 0); a seed count of 0 is
+// exit 2.
+TEST(CliRender, BenchRenderEqualError) {
+    const std::string out = dir() + "/bench_equal_error";
+    const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 --reference-spp 8 "
+                        "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --out " +
+                        out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream md(out + "/render_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("## Table 6.3 at equal error"), std::string::npos) << text;
+    for (const char* row : {"| shadows | ", "| shadows + reflections | ", "| all on (+ thesis's denoiser) | "}) {
+        const size_t at = text.find(row);
+        ASSERT_NE(at, std::string::npos) << row << "\n" << text;
+        EXPECT_EQ(text.substr(at, text.find('\n', at) - at).find("| none |"), std::string::npos) << text;
+    }
+    std::ifstream csv(out + "/equal_error.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms");
+    // The targets and the one-sample rows are always measured (nothing bounds those below);
+    // others may be skipped, depending on the frame times.
+    std::set<std::string> keys; // "feature_set,spp,bounce_spp,denoise".
+    for (std::string line; std::getline(csv, line);) {
+        size_t comma = 0;
+        for (int i = 0; i < 4; ++i)
+            comma = line.find(',', comma + 1);
+        keys.insert(line.substr(0, comma));
+    }
+    for (const char* key : {"shadows,1,0,0", "shadows,25,0,0", "shadows+reflections,1,1,0", "shadows+reflections,25,25,0"})
+        EXPECT_TRUE(keys.count(key)) << key;
+    EXPECT_FALSE(keys.count("shadows,25,0,1")); // 25 raw plus the denoiser: dearer than the target.
+    EXPECT_EQ(vx("bench render --sections equal-error --error-seeds 0").code, 2);
 }
 
 // `vx bench render --sections paths` (tiny): a row per path and configuration with RMSE median

@@ -1,0 +1,27 @@
+#pragma once
+// Frame timing and converged references shared by the sections of `vx bench render`
+// (tools/cmd_bench_render.cpp, tools/bench_render_equal_error.h). Main thread only (they render).
+
+#include <cstdint>
+
+#include "render/renderer.h"
+
+namespace vx::tools {
+
+struct Timing {
+    double frame = -1, trace = -1, denoise = -1; // GPU ms (medians); -1 without timestamps.
+};
+
+// Renders `repeat` frames (after one warm-up) and returns the medians and the last image.
+Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
+                   render::RenderImage* image);
+
+// Frames of 8 shadow samples a reference of `spp` samples per pixel accumulates (at least 1).
+uint32_t reference_frames(uint32_t spp);
+
+// A converged reference: `s` (its bounces, lights and seed) with 8 shadow samples, accumulated
+// over reference_frames(spp) frames, no filter. Returns the last frame.
+render::RenderImage render_reference(render::Renderer& r, render::RenderSettings s, const render::Camera& cam,
+                                     uint32_t spp);
+
+} // namespace vx::tools

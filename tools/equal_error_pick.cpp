@@ -1,0 +1,40 @@
+#include "equal_error_pick.h"
+
+namespace vx::tools {
+
+std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections) {
+    std::vector<EqualErrorCandidate> v;
+    for (bool denoise : {false, true})
+        for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, kThesisSpp}) {
+            if (!reflections) {
+                v.push_back({spp, 0, denoise});
+                continue;
+            }
+            uint32_t last = 0; // {1, 2, 4, spp} repeats a count when spp <= 4.
+            for (uint32_t bounce : {1u, 2u, 4u, spp})
+                if (bounce <= spp && bounce != last) {
+                    v.push_back({spp, bounce, denoise});
+                    last = bounce;
+                }
+        }
+    return v;
+}
+
+bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCandidate> measured, double best_ms) {
+    if (best_ms <= 0)
+        return false;
+    for (const EqualErrorCandidate& m : measured)
+        if (m.frame_ms >= best_ms && m.spp <= c.spp && m.bounce_spp <= c.bounce_spp && (c.denoise || !m.denoise))
+            return true;
+    return false;
+}
+
+const EqualErrorCandidate* cheapest_meeting(std::span<const EqualErrorCandidate> candidates, double target_rmse) {
+    const EqualErrorCandidate* best = nullptr;
+    for (const EqualErrorCandidate& c : candidates)
+        if (c.frame_ms > 0 && c.rmse >= 0 && c.rmse <= target_rmse && (!best || c.frame_ms < best->frame_ms))
+            best = &c;
+    return best;
+}
+
+} // namespace vx::tools

@@ -1,0 +1,39 @@
+#pragma once
+// The search behind `vx bench render --sections equal-error` (issue 18: Table 6.3 at equal
+// error): which sample counts and denoiser settings to try, which to skip, and the cheapest one
+// whose one-frame error meets a target. No GPU here: pure functions, thread-safe.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace vx::tools {
+
+// One configuration of a feature set (shadows; or shadows and reflections) and what it measured.
+struct EqualErrorCandidate {
+    uint32_t spp = 0;        // Shadow samples at the first hit.
+    uint32_t bounce_spp = 0; // Shadow samples on each reflection bounce; 0 without reflections.
+    bool denoise = false;    // One frame through the denoiser (no history).
+    double frame_ms = -1;    // Median GPU frame time; -1: not measured (skipped).
+    double rmse = -1;        // One-frame RMSE against the reference; -1: not measured.
+};
+
+// The thesis's sample count (its Table 6.3 rows traced 25 shadow rays at every hit).
+inline constexpr uint32_t kThesisSpp = 25;
+
+// Shadow spp in {1, 2, 4, 8, 16, 25}; with reflections, bounce spp in {1, 2, 4, spp} up to spp
+// (without: 0); raw, then denoised. In measuring order: no candidate precedes one with fewer
+// samples of the same denoiser, so equal_error_skip() can bound a candidate by earlier ones.
+// The thesis's configuration (25, 25 or 0, raw) is among them.
+std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections);
+
+// True when `c` cannot be cheaper than `best_ms` (the cheapest frame time meeting the target so
+// far; <= 0: none yet): a measured candidate with no more samples of either kind, and no denoiser
+// where `c` has none, already took at least `best_ms`. More rays and the denoiser only add work.
+bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCandidate> measured, double best_ms);
+
+// The measured candidate of least frame time whose RMSE is at most `target_rmse`; nullptr when
+// none is (an empty span, or every one is worse or unmeasured). Ties: the first.
+const EqualErrorCandidate* cheapest_meeting(std::span<const EqualErrorCandidate> candidates, double target_rmse);
+
+} // namespace vx::tools
