@@ -392,7 +392,8 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--reference-spp", a.reference_spp, "Samples per pixel of the converged reference")
         ->check(CLI::Range(8u, 1u << 20));
     app.add_option("--repeat", a.repeat, "Frames per configuration (medians)")->check(CLI::Range(1u, 10000u));
-    app.add_option("--reflections", a.reflections, "Reflection bounces of the full-shading rows");
+    app.add_option("--reflections", a.reflections,
+                   "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
     app.add_option("--lighting", a.lighting,
