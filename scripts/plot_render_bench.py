@@ -5,6 +5,8 @@ Usage: scripts/plot_render_bench.py DIR/render_bench.csv  (Debian python3: /usr/
        scripts/plot_render_bench.py DIR/equal_error.csv   (--sections equal-error: one PNG per
        feature set, RMSE against frame time as a multiple of RT flat, with the target RMSE and the
        thesis's ratios marked)
+       scripts/plot_render_bench.py DIR/defaults.csv      (--sections defaults: moving-camera
+       error against GPU ms, qualifying candidates filled, the pick starred)
 Needs python3-matplotlib (scripts/setup.sh installs it).
 """
 import csv
@@ -60,9 +62,40 @@ def plot_equal_error(rows, out_dir):
         print(f"wrote {png}")
 
 
+def plot_defaults(rows, out_dir: str) -> str:
+    """defaults.csv: error (the larger p95 of the two moving paths) against ms, one PNG."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for denoise, marker, name in ((0, "o", "denoiser off"), (1, "^", "denoiser on")):
+        pts = [r for r in rows if int(r["denoise"]) == denoise]
+        for qualifies, fill in ((1, "full"), (0, "none")):
+            sel = [r for r in pts if int(r["qualifies"]) == qualifies]
+            if sel:
+                ax.plot([float(r["ms"]) for r in sel], [float(r["error"]) for r in sel], marker=marker,
+                        linestyle="", fillstyle=fill, color="C%d" % denoise,
+                        label=name + (", qualifies" if qualifies else ""))
+    for r in rows:
+        label = r["shadow_spp"] + "/" + r["bounce_spp"] + (" h" + r["history"] if int(r["denoise"]) else "")
+        label += " (now)" if int(r["sandbox_now"]) else ""
+        ax.annotate(label, (float(r["ms"]), float(r["error"])), fontsize=7, xytext=(3, 3),
+                    textcoords="offset points")
+        if int(r["pick"]):
+            ax.plot([float(r["ms"])], [float(r["error"])], marker="*", markersize=14, linestyle="",
+                    color="C3", label="the pick")
+    ax.set_xscale("log")
+    ax.set_xlabel("GPU ms per frame (trace + denoiser, median)")
+    ax.set_ylabel("moving-camera RMSE p95 (worse path)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    png = os.path.join(out_dir, "defaults_error_vs_ms.png")
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+    return png
+
+
 def main() -> int:
     if len(sys.argv) != 2:
-        print("usage: plot_render_bench.py render_bench.csv|equal_error.csv", file=sys.stderr)
+        print("usage: plot_render_bench.py render_bench.csv|equal_error.csv|defaults.csv", file=sys.stderr)
         return 2
     path = sys.argv[1]
     with open(path, newline="") as f:
@@ -73,6 +106,9 @@ def main() -> int:
     out_dir = os.path.dirname(os.path.abspath(path))
     if "feature_set" in rows[0]:
         plot_equal_error(rows, out_dir)
+        return 0
+    if "best_at_2x" in rows[0]:
+        print(f"wrote {plot_defaults(rows, out_dir)}")
         return 0
     for metric, label in (("rmse", "RMSE"), ("psnr", "PSNR (dB)"), ("ssim", "SSIM")):
         fig, ax = plt.subplots(figsize=(6, 4))

@@ -20,51 +20,6 @@ constexpr double kOrbitDegrees = 3.0; // Per frame: a brisk turn (a 2-minute orb
 constexpr double kFlyStep = 0.02;     // Per frame, of the eye's distance to the centre.
 constexpr double kRecovered = 1.25;   // After the edit: error within this of its median before.
 
-struct Row {
-    std::string name;
-    render::RenderSettings s;
-};
-
-// The game-like configurations every path runs: denoised with an 8-frame history (reprojected
-// while the camera moves), and raw single frames for comparison.
-std::vector<Row> rows(const PathBenchInfo& info) {
-    auto make = [&](std::string name, uint32_t spp, bool denoise, uint32_t history) {
-        Row row{std::move(name), info.base};
-        row.s.mode = render::ShadingMode::Full;
-        row.s.shadow_samples = spp;
-        row.s.bounce_shadow_samples = spp;
-        row.s.max_bounces = info.reflections;
-        row.s.denoise = denoise;
-        row.s.accumulate = history;
-        return row;
-    };
-    return {make("1 spp, denoiser on, history 8", 1, true, 8), make("4 spp, denoiser on, history 8", 4, true, 8),
-            make("4 spp, raw", 4, false, 1)};
-}
-
-struct Path {
-    std::string name;
-    std::vector<render::Camera> poses;
-    uint32_t edit_frame = 0; // Frame that first shows the edit; 0: no edit.
-};
-
-// The converged reference of one pose: `frames` frames of 8 samples accumulated, no filter.
-// `parity` alternates the history length between successive poses, which restarts the history
-// (render/renderer.h: a change of accumulate does), so no pose inherits the last one's frames.
-ImageF reference(render::Renderer& r, const PathBenchInfo& info, const render::Camera& cam, uint32_t parity) {
-    render::RenderSettings s = info.base;
-    s.mode = render::ShadingMode::Full;
-    s.shadow_samples = 8;
-    s.bounce_shadow_samples = 8;
-    s.max_bounces = info.reflections;
-    s.denoise = false;
-    s.accumulate = std::max(1u, info.reference_spp / 8) + parity;
-    render::RenderImage img;
-    for (uint32_t i = 0; i < s.accumulate; ++i)
-        img = r.render(s, cam);
-    return render::to_float(img);
-}
-
 // The top solid block of the column through the scene's centre, or nullopt.
 std::optional<world::BlockPos> surface_at_centre(const engine::LoadedScene& scene) {
     const glm::i64vec3 c = (scene.box_min + scene.box_max) / int64_t(2);
@@ -105,13 +60,6 @@ std::vector<world::BlockId> set_cube(render::Renderer& r, engine::LoadedScene& s
     return previous;
 }
 
-double percentile(std::vector<double> v, double p) {
-    if (v.empty())
-        return -1;
-    std::sort(v.begin(), v.end());
-    return v[size_t(std::lround(p * double(v.size() - 1)))];
-}
-
 // The pixels the edit changed: any channel of the references before and after differs by more
 // than 0.1 (a tenth of the display range).
 std::vector<bool> changed_pixels(const ImageF& before, const ImageF& after) {
@@ -146,16 +94,29 @@ double flicker(const std::vector<ImageF>& images) {
 
 } // namespace
 
-std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, const PathBenchInfo& info) {
-    const uint32_t n = std::max(info.frames, 4u);
-    // The default view's eye and the point it looks at (Camera: block + offset, forward).
-    const glm::dvec3 eye = glm::dvec3(info.camera.block) + glm::dvec3(info.camera.offset);
+std::vector<PathRow> default_path_rows(const PathBenchInfo& info) {
+    auto make = [&](std::string name, uint32_t spp, bool denoise, uint32_t history) {
+        PathRow row{std::move(name), info.base};
+        row.s.mode = render::ShadingMode::Full;
+        row.s.shadow_samples = spp;
+        row.s.bounce_shadow_samples = spp;
+        row.s.max_bounces = info.reflections;
+        row.s.denoise = denoise;
+        row.s.accumulate = history;
+        return row;
+    };
+    return {make("1 spp, denoiser on, history 8", 1, true, 8), make("4 spp, denoiser on, history 8", 4, true, 8),
+            make("4 spp, raw", 4, false, 1)};
+}
+
+std::vector<CameraPath> moving_paths(const engine::LoadedScene& scene, const render::Camera& start, uint32_t frames) {
+    // The start's eye and the point it looks at (Camera: block + offset, forward).
+    const glm::dvec3 eye = glm::dvec3(start.block) + glm::dvec3(start.offset);
     const glm::dvec3 centre = glm::dvec3(scene.box_min + scene.box_max) * 0.5;
-    std::vector<Path> paths(3);
+    std::vector<CameraPath> paths(2);
     paths[0].name = "orbit";
     paths[1].name = "fly-over";
-    paths[2].name = "edit";
-    for (uint32_t i = 0; i < n; ++i) {
+    for (uint32_t i = 0; i < frames; ++i) {
         const double a = glm::radians(kOrbitDegrees * double(i));
         const glm::dvec3 d = eye - centre;
         const glm::dvec3 rotated(d.x * std::cos(a) - d.z * std::sin(a), d.y, d.x * std::sin(a) + d.z * std::cos(a));
@@ -164,8 +125,38 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
         ahead.y = 0.0;
         const glm::dvec3 step = kFlyStep * glm::length(d) * double(i) * glm::normalize(ahead);
         paths[1].poses.push_back(render::Camera::look_at(eye + step, centre + step));
-        paths[2].poses.push_back(info.camera);
     }
+    return paths;
+}
+
+render::ImageF path_reference(render::Renderer& r, const render::RenderSettings& base, uint32_t bounces, uint32_t spp,
+                              const render::Camera& cam, uint32_t parity, uint64_t* frames) {
+    render::RenderSettings s = base;
+    s.mode = render::ShadingMode::Full;
+    s.shadow_samples = 8;
+    s.bounce_shadow_samples = 8;
+    s.max_bounces = bounces;
+    s.denoise = false;
+    s.accumulate = std::max(1u, spp / 8) + parity;
+    render::RenderImage img;
+    for (uint32_t i = 0; i < s.accumulate; ++i)
+        img = r.render(s, cam);
+    if (frames)
+        *frames += s.accumulate;
+    return render::to_float(img);
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty())
+        return -1;
+    std::sort(v.begin(), v.end());
+    return v[size_t(std::lround(p * double(v.size() - 1)))];
+}
+
+std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, const PathBenchInfo& info) {
+    const uint32_t n = std::max(info.frames, 4u);
+    std::vector<CameraPath> paths = moving_paths(scene, info.camera, n);
+    paths.push_back({"edit", std::vector<render::Camera>(n, info.camera), 0});
     const std::optional<world::BlockPos> top = surface_at_centre(scene);
     const world::BlockId stone = scene.world->registry().find("stone").value_or(world::BlockId(1));
     if (top)
@@ -192,21 +183,23 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
     std::ofstream csv(info.out + "/paths.csv");
     csv << "path,configuration,frame,rmse,edited_rmse\n"; // edited_rmse: the edit's pixels (edit path).
     char line[512];
-    for (const Path& path : paths) {
+    const std::vector<PathRow> rows = info.rows.empty() ? default_path_rows(info) : info.rows;
+    for (const CameraPath& path : paths) {
         // References first: one per pose (two for the still edit path: before and after).
         std::vector<ImageF> refs;
         std::vector<bool> mask;
         if (path.edit_frame > 0) {
-            const ImageF before = reference(r, info, path.poses[0], 0);
+            const ImageF before = path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[0], 0);
             const std::vector<world::BlockId> held = set_cube(r, scene, *top, {stone});
-            const ImageF after = reference(r, info, path.poses[0], 1);
+            const ImageF after = path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[0], 1);
             set_cube(r, scene, *top, held);
             mask = changed_pixels(before, after);
             for (uint32_t i = 0; i < n; ++i)
                 refs.push_back(i < path.edit_frame ? before : after);
         } else {
             for (uint32_t i = 0; i < n; ++i)
-                refs.push_back(reference(r, info, path.poses[i], i % 2));
+                refs.push_back(
+                    path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[i], i % 2));
         }
         struct Result {
             std::string row, recovery;
@@ -214,7 +207,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
             std::vector<double> edited;
         };
         std::vector<Result> results;
-        for (const Row& row : rows(info)) {
+        for (const PathRow& row : rows) {
             std::vector<world::BlockId> held; // What the cube's blocks were before the edit.
             std::vector<ImageF> frames;
             std::vector<double> error, edited; // Whole image; the edit's pixels.
@@ -248,7 +241,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
         }
         for (const Result& res : results) {
             // The ghost: frames from the edit on whose error in the edited pixels exceeds the raw
-            // row's (rows(): the last), i.e. worse than no history at all.
+            // row's (the last row), i.e. worse than no history at all.
             std::string ghost = "";
             if (path.edit_frame > 0) {
                 const std::vector<double>& raw = results.back().edited;

@@ -13,11 +13,20 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "engine/scene_loader.h"
+#include "render/image_metrics.h"
 #include "render/renderer.h"
 
 namespace vx::tools {
+
+// One configuration every path runs: a name for the tables and its settings (size, lights, the
+// whole of it).
+struct PathRow {
+    std::string name;
+    render::RenderSettings s;
+};
 
 struct PathBenchInfo {
     render::RenderSettings base; // Size and lights; samples, bounces and denoiser set per row.
@@ -26,7 +35,33 @@ struct PathBenchInfo {
     uint32_t reference_spp = 64; // Per pose: frames of 8 samples, accumulated, no filter.
     uint32_t reflections = 5;    // Mirror bounces of every row and of the references.
     std::string out;             // Directory for paths.csv.
+    // The configurations; empty: default_path_rows(). The last is the ghost's yardstick (raw).
+    std::vector<PathRow> rows;
 };
+
+// 1 spp and 4 spp denoised with an 8-frame history, and 4 spp raw; info.reflections bounces.
+std::vector<PathRow> default_path_rows(const PathBenchInfo& info);
+
+// A camera path: one pose per frame.
+struct CameraPath {
+    std::string name;
+    std::vector<render::Camera> poses;
+    uint32_t edit_frame = 0; // Frame that first shows the edit; 0: no edit.
+};
+
+// The moving paths from `start` (the default view), `frames` poses each: the orbit about the
+// scene's box centre, then the fly-over towards it (see the top of this file).
+std::vector<CameraPath> moving_paths(const engine::LoadedScene& scene, const render::Camera& start, uint32_t frames);
+
+// The converged reference of one pose: max(1, spp / 8) frames of 8 samples (`bounces` mirror
+// bounces, lights and size of `base`) accumulated, no filter; adds the frames rendered to
+// `*frames` when given. Successive poses pass alternating `parity` (0, 1): it changes the history
+// length by one, which restarts the history, so no pose inherits the last one's frames.
+render::ImageF path_reference(render::Renderer& r, const render::RenderSettings& base, uint32_t bounces, uint32_t spp,
+                              const render::Camera& cam, uint32_t parity, uint64_t* frames = nullptr);
+
+// The value at fraction p (0..1) of sorted `v`, nearest rank; -1 when empty.
+double percentile(std::vector<double> v, double p);
 
 // Renders the paths with `r` (whose scene `scene` holds) and returns the report's markdown
 // ("## Camera paths", one table); writes info.out/paths.csv with every frame's RMSE. The edit

@@ -14,12 +14,14 @@
 //   4. geometry (tools/bench_render_geometry.h): naive, culled and greedy meshes; refit against
 //      rebuild over k edits;
 //   5. camera paths (tools/bench_render_paths.h): orbit, fly-over and an edit, every frame
-//      against a converged reference at its pose.
-// --sections picks them: all (default), report (1-3), equal-error, geometry (4) or paths (5).
-// --lighting thesis lights every row with the area light alone (no sun, no sky light), as the
-// thesis did. Writes DIR/render_report.md (tables), DIR/render_bench.csv (equal_error.csv), PNGs
-// of the reference and of each sweep image; scripts/plot_render_bench.py draws error against
-// frame time from either CSV.
+//      against a converged reference at its pose;
+//   6. sandbox defaults (tools/bench_render_defaults.h): game settings over the moving paths,
+//      and the cheapest within 1.25x of the best error at up to twice its cost.
+// --sections picks them: all (default), report (1-3), equal-error, geometry (4), paths (5) or
+// defaults (6). --lighting thesis lights every row with the area light alone (no sun, no sky
+// light), as the thesis did. Writes DIR/render_report.md (tables), DIR/render_bench.csv
+// (equal_error.csv, defaults.csv), PNGs of the reference and of each sweep image;
+// scripts/plot_render_bench.py draws error against frame time from any of the CSVs.
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -33,6 +35,7 @@
 
 #include "bench_render_equal_error.h"
 #include "bench_render_frames.h"
+#include "bench_render_defaults.h"
 #include "bench_render_geometry.h"
 #include "bench_render_paths.h"
 #include "cli_common.h"
@@ -52,7 +55,7 @@ struct BenchRenderArgs {
     std::string size = "160x90", out = "render_bench", device = "auto", sections = "all";
     std::string lighting = "default"; // --lighting: default (sun, sky, area light) or thesis.
     uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
-    uint32_t path_frames = 24, path_reference_spp = 64; // Section 5.
+    uint32_t path_frames = 24, path_reference_spp = 64; // Sections 5 and 6.
     uint32_t error_seeds = 4;                           // Equal error: sample seeds per RMSE.
 };
 
@@ -251,13 +254,20 @@ int run_bench_render(const BenchRenderArgs& a) {
                      " frames (timestamps); the machine may be shared: read them side by side.\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
-    const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out};
+    const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
+    const DefaultsBenchInfo defaults{base, cam, a.path_frames, a.path_reference_spp, a.out};
     const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections, a.reference_spp,
                                     a.error_seeds, a.lighting, a.out};
     if (a.sections == "equal-error") {
         md += run_equal_error_bench(r, equal);
         std::ofstream(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and equal_error.csv\n", a.out.c_str());
+        return kExitOk;
+    }
+    if (a.sections == "defaults") { // Only section 6.
+        md += run_defaults_bench(r, *scene, defaults);
+        std::ofstream(a.out + "/render_report.md") << md;
+        std::printf("  wrote %s/render_report.md and defaults.csv\n", a.out.c_str());
         return kExitOk;
     }
     if (a.sections == "paths") { // Only section 5.
@@ -348,6 +358,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     if (a.sections == "all") {
         md += "\n" + run_equal_error_bench(r, equal);
         md += "\n" + run_path_bench(r, *scene, paths);
+        md += "\n" + run_defaults_bench(r, *scene, defaults);
         renderer->reset();
         md += run_geometry_bench(*scene, geometry);
     }
@@ -374,7 +385,8 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--reference-spp", a.reference_spp, "Samples per pixel of the converged reference")
         ->check(CLI::Range(8u, 1u << 20));
     app.add_option("--repeat", a.repeat, "Frames per configuration (medians)")->check(CLI::Range(1u, 10000u));
-    app.add_option("--reflections", a.reflections, "Reflection bounces of the full-shading rows");
+    app.add_option("--reflections", a.reflections,
+                   "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
     app.add_option("--lighting", a.lighting,
@@ -384,12 +396,15 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--sections", a.sections,
                    "all; report: pipelines, features, speed against error; equal-error: Table 6.3's shadow and "
                    "reflection rows at the thesis's one-frame error; geometry: meshers, refit against rebuild; "
-                   "paths: orbit, fly-over and an edit against references at every pose")
-        ->check(CLI::IsMember({"all", "report", "equal-error", "geometry", "paths"}));
+                   "paths: orbit, fly-over and an edit against references at every pose; defaults: game settings "
+                   "over the moving paths and the pick for the sandbox")
+        ->check(CLI::IsMember({"all", "report", "equal-error", "geometry", "paths", "defaults"}));
     app.add_option("--error-seeds", a.error_seeds, "Equal error: sample seeds per one-frame RMSE")
         ->check(CLI::Range(1u, 64u));
-    app.add_option("--path-frames", a.path_frames, "Frames per camera path")->check(CLI::Range(4u, 10000u));
-    app.add_option("--path-reference-spp", a.path_reference_spp, "Samples per pixel of each path pose's reference")
+    app.add_option("--path-frames", a.path_frames, "Frames per camera path (paths, defaults)")
+        ->check(CLI::Range(4u, 10000u));
+    app.add_option("--path-reference-spp", a.path_reference_spp,
+                   "Samples per pixel of each path pose's reference (paths, defaults)")
         ->check(CLI::Range(8u, 1u << 20));
     try {
         app.parse(argc, argv);

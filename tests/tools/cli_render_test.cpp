@@ -350,6 +350,46 @@ TEST(CliRender, BenchRenderCameraPaths) {
     EXPECT_EQ(vx("bench render --sections paths --path-frames 2").code, 2);
 }
 
+// `vx bench render --sections defaults` (tiny): a table row and a CSV line per candidate (7
+// sample settings x denoiser off / on, and the sandbox's settings today), one pick that qualifies,
+// the ms and error columns filled, and the frames rendered: 15 candidates x 2 paths x (8 warm-up
+// + 4 frames) = 360, and references for 2 x 4 poses of max(1, 8 / 8) + parity frames = 12.
+TEST(CliRender, BenchRenderDefaultsSection) {
+    const std::string out = dir() + "/bench_defaults";
+    const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --sections defaults "
+                        "--path-frames 4 --path-reference-spp 8 --out " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream md(out + "/render_report.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("## Sandbox defaults from the curves"), std::string::npos) << text;
+    EXPECT_NE(text.find("Frames rendered: 372 (references 12, candidates 360 with warm-up)"), std::string::npos)
+        << text;
+    EXPECT_NE(text.find("(sandbox now) |"), std::string::npos) << text;
+    std::ifstream csv(out + "/defaults.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_EQ(header.rfind("shadow_spp,bounce_spp,denoise,history,sandbox_now,ms,", 0), 0u) << header;
+    int rows = 0, picks = 0;
+    for (std::string line; std::getline(csv, line);) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        for (std::string x; std::getline(ss, x, ',');)
+            f.push_back(x);
+        ASSERT_EQ(f.size(), 14u) << line;
+        ++rows;
+        EXPECT_GT(std::stod(f[5]), 0.0) << line;  // ms
+        EXPECT_GT(std::stod(f[10]), 0.0) << line; // error
+        EXPECT_LE(std::stod(f[11]), std::stod(f[10])) << line; // best at 2x includes itself
+        if (f[13] == "1") {
+            ++picks;
+            EXPECT_EQ(f[12], "1") << line; // The pick qualifies.
+        }
+    }
+    EXPECT_EQ(rows, 15);
+    EXPECT_EQ(picks, 1);
+    EXPECT_EQ(vx("bench render --sections defaults --path-frames 3").code, 2);
+}
+
 // `vx bench render --sections geometry`: three mesher rows (naive > culled > greedy triangles),
 // the refit run refits and the rebuild run only builds, trace rows after k = 0, 1, 10, 100.
 TEST(CliRender, BenchRenderGeometrySection) {
