@@ -53,6 +53,16 @@ float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
     return sum / weight; // The centre always counts.
 }
 
+// Tuning (experiment).
+const float kFootprintSpread = 1e9;  // Gaussian sigma in units of the footprint.
+const float kRelaxFrom = 2.0;
+const float kRelaxFootprint = 8.0;   // Footprint (pixels) above which the luminance stop relaxes.
+const float kRelax = 4.0;            // Factor on the luminance scale there.
+const int kRelaxMaxStep = 16;
+const float kRelaxReach = 1e9;
+const float kRelaxContrast = 1e9;
+const float kNoOccluderFootprint = 60000.0; // denoise_temporal.comp kNoOccluder.
+
 // One a-trous step of a channel at p (no surface: unchanged).
 vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     const vec4 centre = load_in(mirror, p);
@@ -66,7 +76,12 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     grad = clamp(grad, vec2(-d), vec2(d));
     const bool prefiltered = step == 1 && !mirror;
     const float lum = prefiltered ? prefiltered_luminance(p, size, nd) : luminance(centre.rgb);
-    const float lum_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
+    const float footprint = mirror ? 0.0 : imageLoad(u_reflected, p).a;
+    const float relax = step <= kRelaxMaxStep && footprint > 0.0 && footprint < kNoOccluderFootprint ? mix(1.0, kRelax, smoothstep(kRelaxFrom, kRelaxFootprint, footprint)) : 1.0;
+    const float plain_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
+    const float lum_scale = relax * pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
+    const float spread = footprint > 0.0 ? kFootprintSpread * footprint : 0.0;
+    const float inv_two_s2 = spread > 0.0 ? 0.5 / (spread * spread) : 0.0;
     vec3 sum = vec3(0);
     float var_sum = 0, w_sum = 0;
     for (int dy = -2; dy <= 2; ++dy)
@@ -82,8 +97,13 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
             const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
             const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
             // The centre keeps weight 1 also against a prefiltered luminance far from its own.
-            const float w_lum = (dx == 0 && dy == 0) ? 1.0 : exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
-            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum;
+            const float lq = luminance(cq.rgb);
+            const float contrast = abs(lum - lq) / max(max(lum, lq), 1e-6);
+            const float reach = length(vec2(dx, dy)) * float(step);
+            const float tap_scale = contrast < kRelaxContrast && reach <= kRelaxReach * footprint ? lum_scale : plain_scale;
+            const float w_lum = (dx == 0 && dy == 0) ? 1.0 : exp(-abs(lum - lq) / tap_scale);
+            const float w_space = exp(-float((dx * dx + dy * dy) * step * step) * inv_two_s2);
+            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum * w_space;
             sum += w * cq.rgb;
             var_sum += w * w * cq.a;
             w_sum += w;

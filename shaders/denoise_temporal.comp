@@ -214,6 +214,39 @@ float ray_scale(vec2 pixel) {
     return length(vec3(ndc.x * pc.camera.x * pc.camera.y, ndc.y * pc.camera.x, 1.0));
 }
 
+// The light's scale at p in pixels (the a-trous passes' guide, in u_refl_out's a): the
+// occluders' distance (render/gbuffer.h, reflected a) over the world size of a pixel at p's view
+// depth, pooled over 5x5 pixels 2 apart on the same surface as a mean of inverse distances (one
+// pixel's few rays are noisy; the nearest occluders decide how fast the light varies). A sun
+// shadow's edge is too sharp for its rays to see: where the window holds pixels the sun reaches
+// and pixels it does not, kSunEdge. 0: unknown (no rays); kNoOccluder: no ray hit anything.
+const float kNoOccluder = 60000.0;
+const float kSunEdge = 0.5;
+float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
+    float inverse = 0, hits = 0, known = 0, sunlit = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+            const ivec2 q = clamp(p + 2 * ivec2(dx, dy), ivec2(0), size - 1);
+            const float d = imageLoad(u_reflected, q).a;
+            if (d == 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
+                continue;
+            known += 1;
+            sunlit += d > 0.0 ? 1.0 : 0.0;
+            if (abs(d) < 0.5 * kNoOccluder) {
+                inverse += 1.0 / abs(d);
+                hits += 1;
+            }
+        }
+    if (known == 0.0)
+        return 0.0;
+    if (sunlit > 0.0 && sunlit < known)
+        return kSunEdge;
+    if (hits == 0.0)
+        return kNoOccluder;
+    const float pixel = nd.w / ray_scale(vec2(p) + 0.5) * 2.0 * pc.camera.x / float(size.y);
+    return min(hits / inverse / pixel, kNoOccluder);
+}
+
 // expected_distance: along the previous frame's primary ray.
 bool history_matches(vec4 nd, vec4 hist_nd, float expected_distance) {
     return has_surface(hist_nd) && dot(nd.xyz, hist_nd.xyz) > 0.9 &&
@@ -438,7 +471,7 @@ void main() {
     imageStore(u_hist_out, p, vec4(accumulated, frames));
     imageStore(u_moments_out, p, vec4(moments.xyz, 0));
     imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
-    imageStore(u_refl_out, p, vec4(reflected, 0));
+    imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
     imageStore(u_filter_out, p, vec4(accumulated, sample_variance / frames));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
