@@ -58,8 +58,9 @@ const float kFootprintSpread = 1e9;  // Gaussian sigma in units of the footprint
 const float kRelaxFrom = 2.0;
 const float kRelaxFootprint = 8.0;   // Footprint (pixels) above which the luminance stop relaxes.
 const float kRelax = 4.0;            // Factor on the luminance scale there.
-const int kRelaxMaxStep = 16;
+const int kRelaxMaxStep = 4;
 const float kRelaxReach = 1e9;
+const float kPrefilterFootprint = 8.0;
 const float kRelaxContrast = 1e9;
 const float kNoOccluderFootprint = 60000.0; // denoise_temporal.comp kNoOccluder.
 
@@ -74,13 +75,14 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     vec2 grad = vec2(depth_at(mirror, p + ivec2(1, 0), size) - depth_at(mirror, p - ivec2(1, 0), size),
                      depth_at(mirror, p + ivec2(0, 1), size) - depth_at(mirror, p - ivec2(0, 1), size)) * 0.5;
     grad = clamp(grad, vec2(-d), vec2(d));
-    const bool prefiltered = step == 1 && !mirror;
-    const float lum = prefiltered ? prefiltered_luminance(p, size, nd) : luminance(centre.rgb);
-    const float footprint = mirror ? 0.0 : imageLoad(u_reflected, p).a;
+    const float signed_footprint = mirror ? 0.0 : imageLoad(u_reflected, p).a;
+    const float footprint = abs(signed_footprint);
     const float relax = step <= kRelaxMaxStep && footprint > 0.0 && footprint < kNoOccluderFootprint ? mix(1.0, kRelax, smoothstep(kRelaxFrom, kRelaxFootprint, footprint)) : 1.0;
+    const bool prefiltered = (step == 1 || (footprint >= kPrefilterFootprint && footprint < kNoOccluderFootprint)) && !mirror;
+    const float lum = prefiltered ? prefiltered_luminance(p, size, nd) : luminance(centre.rgb);
     const float plain_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
     const float lum_scale = relax * pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
-    const float spread = footprint > 0.0 ? kFootprintSpread * footprint : 0.0;
+    const float spread = footprint > 0.75 ? kFootprintSpread * footprint : 0.0;
     const float inv_two_s2 = spread > 0.0 ? 0.5 / (spread * spread) : 0.0;
     vec3 sum = vec3(0);
     float var_sum = 0, w_sum = 0;
@@ -103,7 +105,9 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
             const float tap_scale = contrast < kRelaxContrast && reach <= kRelaxReach * footprint ? lum_scale : plain_scale;
             const float w_lum = (dx == 0 && dy == 0) ? 1.0 : exp(-abs(lum - lq) / tap_scale);
             const float w_space = exp(-float((dx * dx + dy * dy) * step * step) * inv_two_s2);
-            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum * w_space;
+            const float fq = mirror ? 0.0 : imageLoad(u_reflected, q).a;
+            const float w_sun = signed_footprint * fq < 0.0 ? 0.0 : 1.0;
+            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum * w_space * w_sun;
             sum += w * cq.rgb;
             var_sum += w * w * cq.a;
             w_sum += w;

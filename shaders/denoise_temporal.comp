@@ -222,8 +222,9 @@ float ray_scale(vec2 pixel) {
 // and pixels it does not, kSunEdge. 0: unknown (no rays); kNoOccluder: no ray hit anything.
 const float kNoOccluder = 60000.0;
 const float kSunEdge = 0.5;
+const int kSunEdgeReach = 1;
 float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
-    float inverse = 0, hits = 0, known = 0, sunlit = 0;
+    float inverse = 0, hits = 0, known = 0, sunlit = 0, near = 0;
     for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
             const ivec2 q = clamp(p + 2 * ivec2(dx, dy), ivec2(0), size - 1);
@@ -231,7 +232,10 @@ float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
             if (d == 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
             known += 1;
-            sunlit += d > 0.0 ? 1.0 : 0.0;
+            if (max(abs(dx), abs(dy)) <= kSunEdgeReach) {
+                near += 1;
+                sunlit += d > 0.0 ? 1.0 : 0.0;
+            }
             if (abs(d) < 0.5 * kNoOccluder) {
                 inverse += 1.0 / abs(d);
                 hits += 1;
@@ -239,12 +243,10 @@ float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
         }
     if (known == 0.0)
         return 0.0;
-    if (sunlit > 0.0 && sunlit < known)
-        return kSunEdge;
-    if (hits == 0.0)
-        return kNoOccluder;
     const float pixel = nd.w / ray_scale(vec2(p) + 0.5) * 2.0 * pc.camera.x / float(size.y);
-    return min(hits / inverse / pixel, kNoOccluder);
+    const float footprint = sunlit > 0.0 && sunlit < near ? kSunEdge
+                          : hits == 0.0 ? kNoOccluder : min(hits / inverse / pixel, kNoOccluder);
+    return imageLoad(u_reflected, p).a < 0.0 ? -footprint : footprint;
 }
 
 // expected_distance: along the previous frame's primary ray.
