@@ -27,7 +27,8 @@
 //                          estimated from the 3x3 neighbourhood),
 //   reflected     RGBA16F  the part of colour not filtered with the primary hit's guides
 //                          (emission, mirror bounces; rgb): accumulated over frames only,
-//                          except mirror light x mirror albedo,
+//                          except mirror light x mirror albedo; a: the occluder distance and
+//                          sun flag of render/gbuffer.h (0: no guide, the filter as without),
 //   mirror_light, mirror_albedo, mirror_normal_depth (optional, all or none): the first
 //                          mirror bounce's diffuse lighting over its surface's albedo (RGBA16F,
 //                          a: variance as colour's), that albedo (RGBA8) and that surface's

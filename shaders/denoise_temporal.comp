@@ -214,15 +214,17 @@ float ray_scale(vec2 pixel) {
     return length(vec3(ndc.x * pc.camera.x * pc.camera.y, ndc.y * pc.camera.x, 1.0));
 }
 
-// The light's scale at p in pixels (the a-trous passes' guide, in u_refl_out's a): the
-// occluders' distance (render/gbuffer.h, reflected a) over the world size of a pixel at p's view
-// depth, pooled over 5x5 pixels 2 apart on the same surface as a mean of inverse distances (one
-// pixel's few rays are noisy; the nearest occluders decide how fast the light varies). A sun
-// shadow's edge is too sharp for its rays to see: where the window holds pixels the sun reaches
-// and pixels it does not, kSunEdge. 0: unknown (no rays); kNoOccluder: no ray hit anything.
+// The scale of the light at p in pixels, the a-trous passes' guide (written to u_refl_out's a;
+// shaders/denoise_atrous.comp): the occluder distance (render/gbuffer.h, reflected a: the mean
+// distance of the pixel's sky rays that hit a block) over the world size of a pixel at p's view
+// depth, d 2 tan(fov / 2) / height. Pooled over 5x5 pixels 2 apart on the same surface as a mean
+// of inverse distances: one pixel's 4 rays are noisy, and the nearest occluders decide how fast
+// the light varies. A sun shadow's edge is sharper than any of this: where the pixels within 2
+// of p disagree on whether the sun reaches them, kSunEdge (the luminance stop stays as it was).
+// 0: unknown (no rays); kNoOccluder: no ray nearby hit anything (nothing to scale by).
 const float kNoOccluder = 60000.0;
-const float kSunEdge = 0.5;
-const int kSunEdgeReach = 1;
+const float kSunEdge = 0.5;  // Pixels.
+const int kSunEdgeReach = 1; // In steps of 2 pixels.
 float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
     float inverse = 0, hits = 0, known = 0, sunlit = 0, near = 0;
     for (int dy = -2; dy <= 2; ++dy)
@@ -244,9 +246,9 @@ float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
     if (known == 0.0)
         return 0.0;
     const float pixel = nd.w / ray_scale(vec2(p) + 0.5) * 2.0 * pc.camera.x / float(size.y);
-    const float footprint = sunlit > 0.0 && sunlit < near ? kSunEdge
-                          : hits == 0.0 ? kNoOccluder : min(hits / inverse / pixel, kNoOccluder);
-    return imageLoad(u_reflected, p).a < 0.0 ? -footprint : footprint;
+    return sunlit > 0.0 && sunlit < near ? kSunEdge
+           : hits == 0.0                 ? kNoOccluder
+                                         : min(hits / inverse / pixel, kNoOccluder);
 }
 
 // expected_distance: along the previous frame's primary ray.
@@ -474,7 +476,7 @@ void main() {
     imageStore(u_moments_out, p, vec4(moments.xyz, 0));
     imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
     imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
-    imageStore(u_filter_out, p, vec4(accumulated, sample_variance / frames));
+    imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, imageLoad(u_reflected, p).a < 0.0)));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
         store_result(p, accumulated, imageLoad(u_albedo, p).rgb, true, reflected + mirror);

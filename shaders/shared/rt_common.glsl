@@ -28,7 +28,6 @@ struct HitPayload {
 struct ShadowPayload {
     vec3 transmittance;
     uint visible;
-    float hit_t; // An opaque face that blocked the ray: its distance (shadow.rahit); else < 0.
 };
 
 Material vx_material(uint block) {
