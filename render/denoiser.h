@@ -16,8 +16,10 @@
 // the 3x3 spatial estimate, which also counts pixel-sized detail as noise
 // (docs/render_report.md), then from 4 frames of history SVGF's temporal moments. The first pass
 // compares neighbours with the centre's 3x3-blurred luminance, not its own noisy one, so an
-// outlier pixel is filtered too. Compute shaders shaders/denoise_temporal.comp and
-// shaders/denoise_atrous.comp.
+// outlier pixel is filtered too. The ray tracer's occluder distance and sun flag (reflected's
+// a, render/gbuffer.h) steer the primary filter: where the nearest occluders are many pixels
+// away the first passes trust the variance less (the light is smooth), and no tap crosses a sun
+// shadow's edge. Compute shaders shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
 //
 // Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by
 // denoise_on_host): storage images in VK_IMAGE_LAYOUT_GENERAL, written before record() with a
