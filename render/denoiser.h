@@ -17,8 +17,10 @@
 // the 3x3 spatial estimate, which also counts pixel-sized detail as noise
 // (docs/render_report.md), then from 4 frames of history SVGF's temporal moments. The first pass
 // compares neighbours with the centre's 3x3-blurred luminance, not its own noisy one, so an
-// outlier pixel is filtered too. Compute shaders shaders/denoise_temporal.comp and
-// shaders/denoise_atrous.comp.
+// outlier pixel is filtered too. The ray tracer's occluder distance and sun flag (reflected's
+// a, render/gbuffer.h) steer the primary filter: where the nearest occluders are many pixels
+// away the first passes trust the variance less (the light is smooth), and no tap crosses a sun
+// shadow's edge. Compute shaders shaders/denoise_temporal.comp and shaders/denoise_atrous.comp.
 //
 // Inputs are the G-buffer of a frame (any producer: the ray tracer, or an image uploaded by
 // denoise_on_host): storage images in VK_IMAGE_LAYOUT_GENERAL, written before record() with a
@@ -28,7 +30,8 @@
 //                          estimated from the 3x3 neighbourhood),
 //   reflected     RGBA16F  the part of colour not filtered with the primary hit's guides
 //                          (emission, mirror bounces; rgb): accumulated over frames only,
-//                          except mirror light x mirror albedo,
+//                          except mirror light x mirror albedo; a: the occluder distance and
+//                          sun flag of render/gbuffer.h (0: no guide, the filter as without),
 //   mirror_light, mirror_albedo, mirror_normal_depth (optional, all or none): the first
 //                          mirror bounce's diffuse lighting over its surface's albedo (RGBA16F,
 //                          a: variance as colour's), that albedo (RGBA8) and that surface's

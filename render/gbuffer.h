@@ -29,7 +29,15 @@
 //                                     lighting, rgb: its emission plus the radiance from mirror
 //                                     bounces and the haze's in-scattered light (the sky colour on
 //                                     a miss) except the first mirror bounce's diffuse lighting
-//                                     (bindings 7-9); a = 1. The denoiser filters radiance -
+//                                     (bindings 7-9). a (Full mode): the primary hit's occluder
+//                                     distance, the denoiser's guide to the scale of its light:
+//                                     the harmonic mean distance in blocks (>= 0.25) of its sky
+//                                     rays that hit a block; 60000 when none did; 0 when no sky
+//                                     ray was traced and the sun is not blocked (shadows off, no
+//                                     sky access away from emitters, a miss). Negative (the same
+//                                     magnitude; -60000 without sky rays) when the sun's shadow
+//                                     rays were traced and all were blocked: a sun shadow. Flat
+//                                     mode: 0. The denoiser filters radiance -
 //                                     reflected - mirror light x mirror albedo with the primary
 //                                     hit's guides, the mirror light with bindings 8-9 as guides,
 //                                     and adds this back unfiltered. Flat mode: 0.

@@ -26,7 +26,9 @@
 namespace vx::render {
 
 // Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
-constexpr VkDeviceSize kGBufferPixelBytes[3] = {8, 4, 8};
+constexpr VkDeviceSize kGBufferPixelBytes[4] = {8, 4, 8, 8};
+constexpr VkDeviceSize kGBufferReadbackPixelBytes =
+    kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2] + kGBufferPixelBytes[3];
 
 struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
@@ -69,7 +71,7 @@ struct Renderer::Impl {
     uint32_t write_emitter_list(world::BlockPos camera_block);
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
-    Buffer gbuffer_readback; // The G-buffer's three images, one after another (render() with a GBufferImage).
+    Buffer gbuffer_readback; // The G-buffer's four images, one after another (render() with a GBufferImage).
     RenderStats stats;
     std::unique_ptr<Presenter> presenter; // With a window.
     std::unique_ptr<UiPass> ui; // The game's UI (set_ui), made at the first set_ui / set_ui_texture.
@@ -411,7 +413,7 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         if (!readback.valid())
             return out_of_memory("the image read-back");
     }
-    const VkDeviceSize gbuffer_bytes = pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]);
+    const VkDeviceSize gbuffer_bytes = pixels * kGBufferReadbackPixelBytes;
     if (with_gbuffer && (!gbuffer_readback.valid() || gbuffer_readback.size() != gbuffer_bytes)) {
         gbuffer_readback =
             Buffer::create(*ctx, {gbuffer_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "gbuffer readback"});
@@ -704,12 +706,12 @@ void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32
 
 void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
     const VkDeviceSize pixels = VkDeviceSize(width) * height;
-    VX_ASSERT(gbuffer_readback.size() == pixels * (kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2]));
+    VX_ASSERT(gbuffer_readback.size() == pixels * kGBufferReadbackPixelBytes);
     // Last use of the frame's G-buffer (the next frame starts it from UNDEFINED).
     const GBuffer& g = gbuffers[ctx->frame_slot()];
-    const VkImage images[3] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle()};
+    const VkImage images[4] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle(), g.reflected.handle()};
     VkDeviceSize offset = 0;
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < 4; ++i) {
         image_barrier(cmd, images[i], VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                       VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
@@ -746,6 +748,8 @@ void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t he
         out.albedo[i] = glm::vec4(src[i * 4], src[i * 4 + 1], src[i * 4 + 2], src[i * 4 + 3]) / 255.f;
     src += pixels * kGBufferPixelBytes[1];
     halves(out.normal_depth, src);
+    src += pixels * kGBufferPixelBytes[2];
+    halves(out.reflected, src);
 }
 
 RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {

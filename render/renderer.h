@@ -172,6 +172,7 @@ struct GBufferImage {
     std::vector<glm::vec4> radiance;     // Linear HDR radiance, before tone mapping (RGBA16F).
     std::vector<glm::vec4> albedo;       // Linear first-hit albedo; a = 1 on a hit, 0 on a miss (RGBA8).
     std::vector<glm::vec4> normal_depth; // World normal xyz, w: distance along the primary ray; 0 on a miss.
+    std::vector<glm::vec4> reflected;    // The unfiltered part, rgb; a: occluder distance, sun flag (RGBA16F).
     glm::vec4 at(const std::vector<glm::vec4>& image, uint32_t x, uint32_t y) const { return image[size_t(y) * width + x]; }
 };
 
@@ -325,7 +326,7 @@ public:
     void clear_chunks(); // Every entry of every level.
 
     // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
-    // that frame's G-buffer into *gbuffer (tests, tools; costs three more copies).
+    // that frame's G-buffer into *gbuffer (tests, tools; costs four more copies).
     // Errors, each one line, the renderer kept usable: out of GPU memory for a frame resource
     // (render target, G-buffer, read-backs, materials, emitter list, denoiser images, UI, AS
     // scratch, staging, TLAS, raster depth): nothing is drawn, the scene's edits are kept, and a later call

@@ -8,6 +8,13 @@
 // stay sharp; the last pass multiplies the albedo back in and adds the (unfiltered) reflected part.
 // With kDenoiseMirror the same pass filters the first mirror bounce's demodulated light guided by
 // the reflected surface's normal and path length, remodulated by its albedo in the last pass.
+//
+// Two guides from the ray tracer's own rays steer the primary illumination's filter (render/
+// gbuffer.h, reflected a; docs/render_report.md, 2026-12-02), as ReBLUR and SIGMA (NVIDIA RTX
+// Denoisers) steer theirs by hit and occluder distances: the scale of the light (the temporal
+// pass's footprint: how many pixels the sky term needs to change, from the distance of the
+// blocks the sky rays hit) relaxes the luminance stop where the light is smooth, and whether the
+// sun reaches a pixel (exact, not sampled noise) stops taps at sun shadows' edges.
 
 #include "shared/denoise_types.h"
 
@@ -53,6 +60,21 @@ float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
     return sum / weight; // The centre always counts.
 }
 
+// The scale of the light (the temporal pass's footprint, u_reflected's a: pixels; 0: unknown;
+// kNoOccluderFootprint: no occluder near) decides how far the luminance stop trusts the pixels'
+// own variance. At 4 samples a pixel whose few sky rays happened to agree says variance ~0
+// although the light under an overhang 7 blocks up is smooth over many pixels: there the passes
+// of step <= kRelaxLastStep compare with a luminance scale kRelax times wider (ramped in from
+// kRelaxFrom to kRelaxFull pixels), and every pass compares with the blurred centre. Where the
+// scale is a pixel or two (an inner corner's darkening, a contact shadow: the hills' detail) the
+// filter is as before. Measured on lavapipe (docs/render_report.md): a wider scale (x8) or
+// relaxing the wider passes too blurred light across sun shadows and the 16-spp mirror field.
+const float kRelaxFrom = 2.0;
+const float kRelaxFull = 8.0;
+const float kRelax = 6.0;
+const int kRelaxLastStep = 2;
+const float kNoOccluderFootprint = 60000.0; // denoise_temporal.comp's kNoOccluder.
+
 // One a-trous step of a channel at p (no surface: unchanged).
 vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     const vec4 centre = load_in(mirror, p);
@@ -64,9 +86,15 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     vec2 grad = vec2(depth_at(mirror, p + ivec2(1, 0), size) - depth_at(mirror, p - ivec2(1, 0), size),
                      depth_at(mirror, p + ivec2(0, 1), size) - depth_at(mirror, p - ivec2(0, 1), size)) * 0.5;
     grad = clamp(grad, vec2(-d), vec2(d));
-    const bool prefiltered = step == 1 && !mirror;
+    const float footprint = mirror ? 0.0 : imageLoad(u_reflected, p).a;
+    const bool blocked = sun_blocked(centre.a);
+    const bool wide = footprint >= kRelaxFull && footprint < kNoOccluderFootprint;
+    const float relax = step <= kRelaxLastStep && footprint > 0.0 && footprint < kNoOccluderFootprint
+                            ? mix(1.0, kRelax, smoothstep(kRelaxFrom, kRelaxFull, footprint))
+                            : 1.0;
+    const bool prefiltered = (step == 1 || wide) && !mirror;
     const float lum = prefiltered ? prefiltered_luminance(p, size, nd) : luminance(centre.rgb);
-    const float lum_scale = pc.sigmas.z * sqrt(max(centre.a, 0.0)) + 1e-4;
+    const float lum_scale = relax * pc.sigmas.z * sqrt(abs(centre.a)) + 1e-4;
     vec3 sum = vec3(0);
     float var_sum = 0, w_sum = 0;
     for (int dy = -2; dy <= 2; ++dy)
@@ -83,13 +111,16 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
             const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
             // The centre keeps weight 1 also against a prefiltered luminance far from its own.
             const float w_lum = (dx == 0 && dy == 0) ? 1.0 : exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
-            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum;
+            // Sun shadow edges are sharp: never across one (the sun reaches the pixel or not in
+            // the reference too; the primary ray is the pixel's centre).
+            const float w_sun = sun_blocked(cq.a) == blocked ? 1.0 : 0.0;
+            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum * w_sun;
             sum += w * cq.rgb;
-            var_sum += w * w * cq.a;
+            var_sum += w * w * abs(cq.a);
             w_sum += w;
         }
     // The centre tap always has weight kKernel[0]^2 > 0.
-    return vec4(sum / w_sum, var_sum / (w_sum * w_sum));
+    return vec4(sum / w_sum, with_sun_flag(var_sum / (w_sum * w_sum), blocked));
 }
 
 void main() {

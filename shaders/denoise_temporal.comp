@@ -214,6 +214,43 @@ float ray_scale(vec2 pixel) {
     return length(vec3(ndc.x * pc.camera.x * pc.camera.y, ndc.y * pc.camera.x, 1.0));
 }
 
+// The scale of the light at p in pixels, the a-trous passes' guide (written to u_refl_out's a;
+// shaders/denoise_atrous.comp): the occluder distance (render/gbuffer.h, reflected a: the mean
+// distance of the pixel's sky rays that hit a block) over the world size of a pixel at p's view
+// depth, d 2 tan(fov / 2) / height. Pooled over 5x5 pixels 2 apart on the same surface as a mean
+// of inverse distances: one pixel's 4 rays are noisy, and the nearest occluders decide how fast
+// the light varies. A sun shadow's edge is sharper than any of this: where the pixels within 2
+// of p disagree on whether the sun reaches them, kSunEdge (the luminance stop stays as it was).
+// 0: unknown (no rays); kNoOccluder: no ray nearby hit anything (nothing to scale by).
+const float kNoOccluder = 60000.0;
+const float kSunEdge = 0.5;  // Pixels.
+const int kSunEdgeReach = 1; // In steps of 2 pixels.
+float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
+    float inverse = 0, hits = 0, known = 0, sunlit = 0, near = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+            const ivec2 q = clamp(p + 2 * ivec2(dx, dy), ivec2(0), size - 1);
+            const float d = imageLoad(u_reflected, q).a;
+            if (d == 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
+                continue;
+            known += 1;
+            if (max(abs(dx), abs(dy)) <= kSunEdgeReach) {
+                near += 1;
+                sunlit += d > 0.0 ? 1.0 : 0.0;
+            }
+            if (abs(d) < 0.5 * kNoOccluder) {
+                inverse += 1.0 / abs(d);
+                hits += 1;
+            }
+        }
+    if (known == 0.0)
+        return 0.0;
+    const float pixel = nd.w / ray_scale(vec2(p) + 0.5) * 2.0 * pc.camera.x / float(size.y);
+    return sunlit > 0.0 && sunlit < near ? kSunEdge
+           : hits == 0.0                 ? kNoOccluder
+                                         : min(hits / inverse / pixel, kNoOccluder);
+}
+
 // The previous frame's view-space point (right-handed, looking down -z) at its pixel `pixel`
 // (continuous, centres at +0.5) and view depth `depth`: the pinhole of reprojection_matrix().
 vec3 history_view_point(vec2 pixel, float depth) {
@@ -488,8 +525,8 @@ void main() {
     imageStore(u_hist_out, p, vec4(accumulated, frames));
     imageStore(u_moments_out, p, vec4(moments.xyz, 0));
     imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
-    imageStore(u_refl_out, p, vec4(reflected, 0));
-    imageStore(u_filter_out, p, vec4(accumulated, sample_variance / frames));
+    imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
+    imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, imageLoad(u_reflected, p).a < 0.0)));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
         store_result(p, accumulated, imageLoad(u_albedo, p).rgb, true, reflected + mirror);

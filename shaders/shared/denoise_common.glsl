@@ -21,6 +21,14 @@ bool same_surface(vec4 p, vec4 q) {
     return has_surface(q) && dot(q.xyz, p.xyz) >= 0.9 && abs(q.w - p.w) <= 0.05 * p.w;
 }
 
+// Whether the sun reaches a pixel is known exactly (its primary ray is the pixel's centre, in
+// every frame and in a converged image alike; render/gbuffer.h, reflected a), so the a-trous
+// taps never cross a sun shadow's edge. The flag (true: the sun's rays were traced and all were
+// blocked) travels in the sign bit of the filtered illumination's variance (>= 0; -0 for 0), which
+// every pass reads anyway: no image read per tap.
+float with_sun_flag(float variance, bool blocked) { return blocked ? -variance : variance; }
+bool sun_blocked(float flagged_variance) { return (floatBitsToUint(flagged_variance) & 0x80000000u) != 0u; }
+
 // The last pass's outputs: HDR radiance (the remodulated illumination plus the unfiltered
 // reflected part), and the 8-bit image as the ray tracer writes it (render/gbuffer.h: exposed,
 // tone-mapped, sRGB encoded).

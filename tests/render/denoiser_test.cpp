@@ -132,6 +132,77 @@ TEST_F(DenoiserTest, KnownNoiseFreeDetailIsKept) {
     EXPECT_GT(spatial_error, 0.05);
 }
 
+// The light's guide (render/gbuffer.h, reflected a), on the floor whose columns 12-23 lie in a
+// sun shadow (a fifth of the light): with the sun flag (negative a in the shadow) no tap crosses
+// the shadow's edge, so the shadowed pixels next to it take no light from the lit side; with
+// "no occluder" (60000) nothing else changes. Where the occluders are far (20 blocks: many
+// pixels), the luminance stop relaxes and the smooth light is filtered harder; an occluder a
+// third of a block away (under a pixel) leaves the result as without a guide.
+TEST_F(DenoiserTest, SunShadowEdgeStaysSharpAndFarOccludersSmoothMore) {
+    GBuffer g = make_scene();
+    auto shadowed = [](uint32_t x, uint32_t y) { return y >= kSkyRows && x >= 12 && x < 24; };
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x)
+            if (shadowed(x, y))
+                for (int c = 0; c < 3; ++c) {
+                    g.reference.at(x, y)[c] *= 0.2f;
+                    g.illumination.at(x, y)[c] *= 0.2f;
+                }
+    const ImageF in = noisy(g, 4, 21);
+    auto guide = [&](float lit, float shade) {
+        ImageF r = ImageF::make(kW, kH);
+        for (uint32_t y = kSkyRows; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x)
+                r.at(x, y)[3] = shadowed(x, y) ? shade : lit;
+        return r;
+    };
+    // RMSE over columns [x0, x1) of the surface rows.
+    auto error = [&](const ImageF& out, uint32_t x0, uint32_t x1) {
+        double sum = 0.0, n = 0.0;
+        for (uint32_t y = kSkyRows; y < kH; ++y)
+            for (uint32_t x = x0; x < x1; ++x)
+                for (int c = 0; c < 3; ++c, n += 1.0)
+                    sum += std::pow(double(out.at(x, y)[c] - g.reference.at(x, y)[c]), 2.0);
+        return std::sqrt(sum / n);
+    };
+    Denoiser denoiser(*m_ctx, kW, kH);
+    auto run = [&](const ImageF& reflected) {
+        denoiser.reset_history();
+        return denoise_on_host(*m_ctx, denoiser, in, g.albedo, g.normal_depth, spatial_only(), glm::mat4(1.f),
+                               60.f, &reflected);
+    };
+    const ImageF none = run(ImageF::make(kW, kH)), flagged = run(guide(60000.f, -60000.f));
+    const double edge_none = error(none, 12, 15), edge_flagged = error(flagged, 12, 15);
+    std::printf("sun shadow's first 3 columns: RMSE %.4f unguided, %.4f with the sun flag\n", edge_none, edge_flagged);
+    EXPECT_LT(edge_flagged, 0.8 * edge_none);
+    // The smooth light alone (no shadow), its variance as the ray tracer writes it: each pixel's
+    // own from its 4 samples, scaled by 1/16 for their stratification (shaders/raygen.rgen), so
+    // pixels whose samples agreed say 0.
+    const GBuffer plain = make_scene();
+    ImageF own = noisy(plain, 4, 22);
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            const float light = plain.illumination.at(x, y)[0];
+            const float v = own.at(x, y)[1] / plain.reference.at(x, y)[1]; // Visible fraction x 2.
+            own.at(x, y)[3] = light * light * v * (2.f - v) / 3.f / 16.f;
+        }
+    auto run_plain = [&](float distance) {
+        ImageF r = ImageF::make(kW, kH);
+        for (uint32_t y = kSkyRows; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x)
+                r.at(x, y)[3] = distance;
+        denoiser.reset_history();
+        return denoise_on_host(*m_ctx, denoiser, own, plain.albedo, plain.normal_depth, spatial_only(),
+                               glm::mat4(1.f), 60.f, &r);
+    };
+    auto plain_error = [&](const ImageF& out) { return rmse(out, plain.reference); };
+    const ImageF unguided = run_plain(0.f), far = run_plain(20.f), near = run_plain(0.05f);
+    std::printf("smooth light, own variance: RMSE %.4f unguided, %.4f with occluders 20 blocks away, %.4f "
+                "0.05 blocks\n", plain_error(unguided), plain_error(far), plain_error(near));
+    EXPECT_LT(plain_error(far), 0.9 * plain_error(unguided));
+    EXPECT_EQ(near.rgba, unguided.rgba);
+}
+
 // The reflected part (mirror bounces) is added back unfiltered: a pixel-sized pattern in it stays
 // sharp while the noisy diffuse part around it is filtered.
 TEST_F(DenoiserTest, ReflectedPartIsNotBlurred) {
