@@ -344,4 +344,13 @@ Status write_png(const std::string& path, const Image& image) {
     return render::write_png(path, img);
 }
 
+RenderSettings RenderSettings::recommended() {
+    RenderSettings s;
+    s.shadow_samples = 8;
+    s.bounce_shadow_samples = 1;
+    s.denoise = true;
+    s.accumulate = 8;
+    return s;
+}
+
 } // namespace vx

@@ -19,7 +19,6 @@ namespace {
 
 constexpr uint32_t kHistory = 8;       // Frames of the denoised candidates' history.
 constexpr uint32_t kWarmup = kHistory; // Still frames before a path: enough to fill the history.
-constexpr bool kSandboxDenoise = true; // samples/sandbox/game.cpp turns the denoiser on.
 // Added to the references' seed: a reference of one frame (or the renderer's frame 0) traces
 // with the settings' seed, and would repeat the samples of a raw candidate of as many samples.
 constexpr uint32_t kReferenceSeed = 0x9e3779b9u;
@@ -27,7 +26,7 @@ constexpr uint32_t kReferenceSeed = 0x9e3779b9u;
 struct Candidate {
     uint32_t spp = 0, bounce_spp = 0, history = 1;
     bool denoise = false;
-    bool sandbox_now = false; // The sandbox's settings today.
+    bool sandbox_now = false; // The sandbox's settings (vx::RenderSettings::recommended()).
 };
 
 // What the candidate measured, per path (orbit, fly-over) and over both.
@@ -43,7 +42,7 @@ std::string name_of(const Candidate& c) {
         name += "off";
     else
         name += c.history > 1 ? "on, history " + std::to_string(c.history) : "on, no history";
-    return c.sandbox_now ? name + " (sandbox now)" : name;
+    return c.sandbox_now ? name + " (the sandbox's)" : name;
 }
 
 render::RenderSettings settings_of(const Candidate& c, const render::RenderSettings& base, uint32_t bounces) {
@@ -57,16 +56,16 @@ render::RenderSettings settings_of(const Candidate& c, const render::RenderSetti
     return s;
 }
 
-// The sweep, then the sandbox's settings today: marked where the sweep has them, else appended.
+// The sweep, then the sandbox's settings: marked where the sweep has them, else appended.
 std::vector<Candidate> candidates() {
     std::vector<Candidate> v;
     for (uint32_t spp : {1u, 2u, 4u, 8u})
         for (uint32_t bounce : spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp})
             for (bool denoise : {false, true})
                 v.push_back({spp, bounce, denoise ? kHistory : 1, denoise, false});
-    const ::vx::RenderSettings facade;
-    Candidate now{facade.shadow_samples, facade.bounce_shadow_samples.value_or(facade.shadow_samples),
-                  std::max(facade.accumulate, 1u), kSandboxDenoise, true};
+    const ::vx::RenderSettings sandbox = ::vx::RenderSettings::recommended(); // What the sandbox runs.
+    Candidate now{sandbox.shadow_samples, sandbox.bounce_shadow_samples.value_or(sandbox.shadow_samples),
+                  std::max(sandbox.accumulate, 1u), sandbox.denoise, true};
     auto same = [&](const Candidate& c) {
         return c.spp == now.spp && c.bounce_spp == now.bounce_spp && c.denoise == now.denoise &&
                c.history == now.history;
@@ -113,7 +112,7 @@ std::string intro(const DefaultsBenchInfo& info, uint32_t bounces, uint32_t n) {
            "denoiser off (no history) or on with an 8-frame history, " +
            std::to_string(bounces) +
            " reflection bounces (the facade's default, which the sandbox keeps); and the sandbox's settings "
-           "today (the facade's defaults, denoiser on). Each runs the orbit and fly-over paths (" +
+           "(vx::RenderSettings::recommended()). Each runs the orbit and fly-over paths (" +
            std::to_string(n) + " frames each, after " + std::to_string(kWarmup) +
            " still frames at the path's first pose, not counted) against one converged reference per pose (" +
            std::to_string(std::max(1u, info.reference_spp / 8) * 8) +

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <vector>
 
+#include <vx/vx.h>
+
 #include "render/image_metrics.h"
 #include "world/base/median.h"
 #include "world/mesh/edit_mesher.h"
@@ -105,8 +107,15 @@ std::vector<PathRow> default_path_rows(const PathBenchInfo& info) {
         row.s.accumulate = history;
         return row;
     };
+    // The sandbox's settings (vx::RenderSettings::recommended()), at this bench's bounce depth.
+    const ::vx::RenderSettings game = ::vx::RenderSettings::recommended();
+    PathRow sandbox = make("sandbox: " + std::to_string(game.shadow_samples) + " / " +
+                               std::to_string(game.bounce_shadow_samples.value_or(game.shadow_samples)) +
+                               " spp, denoiser on, history " + std::to_string(game.accumulate),
+                           game.shadow_samples, game.denoise, game.accumulate);
+    sandbox.s.bounce_shadow_samples = game.bounce_shadow_samples;
     return {make("1 spp, denoiser on, history 8", 1, true, 8), make("4 spp, denoiser on, history 8", 4, true, 8),
-            make("4 spp, raw", 4, false, 1)};
+            std::move(sandbox), make("4 spp, raw", 4, false, 1)};
 }
 
 std::vector<CameraPath> moving_paths(const engine::LoadedScene& scene, const render::Camera& start, uint32_t frames) {

@@ -292,6 +292,13 @@ struct RenderSettings {
     // Ray tracer, Full shading: at most this many frames averaged (reprojected when the camera
     // moves); 1: none. Above 1 each frame traces with a new seed so the average converges.
     uint32_t accumulate = 1;
+    // Settings for a game, chosen from measured curves (docs/render_report.md, "Sandbox
+    // defaults"): of shadow samples 1-8 (bounces 1 or the same), denoiser on (history 8) or off,
+    // at the default 2 bounces, the cheapest whose moving-camera error (RMSE p95 over an orbit and
+    // a fly-over against converged references, 1920x1080 on an H200) is within 1.25x of the best
+    // measured at up to twice its cost: 8 shadow samples, 1 per bounce, the denoiser with 8
+    // frames of history. What the sandbox runs. Any thread.
+    static RenderSettings recommended();
 };
 
 struct BlockEdit {

@@ -8,9 +8,11 @@ namespace sandbox {
 Game::Game(vx::Engine& engine, bool persistent, double fly_speed)
     : m_engine(&engine), m_persistent(persistent) {
     m_player.params().fly_speed = fly_speed;
-    // The denoiser on: at the default 4 shadow samples the soft shadows are grainy without it,
-    // and its cost is small next to the trace (two compute passes).
-    m_settings.denoise = true;
+    // The settings chosen from the moving-camera curves (vx::RenderSettings::recommended): 8
+    // shadow samples, 1 per bounce, the denoiser with 8 frames of history.
+    m_settings = vx::RenderSettings::recommended();
+    m_shadow_samples = m_settings.shadow_samples;
+    m_bounces = m_settings.max_bounces;
     m_engine->set_render_settings(m_settings);
 }
 

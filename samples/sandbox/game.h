@@ -88,7 +88,7 @@ private:
     Keys m_keys;
     double m_yaw = 0, m_pitch = -20;
     vx::RenderSettings m_settings;
-    uint32_t m_shadow_samples = 4, m_bounces = 2; // Restored when toggled back on.
+    uint32_t m_shadow_samples = 0, m_bounces = 0; // Restored when toggled back on (the constructor's).
     int m_edit_frames = -1;        // Frames since an edit whose upload is not seen yet; -1: none.
     int m_last_edit_to_screen = -1;
     std::optional<vx::SaveTicket> m_save;

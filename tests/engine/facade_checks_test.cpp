@@ -87,6 +87,13 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
     ASSERT_TRUE(e.set_render_settings(vx::RenderSettings{}));
+    // The curve-chosen game settings (what the sandbox runs) are accepted, and are what vx.h says.
+    const vx::RenderSettings game = vx::RenderSettings::recommended();
+    EXPECT_TRUE(e.set_render_settings(game));
+    EXPECT_EQ(game.shadow_samples, 8u);
+    EXPECT_EQ(game.bounce_shadow_samples.value_or(0), 1u);
+    EXPECT_TRUE(game.denoise);
+    EXPECT_EQ(game.accumulate, 8u);
     struct Case {
         const char* what;
         void (*change)(vx::RenderSettings&);

@@ -340,20 +340,21 @@ TEST(CliRender, BenchRenderCameraPaths) {
         size_t rows = 0;
         for (size_t at = text.find(path); at != std::string::npos; at = text.find(path, at + 1))
             ++rows;
-        EXPECT_EQ(rows, 3u) << path << "\n" << text;
+        EXPECT_EQ(rows, 4u) << path << "\n" << text;
     }
     std::ifstream csv(out + "/paths.csv");
     int frames = 0;
     for (std::string line; std::getline(csv, line);)
         frames += line.rfind("orbit,", 0) == 0 ? 1 : 0;
-    EXPECT_EQ(frames, 3 * 6); // Three configurations, six frames.
+    EXPECT_EQ(frames, 4 * 6); // Four configurations (the sandbox's among them), six frames.
     EXPECT_EQ(vx("bench render --sections paths --path-frames 2").code, 2);
 }
 
 // `vx bench render --sections defaults` (tiny): a table row and a CSV line per candidate (7
-// sample settings x denoiser off / on, and the sandbox's settings today), one pick that qualifies,
-// the ms and error columns filled, and the frames rendered: 15 candidates x 2 paths x (8 warm-up
-// + 4 frames) = 360, and references for 2 x 4 poses of max(1, 8 / 8) + parity frames = 12.
+// sample settings x denoiser off / on; the sandbox's settings, vx::RenderSettings::recommended(),
+// are one of them and marked), one pick that qualifies, the ms and error columns filled, and the
+// frames rendered: 14 candidates x 2 paths x (8 warm-up + 4 frames) = 336, and references for
+// 2 x 4 poses of max(1, 8 / 8) + parity frames = 12.
 TEST(CliRender, BenchRenderDefaultsSection) {
     const std::string out = dir() + "/bench_defaults";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --sections defaults "
@@ -362,9 +363,9 @@ TEST(CliRender, BenchRenderDefaultsSection) {
     std::ifstream md(out + "/render_report.md");
     const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("## Sandbox defaults from the curves"), std::string::npos) << text;
-    EXPECT_NE(text.find("Frames rendered: 372 (references 12, candidates 360 with warm-up)"), std::string::npos)
+    EXPECT_NE(text.find("Frames rendered: 348 (references 12, candidates 336 with warm-up)"), std::string::npos)
         << text;
-    EXPECT_NE(text.find("(sandbox now) |"), std::string::npos) << text;
+    EXPECT_NE(text.find("(the sandbox's) |"), std::string::npos) << text;
     std::ifstream csv(out + "/defaults.csv");
     std::string header;
     std::getline(csv, header);
@@ -385,7 +386,7 @@ TEST(CliRender, BenchRenderDefaultsSection) {
             EXPECT_EQ(f[12], "1") << line; // The pick qualifies.
         }
     }
-    EXPECT_EQ(rows, 15);
+    EXPECT_EQ(rows, 14);
     EXPECT_EQ(picks, 1);
     EXPECT_EQ(vx("bench render --sections defaults --path-frames 3").code, 2);
 }

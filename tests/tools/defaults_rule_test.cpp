@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tools/defaults_rule.h"
+#include "defaults_rule.h"
 
 namespace {
 
