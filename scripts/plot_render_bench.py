@@ -19,6 +19,16 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def finish(fig, ax, png: str) -> str:
+    """Grid, legend and layout, then writes the figure to png and closes it; returns png."""
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+    return png
+
+
 # The thesis's Table 6.3 ratios (RTX 2080 Ti, over its all-off row) per feature set of
 # equal_error.csv, as tools/bench_render_equal_error.cpp prints them.
 THESIS_RATIOS = {
@@ -53,13 +63,8 @@ def plot_equal_error(rows, out_dir):
         ax.set_xlabel("GPU frame time / RT flat frame time")
         ax.set_ylabel("one-frame RMSE against the reference")
         ax.set_title(name, fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        png = os.path.join(out_dir, f"equal_error_{name.replace('+', '_')}.png")
-        fig.savefig(png, dpi=120)
-        plt.close(fig)
-        print(f"wrote {png}")
+        png = os.path.join(out_dir, "equal_error_" + name.replace("+", "_") + ".png")
+        print(f"wrote {finish(fig, ax, png)}")
 
 
 def plot_defaults(rows, out_dir: str) -> str:
@@ -84,13 +89,7 @@ def plot_defaults(rows, out_dir: str) -> str:
     ax.set_xscale("log")
     ax.set_xlabel("GPU ms per frame (trace + denoiser, median)")
     ax.set_ylabel("moving-camera RMSE p95 (worse path)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    png = os.path.join(out_dir, "defaults_error_vs_ms.png")
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
-    return png
+    return finish(fig, ax, os.path.join(out_dir, "defaults_error_vs_ms.png"))
 
 
 def main() -> int:
@@ -129,13 +128,7 @@ def main() -> int:
             ax.set_yscale("log")
         ax.set_xlabel("GPU frame time (ms, median)")
         ax.set_ylabel(label + " against the reference")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        png = os.path.join(out_dir, f"error_vs_time_{metric}.png")
-        fig.savefig(png, dpi=120)
-        plt.close(fig)
-        print(f"wrote {png}")
+        print(f"wrote {finish(fig, ax, os.path.join(out_dir, f'error_vs_time_{metric}.png'))}")
     return 0
 
 

@@ -30,6 +30,12 @@ const std::string kEnv = "VX_VALIDATION=1";
 
 std::string dir() { return cli_test::temp_dir("vx_cli_render_test").string(); }
 
+// The whole text of a file a command wrote ("" when absent).
+std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 // A 24×12×20 u8 volume: a stone floor (id 1) and a grass pillar (id 3) on it.
 // Named after the running test: ctest runs tests as parallel processes.
 std::string write_volume() {
@@ -277,8 +283,7 @@ TEST(CliRender, BenchRenderTableRatios) {
                         "--reference-spp 8 --reflections 1 --lighting thesis --sections report --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
-    std::ifstream md(out + "/render_report.md");
-    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("Lighting: thesis"), std::string::npos) << text;
     EXPECT_NE(text.find("| x RT flat | x all off | thesis x all off |"), std::string::npos) << text;
     const size_t off = text.find("| RT full: shadows off, reflections (1 bounces) off, denoiser off |");
@@ -298,8 +303,7 @@ TEST(CliRender, BenchRenderEqualError) {
                         "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
-    std::ifstream md(out + "/render_report.md");
-    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("## Table 6.3 at equal error"), std::string::npos) << text;
     for (const char* row : {"| shadows | ", "| shadows + reflections | ", "| all on (+ thesis's denoiser) | "}) {
         const size_t at = text.find(row);
@@ -333,8 +337,7 @@ TEST(CliRender, BenchRenderCameraPaths) {
                         "--sections paths --path-frames 6 --path-reference-spp 8 --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
-    std::ifstream md(out + "/render_report.md");
-    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("## Camera paths"), std::string::npos) << text;
     for (const char* path : {"| orbit | ", "| fly-over | ", "| edit | "}) {
         size_t rows = 0;
@@ -360,8 +363,7 @@ TEST(CliRender, BenchRenderDefaultsSection) {
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --sections defaults "
                         "--path-frames 4 --path-reference-spp 8 --out " + out);
     ASSERT_EQ(r.code, 0) << r.out;
-    std::ifstream md(out + "/render_report.md");
-    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("## Sandbox defaults from the curves"), std::string::npos) << text;
     EXPECT_NE(text.find("Frames rendered: 348 (references 12, candidates 336 with warm-up)"), std::string::npos)
         << text;
@@ -425,8 +427,7 @@ TEST(CliRender, BenchRenderGeometrySection) {
     EXPECT_EQ(std::stoi(rows["burst,rebuild"][3]), 0);
     EXPECT_GT(std::stoi(rows["burst,rebuild"][4]), 0);
     EXPECT_EQ(ks, (std::vector<std::string>{"0", "1", "10", "100"}));
-    std::ifstream md(out + "/render_report.md");
-    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("## Geometry"), std::string::npos);
     EXPECT_EQ(vx("bench render --sections everything").code, 2);
 }
@@ -459,8 +460,7 @@ TEST(CliRender, BenchLodReport) {
     const CliRun r = vx("bench lod --seed 1 --view-distance 160 --radii 1,2 --vradius 1 --lod-ring 2 --size 24x16 "
                         "--repeat 1 --out " + out);
     ASSERT_EQ(r.code, 0) << r.out;
-    std::ifstream md(out + "/lod_report.md");
-    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(out + "/lod_report.md");
     for (const char* row : {"| full detail | 160 | 0 |", "| LOD r=1 | 32 |", "| LOD r=2 | 64 |"})
         EXPECT_NE(text.find(row), std::string::npos) << row << "\n" << text;
     std::ifstream csv(out + "/lod_bench.csv");
