@@ -18,7 +18,7 @@ namespace {
 
 using render::ImageF;
 
-constexpr double kOrbitDegrees = 3.0; // Per frame: a brisk turn (a 2-minute orbit at 60 fps).
+constexpr double kOrbitDegrees = 3.0; // Per frame: a brisk turn (a whole orbit in 2 s at 60 fps).
 constexpr double kFlyStep = 0.02;     // Per frame, of the eye's distance to the centre.
 constexpr double kRecovered = 1.25;   // After the edit: error within this of its median before.
 
