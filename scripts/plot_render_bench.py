@@ -7,6 +7,8 @@ Usage: scripts/plot_render_bench.py DIR/render_bench.csv  (Debian python3: /usr/
        thesis's ratios marked)
        scripts/plot_render_bench.py DIR/defaults.csv      (--sections defaults: moving-camera
        error against GPU ms, qualifying candidates filled, the pick starred)
+       scripts/plot_render_bench.py DIR/paths.csv         (--sections paths: per-frame RMSE along
+       each camera path, the edited pixels' on the edit path dashed)
 Needs python3-matplotlib (scripts/setup.sh installs it).
 """
 import csv
@@ -92,9 +94,32 @@ def plot_defaults(rows, out_dir: str) -> str:
     return finish(fig, ax, os.path.join(out_dir, "defaults_error_vs_ms.png"))
 
 
+def plot_paths(rows, out_dir: str) -> str:
+    """paths.csv: per-frame RMSE along each camera path, one panel per path, one line per
+    configuration; on the edit path also the edited pixels' RMSE (dashed)."""
+    paths = list(dict.fromkeys(r["path"] for r in rows))
+    fig, axes = plt.subplots(1, len(paths), figsize=(5 * len(paths), 4), squeeze=False)
+    for ax, name in zip(axes[0], paths):
+        configs = list(dict.fromkeys(r["configuration"] for r in rows if r["path"] == name))
+        for i, config in enumerate(configs):
+            sel = [r for r in rows if r["path"] == name and r["configuration"] == config]
+            frames = [int(r["frame"]) for r in sel]
+            ax.plot(frames, [float(r["rmse"]) for r in sel], color="C%d" % i, label=config)
+            edited = [float(r["edited_rmse"]) for r in sel]
+            if min(edited) >= 0.0:
+                ax.plot(frames, edited, color="C%d" % i, linestyle="--", linewidth=0.8)
+        ax.set_yscale("log")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.set_xlabel("frame")
+        ax.set_ylabel("RMSE against the reference at the pose")
+        ax.set_title(name + (" (dashed: the edited pixels)" if name == "edit" else ""), fontsize=9)
+    return finish(fig, axes[0][-1], os.path.join(out_dir, "paths_rmse_per_frame.png"))
+
+
 def main() -> int:
     if len(sys.argv) != 2:
-        print("usage: plot_render_bench.py render_bench.csv|equal_error.csv|defaults.csv", file=sys.stderr)
+        print("usage: plot_render_bench.py render_bench.csv|equal_error.csv|defaults.csv|paths.csv",
+              file=sys.stderr)
         return 2
     path = sys.argv[1]
     with open(path, newline="") as f:
@@ -103,6 +128,9 @@ def main() -> int:
         print(f"plot_render_bench.py: no rows in {path}", file=sys.stderr)
         return 1
     out_dir = os.path.dirname(os.path.abspath(path))
+    if "edited_rmse" in rows[0]:
+        print(f"wrote {plot_paths(rows, out_dir)}")
+        return 0
     if "feature_set" in rows[0]:
         plot_equal_error(rows, out_dir)
         return 0
