@@ -162,6 +162,18 @@ Flight fly(ChunkStreamer& streamer, LodStreamer& lod, const DrawnRecorder& rec, 
     return f;
 }
 
+// A LodStreamer fed by a ChunkStreamer as its mesh sink, the way the engine wires them; tests
+// take its parts by structured binding: auto& [rec, lod, streamer] = rig.
+struct Rig {
+    Rig(const ChunkGenerator& gen, ChunkStore* store, const LodViewSettings& s)
+        : lod(gen, store, rec, s, BlockRegistry::default_registry()), streamer(gen, store, lod, streaming_for(s)) {
+        lod.attach(streamer.jobs(), streamer.world());
+    }
+    DrawnRecorder rec; // Declared first: lod draws into it.
+    LodStreamer lod;
+    ChunkStreamer streamer;
+};
+
 bool settle(ChunkStreamer& streamer, LodStreamer& lod, const glm::dvec3& eye, Clock::time_point& now) {
     const auto limit = Clock::now() + std::chrono::minutes(3);
     while (Clock::now() < limit) {
@@ -194,10 +206,8 @@ void expect_target_cut(const LodSet& drawn, const glm::dvec3& eye, const LodView
 TEST(LodStreamer, FlightNeverShowsAHoleAndSettlesOnTheTargetCut) {
     const TerrainGenerator terrain(7);
     const LodViewSettings s = small_view();
-    DrawnRecorder rec;
-    LodStreamer lod(terrain, nullptr, rec, s, BlockRegistry::default_registry());
-    ChunkStreamer streamer(terrain, nullptr, lod, streaming_for(s));
-    lod.attach(streamer.jobs(), streamer.world());
+    Rig rig(terrain, nullptr, s);
+    auto& [rec, lod, streamer] = rig;
     glm::dvec3 eye(10.5, 40.0, -3.5);
     Clock::time_point now{};
     const Flight f = fly(streamer, lod, rec, eye, now, 100.0, 2.5, s);
@@ -220,10 +230,8 @@ TEST(LodStreamer, FullDetailLaggingFarBehindStillLeavesNoHole) {
     const TerrainGenerator terrain(11);
     const SlowTerrain slow(terrain, std::chrono::milliseconds(10));
     const LodViewSettings s = small_view();
-    DrawnRecorder rec;
-    LodStreamer lod(slow, nullptr, rec, s, BlockRegistry::default_registry());
-    ChunkStreamer streamer(slow, nullptr, lod, streaming_for(s));
-    lod.attach(streamer.jobs(), streamer.world());
+    Rig rig(slow, nullptr, s);
+    auto& [rec, lod, streamer] = rig;
     glm::dvec3 eye(-200.5, 30.0, 77.5);
     Clock::time_point now{};
     // Fast enough that level 0 (10 ms a chunk on 2 workers) cannot keep up.
@@ -255,10 +263,8 @@ TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
         info.path = path.string();
         auto store = SqliteStore::open(info);
         ASSERT_TRUE(store) << store.error();
-        DrawnRecorder rec;
-        LodStreamer lod(terrain, store->get(), rec, s, BlockRegistry::default_registry());
-        ChunkStreamer streamer(terrain, store->get(), lod, streaming_for(s));
-        lod.attach(streamer.jobs(), streamer.world());
+        Rig rig(terrain, store->get(), s);
+        auto& [rec, lod, streamer] = rig;
         Clock::time_point now{};
         ASSERT_TRUE(settle(streamer, lod, eye, now));
         for (BlockPos p : column) {
@@ -351,10 +357,8 @@ TEST(LodStreamer, AFailedCoarseChunkIsAHoleUntilItsRetryNeverInventedTerrain) {
     view.roots(roots);
     const LodCoord victim = roots.front();
     FailingRootGenerator gen(terrain, victim);
-    DrawnRecorder rec;
-    LodStreamer lod(gen, nullptr, rec, s, BlockRegistry::default_registry());
-    ChunkStreamer streamer(gen, nullptr, lod, streaming_for(s));
-    lod.attach(streamer.jobs(), streamer.world());
+    Rig rig(gen, nullptr, s);
+    auto& [rec, lod, streamer] = rig;
     Clock::time_point now{};
     // Until the failure is seen: the root is a hole, nothing drawn under it.
     const auto limit = Clock::now() + std::chrono::minutes(3);
@@ -406,10 +410,8 @@ TEST(LodStreamer, StaleStoredCoarseChunksAreDerivedFromTheEditedBlocks) {
     }
     auto store = SqliteStore::open(info);
     ASSERT_TRUE(store) << store.error();
-    DrawnRecorder rec;
-    LodStreamer lod(terrain, store->get(), rec, s, BlockRegistry::default_registry());
-    ChunkStreamer streamer(terrain, store->get(), lod, streaming_for(s));
-    lod.attach(streamer.jobs(), streamer.world());
+    Rig rig(terrain, store->get(), s);
+    auto& [rec, lod, streamer] = rig;
     Clock::time_point now{};
     ASSERT_TRUE(settle(streamer, lod, eye, now));
     const Chunk* derived = lod.coarse_chunk(l1);
