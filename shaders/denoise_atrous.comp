@@ -61,7 +61,7 @@ float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
 }
 
 // The scale of the light (the temporal pass's footprint, u_reflected's a: pixels; 0: unknown;
-// kNoOccluderFootprint: no occluder near) decides how far the luminance stop trusts the pixels'
+// kNoOccluder: no occluder near) decides how far the luminance stop trusts the pixels'
 // own variance. At 4 samples a pixel whose few sky rays happened to agree says variance ~0
 // although the light under an overhang 7 blocks up is smooth over many pixels: there the passes
 // of step <= kRelaxLastStep compare with a luminance scale kRelax times wider (ramped in from
@@ -73,7 +73,6 @@ const float kRelaxFrom = 2.0;
 const float kRelaxFull = 8.0;
 const float kRelax = 6.0;
 const int kRelaxLastStep = 2;
-const float kNoOccluderFootprint = 60000.0; // denoise_temporal.comp's kNoOccluder.
 
 // One a-trous step of a channel at p (no surface: unchanged).
 vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
@@ -88,8 +87,8 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     grad = clamp(grad, vec2(-d), vec2(d));
     const float footprint = mirror ? 0.0 : imageLoad(u_reflected, p).a;
     const bool blocked = sun_blocked(centre.a);
-    const bool wide = footprint >= kRelaxFull && footprint < kNoOccluderFootprint;
-    const float relax = step <= kRelaxLastStep && footprint > 0.0 && footprint < kNoOccluderFootprint
+    const bool wide = footprint >= kRelaxFull && footprint < kNoOccluder;
+    const float relax = step <= kRelaxLastStep && footprint > 0.0 && footprint < kNoOccluder
                             ? mix(1.0, kRelax, smoothstep(kRelaxFrom, kRelaxFull, footprint))
                             : 1.0;
     const bool prefiltered = (step == 1 || wide) && !mirror;

@@ -90,7 +90,7 @@ bool same_mirror_surface(vec4 mnd, ivec2 q) {
 // Variance of one frame's mirror light at p: the spread of the values over the 3x3 neighbourhood
 // on the same reflected surface (the light is over the reflected surface's albedo, so the spread
 // is noise or light detail), at most the pixels' own there without the stratification discount
-// (x16, shaders/raygen.rgen: an upper bound of the stratified mean's variance), so detail is not
+// (over kStratifiedVarianceScale: an upper bound of the stratified mean's variance), so detail is not
 // taken for noise once samples are many. The pixels' own alone left the mirror noisy (0.0292
 // against 0.0247 RMSE on the mirror of tests/render/denoise_render_test.cpp); the spread alone
 // blurred the 16-spp mirror field of convergence_test.cpp (0.0275 against 0.0168 raw).
@@ -113,7 +113,7 @@ float mirror_variance(ivec2 p, ivec2 size, vec4 mnd) {
         }
     m1 /= n; // The centre always counts.
     const float spread = max(m2 / n - m1 * m1, 0.0);
-    return n_own > 0.0 ? min(spread, 16.0 * own / n_own) : spread;
+    return n_own > 0.0 ? min(spread, own / n_own / kStratifiedVarianceScale) : spread;
 }
 
 // The mirror light's history clamped to this frame's box on the same reflected surface.
@@ -221,8 +221,8 @@ float ray_scale(vec2 pixel) {
 // of inverse distances: one pixel's 4 rays are noisy, and the nearest occluders decide how fast
 // the light varies. A sun shadow's edge is sharper than any of this: where the pixels within 2
 // of p disagree on whether the sun reaches them, kSunEdge (the luminance stop stays as it was).
-// 0: unknown (no rays); kNoOccluder: no ray nearby hit anything (nothing to scale by).
-const float kNoOccluder = 60000.0;
+// 0: unknown (no rays); kNoOccluder (shared/denoise_types.h): no ray nearby hit anything
+// (nothing to scale by).
 const float kSunEdge = 0.5;  // Pixels.
 const int kSunEdgeReach = 1; // In steps of 2 pixels.
 float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
@@ -395,13 +395,13 @@ float pooled_gap(ivec2 p, ivec2 q, ivec2 size, vec4 nd, float now, float before,
 // h = own / frames. Bilinear resampling is off by at most f (1 - f) times the taps' range (a
 // linear ramp through them: none); with a tap off the surface (bias < 0) the renormalised taps
 // extrapolate, with no bound: no history. own is the pixels' own variance without the
-// stratification discount (x16, shaders/raygen.rgen: an upper bound). Reprojected history of a
+// stratification discount (over kStratifiedVarianceScale: an upper bound). Reprojected history of a
 // moving camera had cost more than it gave (H200 terrain 1080p, 25 spp and 2 frames: 0.0167
 // RMSE against raw 0.0077; with this cap 0.0075; docs/render_report.md, 2026-12-02).
 float moving_history_cap(float own, float frames, float bias) {
     if (bias < 0.0)
         return 1.0;
-    const float variance = 16.0 * own, h = variance / max(frames, 1.0);
+    const float variance = own / kStratifiedVarianceScale, h = variance / max(frames, 1.0);
     return max((variance + bias * bias + h) / max(bias * bias + h, 1e-20), 1.0);
 }
 
@@ -526,7 +526,8 @@ void main() {
     imageStore(u_moments_out, p, vec4(moments.xyz, 0));
     imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
     imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
-    imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, imageLoad(u_reflected, p).a < 0.0)));
+    const bool sun_blocked_here = imageLoad(u_reflected, p).a < 0.0;
+    imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, sun_blocked_here)));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
         store_result(p, accumulated, imageLoad(u_albedo, p).rgb, true, reflected + mirror);
