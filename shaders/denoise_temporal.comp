@@ -18,7 +18,9 @@
 // alone to cost 15% of an 8-frame accumulation's RMSE (tests/render/denoise_render_test.cpp);
 // 4.5 costs 9% (15% with the Sobol sampler, docs/render_report.md) and still catches a shadow's
 // edge at 4 spp. The reflected part keeps its own length and is clamped to this frame's
-// neighbourhood (Karis 2014).
+// neighbourhood (Karis 2014). A history tap must also lie on the pixel's plane and on its side
+// of a sun shadow's edge (tap_matches): bilinear taps across either mix another surface's or
+// another light's history in.
 //
 // Mirrors (kDenoiseMirror): the first mirror bounce's diffuse lighting over its surface's albedo
 // is taken out of the reflected part and accumulated like it (history clamped to the
@@ -43,7 +45,7 @@ layout(binding = 6, rgba16f) writeonly uniform image2D u_hist_nd_out;
 layout(binding = 7, rgba16f) writeonly uniform image2D u_filter_out;  // rgb illumination, a variance.
 layout(binding = 8, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
-layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance m1, m2, own variance.
+layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance m1, m2, own variance; sun flag.
 layout(binding = 11, rgba16f) writeonly uniform image2D u_moments_out;
 layout(binding = 12, rgba16f) readonly uniform image2D u_reflected;   // Not filtered: see above.
 layout(binding = 13, rgba16f) readonly uniform image2D u_hist_refl_in; // rgb, a: its frames.
@@ -279,14 +281,33 @@ bool history_on_plane(vec4 nd, vec4 hnd, ivec2 q, vec3 point, vec3 normal) {
     return abs(dot(normal, seen - point)) <= 0.1 + 1e-3 * hnd.w;
 }
 
+// Whether the history pixel q may be a tap of this pixel (nd): with prev_depth > 0 (the
+// illumination), on the pixel's plane (history_on_plane at the view depth prev_depth, `point` and
+// `normal` there) and, when `sun` >= 0 (a moving camera: the taps are resampled), on the same side
+// of a sun shadow's edge: its sun flag (u_moments a, from render/gbuffer.h's reflected a < 0:
+// every sun ray blocked) equals `sun` (1: blocked). A lit and a shadowed pixel see different
+// light, which the taps' bilinear weights smeared across the edge: pixel-sized shadowed faces on
+// terrain took their lit neighbours' history (H200 1080p, 1 spp orbit 0.0314 -> 0.0168 RMSE,
+// docs/render_report.md, 2026-12-02). A still camera's tap is the pixel itself, whose flag flips
+// on noise in a penumbra (all of a few rays blocked by chance): there the test cost 16% of an
+// 8-frame accumulation (tests/render/denoise_render_test.cpp), and the history clamp catches a
+// real change. With prev_depth 0 (a mirror's virtual image), the normal alone.
+bool tap_matches(ivec2 q, vec4 nd, float prev_depth, vec3 point, vec3 normal, int sun) {
+    const vec4 hnd = imageLoad(u_hist_nd_in, q);
+    if (prev_depth <= 0.0)
+        return has_surface(hnd) && dot(nd.xyz, hnd.xyz) > 0.9;
+    return history_on_plane(nd, hnd, q, point, normal) && (sun < 0 || int(imageLoad(u_moments_in, q).w > 0.5) == sun);
+}
+
 // SVGF's bilinear tap of the history: the four previous pixels around `prev_pixel` (continuous,
 // pixel centres at +0.5), each weighted by its bilinear weight if it shows a surface with nd's
-// normal and, when prev_depth > 0, on the plane through the point at that view depth
-// (history_on_plane). A nearest tap snaps by up to half a pixel every frame; on a moving camera
-// the snaps compound into a smear of the history (fly-over, docs/render_report.md). w:
+// normal and, when prev_depth > 0, on the plane through the point at that view depth and with
+// the sun flag `sun` (tap_matches). A nearest tap snaps by up to half a pixel
+// every frame; on a moving camera the snaps compound into a smear of the history (fly-over,
+// docs/render_report.md). w:
 // normalised weights (all 0: no history); nearest: the matching tap of largest weight (the
 // clamp's window).
-Taps history_taps(vec2 prev_pixel, ivec2 size, vec4 nd, float prev_depth) {
+Taps history_taps(vec2 prev_pixel, ivec2 size, vec4 nd, float prev_depth, int sun) {
     const vec2 f = prev_pixel - 0.5;
     Taps taps = Taps(ivec2(floor(f)), vec4(0), ivec2(-1));
     const vec2 t = f - vec2(taps.base);
@@ -298,10 +319,7 @@ Taps history_taps(vec2 prev_pixel, ivec2 size, vec4 nd, float prev_depth) {
         const float w = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
         if (w <= 0.0 || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
             continue;
-        const vec4 hnd = imageLoad(u_hist_nd_in, q);
-        const bool match = prev_depth > 0.0 ? history_on_plane(nd, hnd, q, point, normal)
-                                            : has_surface(hnd) && dot(nd.xyz, hnd.xyz) > 0.9;
-        if (!match)
+        if (!tap_matches(q, nd, prev_depth, point, normal, sun))
             continue;
         taps.w[i] = w;
         if (w > best) {
@@ -393,8 +411,11 @@ float pooled_gap(ivec2 p, ivec2 q, ivec2 size, vec4 nd, float now, float before,
 // off by up to `bias` (in luminance) and this frame is unbiased with variance `own`: history
 // weight own / (own + bias^2 + own / frames), i.e. frames (own + bias^2 + h) / (bias^2 + h) with
 // h = own / frames. Bilinear resampling is off by at most f (1 - f) times the taps' range (a
-// linear ramp through them: none); with a tap off the surface (bias < 0) the renormalised taps
-// extrapolate, with no bound: no history. own is the pixels' own variance without the
+// linear ramp through them: none). With a tap off the surface the renormalised taps extrapolate
+// and their range bounds nothing; the gap between the history and this frame's value does, from
+// above (its square's mean is the bias's plus both noises'): no history at all there had cost
+// more (H200 1080p, moving p95 at 8 / 1 spp 0.0102 -> 0.0095, 4 spp 0.0134 -> 0.0118,
+// docs/render_report.md, 2026-12-02). No tap (bias < 0): no history. own is the pixels' own variance without the
 // stratification discount (over kStratifiedVarianceScale: an upper bound). Reprojected history of a
 // moving camera had cost more than it gave (H200 terrain 1080p, 25 spp and 2 frames: 0.0167
 // RMSE against raw 0.0077; with this cap 0.0075; docs/render_report.md, 2026-12-02).
@@ -425,6 +446,7 @@ void main() {
         return;
     }
     const vec3 illum = illumination(p);
+    const bool sun_blocked_here = imageLoad(u_reflected, p).a < 0.0; // render/gbuffer.h.
     float frames = 0;
     vec3 history = vec3(0), history_reflected = vec3(0);
     vec4 moments = vec4(0);
@@ -441,8 +463,8 @@ void main() {
         const vec4 prev = pc.reproject * vec4(centre * depth, depth, 1);
         Taps taps = Taps(ivec2(0), vec4(0), ivec2(-1));
         if (prev.z > 0) {
-            taps = history_taps(prev.xy / prev.z, size, nd, prev.z);
             moved = any(greaterThan(abs(prev.xy / prev.z - centre), vec2(0.01))); // Pixels.
+            taps = history_taps(prev.xy / prev.z, size, nd, prev.z, moved ? int(sun_blocked_here) : -1);
             const vec2 fr = fract(prev.xy / prev.z - 0.5);
             tap_f = max(fr.x * (1.0 - fr.x), fr.y * (1.0 - fr.y));
         }
@@ -457,7 +479,7 @@ void main() {
             const vec4 prev_virtual = pc.reproject * vec4(centre * virtual_depth, virtual_depth, 1);
             reflected_taps = Taps(ivec2(0), vec4(0), ivec2(-1));
             if (prev_virtual.z > 0)
-                reflected_taps = history_taps(prev_virtual.xy / prev_virtual.z, size, nd, 0.0);
+                reflected_taps = history_taps(prev_virtual.xy / prev_virtual.z, size, nd, 0.0, -1);
             mirror_taps = reflected_taps;
         }
         history_pixel = taps.nearest;
@@ -485,7 +507,8 @@ void main() {
     // filter alone loses (1 spp 0.0188 -> 0.0230 on the issue 18 scene, docs/render_report.md).
     float max_frames = max(pc.sigmas.w, 1.0);
     if (moved && own >= 0.0) {
-        const float bias = tap_count == 4 ? (tap_hi - tap_lo) * tap_f : -1.0;
+        const float gap = abs(luminance(history) - luminance(illum));
+        const float bias = tap_count == 4 ? (tap_hi - tap_lo) * tap_f : tap_count > 0 ? gap : -1.0;
         max_frames = min(max_frames, moving_history_cap(own, frames, bias));
     }
     const float lum = luminance(illum);
@@ -523,10 +546,9 @@ void main() {
         sample_variance = frames >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0)
                                         : spatial_variance(p, size, nd);
     imageStore(u_hist_out, p, vec4(accumulated, frames));
-    imageStore(u_moments_out, p, vec4(moments.xyz, 0));
+    imageStore(u_moments_out, p, vec4(moments.xyz, sun_blocked_here ? 1.0 : 0.0));
     imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
     imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
-    const bool sun_blocked_here = imageLoad(u_reflected, p).a < 0.0;
     imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, sun_blocked_here)));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.

@@ -5,6 +5,7 @@
 // mirror seen by a camera moving sideways (the mirror's picture follows its virtual image).
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -25,6 +26,13 @@ struct View {
 
 struct Frame {
     ImageF colour, albedo, normal_depth;
+    ImageF reflected;          // Nothing reflected; a: the sun flag's sign (render/gbuffer.h).
+    std::vector<double> hit_x; // World x of each pixel's floor point (NaN: sky).
+};
+
+// Where the sun is blocked on the floor: world x below `below` or above `above`.
+struct SunShadow {
+    double below = -1e30, above = 1e30;
 };
 
 // Light on the floor at world (x, z), `detail` times: 1, smooth with a period of many pixels;
@@ -36,8 +44,10 @@ float floor_light(double x, double z, float offset, double detail = 1.0) {
 // The ray tracer's picture (shaders/raygen.rgen primary_dir) of the floor y = floor_y (normal
 // +y) from `v`, no reflections; `variance`: the pixels' own (render/gbuffer.h; -1: one sample).
 // Pixels that miss show black sky (no surface).
-Frame render_floor(const View& v, double floor_y, float light_offset, double detail = 1.0, float variance = -1.f) {
-    Frame f{ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH)};
+Frame render_floor(const View& v, double floor_y, float light_offset, double detail = 1.0, float variance = -1.f,
+                   SunShadow shadow = {}) {
+    Frame f{ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH),
+            std::vector<double>(size_t(kW) * kH, std::nan(""))};
     const glm::dvec3 fwd = glm::normalize(v.target - v.eye);
     const glm::dvec3 right = glm::normalize(glm::cross(fwd, glm::dvec3(0, 1, 0)));
     const glm::dvec3 up = glm::cross(right, fwd);
@@ -50,6 +60,9 @@ Frame render_floor(const View& v, double floor_y, float light_offset, double det
             if (!(t > 0.0))
                 continue;
             const glm::dvec3 hit = v.eye + t * dir;
+            f.hit_x[size_t(y) * kW + x] = hit.x;
+            const bool blocked = hit.x < shadow.below || hit.x > shadow.above;
+            f.reflected.at(x, y)[3] = blocked ? -20.f : 20.f; // Occluder distance in blocks; sign: sun.
             const float light = floor_light(hit.x, hit.z, light_offset, detail);
             for (int c = 0; c < 3; ++c) {
                 f.colour.at(x, y)[c] = kAlbedo * light;
@@ -148,6 +161,50 @@ TEST_F(DenoiserHistoryTest, MovingCameraWeighsHistoryByItsResamplingError) {
     EXPECT_NEAR(uniform, 0.5, 0.02);
     EXPECT_LT(fine, 0.25);
     EXPECT_GT(fine, 0.0);
+}
+
+// A floor seen by a moving camera whose left part (x < -8) falls into a sun shadow between the
+// frames and whose right part (x > 8) leaves one (the sun flag: render/gbuffer.h, reflected
+// a < 0). The light on the plane is the same in both frames but the first is brighter by 0.2,
+// so the output shows the history's share: none where the sun flag changed (bilinear taps across
+// a sun shadow's edge smeared the lit side's history into the dark one: docs/render_report.md,
+// 2026-12-02), half elsewhere (two frames of one sample). Temporal pass only, no clamp: the flag
+// alone decides. Points within 2 blocks of the bands' edges are not counted.
+TEST_F(DenoiserHistoryTest, MovingCameraTakesNoHistoryAcrossASunShadowsEdge) {
+    const Frame first = render_floor(kBefore, 0.0, 0.2f, 1.0, -1.f, SunShadow{-1e30, 8.0});
+    const Frame second = render_floor(kAfter, 0.0, 0.f, 1.0, -1.f, SunShadow{-8.0, 1e30});
+    DenoiseSettings s;
+    s.iterations = 0;
+    s.history_clamp = false;
+    Denoiser denoiser(*m_ctx, kW, kH);
+    const glm::dmat4 prev = kBefore.view_from_world(), cur = kAfter.view_from_world();
+    denoise_on_host(*m_ctx, denoiser, first.colour, first.albedo, first.normal_depth, s, glm::mat4(1.f), kFov,
+                    &first.reflected, nullptr, history_rotation(prev));
+    const ImageF out =
+        denoise_on_host(*m_ctx, denoiser, second.colour, second.albedo, second.normal_depth, s,
+                        reprojection_matrix(prev, cur, kFov, kW, kH), kFov, &second.reflected, nullptr,
+                        history_rotation(prev));
+    double share[3] = {0, 0, 0};
+    size_t n[3] = {0, 0, 0};
+    for (uint32_t y = 6; y + 6 < kH; ++y)
+        for (uint32_t x = 6; x + 6 < kW; ++x) {
+            const double hx = second.hit_x[size_t(y) * kW + x];
+            if (std::isnan(hx) || std::abs(std::abs(hx) - 8.0) < 2.0)
+                continue; // Sky, or near a band's edge.
+            const int band = hx < -8.0 ? 0 : hx < 8.0 ? 1 : 2;
+            share[band] += (double(out.at(x, y)[0]) - second.colour.at(x, y)[0]) / (0.2 * kAlbedo);
+            ++n[band];
+        }
+    for (int b = 0; b < 3; ++b) {
+        ASSERT_GT(n[b], 20u);
+        share[b] /= double(n[b]);
+    }
+    std::printf("sun flag, moving camera: history's share into the shadow %.3f, unchanged %.3f, out of the "
+                "shadow %.3f\n",
+                share[0], share[1], share[2]);
+    EXPECT_NEAR(share[0], 0.0, 0.01);
+    EXPECT_NEAR(share[1], 0.5, 0.02);
+    EXPECT_NEAR(share[2], 0.0, 0.01);
 }
 
 using DenoiserTest = test::RenderTest;
