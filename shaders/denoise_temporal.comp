@@ -45,7 +45,7 @@ layout(binding = 6, rgba16f) writeonly uniform image2D u_hist_nd_out;
 layout(binding = 7, rgba16f) writeonly uniform image2D u_filter_out;  // rgb illumination, a variance.
 layout(binding = 8, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
-layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // Luminance m1, m2, own variance; sun flag.
+layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // m1, m2, own variance; sun flag.
 layout(binding = 11, rgba16f) writeonly uniform image2D u_moments_out;
 layout(binding = 12, rgba16f) readonly uniform image2D u_reflected;   // Not filtered: see above.
 layout(binding = 13, rgba16f) readonly uniform image2D u_hist_refl_in; // rgb, a: its frames.
@@ -287,8 +287,8 @@ bool history_on_plane(vec4 nd, vec4 hnd, ivec2 q, vec3 point, vec3 normal) {
 // of a sun shadow's edge: its sun flag (u_moments a, from render/gbuffer.h's reflected a < 0:
 // every sun ray blocked) equals `sun` (1: blocked). A lit and a shadowed pixel see different
 // light, which the taps' bilinear weights smeared across the edge: pixel-sized shadowed faces on
-// terrain took their lit neighbours' history (H200 1080p, 1 spp orbit 0.0314 -> 0.0168 RMSE,
-// docs/render_report.md, 2026-12-02). A still camera's tap is the pixel itself, whose flag flips
+// terrain took their lit neighbours' history (H200 1080p, 1 spp orbit median RMSE 0.0314 ->
+// 0.0168, docs/render_report.md, 2026-12-02). A still camera's tap is the pixel itself, whose flag flips
 // on noise in a penumbra (all of a few rays blocked by chance): there the test cost 16% of an
 // 8-frame accumulation (tests/render/denoise_render_test.cpp), and the history clamp catches a
 // real change. With prev_depth 0 (a mirror's virtual image), the normal alone.
@@ -296,16 +296,16 @@ bool tap_matches(ivec2 q, vec4 nd, float prev_depth, vec3 point, vec3 normal, in
     const vec4 hnd = imageLoad(u_hist_nd_in, q);
     if (prev_depth <= 0.0)
         return has_surface(hnd) && dot(nd.xyz, hnd.xyz) > 0.9;
-    return history_on_plane(nd, hnd, q, point, normal) && (sun < 0 || int(imageLoad(u_moments_in, q).w > 0.5) == sun);
+    const bool sun_matches = sun < 0 || int(imageLoad(u_moments_in, q).w > 0.5) == sun;
+    return sun_matches && history_on_plane(nd, hnd, q, point, normal);
 }
 
 // SVGF's bilinear tap of the history: the four previous pixels around `prev_pixel` (continuous,
 // pixel centres at +0.5), each weighted by its bilinear weight if it shows a surface with nd's
 // normal and, when prev_depth > 0, on the plane through the point at that view depth and with
-// the sun flag `sun` (tap_matches). A nearest tap snaps by up to half a pixel
-// every frame; on a moving camera the snaps compound into a smear of the history (fly-over,
-// docs/render_report.md). w:
-// normalised weights (all 0: no history); nearest: the matching tap of largest weight (the
+// the sun flag `sun` (tap_matches). A nearest tap snaps by up to half a pixel every frame; on a
+// moving camera the snaps compound into a smear of the history (fly-over, docs/render_report.md).
+// w: normalised weights (all 0: no history); nearest: the matching tap of largest weight (the
 // clamp's window).
 Taps history_taps(vec2 prev_pixel, ivec2 size, vec4 nd, float prev_depth, int sun) {
     const vec2 f = prev_pixel - 0.5;
@@ -415,10 +415,11 @@ float pooled_gap(ivec2 p, ivec2 q, ivec2 size, vec4 nd, float now, float before,
 // and their range bounds nothing; the gap between the history and this frame's value does, from
 // above (its square's mean is the bias's plus both noises'): no history at all there had cost
 // more (H200 1080p, moving p95 at 8 / 1 spp 0.0102 -> 0.0095, 4 spp 0.0134 -> 0.0118,
-// docs/render_report.md, 2026-12-02). No tap (bias < 0): no history. own is the pixels' own variance without the
-// stratification discount (over kStratifiedVarianceScale: an upper bound). Reprojected history of a
-// moving camera had cost more than it gave (H200 terrain 1080p, 25 spp and 2 frames: 0.0167
-// RMSE against raw 0.0077; with this cap 0.0075; docs/render_report.md, 2026-12-02).
+// docs/render_report.md, 2026-12-02). No tap (bias < 0): no history. own is the pixels' own
+// variance without the stratification discount (over kStratifiedVarianceScale: an upper bound).
+// Reprojected history of a moving camera had cost more than it gave (H200 terrain 1080p, 25 spp
+// and 2 frames: 0.0167 RMSE against raw 0.0077; with this cap 0.0075; docs/render_report.md,
+// 2026-12-02).
 float moving_history_cap(float own, float frames, float bias) {
     if (bias < 0.0)
         return 1.0;

@@ -46,8 +46,8 @@ float floor_light(double x, double z, float offset, double detail = 1.0) {
 // +y) from `v`, no reflections; `variance`: the pixels' own (render/gbuffer.h; -1: one sample).
 // raised_half > 0: a square of that half-size around x = z = 0 one block above the floor (its
 // top only: the sides are not drawn). Pixels that miss show black sky (no surface).
-Frame render_floor(const View& v, double floor_y, float light_offset, double detail = 1.0, float variance = -1.f,
-                   SunShadow shadow = {}, double raised_half = 0.0) {
+Frame render_floor(const View& v, double floor_y, float light_offset, double detail = 1.0,
+                   float variance = -1.f, SunShadow shadow = {}, double raised_half = 0.0) {
     Frame f{ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH), ImageF::make(kW, kH),
             std::vector<glm::dvec3>(size_t(kW) * kH, glm::dvec3(std::nan(""))),
             std::vector<bool>(size_t(kW) * kH, false)};
@@ -233,8 +233,8 @@ TEST_F(DenoiserHistoryTest, MovingPixelsWithTapsOffThePlaneWeighHistoryByItsGap)
         s.iterations = 0;
         s.history_clamp = false;
         Denoiser denoiser(*m_ctx, kW, kH);
-        denoise_on_host(*m_ctx, denoiser, first.colour, first.albedo, first.normal_depth, s, glm::mat4(1.f), kFov,
-                        &first.reflected, nullptr, history_rotation(prev));
+        denoise_on_host(*m_ctx, denoiser, first.colour, first.albedo, first.normal_depth, s, glm::mat4(1.f),
+                        kFov, &first.reflected, nullptr, history_rotation(prev));
         const ImageF out =
             denoise_on_host(*m_ctx, denoiser, second.colour, second.albedo, second.normal_depth, s,
                             reprojection_matrix(prev, cur, kFov, kW, kH), kFov, &second.reflected, nullptr,
@@ -253,7 +253,8 @@ TEST_F(DenoiserHistoryTest, MovingPixelsWithTapsOffThePlaneWeighHistoryByItsGap)
                 int on_floor = 0;
                 for (int t = 0; t < 4; ++t) {
                     const glm::ivec2 q = base + glm::ivec2(t & 1, t >> 1);
-                    on_floor += !first.raised[size_t(q.y) * kW + q.x] && !std::isnan(first.hit[size_t(q.y) * kW + q.x].x);
+                    const size_t k = size_t(q.y) * kW + q.x;
+                    on_floor += !first.raised[k] && !std::isnan(first.hit[k].x);
                 }
                 if (on_floor == 0 || on_floor == 4)
                     continue; // All taps on the floor or none: not the case tested here.
@@ -265,8 +266,8 @@ TEST_F(DenoiserHistoryTest, MovingPixelsWithTapsOffThePlaneWeighHistoryByItsGap)
     };
     size_t n_near = 0, n_far = 0;
     const double near = history_share(0.01f, &n_near), far = history_share(0.3f, &n_far);
-    std::printf("taps partly off the plane, history's share: gap 0.01 %.3f, gap 0.3 %.3f (%zu pixels)\n", near,
-                far, n_near);
+    std::printf("taps partly off the plane, history's share: gap 0.01 %.3f, gap 0.3 %.3f (%zu pixels)\n",
+                near, far, n_near);
     ASSERT_GT(n_near, 10u);
     EXPECT_GT(near, 0.35); // About 0.48 for the optimal blend; none at all before 2026-12-02.
     EXPECT_LT(near, 0.55);
