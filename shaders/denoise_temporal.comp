@@ -487,8 +487,9 @@ void main() {
         for (int i = 0; i < 4; ++i) {
             if (taps.w[i] > 0.0) {
                 const vec4 h = imageLoad(u_hist_in, tap_pixel(taps, i));
-                tap_lo = min(tap_lo, luminance(h.rgb));
-                tap_hi = max(tap_hi, luminance(h.rgb));
+                const float tap_lum = luminance(h.rgb);
+                tap_lo = min(tap_lo, tap_lum);
+                tap_hi = max(tap_hi, tap_lum);
                 ++tap_count;
                 history += taps.w[i] * h.rgb;
                 frames += taps.w[i] * h.a;
@@ -507,12 +508,12 @@ void main() {
     // history by what resampling it costs (moving_history_cap); one sample keeps it: there the
     // filter alone loses (1 spp 0.0188 -> 0.0230 on the issue 18 scene, docs/render_report.md).
     float max_frames = max(pc.sigmas.w, 1.0);
+    const float lum = luminance(illum);
     if (moved && own >= 0.0) {
-        const float gap = abs(luminance(history) - luminance(illum));
+        const float gap = abs(luminance(history) - lum);
         const float bias = tap_count == 4 ? (tap_hi - tap_lo) * tap_f : tap_count > 0 ? gap : -1.0;
         max_frames = min(max_frames, moving_history_cap(own, frames, bias));
     }
-    const float lum = luminance(illum);
     // One frame's luminance variance for the clamp: now, the pixels' own from this frame's light
     // samples (pooled_gap also takes the window's spread); in the history, its temporal variance
     // (SVGF's moments, from 2 frames on), else the pixels' own. Unknown (1 sample): the
