@@ -356,8 +356,9 @@ TEST(CliRender, BenchRenderCameraPaths) {
 // `vx bench render --sections defaults` (tiny): a table row and a CSV line per candidate (7
 // sample settings x denoiser off / on; the sandbox's settings, vx::RenderSettings::recommended(),
 // are one of them and marked), one pick that qualifies, the ms and error columns filled, and the
-// frames rendered: 14 candidates x 2 paths x (8 warm-up + 4 frames) = 336, and references for
-// 2 x 4 poses of max(1, 8 / 8) + parity frames = 12.
+// frames rendered: 14 candidates x 2 paths x (8 warm-up + 4 frames) = 336, references for
+// 2 x 4 poses of max(1, 8 / 8) + parity frames = 12, and the cost pass's 3 rounds x 14 candidates
+// x 2 paths x (1 uncounted + 4 frames) = 420.
 TEST(CliRender, BenchRenderDefaultsSection) {
     const std::string out = dir() + "/bench_defaults";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --sections defaults "
@@ -365,7 +366,8 @@ TEST(CliRender, BenchRenderDefaultsSection) {
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("## Sandbox defaults from the curves"), std::string::npos) << text;
-    EXPECT_NE(text.find("Frames rendered: 348 (references 12, candidates 336 with warm-up)"), std::string::npos)
+    EXPECT_NE(text.find("Frames rendered: 768 (references 12, candidates 336 with warm-up, timing 420)"),
+              std::string::npos)
         << text;
     EXPECT_NE(text.find("(the sandbox's) |"), std::string::npos) << text;
     std::ifstream csv(out + "/defaults.csv");
