@@ -3,9 +3,11 @@
 // over the scene, each frame compared with a converged reference at the same pose:
 //   orbit:     the default view's eye circles the scene centre, kOrbitDegrees per frame;
 //   fly-over:  the default view slides towards and over the centre, a fixed step per frame;
-//   edit:      the default view, still; a stone cube (a twelfth of the scene's width) appears on
-//              the surface at the centre a third of the way in (edited through world::EditMesher,
-//              as the engine does).
+//              both after 8 still frames at their first pose, not counted (a player who stood,
+//              then moves: a full history, not the renderer's start-up);
+//   edit:      the default view, still, from a cold start (frame 7: the still camera's 8th
+//              frame); a stone cube (a twelfth of the scene's width) appears on the surface at
+//              the centre halfway in (edited through world::EditMesher, as the engine does).
 // For each game-like configuration: per-frame RMSE median and p95; flicker (median RMS change
 // between successive frames, beside the references' own); after the edit, the frames until the
 // error in the pixels it changed is within 1.25x of its steady value (ghosting and the history's
@@ -39,7 +41,9 @@ struct PathBenchInfo {
     std::vector<PathRow> rows;
 };
 
-// 1 spp and 4 spp denoised with an 8-frame history, and 4 spp raw; info.reflections bounces.
+// 1 / 1, 4 / 4 and 8 / 1 spp (first hit / bounces) denoised with an 8-frame history, and 4 / 4 raw
+// (last: the ghost's yardstick); the sandbox's (vx::RenderSettings::recommended()) marked among
+// them or added before the raw row. info.reflections bounces.
 std::vector<PathRow> default_path_rows(const PathBenchInfo& info);
 
 // A camera path: one pose per frame.

@@ -350,6 +350,7 @@ TEST(CliRender, BenchRenderCameraPaths) {
     for (std::string line; std::getline(csv, line);)
         frames += line.rfind("orbit,", 0) == 0 ? 1 : 0;
     EXPECT_EQ(frames, 4 * 6); // Four configurations (the sandbox's among them), six frames.
+    EXPECT_NE(text.find("| orbit | sandbox: "), std::string::npos) << text; // Marked, not added.
     EXPECT_EQ(vx("bench render --sections paths --path-frames 2").code, 2);
 }
 
