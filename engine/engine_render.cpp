@@ -346,7 +346,7 @@ Status write_png(const std::string& path, const Image& image) {
 
 RenderSettings RenderSettings::recommended() {
     RenderSettings s;
-    s.shadow_samples = 8;
+    s.shadow_samples = 1;
     s.bounce_shadow_samples = 1;
     s.denoise = true;
     s.accumulate = 8;

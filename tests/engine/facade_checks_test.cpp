@@ -90,7 +90,7 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
     // The curve-chosen game settings (what the sandbox runs) are accepted, and are what vx.h says.
     const vx::RenderSettings game = vx::RenderSettings::recommended();
     EXPECT_TRUE(e.set_render_settings(game));
-    EXPECT_EQ(game.shadow_samples, 8u);
+    EXPECT_EQ(game.shadow_samples, 1u);
     EXPECT_EQ(game.bounce_shadow_samples.value_or(0), 1u);
     EXPECT_TRUE(game.denoise);
     EXPECT_EQ(game.accumulate, 8u);
