@@ -4,9 +4,9 @@
 The scene (written to a temporary raw volume, 48 x 24 x 48 u8): a stone floor, four grass
 pillars holding a sand overhang 8 blocks up (its soft shadow under the area light), a mirror wall
 along one side. The view looks over the floor at the overhang and the wall. Reference: --spp 8
---accumulate 32 (256 samples per pixel, no filter) with sample seeds of its own (1000 on), so its
-noise is independent of the frames measured. Then one frame at each --spp in SPPS, raw and
-denoised, and an 8-frame still camera at 4 spp, each with SEEDS sample seeds; prints the RMSE
+--accumulate 32 --history-clamp off (256 samples per pixel, no filter, the plain mean) with
+sample seeds of its own (1000 on), so its noise is independent of the frames measured. Then one
+frame at each --spp in SPPS, raw and denoised, and an 8-frame still camera at 4 spp, each with SEEDS sample seeds; prints the RMSE
 (over R, G, B of the 8-bit PNGs, as render/image_metrics.h; the root of the mean square over the
 seeds), and the same after a 5x5 box filter of both images: how much of the error a spatial
 filter could remove (blue-noise error has little left). Both binaries get the same seeds.
@@ -121,7 +121,7 @@ def render(vx, raw, size, lighting, out, extra):
 def measure(name, vx, raw, size, lighting, tmp):
     w, h = (int(v) for v in size.split("x"))
     ref = render(vx, raw, size, lighting, os.path.join(tmp, f"{name}_ref.png"),
-                 ["--spp", "8", "--accumulate", "32", "--sample-seed", "1000"])
+                 ["--spp", "8", "--accumulate", "32", "--history-clamp", "off", "--sample-seed", "1000"])
     ref_box = box5(ref, w, h)
 
     def error(label, extra):

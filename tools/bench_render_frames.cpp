@@ -27,6 +27,8 @@ render::RenderImage render_reference(render::Renderer& r, render::RenderSettings
                                      uint32_t spp) {
     s.shadow_samples = 8;
     s.accumulate = reference_frames(spp);
+    s.denoise = false;
+    s.history_clamp = false; // The plain mean (bench_render_frames.h).
     render::RenderImage img;
     for (uint32_t i = 0; i < s.accumulate; ++i)
         img = r.render(s, cam);

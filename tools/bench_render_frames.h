@@ -20,7 +20,10 @@ Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const r
 uint32_t reference_frames(uint32_t spp);
 
 // A converged reference: `s` (its bounces, lights and seed) with 8 shadow samples, accumulated
-// over reference_frames(spp) frames, no filter. Returns the last frame.
+// over reference_frames(spp) frames, no filter and no history clamp: the plain mean of the frames.
+// (The clamp keeps a game's history from ghosting, but it also pulls a still camera's mean of
+// mirror light towards each frame's neighbourhood: references with it were off by 0.0068 RMSE on
+// a lavapipe mirror field, docs/render_report.md, 2026-12-02 stop 20.) Returns the last frame.
 render::RenderImage render_reference(render::Renderer& r, render::RenderSettings s, const render::Camera& cam,
                                      uint32_t spp);
 

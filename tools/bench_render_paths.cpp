@@ -165,6 +165,7 @@ render::ImageF path_reference(render::Renderer& r, const render::RenderSettings&
     s.bounce_shadow_samples = 8;
     s.max_bounces = bounces;
     s.denoise = false;
+    s.history_clamp = false; // The plain mean (render_reference(), bench_render_frames.h).
     s.accumulate = std::max(1u, spp / 8) + parity;
     render::RenderImage img;
     for (uint32_t i = 0; i < s.accumulate; ++i)

@@ -47,6 +47,7 @@ struct RenderArgs {
     std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
+    std::string history_clamp = "on"; // --history-clamp (render::RenderSettings::history_clamp).
     std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
     std::string haze = "on";     // --haze: aerial perspective of Full shading.
     std::string visibility;      // --visibility: the haze's visibility in blocks; empty: the default.
@@ -96,6 +97,7 @@ void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
     s.pipeline = a.pipeline == "raster" ? render::PipelineKind::Raster : render::PipelineKind::RayTraced;
     s.denoise = a.denoise == "on";
     s.accumulate = std::max<uint32_t>(a.accumulate, 1);
+    s.history_clamp = a.history_clamp == "on";
 }
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
@@ -503,6 +505,10 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "Render N frames of the still camera and average them (temporal pass; with --denoise on, "
                     "filtered too); the PNG is the last")
         ->check(CLI::Range(1u, 65536u));
+    cmd->add_option("--history-clamp", a->history_clamp,
+                    "on (default): the temporal pass drops or clamps history this frame says is stale (no ghosts "
+                    "in a game); off: the plain mean of the frames (a converged reference)")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--exposure", a->exposure,
                     "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
                     "mid-grey; +1 halves the light) or auto (metered from the frame)");

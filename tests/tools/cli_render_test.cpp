@@ -114,6 +114,11 @@ TEST(CliRender, RasterPipelineAndDenoiser) {
     const CliRun d = render("--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 1 --denoise on --accumulate 3 --out " +
                             dir() + "/denoised.png");
     EXPECT_NE(d.out.find("accumulated frames 2..3"), std::string::npos) << d.out;
+    // A reference's plain mean: --history-clamp off renders; anything but on / off is refused.
+    const CliRun plain = render("--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 1 --accumulate 3 "
+                                "--history-clamp off --out " + dir() + "/plain.png");
+    EXPECT_NE(plain.out.find("accumulated frames 2..3"), std::string::npos) << plain.out;
+    EXPECT_EQ(vx("render --raw " + vol + " --dims 24,12,20 --history-clamp maybe").code, 2);
 }
 
 // Flat shading is exact, so the same volume and camera up to 2^36 blocks from the origin give the
