@@ -58,7 +58,8 @@ struct CameraPath {
 std::vector<CameraPath> moving_paths(const engine::LoadedScene& scene, const render::Camera& start, uint32_t frames);
 
 // The converged reference of one pose: max(1, spp / 8) frames of 8 samples (`bounces` mirror
-// bounces, lights and size of `base`) accumulated, no filter; adds the frames rendered to
+// bounces, lights and size of `base`) accumulated, no filter, no history clamp (the plain mean:
+// tools/bench_render_frames.h, render_reference()); adds the frames rendered to
 // `*frames` when given. Successive poses pass alternating `parity` (0, 1): it changes the history
 // length by one, which restarts the history, so no pose inherits the last one's frames.
 render::ImageF path_reference(render::Renderer& r, const render::RenderSettings& base, uint32_t bounces, uint32_t spp,
