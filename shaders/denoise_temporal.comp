@@ -84,18 +84,26 @@ vec3 illumination(ivec2 p) {
     return diffuse / demod_albedo(imageLoad(u_albedo, p).rgb);
 }
 
-// Whether q's mirror surface continues p's (same normal, path length within 5%).
+// Whether q's mirror surface continues p's: the same normal and a path length within 1% plus 0.3
+// blocks. In a field of small mirrors, neighbours' reflected rays end on different blocks a block
+// or so apart, which 5% of the path let in (their light differs: detail, not noise).
 bool same_mirror_surface(vec4 mnd, ivec2 q) {
-    return same_surface(mnd, imageLoad(u_mirror_nd, q));
+    const vec4 o = imageLoad(u_mirror_nd, q);
+    return has_surface(o) && dot(o.xyz, mnd.xyz) >= 0.9 && abs(o.w - mnd.w) <= 0.01 * mnd.w + 0.3;
 }
+
+// The cap on the mirror light's variance: kMirrorOwnCap times the pixels' own (discounted)
+// variance. Against plain-mean references (docs/render_report.md, stop 20; the mirror room of
+// tests/render/denoise_render_test.cpp at 4 spp, the mirror field of convergence_test.cpp at 4 /
+// 16 spp): 16 (no discount) 0.0212 / 0.0317 / 0.0154, 8 0.0217 / 0.0289 / 0.0132 with the
+// tighter surface test, 4 0.0231 / 0.0277 / 0.0127, 1 0.0284 / 0.0269 / 0.0126; raw 16 spp 0.0123.
+const float kMirrorOwnCap = 8.0;
 
 // Variance of one frame's mirror light at p: the spread of the values over the 3x3 neighbourhood
 // on the same reflected surface (the light is over the reflected surface's albedo, so the spread
-// is noise or light detail), at most the pixels' own there without the stratification discount
-// (over kStratifiedVarianceScale: an upper bound of the stratified mean's variance), so detail is not
-// taken for noise once samples are many. The pixels' own alone left the mirror noisy (0.0292
-// against 0.0247 RMSE on the mirror of tests/render/denoise_render_test.cpp); the spread alone
-// blurred the 16-spp mirror field of convergence_test.cpp (0.0275 against 0.0168 raw).
+// is noise or light detail), at most kMirrorOwnCap times the pixels' own there, so detail is not
+// taken for noise once samples are many. The pixels' own alone left a flat mirror noisy (the room:
+// 0.0284 against 0.0212); the spread alone blurs a field of small mirrors.
 float mirror_variance(ivec2 p, ivec2 size, vec4 mnd) {
     float m1 = 0, m2 = 0, n = 0, own = 0, n_own = 0;
     for (int dy = -1; dy <= 1; ++dy)
@@ -115,7 +123,7 @@ float mirror_variance(ivec2 p, ivec2 size, vec4 mnd) {
         }
     m1 /= n; // The centre always counts.
     const float spread = max(m2 / n - m1 * m1, 0.0);
-    return n_own > 0.0 ? min(spread, own / n_own / kStratifiedVarianceScale) : spread;
+    return n_own > 0.0 ? min(spread, kMirrorOwnCap * own / n_own) : spread;
 }
 
 // The mirror light's history clamped to this frame's box on the same reflected surface.
