@@ -51,15 +51,9 @@ TEST_F(RendererTest, SingleFrameErrorFallsWithSamplesOnMirrors) {
     const Camera& view = kView;
     // Reference: 32 accumulated frames of 8 samples (256 per pixel, every frame another seed),
     // the plain mean (no history clamp: AccumulatedReferenceConvergesOnlyWithoutTheClamp).
-    s.shadow_samples = 8;
-    s.accumulate = 32;
-    s.history_clamp = false;
-    RenderImage ref8;
-    for (uint32_t i = 0; i < s.accumulate; ++i)
-        ref8 = m_renderer->render(s, view);
+    const RenderImage ref8 = test::accumulated(*m_renderer, s, view, 32, 8);
     test::maybe_save(ref8, "convergence_reference");
     const ImageF ref = to_float(ref8);
-    s.accumulate = 1;
     auto single = [&](uint32_t spp) {
         s.shadow_samples = spp; // Bounces sample as many (bounce_shadow_samples unset).
         const RenderImage img = m_renderer->render(s, view);
@@ -81,15 +75,7 @@ TEST_F(RendererTest, SingleFrameErrorFallsWithSamplesOnMirrors) {
 TEST_F(RendererTest, DenoisedFramesBeatRawFramesOnMirrors) {
     test::load_meshes(*m_renderer, test::mesh_world(mirror_field()));
     RenderSettings s = mirror_settings();
-    s.shadow_samples = 8;
-    s.accumulate = 32;
-    s.history_clamp = false; // The plain mean.
-    RenderImage ref8;
-    for (uint32_t i = 0; i < s.accumulate; ++i)
-        ref8 = m_renderer->render(s, kView);
-    const ImageF ref = to_float(ref8);
-    s.accumulate = 1;
-    s.history_clamp = true;
+    const ImageF ref = to_float(test::accumulated(*m_renderer, s, kView, 32, 8)); // The plain mean.
     auto single = [&](uint32_t spp, bool denoise) {
         s.shadow_samples = spp;
         s.denoise = denoise;
@@ -122,15 +108,9 @@ TEST_F(RendererTest, DenoisedFramesBeatRawFramesOnMirrors) {
 TEST_F(RendererTest, AccumulatedReferenceConvergesOnlyWithoutTheClamp) {
     test::load_meshes(*m_renderer, test::mesh_world(mirror_field()));
     RenderSettings s = mirror_settings();
-    s.shadow_samples = 8;
     auto mean_of = [&](uint32_t frames, bool clamp, uint32_t seed) {
-        s.accumulate = frames;
-        s.history_clamp = clamp;
         s.seed = seed;
-        RenderImage img;
-        for (uint32_t i = 0; i < frames; ++i)
-            img = m_renderer->render(s, kView);
-        return to_float(img);
+        return to_float(test::accumulated(*m_renderer, s, kView, frames, 8, clamp));
     };
     const ImageF ref = mean_of(64, false, 1000); // 512 samples per pixel.
     const double plain4 = rmse(mean_of(4, false, 1), ref), plain32 = rmse(mean_of(32, false, 1), ref);

@@ -46,16 +46,9 @@ TEST_F(RendererTest, DenoiserLowersTheErrorOfTheRayTracer) {
     RenderSettings s = soft_shadow_settings();
     // Reference: 48 accumulated frames of 8 samples (384 shadow samples per pixel), no filter,
     // no history clamp (the plain mean: tools/bench_render_frames.h, render_reference()).
-    s.shadow_samples = 8;
-    s.accumulate = 48;
-    s.history_clamp = false;
-    RenderImage ref8;
-    for (int i = 0; i < 48; ++i)
-        ref8 = m_renderer->render(s, kView);
+    const RenderImage ref8 = test::accumulated(*m_renderer, s, kView, 48, 8);
     const ImageF ref = to_float(ref8);
     test::maybe_save(ref8, "denoise_reference");
-    s.accumulate = 1;
-    s.history_clamp = true;
     auto measure = [&](const char* what, uint32_t spp, bool denoise, uint32_t frames) {
         s.shadow_samples = spp;
         s.denoise = denoise;
@@ -136,16 +129,9 @@ TEST_F(RendererTest, DenoiserFiltersTheLightSeenInAMirror) {
     test::load_meshes(*m_renderer, test::mesh_world(mirror_room()));
     RenderSettings s = mirror_room_settings();
     // Reference: 32 accumulated frames of 8 samples, no filter, the plain mean (no clamp).
-    s.shadow_samples = 8;
-    s.accumulate = 32;
-    s.history_clamp = false;
-    RenderImage ref8;
-    for (int i = 0; i < 32; ++i)
-        ref8 = m_renderer->render(s, kMirrorView);
+    const RenderImage ref8 = test::accumulated(*m_renderer, s, kMirrorView, 32, 8);
     const ImageF ref = to_float(ref8);
     test::maybe_save(ref8, "mirror_room_reference");
-    s.accumulate = 1;
-    s.history_clamp = true;
     s.shadow_samples = 4;
     // The mirror's pixels (its albedo in the G-buffer): the error there is printed apart.
     GBufferImage g;

@@ -83,6 +83,21 @@ inline void maybe_save(const RenderImage& img, const char* name) {
     }
 }
 
+// The mean of `frames` accumulated frames of `s` at `spp` shadow samples, no filter and no
+// history clamp unless `clamp`: a converged reference as the bench makes it
+// (tools/bench_render_frames.h). The seed and the rest of `s` as given.
+inline RenderImage accumulated(Renderer& r, RenderSettings s, const Camera& cam, uint32_t frames, uint32_t spp,
+                               bool clamp = false) {
+    s.shadow_samples = spp;
+    s.accumulate = frames;
+    s.denoise = false;
+    s.history_clamp = clamp;
+    RenderImage img;
+    for (uint32_t i = 0; i < frames; ++i)
+        img = r.render(s, cam);
+    return img;
+}
+
 // A renderer on the test device with the validation layer on; `ci`'s other fields as given.
 inline std::unique_ptr<Renderer> make_renderer(RendererCreateInfo ci = {}) {
     ci.validation = true;
