@@ -32,7 +32,7 @@ struct Candidate {
 
 // What the candidate measured, per path (orbit, fly-over) and over both.
 struct Measured {
-    double ms = -1;               // Median GPU ms per frame (trace + denoiser), from time_candidates().
+    double ms = -1;               // Median GPU ms a frame (trace + denoiser): time_candidates().
     double median[2] = {}, p95[2] = {};
     double error = 0;             // max(p95[0], p95[1]).
 };
@@ -137,7 +137,8 @@ std::string intro(const DefaultsBenchInfo& info, uint32_t bounces, uint32_t n) {
            std::to_string(std::max(1u, info.reference_spp / 8) * 8) +
            " samples per pixel, rendered once, shared by every candidate). ms: median GPU time of trace + "
            "denoiser over both paths' frames, from a separate pass that renders them back to back, " +
-           std::to_string(kTimingRounds) + " rounds taking the candidates in turn. Error: the larger of the two paths' per-frame RMSE p95 "
+           std::to_string(kTimingRounds) +
+           " rounds taking the candidates in turn. Error: the larger of the two paths' per-frame RMSE p95 "
            "(medians beside it). Best at 2x: the lowest error among candidates at up to twice the ms (itself "
            "included); qualifies: error <= 1.25x that (tools/defaults_rule.h). The pick: the cheapest that "
            "qualifies.\n\n| settings | ms | orbit median | orbit p95 | fly-over median | fly-over p95 | error | "

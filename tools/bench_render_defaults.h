@@ -12,8 +12,9 @@
 // moves: the history is full), uncounted, then the path. Cost: the median over both paths'
 // frames of the GPU's trace + denoiser time (ms; the frame's submit-to-fence time where the
 // queue has no timestamps), from a pass of its own that renders the paths back to back in three
-// rounds, each taking every candidate in turn. Error: the larger of the two paths' per-frame RMSE p95 against one
-// converged reference per pose, rendered once and shared by every candidate. Main thread only.
+// rounds, each taking every candidate in turn. Error: the larger of the two paths' per-frame
+// RMSE p95 against one converged reference per pose, rendered once and shared by every
+// candidate. Main thread only.
 
 #include <cstdint>
 #include <string>
