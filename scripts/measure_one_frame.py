@@ -6,8 +6,9 @@ written to a temporary raw volume of 48 x 16 x 48 u8: a stone and sand checker f
 wall at z 0, four stone pillars and a stone overhang. Two views (overview; along the mirror),
 112x72, 4 reflection bounces, default lighting. Reference per view: --spp 8 --accumulate 128
 --history-clamp off (1024 samples per pixel, the plain mean) with sample seed 1000, disjoint
-from the measured frames' seeds 1-4. Prints, per view and configuration, the root mean square over the seeds of the RMSE of the 8-bit
-images (render/image_metrics.h's measure), and each seed's.
+from the measured frames' seeds 1-4. Prints, per view and configuration, the root mean square
+over the seeds of the RMSE of the 8-bit images (render/image_metrics.h's measure), and each
+seed's.
 
 Usage: scripts/measure_one_frame.py VX [OLD_VX]
   (VK_DRIVER_FILES picks the device; OLD_VX: a second binary, e.g. the base commit, measured
