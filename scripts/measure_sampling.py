@@ -7,8 +7,8 @@ along one side. The view looks over the floor at the overhang and the wall. Refe
 --accumulate 32 --history-clamp off (256 samples per pixel, no filter, the plain mean) with
 sample seeds of its own (1000 on), so its noise is independent of the frames measured. Then one
 frame at each --spp in SPPS, raw and denoised, and an 8-frame still camera at 4 spp, each with
-SEEDS sample seeds; prints the RMSE (over R, G, B of the 8-bit PNGs, as render/image_metrics.h; the root of the mean square over the
-seeds), and the same after a 5x5 box filter of both images: how much of the error a spatial
+SEEDS sample seeds; prints the RMSE (over R, G, B of the 8-bit PNGs, as render/image_metrics.h;
+the root of the mean square over the seeds), and the same after a 5x5 box filter of both images: how much of the error a spatial
 filter could remove (blue-noise error has little left). Both binaries get the same seeds.
 
 Usage: scripts/measure_sampling.py VX [OLD_VX] [--size WxH] [--lighting default|thesis]

@@ -9,6 +9,7 @@
 
 #include <vx/vx.h>
 
+#include "bench_render_frames.h"
 #include "bench_render_paths.h"
 #include "defaults_rule.h"
 #include "render/image_metrics.h"
@@ -25,8 +26,7 @@ constexpr uint32_t kTimingRounds = 3;  // The cost pass's rounds, each over ever
 constexpr uint32_t kReferenceSeed = 0x9e3779b9u;
 
 struct Candidate {
-    uint32_t spp = 0, bounce_spp = 0, history = 1;
-    bool denoise = false;
+    GameSettings g;
     bool sandbox_now = false; // The sandbox's settings (vx::RenderSettings::recommended()).
 };
 
@@ -38,23 +38,13 @@ struct Measured {
 };
 
 std::string name_of(const Candidate& c) {
-    std::string name = std::to_string(c.spp) + " / " + std::to_string(c.bounce_spp) + " spp, denoiser ";
-    if (!c.denoise)
+    const GameSettings& g = c.g;
+    std::string name = std::to_string(g.spp) + " / " + std::to_string(g.bounce_spp) + " spp, denoiser ";
+    if (!g.denoise)
         name += "off";
     else
-        name += c.history > 1 ? "on, history " + std::to_string(c.history) : "on, no history";
+        name += g.history > 1 ? "on, history " + std::to_string(g.history) : "on, no history";
     return c.sandbox_now ? name + " (the sandbox's)" : name;
-}
-
-render::RenderSettings settings_of(const Candidate& c, const render::RenderSettings& base, uint32_t bounces) {
-    render::RenderSettings s = base;
-    s.mode = render::ShadingMode::Full;
-    s.shadow_samples = c.spp;
-    s.bounce_shadow_samples = c.bounce_spp;
-    s.max_bounces = bounces;
-    s.denoise = c.denoise;
-    s.accumulate = c.history;
-    return s;
 }
 
 // The sweep, then the sandbox's settings: marked where the sweep has them, else appended.
@@ -63,18 +53,13 @@ std::vector<Candidate> candidates() {
     for (uint32_t spp : {1u, 2u, 4u, 8u})
         for (uint32_t bounce : spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp})
             for (bool denoise : {false, true})
-                v.push_back({spp, bounce, denoise ? kHistory : 1, denoise, false});
-    const ::vx::RenderSettings sandbox = ::vx::RenderSettings::recommended(); // What the sandbox runs.
-    Candidate now{sandbox.shadow_samples, sandbox.bounce_shadow_samples.value_or(sandbox.shadow_samples),
-                  std::max(sandbox.accumulate, 1u), sandbox.denoise, true};
-    auto same = [&](const Candidate& c) {
-        return c.spp == now.spp && c.bounce_spp == now.bounce_spp && c.denoise == now.denoise &&
-               c.history == now.history;
-    };
+                v.push_back({{spp, bounce, denoise, denoise ? kHistory : 1}});
+    const GameSettings now = sandbox_settings();
+    auto same = [&](const Candidate& c) { return c.g == now; };
     if (auto it = std::find_if(v.begin(), v.end(), same); it != v.end())
         it->sandbox_now = true;
     else
-        v.push_back(now);
+        v.push_back({now, true});
     return v;
 }
 
@@ -165,7 +150,7 @@ std::string results(const std::vector<Candidate>& cands, const std::vector<Measu
                       rule.best_within[i], rule.qualifies[i] ? (pick ? "yes: the pick" : "yes") : "no");
         md += line;
         std::printf("  %s", line);
-        csv << c.spp << ',' << c.bounce_spp << ',' << int(c.denoise) << ',' << c.history << ','
+        csv << c.g.spp << ',' << c.g.bounce_spp << ',' << int(c.g.denoise) << ',' << c.g.history << ','
             << int(c.sandbox_now) << ',' << m.ms << ',' << m.median[0] << ',' << m.p95[0] << ',' << m.median[1]
             << ',' << m.p95[1] << ',' << m.error << ',' << rule.best_within[i] << ',' << int(rule.qualifies[i])
             << ',' << int(pick) << '\n';
@@ -199,7 +184,7 @@ std::string run_defaults_bench(render::Renderer& r, const engine::LoadedScene& s
     std::vector<render::RenderSettings> settings;
     std::vector<Measured> measured;
     for (const Candidate& c : cands) {
-        settings.push_back(settings_of(c, info.base, bounces));
+        settings.push_back(with_game_settings(info.base, c.g, bounces));
         measured.push_back(measure(r, settings.back(), paths, refs, &cand_frames));
         std::printf("  %s: error %.4f\n", name_of(c).c_str(), measured.back().error);
     }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <vector>
 
+#include <vx/vx.h>
+
 #include "world/base/median.h"
 
 namespace vx::tools {
@@ -24,15 +26,33 @@ Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const r
 uint32_t reference_frames(uint32_t spp) { return std::max(1u, spp / 8); }
 
 render::RenderImage render_reference(render::Renderer& r, render::RenderSettings s, const render::Camera& cam,
-                                     uint32_t spp) {
+                                     uint32_t spp, uint32_t parity) {
     s.shadow_samples = 8;
-    s.accumulate = reference_frames(spp);
+    s.accumulate = reference_frames(spp) + parity;
     s.denoise = false;
     s.history_clamp = false; // The plain mean (bench_render_frames.h).
     render::RenderImage img;
     for (uint32_t i = 0; i < s.accumulate; ++i)
         img = r.render(s, cam);
     return img;
+}
+
+GameSettings sandbox_settings() {
+    const ::vx::RenderSettings game = ::vx::RenderSettings::recommended();
+    return {game.shadow_samples, game.bounce_shadow_samples.value_or(game.shadow_samples), game.denoise,
+            std::max(game.accumulate, 1u)};
+}
+
+render::RenderSettings with_game_settings(const render::RenderSettings& base, const GameSettings& g,
+                                          uint32_t bounces) {
+    render::RenderSettings s = base;
+    s.mode = render::ShadingMode::Full;
+    s.shadow_samples = g.spp;
+    s.bounce_shadow_samples = g.bounce_spp;
+    s.max_bounces = bounces;
+    s.denoise = g.denoise;
+    s.accumulate = g.history;
+    return s;
 }
 
 } // namespace vx::tools

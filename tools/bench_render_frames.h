@@ -20,11 +20,30 @@ Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const r
 uint32_t reference_frames(uint32_t spp);
 
 // A converged reference: `s` (its bounces, lights and seed) with 8 shadow samples, accumulated
-// over reference_frames(spp) frames, no filter and no history clamp: the plain mean of the frames.
+// over reference_frames(spp) + parity frames, no filter and no history clamp: the plain mean of
+// the frames. References of successive poses pass alternating `parity` (0, 1): it changes the
+// history length by one, which restarts the history, so no pose inherits the last one's frames.
 // (The clamp keeps a game's history from ghosting, but it also pulls a still camera's mean of
 // mirror light towards each frame's neighbourhood: references with it were off by 0.0068 RMSE on
 // a lavapipe mirror field, docs/render_report.md, 2026-12-02 stop 20.) Returns the last frame.
 render::RenderImage render_reference(render::Renderer& r, render::RenderSettings s, const render::Camera& cam,
-                                     uint32_t spp);
+                                     uint32_t spp, uint32_t parity = 0);
+
+// A game's sample settings as the paths and defaults sections sweep them: shadow samples at the
+// first hit and on bounces, the denoiser, and the frames of history (1: none).
+struct GameSettings {
+    uint32_t spp = 0, bounce_spp = 0;
+    bool denoise = false;
+    uint32_t history = 1;
+    bool operator==(const GameSettings&) const = default;
+};
+
+// What the sandbox runs: vx::RenderSettings::recommended() (bounce samples resolved).
+GameSettings sandbox_settings();
+
+// `base` (size, lights, seed) with g's samples, denoiser and history, Full shading and `bounces`
+// mirror bounces.
+render::RenderSettings with_game_settings(const render::RenderSettings& base, const GameSettings& g,
+                                          uint32_t bounces);
 
 } // namespace vx::tools

@@ -7,8 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include <vx/vx.h>
-
+#include "bench_render_frames.h"
 #include "render/image_metrics.h"
 #include "world/base/median.h"
 #include "world/mesh/edit_mesher.h"
@@ -102,38 +101,20 @@ double flicker(const std::vector<ImageF>& images) {
 } // namespace
 
 std::vector<PathRow> default_path_rows(const PathBenchInfo& info) {
-    struct Config {
-        uint32_t spp, bounce_spp;
-        bool denoise;
-        uint32_t history;
+    auto name_of = [](const GameSettings& g) {
+        return std::to_string(g.spp) + " / " + std::to_string(g.bounce_spp) + " spp, " +
+               (g.denoise ? "denoiser on, history " + std::to_string(g.history) : std::string("raw"));
     };
-    auto name_of = [](const Config& c) {
-        return std::to_string(c.spp) + " / " + std::to_string(c.bounce_spp) + " spp, " +
-               (c.denoise ? "denoiser on, history " + std::to_string(c.history) : std::string("raw"));
-    };
-    // The sandbox's settings (vx::RenderSettings::recommended()), at this bench's bounce depth:
-    // marked where the fixed rows have them, else added before the raw row (the last).
-    const ::vx::RenderSettings game = ::vx::RenderSettings::recommended();
-    const Config sandbox{game.shadow_samples, game.bounce_shadow_samples.value_or(game.shadow_samples), game.denoise,
-                         std::max(game.accumulate, 1u)};
-    std::vector<Config> configs = {{1, 1, true, 8}, {4, 4, true, 8}, {8, 1, true, 8}, {4, 4, false, 1}};
-    auto same = [&](const Config& c) {
-        return c.spp == sandbox.spp && c.bounce_spp == sandbox.bounce_spp && c.denoise == sandbox.denoise &&
-               c.history == sandbox.history;
-    };
-    if (std::none_of(configs.begin(), configs.end(), same))
+    // The sandbox's settings, at this bench's bounce depth: marked where the fixed rows have
+    // them, else added before the raw row (the last).
+    const GameSettings sandbox = sandbox_settings();
+    std::vector<GameSettings> configs = {{1, 1, true, 8}, {4, 4, true, 8}, {8, 1, true, 8}, {4, 4, false, 1}};
+    if (std::find(configs.begin(), configs.end(), sandbox) == configs.end())
         configs.insert(configs.end() - 1, sandbox);
     std::vector<PathRow> rows;
-    for (const Config& c : configs) {
-        PathRow row{(same(c) ? "sandbox: " : "") + name_of(c), info.base};
-        row.s.mode = render::ShadingMode::Full;
-        row.s.shadow_samples = c.spp;
-        row.s.bounce_shadow_samples = c.bounce_spp;
-        row.s.max_bounces = info.reflections;
-        row.s.denoise = c.denoise;
-        row.s.accumulate = c.history;
-        rows.push_back(std::move(row));
-    }
+    for (const GameSettings& g : configs)
+        rows.push_back(
+            {(g == sandbox ? "sandbox: " : "") + name_of(g), with_game_settings(info.base, g, info.reflections)});
     return rows;
 }
 
@@ -161,18 +142,11 @@ render::ImageF path_reference(render::Renderer& r, const render::RenderSettings&
                               const render::Camera& cam, uint32_t parity, uint64_t* frames) {
     render::RenderSettings s = base;
     s.mode = render::ShadingMode::Full;
-    s.shadow_samples = 8;
     s.bounce_shadow_samples = 8;
     s.max_bounces = bounces;
-    s.denoise = false;
-    s.history_clamp = false; // The plain mean (render_reference(), bench_render_frames.h).
-    s.accumulate = std::max(1u, spp / 8) + parity;
-    render::RenderImage img;
-    for (uint32_t i = 0; i < s.accumulate; ++i)
-        img = r.render(s, cam);
     if (frames)
-        *frames += s.accumulate;
-    return render::to_float(img);
+        *frames += reference_frames(spp) + parity;
+    return render::to_float(render_reference(r, s, cam, spp, parity));
 }
 
 double percentile(std::vector<double> v, double p) {

@@ -57,11 +57,10 @@ struct CameraPath {
 // scene's box centre, then the fly-over towards it (see the top of this file).
 std::vector<CameraPath> moving_paths(const engine::LoadedScene& scene, const render::Camera& start, uint32_t frames);
 
-// The converged reference of one pose: max(1, spp / 8) frames of 8 samples (`bounces` mirror
-// bounces, lights and size of `base`) accumulated, no filter, no history clamp (the plain mean:
-// tools/bench_render_frames.h, render_reference()); adds the frames rendered to
-// `*frames` when given. Successive poses pass alternating `parity` (0, 1): it changes the history
-// length by one, which restarts the history, so no pose inherits the last one's frames.
+// The converged reference of one pose: render_reference() (tools/bench_render_frames.h: the
+// plain mean of max(1, spp / 8) + parity frames of 8 samples) of `base`'s lights and size in Full
+// shading with 8 samples on each of `bounces` mirror bounces; adds the frames rendered to
+// `*frames` when given.
 render::ImageF path_reference(render::Renderer& r, const render::RenderSettings& base, uint32_t bounces, uint32_t spp,
                               const render::Camera& cam, uint32_t parity, uint64_t* frames = nullptr);
 
