@@ -38,24 +38,24 @@ layout(local_size_x = kDenoiseGroupSize, local_size_y = kDenoiseGroupSize) in;
 layout(binding = 0, rgba16f) readonly uniform image2D u_color;        // Noisy HDR radiance.
 layout(binding = 1, rgba8) readonly uniform image2D u_albedo;         // Linear albedo.
 layout(binding = 2, rgba16f) readonly uniform image2D u_normal_depth; // World normal, view depth.
-layout(binding = 3, rgba16f) readonly uniform image2D u_hist_in;      // rgb illumination, a frames.
+layout(binding = 3, rgba32f) readonly uniform image2D u_hist_in;      // rgb illumination, a frames.
 layout(binding = 4, rgba16f) readonly uniform image2D u_hist_nd_in;   // normal_depth of the history.
-layout(binding = 5, rgba16f) writeonly uniform image2D u_hist_out;
+layout(binding = 5, rgba32f) writeonly uniform image2D u_hist_out;
 layout(binding = 6, rgba16f) writeonly uniform image2D u_hist_nd_out;
 layout(binding = 7, rgba16f) writeonly uniform image2D u_filter_out;  // rgb illumination, a variance.
 layout(binding = 8, rgba16f) writeonly uniform image2D u_result;      // Last pass: HDR radiance.
 layout(binding = 9, rgba8) writeonly uniform image2D u_ldr;           // Last pass: 8-bit output.
-layout(binding = 10, rgba16f) readonly uniform image2D u_moments_in;  // m1, m2, own variance; sun flag.
-layout(binding = 11, rgba16f) writeonly uniform image2D u_moments_out;
+layout(binding = 10, rgba32f) readonly uniform image2D u_moments_in;  // m1, m2, own variance; sun flag.
+layout(binding = 11, rgba32f) writeonly uniform image2D u_moments_out;
 layout(binding = 12, rgba16f) readonly uniform image2D u_reflected;   // Not filtered: see above.
-layout(binding = 13, rgba16f) readonly uniform image2D u_hist_refl_in; // rgb, a: its frames.
-layout(binding = 14, rgba16f) writeonly uniform image2D u_hist_refl_out;
+layout(binding = 13, rgba32f) readonly uniform image2D u_hist_refl_in; // rgb, a: its frames.
+layout(binding = 14, rgba32f) writeonly uniform image2D u_hist_refl_out;
 layout(binding = 15, rgba16f) writeonly uniform image2D u_refl_out;   // Accumulated, for the last pass.
 layout(binding = 16, rgba16f) readonly uniform image2D u_mirror;      // Mirror light, a variance.
 layout(binding = 17, rgba8) readonly uniform image2D u_mirror_albedo;
 layout(binding = 18, rgba16f) readonly uniform image2D u_mirror_nd;   // Its normal, path length.
-layout(binding = 19, rgba16f) readonly uniform image2D u_hist_mirror_in; // rgb, a: its frames.
-layout(binding = 20, rgba16f) writeonly uniform image2D u_hist_mirror_out;
+layout(binding = 19, rgba32f) readonly uniform image2D u_hist_mirror_in; // rgb, a: its frames.
+layout(binding = 20, rgba32f) writeonly uniform image2D u_hist_mirror_out;
 layout(binding = 21, rgba16f) writeonly uniform image2D u_mirror_filter_out; // rgb, a variance.
 
 #include "shared/denoise_common.glsl"
