@@ -10,7 +10,8 @@
 // first mirror bounce's diffuse lighting (when given) the same way with the reflected surface's
 // own guides (its normal, the path's length; demodulated by its albedo); the rest of the
 // reflected part (emission, sky, haze, deeper bounces) is accumulated over frames and added back
-// unfiltered, so it stays sharp. All histories are clamped
+// unfiltered, so it stays sharp. The running means are 32-bit floats (a half float's mantissa
+// loses a long mean's updates: docs/render_report.md, stop 21). All histories are clamped
 // (DenoiseSettings::history_clamp) so changed light leaves no ghost. The luminance weight's variance
 // is the pixels' own (from their light samples, render/gbuffer.h; averaged over 5x5 pixels of the
 // surface and over the history), so the filter fades as samples grow; at 1 sample it is unknown:
