@@ -43,7 +43,9 @@ struct Camera {
     static Camera look_at(glm::dvec3 eye, glm::dvec3 target, glm::vec3 up = {0, 1, 0}, float fov_y_degrees = 60.f);
 };
 
-// A two-sided rectangular area light: corner = block + offset, spanned by edge_u and edge_v.
+// A two-sided rectangular area light: corner = block + offset, spanned by edge_u and edge_v
+// (blocks, world axes). Orthogonal edges let points near it sample it by solid angle
+// (shaders/shared/rect_light.h); a parallelogram is sampled by area everywhere.
 struct AreaLight {
     world::BlockPos block{0};
     glm::vec3 offset{0.f};
