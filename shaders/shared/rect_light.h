@@ -61,13 +61,14 @@ VX_R_FN float vx_rect_spread(r_vec3 origin, r_vec3 corner, r_vec3 eu, r_vec3 ev)
     const float s = clamp(dot(p, eu) / dot(eu, eu), 0.0f, 1.0f), t = clamp(dot(p, ev) / dot(ev, ev), 0.0f, 1.0f);
     const r_vec3 near_offset = p - s * eu - t * ev;
     const float near2 = dot(near_offset, near_offset);
+    if (near2 <= 0.0f)
+        return 0.0f;
     float far2 = 0.0f;
     for (int i = 0; i < 4; ++i) {
         const r_vec3 c = p - ((i & 1) != 0 ? eu : r_vec3(0.0f)) - ((i & 2) != 0 ? ev : r_vec3(0.0f));
-        far2 = dot(c, c) > far2 ? dot(c, c) : far2;
+        const float d2 = dot(c, c);
+        far2 = d2 > far2 ? d2 : far2;
     }
-    if (near2 <= 0.0f)
-        return 0.0f;
     const float ratio = sqrt(far2 / near2);
     return ratio * ratio * ratio;
 }

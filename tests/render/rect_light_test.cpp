@@ -5,6 +5,7 @@
 // arithmetic breaks down, which must hand over to area sampling rather than return NaN.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -119,7 +120,7 @@ TEST(RectLight, IrradianceEstimateBeatsAreaSampling) {
     const float area = glm::length(glm::cross(eu, ev));
     double angle_sum = 0, area_sum = 0;
     const std::vector<glm::vec2> uv = grid(64);
-    double angle_sq = 0, area_sq = 0; // For 4-sample estimates' spread: independent 2x2 cells.
+    double angle_sq = 0, area_sq = 0; // For the per-sample variances.
     for (const glm::vec2 p : uv) {
         const glm::vec3 d = glm::normalize(vx_rect_sample(r, p.x, p.y));
         const double a = r.solid_angle * std::max(0.f, glm::dot(n, d));
