@@ -14,6 +14,7 @@
 #include "render/commands.h"
 #include "render/context.h"
 #include "render/denoiser.h"
+#include "render/emitter_quads.h"
 #include "render/gbuffer.h"
 #include "render/gpu_layouts.h"
 #include "render/present.h"
@@ -67,8 +68,16 @@ struct Renderer::Impl {
         return std::any_of(ids.begin(), ids.end(), [&](world::BlockId id) { return id < emissive.size() && emissive[id]; });
     }
     std::array<Buffer, kFramesInFlight> emitter_lists; // vec4[kMaxEmitterChunks] per frame slot.
+    // The emissive quads of each chunk in emitter_set meshed under the current emissive flags
+    // (render/emitter_quads.h); a chunk meshed before they changed has none until it is set again,
+    // and sky rays keep finding its emitters.
+    std::unordered_map<world::LodCoord, std::vector<world::Quad>, world::LodCoordHash> emissive_quads;
+    std::array<Buffer, kFramesInFlight> emitter_quad_lists; // EmitterQuad[kMaxEmitterQuads] per frame slot.
     void update_emitters();
-    uint32_t write_emitter_list(world::BlockPos camera_block);
+    struct EmitterCounts {
+        uint32_t chunks = 0, quads = 0, covered = 0; // FrameParams flags.y, z, w.
+    };
+    EmitterCounts write_emitter_list(world::BlockPos camera_block, bool sample_faces);
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     Buffer gbuffer_readback; // The G-buffer's four images, one after another (render() with a GBufferImage).
@@ -339,8 +348,9 @@ void Renderer::Impl::update_emitters() {
 
 // The kMaxEmitterChunks emissive chunks nearest the camera (of any level: by the distance from
 // the camera's block to the chunk's box), relative to the render origin (SceneAccel::origin()),
-// into this frame slot's list; returns how many.
-uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
+// into this frame slot's list; with sample_faces, the faces of as many of them, nearest first, as
+// fit in the frame slot's face list (render/emitter_quads.h). Returns the counts.
+Renderer::Impl::EmitterCounts Renderer::Impl::write_emitter_list(world::BlockPos camera_block, bool sample_faces) {
     Buffer& list = emitter_lists[ctx->frame_slot()]; // Allocated by prepare_frame.
     auto distance2 = [&](world::LodCoord c) {
         const world::LodBlockBox box = world::lod_block_box(c);
@@ -361,7 +371,21 @@ uint32_t Renderer::Impl::write_emitter_list(world::BlockPos camera_block) {
     for (size_t i = 0; i < n; ++i) // 64-bit difference, then float, as the TLAS's translations.
         dst[i] = glm::vec4(glm::vec3(world::lod_origin(emitter_chunks[i]) - accel->origin()),
                            float(world::lod_chunk_blocks(emitter_chunks[i].level)));
-    return uint32_t(n);
+    EmitterCounts counts{uint32_t(n), 0, 0};
+    if (!sample_faces)
+        return counts;
+    auto quads_of = [&](world::LodCoord c) -> const std::vector<world::Quad>* {
+        const auto it = emissive_quads.find(c);
+        return it == emissive_quads.end() ? nullptr : &it->second;
+    };
+    auto emission_of = [&](world::BlockId id) { return registry.info(id).emission; };
+    auto* faces = static_cast<gpu::EmitterQuad*>(emitter_quad_lists[ctx->frame_slot()].mapped());
+    const EmitterListSize written =
+        write_emitter_quads(std::span(emitter_chunks.data(), n), quads_of, emission_of, accel->origin(),
+                            std::span(faces, gpu::kMaxEmitterQuads));
+    counts.quads = written.quads;
+    counts.covered = written.covered_chunks;
+    return counts;
 }
 
 bool Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
@@ -407,6 +431,12 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
                                      MemoryUse::Upload, 0, "emitter chunks"});
     if (!list.valid())
         return out_of_memory("the emitter list");
+    Buffer& faces = emitter_quad_lists[ctx->frame_slot()];
+    if (!faces.valid())
+        faces = Buffer::create(*ctx, {gpu::kMaxEmitterQuads * sizeof(gpu::EmitterQuad), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                      MemoryUse::Upload, 0, "emitter faces"});
+    if (!faces.valid())
+        return out_of_memory("the emitter faces");
     const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
         readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});
@@ -485,7 +515,8 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
                           : s.mode == ShadingMode::Full ? gpu::kModeFull
                                                         : gpu::kModeVisibility;
     p.mode_seed = glm::uvec4(mode, s.seed, material_count, s.bounce_shadow_samples.value_or(s.shadow_samples));
-    p.flags = glm::uvec4(s.sky_access ? 1u : 0u, write_emitter_list(cam.block), 0u, 0u);
+    const EmitterCounts emitters = write_emitter_list(cam.block, s.emitter_sampling);
+    p.flags = glm::uvec4(s.sky_access ? 1u : 0u, emitters.chunks, emitters.quads, emitters.covered);
     const uint32_t slot = ctx->frame_slot();
     metering[slot] = metered(s);
     if (metering[slot]) {
@@ -496,6 +527,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.exposure = glm::vec4(gpu::vx_exposure_scale(frame_ev100), metering[slot] ? 1.f : 0.f, 0.f, 0.f);
     p.haze = haze_params(s, origin);
     p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
+    p.emitter_quads = emitter_quad_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
@@ -915,6 +947,7 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
         add(c, mesh);
     m->accel->retain_only(keep);
     std::erase_if(m->chunk_blocks, [&](const auto& kv) { return !keep.contains(kv.first); });
+    std::erase_if(m->emissive_quads, [&](const auto& kv) { return !keep.contains(kv.first); });
     if (std::erase_if(m->emitter_set, [&](world::LodCoord c) { return !keep.contains(c); }) > 0)
         m->emitter_list_dirty = true;
     return render(settings, camera);
@@ -924,11 +957,14 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
     m->registry = registry;
     m->materials_dirty = true;
     m->emitters_dirty = true;
-    m->emissive.assign(registry.size(), false);
+    std::vector<bool> emissive(registry.size(), false);
     for (size_t id = 0; id < registry.size(); ++id) {
         const glm::vec3 e = registry.info(world::BlockId(id)).emission;
-        m->emissive[id] = e.r > 0.f || e.g > 0.f || e.b > 0.f;
+        emissive[id] = e.r > 0.f || e.g > 0.f || e.b > 0.f;
     }
+    if (emissive != m->emissive) // The chunks' emissive faces are stale (render/emitter_quads.h).
+        m->emissive_quads.clear();
+    m->emissive = std::move(emissive);
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
@@ -955,6 +991,13 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     const bool emits = m->emits(ids);
     if (emits ? m->emitter_set.insert(c).second : m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;
+    if (emits) {
+        std::vector<world::Quad>& faces = m->emissive_quads[c];
+        faces.clear();
+        collect_emissive_quads(mesh, m->emissive, faces);
+    } else {
+        m->emissive_quads.erase(c);
+    }
     const bool opaque = std::all_of(ids.begin(), ids.end(), [&](world::BlockId id) { return m->registry.is_opaque(id); });
     m->accel->set_chunk(c, mesh, changed_slices, opaque);
 }
@@ -962,12 +1005,14 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
 void Renderer::remove_chunk(world::LodCoord c) {
     m->accel->remove_chunk(c);
     m->chunk_blocks.erase(c);
+    m->emissive_quads.erase(c);
     if (m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;
 }
 void Renderer::clear_chunks() {
     m->accel->clear();
     m->chunk_blocks.clear();
+    m->emissive_quads.clear();
     m->emitter_set.clear();
     m->emitter_list_dirty = true;
 }

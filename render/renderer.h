@@ -136,6 +136,11 @@ struct RenderSettings {
     // true is always correct, only slower underground. Per pixel, the sun is also skipped where
     // its disc lies behind the face.
     bool sky_access = true;
+    // Emissive blocks' light by shadow rays aimed at their faces (next-event estimation, one
+    // face per sample chosen by resampled importance among kEmitterCandidates; render/
+    // emitter_quads.h): the faces of the nearest emissive chunks, up to gpu::kMaxEmitterQuads.
+    // Off: only sky rays that happen to hit an emitter see its light (noisier, same mean).
+    bool emitter_sampling = true;
     SunLight sun;
     AreaLight light;
     Exposure exposure;

@@ -48,6 +48,7 @@ struct RenderArgs {
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
     std::string history_clamp = "on"; // --history-clamp (render::RenderSettings::history_clamp).
+    std::string emitter_sampling = "on"; // --emitter-sampling (render::RenderSettings::emitter_sampling).
     std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
     std::string haze = "on";     // --haze: aerial perspective of Full shading.
     std::string visibility;      // --visibility: the haze's visibility in blocks; empty: the default.
@@ -98,6 +99,7 @@ void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
     s.denoise = a.denoise == "on";
     s.accumulate = std::max<uint32_t>(a.accumulate, 1);
     s.history_clamp = a.history_clamp == "on";
+    s.emitter_sampling = a.emitter_sampling == "on";
 }
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
@@ -508,6 +510,10 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--history-clamp", a->history_clamp,
                     "on (default): the temporal pass drops or clamps history this frame says is stale (no ghosts "
                     "in a game); off: the plain mean of the frames (a converged reference)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--emitter-sampling", a->emitter_sampling,
+                    "on (default): emissive blocks light by shadow rays aimed at their faces; off: only sky rays "
+                    "that happen to hit them (same mean, noisier)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--exposure", a->exposure,
                     "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "

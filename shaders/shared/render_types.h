@@ -29,6 +29,12 @@ VX_CONST uint kMaxTransparentLayers = 8;
 // camera (FrameParams::emitter_chunks); farther emissive chunks light nothing.
 VX_CONST float kEmitterRange = 16.0f;
 VX_CONST uint kMaxEmitterChunks = 64;
+// Emissive faces sampled directly (next-event estimation, raygen.rgen emitter_light()): the
+// faces of the nearest emissive chunks, whole chunks only, up to this many per frame
+// (render/emitter_quads.h). Sky rays no longer count the emission of those chunks' blocks.
+VX_CONST uint kMaxEmitterQuads = 1024;
+// Candidates per sample of the resampled choice among them (Talbot 2005; ReSTIR DI's first step).
+VX_CONST uint kEmitterCandidates = 8;
 // Cells per chunk edge (world::kChunkSize, checked in render/gpu_layouts.h), at every LOD level.
 VX_CONST float kChunkCells = 32.0f;
 
@@ -69,7 +75,9 @@ struct FrameParams {
     uvec4 size_samples;  // width, height, shadow samples per pixel (first hit), max bounces.
     uvec4 mode_seed;     // mode, seed, material count, shadow samples on reflection bounces.
     uvec4 flags;         // x: 1 = trace sun and sky rays (0: skipped, sealed off from the sky);
-                         // y: emitter_chunks entries (0..kMaxEmitterChunks).
+                         // y: emitter_chunks entries (0..kMaxEmitterChunks);
+                         // z: emitter_quads entries (0..kMaxEmitterQuads, 0: no direct sampling);
+                         // w: how many of emitter_chunks (the first) have all their faces there.
     vec4 exposure;       // x: radiance to tone-curve input (vx_exposure_scale, tonemap.h);
                          // y: 1 = meter the frame into exposure_meter (auto exposure), 0: not.
     vec4 haze;           // Aerial perspective (shared/haze.glsl), Full mode: x: extinction per
@@ -81,6 +89,18 @@ struct FrameParams {
     uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz chunk origin (origin-relative), w its
                              // edge in blocks (32 << LOD level).
     uint64_t exposure_meter; // Address of an ExposureMeter (exposure.y = 1), else 0.
+    uint64_t emitter_quads;  // Address of EmitterQuad[flags.z].
+    uint64_t unused;         // Pads the struct to 16 bytes (std140).
+};
+
+// An emissive block face (a greedy quad: one rectangle of one block type), origin-relative
+// blocks: the points corner + u edge_u + v edge_v, u, v in [0, 1]; it emits towards
+// cross(edge_u, edge_v) (the face's outward normal) only.
+struct EmitterQuad {
+    vec4 corner;   // xyz; w: area, blocks^2.
+    vec4 edge_u;   // xyz; w: 0.
+    vec4 edge_v;   // xyz; w: 0.
+    vec4 emission; // xyz: emitted radiance (the block's material); w: its luminance.
 };
 
 // Auto exposure's metering, summed by raygen with atomics over Full-mode pixels whose x and y

@@ -12,6 +12,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Chu
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer QuadSlots { uvec2 slot[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterChunks { vec4 origin[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterQuads { EmitterQuad q[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MeterBuffer { ExposureMeter meter; };
 
 // Primary/reflection ray result, written by the closest-hit shader.

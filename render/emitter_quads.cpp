@@ -1,0 +1,47 @@
+#include "emitter_quads.h"
+
+#include <glm/geometric.hpp>
+
+namespace vx::render {
+
+void collect_emissive_quads(const world::ChunkMesh& mesh, const std::vector<bool>& emissive,
+                            std::vector<world::Quad>& out) {
+    mesh.for_each_quad([&](const world::Quad& q) {
+        if (q.block < emissive.size() && emissive[q.block])
+            out.push_back(q);
+    });
+}
+
+gpu::EmitterQuad emitter_quad(world::LodCoord c, const world::Quad& q, world::BlockPos origin, glm::vec3 emission) {
+    glm::ivec3 corners[4];
+    world::quad_corners(q, corners); // Counter-clockwise from the air side.
+    const float cell = float(world::lod_chunk_blocks(c.level) / world::kChunkSize);
+    const glm::vec3 base = glm::vec3(world::lod_origin(c) - origin);
+    const glm::vec3 c0 = base + glm::vec3(corners[0]) * cell;
+    const glm::vec3 eu = glm::vec3(corners[1] - corners[0]) * cell;
+    const glm::vec3 ev = glm::vec3(corners[3] - corners[0]) * cell;
+    gpu::EmitterQuad e;
+    e.corner = glm::vec4(c0, glm::length(glm::cross(eu, ev)));
+    e.edge_u = glm::vec4(eu, 0.f);
+    e.edge_v = glm::vec4(ev, 0.f);
+    e.emission = glm::vec4(emission, glm::dot(emission, glm::vec3(0.2126f, 0.7152f, 0.0722f)));
+    return e;
+}
+
+EmitterListSize write_emitter_quads(std::span<const world::LodCoord> chunks,
+                                    const std::function<const std::vector<world::Quad>*(world::LodCoord)>& quads_of,
+                                    const std::function<glm::vec3(world::BlockId)>& emission_of,
+                                    world::BlockPos origin, std::span<gpu::EmitterQuad> dst) {
+    EmitterListSize n;
+    for (const world::LodCoord c : chunks) {
+        const std::vector<world::Quad>* quads = quads_of(c);
+        if (!quads || quads->size() > dst.size() - n.quads)
+            break;
+        for (const world::Quad& q : *quads)
+            dst[n.quads++] = emitter_quad(c, q, origin, emission_of(q.block));
+        ++n.covered_chunks;
+    }
+    return n;
+}
+
+} // namespace vx::render
