@@ -1,5 +1,8 @@
 #include "emitter_quads.h"
 
+#include <limits>
+
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 namespace vx::render {
@@ -31,15 +34,24 @@ gpu::EmitterQuad emitter_quad(world::LodCoord c, const world::Quad& q, world::Bl
 EmitterListSize write_emitter_quads(std::span<const world::LodCoord> chunks,
                                     const std::function<const std::vector<world::Quad>*(world::LodCoord)>& quads_of,
                                     const std::function<glm::vec3(world::BlockId)>& emission_of,
-                                    world::BlockPos origin, std::span<gpu::EmitterQuad> dst) {
+                                    world::BlockPos origin, std::span<gpu::EmitterQuad> dst,
+                                    std::span<gpu::EmitterBound> bounds) {
     EmitterListSize n;
     for (const world::LodCoord c : chunks) {
         const std::vector<world::Quad>* quads = quads_of(c);
-        if (!quads || quads->size() > dst.size() - n.quads)
+        if (!quads || quads->size() > dst.size() - n.quads || n.covered_chunks == bounds.size())
             break;
-        for (const world::Quad& q : *quads)
-            dst[n.quads++] = emitter_quad(c, q, origin, emission_of(q.block));
-        ++n.covered_chunks;
+        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        float power = 0.f;
+        for (const world::Quad& q : *quads) {
+            const gpu::EmitterQuad e = emitter_quad(c, q, origin, emission_of(q.block));
+            const glm::vec3 far = glm::vec3(e.corner + e.edge_u + e.edge_v);
+            lo = glm::min(lo, glm::min(glm::vec3(e.corner), far));
+            hi = glm::max(hi, glm::max(glm::vec3(e.corner), far));
+            power += e.emission.w * e.corner.w;
+            dst[n.quads++] = e;
+        }
+        bounds[n.covered_chunks++] = {glm::vec4(lo, power), glm::vec4(hi, 0.f)};
     }
     return n;
 }

@@ -35,12 +35,14 @@ struct EmitterListSize {
 };
 
 // The faces of chunks[0], chunks[1], ... (nearest first) into `dst` while each chunk's faces fit
-// whole. Stops at the first chunk that does not fit or whose faces are unknown (quads_of returns
+// whole, and each such chunk's bound (the box around its faces, their power) into `bounds`.
+// Stops at the first chunk that does not fit or whose faces are unknown (quads_of returns
 // nullptr: it was meshed before the materials changed): that chunk and the rest are left to the
 // sky rays that hit them, as before direct sampling, so nothing is counted twice or lost.
 EmitterListSize write_emitter_quads(std::span<const world::LodCoord> chunks,
                                     const std::function<const std::vector<world::Quad>*(world::LodCoord)>& quads_of,
                                     const std::function<glm::vec3(world::BlockId)>& emission_of,
-                                    world::BlockPos origin, std::span<gpu::EmitterQuad> dst);
+                                    world::BlockPos origin, std::span<gpu::EmitterQuad> dst,
+                                    std::span<gpu::EmitterBound> bounds);
 
 } // namespace vx::render

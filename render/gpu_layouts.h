@@ -9,6 +9,8 @@ namespace vx::render::gpu {
 static_assert(sizeof(FrameParams) == 17 * 16 + 48, "FrameParams: 17 vec4 + 6 uint64");
 static_assert(offsetof(FrameParams, emitter_quads) == 17 * 16 + 32);
 static_assert(sizeof(EmitterQuad) == 64);
+static_assert(sizeof(EmitterBound) == 32);
+static_assert(offsetof(FrameParams, emitter_bounds) == 17 * 16 + 40);
 static_assert(offsetof(FrameParams, emitter_chunks) == 17 * 16 + 16);
 static_assert(offsetof(FrameParams, exposure_meter) == 17 * 16 + 24);
 static_assert(offsetof(FrameParams, sun_direction) == 9 * 16);

@@ -73,11 +73,13 @@ struct Renderer::Impl {
     // and sky rays keep finding its emitters.
     std::unordered_map<world::LodCoord, std::vector<world::Quad>, world::LodCoordHash> emissive_quads;
     std::array<Buffer, kFramesInFlight> emitter_quad_lists; // EmitterQuad[kMaxEmitterQuads] per frame slot.
+    std::array<Buffer, kFramesInFlight> emitter_bound_lists; // EmitterBound[kMaxEmitterChunks] per frame slot.
     void update_emitters();
     struct EmitterCounts {
         uint32_t chunks = 0, quads = 0, covered = 0; // FrameParams flags.y, z, w.
     };
     EmitterCounts write_emitter_list(world::BlockPos camera_block, bool sample_faces);
+    bool frame_samples_faces = false; // write_params() listed emitter faces: record_trace() picks that pipeline.
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     Buffer gbuffer_readback; // The G-buffer's four images, one after another (render() with a GBufferImage).
@@ -380,9 +382,10 @@ Renderer::Impl::EmitterCounts Renderer::Impl::write_emitter_list(world::BlockPos
     };
     auto emission_of = [&](world::BlockId id) { return registry.info(id).emission; };
     auto* faces = static_cast<gpu::EmitterQuad*>(emitter_quad_lists[ctx->frame_slot()].mapped());
+    auto* bounds = static_cast<gpu::EmitterBound*>(emitter_bound_lists[ctx->frame_slot()].mapped());
     const EmitterListSize written =
         write_emitter_quads(std::span(emitter_chunks.data(), n), quads_of, emission_of, accel->origin(),
-                            std::span(faces, gpu::kMaxEmitterQuads));
+                            std::span(faces, gpu::kMaxEmitterQuads), std::span(bounds, gpu::kMaxEmitterChunks));
     counts.quads = written.quads;
     counts.covered = written.covered_chunks;
     return counts;
@@ -425,18 +428,19 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         return out_of_memory("the render target and G-buffer");
     if (!update_materials())
         return out_of_memory("the material table");
-    Buffer& list = emitter_lists[ctx->frame_slot()];
-    if (!list.valid())
-        list = Buffer::create(*ctx, {gpu::kMaxEmitterChunks * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                     MemoryUse::Upload, 0, "emitter chunks"});
-    if (!list.valid())
+    // The frame slot's emitter lists (written by write_emitter_list each frame), made once.
+    auto upload_list = [&](Buffer& b, VkDeviceSize bytes, const char* name) {
+        if (!b.valid())
+            b = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, 0, name});
+        return b.valid();
+    };
+    const uint32_t slot = ctx->frame_slot();
+    if (!upload_list(emitter_lists[slot], gpu::kMaxEmitterChunks * sizeof(glm::vec4), "emitter chunks"))
         return out_of_memory("the emitter list");
-    Buffer& faces = emitter_quad_lists[ctx->frame_slot()];
-    if (!faces.valid())
-        faces = Buffer::create(*ctx, {gpu::kMaxEmitterQuads * sizeof(gpu::EmitterQuad), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                      MemoryUse::Upload, 0, "emitter faces"});
-    if (!faces.valid())
+    if (!upload_list(emitter_quad_lists[slot], gpu::kMaxEmitterQuads * sizeof(gpu::EmitterQuad), "emitter faces"))
         return out_of_memory("the emitter faces");
+    if (!upload_list(emitter_bound_lists[slot], gpu::kMaxEmitterChunks * sizeof(gpu::EmitterBound), "emitter bounds"))
+        return out_of_memory("the emitter bounds");
     const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
         readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});
@@ -516,6 +520,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
                                                         : gpu::kModeVisibility;
     p.mode_seed = glm::uvec4(mode, s.seed, material_count, s.bounce_shadow_samples.value_or(s.shadow_samples));
     const EmitterCounts emitters = write_emitter_list(cam.block, s.emitter_sampling);
+    frame_samples_faces = emitters.quads > 0;
     p.flags = glm::uvec4(s.sky_access ? 1u : 0u, emitters.chunks, emitters.quads, emitters.covered);
     const uint32_t slot = ctx->frame_slot();
     metering[slot] = metered(s);
@@ -528,6 +533,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.haze = haze_params(s, origin);
     p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
     p.emitter_quads = emitter_quad_lists[ctx->frame_slot()].address();
+    p.emitter_bounds = emitter_bound_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
@@ -636,10 +642,9 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
                        g.mirror_light.handle(), g.mirror_albedo.handle(), g.mirror_normal_depth.handle()})
         image_barrier(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                       0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->pipeline());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
-    pipeline->trace(cmd, width, height, flat);
+    pipeline->trace(cmd, width, height, flat, frame_samples_faces);
     stamp(cmd, 3);
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

@@ -14,14 +14,14 @@ enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, 
 
 RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
     create_layouts();
-    create_pipeline();
-    create_sbt();
+    m_variants[0] = create_variant(false);
 }
 
 RtPipeline::~RtPipeline() {
-    // Layouts are not used by in-flight work once recorded; the pipeline retires with the frame.
-    if (m_pipeline)
-        m_ctx->retire_list().pipelines.push_back(m_pipeline);
+    // Layouts are not used by in-flight work once recorded; the pipelines retire with the frame.
+    for (Variant& v : m_variants)
+        if (v.pipeline)
+            m_ctx->retire_list().pipelines.push_back(v.pipeline);
     vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
     vkDestroyDescriptorSetLayout(m_ctx->device(), m_set_layout, nullptr);
 }
@@ -64,7 +64,7 @@ static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR
     return g;
 }
 
-void RtPipeline::create_pipeline() {
+RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
     const VkShaderModule modules[] = {
         make_shader_module(*m_ctx, spirv::raygen(), "raygen.rgen"),
         make_shader_module(*m_ctx, spirv::primary_miss(), "primary.rmiss"),
@@ -84,6 +84,11 @@ void RtPipeline::create_pipeline() {
         stages[i].module = modules[i];
         stages[i].pName = "main";
     }
+    // raygen.rgen's constant_id 0, kSampleFaces (a 32-bit bool).
+    const VkBool32 faces = sample_faces ? VK_TRUE : VK_FALSE;
+    const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
+    VkSpecializationInfo spec{1, &entry, sizeof(faces), &faces};
+    stages[0].pSpecializationInfo = &spec;
     const VkRayTracingShaderGroupCreateInfoKHR groups[kGroupCount] = {
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 0, VK_SHADER_UNUSED_KHR),
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 1, VK_SHADER_UNUSED_KHR),
@@ -98,20 +103,23 @@ void RtPipeline::create_pipeline() {
     ci.pGroups = groups;
     ci.maxPipelineRayRecursionDepth = 1; // Every ray is traced from raygen; reflections loop there.
     ci.layout = m_layout;
+    Variant v;
     VK_CHECK(vkCreateRayTracingPipelinesKHR(m_ctx->device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr,
-                                            &m_pipeline));
-    m_ctx->set_name(m_pipeline, VK_OBJECT_TYPE_PIPELINE, "rt pipeline");
+                                            &v.pipeline));
+    m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, sample_faces ? "rt pipeline, emitter faces" : "rt pipeline");
     for (VkShaderModule m : modules)
         vkDestroyShaderModule(m_ctx->device(), m, nullptr);
+    create_sbt(v, sample_faces ? "shader binding table, emitter faces" : "shader binding table");
+    return v;
 }
 
-void RtPipeline::create_sbt() {
+void RtPipeline::create_sbt(Variant& v, const char* name) {
     const auto& p = m_ctx->rt_properties();
     const uint32_t handle = p.shaderGroupHandleSize;
     const VkDeviceSize stride = align_up(handle, p.shaderGroupHandleAlignment);
     const VkDeviceSize base = p.shaderGroupBaseAlignment;
     std::vector<uint8_t> handles(size_t(handle) * kGroupCount);
-    VK_CHECK(vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), m_pipeline, 0, kGroupCount, handles.size(),
+    VK_CHECK(vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), v.pipeline, 0, kGroupCount, handles.size(),
                                                   handles.data()));
     // Regions start at base-aligned offsets: [raygen][raygen flat][miss primary, miss shadow][hit].
     const VkDeviceSize raygen_size = align_up(stride, base);
@@ -123,10 +131,10 @@ void RtPipeline::create_sbt() {
     bi.usage = VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR;
     bi.memory = MemoryUse::Upload;
     bi.alignment = base;
-    bi.name = "shader binding table";
-    m_sbt = Buffer::create(*m_ctx, bi);
-    VX_ASSERT_MSG(m_sbt.valid(), "out of memory for the SBT");
-    auto* dst = static_cast<uint8_t*>(m_sbt.mapped());
+    bi.name = name;
+    v.sbt = Buffer::create(*m_ctx, bi);
+    VX_ASSERT_MSG(v.sbt.valid(), "out of memory for the SBT");
+    auto* dst = static_cast<uint8_t*>(v.sbt.mapped());
     std::memset(dst, 0, bi.size);
     auto put = [&](uint32_t group_index, VkDeviceSize offset) {
         std::memcpy(dst + offset, handles.data() + size_t(group_index) * handle, handle);
@@ -136,15 +144,20 @@ void RtPipeline::create_sbt() {
     put(kGroupPrimaryMiss, miss_at);
     put(kGroupShadowMiss, miss_at + stride);
     put(kGroupHit, hit_at);
-    const VkDeviceAddress a = m_sbt.address();
-    m_raygen = {a, raygen_size, raygen_size}; // Raygen: stride must equal size.
-    m_raygen_flat = {a + raygen_size, raygen_size, raygen_size};
-    m_miss = {a + miss_at, stride, miss_size};
-    m_hit = {a + hit_at, stride, hit_size};
+    const VkDeviceAddress a = v.sbt.address();
+    v.raygen = {a, raygen_size, raygen_size}; // Raygen: stride must equal size.
+    v.raygen_flat = {a + raygen_size, raygen_size, raygen_size};
+    v.miss = {a + miss_at, stride, miss_size};
+    v.hit = {a + hit_at, stride, hit_size};
 }
 
-void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat) const {
-    vkCmdTraceRaysKHR(cmd, flat ? &m_raygen_flat : &m_raygen, &m_miss, &m_hit, &m_callable, width, height, 1);
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces) {
+    const bool faces = sample_faces && !flat; // Flat shades nothing.
+    Variant& v = m_variants[faces ? 1 : 0];
+    if (!v.pipeline)
+        v = create_variant(true);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, v.pipeline);
+    vkCmdTraceRaysKHR(cmd, flat ? &v.raygen_flat : &v.raygen, &v.miss, &v.hit, &v.callable, width, height, 1);
 }
 
 } // namespace vx::render

@@ -2,9 +2,14 @@
 // The ray-tracing pipeline (two raygen groups: full shading and Flat, see raygen_flat.rgen; primary
 // miss, shadow miss, one triangle hit group with a closest-hit shader and the shadow any-hit
 // shader) and its shader binding table, with handle
-// size and alignments read from the device. Descriptor set 0: binding 0 TLAS, 1 output storage
+// size and alignments read from the device. Two variants: full shading without and with the
+// emissive faces' sampling (raygen.rgen's specialization constant kSampleFaces): code a frame does
+// not run still costs registers, and without it a frame with no emitter faces (the thesis scene,
+// terrain without lamps) traces as fast as before it existed. The second is made on first use. Descriptor set 0: binding 0 TLAS, 1 output storage
 // image (rgba8), 2 FrameParams uniform, 3-5 the G-buffer storage images (render/gbuffer.h).
 // Main thread only.
+
+#include <array>
 
 #include "render/resources.h"
 
@@ -17,25 +22,28 @@ public:
     RtPipeline(const RtPipeline&) = delete;
     RtPipeline& operator=(const RtPipeline&) = delete;
 
-    VkPipeline pipeline() const { return m_pipeline; }
     VkPipelineLayout layout() const { return m_layout; }
     VkDescriptorSetLayout set_layout() const { return m_set_layout; }
 
-    // Records vkCmdTraceRaysKHR over width x height with this pipeline's SBT regions; `flat`
-    // picks the Flat raygen (FrameParams mode Flat), else the full-shading one.
-    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat) const;
+    // Binds the variant that samples emitter faces or not (making it first if need be) and records
+    // vkCmdTraceRaysKHR over width x height with its SBT regions; `flat` picks the Flat raygen
+    // (FrameParams mode Flat), else the full-shading one. The caller binds the descriptor set.
+    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces);
 
 private:
+    struct Variant {
+        VkPipeline pipeline = VK_NULL_HANDLE;
+        Buffer sbt;
+        VkStridedDeviceAddressRegionKHR raygen{}, raygen_flat{}, miss{}, hit{}, callable{};
+    };
     void create_layouts();
-    void create_pipeline();
-    void create_sbt();
+    Variant create_variant(bool sample_faces);
+    void create_sbt(Variant& v, const char* name);
 
     Context* m_ctx;
     VkDescriptorSetLayout m_set_layout = VK_NULL_HANDLE;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
-    Buffer m_sbt;
-    VkStridedDeviceAddressRegionKHR m_raygen{}, m_raygen_flat{}, m_miss{}, m_hit{}, m_callable{};
+    std::array<Variant, 2> m_variants; // [sample_faces]
 };
 
 } // namespace vx::render

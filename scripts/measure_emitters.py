@@ -3,7 +3,7 @@
 
 The scene, written to a temporary raw volume of 48 x 12 x 48 u8: a closed hall (stone and sand
 checker floor, stone walls and ceiling, four pillars) lit only by lamps: four single lamp blocks
-and a strip of six under the ceiling (45 faces; more than the 8 candidates a sample draws). No
+and a strip of six under the ceiling (27 greedy quads: more than the 8 candidates a sample draws). No
 sun, no sky light, no area light, no reflections; exposure EV 9. Reference: the faces sampled,
 --spp 16 --accumulate 64 --history-clamp off (1024 samples per pixel, the plain mean) with sample
 seed 1000. Per configuration (emitter sampling on / off; spp; raw / denoised): the root mean

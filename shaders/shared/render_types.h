@@ -90,7 +90,7 @@ struct FrameParams {
                              // edge in blocks (32 << LOD level).
     uint64_t exposure_meter; // Address of an ExposureMeter (exposure.y = 1), else 0.
     uint64_t emitter_quads;  // Address of EmitterQuad[flags.z].
-    uint64_t unused;         // Pads the struct to 16 bytes (std140).
+    uint64_t emitter_bounds; // Address of EmitterBound[flags.w]: the first flags.w emitter chunks'.
 };
 
 // An emissive block face (a greedy quad: one rectangle of one block type), origin-relative
@@ -101,6 +101,13 @@ struct EmitterQuad {
     vec4 edge_u;   // xyz; w: 0.
     vec4 edge_v;   // xyz; w: 0.
     vec4 emission; // xyz: emitted radiance (the block's material); w: its luminance.
+};
+
+// The box around one emitter chunk's emissive faces (origin-relative blocks) and their power, for
+// the cheap test of whether they could matter at a point (raygen.rgen emitter_reach()).
+struct EmitterBound {
+    vec4 lo; // xyz: the box's low corner; w: sum over the faces of luminance x area (blocks^2).
+    vec4 hi; // xyz: its high corner; w: 0.
 };
 
 // Auto exposure's metering, summed by raygen with atomics over Full-mode pixels whose x and y

@@ -13,6 +13,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Qua
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterChunks { vec4 origin[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterQuads { EmitterQuad q[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterBounds { EmitterBound b[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MeterBuffer { ExposureMeter meter; };
 
 // Primary/reflection ray result, written by the closest-hit shader.

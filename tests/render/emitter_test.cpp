@@ -76,22 +76,29 @@ TEST(EmitterQuads, WholeChunksOnlyNearestFirstAndUnknownFacesStopTheList) {
     const std::vector<world::LodCoord> chunks = {{0, {0, 0, 0}}, {0, {1, 0, 0}}, {0, {2, 0, 0}}, {0, {3, 0, 0}}};
     auto emission = [](world::BlockId) { return glm::vec3(1.f); };
     std::vector<gpu::EmitterQuad> dst(14);
+    std::vector<gpu::EmitterBound> bounds(4);
     auto all_known = [&](world::LodCoord) { return &six; };
     // 14 entries hold two chunks of six faces: the third does not fit whole, so it and the fourth
     // are left to the sky rays.
-    EmitterListSize n = write_emitter_quads(chunks, all_known, emission, {0, 0, 0}, dst);
+    EmitterListSize n = write_emitter_quads(chunks, all_known, emission, {0, 0, 0}, dst, bounds);
     EXPECT_EQ(n.quads, 12u);
     EXPECT_EQ(n.covered_chunks, 2u);
     EXPECT_FLOAT_EQ(dst[6].corner.x - dst[0].corner.x, 32.f); // The second chunk's faces, a chunk along x.
+    // Each covered chunk's bound: the lamp block's box, six unit faces of luminance 1.
+    EXPECT_EQ(glm::vec3(bounds[1].lo), glm::vec3(32.f, 0.f, 0.f));
+    EXPECT_EQ(glm::vec3(bounds[1].hi), glm::vec3(33.f, 1.f, 1.f));
+    EXPECT_FLOAT_EQ(bounds[1].lo.w, 6.f);
     // The second chunk's faces unknown (meshed before the materials changed): only the first.
     auto second_unknown = [&](world::LodCoord c) { return c.chunk.x == 1 ? nullptr : &six; };
-    n = write_emitter_quads(chunks, second_unknown, emission, {0, 0, 0}, dst);
+    n = write_emitter_quads(chunks, second_unknown, emission, {0, 0, 0}, dst, bounds);
     EXPECT_EQ(n.quads, 6u);
     EXPECT_EQ(n.covered_chunks, 1u);
-    // No room at all: nothing covered.
-    n = write_emitter_quads(chunks, all_known, emission, {0, 0, 0}, std::span(dst.data(), 5));
+    // No room at all: nothing covered; room for one chunk's bound only: one chunk.
+    n = write_emitter_quads(chunks, all_known, emission, {0, 0, 0}, std::span(dst.data(), 5), bounds);
     EXPECT_EQ(n.quads, 0u);
     EXPECT_EQ(n.covered_chunks, 0u);
+    n = write_emitter_quads(chunks, all_known, emission, {0, 0, 0}, dst, std::span(bounds.data(), 1));
+    EXPECT_EQ(n.covered_chunks, 1u);
 }
 
 // A closed stone room, inner air [-4, 5)^3, a lamp on its floor at (2, -4, 0) and, with `two`,
@@ -176,8 +183,9 @@ TEST_F(RendererTest, LampFacesSampledGiveTheSkyRaysMeanWithLessNoise) {
         const std::vector<double> faces = mean_luminance(*m_renderer, lamp_light(16, true), 32);
         const std::vector<double> rays = mean_luminance(*m_renderer, lamp_light(16, false), 64);
         const double mf = image_mean(faces), mr = image_mean(rays);
-        // The sky term on (the room is sealed: it adds nothing): the faces are sampled only where
-        // the open sky's light could not outshine the lamps, near them; sky rays find them elsewhere.
+        // The sky term on (the room is sealed: it adds nothing): the faces are sampled only
+        // where the open sky's light could not outshine the lamps, near them; sky rays find them
+        // elsewhere. Its noise lies between the two.
         RenderSettings mixed = lamp_light(16, true);
         mixed.sky_light = 1.f;
         const double mm = image_mean(mean_luminance(*m_renderer, mixed, 32));
@@ -192,6 +200,7 @@ TEST_F(RendererTest, LampFacesSampledGiveTheSkyRaysMeanWithLessNoise) {
         EXPECT_NEAR(mf / mr, 1.0, 0.03);
         EXPECT_NEAR(mm / mr, 1.0, 0.03);
         EXPECT_LT(noise_mixed, noise_rays);
+        EXPECT_GT(noise_mixed, noise_faces);
         EXPECT_LT(noise_faces, (two ? 0.5 : 0.2) * noise_rays);
     }
 }
