@@ -967,7 +967,14 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
         const glm::vec3 e = registry.info(world::BlockId(id)).emission;
         emissive[id] = e.r > 0.f || e.g > 0.f || e.b > 0.f;
     }
-    if (emissive != m->emissive) // The chunks' emissive faces are stale (render/emitter_quads.h).
+    // The chunks' emissive faces (render/emitter_quads.h) are stale where an id's flag changed;
+    // ids appended that do not emit change nothing (an unregistered id did not emit either).
+    bool stale = false;
+    for (size_t id = 0; id < std::max(emissive.size(), m->emissive.size()); ++id) {
+        const bool was = id < m->emissive.size() && m->emissive[id], is = id < emissive.size() && emissive[id];
+        stale = stale || was != is;
+    }
+    if (stale)
         m->emissive_quads.clear();
     m->emissive = std::move(emissive);
 }
