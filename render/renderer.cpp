@@ -441,6 +441,10 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         return out_of_memory("the emitter faces");
     if (!upload_list(emitter_bound_lists[slot], gpu::kMaxEmitterChunks * sizeof(gpu::EmitterBound), "emitter bounds"))
         return out_of_memory("the emitter bounds");
+    // The pipeline that samples emitter faces, once some drawn chunk emits (write_params may pick it).
+    update_emitters();
+    if (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_faces_variant())
+        return out_of_memory("the emitter faces' pipeline");
     const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
         readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});
@@ -584,7 +588,6 @@ void Renderer::Impl::write_descriptors() {
 // What render() and present() share, after prepare_frame: uploads, BLAS and TLAS builds (an
 // error when their memory runs out; the frame is then abandoned), then record_shading.
 Status Renderer::Impl::record_scene(VkCommandBuffer cmd, const Camera& cam) {
-    update_emitters();
     if (queries)
         vkCmdResetQueryPool(cmd, queries, ctx->frame_slot() * kStamps, kStamps);
     // The previous frame may still be running: it traces BLASes this frame refits, reads chunk

@@ -15,6 +15,19 @@ enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, 
 RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
     create_layouts();
     m_variants[0] = create_variant(false);
+    VX_ASSERT_MSG(m_variants[0].sbt.valid(), "out of memory for the SBT");
+}
+
+bool RtPipeline::ensure_faces_variant() {
+    if (m_variants[1].pipeline)
+        return true;
+    Variant v = create_variant(true);
+    if (v.sbt.valid()) {
+        m_variants[1] = std::move(v);
+        return true;
+    }
+    vkDestroyPipeline(m_ctx->device(), v.pipeline, nullptr); // Never recorded.
+    return false;
 }
 
 RtPipeline::~RtPipeline() {
@@ -109,11 +122,11 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
     m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, sample_faces ? "rt pipeline, emitter faces" : "rt pipeline");
     for (VkShaderModule m : modules)
         vkDestroyShaderModule(m_ctx->device(), m, nullptr);
-    create_sbt(v, sample_faces ? "shader binding table, emitter faces" : "shader binding table");
+    (void)create_sbt(v, sample_faces ? "shader binding table, emitter faces" : "shader binding table");
     return v;
 }
 
-void RtPipeline::create_sbt(Variant& v, const char* name) {
+bool RtPipeline::create_sbt(Variant& v, const char* name) {
     const auto& p = m_ctx->rt_properties();
     const uint32_t handle = p.shaderGroupHandleSize;
     const VkDeviceSize stride = align_up(handle, p.shaderGroupHandleAlignment);
@@ -133,7 +146,8 @@ void RtPipeline::create_sbt(Variant& v, const char* name) {
     bi.alignment = base;
     bi.name = name;
     v.sbt = Buffer::create(*m_ctx, bi);
-    VX_ASSERT_MSG(v.sbt.valid(), "out of memory for the SBT");
+    if (!v.sbt.valid())
+        return false; // Logged by Buffer::create.
     auto* dst = static_cast<uint8_t*>(v.sbt.mapped());
     std::memset(dst, 0, bi.size);
     auto put = [&](uint32_t group_index, VkDeviceSize offset) {
@@ -149,13 +163,13 @@ void RtPipeline::create_sbt(Variant& v, const char* name) {
     v.raygen_flat = {a + raygen_size, raygen_size, raygen_size};
     v.miss = {a + miss_at, stride, miss_size};
     v.hit = {a + hit_at, stride, hit_size};
+    return true;
 }
 
-void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces) {
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces) const {
     const bool faces = sample_faces && !flat; // Flat shades nothing.
-    Variant& v = m_variants[faces ? 1 : 0];
-    if (!v.pipeline)
-        v = create_variant(true);
+    const Variant& v = m_variants[faces ? 1 : 0];
+    VX_ASSERT_MSG(v.pipeline != VK_NULL_HANDLE, "trace: the emitter faces' variant was not made (ensure_faces_variant)");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, v.pipeline);
     vkCmdTraceRaysKHR(cmd, flat ? &v.raygen_flat : &v.raygen, &v.miss, &v.hit, &v.callable, width, height, 1);
 }

@@ -2,12 +2,12 @@
 // The ray-tracing pipeline (two raygen groups: full shading and Flat, see raygen_flat.rgen; primary
 // miss, shadow miss, one triangle hit group with a closest-hit shader and the shadow any-hit
 // shader) and its shader binding table, with handle
-// size and alignments read from the device. Two variants: full shading without and with the
-// emissive faces' sampling (raygen.rgen's specialization constant kSampleFaces): code a frame does
-// not run still costs registers, and without it a frame with no emitter faces (the thesis scene,
-// terrain without lamps) traces as fast as before it existed. The second is made on first use. Descriptor set 0: binding 0 TLAS, 1 output storage
+// size and alignments read from the device. Descriptor set 0: binding 0 TLAS, 1 output storage
 // image (rgba8), 2 FrameParams uniform, 3-5 the G-buffer storage images (render/gbuffer.h).
-// Main thread only.
+// Two variants: full shading without and with the emissive faces' sampling (raygen.rgen's
+// specialization constant kSampleFaces). Code a frame does not run still costs registers: without
+// it a frame with no emitter faces (the thesis scene, terrain without lamps) traces as fast as
+// before it existed. The second is made when first needed (ensure_faces_variant). Main thread only.
 
 #include <array>
 
@@ -25,10 +25,14 @@ public:
     VkPipelineLayout layout() const { return m_layout; }
     VkDescriptorSetLayout set_layout() const { return m_set_layout; }
 
-    // Binds the variant that samples emitter faces or not (making it first if need be) and records
-    // vkCmdTraceRaysKHR over width x height with its SBT regions; `flat` picks the Flat raygen
-    // (FrameParams mode Flat), else the full-shading one. The caller binds the descriptor set.
-    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces);
+    // Makes the variant that samples emitter faces unless it exists; false: out of memory for its
+    // shader binding table (nothing made; a later call tries again).
+    bool ensure_faces_variant();
+
+    // Binds the variant that samples emitter faces or not (that one made by ensure_faces_variant)
+    // and records vkCmdTraceRaysKHR over width x height with its SBT regions; `flat` picks the Flat
+    // raygen (FrameParams mode Flat), else the full-shading one. The caller binds the descriptor set.
+    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces) const;
 
 private:
     struct Variant {
@@ -37,8 +41,8 @@ private:
         VkStridedDeviceAddressRegionKHR raygen{}, raygen_flat{}, miss{}, hit{}, callable{};
     };
     void create_layouts();
-    Variant create_variant(bool sample_faces);
-    void create_sbt(Variant& v, const char* name);
+    Variant create_variant(bool sample_faces); // Its SBT invalid when out of memory.
+    bool create_sbt(Variant& v, const char* name);
 
     Context* m_ctx;
     VkDescriptorSetLayout m_set_layout = VK_NULL_HANDLE;

@@ -233,5 +233,29 @@ TEST_F(RendererTest, StaleEmitterFacesLoseNoLight) {
     EXPECT_NEAR(again / before, 1.0, 0.01);
 }
 
+// Out of GPU memory for the shader binding table of the pipeline that samples faces (made when a
+// drawn chunk first emits): a one-line error, no abort; the next frame renders as a renderer that
+// never failed does.
+TEST_F(RendererTest, NoMemoryForTheFacesPipelineIsAnErrorThenTheNextFrameRenders) {
+    const world::MeshMap meshes = test::mesh_world(lamp_room(false));
+    std::unique_ptr<Renderer> fresh = test::make_renderer();
+    ASSERT_NE(fresh, nullptr);
+    test::load_meshes(*fresh, meshes);
+    const RenderImage expected = fresh->render(lamp_light(4, true), kRoomView);
+    EXPECT_EQ(fresh->validation_errors(), 0u);
+
+    test::load_meshes(*m_renderer, meshes);
+    m_renderer->fail_allocations("shader binding table, emitter faces");
+    Result<RenderImage> failed = m_renderer->try_render(lamp_light(4, true), kRoomView);
+    ASSERT_FALSE(failed);
+    EXPECT_NE(failed.error().find("out of GPU memory for the emitter faces' pipeline"), std::string::npos)
+        << failed.error();
+    EXPECT_EQ(failed.error().find('\n'), std::string::npos);
+    m_renderer->fail_allocations("");
+    Result<RenderImage> img = m_renderer->try_render(lamp_light(4, true), kRoomView);
+    ASSERT_TRUE(img) << img.error();
+    EXPECT_EQ(test::differing_bytes(*img, expected), 0);
+}
+
 } // namespace
 } // namespace vx::render
