@@ -21,7 +21,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from measure_sampling import read_png, rmse  # noqa: E402
+from measure_sampling import Volume, read_png, rmse  # noqa: E402
 
 SEEDS = (1, 2, 3, 4)
 LAMPS = ((15, 1, 15), (26, 3, 12), (34, 1, 30), (12, 6, 30))
@@ -29,10 +29,8 @@ LAMPS = ((15, 1, 15), (26, 3, 12), (34, 1, 30), (12, 6, 30))
 
 def hall(path):
     xs, ys, zs = 48, 12, 48
-    v = bytearray(xs * ys * zs)
-
-    def put(x, y, z, b):
-        v[x + xs * (y + ys * z)] = b
+    vol = Volume(xs, ys, zs)
+    put = vol.put
 
     for z in range(zs):
         for x in range(xs):
@@ -51,8 +49,7 @@ def hall(path):
         put(x, y, z, 8)  # Lamp.
     for x in range(20, 26):
         put(x, 10, 40, 8)  # A strip of lamps under the ceiling.
-    with open(path, "wb") as f:
-        f.write(v)
+    vol.write(path)
 
 
 def render(vx, raw, a, out, extra):

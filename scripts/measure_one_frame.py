@@ -21,7 +21,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from measure_sampling import read_png, rmse  # noqa: E402
+from measure_sampling import Volume, read_png, rmse  # noqa: E402
 
 VIEWS = {"overview": ("42,6,20", "22,2,0"), "along the mirror": ("36,4,3.5", "20,3,0")}
 CONFIGS = (("4 spp raw", ["--spp", "4"]), ("4 spp denoised", ["--spp", "4", "--denoise", "on"]),
@@ -31,10 +31,8 @@ SEEDS = (1, 2, 3, 4)
 
 def scene(path):
     xs, ys, zs = 48, 16, 48
-    v = bytearray(xs * ys * zs)
-
-    def put(x, y, z, b):
-        v[x + xs * (y + ys * z)] = b
+    vol = Volume(xs, ys, zs)
+    put = vol.put
 
     for z in range(zs):
         for x in range(xs):
@@ -50,8 +48,7 @@ def scene(path):
     for x in range(8, 34):
         for z in range(4, 16):
             put(x, 8, z, 1)  # Overhang.
-    with open(path, "wb") as f:
-        f.write(v)
+    vol.write(path)
 
 
 def render(vx, raw, view, out, extra):

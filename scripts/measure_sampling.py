@@ -28,13 +28,25 @@ SEEDS = (1, 2, 3, 4)
 EYE, TARGET = "2,14,50", "26,3,20"
 
 
+class Volume:
+    """A raw volume of u8 block ids, x fastest, then y, then z (vx render --raw's layout)."""
+
+    def __init__(self, xs, ys, zs):
+        self.xs, self.ys, self.zs = xs, ys, zs
+        self.v = bytearray(xs * ys * zs)
+
+    def put(self, x, y, z, b):
+        self.v[x + self.xs * (y + self.ys * z)] = b
+
+    def write(self, path):
+        with open(path, "wb") as f:
+            f.write(self.v)
+
+
 def scene(path):
     xs, ys, zs = 48, 24, 48
-    v = bytearray(xs * ys * zs)
-
-    def put(x, y, z, b):
-        v[x + xs * (y + ys * z)] = b
-
+    vol = Volume(xs, ys, zs)
+    put = vol.put
     for z in range(zs):
         for x in range(xs):
             put(x, 0, z, 1)  # Stone floor.
@@ -49,8 +61,7 @@ def scene(path):
     for z in range(2, 46):
         for y in range(1, 14):
             put(40, y, z, 7)  # Mirror wall.
-    with open(path, "wb") as f:
-        f.write(v)
+    vol.write(path)
 
 
 def read_png(path):
