@@ -5,6 +5,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "shaders/shared/tonemap.h"
+
 namespace vx::render {
 
 void collect_emissive_quads(const world::ChunkMesh& mesh, const std::vector<bool>& emissive,
@@ -27,7 +29,7 @@ gpu::EmitterQuad emitter_quad(world::LodCoord c, const world::Quad& q, world::Bl
     e.corner = glm::vec4(c0, glm::length(glm::cross(eu, ev)));
     e.edge_u = glm::vec4(eu, 0.f);
     e.edge_v = glm::vec4(ev, 0.f);
-    e.emission = glm::vec4(emission, glm::dot(emission, glm::vec3(0.2126f, 0.7152f, 0.0722f)));
+    e.emission = glm::vec4(emission, gpu::vx_luminance(emission));
     return e;
 }
 

@@ -7,7 +7,7 @@
 
 layout(push_constant) uniform Push { DenoisePush pc; };
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+float luminance(vec3 c) { return vx_luminance(c); }
 
 // Albedo used to demodulate: black albedo (sky, emitters without a colour) divides by 1.
 vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }

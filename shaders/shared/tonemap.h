@@ -31,6 +31,7 @@ namespace vx::render::gpu {
 #define VX_TM_FN inline
 #define VX_TM_CONST inline constexpr
 using tm_vec3 = glm::vec3;
+using glm::dot;
 using std::exp2;
 using std::pow;
 #else
@@ -45,6 +46,10 @@ VX_TM_CONST float kNitsPerUnit = 10000.0f; // cd/m^2 per unit of the renderer's 
 // 18% reflectance): (2.51 - 0.1812 * 2.43) x^2 + (0.03 - 0.1812 * 0.59) x - 0.1812 * 0.14 = 0.
 // Auto exposure puts a frame's log-average luminance here (key 0.18).
 VX_TM_CONST float kMidGreyInput = 0.1308f;
+
+// Luminance of linear RGB (Rec. 709 primaries, the renderer's): the weight of light in noise
+// estimates, exposure metering and light selection.
+VX_TM_FN float vx_luminance(tm_vec3 c) { return dot(c, tm_vec3(0.2126f, 0.7152f, 0.0722f)); }
 
 // Scale from the renderer's radiance to the tone curve's input at exposure value `ev100`:
 // kNitsPerUnit / L_max (see Exposure above).

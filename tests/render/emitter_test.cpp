@@ -8,6 +8,7 @@
 
 #include "render/emitter_quads.h"
 #include "scene_util.h"
+#include "shaders/shared/tonemap.h"
 
 namespace vx::render {
 namespace {
@@ -139,7 +140,7 @@ std::vector<double> mean_luminance(Renderer& r, RenderSettings s, uint32_t frame
         r.render(s, kRoomView, &g);
         EXPECT_EQ(g.radiance.size(), sum.size());
         for (size_t i = 0; i < std::min(sum.size(), g.radiance.size()); ++i)
-            sum[i] += glm::dot(glm::vec3(g.radiance[i]), glm::vec3(0.2126f, 0.7152f, 0.0722f)) / frames;
+            sum[i] += gpu::vx_luminance(glm::vec3(g.radiance[i])) / frames;
     }
     return sum;
 }
@@ -167,7 +168,7 @@ double one_frame_noise(Renderer& r, RenderSettings s, const std::vector<double>&
         r.render(s, kRoomView, &g);
         std::vector<double> frame(g.radiance.size());
         for (size_t i = 0; i < frame.size(); ++i)
-            frame[i] = glm::dot(glm::vec3(g.radiance[i]), glm::vec3(0.2126f, 0.7152f, 0.0722f));
+            frame[i] = gpu::vx_luminance(glm::vec3(g.radiance[i]));
         const double e = rms_difference(frame, mean);
         e2 += e * e / 4;
     }
