@@ -21,6 +21,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from measure_one_frame import checker  # noqa: E402
 from measure_sampling import Volume, read_png, rmse  # noqa: E402
 
 SEEDS = (1, 2, 3, 4)
@@ -32,10 +33,8 @@ def hall(path):
     vol = Volume(xs, ys, zs)
     put = vol.put
 
-    for z in range(zs):
-        for x in range(xs):
-            put(x, 0, z, 4 if (x // 2 + z // 2) & 1 else 1)  # Sand where (x/2 + z/2) is odd.
-            put(x, 11, z, 1)  # Ceiling.
+    vol.fill_layer(0, checker)  # measure_one_frame's floor.
+    vol.fill_layer(11, lambda x, z: 1)  # Stone ceiling.
     for i in range(48):
         for y in range(12):
             for x, z in ((i, 0), (i, 47), (0, i), (47, i)):

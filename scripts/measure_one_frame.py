@@ -29,14 +29,17 @@ CONFIGS = (("4 spp raw", ["--spp", "4"]), ("4 spp denoised", ["--spp", "4", "--d
 SEEDS = (1, 2, 3, 4)
 
 
+def checker(x, z):
+    """The floor: sand (4) where (x/2 + z/2) is odd, stone (1) elsewhere."""
+    return 4 if (x // 2 + z // 2) & 1 else 1
+
+
 def scene(path):
     xs, ys, zs = 48, 16, 48
     vol = Volume(xs, ys, zs)
     put = vol.put
 
-    for z in range(zs):
-        for x in range(xs):
-            put(x, 0, z, 4 if (x // 2 + z // 2) & 1 else 1)  # Sand where (x/2 + z/2) is odd.
+    vol.fill_layer(0, checker)
     for x in range(xs):
         for y in range(1, 11):
             put(x, y, 0, 7)  # Mirror wall.

@@ -38,6 +38,12 @@ class Volume:
     def put(self, x, y, z, b):
         self.v[x + self.xs * (y + self.ys * z)] = b
 
+    def fill_layer(self, y, block_at):
+        """Layer y: block_at(x, z) at every column."""
+        for z in range(self.zs):
+            for x in range(self.xs):
+                self.put(x, y, z, block_at(x, z))
+
     def write(self, path):
         with open(path, "wb") as f:
             f.write(self.v)
@@ -47,9 +53,7 @@ def scene(path):
     xs, ys, zs = 48, 24, 48
     vol = Volume(xs, ys, zs)
     put = vol.put
-    for z in range(zs):
-        for x in range(xs):
-            put(x, 0, z, 1)  # Stone floor.
+    vol.fill_layer(0, lambda x, z: 1)  # Stone floor.
     for px, pz in ((10, 10), (10, 26), (28, 10), (28, 26)):
         for y in range(1, 8):
             for dz in range(2):

@@ -110,13 +110,8 @@ TEST_F(RendererTest, LampLightsASealedRoom) {
     // everywhere without sky access and near the lamp with it (the rest is left to sky rays): the
     // same light, less noise. Mean byte within 2% of the sky rays' image.
     no_sky.emitter_sampling = true;
-    auto mean = [](const RenderImage& i) {
-        double m = 0;
-        for (uint8_t b : i.rgba)
-            m += b / double(i.rgba.size());
-        return m;
-    };
-    const double sampled = mean(m_renderer->render(no_sky, cam)), open = mean(img), found = mean(by_rays);
+    const double sampled = test::mean_byte(m_renderer->render(no_sky, cam)), open = test::mean_byte(img),
+                 found = test::mean_byte(by_rays);
     std::printf("lamp room mean byte: faces sampled, sealed %.3f, open %.3f; sky rays %.3f\n", sampled, open, found);
     EXPECT_NEAR(sampled / found, 1.0, 0.02);
     EXPECT_NEAR(open / found, 1.0, 0.02);

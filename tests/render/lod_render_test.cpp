@@ -208,16 +208,11 @@ TEST_F(RendererTest, LodLevel1EmittersReachTheWholeCoarseChunk) {
 
     s.emitter_sampling = true;
     const Pair faces = render_both(*m_renderer, s, kNear, "lod_lamp_faces");
-    auto mean = [](const RenderImage& img) {
-        double m = 0;
-        for (uint8_t b : img.rgba)
-            m += b / double(img.rgba.size());
-        return m;
-    };
+    using test::mean_byte;
     std::printf("LOD lamp faces sampled: mean byte %.3f coarse, %.3f blocks (sky rays: %.3f, %.3f)\n",
-                mean(faces.coarse), mean(faces.expanded), mean(p.coarse), mean(p.expanded));
+                mean_byte(faces.coarse), mean_byte(faces.expanded), mean_byte(p.coarse), mean_byte(p.expanded));
     EXPECT_GE(distinct_colours(faces.coarse), 20);
-    EXPECT_NEAR(mean(faces.coarse) / mean(faces.expanded), 1.0, 0.02);
+    EXPECT_NEAR(mean_byte(faces.coarse) / mean_byte(faces.expanded), 1.0, 0.02);
 }
 
 // The raster pipeline skips chunks whose box is outside the view: a level-1 chunk's box is 64

@@ -109,6 +109,15 @@ inline std::unique_ptr<Renderer> make_renderer(RendererCreateInfo ci = {}) {
 }
 
 // Pixels whose bytes differ between two images of the same size.
+// The mean of an image's bytes (alpha included): how two renders of one view compare in light
+// where their noise differs.
+inline double mean_byte(const RenderImage& img) {
+    double m = 0;
+    for (uint8_t b : img.rgba)
+        m += b / double(img.rgba.size());
+    return m;
+}
+
 inline int differing_bytes(const RenderImage& a, const RenderImage& b) {
     EXPECT_EQ(a.rgba.size(), b.rgba.size());
     int diff = 0;
