@@ -40,6 +40,7 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.sun.angular_radius_degrees = s.sun.angular_radius_degrees;
     r.sun.irradiance = s.sun.irradiance;
     r.denoise = s.denoise;
+    r.emitter_sampling = s.emitter_sampling;
     r.accumulate = std::max(s.accumulate, 1u);
     r.light.block = s.light.follow_viewer ? v.block + s.light.corner : s.light.corner;
     r.light.offset = glm::vec3(0.f);

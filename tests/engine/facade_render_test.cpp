@@ -3,6 +3,7 @@
 // reported), and a game's transparent block that shows the block behind it. CTest label vulkan.
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <set>
 #include <thread>
@@ -118,7 +119,8 @@ double roughness(const vx::Image& img) {
 
 // The facade's RenderSettings reach the renderer: the raster pipeline covers the pixels the ray
 // tracer covers (Flat) but shades differently (Full: no shadows); the denoiser smooths a
-// one-sample image; the sun's irradiance lights the scene.
+// one-sample image; the sun's irradiance lights the scene; emitter_sampling picks how a lamp's
+// light is found.
 TEST(FacadeRender, SettingsReachTheRenderer) {
     auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 48, 32));
     if (!engine)
@@ -171,6 +173,23 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
         dark += no_sun.rgba[i] + no_sun.rgba[i + 1] + no_sun.rgba[i + 2];
     }
     EXPECT_LT(dark, lit * 0.95);
+
+    // At night with a lamp in view: its faces sampled light the ground around it smoothly; found
+    // only by sky rays that hit it by chance, the same light is a scatter of bright pixels.
+    auto hit = e.raycast(terrain_view().block, terrain_view().offset, terrain_view().forward, 200.0);
+    ASSERT_TRUE(hit);
+    ASSERT_EQ(hit->kind, vx::RayHit::Kind::Hit);
+    ASSERT_TRUE(e.set_block(hit->previous, *e.find_block("lamp")));
+    ASSERT_TRUE(settle(e));
+    vx::RenderSettings night = full;
+    night.sky_light = 0.f;
+    night.light.emission = glm::vec3(0.f);
+    const vx::Image faces = render(night);
+    night.emitter_sampling = false;
+    const vx::Image rays = render(night);
+    std::printf("lamp at night, roughness: faces sampled %.2f, sky rays %.2f\n", roughness(faces), roughness(rays));
+    EXPECT_GT(mean_abs_diff(faces, rays), 0.5);
+    EXPECT_LT(roughness(faces), roughness(rays));
     EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 
