@@ -41,6 +41,8 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.sun.irradiance = s.sun.irradiance;
     r.denoise = s.denoise;
     r.emitter_sampling = s.emitter_sampling;
+    r.light_cache = s.light_cache;
+    r.light_cache_pixels = s.light_cache_pixels;
     r.accumulate = std::max(s.accumulate, 1u);
     r.light.block = s.light.follow_viewer ? v.block + s.light.corner : s.light.corner;
     r.light.offset = glm::vec3(0.f);

@@ -196,7 +196,9 @@ Status Context::pick_device(const ContextCreateInfo& info) {
 }
 
 void Context::create_device() {
-    VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+    atomics.shaderBufferFloat32AtomicAdd = VK_TRUE; // The light cache (device_probe.h).
+    VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &atomics};
     rt.rayTracingPipeline = VK_TRUE;
     VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rt};
     as.accelerationStructure = VK_TRUE;
@@ -210,7 +212,8 @@ void Context::create_device() {
 
     std::vector<const char*> exts = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
                                      VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
-                                     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+                                     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
+                                     VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME};
     if (m_surface)
         exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     const float priority = 1.f;

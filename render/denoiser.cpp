@@ -53,21 +53,6 @@ VkPipelineLayout make_pipeline_layout(Context& ctx, VkDescriptorSetLayout set, c
     return layout;
 }
 
-VkPipeline make_compute(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> code, const char* name) {
-    const VkShaderModule module = make_shader_module(ctx, code, name);
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = module;
-    ci.stage.pName = "main";
-    ci.layout = layout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
-    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, name);
-    vkDestroyShaderModule(ctx.device(), module, nullptr);
-    return pipeline;
-}
-
 void write_images(Context& ctx, VkDescriptorSet set, std::span<const VkImageView> views) {
     std::vector<VkDescriptorImageInfo> infos(views.size());
     std::vector<VkWriteDescriptorSet> writes(views.size());
@@ -159,8 +144,8 @@ void Denoiser::create_pipelines() {
     m_atrous_layout = make_set_layout(*m_ctx, kAtrousBindings, "denoise atrous set layout");
     m_temporal_pl = make_pipeline_layout(*m_ctx, m_temporal_layout, "denoise temporal layout");
     m_atrous_pl = make_pipeline_layout(*m_ctx, m_atrous_layout, "denoise atrous layout");
-    m_temporal = make_compute(*m_ctx, m_temporal_pl, spirv::denoise_temporal(), "denoise_temporal.comp");
-    m_atrous = make_compute(*m_ctx, m_atrous_pl, spirv::denoise_atrous(), "denoise_atrous.comp");
+    m_temporal = make_compute_pipeline(*m_ctx, m_temporal_pl, spirv::denoise_temporal(), "denoise_temporal.comp");
+    m_atrous = make_compute_pipeline(*m_ctx, m_atrous_pl, spirv::denoise_atrous(), "denoise_atrous.comp");
     constexpr uint32_t kSets = kFramesInFlight * 4;
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kFramesInFlight * 2 * (kTemporalBindings + kAtrousBindings)};
     VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};

@@ -22,7 +22,7 @@ const char* device_type_name(DeviceType type) {
 
 bool DeviceReport::can_ray_trace() const {
     return acceleration_structure && ray_tracing_pipeline && deferred_host_operations && buffer_device_address &&
-           api_version >= VK_API_VERSION_1_3;
+           float_atomic_add && api_version >= VK_API_VERSION_1_3;
 }
 
 std::string DeviceReport::api_version_string() const {
@@ -67,8 +67,14 @@ DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
     // Features are only queried for extensions that exist (chaining unknown structs is invalid).
     VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
     VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
+    const bool has_atomics = has_extension(exts, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+    if (has_atomics) {
+        atomics.pNext = f2.pNext;
+        f2.pNext = &atomics;
+    }
     const bool has_as = has_extension(exts, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     const bool has_rt = has_extension(exts, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME);
     if (has_as) {
@@ -85,6 +91,7 @@ DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
     r.ray_tracing_pipeline = has_rt && rt.rayTracingPipeline;
     r.deferred_host_operations = has_extension(exts, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME);
     r.buffer_device_address = v12.bufferDeviceAddress;
+    r.float_atomic_add = has_atomics && atomics.shaderBufferFloat32AtomicAdd;
     return r;
 }
 

@@ -24,6 +24,9 @@ struct DeviceReport {
     bool ray_tracing_pipeline = false;     // VK_KHR_ray_tracing_pipeline + feature.
     bool deferred_host_operations = false; // VK_KHR_deferred_host_operations.
     bool buffer_device_address = false;    // Vulkan 1.2 bufferDeviceAddress feature.
+    // VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd: the light cache's sums
+    // (shaders/shared/light_cache.glsl), compiled into the ray generation shader.
+    bool float_atomic_add = false;
     // Only filled in by a Context created with a window: VK_KHR_swapchain exists and a queue
     // family with graphics + compute can present to the window's surface.
     bool present = false;

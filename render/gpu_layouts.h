@@ -6,21 +6,23 @@
 
 namespace vx::render::gpu {
 
-static_assert(sizeof(FrameParams) == 17 * 16 + 48, "FrameParams: 17 vec4 + 6 uint64");
-static_assert(offsetof(FrameParams, emitter_quads) == 17 * 16 + 32);
+static_assert(sizeof(FrameParams) == 18 * 16 + 64, "FrameParams: 18 vec4 + 8 uint64");
+static_assert(offsetof(FrameParams, emitter_quads) == 18 * 16 + 32);
 static_assert(sizeof(EmitterQuad) == 64);
 static_assert(sizeof(EmitterBound) == 32);
-static_assert(offsetof(FrameParams, emitter_bounds) == 17 * 16 + 40);
-static_assert(offsetof(FrameParams, emitter_chunks) == 17 * 16 + 16);
-static_assert(offsetof(FrameParams, exposure_meter) == 17 * 16 + 24);
+static_assert(offsetof(FrameParams, emitter_bounds) == 18 * 16 + 40);
+static_assert(offsetof(FrameParams, emitter_chunks) == 18 * 16 + 16);
+static_assert(offsetof(FrameParams, exposure_meter) == 18 * 16 + 24);
 static_assert(offsetof(FrameParams, sun_direction) == 9 * 16);
 static_assert(offsetof(FrameParams, size_samples) == 12 * 16);
 static_assert(offsetof(FrameParams, mode_seed) == 13 * 16);
 static_assert(offsetof(FrameParams, flags) == 14 * 16);
 static_assert(offsetof(FrameParams, exposure) == 15 * 16);
 static_assert(offsetof(FrameParams, haze) == 16 * 16);
-static_assert(offsetof(FrameParams, chunk_table) == 17 * 16);
-static_assert(offsetof(FrameParams, materials) == 17 * 16 + 8);
+static_assert(offsetof(FrameParams, cache) == 17 * 16);
+static_assert(offsetof(FrameParams, chunk_table) == 18 * 16);
+static_assert(offsetof(FrameParams, cache_records) == 18 * 16 + 56);
+static_assert(offsetof(FrameParams, materials) == 18 * 16 + 8);
 static_assert(sizeof(ExposureMeter) == 8);
 static_assert(sizeof(Material) == 32);
 static_assert(offsetof(Material, emission) == 16);

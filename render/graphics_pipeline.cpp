@@ -12,6 +12,21 @@ VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv,
     return m;
 }
 
+VkPipeline make_compute_pipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> code, const char* name) {
+    const VkShaderModule module = make_shader_module(ctx, code, name);
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module;
+    ci.stage.pName = "main";
+    ci.layout = layout;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
+    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, name);
+    vkDestroyShaderModule(ctx.device(), module, nullptr);
+    return pipeline;
+}
+
 VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const char* name) {
     const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, bytes};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};

@@ -1,5 +1,5 @@
 #pragma once
-// Shader modules (every pipeline), and what the small graphics pipelines share
+// Shader modules (every pipeline), compute pipelines, and what the small graphics pipelines share
 // (render/raster_pipeline.h, render/ui_pass.h): a push-constant-only layout, and a pipeline for
 // dynamic rendering into one colour attachment with dynamic viewport and scissor and no vertex
 // input (vertex shaders pull their data through buffer device addresses). Main thread.
@@ -12,6 +12,10 @@ namespace vx::render {
 
 // A shader module with a debug name; the caller destroys it once the pipeline exists.
 VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv, const char* name);
+
+// A compute pipeline of `code` (SPIR-V) with `layout`, named `name` (its module's too).
+VkPipeline make_compute_pipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> code,
+                                 const char* name);
 
 // A pipeline layout with one push-constant range of `bytes` for the vertex and fragment stages.
 VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const char* name);

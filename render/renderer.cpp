@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "render/light_cache.h"
 #include "render/commands.h"
 #include "render/context.h"
 #include "render/denoiser.h"
@@ -26,6 +28,10 @@
 
 namespace vx::render {
 
+// The stages that write the target and the G-buffer in a traced frame: the ray generation, then
+// the light cache's resolve pass (a compute shader) when the frame caches.
+constexpr VkPipelineStageFlags2 kTraceStages =
+    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 // Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
 constexpr VkDeviceSize kGBufferPixelBytes[4] = {8, 4, 8, 8};
 constexpr VkDeviceSize kGBufferReadbackPixelBytes =
@@ -115,6 +121,16 @@ struct Renderer::Impl {
     // The denoiser (render/denoiser.h), made at the first frame that uses it, and the camera of
     // the last frame it ran on (its history's; reprojection).
     std::unique_ptr<Denoiser> denoiser;
+    // The light cache (render/light_cache.h), made at the first frame that uses it;
+    // whether the frame being recorded uses it.
+    std::unique_ptr<LightCache> light_cache;
+    bool frame_cached = false;
+    uint32_t light_cache_cell_limit = 0; // Renderer::limit_light_cache_cells.
+    static bool cache_active(const RenderSettings& s) {
+        return s.light_cache && s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full;
+    }
+    // The mirror bounces a cached frame of `s` caches after its primary hit.
+    static uint32_t cached_bounces(const RenderSettings& s) { return std::min(s.max_bounces, gpu::kMaxCachedBounces); }
     Camera denoised_camera;
     bool denoised_last_frame = false;
     // The sampling settings of the history: frames of other counts are not averaged together
@@ -472,6 +488,13 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         if (!denoiser->ready())
             return out_of_memory("the denoiser's images");
     }
+    if (cache_active(s)) {
+        if (!light_cache)
+            light_cache = std::make_unique<LightCache>(*ctx, pipeline->set_layout());
+        light_cache->limit_cells_for_testing(light_cache_cell_limit);
+        if (!light_cache->ensure(s.width, s.height, cached_bounces(s)))
+            return out_of_memory("the light cache");
+    }
     if (ui && !ui->prepare())
         return out_of_memory("the UI");
     Buffer& meter = meters[ctx->frame_slot()];
@@ -540,6 +563,14 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.emitter_bounds = emitter_bound_lists[ctx->frame_slot()].address();
     p.chunk_table = accel->chunk_table();
     p.materials = materials.address();
+    frame_cached = cache_active(s);
+    if (frame_cached) { // Made and sized by prepare_frame.
+        const float cell_pixels = std::isfinite(s.light_cache_pixels) ? std::clamp(s.light_cache_pixels, 1.f / 64.f, 4096.f)
+                                                                      : RenderSettings{}.light_cache_pixels;
+        p.cache = glm::uvec4(light_cache->cells(), cached_bounces(s), std::bit_cast<uint32_t>(cell_pixels), 0u);
+        p.cache_table = light_cache->table();
+        p.cache_records = light_cache->records();
+    }
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
 }
 
@@ -645,12 +676,16 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
                        g.mirror_light.handle(), g.mirror_albedo.handle(), g.mirror_normal_depth.handle()})
         image_barrier(cmd, im, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                       0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    if (frame_cached)
+        light_cache->record_clear(cmd);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
     pipeline->trace(cmd, width, height, flat, frame_samples_faces);
+    if (frame_cached) // Part of the trace's time (stamp 3).
+        light_cache->record_resolve(cmd, sets[ctx->frame_slot()], width, height);
     stamp(cmd, 3);
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                  VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  kTraceStages, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
@@ -666,7 +701,8 @@ static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
            a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise &&
-           a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections;
+           a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections &&
+           a.light_cache == b.light_cache && a.light_cache_pixels == b.light_cache_pixels;
 }
 
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.
@@ -753,7 +789,7 @@ void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width
     VkDeviceSize offset = 0;
     for (int i = 0; i < 4; ++i) {
         image_barrier(cmd, images[i], VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                      VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                      kTraceStages, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
         VkBufferImageCopy region{};
         region.bufferOffset = offset;
@@ -1034,6 +1070,11 @@ void Renderer::clear_chunks() {
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }
 void Renderer::fail_allocations(std::string name_prefix) { m->ctx->fail_allocations(std::move(name_prefix)); }
+
+void Renderer::limit_light_cache_cells(uint32_t cells) {
+    VX_ASSERT(cells == 0 || (cells >= 4 && std::has_single_bit(cells)));
+    m->light_cache_cell_limit = cells;
+}
 
 void Renderer::set_vsync(bool vsync) {
     if (m->presenter)

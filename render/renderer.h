@@ -141,6 +141,15 @@ struct RenderSettings {
     // emitter_quads.h): the faces of the nearest emissive chunks, up to gpu::kMaxEmitterQuads.
     // Off: only sky rays that happen to hit an emitter see its light (noisier, same mean).
     bool emitter_sampling = true;
+    // The light cache (render/light_cache.h): the light of every hit but the sun's (the primary
+    // hit's and up to gpu::kMaxCachedBounces mirror bounces') is averaged within the frame over
+    // all hits on the same patch of a face, light_cache_pixels wide at its distance (to the next
+    // power of two blocks), so pixels share their shadow and sky rays. Far less noise, a bias of
+    // the light's change over a patch (docs/render_report.md). Full mode on the ray tracer
+    // only. Off: each hit keeps its own samples (unbiased). Its GPU memory (render/
+    // light_cache.h) is not in check_frame_size's estimate; running out is a frame's error.
+    bool light_cache = false;
+    float light_cache_pixels = 3.f; // Pixels, clamped to [1/64, 4096] (not finite: the default).
     SunLight sun;
     AreaLight light;
     Exposure exposure;
@@ -384,10 +393,13 @@ public:
     Status check_frame_size(uint32_t width, uint32_t height) const;
     // Test hooks (Context::simulate_device_loss, Context::fail_allocations): the next submission
     // reads as a lost device; resources whose debug name starts with `name_prefix` ("render
-    // target", "gbuffer", "render readback", "TLAS", "AS scratch", "ui texture", "denoise") fail
-    // to allocate until called again with "".
+    // target", "gbuffer", "render readback", "TLAS", "AS scratch", "ui texture", "denoise",
+    // "light cache") fail to allocate until called again with "".
     void simulate_device_loss();
     void fail_allocations(std::string name_prefix);
+    // Test hook: the light cache's table has at most `cells` cells (a power of two, >= 4; 0: as
+    // sized for the frame), so that hits find their probes taken (LightCache).
+    void limit_light_cache_cells(uint32_t cells);
 
     const DeviceReport& device() const;
     uint32_t validation_errors() const;

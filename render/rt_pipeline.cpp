@@ -42,15 +42,18 @@ RtPipeline::~RtPipeline() {
 void RtPipeline::create_layouts() {
     const VkShaderStageFlags rgen = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
     const VkShaderStageFlags hits = VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR;
+    // The light cache's resolve pass (render/light_cache.h) reads and writes some of the
+    // same images after the trace, through this set.
+    const VkShaderStageFlags resolve = rgen | VK_SHADER_STAGE_COMPUTE_BIT;
     const VkDescriptorSetLayoutBinding bindings[] = {
         {kBindingTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rgen, nullptr},
-        {kBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
-        {kBindingParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, rgen | hits, nullptr},
-        {kBindingRadiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, resolve, nullptr},
+        {kBindingParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, resolve | hits, nullptr},
+        {kBindingRadiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, resolve, nullptr},
         {kBindingAlbedo, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
         {kBindingNormalDepth, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
-        {kBindingReflected, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
-        {kBindingMirrorLight, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
+        {kBindingReflected, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, resolve, nullptr},
+        {kBindingMirrorLight, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, resolve, nullptr},
         {kBindingMirrorAlbedo, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
         {kBindingMirrorNormalDepth, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, rgen, nullptr},
     };

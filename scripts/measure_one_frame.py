@@ -25,7 +25,9 @@ from measure_sampling import Volume, read_png, rmse  # noqa: E402
 
 VIEWS = {"overview": ("42,6,20", "22,2,0"), "along the mirror": ("36,4,3.5", "20,3,0")}
 CONFIGS = (("4 spp raw", ["--spp", "4"]), ("4 spp denoised", ["--spp", "4", "--denoise", "on"]),
-           ("25 spp raw", ["--spp", "25"]))
+           ("25 spp raw", ["--spp", "25"]),
+           ("4 spp raw, light cache", ["--spp", "4", "--light-cache", "on"]),
+           ("4 spp denoised, light cache", ["--spp", "4", "--denoise", "on", "--light-cache", "on"]))
 SEEDS = (1, 2, 3, 4)
 
 

@@ -12,6 +12,7 @@ Usage: scripts/plot_render_bench.py DIR/render_bench.csv  (Debian python3: /usr/
 Needs python3-matplotlib (scripts/setup.sh installs it).
 """
 import csv
+import itertools
 import os
 import sys
 
@@ -44,13 +45,14 @@ def plot_equal_error(rows, out_dir):
         pts = [r for r in rows if r["feature_set"] == name]
         flat = float(pts[0]["flat_ms"])
         fig, ax = plt.subplots(figsize=(6, 4))
-        for denoise, marker in ((0, "o"), (1, "^")):
-            sel = [r for r in pts if int(r["denoise"]) == denoise]
+        for denoise, cache, marker in ((0, 0, "o"), (1, 0, "^"), (0, 1, "s"), (1, 1, "D")):
+            sel = [r for r in pts if int(r["denoise"]) == denoise and int(r.get("light_cache", 0)) == cache]
             if not sel:
                 continue
             xs = [float(r["frame_ms"]) / flat for r in sel]
             ys = [float(r["rmse"]) for r in sel]
-            ax.scatter(xs, ys, marker=marker, label="denoised" if denoise else "raw")
+            ax.scatter(xs, ys, marker=marker,
+                       label=("denoised" if denoise else "raw") + (", light cache" if cache else ""))
             for r, x, y in zip(sel, xs, ys):
                 tag = r["spp"] + ("/" + r["bounce_spp"] if int(r["bounce_spp"]) else "")
                 ax.annotate(tag, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
@@ -139,8 +141,9 @@ def main() -> int:
         return 0
     for metric, label in (("rmse", "RMSE"), ("psnr", "PSNR (dB)"), ("ssim", "SSIM")):
         fig, ax = plt.subplots(figsize=(6, 4))
-        for denoise, bounce_all, marker in ((0, False, "o"), (0, True, "s"), (1, False, "^"), (1, True, "D")):
-            pts = [r for r in rows if int(r["denoise"]) == denoise and
+        for (denoise, bounce_all, marker), cache in itertools.product(
+                ((0, False, "o"), (0, True, "s"), (1, False, "^"), (1, True, "D")), (0, 1)):
+            pts = [r for r in rows if int(r["denoise"]) == denoise and int(r.get("light_cache", 0)) == cache and
                    (int(r["bounce_spp"]) == int(r["spp"])) == bounce_all]
             pts.sort(key=lambda r: int(r["spp"]))
             if not pts:
@@ -148,7 +151,8 @@ def main() -> int:
             xs = [float(r["frame_ms"]) for r in pts]
             ys = [float(r[metric]) for r in pts]
             name = ("denoised" if denoise else "raw") + (", bounce spp = spp" if bounce_all else ", bounce spp 1")
-            ax.plot(xs, ys, marker=marker, label=name)
+            name += ", light cache" if cache else ""
+            ax.plot(xs, ys, marker=marker, linestyle="--" if cache else "-", label=name)
             for r, x, y in zip(pts, xs, ys):
                 ax.annotate(r["spp"], (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
         ax.set_xscale("log")

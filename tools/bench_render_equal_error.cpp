@@ -46,6 +46,7 @@ render::RenderSettings candidate_settings(const EqualErrorBenchInfo& info, uint3
     s.shadow_samples = c.spp;
     s.bounce_shadow_samples = bounces > 0 ? c.bounce_spp : c.spp;
     s.denoise = c.denoise;
+    s.light_cache = c.light_cache;
     s.accumulate = 1; // One frame: no history.
     return s;
 }
@@ -74,7 +75,7 @@ std::string candidate_name(const EqualErrorCandidate& c) {
     std::string name = std::to_string(c.spp) + " spp";
     if (c.bounce_spp > 0)
         name += ", bounce spp " + std::to_string(c.bounce_spp);
-    return name + (c.denoise ? ", denoised" : ", raw");
+    return name + (c.denoise ? ", denoised" : ", raw") + (c.light_cache ? ", light cache" : "");
 }
 
 // The thesis's configuration first (it sets the target), then the rest in order, each skipped
@@ -89,7 +90,7 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
     ctx.frames += reference_frames(ctx.info.reference_spp);
     for (size_t i = 0; i < set.candidates.size(); ++i) {
         const EqualErrorCandidate& c = set.candidates[i];
-        if (c.spp == kThesisSpp && c.bounce_spp == (bounces > 0 ? kThesisSpp : 0) && !c.denoise)
+        if (c.spp == kThesisSpp && c.bounce_spp == (bounces > 0 ? kThesisSpp : 0) && !c.denoise && !c.light_cache)
             set.thesis = i;
     }
     measure(ctx, reference, bounces, set.candidates[set.thesis]);
@@ -141,7 +142,7 @@ std::string rows_table(const std::vector<FeatureSet>& sets, double flat_ms) {
 std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms, std::ofstream& csv) {
     std::string md = "\n| features | configuration | frame ms | x RT flat | RMSE | meets target |\n"
                      "|---|---|---|---|---|---|\n";
-    csv << "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms\n";
+    csv << "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache\n";
     char line[512];
     for (const FeatureSet& set : sets)
         for (const EqualErrorCandidate& c : set.candidates) {
@@ -152,7 +153,7 @@ std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms
                           c.rmse <= set.target() ? "yes" : "no");
             md += line;
             csv << set.name << ',' << c.spp << ',' << c.bounce_spp << ',' << (c.denoise ? 1 : 0) << ',' << c.frame_ms
-                << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << '\n';
+                << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << ',' << (c.light_cache ? 1 : 0) << '\n';
         }
     return md;
 }
@@ -186,6 +187,7 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
                   "configuration (25 shadow samples at every hit, raw) against a reference of the same features (%u "
                   "samples per pixel, no filter, sample seed %u); RMSE is the root mean square over %u sample seeds. "
                   "Candidates: the same features, shadow spp 1-25, bounce spp {1, 2, 4, spp}, denoiser off and on, "
+                  "light cache off and on, "
                   "one frame each (no history); %zu skipped (a candidate with no more samples already cost at least "
                   "the cheapest meeting the target). The all-on row searches the same features (the denoiser is a "
                   "candidate setting). Frame ms: GPU medians of %u frames; RT flat %.3f ms, %u reflection bounces. "

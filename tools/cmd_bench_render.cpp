@@ -83,8 +83,9 @@ render::Camera default_view(const engine::LoadedScene& scene, render::RenderSett
 
 // One row of the speed-against-error sweep: full shading with `reflections` bounces.
 render::RenderSettings sweep_settings(const render::RenderSettings& base, uint32_t reflections, uint32_t spp,
-                                      uint32_t bounce_spp, bool denoise) {
+                                      uint32_t bounce_spp, bool denoise, bool light_cache = false) {
     render::RenderSettings s = base;
+    s.light_cache = light_cache;
     s.max_bounces = reflections;
     s.shadow_samples = spp;
     s.bounce_shadow_samples = bounce_spp;
@@ -299,35 +300,37 @@ int run_bench_render(const BenchRenderArgs& a) {
                   "filter), %u reflection bounces.\n\n",
                   reference_frames(a.reference_spp) * 8, reference_frames(a.reference_spp), a.reflections);
     md += line;
-    md += "| spp | bounce spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n|---|---|---|---|---|---|---|\n";
+    md += "| spp | bounce spp | denoiser | light cache | frame ms | RMSE | PSNR dB | SSIM |\n"
+          "|---|---|---|---|---|---|---|---|\n";
     std::vector<SweepRow> candidates;
     SweepRow thesis{"25 spp, bounce spp 25, denoiser off"};
     std::ofstream csv(a.out + "/render_bench.csv");
-    csv << "spp,bounce_spp,denoise,frame_ms,rmse,psnr,ssim\n";
-    for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, 25u, 64u}) {
-        const std::vector<uint32_t> bounce_spps = spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp};
-        for (uint32_t bounce : bounce_spps)
-            for (bool denoise : {false, true}) {
-                const render::RenderSettings s = sweep_settings(base, a.reflections, spp, bounce, denoise);
-                const Timing t = time_frames(r, s, cam, a.repeat, &img);
-                const render::ImageError e = render::compare(render::to_float(img), reference);
-                std::snprintf(line, sizeof line, "| %u | %u | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, bounce,
-                              denoise ? "on" : "off", t.frame, e.rmse, e.psnr, e.ssim);
-                md += line;
-                std::printf("  %s", line);
-                const std::string row = std::to_string(spp) + " spp, bounce spp " + std::to_string(bounce) +
-                                        ", denoiser " + (denoise ? "on" : "off");
-                if (spp == 25 && bounce == 25 && !denoise)
-                    thesis = {row, t.frame, e.rmse};
-                else
-                    candidates.push_back({row, t.frame, e.rmse});
-                csv << spp << ',' << bounce << ',' << (denoise ? 1 : 0) << ',' << t.frame << ',' << e.rmse << ','
-                    << e.psnr << ',' << e.ssim << '\n';
-                const std::string png = a.out + "/spp" + std::to_string(spp) + "_b" + std::to_string(bounce) +
-                                        (denoise ? "_denoised" : "") + ".png";
-                (void)render::write_png(png, img);
-            }
-    }
+    csv << "spp,bounce_spp,denoise,frame_ms,rmse,psnr,ssim,light_cache\n";
+    for (bool cache : {false, true})
+        for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, 25u, 64u}) {
+            const std::vector<uint32_t> bounce_spps = spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp};
+            for (uint32_t bounce : bounce_spps)
+                for (bool denoise : {false, true}) {
+                    const render::RenderSettings s = sweep_settings(base, a.reflections, spp, bounce, denoise, cache);
+                    const Timing t = time_frames(r, s, cam, a.repeat, &img);
+                    const render::ImageError e = render::compare(render::to_float(img), reference);
+                    std::snprintf(line, sizeof line, "| %u | %u | %s | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, bounce,
+                                  denoise ? "on" : "off", cache ? "on" : "off", t.frame, e.rmse, e.psnr, e.ssim);
+                    md += line;
+                    std::printf("  %s", line);
+                    const std::string row = std::to_string(spp) + " spp, bounce spp " + std::to_string(bounce) +
+                                            ", denoiser " + (denoise ? "on" : "off") + (cache ? ", light cache" : "");
+                    if (spp == 25 && bounce == 25 && !denoise && !cache)
+                        thesis = {row, t.frame, e.rmse};
+                    else
+                        candidates.push_back({row, t.frame, e.rmse});
+                    csv << spp << ',' << bounce << ',' << (denoise ? 1 : 0) << ',' << t.frame << ',' << e.rmse << ','
+                        << e.psnr << ',' << e.ssim << ',' << (cache ? 1 : 0) << '\n';
+                    const std::string png = a.out + "/spp" + std::to_string(spp) + "_b" + std::to_string(bounce) +
+                                            (denoise ? "_denoised" : "") + (cache ? "_cache" : "") + ".png";
+                    (void)render::write_png(png, img);
+                }
+        }
     // 3. A still camera: frames accumulated by the temporal pass (SVGF moments once 4 are in).
     md += "\n## Still camera, 8 frames accumulated\n\nFrame ms is per frame, the error that of the 8th frame.\n\n"
           "| spp | bounce spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n|---|---|---|---|---|---|---|\n";

@@ -25,6 +25,7 @@ std::string missing_parts(const render::DeviceReport& d) {
     add(d.ray_tracing_pipeline, "VK_KHR_ray_tracing_pipeline");
     add(d.deferred_host_operations, "VK_KHR_deferred_host_operations");
     add(d.buffer_device_address, "bufferDeviceAddress");
+    add(d.float_atomic_add, "shaderBufferFloat32AtomicAdd");
     return out;
 }
 

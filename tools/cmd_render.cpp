@@ -49,6 +49,8 @@ struct RenderArgs {
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
     std::string history_clamp = "on"; // --history-clamp (render::RenderSettings::history_clamp).
     std::string emitter_sampling = "on"; // --emitter-sampling (render::RenderSettings::emitter_sampling).
+    std::string light_cache = "off";    // --light-cache (render::RenderSettings::light_cache).
+    float light_cache_pixels = 3.f;      // --light-cache-pixels.
     std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
     std::string haze = "on";     // --haze: aerial perspective of Full shading.
     std::string visibility;      // --visibility: the haze's visibility in blocks; empty: the default.
@@ -100,6 +102,8 @@ void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
     s.accumulate = std::max<uint32_t>(a.accumulate, 1);
     s.history_clamp = a.history_clamp == "on";
     s.emitter_sampling = a.emitter_sampling == "on";
+    s.light_cache = a.light_cache == "on";
+    s.light_cache_pixels = a.light_cache_pixels;
 }
 
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
@@ -515,6 +519,14 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "on (default): emissive blocks light by shadow rays aimed at their faces; off: only sky rays "
                     "that happen to hit them (same mean, noisier)")
         ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--light-cache", a->light_cache,
+                    "on: hits share their light (all but the sun's) within the frame over patches of each face a "
+                    "few pixels wide (far less noise, a small blur); off (default): each keeps its own samples")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--light-cache-pixels", a->light_cache_pixels,
+                    "The light cache's patch width in pixels at its distance, up to the next power of two "
+                    "blocks (default 3)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--exposure", a->exposure,
                     "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
                     "mid-grey; +1 halves the light) or auto (metered from the frame)");

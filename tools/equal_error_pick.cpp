@@ -2,21 +2,28 @@
 
 namespace vx::tools {
 
+static EqualErrorCandidate candidate(uint32_t spp, uint32_t bounce_spp, bool denoise, bool light_cache) {
+    EqualErrorCandidate c{spp, bounce_spp, denoise};
+    c.light_cache = light_cache;
+    return c;
+}
+
 std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections) {
     std::vector<EqualErrorCandidate> v;
-    for (bool denoise : {false, true})
-        for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, kThesisSpp}) {
-            if (!reflections) {
-                v.push_back({spp, 0, denoise});
-                continue;
-            }
-            uint32_t last = 0; // {1, 2, 4, spp} repeats a count when spp <= 4.
-            for (uint32_t bounce : {1u, 2u, 4u, spp})
-                if (bounce <= spp && bounce != last) {
-                    v.push_back({spp, bounce, denoise});
-                    last = bounce;
+    for (bool cache : {false, true})
+        for (bool denoise : {false, true})
+            for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, kThesisSpp}) {
+                if (!reflections) {
+                    v.push_back(candidate(spp, 0, denoise, cache));
+                    continue;
                 }
-        }
+                uint32_t last = 0; // {1, 2, 4, spp} repeats a count when spp <= 4.
+                for (uint32_t bounce : {1u, 2u, 4u, spp})
+                    if (bounce <= spp && bounce != last) {
+                        v.push_back(candidate(spp, bounce, denoise, cache));
+                        last = bounce;
+                    }
+            }
     return v;
 }
 
@@ -24,7 +31,8 @@ bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCa
     if (best_ms <= 0)
         return false;
     for (const EqualErrorCandidate& m : measured)
-        if (m.frame_ms >= best_ms && m.spp <= c.spp && m.bounce_spp <= c.bounce_spp && (c.denoise || !m.denoise))
+        if (m.frame_ms >= best_ms && m.spp <= c.spp && m.bounce_spp <= c.bounce_spp && (c.denoise || !m.denoise) &&
+            (c.light_cache || !m.light_cache))
             return true;
     return false;
 }

@@ -16,20 +16,23 @@ struct EqualErrorCandidate {
     bool denoise = false;    // One frame through the denoiser (no history).
     double frame_ms = -1;    // Median GPU frame time; -1: not measured (skipped).
     double rmse = -1;        // One-frame RMSE against the reference; -1: not measured.
+    bool light_cache = false; // Hits share their light through the light cache (render/light_cache.h).
 };
 
 // The thesis's sample count (its Table 6.3 rows traced 25 shadow rays at every hit).
 inline constexpr uint32_t kThesisSpp = 25;
 
 // Shadow spp in {1, 2, 4, 8, 16, 25}; with reflections, bounce spp in {1, 2, 4, spp} up to spp
-// (without: 0); raw, then denoised. In measuring order: no candidate precedes one with fewer
-// samples of the same denoiser, so equal_error_skip() can bound a candidate by earlier ones.
-// The thesis's configuration (25, 25 or 0, raw) is among them.
+// (without: 0); raw, then denoised; all without, then all with the light cache. In measuring
+// order: no candidate precedes one with fewer samples of the same denoiser and cache setting, so
+// equal_error_skip() can bound a candidate by earlier ones. The thesis's configuration (25, 25
+// or 0, raw, no cache) is among them.
 std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections);
 
 // True when `c` cannot be cheaper than `best_ms` (the cheapest frame time meeting the target so
 // far; <= 0: none yet): a measured candidate with no more samples of either kind, and no denoiser
-// where `c` has none, already took at least `best_ms`. More rays and the denoiser only add work.
+// or light cache where `c` has none, already took at least `best_ms`. More rays, the denoiser and
+// the cache only add work.
 bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCandidate> measured, double best_ms);
 
 // The measured candidate of least frame time whose RMSE is at most `target_rmse`; nullptr when

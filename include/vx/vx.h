@@ -291,6 +291,13 @@ struct RenderSettings {
     // samples 4-17x less noise than rays that must hit them by chance. Off: only those rays (the
     // same light; by day, with lamps only in caves, 10-19% less trace time on an H200).
     bool emitter_sampling = true;
+    // Ray tracer, Full shading: hits share their light (all but the sun's) within the frame with
+    // the hits on the same patch of a face, light_cache_pixels wide at its distance, directly or
+    // through mirrors (a per-frame world-space cache; each hit keeps its own estimate where
+    // that has less expected error): at 4 samples half the noise of a frame, at the cost of a
+    // small blur of soft light (docs/render_report.md). Off by default: the plain estimate.
+    bool light_cache = false;
+    float light_cache_pixels = 3.f; // Pixels, clamped to [1/64, 4096] (not finite: the default).
     // Ray tracer, Full shading: the edge-aware denoiser over the traced radiance (off by default:
     // it costs two compute passes a frame and softens edges; a game at 1-4 samples wants it).
     bool denoise = false;

@@ -84,6 +84,10 @@ struct FrameParams {
                          // block at and below the base height (0: no haze); y: its falloff per
                          // block above; z: the height of origin-relative y = 0 above the base
                          // height, blocks; w: 0.
+    uvec4 cache;         // The light cache (shared/light_cache.glsl), Full mode: x: its
+                         // table's cells (a power of two; 0: no cache); y: the mirror bounces
+                         // cached after the primary hit (0..kMaxCachedBounces); z: a cell's width
+                         // in pixels at the hit's distance (float bits); w: 0.
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
     uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz chunk origin (origin-relative), w its
@@ -91,7 +95,15 @@ struct FrameParams {
     uint64_t exposure_meter; // Address of an ExposureMeter (exposure.y = 1), else 0.
     uint64_t emitter_quads;  // Address of EmitterQuad[flags.z].
     uint64_t emitter_bounds; // Address of EmitterBound[flags.w]: the first flags.w emitter chunks'.
+    uint64_t cache_table;    // Address of the cache's uint keys[cache.x], vec4 values[cache.x], vec4 stats[cache.x].
+    uint64_t cache_records;  // Address of uvec4[width * height * (cache.y + 1) * 2]: each pixel's records.
 };
+
+// The light cache (shared/light_cache.glsl, render/light_cache.h): the hits of one frame's paths
+// share their light estimates through a hash table of surface cells.
+VX_CONST uint kMaxCachedBounces = 8;     // Mirror bounces cached at most (deeper ones: not cached).
+VX_CONST uint kCacheNoSlot = 0xffffffffu; // A record without a cell (no hit, or the table full).
+VX_CONST uint kCacheProbes = 8;          // Linear probes before a hit gives up its cell.
 
 // An emissive block face (a greedy quad: one rectangle of one block type), origin-relative
 // blocks: the points corner + u edge_u + v edge_v, u, v in [0, 1]; it emits towards

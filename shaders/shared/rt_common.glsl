@@ -14,7 +14,6 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ma
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterChunks { vec4 origin[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterQuads { EmitterQuad q[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterBounds { EmitterBound b[]; };
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer MeterBuffer { ExposureMeter meter; };
 
 // Primary/reflection ray result, written by the closest-hit shader.
 struct HitPayload {

@@ -119,8 +119,8 @@ double roughness(const vx::Image& img) {
 
 // The facade's RenderSettings reach the renderer: the raster pipeline covers the pixels the ray
 // tracer covers (Flat) but shades differently (Full: no shadows); the denoiser smooths a
-// one-sample image; the sun's irradiance lights the scene; emitter_sampling picks how a lamp's
-// light is found.
+// one-sample image, and so does the light cache; the sun's irradiance lights the scene;
+// emitter_sampling picks how a lamp's light is found.
 TEST(FacadeRender, SettingsReachTheRenderer) {
     auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 48, 32));
     if (!engine)
@@ -165,6 +165,11 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     EXPECT_GT(mean_abs_diff(rt_full, denoised), 1.0);
     EXPECT_LT(roughness(denoised), roughness(rt_full));
     full.denoise = false;
+    full.light_cache = true; // Shared light: smoother too, before any filter.
+    const vx::Image cached = render(full);
+    EXPECT_GT(mean_abs_diff(rt_full, cached), 1.0);
+    EXPECT_LT(roughness(cached), roughness(rt_full));
+    full.light_cache = false;
     full.sun.irradiance = glm::vec3(0.f);
     const vx::Image no_sun = render(full);
     double lit = 0, dark = 0;

@@ -20,7 +20,7 @@ TEST(DeviceProbe, FindsARayTracingCpuDevice) {
         if (d.type == DeviceType::Cpu && d.can_ray_trace()) {
             found = true;
             EXPECT_TRUE(d.acceleration_structure && d.ray_tracing_pipeline && d.deferred_host_operations &&
-                        d.buffer_device_address);
+                        d.buffer_device_address && d.float_atomic_add);
             EXPECT_GE(d.api_version_string(), std::string("1.3"));
         }
     }
@@ -34,7 +34,7 @@ DeviceReport fake(uint32_t index, DeviceType type, bool rt) {
     d.type = type;
     d.api_version = (1u << 22) | (3u << 12); // 1.3.0
     d.acceleration_structure = d.ray_tracing_pipeline = d.deferred_host_operations = rt;
-    d.buffer_device_address = true;
+    d.buffer_device_address = d.float_atomic_add = true;
     return d;
 }
 
@@ -56,6 +56,12 @@ TEST(DeviceProbe, NoRayTracingDeviceIsAClearError) {
     Result<uint32_t> r = choose_device(devs, DeviceChoice{});
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("ray trace"), std::string::npos);
+}
+
+TEST(DeviceProbe, RayTracingNeedsFloatAtomics) {
+    DeviceReport d = fake(0, DeviceType::Discrete, true);
+    d.float_atomic_add = false; // The light cache's sums are compiled into the ray generation.
+    EXPECT_FALSE(d.can_ray_trace());
 }
 
 TEST(DeviceProbe, ApiVersionRequiresVulkan13) {

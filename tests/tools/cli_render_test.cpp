@@ -318,7 +318,7 @@ TEST(CliRender, BenchRenderEqualError) {
     std::ifstream csv(out + "/equal_error.csv");
     std::string header;
     std::getline(csv, header);
-    EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms");
+    EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache");
     // The targets and the one-sample rows are always measured (nothing bounds those below);
     // others may be skipped, depending on the frame times.
     std::set<std::string> keys; // "feature_set,spp,bounce_spp,denoise".

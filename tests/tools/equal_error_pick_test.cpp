@@ -9,33 +9,38 @@ namespace {
 
 using C = EqualErrorCandidate;
 
-// Without reflections: 6 spp x raw/denoised, bounce spp 0. With: bounce spp {1, 2, 4, spp} up to
-// spp, repeats dropped: 1 + 2 + 3 + 4 + 4 + 4 = 18 per denoiser setting.
+// Without reflections: 6 spp x raw/denoised x light cache off/on, bounce spp 0. With: bounce spp
+// {1, 2, 4, spp} up to spp, repeats dropped: 1 + 2 + 3 + 4 + 4 + 4 = 18 per denoiser and cache
+// setting.
 TEST(EqualErrorPick, Candidates) {
     const std::vector<C> shadows = equal_error_candidates(false);
-    ASSERT_EQ(shadows.size(), 12u);
+    ASSERT_EQ(shadows.size(), 24u);
     for (const C& c : shadows)
         EXPECT_EQ(c.bounce_spp, 0u);
     const std::vector<C> both = equal_error_candidates(true);
-    ASSERT_EQ(both.size(), 36u);
+    ASSERT_EQ(both.size(), 72u);
     std::vector<uint32_t> bounces_of_4, bounces_of_25;
     for (const C& c : both) {
         EXPECT_LE(c.bounce_spp, c.spp);
         EXPECT_GE(c.bounce_spp, 1u);
         EXPECT_LT(c.frame_ms, 0.0); // Unmeasured.
-        if (!c.denoise && c.spp == 4)
+        if (!c.denoise && !c.light_cache && c.spp == 4)
             bounces_of_4.push_back(c.bounce_spp);
-        if (!c.denoise && c.spp == 25)
+        if (!c.denoise && !c.light_cache && c.spp == 25)
             bounces_of_25.push_back(c.bounce_spp);
     }
     EXPECT_EQ(bounces_of_4, (std::vector<uint32_t>{1, 2, 4}));
     EXPECT_EQ(bounces_of_25, (std::vector<uint32_t>{1, 2, 4, 25}));
-    // Measuring order: nothing precedes a candidate it has no fewer samples than (same denoiser),
-    // and every raw one precedes every denoised one.
+    // Measuring order: nothing precedes a candidate it has no fewer samples than (same denoiser and
+    // cache), every one without the cache precedes every one with it, and within each, every raw
+    // one precedes every denoised one.
     for (size_t i = 0; i < both.size(); ++i)
         for (size_t j = i + 1; j < both.size(); ++j) {
-            EXPECT_LE(both[i].denoise, both[j].denoise);
-            if (both[i].denoise == both[j].denoise) {
+            EXPECT_LE(both[i].light_cache, both[j].light_cache);
+            if (both[i].light_cache == both[j].light_cache) {
+                EXPECT_LE(both[i].denoise, both[j].denoise);
+            }
+            if (both[i].denoise == both[j].denoise && both[i].light_cache == both[j].light_cache) {
                 EXPECT_FALSE(both[j].spp <= both[i].spp && both[j].bounce_spp <= both[i].bounce_spp) << i << " " << j;
             }
         }
@@ -84,6 +89,13 @@ TEST(EqualErrorPick, Skip) {
     const std::vector<C> shadows = {{25, 0, false, 11.0, 0.001}};
     EXPECT_TRUE(equal_error_skip({25, 0, true}, shadows, 11.0));
     EXPECT_FALSE(equal_error_skip({16, 0, true}, shadows, 11.0));
+    // The light cache only adds work: a row without it bounds one with it, not the other way.
+    C cached{25, 0, false};
+    cached.light_cache = true;
+    EXPECT_TRUE(equal_error_skip(cached, shadows, 11.0));
+    const std::vector<C> cached_rows = {{8, 0, false, 11.0, 0.001, true}};
+    EXPECT_FALSE(equal_error_skip({16, 0, false}, cached_rows, 11.0));
+    EXPECT_TRUE(equal_error_skip(cached, cached_rows, 11.0));
 }
 
 } // namespace
