@@ -7,8 +7,10 @@
 // weights, where raygen.rgen left those hits' shared light out: to the radiance, and also to the
 // G-buffer part the denoiser takes it from (render/gbuffer.h): the primary hit's diffuse
 // lighting (radiance minus the rest), the first mirror bounce's mirror light, deeper bounces'
-// reflected part. The variances the denoiser weighs (radiance a, mirror light a) become the
-// cell mean's: the hit's own over the cell's samples in units of the hit's. Then it meters and
+// reflected part. The variances the denoiser weighs (radiance a, mirror light a) stay the hit's
+// own: what error the blend leaves is shared by a patch of pixels, which the filter should still
+// average over, not keep as detail (lavapipe hills, 4 spp denoised: 0.0253 with the blend's
+// variance, 0.0237 with the own, 0.0242 without the cache; docs/render_report.md). Then it meters and
 // tone-maps the pixel as the ray generation would have. Same descriptor set as the trace
 // (render/rt_pipeline.h).
 
@@ -34,8 +36,7 @@ layout(set = 0, binding = 7, rgba16f) uniform image2D mirror_light_image;
 // mean's error at this hit. So a cell of smooth light replaces a noisy estimate, and a cell
 // across a shadow's edge, or a hit of many samples, keeps its own. v comes from the cell's hits
 // pooled (one hit's few samples say little); with one sample it is unknown and w is 1.
-// `variance_scale`: the factor the blend's variance has over the own estimate's.
-vec3 shrink(vec3 own, uint samples, uint cell_index, out float variance_scale) {
+vec3 shrink(vec3 own, uint samples, uint cell_index) {
     vec4 cell = cache_values().value[cell_index];
     vec4 stats = cache_stats().stat[cell_index];
     float n = cell.w; // > 0: this hit added itself.
@@ -46,7 +47,6 @@ vec3 shrink(vec3 own, uint samples, uint cell_index, out float variance_scale) {
     float mean_var = stats.z / (n * n);
     float v = stats.w > 0.0 ? stats.y / stats.w / float(max(samples, 1u)) : -1.0;
     float w = v < 0.0 ? 1.0 : v / max(v + spread + mean_var, 1e-30);
-    variance_scale = v > 0.0 ? (1.0 - w) * (1.0 - w) + w * w * mean_var / v : float(max(samples, 1u)) / n;
     return mix(own, mean, w);
 }
 
@@ -57,38 +57,29 @@ void main() {
     ivec2 p = ivec2(px);
     vec4 radiance = imageLoad(radiance_image, p);
     vec3 reflected = vec3(0.0), mirror = vec3(0.0);
-    float mirror_samples = 0.0; // 1: the first bounce was cached.
-    float mirror_scale = 1.0;
     CacheRecords records = CacheRecords(frame.cache_records);
     for (uint b = 0u; b <= frame.cache.y; ++b) {
         uint at = cache_record_index(px, b);
         uvec4 r = records.record[at];
         if (r.x == kCacheNoSlot)
             continue;
-        vec4 own = uintBitsToFloat(records.record[at + 1u]);
+        vec3 own = uintBitsToFloat(records.record[at + 1u].xyz);
         uint samples = b == 0u ? frame.size_samples.z : frame.mode_seed.w;
-        float scale;
-        vec3 light = shrink(own.rgb, samples, r.x, scale);
+        vec3 light = shrink(own, samples, r.x);
         radiance.rgb += record_weight_albedo(r) * light;
-        if (b == 0u) {
-            radiance.a = radiance.a > 0.0 ? radiance.a * scale : radiance.a;
-        } else if (b == 1u) {
+        if (b == 1u)
             mirror = record_weight(r) * light;
-            mirror_samples = 1.0;
-            mirror_scale = scale;
-        } else {
+        else if (b > 1u)
             reflected += record_weight_albedo(r) * light;
-        }
     }
     imageStore(radiance_image, p, radiance);
     if (reflected != vec3(0.0)) {
         vec4 refl = imageLoad(reflected_image, p);
         imageStore(reflected_image, p, vec4(refl.rgb + reflected, refl.a));
     }
-    if (mirror_samples > 0.0) {
+    if (mirror != vec3(0.0)) {
         vec4 light = imageLoad(mirror_light_image, p);
-        imageStore(mirror_light_image, p,
-                   vec4(light.rgb + mirror, light.a > 0.0 ? light.a * mirror_scale : light.a));
+        imageStore(mirror_light_image, p, vec4(light.rgb + mirror, light.a));
     }
     vec3 c = radiance.rgb;
     if (frame.mode_seed.x == kModeFull) { // Only Full mode caches; as raygen.rgen's main().

@@ -88,8 +88,8 @@ void cache_add(uint i, vec3 light, uint samples, float variance) {
     }
 }
 
-// A record's second half: the hit's own estimate of the shared light and its variance.
-uvec4 cache_own(vec3 light, float variance) { return floatBitsToUint(vec4(light, variance)); }
+// A record's second half: the hit's own estimate of the shared light.
+uvec4 cache_own(vec3 light) { return uvec4(floatBitsToUint(light), 0u); }
 
 // A record: the cell, and the weights that turn its mean light into radiance: weight (the path's
 // throughput times the diffuse share, 1 - reflectivity) and weight x the surface's albedo, in
