@@ -239,11 +239,7 @@ TEST_F(RendererTest, StaleEmitterFacesLoseNoLight) {
 // never failed does.
 TEST_F(RendererTest, NoMemoryForTheFacesPipelineIsAnErrorThenTheNextFrameRenders) {
     const world::MeshMap meshes = test::mesh_world(lamp_room(false));
-    std::unique_ptr<Renderer> fresh = test::make_renderer();
-    ASSERT_NE(fresh, nullptr);
-    test::load_meshes(*fresh, meshes);
-    const RenderImage expected = fresh->render(lamp_light(4, true), kRoomView);
-    EXPECT_EQ(fresh->validation_errors(), 0u);
+    const RenderImage expected = test::fresh_render(meshes, lamp_light(4, true), kRoomView);
 
     test::load_meshes(*m_renderer, meshes);
     m_renderer->fail_allocations("shader binding table, emitter faces");

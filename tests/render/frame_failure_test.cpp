@@ -149,13 +149,7 @@ TEST(DeviceLoss, FramesFailUntilANewRendererRendersTheSameImage) {
         r->set_chunk(meshes.begin()->first, meshes.begin()->second.mesh); // Taken, not drawn.
         EXPECT_EQ(r->validation_errors(), 0u);
     }
-    std::unique_ptr<Renderer> fresh = test::make_renderer();
-    ASSERT_NE(fresh, nullptr);
-    test::load_meshes(*fresh, meshes);
-    Result<RenderImage> after = fresh->try_render(s, kCamera);
-    ASSERT_TRUE(after) << after.error();
-    EXPECT_EQ(test::differing_bytes(*after, before), 0);
-    EXPECT_EQ(fresh->validation_errors(), 0u);
+    EXPECT_EQ(test::differing_bytes(test::fresh_render(meshes, s, kCamera), before), 0);
 }
 
 // The estimate of check_frame_size against this device's largest device-local heap: 16384^2

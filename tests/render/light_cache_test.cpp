@@ -93,11 +93,7 @@ TEST_F(RendererTest, AFullTableKeepsEachHitsOwnLight) {
 // renders as a renderer that never failed does (float sums in another order: within a step).
 TEST_F(RendererTest, NoMemoryForTheLightCacheIsAnErrorThenTheNextFrameRenders) {
     const world::MeshMap meshes = test::mesh_world(courtyard());
-    std::unique_ptr<Renderer> fresh = test::make_renderer();
-    ASSERT_NE(fresh, nullptr);
-    test::load_meshes(*fresh, meshes);
-    const RenderImage expected = fresh->render(lit(4, true), kView);
-    EXPECT_EQ(fresh->validation_errors(), 0u);
+    const RenderImage expected = test::fresh_render(meshes, lit(4, true), kView);
 
     test::load_meshes(*m_renderer, meshes);
     for (const char* what : {"light cache table", "light cache records"}) {

@@ -108,6 +108,20 @@ inline std::unique_ptr<Renderer> make_renderer(RendererCreateInfo ci = {}) {
     return r.ok() ? std::move(*r) : nullptr;
 }
 
+// The frame of `s` from `cam` that a new renderer (the test device, validation on) holding
+// `meshes` renders: what a renderer that has met a failure should render again. Empty (with a
+// test failure) when it cannot.
+inline RenderImage fresh_render(const world::MeshMap& meshes, const RenderSettings& s, const Camera& cam) {
+    std::unique_ptr<Renderer> fresh = make_renderer();
+    if (!fresh)
+        return {};
+    load_meshes(*fresh, meshes);
+    Result<RenderImage> img = fresh->try_render(s, cam);
+    EXPECT_TRUE(img) << img.error();
+    EXPECT_EQ(fresh->validation_errors(), 0u);
+    return img ? std::move(*img) : RenderImage{};
+}
+
 // Pixels whose bytes differ between two images of the same size.
 // The mean of an image's bytes (alpha included): how two renders of one view compare in light
 // where their noise differs.
