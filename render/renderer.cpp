@@ -12,13 +12,13 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "render/light_cache.h"
 #include "render/commands.h"
 #include "render/context.h"
 #include "render/denoiser.h"
 #include "render/emitter_quads.h"
 #include "render/gbuffer.h"
 #include "render/gpu_layouts.h"
+#include "render/light_cache.h"
 #include "render/present.h"
 #include "render/raster_pipeline.h"
 #include "render/rt_pipeline.h"

@@ -3,7 +3,8 @@
 // miss, shadow miss, one triangle hit group with a closest-hit shader and the shadow any-hit
 // shader) and its shader binding table, with handle
 // size and alignments read from the device. Descriptor set 0: binding 0 TLAS, 1 output storage
-// image (rgba8), 2 FrameParams uniform, 3-5 the G-buffer storage images (render/gbuffer.h).
+// image (rgba8), 2 FrameParams uniform, 3-5 the G-buffer storage images (render/gbuffer.h); the
+// light cache's resolve pass (render/light_cache.h) binds the same set in a compute pipeline.
 // Two variants: full shading without and with the emissive faces' sampling (raygen.rgen's
 // specialization constant kSampleFaces). Code a frame does not run still costs registers: without
 // it a frame with no emitter faces (the thesis scene, terrain without lamps) traces as fast as
