@@ -297,7 +297,7 @@ struct RenderSettings {
     // that has less expected error): at 4 samples half the noise of a frame, at the cost of a
     // small blur of soft light (docs/render_report.md). Off by default: the plain estimate.
     bool light_cache = false;
-    float light_cache_pixels = 3.f; // Pixels, clamped to [1/64, 4096] (not finite: the default).
+    float light_cache_pixels = 3.f; // Pixels, 1/64..4096 (set_render_settings refuses others).
     // Ray tracer, Full shading: the edge-aware denoiser over the traced radiance (off by default:
     // it costs two compute passes a frame and softens edges; a game at 1-4 samples wants it).
     bool denoise = false;

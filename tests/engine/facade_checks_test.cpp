@@ -117,6 +117,8 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
         {"negative falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = -0.001f; }, "haze"},
         {"infinite falloff", [](vx::RenderSettings& s) { s.haze.height_falloff = HUGE_VALF; }, "haze"},
         {"NaN base height", [](vx::RenderSettings& s) { s.haze.base_height = std::nan(""); }, "haze"},
+        {"zero light cache pixels", [](vx::RenderSettings& s) { s.light_cache_pixels = 0.f; }, "light_cache_pixels"},
+        {"NaN light cache pixels", [](vx::RenderSettings& s) { s.light_cache_pixels = std::nanf(""); }, "light_cache_pixels"},
     };
     for (const Case& c : cases) {
         vx::RenderSettings s;
