@@ -53,8 +53,8 @@ private:
     Context* m_ctx;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
     VkPipeline m_pipeline = VK_NULL_HANDLE;
-    Buffer m_table;   // uint keys[cells], then vec4 values[cells] (sum of light x samples, samples).
-    Buffer m_records; // uvec4 per pixel per cached hit.
+    Buffer m_table;   // uint keys[cells], vec4 values[cells], vec4 stats[cells] (light_cache.glsl).
+    Buffer m_records; // Two uvec4 per pixel per cached hit (the cell and weights; the own estimate).
     uint32_t m_cells = 0;
     uint64_t m_record_count = 0;
     uint32_t m_cell_limit = 0;

@@ -565,8 +565,9 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.materials = materials.address();
     frame_cached = cache_active(s);
     if (frame_cached) { // Made and sized by prepare_frame.
-        const float cell_pixels = std::isfinite(s.light_cache_pixels) ? std::clamp(s.light_cache_pixels, 1.f / 64.f, 4096.f)
-                                                                      : RenderSettings{}.light_cache_pixels;
+        const float cell_pixels = std::isfinite(s.light_cache_pixels)
+                                      ? std::clamp(s.light_cache_pixels, kMinLightCachePixels, kMaxLightCachePixels)
+                                      : RenderSettings{}.light_cache_pixels;
         p.cache = glm::uvec4(light_cache->cells(), cached_bounces(s), std::bit_cast<uint32_t>(cell_pixels), 0u);
         p.cache_table = light_cache->table();
         p.cache_records = light_cache->records();

@@ -112,6 +112,10 @@ enum class PipelineKind : uint8_t {
                // centre as a point light and no shadows, reflections or haze, Visibility all lit.
 };
 
+// The light cache's cell widths, pixels (RenderSettings::light_cache_pixels): the renderer clamps
+// to them, the facade refuses others.
+inline constexpr float kMinLightCachePixels = 1.f / 64.f, kMaxLightCachePixels = 4096.f;
+
 struct RenderSettings {
     uint32_t width = 64, height = 64;
     PipelineKind pipeline = PipelineKind::RayTraced;
@@ -149,7 +153,7 @@ struct RenderSettings {
     // only. Off: each hit keeps its own samples (unbiased). Its GPU memory (render/
     // light_cache.h) is not in check_frame_size's estimate; running out is a frame's error.
     bool light_cache = false;
-    float light_cache_pixels = 3.f; // Pixels, clamped to [1/64, 4096] (not finite: the default).
+    float light_cache_pixels = 3.f; // Pixels, clamped to kLightCachePixels (not finite: the default).
     SunLight sun;
     AreaLight light;
     Exposure exposure;

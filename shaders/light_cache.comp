@@ -35,7 +35,8 @@ layout(set = 0, binding = 7, rgba16f) uniform image2D mirror_light_image;
 // mean's, S the spread of the true light over the cell (its hits' spread less their noise): the
 // mean's error at this hit. So a cell of smooth light replaces a noisy estimate, and a cell
 // across a shadow's edge, or a hit of many samples, keeps its own. v comes from the cell's hits
-// pooled (one hit's few samples say little); with one sample it is unknown and w is 1.
+// pooled (one hit's few samples say little); where no hit of the cell knows its variance (all of
+// one sample) it is unknown and w is 1.
 vec3 shrink(vec3 own, uint samples, uint cell_index) {
     vec4 cell = cache_values().value[cell_index];
     vec4 stats = cache_stats().stat[cell_index];
@@ -81,10 +82,7 @@ void main() {
         vec4 light = imageLoad(mirror_light_image, p);
         imageStore(mirror_light_image, p, vec4(light.rgb + mirror, light.a));
     }
-    vec3 c = radiance.rgb;
-    if (frame.mode_seed.x == kModeFull) { // Only Full mode caches; as raygen.rgen's main().
-        meter(p, c);
-        c = vx_display(c, frame.exposure.x);
-    }
-    imageStore(out_image, p, vec4(c, 1.0));
+    // Only Full-mode frames cache (render/renderer.cpp): raygen.rgen main()'s Full-mode step.
+    meter(p, radiance.rgb);
+    imageStore(out_image, p, vec4(vx_display(radiance.rgb, frame.exposure.x), 1.0));
 }

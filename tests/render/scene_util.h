@@ -122,7 +122,6 @@ inline RenderImage fresh_render(const world::MeshMap& meshes, const RenderSettin
     return img ? std::move(*img) : RenderImage{};
 }
 
-// Pixels whose bytes differ between two images of the same size.
 // The mean of an image's bytes (alpha included): how two renders of one view compare in light
 // where their noise differs.
 inline double mean_byte(const RenderImage& img) {
@@ -132,6 +131,7 @@ inline double mean_byte(const RenderImage& img) {
     return m;
 }
 
+// Bytes that differ between two images of the same size.
 inline int differing_bytes(const RenderImage& a, const RenderImage& b) {
     EXPECT_EQ(a.rgba.size(), b.rgba.size());
     int diff = 0;
