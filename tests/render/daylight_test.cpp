@@ -1,6 +1,7 @@
 // Issue 10's lighting and transparency, on small scenes: the sky term, the sun through glass,
 // an emissive block in a sealed room, blocks seen through glass, the tone-mapped output.
 #include <cstdio>
+#include <string>
 
 #include "scene_util.h"
 #include "shaders/shared/tonemap.h"
@@ -211,6 +212,47 @@ TEST_F(RendererTest, BounceShadowSamplesApplyToBouncesOnly) {
     const RenderImage a4 = m_renderer->render(s, floor_view);
     s.bounce_shadow_samples = 0;
     EXPECT_EQ(test::differing_bytes(a4, m_renderer->render(s, floor_view)), 0);
+}
+
+// Sky rays past the first hit (occlusion rays: raygen.rgen's sky_and_emitters()) see the open
+// sky, a stone roof's shade and the sky through a glass roof, as first-hit sky rays do. A
+// perfect mirror wall (reflectivity 1: no light of its own) at x in [-1, 0), y in [1, 3),
+// z in [-2, 2) over a stone slab x, z in [-16, 16), y in [0, 1); sky light only. The centre ray
+// meets the mirror at (0, 2.8, 0.5) and reflects down onto the slab's top at x = 12, where a
+// roof at y in [4, 5), x in [8, 16) may shade it.
+TEST_F(RendererTest, SkyRaysPastTheFirstHitSeeTheSkyAndWhatCoversIt) {
+    world::BlockRegistry registry = reg();
+    world::BlockInfo perfect;
+    perfect.name = "perfect mirror";
+    perfect.albedo = {1.f, 1.f, 1.f};
+    perfect.reflectivity = 1.f;
+    const world::BlockId mirror = registry.add(perfect).value();
+    m_renderer->set_registry(registry);
+    auto centre_seen_in_mirror = [&](const char* roof) {
+        world::World w;
+        test::fill_box(w, {-16, 0, -16}, {16, 1, 16}, test::block_id("stone"));
+        test::fill_box(w, {-1, 1, -2}, {0, 3, 2}, mirror);
+        if (roof)
+            test::fill_box(w, {8, 4, -16}, {16, 5, 16}, test::block_id(roof));
+        m_renderer->clear_chunks();
+        test::load_meshes(*m_renderer, test::mesh_world(w));
+        RenderSettings s = daylight(16);
+        s.sun.direction = {0.f, -1.f, 0.3f}; // Below the horizon.
+        s.max_bounces = 1;
+        const RenderImage img = m_renderer->render(s, Camera::look_at({1.0, 2.95, 0.5}, {0.0, 2.8, 0.5}, {0, 1, 0}, 20.f));
+        test::maybe_save(img, roof ? (std::string("mirror_sky_") + roof).c_str() : "mirror_sky_open");
+        return img.at(16, 16);
+    };
+    // Open: the wall covers about 0.2% of the cosine-weighted sky of that point, low over its
+    // horizon, so the floor's radiance is albedo x sky, and the perfect mirror passes all of it.
+    const glm::u8vec4 open = centre_seen_in_mirror(nullptr);
+    EXPECT_TRUE(test::rgb_near(open, full_output(reg().info(test::block_id("stone")).albedo * daylight().sky), 2));
+    // A stone roof leaves only low strips of sky in +-x; a glass one passes the sky, tinted.
+    const glm::u8vec4 stone = centre_seen_in_mirror("stone");
+    const glm::u8vec4 glass = centre_seen_in_mirror("glass");
+    EXPECT_LT(brightness(stone), brightness(open) * 3 / 4);
+    EXPECT_GT(brightness(glass), brightness(stone) + 30);
+    EXPECT_LT(brightness(glass), brightness(open));
 }
 
 // The G-buffer (render/gbuffer.h) of a floor seen from above with sky in the top rows: the
