@@ -239,14 +239,16 @@ TEST_F(RendererTest, SkyRaysPastTheFirstHitSeeTheSkyAndWhatCoversIt) {
         RenderSettings s = daylight(16);
         s.sun.direction = {0.f, -1.f, 0.3f}; // Below the horizon.
         s.max_bounces = 1;
-        const RenderImage img = m_renderer->render(s, Camera::look_at({1.0, 2.95, 0.5}, {0.0, 2.8, 0.5}, {0, 1, 0}, 20.f));
+        const Camera cam = Camera::look_at({1.0, 2.95, 0.5}, {0.0, 2.8, 0.5}, {0, 1, 0}, 20.f);
+        const RenderImage img = m_renderer->render(s, cam);
         test::maybe_save(img, roof ? (std::string("mirror_sky_") + roof).c_str() : "mirror_sky_open");
         return img.at(16, 16);
     };
     // Open: the wall covers about 0.2% of the cosine-weighted sky of that point, low over its
     // horizon, so the floor's radiance is albedo x sky, and the perfect mirror passes all of it.
     const glm::u8vec4 open = centre_seen_in_mirror(nullptr);
-    EXPECT_TRUE(test::rgb_near(open, full_output(reg().info(test::block_id("stone")).albedo * daylight().sky), 2));
+    const glm::vec3 floor = reg().info(test::block_id("stone")).albedo * daylight().sky;
+    EXPECT_TRUE(test::rgb_near(open, full_output(floor), 2));
     // A stone roof leaves only low strips of sky in +-x; a glass one passes the sky, tinted.
     const glm::u8vec4 stone = centre_seen_in_mirror("stone");
     const glm::u8vec4 glass = centre_seen_in_mirror("glass");

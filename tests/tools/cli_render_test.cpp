@@ -217,6 +217,19 @@ TEST(CliRender, ExposureIsAnEv100OrAuto) {
               std::string::npos);
 }
 
+// --light-cache-pixels: the renderer's bounds (1/64 to 4096) or exit 2 naming the option, NaN and
+// infinities included; a width inside them renders.
+TEST(CliRender, LightCachePixelsOutsideTheRendererBoundsIsAnError) {
+    const std::string view =
+        "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --light-cache on ";
+    for (const char* bad : {"0", "-1", "5000", "nan", "inf", "3x"}) {
+        const CliRun r = vx("render " + view + "--light-cache-pixels=" + bad, kEnv);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--light-cache-pixels"), std::string::npos) << r.out;
+    }
+    render(view + "--light-cache-pixels 0.5 --out " + dir() + "/cache_half.png");
+}
+
 // --haze on|off and --visibility BLOCKS (>= 1 or inf): a bad distance is one line and exit 2;
 // off and infinite visibility are the same picture; a thick haze (visibility 8 blocks, the view
 // some 20 blocks away) changes it.
