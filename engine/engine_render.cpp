@@ -127,7 +127,7 @@ Status check_render_settings(const RenderSettings& s) {
         !std::isfinite(s.haze.base_height))
         return Error{"render settings: haze visibility must be > 0 (infinity: none), height_falloff finite and >= 0, "
                      "base_height finite"};
-    if (!(s.light_cache_pixels >= render::kMinLightCachePixels && s.light_cache_pixels <= render::kMaxLightCachePixels))
+    if (!render::light_cache_pixels_valid(s.light_cache_pixels))
         return Error{"render settings: light_cache_pixels must be 1/64..4096"};
     return {};
 }

@@ -113,8 +113,11 @@ enum class PipelineKind : uint8_t {
 };
 
 // The light cache's cell widths, pixels (RenderSettings::light_cache_pixels): the renderer clamps
-// to them, the facade refuses others.
+// to them; the facade and `vx render` refuse others (light_cache_pixels_valid, false for NaN).
 inline constexpr float kMinLightCachePixels = 1.f / 64.f, kMaxLightCachePixels = 4096.f;
+constexpr bool light_cache_pixels_valid(float pixels) {
+    return pixels >= kMinLightCachePixels && pixels <= kMaxLightCachePixels;
+}
 
 struct RenderSettings {
     uint32_t width = 64, height = 64;
@@ -153,7 +156,7 @@ struct RenderSettings {
     // only. Off: each hit keeps its own samples (unbiased). Its GPU memory (render/
     // light_cache.h) is not in check_frame_size's estimate; running out is a frame's error.
     bool light_cache = false;
-    float light_cache_pixels = 3.f; // Pixels, clamped to kLightCachePixels (not finite: the default).
+    float light_cache_pixels = 3.f; // Pixels, clamped to kMin/kMaxLightCachePixels (not finite: the default).
     SunLight sun;
     AreaLight light;
     Exposure exposure;

@@ -56,9 +56,8 @@ class Image:
     """An RGB image in [0, 1]: a numpy array (h, w, 3) or a flat list."""
 
     def __init__(self, path, w, h):
-        px = read_png_fast(path) if np is not None else read_png(path)
         self.w, self.h = w, h
-        self.px = px
+        self.px = read_png_array(path, w, h) if np is not None else read_png(path)
 
     def errors(self, ref):
         """Per-pixel squared error, the mean over RGB."""
@@ -84,15 +83,12 @@ class Image:
         return out
 
 
-def read_png_fast(path):
-    """An 8-bit PNG as a numpy array (h, w, 3): Pillow's decoder when installed, else the pure reader."""
+def read_png_array(path, w, h):
+    """A w x h 8-bit PNG as a numpy array (h, w, 3): Pillow's decoder when installed, else the pure reader."""
     try:
         from PIL import Image as PilImage
         return np.asarray(PilImage.open(path).convert("RGB"), dtype=np.float64) / 255.0
     except ImportError:
-        with open(path, "rb") as f:
-            head = f.read(24)
-        w, h = int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
         return np.asarray(read_png(path), dtype=np.float64).reshape(h, w, 3)
 
 

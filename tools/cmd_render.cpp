@@ -530,8 +530,7 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
             [](std::string& v) { // CLI::Range lets NaN through (every comparison with it is false).
                 char* end = nullptr;
                 const float x = std::strtof(v.c_str(), &end);
-                return end != v.c_str() && *end == '\0' && x >= render::kMinLightCachePixels &&
-                               x <= render::kMaxLightCachePixels
+                return end != v.c_str() && *end == '\0' && render::light_cache_pixels_valid(x)
                            ? std::string()
                            : "a patch width from 1/64 to 4096 pixels, got '" + v + "'";
             },
