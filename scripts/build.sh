@@ -6,11 +6,19 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 kind=${1:-release}
 shift || true
+sanitizer_flags=("-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
+                 -DVX_GPU_TESTS=OFF)
 case "$kind" in
   release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
   debug) args=(-DCMAKE_BUILD_TYPE=Debug) ;;
-  asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DVX_SANITIZE=address,undefined" -DVX_BUILD_BENCHMARKS=OFF) ;;
-  tsan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVX_SANITIZE=thread -DVX_BUILD_BENCHMARKS=OFF) ;;
+  # Sanitizer builds: -O1, the sanitizers' recommended level, and -g1, line tables without
+  # local variables: reports keep their file:line stacks, and the heaviest file (OpenVDB
+  # templates) compiles in half the time of -O2 -g (49 s against 94 s under ASan here). They
+  # leave out the tests that render (VX_GPU_TESTS): scripts/test.sh runs those only in Release.
+  asan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DVX_SANITIZE=address,undefined" -DVX_BUILD_BENCHMARKS=OFF
+              "${sanitizer_flags[@]}") ;;
+  tsan) args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVX_SANITIZE=thread -DVX_BUILD_BENCHMARKS=OFF
+              "${sanitizer_flags[@]}") ;;
   *) echo "usage: scripts/build.sh [release|asan|tsan|debug]" >&2; exit 2 ;;
 esac
 jobs=$(nproc)
