@@ -92,6 +92,103 @@ TEST(Sampling, CmjIsStratifiedAndInRange) {
         }
 }
 
+// vx_cmj2 with a coarse and a fine pattern of their own: each point is uniform (its mean
+// centred, as Kensler's one-pattern form) and each pattern pair stratified in y.
+TEST(Sampling, SplitCmjIsCentredAndStratified) {
+    auto split = [](uint32_t s, uint32_t c, uint32_t p) { return gpu::vx_cmj2(s, c, p, gpu::vx_hash(p ^ 0x2545f491u)); };
+    for (uint32_t n = 1; n <= 64; ++n) {
+        const MeanTest t = mean_position(n, split);
+        EXPECT_NEAR(t.mean.x, 0.5, t.tolerance.x) << "N = " << n;
+        EXPECT_NEAR(t.mean.y, 0.5, t.tolerance.y) << "N = " << n;
+        for (uint32_t i = 0; i < 64; ++i) {
+            std::vector<int> per_row(n, 0);
+            for (uint32_t s = 0; s < n; ++s)
+                ++per_row[std::min(uint32_t(split(s, n, pattern_of(i)).y * float(n)), n - 1)];
+            ASSERT_EQ(std::count(per_row.begin(), per_row.end(), 1), int(n)) << "N = " << n;
+        }
+    }
+}
+
+// Where sample s of pixel (x, y) lies at the coarse scale: its y stratum (1/n) and its column
+// of the grid (1/m, m = floor(sqrt(n))).
+glm::uvec2 coarse_cell(glm::vec2 u, uint32_t n) {
+    const uint32_t m = std::max(uint32_t(std::sqrt(float(n))), 1u);
+    return {std::min(uint32_t(u.x * float(m)), m - 1), std::min(uint32_t(u.y * float(n)), n - 1)};
+}
+
+// Whether u lies in that cell, or within float rounding of it (x = (column + offset) / m can
+// round up to the next column's edge).
+bool in_cell(glm::vec2 u, glm::uvec2 cell, uint32_t n) {
+    const uint32_t m = std::max(uint32_t(std::sqrt(float(n))), 1u);
+    const float eps = 1e-6f;
+    return u.x >= float(cell.x) / float(m) - eps && u.x <= float(cell.x + 1) / float(m) + eps &&
+           u.y >= float(cell.y) / float(n) - eps && u.y <= float(cell.y + 1) / float(n) + eps;
+}
+
+// How many (tile, sample) pairs of a 32 x 32 pixel area find all of the tile's pixels in one
+// coarse cell, and how many samples of any tile repeat a point of another pixel of the tile.
+struct TileShare {
+    int shared = 0, total = 0, repeated = 0;
+};
+template <class Sample>
+TileShare tile_share(uint32_t n, Sample sample) {
+    constexpr uint32_t kTile = 1u << gpu::kSampleTileShift;
+    TileShare t;
+    for (uint32_t ty = 0; ty < 32; ty += kTile)
+        for (uint32_t tx = 0; tx < 32; tx += kTile)
+            for (uint32_t s = 0; s < n; ++s) {
+                std::vector<glm::vec2> points;
+                bool same = true;
+                for (uint32_t y = ty; y < ty + kTile; ++y)
+                    for (uint32_t x = tx; x < tx + kTile; ++x) {
+                        const glm::vec2 u = sample(s, n, x, y);
+                        same = same && (points.empty() || in_cell(u, coarse_cell(points[0], n), n));
+                        t.repeated += std::count(points.begin(), points.end(), u) > 0;
+                        points.push_back(u);
+                    }
+                t.shared += same;
+                ++t.total;
+            }
+    return t;
+}
+
+// vx_pixel_sample with n not a power of two: at every step s the pixels of a tile lie in one
+// coarse cell (their rays head for the same part of a light), no two of them at the same
+// point; each pixel's n points are still one per y stratum. Tiles differ (not all 15 others
+// like the first: for n = 3 each matches it with probability 1/6). Control: the
+// per-pixel patterns used before share a cell in almost no (tile, step) pair.
+TEST(Sampling, PixelSamplesShareCoarseCellsInTiles) {
+    for (uint32_t n : {3u, 5u, 6u, 9u, 12u, 25u, 49u})
+        for (uint32_t seed : {1u, gpu::vx_hash(7u), 0xffffffffu}) {
+            auto sample = [seed](uint32_t s, uint32_t c, uint32_t x, uint32_t y) {
+                return gpu::vx_pixel_sample(s, c, x, y, seed);
+            };
+            const TileShare t = tile_share(n, sample);
+            EXPECT_EQ(t.shared, t.total) << "N = " << n;
+            EXPECT_EQ(t.repeated, 0) << "N = " << n;
+            for (uint32_t y = 0; y < 32; y += 5)
+                for (uint32_t x = 0; x < 32; x += 3) {
+                    std::vector<int> per_row(n, 0);
+                    for (uint32_t s = 0; s < n; ++s)
+                        ++per_row[coarse_cell(sample(s, n, x, y), n).y];
+                    ASSERT_EQ(std::count(per_row.begin(), per_row.end(), 1), int(n)) << "N = " << n;
+                }
+            int differ = 0; // Tiles that put some step in another cell than tile (0, 0) does.
+            for (uint32_t ty = 0; ty < 32; ty += 8)
+                for (uint32_t tx = 0; tx < 32; tx += 8) {
+                    bool other = false;
+                    for (uint32_t s = 0; s < n; ++s)
+                        other = other || !in_cell(sample(s, n, tx, ty), coarse_cell(sample(s, n, 0, 0), n), n);
+                    differ += other;
+                }
+            EXPECT_GT(differ, 0) << "N = " << n;
+            auto old = [seed](uint32_t s, uint32_t c, uint32_t x, uint32_t y) {
+                return vx_cmj(s, c, gpu::vx_hash(x + gpu::vx_hash(y + seed)));
+            };
+            EXPECT_LT(tile_share(n, old).shared, 2) << "N = " << n;
+        }
+}
+
 // Whether `points` (count 2^m) form a (0, m, 2)-net: exactly one point in each elementary
 // interval [i / 2^a, (i + 1) / 2^a) x [j / 2^b, (j + 1) / 2^b) with a + b = m.
 bool is_net(const std::vector<glm::vec2>& points) {
