@@ -171,8 +171,8 @@ const uint kSampleTileShift = 3u;
 // coarse part, which the pixel's tile shares (vx_cmj2): at step s of the estimator's loop the
 // rays of a tile head for the same small part of a light (less divergent traversal), each
 // pixel's points are distributed as before, and their errors stay independent at the finer
-// scale. Measured (docs/render_report.md, stop 26): the same error; 25 spp traced 2-4% faster on
-// the H200, 12% on lavapipe.
+// scale. Measured (docs/render_report.md, stop 26): the same raw error (denoised +2% on
+// terrain); 25 spp traced 2-23% faster on the H200, 12% on lavapipe.
 VX_S_FN s_vec2 vx_pixel_sample(s_uint s, s_uint n, s_uint x, s_uint y, s_uint seed) {
     if ((n & (n - 1u)) != 0u)
         return vx_cmj2(s, n, vx_hash((x >> kSampleTileShift) + vx_hash((y >> kSampleTileShift) + (seed ^ 0x85ebca6bu))),
