@@ -545,6 +545,7 @@ Status ChunkStreamer::set_block(BlockPos p, BlockId id) {
     }
     for (const SliceUpdate& u : r.updates)
         m_sink.on_mesh(u.chunk, *m_chunks.at(u.chunk).mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
+    m_sink.on_block_edited(p);
     return {};
 }
 

@@ -34,6 +34,10 @@ public:
         if (m_renderer)
             m_renderer->remove_chunk(c);
     }
+    void on_block_edited(world::BlockPos p) override {
+        if (m_renderer)
+            m_renderer->note_edit(p, p);
+    }
     // Coarse levels (LodStreamer): drawn scaled by their cell size; no ChunkEvents (the game's
     // events are about block data).
     void on_lod_mesh(world::LodCoord c, const world::ChunkMesh& mesh) override {

@@ -90,6 +90,8 @@ public:
     // MeshSink, from the ChunkStreamer (level 0).
     void on_mesh(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) override;
     void on_unload(world::ChunkCoord c) override;
+    // Passed down, whichever level draws the block: the light near it changed.
+    void on_block_edited(world::BlockPos p) override { m_down.on_block_edited(p); }
 
     // Main thread. Level-0 chunk `c`'s blocks changed (an edit): its coarse ancestors follow in
     // the next update().

@@ -28,6 +28,11 @@ public:
 
     // Main thread. Chunk `c` left the view; drop whatever was made from its mesh.
     virtual void on_unload(world::ChunkCoord c) = 0;
+
+    // Main thread. Block `p` (world blocks) was edited: after its on_mesh calls, once per
+    // change (an edit to the block's own id makes none). The renderer's denoiser drops the
+    // history near it (render/edit_marks.h); sinks that keep no history ignore it.
+    virtual void on_block_edited(world::BlockPos p) { (void)p; }
 };
 
 } // namespace vx::engine

@@ -20,7 +20,9 @@
 //                                     (no sampling), -1 at 1 sample (unknown); 1 in Flat mode.
 //   binding 4  albedo        RGBA8 UNORM  linear albedo of the first visible (opaque) block hit
 //                                     by the primary ray, rgb (no sRGB encoding); the sky colour
-//                                     (clamped to 0..1) on a miss; a = 1 on a hit, 0 on a miss.
+//                                     (clamped to 0..1) on a miss; a = 1 on a hit, 0 on a miss,
+//                                     gpu::kEditedAlpha on a hit near this frame's edits (render/
+//                                     edit_marks.h: the denoiser starts its history again).
 //   binding 5  normal_depth  RGBA16F  xyz: unit world-space normal of the face the primary ray
 //                                     hit (axis-aligned); w: distance along the primary ray from
 //                                     the eye to that hit, in blocks (> 0). A miss: (0, 0, 0, 0)
@@ -45,7 +47,8 @@
 //                                     hit, over that surface's albedo (the mirror's reflectivity,
 //                                     tint and haze included), rgb; a: its luminance variance as
 //                                     in radiance.a (bounce_shadow_samples). 0 without such a hit.
-//   binding 8  mirror_albedo RGBA8 UNORM  linear albedo of that surface, rgb; a = 1 (0: none).
+//   binding 8  mirror_albedo RGBA8 UNORM  linear albedo of that surface, rgb; a = 1 (0: none;
+//                                     gpu::kEditedAlpha: near this frame's edits, as albedo's).
 //   binding 9  mirror_normal_depth RGBA16F  xyz: its unit world-space normal; w: the path's
 //                                     length from the eye over the mirror to it, in blocks;
 //                                     (0, 0, 0, 0) without such a hit (the primary hit is no

@@ -6,13 +6,16 @@
 
 namespace vx::render::gpu {
 
-static_assert(sizeof(FrameParams) == 18 * 16 + 64, "FrameParams: 18 vec4 + 8 uint64");
-static_assert(offsetof(FrameParams, emitter_quads) == 18 * 16 + 32);
+constexpr size_t kParamsTail = (19 + 2 * kMaxEditBoxes) * 16; // The vec4s, then the uint64 addresses.
+static_assert(sizeof(FrameParams) == kParamsTail + 64, "FrameParams: 35 vec4 + 8 uint64");
+static_assert(offsetof(FrameParams, edits) == 18 * 16);
+static_assert(offsetof(FrameParams, edit_boxes) == 19 * 16);
+static_assert(offsetof(FrameParams, emitter_quads) == kParamsTail + 32);
 static_assert(sizeof(EmitterQuad) == 64);
 static_assert(sizeof(EmitterBound) == 32);
-static_assert(offsetof(FrameParams, emitter_bounds) == 18 * 16 + 40);
-static_assert(offsetof(FrameParams, emitter_chunks) == 18 * 16 + 16);
-static_assert(offsetof(FrameParams, exposure_meter) == 18 * 16 + 24);
+static_assert(offsetof(FrameParams, emitter_bounds) == kParamsTail + 40);
+static_assert(offsetof(FrameParams, emitter_chunks) == kParamsTail + 16);
+static_assert(offsetof(FrameParams, exposure_meter) == kParamsTail + 24);
 static_assert(offsetof(FrameParams, sun_direction) == 9 * 16);
 static_assert(offsetof(FrameParams, size_samples) == 12 * 16);
 static_assert(offsetof(FrameParams, mode_seed) == 13 * 16);
@@ -20,9 +23,9 @@ static_assert(offsetof(FrameParams, flags) == 14 * 16);
 static_assert(offsetof(FrameParams, exposure) == 15 * 16);
 static_assert(offsetof(FrameParams, haze) == 16 * 16);
 static_assert(offsetof(FrameParams, cache) == 17 * 16);
-static_assert(offsetof(FrameParams, chunk_table) == 18 * 16);
-static_assert(offsetof(FrameParams, cache_records) == 18 * 16 + 56);
-static_assert(offsetof(FrameParams, materials) == 18 * 16 + 8);
+static_assert(offsetof(FrameParams, chunk_table) == kParamsTail);
+static_assert(offsetof(FrameParams, cache_records) == kParamsTail + 56);
+static_assert(offsetof(FrameParams, materials) == kParamsTail + 8);
 static_assert(sizeof(ExposureMeter) == 8);
 static_assert(sizeof(Material) == 32);
 static_assert(offsetof(Material, emission) == 16);

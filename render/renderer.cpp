@@ -18,6 +18,7 @@
 #include "render/emitter_quads.h"
 #include "render/gbuffer.h"
 #include "render/gpu_layouts.h"
+#include "render/edit_marks.h"
 #include "render/light_cache.h"
 #include "render/present.h"
 #include "render/raster_pipeline.h"
@@ -126,6 +127,7 @@ struct Renderer::Impl {
     std::unique_ptr<LightCache> light_cache;
     bool frame_cached = false;
     uint32_t light_cache_cell_limit = 0; // Renderer::limit_light_cache_cells.
+    EditMarks edit_marks; // Edits since the last traced frame (note_edit); write_params takes them.
     static bool cache_active(const RenderSettings& s) {
         return s.light_cache && s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full;
     }
@@ -572,6 +574,8 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
         p.cache_table = light_cache->table();
         p.cache_records = light_cache->records();
     }
+    edit_marks.write(p, origin);
+    edit_marks.clear(); // This frame's denoiser has them.
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
 }
 
@@ -1024,6 +1028,8 @@ void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std:
 }
 
 void Renderer::remove_chunk(world::ChunkCoord c) { remove_chunk(world::LodCoord{0, c}); }
+
+void Renderer::note_edit(world::BlockPos lo, world::BlockPos hi) { m->edit_marks.add(glm::min(lo, hi), glm::max(lo, hi)); }
 
 void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
     VX_ASSERT_MSG(world::valid_lod_level(c.level), "set_chunk: LOD level outside 0..world::kMaxLodLevel");

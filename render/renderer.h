@@ -347,6 +347,11 @@ public:
     void set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {});
     void remove_chunk(world::ChunkCoord c);
     void clear_chunks(); // Every entry of every level.
+    // Blocks [lo, hi] (inclusive, world blocks) were edited: the next frame's denoiser starts
+    // the history again on surfaces within render::kEditReach blocks of them (render/
+    // edit_marks.h), where the light changed but normal and depth may not have. Call with the
+    // edit's set_chunk calls. Main thread only.
+    void note_edit(world::BlockPos lo, world::BlockPos hi);
 
     // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
     // that frame's G-buffer into *gbuffer (tests, tools; costs four more copies).

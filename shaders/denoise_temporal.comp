@@ -60,6 +60,10 @@ layout(binding = 21, rgba16f) writeonly uniform image2D u_mirror_filter_out; // 
 
 #include "shared/denoise_common.glsl"
 
+// Whether a surface's albedo (u_albedo, u_mirror_albedo) marks it near this frame's edits:
+// a = kEditedAlpha (1: a surface, 0: none; render/gbuffer.h), stored in 8 bits.
+bool edited(vec4 albedo) { return albedo.a > 0.25 && albedo.a < 0.75; }
+
 // Bilinear history taps (history_taps()): pixel i is base + (i & 1, i >> 1), w its weight.
 struct Taps {
     ivec2 base;
@@ -509,6 +513,21 @@ void main() {
                 reflected_frames += reflected_taps.w[i] * hr.a;
             }
         }
+    }
+    // Near an edit (render/edit_marks.h; the ray generation marks the hit's albedo a) the light
+    // may have changed under a history that still matches in normal and depth (the contact
+    // shadow beside a placed block), too little for the clamp's test, so it would fade over the
+    // whole history: start again here, as after a disocclusion. A mirror whose reflected surface
+    // is near one starts its reflected part and mirror light again.
+    if (edited(imageLoad(u_albedo, p))) {
+        frames = 0;
+        history = vec3(0);
+        moments = vec4(0);
+    }
+    if (edited(imageLoad(u_albedo, p)) || (mirror_inputs() && edited(imageLoad(u_mirror_albedo, p)))) {
+        reflected_frames = 0;
+        history_reflected = vec3(0);
+        mirror_taps = Taps(ivec2(0), vec4(0), ivec2(-1));
     }
     const vec2 owns = own_variance(p, size, nd);
     const float own = owns.x;

@@ -63,6 +63,9 @@ std::vector<world::BlockId> set_cube(render::Renderer& r, engine::LoadedScene& s
                         r.set_chunk(u.chunk, mesh, std::span<const int>(u.slices.data(), size_t(u.count)));
                 }
             }
+    // As the engine's edit path tells it (engine/engine_sink.h): the denoiser drops the history
+    // near the cube.
+    r.note_edit(top + world::BlockPos{lo, 1, lo}, top + world::BlockPos{lo + side - 1, side, lo + side - 1});
     return previous;
 }
 

@@ -56,6 +56,11 @@ VX_CONST int kOffsetUlps = 4;
 // Below this magnitude the ulp push is skipped (it would cross zero) and kSurfaceOffset holds.
 VX_CONST float kOffsetUlpsFrom = 1.0f / 32.0f;
 
+// Edits the denoiser must not smooth over (render/edit_marks.h): at most this many boxes a frame.
+VX_CONST uint kMaxEditBoxes = 8;
+// The albedo image's alpha on a surface within a box (render/gbuffer.h): its history is stale.
+VX_CONST float kEditedAlpha = 0.5f;
+
 // Per-frame constants (uniform buffer, std140). Positions are relative to the render origin
 // (the TLAS's, render/tlas_instances.h): world block position minus the origin's block
 // (computed in 64-bit on the CPU), in block units.
@@ -88,6 +93,10 @@ struct FrameParams {
                          // table's cells (a power of two; 0: no cache); y: the mirror bounces
                          // cached after the primary hit (0..kMaxCachedBounces); z: a cell's width
                          // in pixels at the hit's distance (float bits); w: 0.
+    uvec4 edits;         // x: boxes in edit_boxes (0..kMaxEditBoxes); yzw: 0.
+    vec4 edit_boxes[2 * kMaxEditBoxes]; // Box i: [2i].xyz its low corner, [2i + 1].xyz its high
+                         // corner: blocks edited since the last frame, widened by their reach
+                         // (render/edit_marks.h), origin-relative blocks.
     uint64_t chunk_table; // Address of uint64[instance]: each instance's Quad buffer address.
     uint64_t materials;   // Address of Material[material count], indexed by block id.
     uint64_t emitter_chunks; // Address of vec4[flags.y]: xyz chunk origin (origin-relative), w its
