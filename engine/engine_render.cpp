@@ -332,6 +332,8 @@ bool EngineTesting::lose_device(Engine& e) {
     return true;
 }
 
+int EngineTesting::noted_edits(Engine& e) { return e.m->renderer ? int(e.m->renderer->noted_edits()) : -1; }
+
 bool EngineTesting::fail_allocations(Engine& e, const std::string& name_prefix) {
     if (!e.m->renderer)
         return false;

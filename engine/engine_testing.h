@@ -15,6 +15,9 @@ struct EngineTesting {
     // Frame resources whose debug name starts with `name_prefix` fail to allocate until called
     // again with "" (render::Context::fail_allocations). False without a renderer.
     static bool fail_allocations(Engine& e, const std::string& name_prefix);
+    // Boxes of edited blocks the renderer holds for its next frame's denoiser
+    // (render::Renderer::noted_edits). -1 without a renderer.
+    static int noted_edits(Engine& e);
 };
 
 } // namespace vx

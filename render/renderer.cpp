@@ -1031,6 +1031,8 @@ void Renderer::remove_chunk(world::ChunkCoord c) { remove_chunk(world::LodCoord{
 
 void Renderer::note_edit(world::BlockPos lo, world::BlockPos hi) { m->edit_marks.add(glm::min(lo, hi), glm::max(lo, hi)); }
 
+size_t Renderer::noted_edits() const { return m->edit_marks.boxes().size(); }
+
 void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
     VX_ASSERT_MSG(world::valid_lod_level(c.level), "set_chunk: LOD level outside 0..world::kMaxLodLevel");
     std::vector<world::BlockId>& ids = m->chunk_blocks[c];

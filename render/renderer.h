@@ -352,6 +352,8 @@ public:
     // edit_marks.h), where the light changed but normal and depth may not have. Call with the
     // edit's set_chunk calls. Main thread only.
     void note_edit(world::BlockPos lo, world::BlockPos hi);
+    // Boxes noted since the last traced frame (0..gpu::kMaxEditBoxes). Main thread only.
+    size_t noted_edits() const;
 
     // Renders one image and reads it back (waits for the GPU). With `gbuffer`, also reads back
     // that frame's G-buffer into *gbuffer (tests, tools; costs four more copies).

@@ -12,6 +12,7 @@
 
 #include <vx/vx.h>
 
+#include "engine/engine_testing.h"
 #include "facade_test_util.h"
 
 using Clock = std::chrono::steady_clock;
@@ -77,8 +78,11 @@ TEST(FacadeRender, TerrainToMemory) {
     ASSERT_TRUE(hit);
     ASSERT_EQ(hit->kind, vx::RayHit::Kind::Hit);
     ASSERT_TRUE(e.set_block(hit->previous, *e.find_block("lamp")));
+    // The edit reached the renderer's denoiser (render/edit_marks.h), and the next frame took it.
+    EXPECT_EQ(vx::EngineTesting::noted_edits(e), 1);
     e.update();
     ASSERT_TRUE(e.render_to_image(img));
+    EXPECT_EQ(vx::EngineTesting::noted_edits(e), 0);
     s = e.stats();
     EXPECT_GE(s.blas_builds + s.blas_refits, 1u);
     EXPECT_LE(s.blas_builds + s.blas_refits, 3u); // The chunk and at most two face neighbours.
