@@ -1,6 +1,5 @@
 #include "render/edit_marks.h"
 
-#include <algorithm>
 #include <limits>
 
 namespace vx::render {
@@ -8,8 +7,7 @@ namespace vx::render {
 namespace {
 
 EditMarks::Box united(const EditMarks::Box& a, const EditMarks::Box& b) {
-    return {{std::min(a.lo.x, b.lo.x), std::min(a.lo.y, b.lo.y), std::min(a.lo.z, b.lo.z)},
-            {std::max(a.hi.x, b.hi.x), std::max(a.hi.y, b.hi.y), std::max(a.hi.z, b.hi.z)}};
+    return {glm::min(a.lo, b.lo), glm::max(a.hi, b.hi)};
 }
 
 // Blocks in the box (as a double: world boxes may be far apart).
@@ -18,8 +16,7 @@ double volume(const EditMarks::Box& b) {
 }
 
 bool contains(const EditMarks::Box& outer, const EditMarks::Box& inner) {
-    return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
-           inner.hi.x <= outer.hi.x && inner.hi.y <= outer.hi.y && inner.hi.z <= outer.hi.z;
+    return glm::all(glm::lessThanEqual(outer.lo, inner.lo)) && glm::all(glm::lessThanEqual(inner.hi, outer.hi));
 }
 
 } // namespace

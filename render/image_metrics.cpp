@@ -39,6 +39,30 @@ double rmse(const ImageF& test, const ImageF& reference) {
     return std::sqrt(sum / (double(test.rgba.size() / 4) * 3.0));
 }
 
+std::vector<bool> changed_pixels(const ImageF& before, const ImageF& after, float threshold) {
+    check_sizes(before, after);
+    std::vector<bool> mask(size_t(before.width) * before.height, false);
+    for (size_t i = 0; i < mask.size(); ++i)
+        for (size_t c = 0; c < 3; ++c)
+            mask[i] = mask[i] || std::abs(before.rgba[i * 4 + c] - after.rgba[i * 4 + c]) > threshold;
+    return mask;
+}
+
+double masked_rmse(const ImageF& test, const ImageF& reference, const std::vector<bool>& mask) {
+    check_sizes(test, reference);
+    VX_ASSERT(mask.size() == size_t(test.width) * test.height);
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t i = 0; i < mask.size(); ++i)
+        if (mask[i])
+            for (size_t c = 0; c < 3; ++c) {
+                const double d = double(test.rgba[i * 4 + c]) - reference.rgba[i * 4 + c];
+                sum += d * d;
+                ++count;
+            }
+    return count ? std::sqrt(sum / double(count)) : 0.0;
+}
+
 double psnr(const ImageF& test, const ImageF& reference) {
     const double e = rmse(test, reference);
     return e > 0 ? 20.0 * std::log10(1.0 / e) : std::numeric_limits<double>::infinity();

@@ -39,4 +39,10 @@ double psnr(const ImageF& test, const ImageF& reference);
 double ssim(const ImageF& test, const ImageF& reference);
 ImageError compare(const ImageF& test, const ImageF& reference);
 
+// The pixels where any of R, G, B differs between `before` and `after` by more than `threshold`
+// (default: a tenth of the display range; what an edit changed). Same, non-zero size.
+std::vector<bool> changed_pixels(const ImageF& before, const ImageF& after, float threshold = 0.1f);
+// RMSE over R, G, B of the pixels `mask` marks (one entry per pixel); 0 when it marks none.
+double masked_rmse(const ImageF& test, const ImageF& reference, const std::vector<bool>& mask);
+
 } // namespace vx::render

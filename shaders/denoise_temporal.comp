@@ -519,12 +519,13 @@ void main() {
     // shadow beside a placed block), too little for the clamp's test, so it would fade over the
     // whole history: start again here, as after a disocclusion. A mirror whose reflected surface
     // is near one starts its reflected part and mirror light again.
-    if (edited(imageLoad(u_albedo, p))) {
+    const bool edited_here = edited(imageLoad(u_albedo, p));
+    if (edited_here) {
         frames = 0;
         history = vec3(0);
         moments = vec4(0);
     }
-    if (edited(imageLoad(u_albedo, p)) || (mirror_inputs() && edited(imageLoad(u_mirror_albedo, p)))) {
+    if (edited_here || (mirror_inputs() && edited(imageLoad(u_mirror_albedo, p)))) {
         reflected_frames = 0;
         history_reflected = vec3(0);
         mirror_taps = Taps(ivec2(0), vec4(0), ivec2(-1));

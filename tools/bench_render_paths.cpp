@@ -69,30 +69,6 @@ std::vector<world::BlockId> set_cube(render::Renderer& r, engine::LoadedScene& s
     return previous;
 }
 
-// The pixels the edit changed: any channel of the references before and after differs by more
-// than 0.1 (a tenth of the display range).
-std::vector<bool> changed_pixels(const ImageF& before, const ImageF& after) {
-    std::vector<bool> mask(size_t(before.width) * before.height, false);
-    for (size_t i = 0; i < mask.size(); ++i)
-        for (size_t c = 0; c < 3; ++c)
-            mask[i] = mask[i] || std::abs(before.rgba[i * 4 + c] - after.rgba[i * 4 + c]) > 0.1f;
-    return mask;
-}
-
-// RMSE over R, G, B of the pixels in `mask` (0 when it is empty).
-double masked_rmse(const ImageF& test, const ImageF& reference, const std::vector<bool>& mask) {
-    double sum = 0.0;
-    size_t count = 0;
-    for (size_t i = 0; i < mask.size(); ++i)
-        if (mask[i])
-            for (size_t c = 0; c < 3; ++c) {
-                const double d = double(test.rgba[i * 4 + c]) - reference.rgba[i * 4 + c];
-                sum += d * d;
-                ++count;
-            }
-    return count ? std::sqrt(sum / double(count)) : 0.0;
-}
-
 // Median RMS change between successive images.
 double flicker(const std::vector<ImageF>& images) {
     std::vector<double> change;
@@ -202,7 +178,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
             const std::vector<world::BlockId> held = set_cube(r, scene, *top, {stone});
             const ImageF after = path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[0], 1);
             set_cube(r, scene, *top, held);
-            mask = changed_pixels(before, after);
+            mask = render::changed_pixels(before, after);
             for (uint32_t i = 0; i < n; ++i)
                 refs.push_back(i < path.edit_frame ? before : after);
         } else {
@@ -229,7 +205,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                 frames.push_back(render::to_float(r.render(row.s, path.poses[i])));
                 error.push_back(render::rmse(frames.back(), refs[i]));
                 if (!mask.empty())
-                    edited.push_back(masked_rmse(frames.back(), refs[i], mask));
+                    edited.push_back(render::masked_rmse(frames.back(), refs[i], mask));
                 csv << path.name << ",\"" << row.name << "\"," << i << ',' << error.back() << ','
                     << (mask.empty() ? -1.0 : edited.back()) << '\n';
             }
@@ -238,7 +214,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                 // The steady error of the edited view: n / 2 more frames, still, after the path.
                 std::vector<double> steady;
                 for (uint32_t i = 0; i < n / 2; ++i)
-                    steady.push_back(masked_rmse(render::to_float(r.render(row.s, path.poses[0])), refs[n - 1], mask));
+                    steady.push_back(render::masked_rmse(render::to_float(r.render(row.s, path.poses[0])), refs[n - 1], mask));
                 set_cube(r, scene, *top, held);
                 const double normal = kRecovered * median(steady);
                 uint32_t k = path.edit_frame;

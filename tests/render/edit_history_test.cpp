@@ -3,7 +3,7 @@
 // normal and depth stay as they were. Without the edit's mark the history clamp lets that small
 // change fade over the whole history (a ghost: the first frame after the edit is worse there
 // than a raw frame); with it, the history near the edit starts again.
-#include <cmath>
+#include <algorithm>
 #include <cstdio>
 
 #include "scene_util.h"
@@ -46,21 +46,6 @@ world::World scene_world() {
     return w;
 }
 
-// RMSE over the pixels `mask` marks (RGB, 0..1).
-double masked_rmse(const ImageF& a, const ImageF& b, const std::vector<bool>& mask) {
-    double sum = 0;
-    size_t n = 0;
-    for (size_t i = 0; i < mask.size(); ++i)
-        if (mask[i]) {
-            for (int c = 0; c < 3; ++c) {
-                const double d = a.rgba[4 * i + c] - b.rgba[4 * i + c];
-                sum += d * d;
-            }
-            n += 3;
-        }
-    return n ? std::sqrt(sum / double(n)) : 0.0;
-}
-
 struct EditErrors {
     double denoised = 0, raw = 0; // In the pixels the edit changed, the first frame after it.
     size_t changed = 0;
@@ -92,16 +77,10 @@ EditErrors first_frame_after_edit(Renderer& r, bool mark) {
     s.accumulate = 1;
     const ImageF raw = to_float(r.render(s, kView));
     const ImageF after = to_float(test::accumulated(r, settings(), kView, 32, 8));
-    // The pixels the edit changed: a channel of the references moved by more than a tenth of
-    // the display range (the bench's edit path, tools/bench_render_paths.cpp).
-    std::vector<bool> mask(size_t(s.width) * s.height, false);
+    // The pixels the edit changed, as the bench's edit path counts them.
+    const std::vector<bool> mask = changed_pixels(before, after);
     EditErrors e;
-    for (size_t i = 0; i < mask.size(); ++i)
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(after.rgba[4 * i + c] - before.rgba[4 * i + c]) > 0.1f)
-                mask[i] = true;
-    for (bool m : mask)
-        e.changed += m;
+    e.changed = size_t(std::count(mask.begin(), mask.end(), true));
     e.denoised = masked_rmse(denoised, after, mask);
     e.raw = masked_rmse(raw, after, mask);
     return e;

@@ -1,5 +1,6 @@
 // Image metrics on images with known answers (CPU only, no device).
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -70,6 +71,23 @@ TEST(ImageMetrics, SsimIsSymmetricAndBelowOneForBlur) {
     EXPECT_LT(s, 0.999);
     EXPECT_GT(s, 0.3);
     EXPECT_NEAR(s, ssim(a, blurred), 1e-12);
+}
+
+// What an edit changed and the error there (the bench's edit path, the edit history test): only
+// a change above the threshold in some colour channel counts (alpha never); the masked RMSE is
+// over those pixels' R, G, B alone.
+TEST(ImageMetrics, ChangedPixelsAndMaskedRmse) {
+    const ImageF before = constant(4, 2, 0.5f);
+    ImageF after = before;
+    after.at(1, 0)[2] = 0.7f;  // Changed: 0.2 > 0.1.
+    after.at(2, 1)[0] = 0.55f; // Below the threshold.
+    after.at(3, 1)[3] = 0.f;   // Alpha only.
+    const std::vector<bool> mask = changed_pixels(before, after);
+    EXPECT_EQ(mask, std::vector<bool>({false, true, false, false, false, false, false, false}));
+    EXPECT_EQ(changed_pixels(before, after, 0.01f)[6], true);
+    // Pixel (1, 0): one channel off by 0.2, two exact: sqrt(0.04 / 3).
+    EXPECT_NEAR(masked_rmse(after, before, mask), std::sqrt(0.04 / 3.0), 1e-6);
+    EXPECT_EQ(masked_rmse(after, before, std::vector<bool>(8, false)), 0.0);
 }
 
 TEST(ImageMetrics, Rgba8RoundTrip) {
