@@ -32,7 +32,8 @@ public:
     BlockRegistry(); // Registers air (id 0).
 
     // The default palette: air, stone, dirt, grass, sand, water (transparent), glass
-    // (transparent), mirror (reflective), lamp (emissive), snow, wood, leaves.
+    // (transparent), mirror (reflective), lamp (emissive), snow, wood, leaves, glazed (a quarter
+    // reflective, as the thesis's blocks).
     static const BlockRegistry& default_registry();
 
     // Adds a block with the next free id. Fails on an empty or duplicate name or when full.

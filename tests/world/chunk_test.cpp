@@ -179,4 +179,7 @@ TEST(BlockRegistry, RejectsDuplicatesAndGivesFallbacks) {
     ASSERT_TRUE(d.find("water").has_value());
     EXPECT_FALSE(d.is_opaque(*d.find("water")));
     EXPECT_GT(d.info(*d.find("mirror")).reflectivity, 0.5f);
+    ASSERT_TRUE(d.find("glazed").has_value()); // The thesis's material: 3 parts own light, 1 reflected.
+    EXPECT_FLOAT_EQ(d.info(*d.find("glazed")).reflectivity, 0.25f);
+    EXPECT_TRUE(d.is_opaque(*d.find("glazed")));
 }
