@@ -33,6 +33,7 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.mode = s.shading == RenderSettings::Shading::Flat ? render::ShadingMode::Flat : render::ShadingMode::Full;
     r.shadow_samples = s.shadow_samples;
     r.bounce_shadow_samples = s.bounce_shadow_samples;
+    r.samples_by_weight = s.samples_by_weight;
     r.max_bounces = s.max_bounces;
     r.sky = s.sky;
     r.sky_light = s.sky_light;

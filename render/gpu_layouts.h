@@ -6,10 +6,11 @@
 
 namespace vx::render::gpu {
 
-constexpr size_t kParamsTail = (19 + 2 * kMaxEditBoxes) * 16; // The vec4s, then the uint64 addresses.
-static_assert(sizeof(FrameParams) == kParamsTail + 64, "FrameParams: 35 vec4 + 8 uint64");
-static_assert(offsetof(FrameParams, edits) == 18 * 16);
-static_assert(offsetof(FrameParams, edit_boxes) == 19 * 16);
+constexpr size_t kParamsTail = (20 + 2 * kMaxEditBoxes) * 16; // The vec4s, then the uint64 addresses.
+static_assert(sizeof(FrameParams) == kParamsTail + 64, "FrameParams: 36 vec4 + 8 uint64");
+static_assert(offsetof(FrameParams, sampling) == 18 * 16);
+static_assert(offsetof(FrameParams, edits) == 19 * 16);
+static_assert(offsetof(FrameParams, edit_boxes) == 20 * 16);
 static_assert(offsetof(FrameParams, emitter_quads) == kParamsTail + 32);
 static_assert(sizeof(EmitterQuad) == 64);
 static_assert(sizeof(EmitterBound) == 32);

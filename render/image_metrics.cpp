@@ -15,6 +15,19 @@ ImageF to_float(const RenderImage& image) {
     return out;
 }
 
+ImageF display_float(const GBufferImage& gbuffer) {
+    VX_ASSERT(gbuffer.display.size() == size_t(gbuffer.width) * gbuffer.height);
+    ImageF out = ImageF::make(gbuffer.width, gbuffer.height);
+    for (size_t i = 0; i < gbuffer.display.size(); ++i) {
+        float* p = &out.rgba[i * 4];
+        p[0] = gbuffer.display[i].r;
+        p[1] = gbuffer.display[i].g;
+        p[2] = gbuffer.display[i].b;
+        p[3] = 1.f;
+    }
+    return out;
+}
+
 RenderImage to_rgba8(const ImageF& image) {
     RenderImage out{image.width, image.height, std::vector<uint8_t>(image.rgba.size())};
     for (size_t i = 0; i < image.rgba.size(); ++i)

@@ -22,6 +22,10 @@ struct ImageF {
 
 // 8-bit channels / 255 (no sRGB decoding: the metrics compare what is displayed).
 ImageF to_float(const RenderImage& image);
+// The frame's output before its 8-bit rounding (GBufferImage::display), alpha 1. Preconditions:
+// render() filled `gbuffer`. The metric for errors near or under an 8-bit step (1/255), where
+// rounding hides some differences and magnifies others.
+ImageF display_float(const GBufferImage& gbuffer);
 // Rounds to 8 bits, clamped to 0..1.
 RenderImage to_rgba8(const ImageF& image);
 

@@ -33,10 +33,12 @@ namespace vx::render {
 // the light cache's resolve pass (a compute shader) when the frame caches.
 constexpr VkPipelineStageFlags2 kTraceStages =
     VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth.
-constexpr VkDeviceSize kGBufferPixelBytes[4] = {8, 4, 8, 8};
-constexpr VkDeviceSize kGBufferReadbackPixelBytes =
-    kGBufferPixelBytes[0] + kGBufferPixelBytes[1] + kGBufferPixelBytes[2] + kGBufferPixelBytes[3];
+// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth,
+// reflected, then the denoiser's output (the final radiance, when the denoiser ran).
+constexpr VkDeviceSize kGBufferPixelBytes[5] = {8, 4, 8, 8, 8};
+constexpr VkDeviceSize kGBufferReadbackPixelBytes = kGBufferPixelBytes[0] + kGBufferPixelBytes[1] +
+                                                    kGBufferPixelBytes[2] + kGBufferPixelBytes[3] +
+                                                    kGBufferPixelBytes[4];
 
 struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
@@ -210,8 +212,12 @@ struct Renderer::Impl {
     }
     void record_denoise(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
-    void record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
+    void record_gbuffer_readback(VkCommandBuffer cmd, const RenderSettings& s);
     void read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const;
+    // What the read-back G-buffer's display values need (set by record_gbuffer_readback).
+    bool gbuffer_denoised = false;  // The final radiance is the denoiser's output.
+    bool gbuffer_tone_mapped = false; // Full mode: the output is vx_display(radiance, exposure).
+    float gbuffer_exposure = 1.f;
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {}
@@ -551,6 +557,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     const EmitterCounts emitters = write_emitter_list(cam.block, s.emitter_sampling);
     frame_samples_faces = emitters.quads > 0;
     p.flags = glm::uvec4(s.sky_access ? 1u : 0u, emitters.chunks, emitters.quads, emitters.covered);
+    p.sampling = glm::uvec4(s.samples_by_weight ? 1u : 0u, 0u, 0u, 0u);
     const uint32_t slot = ctx->frame_slot();
     metering[slot] = metered(s);
     if (metering[slot]) {
@@ -705,7 +712,8 @@ static glm::dmat4 view_from_world(const Camera& cam, world::BlockPos origin) {
 static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
-           a.max_bounces == b.max_bounces && a.accumulate == b.accumulate && a.denoise == b.denoise &&
+           a.samples_by_weight == b.samples_by_weight && a.max_bounces == b.max_bounces &&
+           a.accumulate == b.accumulate && a.denoise == b.denoise &&
            a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections &&
            a.light_cache == b.light_cache && a.light_cache_pixels == b.light_cache_pixels;
 }
@@ -785,25 +793,36 @@ void Renderer::Impl::record_readback(VkCommandBuffer cmd, uint32_t width, uint32
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
-    const VkDeviceSize pixels = VkDeviceSize(width) * height;
+void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, const RenderSettings& s) {
+    const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     VX_ASSERT(gbuffer_readback.size() == pixels * kGBufferReadbackPixelBytes);
     // Last use of the frame's G-buffer (the next frame starts it from UNDEFINED).
     const GBuffer& g = gbuffers[ctx->frame_slot()];
     const VkImage images[4] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle(), g.reflected.handle()};
     VkDeviceSize offset = 0;
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {s.width, s.height, 1};
     for (int i = 0; i < 4; ++i) {
         image_barrier(cmd, images[i], VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                       kTraceStages, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-        VkBufferImageCopy region{};
         region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {width, height, 1};
         vkCmdCopyImageToBuffer(cmd, images[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, gbuffer_readback.handle(), 1,
                                &region);
         offset += pixels * kGBufferPixelBytes[i];
     }
+    // The denoiser's output stays in GENERAL (its next frame writes it again).
+    gbuffer_denoised = denoise_active(s);
+    if (gbuffer_denoised) {
+        memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        region.bufferOffset = offset;
+        vkCmdCopyImageToBuffer(cmd, denoiser->output().handle(), VK_IMAGE_LAYOUT_GENERAL, gbuffer_readback.handle(), 1,
+                               &region);
+    }
+    gbuffer_tone_mapped = s.mode == ShadingMode::Full;
+    gbuffer_exposure = gpu::vx_exposure_scale(frame_ev100);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
 }
@@ -831,6 +850,16 @@ void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t he
     halves(out.normal_depth, src);
     src += pixels * kGBufferPixelBytes[2];
     halves(out.reflected, src);
+    src += pixels * kGBufferPixelBytes[3];
+    std::vector<glm::vec4> denoised;
+    if (gbuffer_denoised)
+        halves(denoised, src);
+    const std::vector<glm::vec4>& final_radiance = gbuffer_denoised ? denoised : out.radiance;
+    out.display.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+        const glm::vec3 c(final_radiance[i]);
+        out.display[i] = gbuffer_tone_mapped ? gpu::vx_display(c, gbuffer_exposure) : c;
+    }
 }
 
 RenderImage Renderer::render(const RenderSettings& settings, const Camera& camera, GBufferImage* gbuffer) {
@@ -866,7 +895,7 @@ Result<RenderImage> Renderer::Impl::render_frame(const RenderSettings& settings,
     d.record_ui(cmd, settings.width, settings.height);
     d.record_readback(cmd, settings.width, settings.height);
     if (gbuffer)
-        d.record_gbuffer_readback(cmd, settings.width, settings.height);
+        d.record_gbuffer_readback(cmd, settings);
     const auto t1 = Clock::now();
     if (!d.ctx->end_frame() || !d.ctx->wait_frame())
         return Error{Impl::lost_error().error()};

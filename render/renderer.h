@@ -131,6 +131,15 @@ struct RenderSettings {
     // Bounces cost most (25 samples, 5 mirror bounces, seed scene at 1080p: about two thirds of
     // the 48 ms frame were the bounces' shadow samples); 1 keeps them cheap.
     std::optional<uint32_t> bounce_shadow_samples;
+    // Light samples in proportion to each hit's weight in the pixel, its path's throughput
+    // (luminance: the mirrors' reflectivity and tint before it, the haze's transmittance) times
+    // its diffuse share (1 - reflectivity): ceil(shadow_samples x weight), at
+    // least 1, in place of shadow_samples and bounce_shadow_samples. For a given ray count,
+    // n_k proportional to w_k minimises the pixel's variance sum(w_k^2 s^2 / n_k) (equal s). A
+    // matte first hit without haze keeps shadow_samples; behind a glazed block (reflectivity 0.25) the
+    // bounces take 3/16, 3/64, ... of them. Not worth it where every hit weighs alike (a field of
+    // 0.9 mirrors: docs/render_report.md, stop 22).
+    bool samples_by_weight = false;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).
@@ -196,6 +205,12 @@ struct GBufferImage {
     std::vector<glm::vec4> albedo;       // Linear first-hit albedo; a = 1 on a hit, 0 on a miss (RGBA8).
     std::vector<glm::vec4> normal_depth; // World normal xyz, w: distance along the primary ray; 0 on a miss.
     std::vector<glm::vec4> reflected;    // The unfiltered part, rgb; a: occluder distance, sun flag (RGBA16F).
+    // The output before its rounding to 8 bits, rgb: Full mode, vx_display (shaders/shared/
+    // tonemap.h) of the final radiance (the denoiser's output when it ran, else `radiance`) at the
+    // frame's exposure, 0..1; Flat and Visibility modes, `radiance` as the output holds it. The
+    // radiance passed through half floats (relative rounding 2^-11). No UI overlay. Error
+    // metrics below a tenth of an 8-bit step need it (docs/render_report.md, stop 27).
+    std::vector<glm::vec3> display;
     glm::vec4 at(const std::vector<glm::vec4>& image, uint32_t x, uint32_t y) const { return image[size_t(y) * width + x]; }
 };
 

@@ -41,6 +41,7 @@ struct RenderArgs {
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
     uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
+    std::string samples_by = "count"; // --samples-by: count (--spp, --bounce-spp) or weight.
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
     bool validation = false;
@@ -116,6 +117,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     s.shadow_samples = a.shadows == "off" ? 0 : a.spp;
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
+    s.samples_by_weight = a.samples_by == "weight";
     s.max_bounces = a.reflections;
     s.seed = a.sample_seed;
     if (a.sun == "off") {
@@ -403,9 +405,15 @@ int run_render(RenderArgs a) {
     const render::DeviceReport& dev = r.device();
     std::printf("  device: %s (%s, %s)%s\n", dev.name.c_str(), render::device_type_name(dev.type),
                 dev.driver_info.c_str(), validation ? ", validation on" : "");
-    std::printf("  image: %ux%u, %s shading, shadows %s (%u samples, %u on bounces), reflections %u\n",
-                s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
-                s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples), s.settings.max_bounces);
+    if (s.settings.samples_by_weight)
+        std::printf("  image: %ux%u, %s shading, shadows %s (%u samples x each hit's weight), reflections %u\n",
+                    s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(),
+                    s.settings.shadow_samples, s.settings.max_bounces);
+    else
+        std::printf("  image: %ux%u, %s shading, shadows %s (%u samples, %u on bounces), reflections %u\n",
+                    s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(),
+                    s.settings.shadow_samples, s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples),
+                    s.settings.max_bounces);
     std::printf("  lights%s: sun %s, sky term x%g%s, area light %s\n",
                 a.lighting == "thesis" ? " (--lighting thesis)" : "", a.sun.c_str(), double(a.sky_light),
                 a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());
@@ -481,6 +489,10 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "their frame number)");
     cmd->add_option("--bounce-spp", a->bounce_spp, "The same on reflection bounces (default: as --spp)")
         ->check(CLI::Range(int64_t(0), int64_t(65536)));
+    cmd->add_option("--samples-by", a->samples_by,
+                    "count: --spp at the first hit, --bounce-spp on bounces; weight: every hit ceil(--spp x its "
+                    "weight in the pixel), at least 1 (render::RenderSettings::samples_by_weight)")
+        ->check(CLI::IsMember({"count", "weight"}));
     cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
     cmd->add_option("--sun-radius", a->sun_radius, "Angular radius of the sun's disc, degrees (soft shadows)");
     cmd->add_option("--sky-light", a->sky_light, "Sky term: scale of the sky's light on surfaces (0: none)");

@@ -244,6 +244,12 @@ struct RenderSettings {
     uint32_t shadow_samples = 4; // Per pixel at the first hit (area light, sun, sky); 0: no shadows.
     // The same on each reflection bounce; unset: shadow_samples. Bounces cost most; 1 is cheap.
     std::optional<uint32_t> bounce_shadow_samples;
+    // Each hit's samples by its weight in the pixel instead (path throughput, haze included, x
+    // (1 - reflectivity)): ceil(shadow_samples x weight), at least 1. A matte first hit without
+    // haze keeps shadow_samples; what a glazed block (reflectivity 0.25) mirrors takes a quarter
+    // as many. For scenes of partly reflective blocks (docs/render_report.md: Table 6.3 with the
+    // thesis's material). Main thread, as the rest of these settings.
+    bool samples_by_weight = false;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance.
     float sky_light = 1.f;       // Ambient light from the sky (occluded by sky rays); 0: none.

@@ -199,6 +199,36 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     std::printf("lamp at night, roughness: faces sampled %.2f, sky rays %.2f\n", roughness(faces), roughness(rays));
     EXPECT_GT(mean_abs_diff(faces, rays), 0.5);
     EXPECT_LT(roughness(faces), roughness(rays));
+
+    // Samples by weight reach the renderer. Without haze a matte hit keeps its count: only the
+    // water in view (reflectivity 0.3: 3 of 4 samples) changes, one pixel here. A slab of glazed
+    // blocks where the lamp was (3 of 4) changes more.
+    vx::RenderSettings day = full;
+    day.haze.enabled = false; // Its transmittance is part of a hit's weight too.
+    day.max_bounces = 2;
+    day.shadow_samples = 4;
+    auto changed = [&](vx::RenderSettings s) {
+        s.samples_by_weight = false;
+        const vx::Image plain = render(s);
+        s.samples_by_weight = true;
+        const vx::Image weighted = render(s);
+        size_t n = 0;
+        for (size_t i = 0; i < plain.rgba.size(); i += 4)
+            n += plain.rgba[i] != weighted.rgba[i] || plain.rgba[i + 1] != weighted.rgba[i + 1] ||
+                 plain.rgba[i + 2] != weighted.rgba[i + 2];
+        return n;
+    };
+    ASSERT_TRUE(e.set_block(hit->previous, vx::kAir));
+    ASSERT_TRUE(settle(e));
+    const size_t matte = changed(day);
+    for (int64_t dz = -2; dz <= 2; ++dz)
+        for (int64_t dx = -2; dx <= 2; ++dx)
+            ASSERT_TRUE(e.set_block(hit->previous + vx::BlockPos(dx, 0, dz), *e.find_block("glazed")));
+    ASSERT_TRUE(settle(e));
+    const size_t glazed = changed(day);
+    std::printf("samples by weight: %zu pixels change, %zu with glazed blocks in view\n", matte, glazed);
+    EXPECT_LE(matte, 48u * 32u / 100u);
+    EXPECT_GT(glazed, matte + 4);
     EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 

@@ -6,6 +6,7 @@
 #include "scene_util.h"
 
 #include "render/image_metrics.h"
+#include "shaders/shared/tonemap.h"
 
 namespace vx::render {
 namespace {
@@ -246,6 +247,60 @@ TEST_F(RendererTest, GBufferHoldsTheOccluderDistanceAndTheSunShadow) {
     s.shadow_samples = 0; // No rays traced: unknown.
     for (float a : alphas({1.1, 1.0, 0.5}))
         EXPECT_EQ(a, 0.f);
+}
+
+// GBufferImage::display is the output before its 8-bit rounding: raw, denoised (the denoiser's
+// output, not the trace's radiance) and flat frames round to the bytes render() returns, and it
+// keeps what the rounding drops (the bench's equal-error metric, stop 27).
+TEST_F(RendererTest, DisplayValuesAreTheOutputBeforeItsRounding) {
+    test::load_meshes(*m_renderer, test::mesh_world(test::hills()));
+    RenderSettings s = soft_shadow_settings();
+    s.shadow_samples = 2;
+    // Largest distance in 8-bit steps between display and output, the mean distance of display
+    // from the nearest step, and the share of channels whose trace radiance alone would round to
+    // another byte than the output's.
+    struct Fit {
+        double worst = 0, fraction = 0, raw_off = 0;
+    };
+    auto fit = [&](const RenderSettings& rs) {
+        GBufferImage g;
+        const Result<RenderImage> img = m_renderer->try_render(rs, kView, &g);
+        EXPECT_TRUE(img);
+        EXPECT_EQ(g.display.size(), size_t(rs.width) * rs.height);
+        Fit f;
+        size_t off = 0;
+        const float exposure = gpu::vx_exposure_scale(m_renderer->last_stats().ev100);
+        for (size_t i = 0; i < g.display.size(); ++i) {
+            const glm::vec3 raw = rs.mode == ShadingMode::Full ? gpu::vx_display(glm::vec3(g.radiance[i]), exposure)
+                                                              : glm::vec3(g.radiance[i]);
+            for (int c = 0; c < 3; ++c) {
+                const double v = double(g.display[i][c]) * 255.0, byte = img->rgba[i * 4 + size_t(c)];
+                f.worst = std::max(f.worst, std::abs(v - byte));
+                f.fraction += std::abs(v - std::round(v));
+                off += std::abs(double(raw[c]) * 255.0 - byte) > 1.0;
+            }
+        }
+        f.fraction /= 3.0 * double(g.display.size());
+        f.raw_off = double(off) / (3.0 * double(g.display.size()));
+        std::printf("display values, mode %d, denoise %d: worst %.3f steps from the output, mean fraction %.3f, "
+                    "trace radiance off on %.3f of channels\n",
+                    int(rs.mode), int(rs.denoise), f.worst, f.fraction, f.raw_off);
+        return f;
+    };
+    // Half-float radiance (relative 2^-11) moves a value by at most a few tenths of a step.
+    const Fit raw = fit(s);
+    EXPECT_LT(raw.worst, 0.8);
+    EXPECT_GT(raw.fraction, 0.1); // Uniform fractions would average 0.25.
+    EXPECT_EQ(raw.raw_off, 0.0);  // Without the denoiser the trace's radiance is the output.
+    s.denoise = true;
+    const Fit denoised = fit(s);
+    EXPECT_LT(denoised.worst, 0.8);
+    EXPECT_GT(denoised.fraction, 0.1);
+    EXPECT_GT(denoised.raw_off, 0.05); // The control: the filter moved what it read.
+    s.denoise = false;
+    s.mode = ShadingMode::Flat;
+    const Fit flat = fit(s);
+    EXPECT_LT(flat.worst, 0.8);
 }
 
 } // namespace
