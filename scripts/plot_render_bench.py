@@ -45,16 +45,19 @@ def plot_equal_error(rows, out_dir):
         pts = [r for r in rows if r["feature_set"] == name]
         flat = float(pts[0]["flat_ms"])
         fig, ax = plt.subplots(figsize=(6, 4))
-        for denoise, cache, marker in ((0, 0, "o"), (1, 0, "^"), (0, 1, "s"), (1, 1, "D")):
-            sel = [r for r in pts if int(r["denoise"]) == denoise and int(r.get("light_cache", 0)) == cache]
+        for denoise, cache, weight, marker in ((0, 0, 0, "o"), (1, 0, 0, "^"), (0, 1, 0, "s"), (1, 1, 0, "D"),
+                                               (0, 0, 1, "P"), (1, 0, 1, "X")):
+            sel = [r for r in pts if int(r["denoise"]) == denoise and int(r.get("light_cache", 0)) == cache
+                   and int(r.get("by_weight", 0)) == weight]
             if not sel:
                 continue
             xs = [float(r["frame_ms"]) / flat for r in sel]
             ys = [float(r["rmse"]) for r in sel]
             ax.scatter(xs, ys, marker=marker,
-                       label=("denoised" if denoise else "raw") + (", light cache" if cache else ""))
+                       label=("denoised" if denoise else "raw") + (", light cache" if cache else "")
+                       + (", samples by weight" if weight else ""))
             for r, x, y in zip(sel, xs, ys):
-                tag = r["spp"] + ("/" + r["bounce_spp"] if int(r["bounce_spp"]) else "")
+                tag = r["spp"] + ("/" + r["bounce_spp"] if int(r["bounce_spp"]) else "") + ("w" if weight else "")
                 ax.annotate(tag, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
         ax.axhline(float(pts[0]["target_rmse"]), color="k", linestyle="--", linewidth=0.8,
                    label="target: 25 spp raw")

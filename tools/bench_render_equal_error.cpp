@@ -1,5 +1,7 @@
 #include "bench_render_equal_error.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -44,37 +46,50 @@ render::RenderSettings candidate_settings(const EqualErrorBenchInfo& info, uint3
     s.mode = render::ShadingMode::Full;
     s.max_bounces = bounces;
     s.shadow_samples = c.spp;
-    s.bounce_shadow_samples = bounces > 0 ? c.bounce_spp : c.spp;
+    s.bounce_shadow_samples = bounces > 0 && !c.by_weight ? c.bounce_spp : c.spp;
+    s.samples_by_weight = c.by_weight;
     s.denoise = c.denoise;
     s.light_cache = c.light_cache;
     s.accumulate = 1; // One frame: no history.
     return s;
 }
 
+// A feature set's reference in both metrics.
+struct Reference {
+    render::ImageF rgba8;   // The 8-bit output.
+    render::ImageF display; // Before the rounding (render::display_float).
+};
+
 // Frame time (median of info.repeat frames at base.seed) and the root mean square over
-// info.seeds sample seeds of the one-frame RMSE.
-void measure(Search& ctx, const render::ImageF& reference, uint32_t bounces, EqualErrorCandidate& c) {
+// info.seeds sample seeds of the one-frame RMSE, in both metrics. The error frames are rendered
+// again after the timed ones: their G-buffer read-back stays out of the timing.
+void measure(Search& ctx, const Reference& reference, uint32_t bounces, EqualErrorCandidate& c) {
     render::RenderSettings s = candidate_settings(ctx.info, bounces, c);
-    render::RenderImage img;
-    c.frame_ms = time_frames(ctx.r, s, ctx.info.camera, ctx.info.repeat, &img).frame;
+    render::RenderImage timed;
+    c.frame_ms = time_frames(ctx.r, s, ctx.info.camera, ctx.info.repeat, &timed).frame;
     ctx.frames += 1 + ctx.info.repeat;
-    double sum = 0;
+    double sum8 = 0, sum_display = 0;
     for (uint32_t k = 0; k < ctx.info.seeds; ++k) {
-        if (k > 0) { // Seed base.seed's frame is the last timed one.
-            s.seed = ctx.info.base.seed + k;
-            img = ctx.r.render(s, ctx.info.camera);
-            ++ctx.frames;
-        }
-        const double e = render::rmse(render::to_float(img), reference);
-        sum += e * e;
+        s.seed = ctx.info.base.seed + k;
+        render::GBufferImage g;
+        const render::RenderImage img = ctx.r.render(s, ctx.info.camera, &g);
+        ++ctx.frames;
+        const double e8 = render::rmse(render::to_float(img), reference.rgba8);
+        const double ed = render::rmse(render::display_float(g), reference.display);
+        sum8 += e8 * e8;
+        sum_display += ed * ed;
     }
-    c.rmse = std::sqrt(sum / ctx.info.seeds);
+    c.rmse_8bit = std::sqrt(sum8 / ctx.info.seeds);
+    c.rmse_display = std::sqrt(sum_display / ctx.info.seeds);
+    c.rmse = ctx.info.display_metric ? c.rmse_display : c.rmse_8bit;
 }
 
 std::string candidate_name(const EqualErrorCandidate& c) {
     std::string name = std::to_string(c.spp) + " spp";
     if (c.bounce_spp > 0)
         name += ", bounce spp " + std::to_string(c.bounce_spp);
+    if (c.by_weight)
+        name += " by weight";
     return name + (c.denoise ? ", denoised" : ", raw") + (c.light_cache ? ", light cache" : "");
 }
 
@@ -85,12 +100,14 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
     render::RenderSettings ref_s = ctx.info.base;
     ref_s.max_bounces = bounces;
     ref_s.seed = kReferenceSeed;
-    const render::RenderImage ref_img = render_reference(ctx.r, ref_s, ctx.info.camera, ctx.info.reference_spp);
-    const render::ImageF reference = render::to_float(ref_img);
+    render::GBufferImage ref_g;
+    const render::RenderImage ref_img = render_reference(ctx.r, ref_s, ctx.info.camera, ctx.info.reference_spp, 0, &ref_g);
+    const Reference reference{render::to_float(ref_img), render::display_float(ref_g)};
     ctx.frames += reference_frames(ctx.info.reference_spp);
     for (size_t i = 0; i < set.candidates.size(); ++i) {
         const EqualErrorCandidate& c = set.candidates[i];
-        if (c.spp == kThesisSpp && c.bounce_spp == (bounces > 0 ? kThesisSpp : 0) && !c.denoise && !c.light_cache)
+        if (c.spp == kThesisSpp && c.bounce_spp == (bounces > 0 ? kThesisSpp : 0) && !c.denoise && !c.light_cache &&
+            !c.by_weight)
             set.thesis = i;
     }
     measure(ctx, reference, bounces, set.candidates[set.thesis]);
@@ -106,8 +123,8 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
             continue;
         }
         measure(ctx, reference, bounces, c);
-        std::printf("  equal error, %s: %s: frame %.3f ms, RMSE %.5f\n", name, candidate_name(c).c_str(), c.frame_ms,
-                    c.rmse);
+        std::printf("  equal error, %s: %s: frame %.3f ms, RMSE %.5f (display %.5f, 8-bit %.5f)\n", name,
+                    candidate_name(c).c_str(), c.frame_ms, c.rmse, c.rmse_display, c.rmse_8bit);
     }
     return set;
 }
@@ -140,20 +157,22 @@ std::string rows_table(const std::vector<FeatureSet>& sets, double flat_ms) {
 }
 
 std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms, std::ofstream& csv) {
-    std::string md = "\n| features | configuration | frame ms | x RT flat | RMSE | meets target |\n"
-                     "|---|---|---|---|---|---|\n";
-    csv << "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache\n";
+    std::string md = "\n| features | configuration | frame ms | x RT flat | RMSE | meets target | RMSE display | "
+                     "RMSE 8-bit |\n|---|---|---|---|---|---|---|---|\n";
+    csv << "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache,rmse_display,"
+           "rmse_8bit,by_weight\n";
     char line[512];
     for (const FeatureSet& set : sets)
         for (const EqualErrorCandidate& c : set.candidates) {
             if (c.rmse < 0)
                 continue; // Skipped.
-            std::snprintf(line, sizeof line, "| %s | %s | %.3f | %s | %.5f | %s |\n", set.name,
+            std::snprintf(line, sizeof line, "| %s | %s | %.3f | %s | %.5f | %s | %.5f | %.5f |\n", set.name,
                           candidate_name(c).c_str(), c.frame_ms, ratio_text(c.frame_ms, flat_ms).c_str(), c.rmse,
-                          c.rmse <= set.target() ? "yes" : "no");
+                          c.rmse <= set.target() ? "yes" : "no", c.rmse_display, c.rmse_8bit);
             md += line;
             csv << set.name << ',' << c.spp << ',' << c.bounce_spp << ',' << (c.denoise ? 1 : 0) << ',' << c.frame_ms
-                << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << ',' << (c.light_cache ? 1 : 0) << '\n';
+                << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << ',' << (c.light_cache ? 1 : 0) << ','
+                << c.rmse_display << ',' << c.rmse_8bit << ',' << (c.by_weight ? 1 : 0) << '\n';
         }
     return md;
 }
@@ -161,9 +180,9 @@ std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms
 } // namespace
 
 uint64_t equal_error_frames_at_most(const EqualErrorBenchInfo& info) {
-    const uint64_t per = 1 + info.repeat + (info.seeds - 1);
+    const uint64_t per = 1 + info.repeat + info.seeds;
     const uint64_t candidates = equal_error_candidates(false).size() + equal_error_candidates(true).size();
-    return 2 * uint64_t(reference_frames(info.reference_spp)) + (1 + info.repeat) + candidates * per;
+    return 2 * uint64_t(reference_frames(info.reference_spp)) + 2 * (1 + info.repeat) + candidates * per;
 }
 
 std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo& info) {
@@ -172,29 +191,44 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
     flat.mode = render::ShadingMode::Flat;
     flat.shadow_samples = 0;
     flat.max_bounces = 0;
+    // An idle GPU's clocks ramp up over its first second of work: on the H200 (device call 55) a
+    // first flat row took 2.93 ms, 1.58 ms after other work. So frames for a second first, and
+    // the flat row timed again at the end; the ratios take the faster (the larger ratios).
+    const auto warm_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+    while (std::chrono::steady_clock::now() < warm_until) {
+        r.render(flat, info.camera);
+        ++ctx.frames;
+    }
     render::RenderImage img;
-    const double flat_ms = time_frames(r, flat, info.camera, info.repeat, &img).frame;
+    const double flat_first = time_frames(r, flat, info.camera, info.repeat, &img).frame;
     ctx.frames += 1 + info.repeat;
-    std::printf("  equal error: RT flat %.3f ms; at most %llu frames\n", flat_ms,
+    std::printf("  equal error: RT flat %.3f ms; at most %llu frames\n", flat_first,
                 (unsigned long long)equal_error_frames_at_most(info));
     std::vector<FeatureSet> sets;
     sets.push_back(search_set(ctx, "shadows", 0));
     sets.push_back(search_set(ctx, "shadows+reflections", info.reflections));
+    const double flat_last = time_frames(r, flat, info.camera, info.repeat, &img).frame;
+    ctx.frames += 1 + info.repeat;
+    const double flat_ms = flat_first > 0 && flat_last > 0 ? std::min(flat_first, flat_last) : -1.0;
+    std::printf("  equal error: RT flat again %.3f ms; ratios to %.3f ms\n", flat_last, flat_ms);
     const size_t skipped = sets[0].skipped + sets[1].skipped;
-    char head[1024];
+    char head[2048];
     std::snprintf(head, sizeof head,
                   "## Table 6.3 at equal error\n\nLighting: %s. Target per row: the one-frame RMSE of the thesis's "
                   "configuration (25 shadow samples at every hit, raw) against a reference of the same features (%u "
-                  "samples per pixel, no filter, sample seed %u); RMSE is the root mean square over %u sample seeds. "
-                  "Candidates: the same features, shadow spp 1-25, bounce spp {1, 2, 4, spp}, denoiser off and on, "
+                  "samples per pixel, no filter, sample seed %u); RMSE is the root mean square over %u sample seeds, "
+                  "of %s. "
+                  "Candidates: the same features, shadow spp 1-25, bounce spp {1, 2, 4, 8, 16, spp} or every hit's by its weight, denoiser off and on, "
                   "light cache off and on, "
                   "one frame each (no history); %zu skipped (a candidate with no more samples already cost at least "
                   "the cheapest meeting the target). The all-on row searches the same features (the denoiser is a "
-                  "candidate setting). Frame ms: GPU medians of %u frames; RT flat %.3f ms, %u reflection bounces. "
+                  "candidate setting). Frame ms: GPU medians of %u frames, after a second of frames; RT flat %.3f ms "
+                  "(timed first and last: %.3f and %.3f ms; the faster), %u reflection bounces. "
                   "Frames rendered: %llu.\n\n",
                   info.lighting == "thesis" ? "thesis (one area light)" : "default (sun, sky light, area light)",
-                  reference_frames(info.reference_spp) * 8, kReferenceSeed, info.seeds, skipped, info.repeat, flat_ms,
-                  info.reflections, (unsigned long long)ctx.frames);
+                  reference_frames(info.reference_spp) * 8, kReferenceSeed, info.seeds,
+                  info.display_metric ? "the output before its 8-bit rounding" : "the 8-bit output", skipped,
+                  info.repeat, flat_ms, flat_first, flat_last, info.reflections, (unsigned long long)ctx.frames);
     std::string md = head + rows_table(sets, flat_ms);
     std::ofstream csv(info.out + "/equal_error.csv");
     md += candidates_table(sets, flat_ms, csv);

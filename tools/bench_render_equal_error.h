@@ -24,6 +24,10 @@ struct EqualErrorBenchInfo {
     uint32_t seeds = 4;           // Sample seeds per RMSE (base.seed on; root mean square over them).
     std::string lighting;         // For the report: "thesis" or "default".
     std::string out;              // Directory for equal_error.csv.
+    // The search's RMSE: of the output before its 8-bit rounding (render::display_float), or
+    // false: of the 8-bit image. Both are measured and written; under the thesis's light the
+    // errors are a fraction of an 8-bit step, where rounding distorts them (stop 27).
+    bool display_metric = true;
 };
 
 // Upper bound on the frames run_equal_error_bench() renders (every candidate measured; the

@@ -26,14 +26,14 @@ Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const r
 uint32_t reference_frames(uint32_t spp) { return std::max(1u, spp / 8); }
 
 render::RenderImage render_reference(render::Renderer& r, render::RenderSettings s, const render::Camera& cam,
-                                     uint32_t spp, uint32_t parity) {
+                                     uint32_t spp, uint32_t parity, render::GBufferImage* gbuffer) {
     s.shadow_samples = 8;
     s.accumulate = reference_frames(spp) + parity;
     s.denoise = false;
     s.history_clamp = false; // The plain mean (bench_render_frames.h).
     render::RenderImage img;
     for (uint32_t i = 0; i < s.accumulate; ++i)
-        img = r.render(s, cam);
+        img = r.render(s, cam, i + 1 == s.accumulate ? gbuffer : nullptr);
     return img;
 }
 

@@ -25,9 +25,10 @@ uint32_t reference_frames(uint32_t spp);
 // history length by one, which restarts the history, so no pose inherits the last one's frames.
 // (The clamp keeps a game's history from ghosting, but it also pulls a still camera's mean of
 // mirror light towards each frame's neighbourhood: references with it were off by 0.0068 RMSE on
-// a lavapipe mirror field, docs/render_report.md, 2026-12-02 stop 20.) Returns the last frame.
+// a lavapipe mirror field, docs/render_report.md, 2026-12-02 stop 20.) Returns the last frame;
+// with `gbuffer`, that frame's G-buffer too (its display values: render::display_float).
 render::RenderImage render_reference(render::Renderer& r, render::RenderSettings s, const render::Camera& cam,
-                                     uint32_t spp, uint32_t parity = 0);
+                                     uint32_t spp, uint32_t parity = 0, render::GBufferImage* gbuffer = nullptr);
 
 // A game's sample settings as the paths and defaults sections sweep them: shadow samples at the
 // first hit and on bounces, the denoiser, and the frames of history (1: none).

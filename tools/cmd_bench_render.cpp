@@ -57,6 +57,7 @@ struct BenchRenderArgs {
     uint32_t reference_spp = 1024, repeat = 5, reflections = 5;
     uint32_t path_frames = 24, path_reference_spp = 64; // Sections 5 and 6.
     uint32_t error_seeds = 4;                           // Equal error: sample seeds per RMSE.
+    std::string error_metric = "display";               // Equal error: display (before 8-bit rounding) or 8bit.
 };
 
 struct Config {
@@ -258,7 +259,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
     const DefaultsBenchInfo defaults{base, cam, a.path_frames, a.path_reference_spp, a.out};
     const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections, a.reference_spp,
-                                    a.error_seeds, a.lighting, a.out};
+                                    a.error_seeds, a.lighting, a.out,    a.error_metric == "display"};
     if (a.sections == "equal-error") {
         md += run_equal_error_bench(r, equal);
         std::ofstream(a.out + "/render_report.md") << md;
@@ -404,6 +405,10 @@ int run_bench_render_command(int argc, char** argv) {
         ->check(CLI::IsMember({"all", "report", "equal-error", "geometry", "paths", "defaults"}));
     app.add_option("--error-seeds", a.error_seeds, "Equal error: sample seeds per one-frame RMSE")
         ->check(CLI::Range(1u, 64u));
+    app.add_option("--error-metric", a.error_metric,
+                   "Equal error: the RMSE the search uses, of the output before its 8-bit rounding (display) or "
+                   "of the 8-bit image (8bit); both are written")
+        ->check(CLI::IsMember({"display", "8bit"}));
     app.add_option("--path-frames", a.path_frames, "Frames per camera path (paths, defaults)")
         ->check(CLI::Range(4u, 10000u));
     app.add_option("--path-reference-spp", a.path_reference_spp,

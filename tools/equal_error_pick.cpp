@@ -17,12 +17,19 @@ std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections) {
                     v.push_back(candidate(spp, 0, denoise, cache));
                     continue;
                 }
-                uint32_t last = 0; // {1, 2, 4, spp} repeats a count when spp <= 4.
-                for (uint32_t bounce : {1u, 2u, 4u, spp})
+                uint32_t last = 0; // {1, 2, 4, 8, 16, spp} repeats a count when spp <= 16.
+                for (uint32_t bounce : {1u, 2u, 4u, 8u, 16u, spp})
                     if (bounce <= spp && bounce != last) {
                         v.push_back(candidate(spp, bounce, denoise, cache));
                         last = bounce;
                     }
+            }
+    if (reflections)
+        for (bool denoise : {false, true})
+            for (uint32_t spp : {16u, kThesisSpp, 32u, 40u, 48u, 56u, 64u}) {
+                EqualErrorCandidate c = candidate(spp, 0, denoise, false);
+                c.by_weight = true;
+                v.push_back(c);
             }
     return v;
 }
@@ -31,7 +38,8 @@ bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCa
     if (best_ms <= 0)
         return false;
     for (const EqualErrorCandidate& m : measured)
-        if (m.frame_ms >= best_ms && m.spp <= c.spp && m.bounce_spp <= c.bounce_spp && (c.denoise || !m.denoise) &&
+        if (m.frame_ms >= best_ms && m.by_weight == c.by_weight && m.spp <= c.spp && m.bounce_spp <= c.bounce_spp &&
+            (c.denoise || !m.denoise) &&
             (c.light_cache || !m.light_cache))
             return true;
     return false;

@@ -15,23 +15,30 @@ struct EqualErrorCandidate {
     uint32_t bounce_spp = 0; // Shadow samples on each reflection bounce; 0 without reflections.
     bool denoise = false;    // One frame through the denoiser (no history).
     double frame_ms = -1;    // Median GPU frame time; -1: not measured (skipped).
-    double rmse = -1;        // One-frame RMSE against the reference; -1: not measured.
+    double rmse = -1;        // One-frame RMSE against the reference in the search's metric; -1: not measured.
     bool light_cache = false; // Hits share their light through the light cache (render/light_cache.h).
+    double rmse_display = -1; // Of the output before 8-bit rounding (render::display_float).
+    double rmse_8bit = -1;    // Of the 8-bit output.
+    // Each hit's samples by its weight in the pixel (render::RenderSettings::samples_by_weight):
+    // `spp` is the count of a matte first hit; bounce_spp is 0.
+    bool by_weight = false;
 };
 
 // The thesis's sample count (its Table 6.3 rows traced 25 shadow rays at every hit).
 inline constexpr uint32_t kThesisSpp = 25;
 
-// Shadow spp in {1, 2, 4, 8, 16, 25}; with reflections, bounce spp in {1, 2, 4, spp} up to spp
+// Shadow spp in {1, 2, 4, 8, 16, 25}; with reflections, bounce spp in {1, 2, 4, 8, 16, spp} up to spp
 // (without: 0); raw, then denoised; all without, then all with the light cache. In measuring
 // order: no candidate precedes one with fewer samples of the same denoiser and cache setting, so
 // equal_error_skip() can bound a candidate by earlier ones. The thesis's configuration (25, 25
-// or 0, raw, no cache) is among them.
+// or 0, raw, no cache) is among them. With reflections, last: samples by weight (spp in {16, 25,
+// 32, 40, 48, 56, 64}, raw then denoised, no cache).
 std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections);
 
 // True when `c` cannot be cheaper than `best_ms` (the cheapest frame time meeting the target so
-// far; <= 0: none yet): a measured candidate with no more samples of either kind, and no denoiser
-// or light cache where `c` has none, already took at least `best_ms`. More rays, the denoiser and
+// far; <= 0: none yet): a measured candidate of the same sample allocation (by weight or not)
+// with no more samples of either kind, and no denoiser or light cache where `c` has none,
+// already took at least `best_ms`. More rays, the denoiser and
 // the cache only add work.
 bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCandidate> measured, double best_ms);
 

@@ -277,6 +277,14 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
     const CliRun bad = vx("render " + view + "--lighting moon", kEnv);
     EXPECT_EQ(bad.code, 2) << bad.out;
     EXPECT_NE(bad.out.find("--lighting"), std::string::npos) << bad.out;
+    // Samples by weight (render::RenderSettings::samples_by_weight): said so; a bad value is one line.
+    const CliRun weighted = render(view + "--lighting thesis --samples-by weight --out " + dir() + "/w.png");
+    EXPECT_EQ(weighted.code, 0) << weighted.out;
+    EXPECT_NE(weighted.out.find("(25 samples x each hit's weight), reflections 5"), std::string::npos)
+        << weighted.out;
+    const CliRun bad_by = vx("render " + view + "--samples-by luck", kEnv);
+    EXPECT_EQ(bad_by.code, 2) << bad_by.out;
+    EXPECT_NE(bad_by.out.find("--samples-by"), std::string::npos) << bad_by.out;
 }
 
 // --sample-seed: the same seed gives the same picture, another seed other samples (1 spp: every
@@ -328,22 +336,49 @@ TEST(CliRender, BenchRenderEqualError) {
         ASSERT_NE(at, std::string::npos) << row << "\n" << text;
         EXPECT_EQ(text.substr(at, text.find('\n', at) - at).find("| none |"), std::string::npos) << text;
     }
-    std::ifstream csv(out + "/equal_error.csv");
-    std::string header;
-    std::getline(csv, header);
-    EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache");
-    // The targets and the one-sample rows are always measured (nothing bounds those below);
-    // others may be skipped, depending on the frame times.
-    std::set<std::string> keys; // "feature_set,spp,bounce_spp,denoise".
-    for (std::string line; std::getline(csv, line);) {
-        size_t comma = 0;
-        for (int i = 0; i < 4; ++i)
-            comma = line.find(',', comma + 1);
-        keys.insert(line.substr(0, comma));
-    }
-    for (const char* key : {"shadows,1,0,0", "shadows,25,0,0", "shadows+reflections,1,1,0", "shadows+reflections,25,25,0"})
+    // "feature_set,spp,bounce_spp,denoise" and by_weight of each measured line; rmse is the search's
+    // metric's (display by default; 8bit on request), both metrics written.
+    auto read_csv = [&](const std::string& where, bool display) {
+        std::ifstream csv(where + "/equal_error.csv");
+        std::string header;
+        std::getline(csv, header);
+        EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache,"
+                          "rmse_display,rmse_8bit,by_weight");
+        std::set<std::string> keys;
+        for (std::string line; std::getline(csv, line);) {
+            std::vector<std::string> f;
+            for (size_t at = 0, next; at <= line.size(); at = next + 1) {
+                next = std::min(line.find(',', at), line.size());
+                f.push_back(line.substr(at, next - at));
+            }
+            EXPECT_EQ(f.size(), 12u) << line;
+            if (f.size() != 12u)
+                continue;
+            EXPECT_EQ(f[5], display ? f[9] : f[10]) << line;
+            EXPECT_GE(std::stod(f[9]), 0.0) << line;
+            EXPECT_GE(std::stod(f[10]), 0.0) << line;
+            keys.insert(f[0] + "," + f[1] + "," + f[2] + "," + f[3] + (f[11] == "1" ? ",w" : ""));
+        }
+        return keys;
+    };
+    // The targets and the one-sample rows are always measured (nothing bounds those below), and
+    // the fewest samples by weight; others may be skipped, depending on the frame times.
+    const std::set<std::string> keys = read_csv(out, true);
+    for (const char* key : {"shadows,1,0,0", "shadows,25,0,0", "shadows+reflections,1,1,0",
+                            "shadows+reflections,25,25,0", "shadows+reflections,16,0,0,w"})
         EXPECT_TRUE(keys.count(key)) << key;
     EXPECT_FALSE(keys.count("shadows,25,0,1")); // 25 raw plus the denoiser: dearer than the target.
+    const std::string out8 = dir() + "/bench_equal_error_8bit";
+    const CliRun r8 = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 --reference-spp 8 "
+                         "--reflections 1 --lighting thesis --sections equal-error --error-seeds 1 "
+                         "--error-metric 8bit --out " +
+                         out8);
+    ASSERT_EQ(r8.code, 0) << r8.out;
+    EXPECT_NE(read_text(out8 + "/render_report.md").find("of the 8-bit output"), std::string::npos);
+    read_csv(out8, false);
+    const CliRun bad_metric = vx("bench render --sections equal-error --error-metric psnr");
+    EXPECT_EQ(bad_metric.code, 2) << bad_metric.out;
+    EXPECT_NE(bad_metric.out.find("--error-metric"), std::string::npos) << bad_metric.out;
     EXPECT_EQ(vx("bench render --sections equal-error --error-seeds 0").code, 2);
 }
 

@@ -10,37 +10,55 @@ namespace {
 using C = EqualErrorCandidate;
 
 // Without reflections: 6 spp x raw/denoised x light cache off/on, bounce spp 0. With: bounce spp
-// {1, 2, 4, spp} up to spp, repeats dropped: 1 + 2 + 3 + 4 + 4 + 4 = 18 per denoiser and cache
-// setting.
+// {1, 2, 4, 8, 16, spp} up to spp, repeats dropped: 1 + 2 + 3 + 4 + 5 + 6 = 21 per denoiser and
+// cache setting, then 7 by weight, raw and denoised.
 TEST(EqualErrorPick, Candidates) {
     const std::vector<C> shadows = equal_error_candidates(false);
     ASSERT_EQ(shadows.size(), 24u);
     for (const C& c : shadows)
         EXPECT_EQ(c.bounce_spp, 0u);
     const std::vector<C> both = equal_error_candidates(true);
-    ASSERT_EQ(both.size(), 72u);
-    std::vector<uint32_t> bounces_of_4, bounces_of_25;
+    ASSERT_EQ(both.size(), 98u);
+    std::vector<uint32_t> bounces_of_4, bounces_of_16, bounces_of_25;
+    std::vector<uint32_t> by_weight;
     for (const C& c : both) {
+        EXPECT_FALSE(c.light_cache && c.by_weight);
+        if (c.by_weight) {
+            EXPECT_EQ(c.bounce_spp, 0u);
+            if (!c.denoise)
+                by_weight.push_back(c.spp);
+            continue;
+        }
         EXPECT_LE(c.bounce_spp, c.spp);
         EXPECT_GE(c.bounce_spp, 1u);
         EXPECT_LT(c.frame_ms, 0.0); // Unmeasured.
         if (!c.denoise && !c.light_cache && c.spp == 4)
             bounces_of_4.push_back(c.bounce_spp);
+        if (!c.denoise && !c.light_cache && c.spp == 16)
+            bounces_of_16.push_back(c.bounce_spp);
         if (!c.denoise && !c.light_cache && c.spp == 25)
             bounces_of_25.push_back(c.bounce_spp);
     }
     EXPECT_EQ(bounces_of_4, (std::vector<uint32_t>{1, 2, 4}));
-    EXPECT_EQ(bounces_of_25, (std::vector<uint32_t>{1, 2, 4, 25}));
-    // Measuring order: nothing precedes a candidate it has no fewer samples than (same denoiser and
-    // cache), every one without the cache precedes every one with it, and within each, every raw
-    // one precedes every denoised one.
+    EXPECT_EQ(bounces_of_16, (std::vector<uint32_t>{1, 2, 4, 8, 16}));
+    EXPECT_EQ(bounces_of_25, (std::vector<uint32_t>{1, 2, 4, 8, 16, 25}));
+    EXPECT_EQ(by_weight, (std::vector<uint32_t>{16, 25, 32, 40, 48, 56, 64}));
+    for (const C& c : shadows)
+        EXPECT_FALSE(c.by_weight); // Without bounces it would only scale the first hit's count.
+    // Measuring order: nothing precedes a candidate it has no fewer samples than (same denoiser,
+    // cache and allocation), samples by weight come last, before them every one without the cache
+    // precedes every one with it, and within each, every raw one precedes every denoised one.
     for (size_t i = 0; i < both.size(); ++i)
         for (size_t j = i + 1; j < both.size(); ++j) {
-            EXPECT_LE(both[i].light_cache, both[j].light_cache);
-            if (both[i].light_cache == both[j].light_cache) {
+            EXPECT_LE(both[i].by_weight, both[j].by_weight);
+            if (!both[j].by_weight) {
+                EXPECT_LE(both[i].light_cache, both[j].light_cache);
+            }
+            if (both[i].light_cache == both[j].light_cache && both[i].by_weight == both[j].by_weight) {
                 EXPECT_LE(both[i].denoise, both[j].denoise);
             }
-            if (both[i].denoise == both[j].denoise && both[i].light_cache == both[j].light_cache) {
+            if (both[i].denoise == both[j].denoise && both[i].light_cache == both[j].light_cache &&
+                both[i].by_weight == both[j].by_weight) {
                 EXPECT_FALSE(both[j].spp <= both[i].spp && both[j].bounce_spp <= both[i].bounce_spp) << i << " " << j;
             }
         }
@@ -95,6 +113,16 @@ TEST(EqualErrorPick, Skip) {
     EXPECT_TRUE(equal_error_skip(cached, shadows, 11.0));
     const std::vector<C> cached_rows = {{8, 0, false, 11.0, 0.001, true}};
     EXPECT_FALSE(equal_error_skip({16, 0, false}, cached_rows, 11.0));
+    // Samples by weight are their own family: a plain row with fewer samples bounds none of them.
+    C weighted{32, 0, false};
+    weighted.by_weight = true;
+    EXPECT_FALSE(equal_error_skip(weighted, measured, 25.0));
+    std::vector<C> weighted_rows = {weighted};
+    weighted_rows[0].frame_ms = 30.0;
+    C more = weighted;
+    more.spp = 40;
+    EXPECT_TRUE(equal_error_skip(more, weighted_rows, 25.0));
+    EXPECT_FALSE(equal_error_skip({40, 4, false}, weighted_rows, 25.0));
     EXPECT_TRUE(equal_error_skip(cached, cached_rows, 11.0));
 }
 
