@@ -213,11 +213,8 @@ struct Renderer::Impl {
     void record_denoise(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     void record_readback(VkCommandBuffer cmd, uint32_t width, uint32_t height);
     void record_gbuffer_readback(VkCommandBuffer cmd, const RenderSettings& s);
-    void read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const;
-    // What the read-back G-buffer's display values need (set by record_gbuffer_readback).
-    bool gbuffer_denoised = false;  // The final radiance is the denoiser's output.
-    bool gbuffer_tone_mapped = false; // Full mode: the output is vx_display(radiance, exposure).
-    float gbuffer_exposure = 1.f;
+    // After the frame `s` recorded with record_gbuffer_readback (frame_ev100 still its exposure).
+    void read_gbuffer(GBufferImage& out, const RenderSettings& s) const;
 };
 
 Renderer::Renderer() : m(std::make_unique<Impl>()) {}
@@ -813,22 +810,19 @@ void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, const RenderSe
         offset += pixels * kGBufferPixelBytes[i];
     }
     // The denoiser's output stays in GENERAL (its next frame writes it again).
-    gbuffer_denoised = denoise_active(s);
-    if (gbuffer_denoised) {
+    if (denoise_active(s)) {
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
         region.bufferOffset = offset;
         vkCmdCopyImageToBuffer(cmd, denoiser->output().handle(), VK_IMAGE_LAYOUT_GENERAL, gbuffer_readback.handle(), 1,
                                &region);
     }
-    gbuffer_tone_mapped = s.mode == ShadingMode::Full;
-    gbuffer_exposure = gpu::vx_exposure_scale(frame_ev100);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t height) const {
-    const size_t pixels = size_t(width) * height;
+void Renderer::Impl::read_gbuffer(GBufferImage& out, const RenderSettings& s) const {
+    const size_t pixels = size_t(s.width) * s.height;
     const auto* src = static_cast<const uint8_t*>(gbuffer_readback.mapped());
     auto halves = [&](std::vector<glm::vec4>& dst, const uint8_t* p) {
         dst.resize(pixels);
@@ -839,8 +833,8 @@ void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t he
                       glm::unpackHalf1x16(h[3])};
         }
     };
-    out.width = width;
-    out.height = height;
+    out.width = s.width;
+    out.height = s.height;
     halves(out.radiance, src);
     src += pixels * kGBufferPixelBytes[0];
     out.albedo.resize(pixels);
@@ -852,13 +846,15 @@ void Renderer::Impl::read_gbuffer(GBufferImage& out, uint32_t width, uint32_t he
     halves(out.reflected, src);
     src += pixels * kGBufferPixelBytes[3];
     std::vector<glm::vec4> denoised;
-    if (gbuffer_denoised)
+    if (denoise_active(s))
         halves(denoised, src);
-    const std::vector<glm::vec4>& final_radiance = gbuffer_denoised ? denoised : out.radiance;
+    const std::vector<glm::vec4>& final_radiance = denoise_active(s) ? denoised : out.radiance;
+    const bool tone_mapped = s.mode == ShadingMode::Full;
+    const float exposure = gpu::vx_exposure_scale(frame_ev100);
     out.display.resize(pixels);
     for (size_t i = 0; i < pixels; ++i) {
         const glm::vec3 c(final_radiance[i]);
-        out.display[i] = gbuffer_tone_mapped ? gpu::vx_display(c, gbuffer_exposure) : c;
+        out.display[i] = tone_mapped ? gpu::vx_display(c, exposure) : c;
     }
 }
 
@@ -908,7 +904,7 @@ Result<RenderImage> Renderer::Impl::render_frame(const RenderSettings& settings,
     img.rgba.resize(size_t(settings.width) * settings.height * 4);
     std::memcpy(img.rgba.data(), d.readback.mapped(), img.rgba.size());
     if (gbuffer)
-        d.read_gbuffer(*gbuffer, settings.width, settings.height);
+        d.read_gbuffer(*gbuffer, settings);
 
     d.stats = RenderStats{};
     d.fill_accel_stats(d.stats);

@@ -194,10 +194,12 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
     // An idle GPU's clocks ramp up over its first second of work: on the H200 (device call 55) a
     // first flat row took 2.93 ms, 1.58 ms after other work. So frames for a second first, and
     // the flat row timed again at the end; the ratios take the faster (the larger ratios).
+    // Those warm-up frames are counted apart: equal_error_frames_at_most() bounds the others.
+    uint64_t warmup = 0;
     const auto warm_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
     while (std::chrono::steady_clock::now() < warm_until) {
         r.render(flat, info.camera);
-        ++ctx.frames;
+        ++warmup;
     }
     render::RenderImage img;
     const double flat_first = time_frames(r, flat, info.camera, info.repeat, &img).frame;
@@ -224,16 +226,18 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
                   "the cheapest meeting the target). The all-on row searches the same features (the denoiser is a "
                   "candidate setting). Frame ms: GPU medians of %u frames, after a second of frames; RT flat %.3f ms "
                   "(timed first and last: %.3f and %.3f ms; the faster), %u reflection bounces. "
-                  "Frames rendered: %llu.\n\n",
+                  "Frames rendered: %llu, and %llu to warm up.\n\n",
                   info.lighting == "thesis" ? "thesis (one area light)" : "default (sun, sky light, area light)",
                   reference_frames(info.reference_spp) * 8, kReferenceSeed, info.seeds,
                   info.display_metric ? "the output before its 8-bit rounding" : "the 8-bit output", skipped,
-                  info.repeat, flat_ms, flat_first, flat_last, info.reflections, (unsigned long long)ctx.frames);
+                  info.repeat, flat_ms, flat_first, flat_last, info.reflections, (unsigned long long)ctx.frames,
+                  (unsigned long long)warmup);
     std::string md = head + rows_table(sets, flat_ms);
     std::ofstream csv(info.out + "/equal_error.csv");
     md += candidates_table(sets, flat_ms, csv);
-    std::printf("  equal error: %llu frames rendered, %zu candidates skipped; wrote %s/equal_error.csv\n",
-                (unsigned long long)ctx.frames, skipped, info.out.c_str());
+    std::printf("  equal error: %llu frames rendered (and %llu to warm up), %zu candidates skipped; wrote "
+                "%s/equal_error.csv\n",
+                (unsigned long long)ctx.frames, (unsigned long long)warmup, skipped, info.out.c_str());
     return md;
 }
 

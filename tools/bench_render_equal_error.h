@@ -30,8 +30,8 @@ struct EqualErrorBenchInfo {
     bool display_metric = true;
 };
 
-// Upper bound on the frames run_equal_error_bench() renders (every candidate measured; the
-// search skips some): for the caller to print before it starts.
+// Upper bound on the frames run_equal_error_bench() renders besides its second of warm-up frames
+// (every candidate measured; the search skips some): for the caller to print before it starts.
 uint64_t equal_error_frames_at_most(const EqualErrorBenchInfo& info);
 
 // Renders the references, the RT flat row and the candidates with `r` (holding the scene),

@@ -405,15 +405,13 @@ int run_render(RenderArgs a) {
     const render::DeviceReport& dev = r.device();
     std::printf("  device: %s (%s, %s)%s\n", dev.name.c_str(), render::device_type_name(dev.type),
                 dev.driver_info.c_str(), validation ? ", validation on" : "");
-    if (s.settings.samples_by_weight)
-        std::printf("  image: %ux%u, %s shading, shadows %s (%u samples x each hit's weight), reflections %u\n",
-                    s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(),
-                    s.settings.shadow_samples, s.settings.max_bounces);
-    else
-        std::printf("  image: %ux%u, %s shading, shadows %s (%u samples, %u on bounces), reflections %u\n",
-                    s.settings.width, s.settings.height, a.shading.c_str(), a.shadows.c_str(),
-                    s.settings.shadow_samples, s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples),
-                    s.settings.max_bounces);
+    const std::string bounce_samples =
+        s.settings.samples_by_weight
+            ? std::string(" x each hit's weight")
+            : ", " + std::to_string(s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples)) + " on bounces";
+    std::printf("  image: %ux%u, %s shading, shadows %s (%u samples%s), reflections %u\n", s.settings.width,
+                s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
+                bounce_samples.c_str(), s.settings.max_bounces);
     std::printf("  lights%s: sun %s, sky term x%g%s, area light %s\n",
                 a.lighting == "thesis" ? " (--lighting thesis)" : "", a.sun.c_str(), double(a.sky_light),
                 a.sky_access == "on" ? "" : " (sky access off: no sun or sky rays)", a.area_light.c_str());

@@ -329,6 +329,19 @@ TEST(CliRender, BenchRenderEqualError) {
                         "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
+    // The bound printed first holds (the second of warm-up frames is counted apart).
+    unsigned long long at_most = 0, rendered = 0, warmup = 0;
+    const size_t bound_at = r.out.find("at most "), done_at = r.out.find(" frames rendered (and ");
+    ASSERT_NE(bound_at, std::string::npos) << r.out;
+    ASSERT_NE(done_at, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + bound_at, "at most %llu frames", &at_most), 1) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.rfind('\n', done_at) + 1, " equal error: %llu frames rendered (and %llu",
+                          &rendered, &warmup),
+              2)
+        << r.out;
+    EXPECT_GT(rendered, 0u);
+    EXPECT_LE(rendered, at_most);
+    EXPECT_GT(warmup, 0u);
     const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("## Table 6.3 at equal error"), std::string::npos) << text;
     for (const char* row : {"| shadows | ", "| shadows + reflections | ", "| all on (+ thesis's denoiser) | "}) {
