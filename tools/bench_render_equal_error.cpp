@@ -37,7 +37,8 @@ struct ThesisRow {
 struct Search {
     render::Renderer& r;
     const EqualErrorBenchInfo& info;
-    uint64_t frames = 0; // Rendered so far.
+    uint64_t frames = 0; // Rendered so far, but for warm-up frames.
+    uint64_t warmup = 0; // Warm-up frames (each configuration's info.warmup_s, the first second).
 };
 
 render::RenderSettings candidate_settings(const EqualErrorBenchInfo& info, uint32_t bounces,
@@ -66,8 +67,12 @@ struct Reference {
 void measure(Search& ctx, const Reference& reference, uint32_t bounces, EqualErrorCandidate& c) {
     render::RenderSettings s = candidate_settings(ctx.info, bounces, c);
     render::RenderImage timed;
-    c.frame_ms = time_frames(ctx.r, s, ctx.info.camera, ctx.info.repeat, &timed).frame;
+    c.cold_ms = time_frames(ctx.r, s, ctx.info.camera, ctx.info.repeat, &timed).frame;
     ctx.frames += 1 + ctx.info.repeat;
+    const Timing warm = time_frames(ctx.r, s, ctx.info.camera, ctx.info.repeat, &timed, ctx.info.warmup_s);
+    c.frame_ms = warm.frame;
+    ctx.warmup += warm.warmup_frames;
+    ctx.frames += ctx.info.repeat;
     double sum8 = 0, sum_display = 0;
     for (uint32_t k = 0; k < ctx.info.seeds; ++k) {
         s.seed = ctx.info.base.seed + k;
@@ -111,9 +116,9 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
             set.thesis = i;
     }
     measure(ctx, reference, bounces, set.candidates[set.thesis]);
-    std::printf("  equal error, %s: target (%s) RMSE %.5f at %.3f ms\n", name,
+    std::printf("  equal error, %s: target (%s) RMSE %.5f at %.3f ms (cold %.3f)\n", name,
                 candidate_name(set.candidates[set.thesis]).c_str(), set.target(),
-                set.candidates[set.thesis].frame_ms);
+                set.candidates[set.thesis].frame_ms, set.candidates[set.thesis].cold_ms);
     for (EqualErrorCandidate& c : set.candidates) {
         if (c.rmse >= 0) // The target, measured first.
             continue;
@@ -123,8 +128,8 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
             continue;
         }
         measure(ctx, reference, bounces, c);
-        std::printf("  equal error, %s: %s: frame %.3f ms, RMSE %.5f (display %.5f, 8-bit %.5f)\n", name,
-                    candidate_name(c).c_str(), c.frame_ms, c.rmse, c.rmse_display, c.rmse_8bit);
+        std::printf("  equal error, %s: %s: frame %.3f ms (cold %.3f), RMSE %.5f (display %.5f, 8-bit %.5f)\n", name,
+                    candidate_name(c).c_str(), c.frame_ms, c.cold_ms, c.rmse, c.rmse_display, c.rmse_8bit);
     }
     return set;
 }
@@ -157,22 +162,22 @@ std::string rows_table(const std::vector<FeatureSet>& sets, double flat_ms) {
 }
 
 std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms, std::ofstream& csv) {
-    std::string md = "\n| features | configuration | frame ms | x RT flat | RMSE | meets target | RMSE display | "
-                     "RMSE 8-bit |\n|---|---|---|---|---|---|---|---|\n";
+    std::string md = "\n| features | configuration | frame ms | x RT flat | cold ms | RMSE | meets target | "
+                     "RMSE display | RMSE 8-bit |\n|---|---|---|---|---|---|---|---|---|\n";
     csv << "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache,rmse_display,"
-           "rmse_8bit,by_weight\n";
+           "rmse_8bit,by_weight,cold_ms\n";
     char line[512];
     for (const FeatureSet& set : sets)
         for (const EqualErrorCandidate& c : set.candidates) {
             if (c.rmse < 0)
                 continue; // Skipped.
-            std::snprintf(line, sizeof line, "| %s | %s | %.3f | %s | %.5f | %s | %.5f | %.5f |\n", set.name,
-                          candidate_name(c).c_str(), c.frame_ms, ratio_text(c.frame_ms, flat_ms).c_str(), c.rmse,
+            std::snprintf(line, sizeof line, "| %s | %s | %.3f | %s | %.3f | %.5f | %s | %.5f | %.5f |\n", set.name,
+                          candidate_name(c).c_str(), c.frame_ms, ratio_text(c.frame_ms, flat_ms).c_str(), c.cold_ms, c.rmse,
                           c.rmse <= set.target() ? "yes" : "no", c.rmse_display, c.rmse_8bit);
             md += line;
             csv << set.name << ',' << c.spp << ',' << c.bounce_spp << ',' << (c.denoise ? 1 : 0) << ',' << c.frame_ms
                 << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << ',' << (c.light_cache ? 1 : 0) << ','
-                << c.rmse_display << ',' << c.rmse_8bit << ',' << (c.by_weight ? 1 : 0) << '\n';
+                << c.rmse_display << ',' << c.rmse_8bit << ',' << (c.by_weight ? 1 : 0) << ',' << c.cold_ms << '\n';
         }
     return md;
 }
@@ -180,9 +185,9 @@ std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms
 } // namespace
 
 uint64_t equal_error_frames_at_most(const EqualErrorBenchInfo& info) {
-    const uint64_t per = 1 + info.repeat + info.seeds;
+    const uint64_t per = 1 + 2 * uint64_t(info.repeat) + info.seeds;
     const uint64_t candidates = equal_error_candidates(false).size() + equal_error_candidates(true).size();
-    return 2 * uint64_t(reference_frames(info.reference_spp)) + 2 * (1 + info.repeat) + candidates * per;
+    return 2 * uint64_t(reference_frames(info.reference_spp)) + 2 * uint64_t(info.repeat) + candidates * per;
 }
 
 std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo& info) {
@@ -195,22 +200,25 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
     // first flat row took 2.93 ms, 1.58 ms after other work. So frames for a second first, and
     // the flat row timed again at the end; the ratios take the faster (the larger ratios).
     // Those warm-up frames are counted apart: equal_error_frames_at_most() bounds the others.
-    uint64_t warmup = 0;
     const auto warm_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
     while (std::chrono::steady_clock::now() < warm_until) {
         r.render(flat, info.camera);
-        ++warmup;
+        ++ctx.warmup;
     }
     render::RenderImage img;
-    const double flat_first = time_frames(r, flat, info.camera, info.repeat, &img).frame;
-    ctx.frames += 1 + info.repeat;
+    const Timing flat_first_t = time_frames(r, flat, info.camera, info.repeat, &img, info.warmup_s);
+    const double flat_first = flat_first_t.frame;
+    ctx.warmup += flat_first_t.warmup_frames;
+    ctx.frames += info.repeat;
     std::printf("  equal error: RT flat %.3f ms; at most %llu frames\n", flat_first,
                 (unsigned long long)equal_error_frames_at_most(info));
     std::vector<FeatureSet> sets;
     sets.push_back(search_set(ctx, "shadows", 0));
     sets.push_back(search_set(ctx, "shadows+reflections", info.reflections));
-    const double flat_last = time_frames(r, flat, info.camera, info.repeat, &img).frame;
-    ctx.frames += 1 + info.repeat;
+    const Timing flat_last_t = time_frames(r, flat, info.camera, info.repeat, &img, info.warmup_s);
+    const double flat_last = flat_last_t.frame;
+    ctx.warmup += flat_last_t.warmup_frames;
+    ctx.frames += info.repeat;
     const double flat_ms = flat_first > 0 && flat_last > 0 ? std::min(flat_first, flat_last) : -1.0;
     std::printf("  equal error: RT flat again %.3f ms; ratios to %.3f ms\n", flat_last, flat_ms);
     const size_t skipped = sets[0].skipped + sets[1].skipped;
@@ -224,20 +232,22 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
                   "light cache off and on, "
                   "one frame each (no history); %zu skipped (a candidate with no more samples already cost at least "
                   "the cheapest meeting the target). The all-on row searches the same features (the denoiser is a "
-                  "candidate setting). Frame ms: GPU medians of %u frames, after a second of frames; RT flat %.3f ms "
+                  "candidate setting). Frame ms: GPU medians of %u frames, after a second of frames at the start and %.2f s "
+                  "of each configuration's own (cold ms: the same medians right after the previous configuration's "
+                  "error frames, with one frame before them); RT flat %.3f ms "
                   "(timed first and last: %.3f and %.3f ms; the faster), %u reflection bounces. "
                   "Frames rendered: %llu, and %llu to warm up.\n\n",
                   info.lighting == "thesis" ? "thesis (one area light)" : "default (sun, sky light, area light)",
                   reference_frames(info.reference_spp) * 8, kReferenceSeed, info.seeds,
                   info.display_metric ? "the output before its 8-bit rounding" : "the 8-bit output", skipped,
-                  info.repeat, flat_ms, flat_first, flat_last, info.reflections, (unsigned long long)ctx.frames,
-                  (unsigned long long)warmup);
+                  info.repeat, info.warmup_s, flat_ms, flat_first, flat_last, info.reflections, (unsigned long long)ctx.frames,
+                  (unsigned long long)ctx.warmup);
     std::string md = head + rows_table(sets, flat_ms);
     std::ofstream csv(info.out + "/equal_error.csv");
     md += candidates_table(sets, flat_ms, csv);
     std::printf("  equal error: %llu frames rendered (and %llu to warm up), %zu candidates skipped; wrote "
                 "%s/equal_error.csv\n",
-                (unsigned long long)ctx.frames, (unsigned long long)warmup, skipped, info.out.c_str());
+                (unsigned long long)ctx.frames, (unsigned long long)ctx.warmup, skipped, info.out.c_str());
     return md;
 }
 

@@ -18,7 +18,7 @@ namespace vx::tools {
 struct EqualErrorBenchInfo {
     render::RenderSettings base; // Size, lights and seed; samples, bounces and denoiser set per row.
     render::Camera camera;
-    uint32_t repeat = 5;          // Frames per timing (medians, after one warm-up).
+    uint32_t repeat = 5;          // Frames per timing (medians).
     uint32_t reflections = 5;     // Mirror bounces of the reflection rows and their reference.
     uint32_t reference_spp = 1024; // Per feature set: frames of 8 samples, accumulated, no filter.
     uint32_t seeds = 4;           // Sample seeds per RMSE (base.seed on; root mean square over them).
@@ -28,10 +28,14 @@ struct EqualErrorBenchInfo {
     // false: of the 8-bit image. Both are measured and written; under the thesis's light the
     // errors are a fraction of an 8-bit step, where rounding distorts them (stop 27).
     bool display_metric = true;
+    // Seconds of frames of a configuration before its timed ones (time_frames()); each is also
+    // timed as before, right after the last one's error frames (EqualErrorCandidate::cold_ms).
+    double warmup_s = 0.25;
 };
 
-// Upper bound on the frames run_equal_error_bench() renders besides its second of warm-up frames
-// (every candidate measured; the search skips some): for the caller to print before it starts.
+// Upper bound on the frames run_equal_error_bench() renders besides its warm-up frames (the
+// second before it starts, and each configuration's info.warmup_s; every candidate measured, the
+// search skips some): for the caller to print before it starts.
 uint64_t equal_error_frames_at_most(const EqualErrorBenchInfo& info);
 
 // Renders the references, the RT flat row and the candidates with `r` (holding the scene),

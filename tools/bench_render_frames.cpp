@@ -1,6 +1,7 @@
 #include "bench_render_frames.h"
 
 #include <algorithm>
+#include <chrono>
 #include <vector>
 
 #include <vx/vx.h>
@@ -10,8 +11,13 @@
 namespace vx::tools {
 
 Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
-                   render::RenderImage* image) {
-    r.render(s, cam);
+                   render::RenderImage* image, double warmup_s) {
+    Timing t;
+    const auto start = std::chrono::steady_clock::now();
+    do {
+        r.render(s, cam);
+        ++t.warmup_frames;
+    } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < warmup_s);
     std::vector<double> frame, trace, denoise;
     for (uint32_t i = 0; i < repeat; ++i) {
         *image = r.render(s, cam);
@@ -20,7 +26,10 @@ Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const r
         trace.push_back(st.gpu_trace_ms);
         denoise.push_back(st.gpu_denoise_ms);
     }
-    return {median(frame), median(trace), median(denoise)};
+    t.frame = median(frame);
+    t.trace = median(trace);
+    t.denoise = median(denoise);
+    return t;
 }
 
 uint32_t reference_frames(uint32_t spp) { return std::max(1u, spp / 8); }

@@ -10,11 +10,16 @@ namespace vx::tools {
 
 struct Timing {
     double frame = -1, trace = -1, denoise = -1; // GPU ms (medians); -1 without timestamps.
+    uint32_t warmup_frames = 0;                  // Rendered before the timed ones (not timed).
 };
 
-// Renders `repeat` frames (after one warm-up) and returns the medians and the last image.
+// Renders one frame, then more until `warmup_s` seconds (wall clock) have passed since it began,
+// then `repeat` timed frames; returns their medians and the last image. Why the warm-up: a GPU
+// left idle while the CPU compares images lowers its clocks, and the next configuration's first
+// frames run slow. On the H200 (device call 57, docs/render_report.md stop 28) shadows at 4 spp
+// timed 8.8 ms right after the error frames of another configuration and 3.4 ms in a steady run.
 Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
-                   render::RenderImage* image);
+                   render::RenderImage* image, double warmup_s = 0.0);
 
 // Frames of 8 shadow samples a reference of `spp` samples per pixel accumulates (at least 1).
 uint32_t reference_frames(uint32_t spp);

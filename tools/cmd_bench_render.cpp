@@ -58,6 +58,7 @@ struct BenchRenderArgs {
     uint32_t path_frames = 24, path_reference_spp = 64; // Sections 5 and 6.
     uint32_t error_seeds = 4;                           // Equal error: sample seeds per RMSE.
     std::string error_metric = "display";               // Equal error: display (before 8-bit rounding) or 8bit.
+    uint32_t warmup_ms = 250; // Frames of a configuration before its timed ones (time_frames()).
 };
 
 struct Config {
@@ -180,7 +181,7 @@ std::string feature_table(render::Renderer& r, const render::RenderSettings& bas
     std::vector<Timing> t;
     render::RenderImage img;
     for (const Config& c : configs) {
-        t.push_back(time_frames(r, c.s, cam, a.repeat, &img));
+        t.push_back(time_frames(r, c.s, cam, a.repeat, &img, a.warmup_ms / 1000.0));
         std::printf("  %s: frame %.3f ms, trace/raster %.3f ms, denoise %.3f ms\n", c.name.c_str(),
                     t.back().frame, t.back().trace, t.back().denoise);
     }
@@ -252,14 +253,16 @@ int run_bench_render(const BenchRenderArgs& a) {
                 r.device().name.c_str());
     std::string md = "# Renderer report (`vx bench render`)\n\nScene: " + scene->description + ", " +
                      std::to_string(base.width) + "x" + std::to_string(base.height) + ", device " + r.device().name +
-                     ". GPU times are medians of " + std::to_string(a.repeat) +
-                     " frames (timestamps); the machine may be shared: read them side by side.\n\n";
+                     ". GPU times are medians of " + std::to_string(a.repeat) + " frames (timestamps), after " +
+                     std::to_string(a.warmup_ms) +
+                     " ms of each configuration's frames; the machine may be shared: read them side by side.\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
     const DefaultsBenchInfo defaults{base, cam, a.path_frames, a.path_reference_spp, a.out};
-    const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections, a.reference_spp,
-                                    a.error_seeds, a.lighting, a.out,    a.error_metric == "display"};
+    const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections,
+                                    a.reference_spp, a.error_seeds, a.lighting, a.out,
+                                    a.error_metric == "display", a.warmup_ms / 1000.0};
     if (a.sections == "equal-error") {
         md += run_equal_error_bench(r, equal);
         std::ofstream(a.out + "/render_report.md") << md;
@@ -313,7 +316,7 @@ int run_bench_render(const BenchRenderArgs& a) {
             for (uint32_t bounce : bounce_spps)
                 for (bool denoise : {false, true}) {
                     const render::RenderSettings s = sweep_settings(base, a.reflections, spp, bounce, denoise, cache);
-                    const Timing t = time_frames(r, s, cam, a.repeat, &img);
+                    const Timing t = time_frames(r, s, cam, a.repeat, &img, a.warmup_ms / 1000.0);
                     const render::ImageError e = render::compare(render::to_float(img), reference);
                     std::snprintf(line, sizeof line, "| %u | %u | %s | %s | %.3f | %.4f | %.2f | %.4f |\n", spp, bounce,
                                   denoise ? "on" : "off", cache ? "on" : "off", t.frame, e.rmse, e.psnr, e.ssim);
@@ -389,6 +392,10 @@ int run_bench_render_command(int argc, char** argv) {
     app.add_option("--reference-spp", a.reference_spp, "Samples per pixel of the converged reference")
         ->check(CLI::Range(8u, 1u << 20));
     app.add_option("--repeat", a.repeat, "Frames per configuration (medians)")->check(CLI::Range(1u, 10000u));
+    app.add_option("--warmup-ms", a.warmup_ms,
+                   "Milliseconds of a configuration's frames before its timed ones (an idle GPU's clocks drop; "
+                   "default 250; 0: one frame)")
+        ->check(CLI::Range(0u, 60000u));
     app.add_option("--reflections", a.reflections,
                    "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");

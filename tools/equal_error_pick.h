@@ -22,6 +22,9 @@ struct EqualErrorCandidate {
     // Each hit's samples by its weight in the pixel (render::RenderSettings::samples_by_weight):
     // `spp` is the count of a matte first hit; bounce_spp is 0.
     bool by_weight = false;
+    // Median GPU frame time of the first frames after the previous candidate's error frames
+    // (after one frame, as frame_ms was before stop 28): what an idle GPU's lowered clocks cost.
+    double cold_ms = -1;
 };
 
 // The thesis's sample count (its Table 6.3 rows traced 25 shadow rays at every hit).

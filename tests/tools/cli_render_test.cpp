@@ -306,10 +306,11 @@ TEST(CliRender, SampleSeedPicksTheSamples) {
 TEST(CliRender, BenchRenderTableRatios) {
     const std::string out = dir() + "/bench_ratios";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 "
-                        "--reference-spp 8 --reflections 1 --lighting thesis --sections report --out " +
+                        "--reference-spp 8 --reflections 1 --lighting thesis --sections report --warmup-ms 20 --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string text = read_text(out + "/render_report.md");
+    EXPECT_NE(text.find("after 20 ms of each configuration's frames"), std::string::npos) << text;
     EXPECT_NE(text.find("Lighting: thesis"), std::string::npos) << text;
     EXPECT_NE(text.find("| x RT flat | x all off | thesis x all off |"), std::string::npos) << text;
     const size_t off = text.find("| RT full: shadows off, reflections (1 bounces) off, denoiser off |");
@@ -321,12 +322,12 @@ TEST(CliRender, BenchRenderTableRatios) {
 
 // `vx bench render --sections equal-error` (tiny): the three thesis rows, each with a cheapest
 // configuration (the thesis's own 25 spp raw meets its target, so one always does), and a CSV
-// line per measured candidate of both feature sets (shadows: bounce spp 0); a seed count of 0 is
-// exit 2.
+// line per measured candidate of both feature sets (shadows: bounce spp 0), timed warm and cold;
+// a seed count of 0 and a negative warm-up are exit 2.
 TEST(CliRender, BenchRenderEqualError) {
     const std::string out = dir() + "/bench_equal_error";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 --reference-spp 8 "
-                        "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --out " +
+                        "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --warmup-ms 20 --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
     // The bound printed first holds (the second of warm-up frames is counted apart).
@@ -356,7 +357,7 @@ TEST(CliRender, BenchRenderEqualError) {
         std::string header;
         std::getline(csv, header);
         EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache,"
-                          "rmse_display,rmse_8bit,by_weight");
+                          "rmse_display,rmse_8bit,by_weight,cold_ms");
         std::set<std::string> keys;
         for (std::string line; std::getline(csv, line);) {
             std::vector<std::string> f;
@@ -364,10 +365,12 @@ TEST(CliRender, BenchRenderEqualError) {
                 next = std::min(line.find(',', at), line.size());
                 f.push_back(line.substr(at, next - at));
             }
-            EXPECT_EQ(f.size(), 12u) << line;
-            if (f.size() != 12u)
+            EXPECT_EQ(f.size(), 13u) << line;
+            if (f.size() != 13u)
                 continue;
             EXPECT_EQ(f[5], display ? f[9] : f[10]) << line;
+            EXPECT_GT(std::stod(f[4]), 0.0) << line; // Lavapipe has timestamps: both timings measured.
+            EXPECT_GT(std::stod(f[12]), 0.0) << line;
             EXPECT_GE(std::stod(f[9]), 0.0) << line;
             EXPECT_GE(std::stod(f[10]), 0.0) << line;
             keys.insert(f[0] + "," + f[1] + "," + f[2] + "," + f[3] + (f[11] == "1" ? ",w" : ""));
@@ -384,7 +387,7 @@ TEST(CliRender, BenchRenderEqualError) {
     const std::string out8 = dir() + "/bench_equal_error_8bit";
     const CliRun r8 = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 --reference-spp 8 "
                          "--reflections 1 --lighting thesis --sections equal-error --error-seeds 1 "
-                         "--error-metric 8bit --out " +
+                         "--error-metric 8bit --warmup-ms 0 --out " +
                          out8);
     ASSERT_EQ(r8.code, 0) << r8.out;
     EXPECT_NE(read_text(out8 + "/render_report.md").find("of the 8-bit output"), std::string::npos);
@@ -393,6 +396,9 @@ TEST(CliRender, BenchRenderEqualError) {
     EXPECT_EQ(bad_metric.code, 2) << bad_metric.out;
     EXPECT_NE(bad_metric.out.find("--error-metric"), std::string::npos) << bad_metric.out;
     EXPECT_EQ(vx("bench render --sections equal-error --error-seeds 0").code, 2);
+    const CliRun bad_warmup = vx("bench render --sections equal-error --warmup-ms -5");
+    EXPECT_EQ(bad_warmup.code, 2) << bad_warmup.out;
+    EXPECT_NE(bad_warmup.out.find("--warmup-ms"), std::string::npos) << bad_warmup.out;
 }
 
 // `vx bench render --sections paths` (tiny): a row per path and configuration with RMSE median
