@@ -14,10 +14,12 @@ struct Timing {
 };
 
 // Renders one frame, then more until `warmup_s` seconds (wall clock) have passed since it began,
-// then `repeat` timed frames; returns their medians and the last image. Why the warm-up: a GPU
-// left idle while the CPU compares images lowers its clocks, and the next configuration's first
-// frames run slow. On the H200 (device call 57, docs/render_report.md stop 28) shadows at 4 spp
-// timed 8.8 ms right after the error frames of another configuration and 3.4 ms in a steady run.
+// then `repeat` timed frames; returns their medians and the last image. Why the warm-up: in
+// device call 56 (H200) the short rows of the equal-error bench, each timed after one frame,
+// ran 1.1-3.6x slower than the same configurations in calls 57 and 58 (4 spp: 8.77 against 3.42
+// ms). Call 58 timed every configuration both ways and found no difference (within 0.3%, the SM
+// clock at 1980 MHz throughout), so the cause is not known; a configuration's own frames first
+// keep whatever state the GPU was left in out of its figure (docs/render_report.md, stop 28).
 Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
                    render::RenderImage* image, double warmup_s = 0.0);
 

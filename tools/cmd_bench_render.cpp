@@ -393,8 +393,7 @@ int run_bench_render_command(int argc, char** argv) {
         ->check(CLI::Range(8u, 1u << 20));
     app.add_option("--repeat", a.repeat, "Frames per configuration (medians)")->check(CLI::Range(1u, 10000u));
     app.add_option("--warmup-ms", a.warmup_ms,
-                   "Milliseconds of a configuration's frames before its timed ones (an idle GPU's clocks drop; "
-                   "default 250; 0: one frame)")
+                   "Milliseconds of a configuration's own frames before its timed ones (default 250; 0: one frame)")
         ->check(CLI::Range(0u, 60000u));
     app.add_option("--reflections", a.reflections,
                    "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");

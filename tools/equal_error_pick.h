@@ -23,7 +23,8 @@ struct EqualErrorCandidate {
     // `spp` is the count of a matte first hit; bounce_spp is 0.
     bool by_weight = false;
     // Median GPU frame time of the first frames after the previous candidate's error frames
-    // (after one frame, as frame_ms was before stop 28): what an idle GPU's lowered clocks cost.
+    // (after one frame, as frame_ms was before stop 28): beside frame_ms it shows whether the
+    // GPU was slow to resume (tools/bench_render_frames.h, time_frames()).
     double cold_ms = -1;
 };
 
