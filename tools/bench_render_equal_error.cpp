@@ -128,8 +128,8 @@ FeatureSet search_set(Search& ctx, const char* name, uint32_t bounces) {
             continue;
         }
         measure(ctx, reference, bounces, c);
-        std::printf("  equal error, %s: %s: frame %.3f ms (cold %.3f), RMSE %.5f (display %.5f, 8-bit %.5f)\n", name,
-                    candidate_name(c).c_str(), c.frame_ms, c.cold_ms, c.rmse, c.rmse_display, c.rmse_8bit);
+        std::printf("  equal error, %s: %s: frame %.3f ms (cold %.3f), RMSE %.5f (display %.5f, 8-bit %.5f)\n",
+                    name, candidate_name(c).c_str(), c.frame_ms, c.cold_ms, c.rmse, c.rmse_display, c.rmse_8bit);
     }
     return set;
 }
@@ -171,13 +171,14 @@ std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms
         for (const EqualErrorCandidate& c : set.candidates) {
             if (c.rmse < 0)
                 continue; // Skipped.
-            std::snprintf(line, sizeof line, "| %s | %s | %.3f | %s | %.3f | %.5f | %s | %.5f | %.5f |\n", set.name,
-                          candidate_name(c).c_str(), c.frame_ms, ratio_text(c.frame_ms, flat_ms).c_str(), c.cold_ms, c.rmse,
-                          c.rmse <= set.target() ? "yes" : "no", c.rmse_display, c.rmse_8bit);
+            std::snprintf(line, sizeof line, "| %s | %s | %.3f | %s | %.3f | %.5f | %s | %.5f | %.5f |\n",
+                          set.name, candidate_name(c).c_str(), c.frame_ms, ratio_text(c.frame_ms, flat_ms).c_str(),
+                          c.cold_ms, c.rmse, c.rmse <= set.target() ? "yes" : "no", c.rmse_display, c.rmse_8bit);
             md += line;
             csv << set.name << ',' << c.spp << ',' << c.bounce_spp << ',' << (c.denoise ? 1 : 0) << ',' << c.frame_ms
                 << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << ',' << (c.light_cache ? 1 : 0) << ','
-                << c.rmse_display << ',' << c.rmse_8bit << ',' << (c.by_weight ? 1 : 0) << ',' << c.cold_ms << '\n';
+                << c.rmse_display << ',' << c.rmse_8bit << ',' << (c.by_weight ? 1 : 0) << ',' << c.cold_ms
+                << '\n';
         }
     return md;
 }
@@ -232,16 +233,16 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
                   "light cache off and on, "
                   "one frame each (no history); %zu skipped (a candidate with no more samples already cost at least "
                   "the cheapest meeting the target). The all-on row searches the same features (the denoiser is a "
-                  "candidate setting). Frame ms: GPU medians of %u frames, after a second of frames at the start and %.2f s "
-                  "of each configuration's own (cold ms: the same medians right after the previous configuration's "
-                  "error frames, with one frame before them); RT flat %.3f ms "
+                  "candidate setting). Frame ms: GPU medians of %u frames, after a second of frames at the start "
+                  "and %.2f s of each configuration's own (cold ms: the same medians right after the previous "
+                  "configuration's error frames, with one frame before them); RT flat %.3f ms "
                   "(timed first and last: %.3f and %.3f ms; the faster), %u reflection bounces. "
                   "Frames rendered: %llu, and %llu to warm up.\n\n",
                   info.lighting == "thesis" ? "thesis (one area light)" : "default (sun, sky light, area light)",
                   reference_frames(info.reference_spp) * 8, kReferenceSeed, info.seeds,
                   info.display_metric ? "the output before its 8-bit rounding" : "the 8-bit output", skipped,
-                  info.repeat, info.warmup_s, flat_ms, flat_first, flat_last, info.reflections, (unsigned long long)ctx.frames,
-                  (unsigned long long)ctx.warmup);
+                  info.repeat, info.warmup_s, flat_ms, flat_first, flat_last, info.reflections,
+                  (unsigned long long)ctx.frames, (unsigned long long)ctx.warmup);
     std::string md = head + rows_table(sets, flat_ms);
     std::ofstream csv(info.out + "/equal_error.csv");
     md += candidates_table(sets, flat_ms, csv);

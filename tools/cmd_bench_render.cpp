@@ -255,7 +255,8 @@ int run_bench_render(const BenchRenderArgs& a) {
                      std::to_string(base.width) + "x" + std::to_string(base.height) + ", device " + r.device().name +
                      ". GPU times are medians of " + std::to_string(a.repeat) + " frames (timestamps), after " +
                      std::to_string(a.warmup_ms) +
-                     " ms of each configuration's frames; the machine may be shared: read them side by side.\n\n";
+                     " ms of each configuration's frames; the machine may be shared: read them side by "
+                     "side.\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
@@ -393,7 +394,8 @@ int run_bench_render_command(int argc, char** argv) {
         ->check(CLI::Range(8u, 1u << 20));
     app.add_option("--repeat", a.repeat, "Frames per configuration (medians)")->check(CLI::Range(1u, 10000u));
     app.add_option("--warmup-ms", a.warmup_ms,
-                   "Milliseconds of a configuration's own frames before its timed ones (default 250; 0: one frame)")
+                   "Milliseconds of a configuration's own frames before its timed ones (default 250; 0: one "
+                   "frame)")
         ->check(CLI::Range(0u, 60000u));
     app.add_option("--reflections", a.reflections,
                    "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");

@@ -306,7 +306,8 @@ TEST(CliRender, SampleSeedPicksTheSamples) {
 TEST(CliRender, BenchRenderTableRatios) {
     const std::string out = dir() + "/bench_ratios";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 "
-                        "--reference-spp 8 --reflections 1 --lighting thesis --sections report --warmup-ms 20 --out " +
+                        "--reference-spp 8 --reflections 1 --lighting thesis --sections report --warmup-ms 20 "
+                        "--out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string text = read_text(out + "/render_report.md");
@@ -327,7 +328,8 @@ TEST(CliRender, BenchRenderTableRatios) {
 TEST(CliRender, BenchRenderEqualError) {
     const std::string out = dir() + "/bench_equal_error";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 --reference-spp 8 "
-                        "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --warmup-ms 20 --out " +
+                        "--reflections 1 --lighting thesis --sections equal-error --error-seeds 2 --warmup-ms 20 "
+                        "--out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
     // The bound printed first holds (the second of warm-up frames is counted apart).
