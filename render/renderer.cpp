@@ -129,6 +129,15 @@ struct Renderer::Impl {
     std::unique_ptr<LightCache> light_cache;
     bool frame_cached = false;
     uint32_t light_cache_cell_limit = 0; // Renderer::limit_light_cache_cells.
+    // RenderSettings::first_hit_pass: each frame slot's paths between the two passes
+    // (gpu::PathState per pixel, made by prepare_frame), and whether the frame being recorded
+    // traces in two passes.
+    std::array<Buffer, kFramesInFlight> path_states;
+    bool frame_two_pass = false;
+    static bool two_pass(const RenderSettings& s) {
+        return s.first_hit_pass && s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full &&
+               s.max_bounces > 0 && !cache_active(s);
+    }
     EditMarks edit_marks; // Edits since the last traced frame (note_edit); write_params takes them.
     static bool cache_active(const RenderSettings& s) {
         return s.light_cache && s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full;
@@ -493,6 +502,16 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         if (!denoiser->ready())
             return out_of_memory("the denoiser's images");
     }
+    if (two_pass(s)) {
+        Buffer& states = path_states[slot];
+        const VkDeviceSize bytes = pixels * sizeof(gpu::PathState);
+        if (!states.valid() || states.size() != bytes) {
+            states = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, 0,
+                                           "path states between the trace passes"});
+            if (!states.valid())
+                return out_of_memory("the paths between the two trace passes");
+        }
+    }
     if (cache_active(s)) {
         if (!light_cache)
             light_cache = std::make_unique<LightCache>(*ctx, pipeline->set_layout());
@@ -661,6 +680,7 @@ void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s
             traced.seed = s.seed + uint32_t(ctx->frame_number());
         write_params(traced, cam);
         write_descriptors();
+        frame_two_pass = two_pass(s);
         record_trace(cmd, s.width, s.height, s.mode == ShadingMode::Flat);
         if (metering[ctx->frame_slot()])
             memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
@@ -689,7 +709,16 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
         light_cache->record_clear(cmd);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
-    pipeline->trace(cmd, width, height, flat, frame_samples_faces);
+    if (frame_two_pass) { // RenderSettings::first_hit_pass: the second pass reads what the first saved.
+        const VkDeviceAddress states = path_states[ctx->frame_slot()].address();
+        pipeline->trace(cmd, width, height, flat, frame_samples_faces, {states, gpu::kTraceFirstHit, 0u});
+        memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        pipeline->trace(cmd, width, height, flat, frame_samples_faces, {states, gpu::kTraceBounces, 0u});
+    } else {
+        pipeline->trace(cmd, width, height, flat, frame_samples_faces, {0u, gpu::kTraceWhole, 0u});
+    }
     if (frame_cached) // Part of the trace's time (stamp 3).
         light_cache->record_resolve(cmd, sets[ctx->frame_slot()], width, height);
     stamp(cmd, 3);

@@ -140,6 +140,12 @@ struct RenderSettings {
     // bounces take 3/16, 3/64, ... of them. Not worth it where every hit weighs alike (a field of
     // 0.9 mirrors: docs/render_report.md, stop 22).
     bool samples_by_weight = false;
+    // Full shading with reflections, without the light cache: trace the primary hits and their
+    // light in one dispatch and the mirror bounces in a second, which continues the paths the
+    // first saved (80 bytes a pixel per frame slot, made at the first such frame). The first
+    // hit's many coherent shadow rays then run apart from the bounces' scattered ones (H200:
+    // docs/render_report.md, stop 28). Same image; ignored where it cannot apply.
+    bool first_hit_pass = false;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     uint32_t seed = 1;           // Same seed, same image.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).

@@ -62,9 +62,12 @@ void RtPipeline::create_layouts() {
     ci.pBindings = bindings;
     VK_CHECK(vkCreateDescriptorSetLayout(m_ctx->device(), &ci, nullptr, &m_set_layout));
     m_ctx->set_name(m_set_layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "rt set layout");
+    const VkPushConstantRange push{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof(gpu::TracePush)};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
     pl.pSetLayouts = &m_set_layout;
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &push;
     VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
     m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "rt pipeline layout");
 }
@@ -169,11 +172,13 @@ bool RtPipeline::create_sbt(Variant& v, const char* name) {
     return true;
 }
 
-void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces) const {
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
+                       const gpu::TracePush& push) const {
     const bool faces = sample_faces && !flat; // Flat shades nothing.
     const Variant& v = m_variants[faces ? 1 : 0];
     VX_ASSERT_MSG(v.pipeline != VK_NULL_HANDLE, "trace: the emitter faces' variant was not made (ensure_faces_variant)");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, v.pipeline);
+    vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof push, &push);
     vkCmdTraceRaysKHR(cmd, flat ? &v.raygen_flat : &v.raygen, &v.miss, &v.hit, &v.callable, width, height, 1);
 }
 

@@ -12,6 +12,7 @@
 
 #include <array>
 
+#include "render/gpu_layouts.h"
 #include "render/resources.h"
 
 namespace vx::render {
@@ -30,10 +31,12 @@ public:
     // shader binding table (nothing made; a later call tries again).
     bool ensure_faces_variant();
 
-    // Binds the variant that samples emitter faces or not (that one made by ensure_faces_variant)
-    // and records vkCmdTraceRaysKHR over width x height with its SBT regions; `flat` picks the Flat
-    // raygen (FrameParams mode Flat), else the full-shading one. The caller binds the descriptor set.
-    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces) const;
+    // Binds the variant that samples emitter faces or not (that one made by ensure_faces_variant),
+    // pushes `push` (which pass, gpu::TracePush) and records vkCmdTraceRaysKHR over width x height
+    // with its SBT regions; `flat` picks the Flat raygen (FrameParams mode Flat), else the
+    // full-shading one. The caller binds the descriptor set.
+    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
+               const gpu::TracePush& push) const;
 
 private:
     struct Variant {

@@ -1,0 +1,115 @@
+// The first hit's own pass (RenderSettings::first_hit_pass): two dispatches, the second going on
+// from the paths the first saved, make the same image and G-buffer as one; its buffer's failure
+// is reported and the next frame renders; where it cannot apply it changes nothing.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "scene_util.h"
+
+namespace vx::render {
+namespace {
+
+using test::RendererTest;
+
+// A glazed floor [-12, 12) x [0, 1) x [-12, 12), a mirror wall along x = 0 (z in [-12, 12), y up
+// to 6) and a glass block on the floor: paths reflect up to three times, some through glass.
+world::World hall() {
+    world::World w;
+    test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("glazed"));
+    test::fill_box(w, {0, 1, -12}, {1, 7, 12}, test::block_id("mirror"));
+    test::fill_box(w, {-5, 1, -1}, {-4, 2, 0}, test::block_id("glass"));
+    return w;
+}
+
+// The default lights (sun, sky, area light, haze), a soft area light to one side.
+RenderSettings lit() {
+    RenderSettings s;
+    s.width = 64;
+    s.height = 48;
+    s.light.block = {4, 20, -8};
+    s.light.edge_u = {10, 0, 0};
+    s.light.edge_v = {0, 0, 16};
+    s.light.emission = glm::vec3(3.f);
+    s.shadow_samples = 4;
+    s.bounce_shadow_samples = 2;
+    s.max_bounces = 3;
+    return s;
+}
+
+const Camera kView = Camera::look_at({-10.5, 7.0, 2.3}, {-1.0, 2.0, 0.0});
+
+// How many values of a and b differ (each channel of each pixel).
+template <class T> size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
+    EXPECT_EQ(a.size(), b.size());
+    size_t n = 0;
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        n += a[i] != b[i] ? 1 : 0;
+    return n;
+}
+
+size_t differing_gbuffers(const GBufferImage& a, const GBufferImage& b) {
+    return differing(a.radiance, b.radiance) + differing(a.albedo, b.albedo) +
+           differing(a.normal_depth, b.normal_depth) + differing(a.reflected, b.reflected) +
+           differing(a.display, b.display);
+}
+
+// Byte for byte the same output and G-buffer, in plain, by-weight and denoised frames. Control:
+// the reflections change the image (so the second pass had work, and did it as one pass would).
+TEST_F(RendererTest, FirstHitPassGivesTheSameImage) {
+    test::load_meshes(*m_renderer, test::mesh_world(hall()));
+    for (int variant = 0; variant < 3; ++variant) {
+        RenderSettings s = lit();
+        s.samples_by_weight = variant == 1;
+        s.denoise = variant == 2;
+        GBufferImage one_g, two_g;
+        const RenderImage one = m_renderer->render(s, kView, &one_g);
+        s.first_hit_pass = true;
+        const RenderImage two = m_renderer->render(s, kView, &two_g);
+        EXPECT_EQ(differing(one.rgba, two.rgba), 0u) << "variant " << variant;
+        EXPECT_EQ(differing_gbuffers(one_g, two_g), 0u) << "variant " << variant;
+        s.max_bounces = 0;
+        const RenderImage flat_mirrors = m_renderer->render(s, kView);
+        const size_t changed = differing(one.rgba, flat_mirrors.rgba);
+        std::printf("variant %d: %zu of %zu channels change without reflections\n", variant, changed,
+                    one.rgba.size());
+        EXPECT_GT(changed, one.rgba.size() / 10) << "variant " << variant;
+    }
+}
+
+// Out of memory for the paths between the passes: the frame fails with a clear line, and the
+// next one (the allocation possible again) is the one-pass image. Frames that cannot use the
+// split (no reflections; the light cache) never ask for that buffer and do not change.
+TEST_F(RendererTest, FirstHitPassBufferFailureIsReported) {
+    test::load_meshes(*m_renderer, test::mesh_world(hall()));
+    RenderSettings s = lit();
+    const RenderImage expected = m_renderer->render(s, kView);
+    s.first_hit_pass = true;
+    m_renderer->fail_allocations("path states");
+    Result<RenderImage> failed = m_renderer->try_render(s, kView);
+    ASSERT_FALSE(failed);
+    EXPECT_NE(failed.error().find("out of GPU memory for the paths between the two trace passes"), std::string::npos)
+        << failed.error();
+    EXPECT_EQ(failed.error().find('\n'), std::string::npos);
+    for (bool cache : {false, true}) { // Cannot apply: no second buffer is asked for.
+        RenderSettings other = s;
+        other.max_bounces = cache ? 3 : 0;
+        other.light_cache = cache;
+        Result<RenderImage> ok = m_renderer->try_render(other, kView);
+        ASSERT_TRUE(ok) << ok.error();
+        other.first_hit_pass = false;
+        const RenderImage plain = m_renderer->render(other, kView);
+        // The light cache's cells fill in the order hits arrive: a step of rounding may differ.
+        int worst = 0;
+        for (size_t i = 0; i < std::min(ok->rgba.size(), plain.rgba.size()); ++i)
+            worst = std::max(worst, std::abs(int(ok->rgba[i]) - int(plain.rgba[i])));
+        EXPECT_LE(worst, cache ? 1 : 0) << (cache ? "light cache" : "no reflections");
+    }
+    m_renderer->fail_allocations("");
+    Result<RenderImage> img = m_renderer->try_render(s, kView);
+    ASSERT_TRUE(img) << img.error();
+    EXPECT_EQ(differing(img->rgba, expected.rgba), 0u);
+}
+
+} // namespace
+} // namespace vx::render
