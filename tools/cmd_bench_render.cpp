@@ -59,6 +59,7 @@ struct BenchRenderArgs {
     uint32_t error_seeds = 4;                           // Equal error: sample seeds per RMSE.
     std::string error_metric = "display";               // Equal error: display (before 8-bit rounding) or 8bit.
     uint32_t warmup_ms = 250; // Frames of a configuration before its timed ones (time_frames()).
+    std::string first_hit_pass = "off"; // render::RenderSettings::first_hit_pass of every row.
 };
 
 struct Config {
@@ -240,6 +241,7 @@ int run_bench_render(const BenchRenderArgs& a) {
         if (mc.mesh.quad_count() > 0)
             r.set_chunk(c, mc.mesh);
     const render::Camera cam = default_view(*scene, base);
+    base.first_hit_pass = a.first_hit_pass == "on";
     if (a.lighting == "thesis") { // As `vx render --lighting thesis`: the area light alone.
         base.sun.irradiance = glm::vec3(0.f);
         base.sky_light = 0.f;
@@ -256,7 +258,7 @@ int run_bench_render(const BenchRenderArgs& a) {
                      ". GPU times are medians of " + std::to_string(a.repeat) + " frames (timestamps), after " +
                      std::to_string(a.warmup_ms) +
                      " ms of each configuration's frames; the machine may be shared: read them side by "
-                     "side.\n\n";
+                     "side. First hit's own pass: " + a.first_hit_pass + ".\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
@@ -397,6 +399,10 @@ int run_bench_render_command(int argc, char** argv) {
                    "Milliseconds of a configuration's own frames before its timed ones (default 250; 0: one "
                    "frame)")
         ->check(CLI::Range(0u, 60000u));
+    app.add_option("--first-hit-pass", a.first_hit_pass,
+                   "on: every ray-traced row traces the primary hits' light in a pass of its own, then the "
+                   "reflections (render::RenderSettings::first_hit_pass; the same images)")
+        ->check(CLI::IsMember({"on", "off"}));
     app.add_option("--reflections", a.reflections,
                    "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");

@@ -42,6 +42,7 @@ struct RenderArgs {
     uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
     std::string samples_by = "count"; // --samples-by: count (--spp, --bounce-spp) or weight.
+    std::string first_hit_pass = "off"; // --first-hit-pass (render::RenderSettings::first_hit_pass).
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
     bool validation = false;
@@ -118,6 +119,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.samples_by_weight = a.samples_by == "weight";
+    s.first_hit_pass = a.first_hit_pass == "on";
     s.max_bounces = a.reflections;
     s.seed = a.sample_seed;
     if (a.sun == "off") {
@@ -491,6 +493,10 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "count: --spp at the first hit, --bounce-spp on bounces; weight: every hit ceil(--spp x its "
                     "weight in the pixel), at least 1 (render::RenderSettings::samples_by_weight)")
         ->check(CLI::IsMember({"count", "weight"}));
+    cmd->add_option("--first-hit-pass", a->first_hit_pass,
+                    "on: trace the primary hits' light in a pass of its own, then the reflections (the same "
+                    "image; render::RenderSettings::first_hit_pass)")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
     cmd->add_option("--sun-radius", a->sun_radius, "Angular radius of the sun's disc, degrees (soft shadows)");
     cmd->add_option("--sky-light", a->sky_light, "Sky term: scale of the sky's light on surfaces (0: none)");

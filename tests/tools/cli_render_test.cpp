@@ -285,6 +285,16 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
     const CliRun bad_by = vx("render " + view + "--samples-by luck", kEnv);
     EXPECT_EQ(bad_by.code, 2) << bad_by.out;
     EXPECT_NE(bad_by.out.find("--samples-by"), std::string::npos) << bad_by.out;
+    // The first hit's own pass (render::RenderSettings::first_hit_pass): the same picture; a bad
+    // value is exit 2.
+    const std::string one_pass = dir() + "/one_pass.png", two_passes = dir() + "/two_passes.png";
+    render(view + one + "--first-hit-pass off --out " + one_pass);
+    render(view + one + "--first-hit-pass on --out " + two_passes);
+    EXPECT_EQ(read_png(one_pass).rgba, read_png(two_passes).rgba);
+    EXPECT_FALSE(read_png(one_pass).rgba.empty());
+    const CliRun bad_pass = vx("render " + view + "--first-hit-pass twice", kEnv);
+    EXPECT_EQ(bad_pass.code, 2) << bad_pass.out;
+    EXPECT_NE(bad_pass.out.find("--first-hit-pass"), std::string::npos) << bad_pass.out;
 }
 
 // --sample-seed: the same seed gives the same picture, another seed other samples (1 spp: every
@@ -307,11 +317,12 @@ TEST(CliRender, BenchRenderTableRatios) {
     const std::string out = dir() + "/bench_ratios";
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --repeat 1 "
                         "--reference-spp 8 --reflections 1 --lighting thesis --sections report --warmup-ms 20 "
-                        "--out " +
+                        "--first-hit-pass on --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("after 20 ms of each configuration's frames"), std::string::npos) << text;
+    EXPECT_NE(text.find("First hit's own pass: on."), std::string::npos) << text;
     EXPECT_NE(text.find("Lighting: thesis"), std::string::npos) << text;
     EXPECT_NE(text.find("| x RT flat | x all off | thesis x all off |"), std::string::npos) << text;
     const size_t off = text.find("| RT full: shadows off, reflections (1 bounces) off, denoiser off |");
