@@ -12,15 +12,8 @@ namespace {
 
 using test::RendererTest;
 
-// A glazed floor [-12, 12) x [0, 1) x [-12, 12), a mirror wall along x = 0 (z in [-12, 12), y up
-// to 6) and a glass block on the floor: paths reflect up to three times, some through glass.
-world::World hall() {
-    world::World w;
-    test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("glazed"));
-    test::fill_box(w, {0, 1, -12}, {1, 7, 12}, test::block_id("mirror"));
-    test::fill_box(w, {-5, 1, -1}, {-4, 2, 0}, test::block_id("glass"));
-    return w;
-}
+// Over the glazed floor towards the mirror wall (hall()).
+const Camera kView = Camera::look_at({-10.5, 7.0, 2.3}, {-1.0, 2.0, 0.0});
 
 // The default lights (sun, sky, area light, haze), a soft area light to one side.
 RenderSettings lit() {
@@ -37,7 +30,15 @@ RenderSettings lit() {
     return s;
 }
 
-const Camera kView = Camera::look_at({-10.5, 7.0, 2.3}, {-1.0, 2.0, 0.0});
+// A glazed floor [-12, 12) x [0, 1) x [-12, 12), a mirror wall along x = 0 (z in [-12, 12), y up
+// to 6) and a glass block on the floor: paths reflect up to three times, some through glass.
+world::World hall() {
+    world::World w;
+    test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("glazed"));
+    test::fill_box(w, {0, 1, -12}, {1, 7, 12}, test::block_id("mirror"));
+    test::fill_box(w, {-5, 1, -1}, {-4, 2, 0}, test::block_id("glass"));
+    return w;
+}
 
 // How many values of a and b differ (each channel of each pixel).
 template <class T> size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
