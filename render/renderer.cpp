@@ -130,10 +130,8 @@ struct Renderer::Impl {
     bool frame_cached = false;
     uint32_t light_cache_cell_limit = 0; // Renderer::limit_light_cache_cells.
     // RenderSettings::first_hit_pass: each frame slot's paths between the two passes
-    // (gpu::PathState per pixel, made by prepare_frame), and whether the frame being recorded
-    // traces in two passes.
+    // (gpu::PathState per pixel, made by prepare_frame); two_pass(s): whether a frame of `s` uses them.
     std::array<Buffer, kFramesInFlight> path_states;
-    bool frame_two_pass = false;
     static bool two_pass(const RenderSettings& s) {
         return s.first_hit_pass && s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full &&
                s.max_bounces > 0 && !cache_active(s);
@@ -213,7 +211,7 @@ struct Renderer::Impl {
     void write_descriptors();
     Status record_scene(VkCommandBuffer cmd, const Camera& cam);
     void record_shading(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
-    void record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat);
+    void record_trace(VkCommandBuffer cmd, const RenderSettings& s);
     void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     uint32_t raster_chunks = 0; // Chunks the last frame's raster pass drew.
     static bool denoise_active(const RenderSettings& s) {
@@ -680,8 +678,7 @@ void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s
             traced.seed = s.seed + uint32_t(ctx->frame_number());
         write_params(traced, cam);
         write_descriptors();
-        frame_two_pass = two_pass(s);
-        record_trace(cmd, s.width, s.height, s.mode == ShadingMode::Flat);
+        record_trace(cmd, s);
         if (metering[ctx->frame_slot()])
             memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                            VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
@@ -694,7 +691,9 @@ void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s
     stamped[ctx->frame_slot()] = queries != VK_NULL_HANDLE;
 }
 
-void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat) {
+void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) {
+    const uint32_t width = s.width, height = s.height;
+    const bool flat = s.mode == ShadingMode::Flat;
     image_barrier(cmd, target().handle(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                   VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -709,7 +708,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, uint32_t width, uint32_t 
         light_cache->record_clear(cmd);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
-    if (frame_two_pass) { // RenderSettings::first_hit_pass: the second pass reads what the first saved.
+    if (two_pass(s)) { // RenderSettings::first_hit_pass: the second pass reads what the first saved.
         const VkDeviceAddress states = path_states[ctx->frame_slot()].address();
         pipeline->trace(cmd, width, height, flat, frame_samples_faces, {states, gpu::kTraceFirstHit, 0u});
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
