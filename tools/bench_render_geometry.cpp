@@ -13,6 +13,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bench_render_frames.h"
 #include "world/base/median.h"
 #include "world/mesh/apron.h"
 #include "world/mesh/edit_mesher.h"
@@ -66,18 +67,15 @@ MeshedScene mesh_scene(const engine::LoadedScene& scene, MesherKind kind) {
     return out;
 }
 
-// Medians over `repeat` frames (after one warm-up) of the GPU trace (or raster pass) time.
+// Medians over `repeat` frames (after one warm-up) of the GPU trace (or raster pass) time:
+// time_frames() without a warm-up window, as these rows were always timed.
 double trace_ms(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
                 render::RenderImage* image = nullptr) {
-    r.render(s, cam);
-    std::vector<double> v;
-    for (uint32_t i = 0; i < repeat; ++i) {
-        render::RenderImage img = r.render(s, cam);
-        v.push_back(r.last_stats().gpu_trace_ms);
-        if (image)
-            *image = std::move(img);
-    }
-    return median(v);
+    render::RenderImage last;
+    const double ms = time_frames(r, s, cam, repeat, &last).trace;
+    if (image)
+        *image = std::move(last);
+    return ms;
 }
 
 struct TraceRows {
