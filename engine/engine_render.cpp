@@ -34,6 +34,7 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.shadow_samples = s.shadow_samples;
     r.bounce_shadow_samples = s.bounce_shadow_samples;
     r.samples_by_weight = s.samples_by_weight;
+    r.split_hits = s.split_hits;
     r.max_bounces = s.max_bounces;
     r.sky = s.sky;
     r.sky_light = s.sky_light;

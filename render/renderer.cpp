@@ -129,12 +129,21 @@ struct Renderer::Impl {
     std::unique_ptr<LightCache> light_cache;
     bool frame_cached = false;
     uint32_t light_cache_cell_limit = 0; // Renderer::limit_light_cache_cells.
-    // RenderSettings::first_hit_pass: each frame slot's paths between the two passes
-    // (gpu::PathState per pixel, made by prepare_frame); two_pass(s): whether a frame of `s` uses them.
+    // RenderSettings::split_hits: each frame slot's paths between the passes and their lists
+    // (shaders/shared/render_types.h, TracePush; made by prepare_frame); split_hits(s): the hits a
+    // frame of `s` traces in passes of their own (0: one pass, no paths kept). A later pass runs
+    // one row of an invocation per pixel: frames wider than the device allows in one row (the
+    // compute limits bound a trace's width) take one pass.
     std::array<Buffer, kFramesInFlight> path_states;
-    static bool two_pass(const RenderSettings& s) {
-        return s.first_hit_pass && s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full &&
-               s.max_bounces > 0 && !cache_active(s);
+    uint32_t split_hits(const RenderSettings& s) const {
+        const VkPhysicalDeviceLimits& l = ctx->limits();
+        const uint64_t row = uint64_t(l.maxComputeWorkGroupCount[0]) * l.maxComputeWorkGroupSize[0];
+        const bool applies = s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full &&
+                             !cache_active(s) && uint64_t(s.width) * s.height <= row;
+        return applies ? std::min({s.split_hits, s.max_bounces, gpu::kMaxSplitHits}) : 0u;
+    }
+    static VkDeviceSize path_counters_offset(VkDeviceSize pixels) {
+        return pixels * (sizeof(gpu::PathState) + 2 * sizeof(uint32_t));
     }
     EditMarks edit_marks; // Edits since the last traced frame (note_edit); write_params takes them.
     static bool cache_active(const RenderSettings& s) {
@@ -500,14 +509,15 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         if (!denoiser->ready())
             return out_of_memory("the denoiser's images");
     }
-    if (two_pass(s)) {
+    if (split_hits(s) > 0) {
         Buffer& states = path_states[slot];
-        const VkDeviceSize bytes = pixels * sizeof(gpu::PathState);
+        const VkDeviceSize bytes = path_counters_offset(pixels) + gpu::kMaxSplitHits * sizeof(uint32_t);
         if (!states.valid() || states.size() != bytes) {
-            states = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, 0,
+            states = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                           MemoryUse::Device, 0,
                                            "path states between the trace passes"});
             if (!states.valid())
-                return out_of_memory("the paths between the two trace passes");
+                return out_of_memory("the paths between the trace passes");
         }
     }
     if (cache_active(s)) {
@@ -708,15 +718,28 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
         light_cache->record_clear(cmd);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline->layout(), 0, 1,
                             &sets[ctx->frame_slot()], 0, nullptr);
-    if (two_pass(s)) { // RenderSettings::first_hit_pass: the second pass reads what the first saved.
-        const VkDeviceAddress states = path_states[ctx->frame_slot()].address();
-        pipeline->trace(cmd, width, height, flat, frame_samples_faces, {states, gpu::kTraceFirstHit, 0u});
-        memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+    // RenderSettings::split_hits: hit i < split in a pass of its own, each later pass going on
+    // with the paths the last listed (one row of an invocation per pixel, those past the list's
+    // end return at once); then the rest of every path. The lists' counters start at 0.
+    const uint32_t split = split_hits(s);
+    VkDeviceAddress states = 0;
+    if (split > 0) {
+        const Buffer& b = path_states[ctx->frame_slot()];
+        vkCmdFillBuffer(cmd, b.handle(), path_counters_offset(VkDeviceSize(width) * height),
+                        gpu::kMaxSplitHits * sizeof(uint32_t), 0u);
+        memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-        pipeline->trace(cmd, width, height, flat, frame_samples_faces, {states, gpu::kTraceBounces, 0u});
-    } else {
-        pipeline->trace(cmd, width, height, flat, frame_samples_faces, {0u, gpu::kTraceWhole, 0u});
+        states = b.address();
+    }
+    for (uint32_t hit = 0; hit <= split; ++hit) {
+        const bool first = hit == 0;
+        pipeline->trace(cmd, first ? width : width * height, first ? height : 1u, flat, frame_samples_faces,
+                        {states, hit, hit < split ? hit : gpu::kTraceToEnd});
+        if (hit < split)
+            memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
     if (frame_cached) // Part of the trace's time (stamp 3).
         light_cache->record_resolve(cmd, sets[ctx->frame_slot()], width, height);

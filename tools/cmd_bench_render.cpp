@@ -59,7 +59,8 @@ struct BenchRenderArgs {
     uint32_t error_seeds = 4;                           // Equal error: sample seeds per RMSE.
     std::string error_metric = "display";               // Equal error: display (before 8-bit rounding) or 8bit.
     uint32_t warmup_ms = 250; // Frames of a configuration before its timed ones (time_frames()).
-    std::string first_hit_pass = "off"; // render::RenderSettings::first_hit_pass of every row.
+    std::string first_hit_pass = "off"; // on: --split-hits 1.
+    uint32_t split_hits = 0;            // render::RenderSettings::split_hits of every row.
 };
 
 struct Config {
@@ -241,7 +242,7 @@ int run_bench_render(const BenchRenderArgs& a) {
         if (mc.mesh.quad_count() > 0)
             r.set_chunk(c, mc.mesh);
     const render::Camera cam = default_view(*scene, base);
-    base.first_hit_pass = a.first_hit_pass == "on";
+    base.split_hits = a.first_hit_pass == "on" ? std::max(a.split_hits, 1u) : a.split_hits;
     if (a.lighting == "thesis") { // As `vx render --lighting thesis`: the area light alone.
         base.sun.irradiance = glm::vec3(0.f);
         base.sky_light = 0.f;
@@ -258,7 +259,8 @@ int run_bench_render(const BenchRenderArgs& a) {
                      ". GPU times are medians of " + std::to_string(a.repeat) + " frames (timestamps), after " +
                      std::to_string(a.warmup_ms) +
                      " ms of each configuration's frames; the machine may be shared: read them side by "
-                     "side. First hit's own pass: " + a.first_hit_pass + ".\n\n";
+                     "side. Hits in passes of their own (split hits): " + std::to_string(base.split_hits) +
+                     ".\n\n";
     char line[512];
     const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
     const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
@@ -401,8 +403,12 @@ int run_bench_render_command(int argc, char** argv) {
         ->check(CLI::Range(0u, 60000u));
     app.add_option("--first-hit-pass", a.first_hit_pass,
                    "on: every ray-traced row traces the primary hits' light in a pass of its own, then the "
-                   "reflections (render::RenderSettings::first_hit_pass; the same images)")
+                   "reflections (--split-hits 1; the same images)")
         ->check(CLI::IsMember({"on", "off"}));
+    app.add_option("--split-hits", a.split_hits,
+                   "Every ray-traced row traces the first N hits of each path each in a pass of its own, then "
+                   "the rest (render::RenderSettings::split_hits; the same images); 0: one pass")
+        ->check(CLI::Range(0u, 64u));
     app.add_option("--reflections", a.reflections,
                    "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");

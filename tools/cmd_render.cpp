@@ -42,7 +42,8 @@ struct RenderArgs {
     uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
     std::string samples_by = "count"; // --samples-by: count (--spp, --bounce-spp) or weight.
-    std::string first_hit_pass = "off"; // --first-hit-pass (render::RenderSettings::first_hit_pass).
+    std::string first_hit_pass = "off"; // --first-hit-pass: on is --split-hits 1.
+    uint32_t split_hits = 0;            // --split-hits (render::RenderSettings::split_hits).
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
     bool validation = false;
@@ -119,7 +120,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.samples_by_weight = a.samples_by == "weight";
-    s.first_hit_pass = a.first_hit_pass == "on";
+    s.split_hits = a.first_hit_pass == "on" ? std::max(a.split_hits, 1u) : a.split_hits;
     s.max_bounces = a.reflections;
     s.seed = a.sample_seed;
     if (a.sun == "off") {
@@ -495,8 +496,12 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
         ->check(CLI::IsMember({"count", "weight"}));
     cmd->add_option("--first-hit-pass", a->first_hit_pass,
                     "on: trace the primary hits' light in a pass of its own, then the reflections (the same "
-                    "image; render::RenderSettings::first_hit_pass)")
+                    "image; --split-hits 1)")
         ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--split-hits", a->split_hits,
+                    "Trace the first N hits of every path each in a pass of its own, then the rest (the same "
+                    "image; render::RenderSettings::split_hits); 0: one pass")
+        ->check(CLI::Range(0u, 64u));
     cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
     cmd->add_option("--sun-radius", a->sun_radius, "Angular radius of the sun's disc, degrees (soft shadows)");
     cmd->add_option("--sky-light", a->sky_light, "Sky term: scale of the sky's light on surfaces (0: none)");

@@ -12,28 +12,31 @@ VX_CONST uint kModeFlat = 0;       // Albedo of the hit block, sky colour on a m
 VX_CONST uint kModeFull = 1;       // Sun, sky, area light, emitters, reflections; HDR, tone-mapped.
 VX_CONST uint kModeVisibility = 2; // Fraction of unoccluded shadow samples at the primary hit.
 
-// The ray generation's passes (TracePush.pass). One dispatch traces whole paths (kTraceWhole), or
-// two do (RenderSettings::first_hit_pass): kTraceFirstHit shades the primary hit and saves each
-// path that goes on (a PathState), kTraceBounces continues those from the first bounce. The
-// first hit's many coherent shadow rays then do not share the GPU with the bounces' scattered
-// rays (H200: 25 first-hit samples cost 10.0 ms alone, 15.9 ms beside 5 bounces;
-// docs/render_report.md, stop 28). The image is the same.
-VX_CONST uint kTraceWhole = 0;
-VX_CONST uint kTraceFirstHit = 1;
-VX_CONST uint kTraceBounces = 2;
+// The ray generation's passes (TracePush). One dispatch traces whole paths (first_hit 0,
+// last_hit kTraceToEnd), or several do (RenderSettings::split_hits): each shades the hits
+// first_hit..last_hit of its paths, the next continuing the paths the last saved (a PathState
+// each) and listed. The first hit's many coherent shadow rays then do not share the GPU with the
+// bounces' scattered rays (H200: 25 first-hit samples cost 10.0 ms alone, 15.9 ms beside 5
+// bounces; docs/render_report.md, stop 28), and a later pass runs only over the paths still
+// going (a dense list: no warp waits on ended paths). The image is the same.
+//
+// The paths' buffer (TracePush.path_states), for P pixels: PathState[P]; two lists of live paths
+// (uint pixel index each, P long), pass k appending to list k % 2; then kMaxSplitHits counters,
+// counter k the length of pass k's list (zeroed before the first pass).
+VX_CONST uint kTraceToEnd = 0xffffffffu;
+VX_CONST uint kMaxSplitHits = 64;
 
 // Push constants of the ray generation (raygen.rgen; the Flat one reads none).
 struct TracePush {
-    uint64_t path_states; // Address of PathState[width * height] (two passes), else 0.
-    uint pass;            // kTraceWhole, kTraceFirstHit or kTraceBounces.
-    uint pad;
+    uint64_t path_states; // Address of PathState[width * height] (several passes), else 0.
+    uint first_hit;       // The first hit this dispatch shades (0: the primary hit).
+    uint last_hit;        // The last (kTraceToEnd: to the path's end); a path going on is saved.
 };
 
-// A path between the two passes, at its first bounce (pixel x + width y). `throughput_go.w` holds
-// the bits of a uint: 1 = the path goes on (the rest is set), 0 = it ended in the first pass.
+// A path between two passes, at the bounce the next pass starts from (pixel x + width y).
 struct PathState {
     vec4 origin_length;      // xyz: the bounce ray's origin (origin-relative blocks); w: path length so far.
-    vec4 throughput_go;      // xyz: the path's throughput; w: uint bits, 1 = goes on.
+    vec4 throughput;         // xyz: the path's throughput; w: 0.
     vec4 direction_variance; // xyz: the bounce ray's unit direction; w: the primary hit's variance.
     vec4 radiance_occluder;  // xyz: radiance so far; w: the primary hit's occluder distance.
     vec4 reflected;          // xyz: the reflected part so far (render/gbuffer.h); w: 0.

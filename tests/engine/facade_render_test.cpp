@@ -229,6 +229,16 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     std::printf("samples by weight: %zu pixels change, %zu with glazed blocks in view\n", matte, glazed);
     EXPECT_LE(matte, 48u * 32u / 100u);
     EXPECT_GT(glazed, matte + 4);
+
+    // Hits in passes of their own reach the renderer: the same picture of the glazed slab (its
+    // paths go on through the passes; render/split_hits_test.cpp checks the G-buffer too), and
+    // the paths' buffer (88 bytes a pixel) is held.
+    vx::RenderSettings split = day;
+    const vx::Image one_pass = render(split);
+    const uint64_t before = e.stats().gpu_memory_used_bytes;
+    split.split_hits = 2;
+    EXPECT_EQ(render(split).rgba, one_pass.rgba);
+    EXPECT_GE(e.stats().gpu_memory_used_bytes, before + 48u * 32u * 88u);
     EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 

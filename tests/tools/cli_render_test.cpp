@@ -285,16 +285,22 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
     const CliRun bad_by = vx("render " + view + "--samples-by luck", kEnv);
     EXPECT_EQ(bad_by.code, 2) << bad_by.out;
     EXPECT_NE(bad_by.out.find("--samples-by"), std::string::npos) << bad_by.out;
-    // The first hit's own pass (render::RenderSettings::first_hit_pass): the same picture; a bad
-    // value is exit 2.
-    const std::string one_pass = dir() + "/one_pass.png", two_passes = dir() + "/two_passes.png";
+    // Hits in passes of their own (render::RenderSettings::split_hits; --first-hit-pass on is
+    // --split-hits 1): the same picture; a bad value is exit 2.
+    const std::string one_pass = dir() + "/one_pass.png", two_passes = dir() + "/two_passes.png",
+                      four_passes = dir() + "/four_passes.png";
     render(view + one + "--first-hit-pass off --out " + one_pass);
     render(view + one + "--first-hit-pass on --out " + two_passes);
+    render(view + one + "--split-hits 3 --out " + four_passes);
     EXPECT_EQ(read_png(one_pass).rgba, read_png(two_passes).rgba);
+    EXPECT_EQ(read_png(one_pass).rgba, read_png(four_passes).rgba);
     EXPECT_FALSE(read_png(one_pass).rgba.empty());
     const CliRun bad_pass = vx("render " + view + "--first-hit-pass twice", kEnv);
     EXPECT_EQ(bad_pass.code, 2) << bad_pass.out;
     EXPECT_NE(bad_pass.out.find("--first-hit-pass"), std::string::npos) << bad_pass.out;
+    const CliRun bad_split = vx("render " + view + "--split-hits -1", kEnv);
+    EXPECT_EQ(bad_split.code, 2) << bad_split.out;
+    EXPECT_NE(bad_split.out.find("--split-hits"), std::string::npos) << bad_split.out;
 }
 
 // --sample-seed: the same seed gives the same picture, another seed other samples (1 spp: every
@@ -322,7 +328,7 @@ TEST(CliRender, BenchRenderTableRatios) {
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string text = read_text(out + "/render_report.md");
     EXPECT_NE(text.find("after 20 ms of each configuration's frames"), std::string::npos) << text;
-    EXPECT_NE(text.find("First hit's own pass: on."), std::string::npos) << text;
+    EXPECT_NE(text.find("Hits in passes of their own (split hits): 1."), std::string::npos) << text;
     EXPECT_NE(text.find("Lighting: thesis"), std::string::npos) << text;
     EXPECT_NE(text.find("| x RT flat | x all off | thesis x all off |"), std::string::npos) << text;
     const size_t off = text.find("| RT full: shadows off, reflections (1 bounces) off, denoiser off |");

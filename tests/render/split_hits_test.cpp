@@ -1,6 +1,7 @@
-// The first hit's own pass (RenderSettings::first_hit_pass): two dispatches, the second going on
-// from the paths the first saved, make the same image and G-buffer as one; its buffer's failure
-// is reported and the next frame renders; where it cannot apply it changes nothing.
+// Hits in passes of their own (RenderSettings::split_hits): dispatches each going on from the
+// paths the last saved make the same image and G-buffer as one, for every split up to the paths'
+// length and beyond it; their buffer's failure is reported and the next frame renders; where
+// the split cannot apply it changes nothing.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -55,20 +56,27 @@ size_t differing_gbuffers(const GBufferImage& a, const GBufferImage& b) {
            differing(a.display, b.display);
 }
 
-// Byte for byte the same output and G-buffer, in plain, by-weight and denoised frames. Control:
-// the reflections change the image (so the second pass had work, and did it as one pass would).
-TEST_F(RendererTest, FirstHitPassGivesTheSameImage) {
+// Byte for byte the same output and G-buffer, in plain, by-weight and denoised frames (the
+// denoiser reads the first mirror bounce's images, which the pass that shades that bounce
+// writes), split after the first hit, the second, every hit (3 bounces) and more (capped).
+// Control: the reflections change the image (so the later passes had work, and did it as one
+// pass would).
+TEST_F(RendererTest, SplitHitsGiveTheSameImage) {
     test::load_meshes(*m_renderer, test::mesh_world(hall()));
     for (int variant = 0; variant < 3; ++variant) {
         RenderSettings s = lit();
         s.samples_by_weight = variant == 1;
         s.denoise = variant == 2;
-        GBufferImage one_g, two_g;
+        GBufferImage one_g;
         const RenderImage one = m_renderer->render(s, kView, &one_g);
-        s.first_hit_pass = true;
-        const RenderImage two = m_renderer->render(s, kView, &two_g);
-        EXPECT_EQ(differing(one.rgba, two.rgba), 0u) << "variant " << variant;
-        EXPECT_EQ(differing_gbuffers(one_g, two_g), 0u) << "variant " << variant;
+        for (uint32_t split : {1u, 2u, 3u, 7u}) {
+            s.split_hits = split;
+            GBufferImage split_g;
+            const RenderImage img = m_renderer->render(s, kView, &split_g);
+            EXPECT_EQ(differing(one.rgba, img.rgba), 0u) << "variant " << variant << ", split " << split;
+            EXPECT_EQ(differing_gbuffers(one_g, split_g), 0u) << "variant " << variant << ", split " << split;
+        }
+        s.split_hits = 0;
         s.max_bounces = 0;
         const RenderImage flat_mirrors = m_renderer->render(s, kView);
         const size_t changed = differing(one.rgba, flat_mirrors.rgba);
@@ -81,15 +89,15 @@ TEST_F(RendererTest, FirstHitPassGivesTheSameImage) {
 // Out of memory for the paths between the passes: the frame fails with a clear line, and the
 // next one (the allocation possible again) is the one-pass image. Frames that cannot use the
 // split (no reflections; the light cache) never ask for that buffer and do not change.
-TEST_F(RendererTest, FirstHitPassBufferFailureIsReported) {
+TEST_F(RendererTest, SplitHitsBufferFailureIsReported) {
     test::load_meshes(*m_renderer, test::mesh_world(hall()));
     RenderSettings s = lit();
     const RenderImage expected = m_renderer->render(s, kView);
-    s.first_hit_pass = true;
+    s.split_hits = 2;
     m_renderer->fail_allocations("path states");
     Result<RenderImage> failed = m_renderer->try_render(s, kView);
     ASSERT_FALSE(failed);
-    EXPECT_NE(failed.error().find("out of GPU memory for the paths between the two trace passes"), std::string::npos)
+    EXPECT_NE(failed.error().find("out of GPU memory for the paths between the trace passes"), std::string::npos)
         << failed.error();
     EXPECT_EQ(failed.error().find('\n'), std::string::npos);
     for (bool cache : {false, true}) { // Cannot apply: no second buffer is asked for.
@@ -98,7 +106,7 @@ TEST_F(RendererTest, FirstHitPassBufferFailureIsReported) {
         other.light_cache = cache;
         Result<RenderImage> ok = m_renderer->try_render(other, kView);
         ASSERT_TRUE(ok) << ok.error();
-        other.first_hit_pass = false;
+        other.split_hits = 0;
         const RenderImage plain = m_renderer->render(other, kView);
         // The light cache's cells fill in the order hits arrive: a step of rounding may differ.
         int worst = 0;
