@@ -26,7 +26,7 @@ std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections) {
             }
     if (reflections)
         for (bool denoise : {false, true})
-            for (uint32_t spp : {16u, kThesisSpp, 32u, 40u, 48u, 56u, 64u}) {
+            for (uint32_t spp : {16u, kThesisSpp, 32u, 40u, 44u, 48u, 52u, 56u, 64u}) {
                 EqualErrorCandidate c = candidate(spp, 0, denoise, false);
                 c.by_weight = true;
                 v.push_back(c);

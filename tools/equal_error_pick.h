@@ -36,7 +36,7 @@ inline constexpr uint32_t kThesisSpp = 25;
 // order: no candidate precedes one with fewer samples of the same denoiser and cache setting, so
 // equal_error_skip() can bound a candidate by earlier ones. The thesis's configuration (25, 25
 // or 0, raw, no cache) is among them. With reflections, last: samples by weight (spp in {16, 25,
-// 32, 40, 48, 56, 64}, raw then denoised, no cache).
+// 32, 40, 44, 48, 52, 56, 64}, raw then denoised, no cache).
 std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections);
 
 // True when `c` cannot be cheaper than `best_ms` (the cheapest frame time meeting the target so

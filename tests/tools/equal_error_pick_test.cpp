@@ -11,14 +11,14 @@ using C = EqualErrorCandidate;
 
 // Without reflections: 6 spp x raw/denoised x light cache off/on, bounce spp 0. With: bounce spp
 // {1, 2, 4, 8, 16, spp} up to spp, repeats dropped: 1 + 2 + 3 + 4 + 5 + 6 = 21 per denoiser and
-// cache setting, then 7 by weight, raw and denoised.
+// cache setting, then 9 by weight, raw and denoised.
 TEST(EqualErrorPick, Candidates) {
     const std::vector<C> shadows = equal_error_candidates(false);
     ASSERT_EQ(shadows.size(), 24u);
     for (const C& c : shadows)
         EXPECT_EQ(c.bounce_spp, 0u);
     const std::vector<C> both = equal_error_candidates(true);
-    ASSERT_EQ(both.size(), 98u);
+    ASSERT_EQ(both.size(), 102u);
     std::vector<uint32_t> bounces_of_4, bounces_of_16, bounces_of_25;
     std::vector<uint32_t> by_weight;
     for (const C& c : both) {
@@ -42,7 +42,7 @@ TEST(EqualErrorPick, Candidates) {
     EXPECT_EQ(bounces_of_4, (std::vector<uint32_t>{1, 2, 4}));
     EXPECT_EQ(bounces_of_16, (std::vector<uint32_t>{1, 2, 4, 8, 16}));
     EXPECT_EQ(bounces_of_25, (std::vector<uint32_t>{1, 2, 4, 8, 16, 25}));
-    EXPECT_EQ(by_weight, (std::vector<uint32_t>{16, 25, 32, 40, 48, 56, 64}));
+    EXPECT_EQ(by_weight, (std::vector<uint32_t>{16, 25, 32, 40, 44, 48, 52, 56, 64}));
     for (const C& c : shadows)
         EXPECT_FALSE(c.by_weight); // Without bounces it would only scale the first hit's count.
     // Measuring order: nothing precedes a candidate it has no fewer samples than (same denoiser,
