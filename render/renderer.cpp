@@ -129,12 +129,14 @@ struct Renderer::Impl {
     std::unique_ptr<LightCache> light_cache;
     bool frame_cached = false;
     uint32_t light_cache_cell_limit = 0; // Renderer::limit_light_cache_cells.
-    // RenderSettings::split_hits: each frame slot's paths between the passes and their lists
-    // (shaders/shared/render_types.h, TracePush; made by prepare_frame); split_hits(s): the hits a
+    // RenderSettings::split_hits: the paths between the passes and their lists (shaders/shared/
+    // render_types.h, TracePush; made by prepare_frame). One for both frame slots: the
+    // frame-start barrier (record_scene) ends the last frame's passes before this frame's start,
+    // and a replaced buffer is retired with this frame. split_hits(s): the hits a
     // frame of `s` traces in passes of their own (0: one pass, no paths kept). A later pass runs
     // one row of an invocation per pixel: frames wider than the device allows in one row (the
     // compute limits bound a trace's width) take one pass.
-    std::array<Buffer, kFramesInFlight> path_states;
+    Buffer path_states;
     uint32_t split_hits(const RenderSettings& s) const {
         const VkPhysicalDeviceLimits& l = ctx->limits();
         const uint64_t row = uint64_t(l.maxComputeWorkGroupCount[0]) * l.maxComputeWorkGroupSize[0];
@@ -510,7 +512,7 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
             return out_of_memory("the denoiser's images");
     }
     if (split_hits(s) > 0) {
-        Buffer& states = path_states[slot];
+        Buffer& states = path_states;
         const VkDeviceSize bytes = path_counters_offset(pixels) + gpu::kMaxSplitHits * sizeof(uint32_t);
         if (!states.valid() || states.size() != bytes) {
             states = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -724,7 +726,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
     const uint32_t split = split_hits(s);
     VkDeviceAddress states = 0;
     if (split > 0) {
-        const Buffer& b = path_states[ctx->frame_slot()];
+        const Buffer& b = path_states;
         vkCmdFillBuffer(cmd, b.handle(), path_counters_offset(VkDeviceSize(width) * height),
                         gpu::kMaxSplitHits * sizeof(uint32_t), 0u);
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,

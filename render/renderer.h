@@ -143,7 +143,7 @@ struct RenderSettings {
     // Full shading with reflections, without the light cache: trace the first split_hits hits of
     // every path (the primary hit, then its mirror bounces) each in a dispatch of its own and the
     // rest in one more. Each later dispatch continues only the paths the last listed as going on
-    // (88 bytes a pixel per frame slot for the paths and lists, made at the first such frame).
+    // (88 bytes a pixel for the paths and lists, made at the first such frame).
     // The first hit's many coherent shadow rays run apart from the bounces' scattered ones, and
     // no warp waits on ended paths (H200, 5 bounces: 1 spp -23%, 56 by weight -31%;
     // docs/render_report.md, stop 29). Same image; 0: one dispatch; ignored where it cannot
