@@ -1,0 +1,28 @@
+#!/bin/bash
+# Device call 61 (stop 29): hits in passes of their own (RenderSettings::split_hits 0, 1, 2, 3, 5),
+# side by side: vx render GPU medians of 30 frames, thesis's glazed seed scene at 1080p, 5
+# reflections, and the images' checksums (the same image).
+set -u
+for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
+mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
+export LD_LIBRARY_PATH=/tmp/dl/lib
+export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+V=".devbuild/new/vx render --scene seed --scene-block glazed --size 1920x1080 --device gpu --lighting thesis --repeat 30 --reflections 5"
+t0=$(date +%s)
+run() { # name, splits, config
+  local name=$1 order=$2; shift 2
+  for k in $order; do
+    echo "== $name split=$k"
+    timeout 60 $V "$@" --split-hits $k --out /tmp/${name}_$k.png 2>&1 | grep -E "frames 2\.\.|rror"
+  done
+  md5sum /tmp/${name}_*.png | awk '{print $1}' | sort -u | wc -l | awk '{print "  distinct images:", $1}'
+}
+run w56 "0 1 2 3 5" --spp 56 --samples-by weight
+run w40 "0 1 2 3 5" --spp 40 --samples-by weight
+run w48 "5 3 2 1" --spp 48 --samples-by weight
+run c25_4 "0 1 2 3 5" --spp 25 --bounce-spp 4
+run c25_25 "0 1 2 5" --spp 25 --bounce-spp 25
+run c4_4 "0 1 2 5" --spp 4 --bounce-spp 4
+run c1_1 "0 1 2 5" --spp 1 --bounce-spp 1
+run w56_again "5 3 2 1 0" --spp 56 --samples-by weight
+echo "total $(( $(date +%s) - t0 )) s"
