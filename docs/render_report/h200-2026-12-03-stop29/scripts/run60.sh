@@ -2,11 +2,7 @@
 # Device call 60 (stop 29): rays traced inline (ray queries) against the pipeline's shader calls,
 # side by side: VX_RAY_QUERY=0 (pipeline), 1 (shadow rays inline), 2 (every ray inline). vx render
 # GPU medians of 30 frames, thesis's glazed seed scene at 1080p, and the images' checksums.
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+source "$(dirname "$0")/device_env.sh"
 V=".devbuild/new/vx render --scene seed --scene-block glazed --size 1920x1080 --device gpu --lighting thesis --repeat 30"
 t0=$(date +%s)
 echo "== flat"; timeout 60 $V --shading flat --reflections 0 --spp 1 --out /tmp/flat.png 2>&1 | grep -E "device:|frames 2\.\.|rror"

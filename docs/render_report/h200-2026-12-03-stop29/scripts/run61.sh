@@ -2,11 +2,7 @@
 # Device call 61 (stop 29): hits in passes of their own (RenderSettings::split_hits 0, 1, 2, 3, 5),
 # side by side: vx render GPU medians of 30 frames, thesis's glazed seed scene at 1080p, 5
 # reflections, and the images' checksums (the same image).
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+source "$(dirname "$0")/device_env.sh"
 V=".devbuild/new/vx render --scene seed --scene-block glazed --size 1920x1080 --device gpu --lighting thesis --repeat 30 --reflections 5"
 t0=$(date +%s)
 run() { # name, splits, config

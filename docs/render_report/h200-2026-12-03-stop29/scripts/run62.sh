@@ -1,11 +1,7 @@
 #!/bin/bash
 # Device call 62 (stop 29): Table 6.3 at equal error (thesis's lighting, seed scene, glazed and
 # mirror blocks) with every hit in a pass of its own (--split-hits 5: the same images, call 61).
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+source "$(dirname "$0")/device_env.sh"
 for b in glazed mirror; do
   mkdir -p $OUT/$b
   t0=$(date +%s)

@@ -2,11 +2,7 @@
 # Device call 63 (stop 29): later passes over a list of the live paths (this build, .devbuild/new)
 # against the same passes over every pixel (call 61-62's build, .devbuild/old/vx_split_flag), side
 # by side; then Table 6.3 at equal error on glazed blocks with --split-hits 5 (this build).
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+source "$(dirname "$0")/device_env.sh"
 A="--scene seed --scene-block glazed --size 1920x1080 --device gpu --lighting thesis --repeat 30 --reflections 5"
 t0=$(date +%s)
 run() { # name, config
