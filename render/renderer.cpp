@@ -512,13 +512,12 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
             return out_of_memory("the denoiser's images");
     }
     if (split_hits(s) > 0) {
-        Buffer& states = path_states;
         const VkDeviceSize bytes = path_counters_offset(pixels) + gpu::kMaxSplitHits * sizeof(uint32_t);
-        if (!states.valid() || states.size() != bytes) {
-            states = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+        if (!path_states.valid() || path_states.size() != bytes) {
+            path_states = Buffer::create(*ctx, {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                            MemoryUse::Device, 0,
                                            "path states between the trace passes"});
-            if (!states.valid())
+            if (!path_states.valid())
                 return out_of_memory("the paths between the trace passes");
         }
     }
@@ -726,13 +725,12 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
     const uint32_t split = split_hits(s);
     VkDeviceAddress states = 0;
     if (split > 0) {
-        const Buffer& b = path_states;
-        vkCmdFillBuffer(cmd, b.handle(), path_counters_offset(VkDeviceSize(width) * height),
+        vkCmdFillBuffer(cmd, path_states.handle(), path_counters_offset(VkDeviceSize(width) * height),
                         gpu::kMaxSplitHits * sizeof(uint32_t), 0u);
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-        states = b.address();
+        states = path_states.address();
     }
     for (uint32_t hit = 0; hit <= split; ++hit) {
         const bool first = hit == 0;

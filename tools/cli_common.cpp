@@ -55,6 +55,10 @@ std::optional<glm::dvec3> parse_dvec3(const std::string& s) {
     return v;
 }
 
+uint32_t split_hits_arg(const std::string& first_hit_pass, uint32_t split_hits) {
+    return first_hit_pass == "on" && split_hits < 1 ? 1u : split_hits;
+}
+
 int bad_input(const std::string& message) {
     std::fprintf(stderr, "vx: %s\n", message.c_str());
     return kExitBadInput;

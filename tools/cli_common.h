@@ -22,6 +22,10 @@ std::optional<glm::i64vec3> parse_i64vec3(const std::string& s);
 // Parses "X,Y,Z" of finite doubles.
 std::optional<glm::dvec3> parse_dvec3(const std::string& s);
 
+// render::RenderSettings::split_hits of `vx render` and `vx bench render`: --split-hits, where
+// --first-hit-pass on (stop 28's option, kept so its commands still run) asks for at least 1.
+uint32_t split_hits_arg(const std::string& first_hit_pass, uint32_t split_hits);
+
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);
 

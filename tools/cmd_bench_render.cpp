@@ -242,7 +242,7 @@ int run_bench_render(const BenchRenderArgs& a) {
         if (mc.mesh.quad_count() > 0)
             r.set_chunk(c, mc.mesh);
     const render::Camera cam = default_view(*scene, base);
-    base.split_hits = a.first_hit_pass == "on" ? std::max(a.split_hits, 1u) : a.split_hits;
+    base.split_hits = split_hits_arg(a.first_hit_pass, a.split_hits);
     if (a.lighting == "thesis") { // As `vx render --lighting thesis`: the area light alone.
         base.sun.irradiance = glm::vec3(0.f);
         base.sky_light = 0.f;

@@ -120,7 +120,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.samples_by_weight = a.samples_by == "weight";
-    s.split_hits = a.first_hit_pass == "on" ? std::max(a.split_hits, 1u) : a.split_hits;
+    s.split_hits = split_hits_arg(a.first_hit_pass, a.split_hits);
     s.max_bounces = a.reflections;
     s.seed = a.sample_seed;
     if (a.sun == "off") {
