@@ -34,6 +34,7 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.shadow_samples = s.shadow_samples;
     r.bounce_shadow_samples = s.bounce_shadow_samples;
     r.samples_by_weight = s.samples_by_weight;
+    r.weight_exponent = s.weight_exponent;
     r.split_hits = s.split_hits;
     r.max_bounces = s.max_bounces;
     r.sky = s.sky;
@@ -112,6 +113,8 @@ Status check_render_settings(const RenderSettings& s) {
     constexpr uint32_t kMaxSamples = 1024, kMaxBounces = 16, kMaxAccumulate = 1024;
     if (s.shadow_samples > kMaxSamples || s.bounce_shadow_samples.value_or(0) > kMaxSamples)
         return Error{"render settings: shadow samples must be 0.." + std::to_string(kMaxSamples)};
+    if (!(s.weight_exponent > 0.f && s.weight_exponent <= 1.f))
+        return Error{"render settings: weight_exponent must be in (0, 1]"};
     if (s.max_bounces > kMaxBounces)
         return Error{"render settings: max_bounces must be 0.." + std::to_string(kMaxBounces)};
     if (s.accumulate < 1 || s.accumulate > kMaxAccumulate)

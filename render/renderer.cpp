@@ -582,7 +582,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     const EmitterCounts emitters = write_emitter_list(cam.block, s.emitter_sampling);
     frame_samples_faces = emitters.quads > 0;
     p.flags = glm::uvec4(s.sky_access ? 1u : 0u, emitters.chunks, emitters.quads, emitters.covered);
-    p.sampling = glm::uvec4(s.samples_by_weight ? 1u : 0u, 0u, 0u, 0u);
+    p.sampling = glm::uvec4(s.samples_by_weight ? 1u : 0u, glm::floatBitsToUint(s.weight_exponent), 0u, 0u);
     const uint32_t slot = ctx->frame_slot();
     metering[slot] = metered(s);
     if (metering[slot]) {
@@ -760,7 +760,8 @@ static glm::dmat4 view_from_world(const Camera& cam, world::BlockPos origin) {
 static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
-           a.samples_by_weight == b.samples_by_weight && a.max_bounces == b.max_bounces &&
+           a.samples_by_weight == b.samples_by_weight && a.weight_exponent == b.weight_exponent &&
+           a.max_bounces == b.max_bounces &&
            a.accumulate == b.accumulate && a.denoise == b.denoise &&
            a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections &&
            a.light_cache == b.light_cache && a.light_cache_pixels == b.light_cache_pixels;

@@ -124,8 +124,9 @@ struct FrameParams {
                          // cached after the primary hit (0..kMaxCachedBounces); z: a cell's width
                          // in pixels at the hit's distance (float bits); w: 0.
     uvec4 sampling;      // x: 1 = each hit's light samples by its weight in the pixel
-                         // (RenderSettings::samples_by_weight: ceil(size_samples.z x weight),
-                         // at least 1, in place of size_samples.z and mode_seed.w); yzw: 0.
+                         // (RenderSettings::samples_by_weight: ceil(size_samples.z x weight^y),
+                         // at least 1, in place of size_samples.z and mode_seed.w); y: the
+                         // exponent (RenderSettings::weight_exponent, float bits); zw: 0.
     uvec4 edits;         // x: boxes in edit_boxes (0..kMaxEditBoxes); yzw: 0.
     vec4 edit_boxes[2 * kMaxEditBoxes]; // Box i: [2i].xyz its low corner, [2i + 1].xyz its high
                          // corner: blocks edited since the last frame, widened by their reach

@@ -229,6 +229,18 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     std::printf("samples by weight: %zu pixels change, %zu with glazed blocks in view\n", matte, glazed);
     EXPECT_LE(matte, 48u * 32u / 100u);
     EXPECT_GT(glazed, matte + 4);
+    // Its exponent reaches the renderer too: at 0.8 a glazed first hit keeps all 4 samples
+    // (ceil(4 x 0.75^0.8) = 4, against 3 at 1), so the slab's pixels change again.
+    day.samples_by_weight = true;
+    const vx::Image by_weight = render(day);
+    day.weight_exponent = 0.8f;
+    const vx::Image by_weight_08 = render(day);
+    day.weight_exponent = 1.f;
+    size_t exponent_changed = 0;
+    for (size_t i = 0; i < by_weight.rgba.size(); ++i)
+        exponent_changed += by_weight.rgba[i] != by_weight_08.rgba[i];
+    std::printf("weight exponent 0.8: %zu channels change\n", exponent_changed);
+    EXPECT_GT(exponent_changed, 12u);
 
     // Hits in passes of their own reach the renderer: the same picture of the glazed slab (its
     // paths go on through the passes; render/split_hits_test.cpp checks the G-buffer too), and

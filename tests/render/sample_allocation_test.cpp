@@ -72,6 +72,12 @@ TEST_F(RendererTest, SamplesByWeightCountAFirstHitsDiffuseShare) {
     EXPECT_TRUE(stone.count(64) || stone.count(128) || stone.count(191));
     for (int v : stone)
         EXPECT_TRUE(v == 0 || v == 64 || v == 128 || v == 191 || v == 255 || v == 140) << v;
+    // weight_exponent 0.8: ceil(4 x 0.75^0.8) = ceil(3.18) = 4 samples on the glazed floor: quarters.
+    s.weight_exponent = 0.8f;
+    const std::set<int> glazed_08 = fractions("glazed");
+    EXPECT_TRUE(glazed_08.count(64) || glazed_08.count(128) || glazed_08.count(191));
+    for (int v : glazed_08)
+        EXPECT_TRUE(v == 0 || v == 64 || v == 128 || v == 191 || v == 255 || v == 140) << v;
 }
 
 // With no glazed or mirror block every hit weighs 1: the same samples, byte for byte.
@@ -97,23 +103,30 @@ TEST_F(RendererTest, SamplesByWeightConvergeToTheSameImage) {
     const ImageF plain = to_float(test::accumulated(*m_renderer, s, kView, 32, 8));
     s.samples_by_weight = true;
     const ImageF weighted = to_float(test::accumulated(*m_renderer, s, kView, 32, 8));
+    s.weight_exponent = 0.8f; // More of the rays on the bounces: the same image too.
+    const ImageF weighted_08 = to_float(test::accumulated(*m_renderer, s, kView, 32, 8));
+    s.weight_exponent = 1.f;
     s.accumulate = 1;
     s.shadow_samples = 8;
     const ImageF one_weighted = to_float(m_renderer->render(s, kView));
     s.samples_by_weight = false;
     const ImageF one_plain = to_float(m_renderer->render(s, kView));
-    double mean_plain = 0, mean_weighted = 0, mean_ref = 0;
+    double mean_plain = 0, mean_weighted = 0, mean_08 = 0, mean_ref = 0;
     for (size_t i = 0; i < reference.rgba.size(); i += 4)
         for (int c = 0; c < 3; ++c) {
             mean_ref += reference.rgba[i + c];
             mean_plain += plain.rgba[i + c];
             mean_weighted += weighted.rgba[i + c];
+            mean_08 += weighted_08.rgba[i + c];
         }
     const double n = 3.0 * double(reference.rgba.size() / 4);
-    std::printf("glazed yard: 32 frames plain RMSE %.5f, by weight %.5f; one frame %.5f, by weight %.5f; "
-                "mean %.5f, plain %.5f, by weight %.5f\n",
-                rmse(plain, reference), rmse(weighted, reference), rmse(one_plain, reference),
-                rmse(one_weighted, reference), mean_ref / n, mean_plain / n, mean_weighted / n);
+    std::printf("glazed yard: 32 frames plain RMSE %.5f, by weight %.5f, by weight^0.8 %.5f; one frame %.5f, "
+                "by weight %.5f; mean %.5f, plain %.5f, by weight %.5f, by weight^0.8 %.5f\n",
+                rmse(plain, reference), rmse(weighted, reference), rmse(weighted_08, reference),
+                rmse(one_plain, reference), rmse(one_weighted, reference), mean_ref / n, mean_plain / n,
+                mean_weighted / n, mean_08 / n);
+    EXPECT_NEAR(mean_08 / n, mean_ref / n, 0.1 / 255.0);
+    EXPECT_LT(rmse(weighted_08, reference), 2.0 * rmse(plain, reference) + 1.0 / 255.0);
     EXPECT_NE(one_plain.rgba, one_weighted.rgba); // The setting changes the samples.
     // The same image: the means agree to a tenth of an 8-bit step, the error stays that of noise.
     EXPECT_NEAR(mean_weighted / n, mean_ref / n, 0.1 / 255.0);
