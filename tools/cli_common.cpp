@@ -59,6 +59,14 @@ uint32_t split_hits_arg(const std::string& first_hit_pass, uint32_t split_hits) 
     return first_hit_pass == "on" && split_hits < 1 ? 1u : split_hits;
 }
 
+std::string weight_exponent_text(float exponent) {
+    if (exponent == 1.f)
+        return "";
+    char text[32];
+    std::snprintf(text, sizeof text, "^%g", double(exponent));
+    return text;
+}
+
 int bad_input(const std::string& message) {
     std::fprintf(stderr, "vx: %s\n", message.c_str());
     return kExitBadInput;

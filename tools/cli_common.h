@@ -26,6 +26,10 @@ std::optional<glm::dvec3> parse_dvec3(const std::string& s);
 // --first-hit-pass on (stop 28's option, kept so its commands still run) asks for at least 1.
 uint32_t split_hits_arg(const std::string& first_hit_pass, uint32_t split_hits);
 
+// How reports name render::RenderSettings::weight_exponent after "by weight": "" for 1, else
+// "^0.8" (shortest form).
+std::string weight_exponent_text(float exponent);
+
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);
 

@@ -42,6 +42,7 @@ struct RenderArgs {
     uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
     std::string samples_by = "count"; // --samples-by: count (--spp, --bounce-spp) or weight.
+    float weight_exponent = 1.f;      // --weight-exponent (render::RenderSettings::weight_exponent).
     std::string first_hit_pass = "off"; // --first-hit-pass: on is --split-hits 1.
     uint32_t split_hits = 0;            // --split-hits (render::RenderSettings::split_hits).
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
@@ -120,6 +121,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (a.bounce_spp >= 0)
         s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
     s.samples_by_weight = a.samples_by == "weight";
+    s.weight_exponent = a.weight_exponent;
     s.split_hits = split_hits_arg(a.first_hit_pass, a.split_hits);
     s.max_bounces = a.reflections;
     s.seed = a.sample_seed;
@@ -410,7 +412,7 @@ int run_render(RenderArgs a) {
                 dev.driver_info.c_str(), validation ? ", validation on" : "");
     const std::string bounce_samples =
         s.settings.samples_by_weight
-            ? std::string(" x each hit's weight")
+            ? std::string(" x each hit's weight") + weight_exponent_text(s.settings.weight_exponent)
             : ", " + std::to_string(s.settings.bounce_shadow_samples.value_or(s.settings.shadow_samples)) + " on bounces";
     std::printf("  image: %ux%u, %s shading, shadows %s (%u samples%s), reflections %u\n", s.settings.width,
                 s.settings.height, a.shading.c_str(), a.shadows.c_str(), s.settings.shadow_samples,
@@ -494,6 +496,10 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
                     "count: --spp at the first hit, --bounce-spp on bounces; weight: every hit ceil(--spp x its "
                     "weight in the pixel), at least 1 (render::RenderSettings::samples_by_weight)")
         ->check(CLI::IsMember({"count", "weight"}));
+    cmd->add_option("--weight-exponent", a->weight_exponent,
+                    "With --samples-by weight: every hit ceil(--spp x weight^E) (0.8: the weak bounces get more "
+                    "rays; render::RenderSettings::weight_exponent)")
+        ->check(CLI::Range(0.05f, 1.f));
     cmd->add_option("--first-hit-pass", a->first_hit_pass,
                     "on: trace the primary hits' light in a pass of its own, then the reflections (the same "
                     "image; --split-hits 1)")

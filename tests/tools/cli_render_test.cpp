@@ -282,6 +282,14 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
     EXPECT_EQ(weighted.code, 0) << weighted.out;
     EXPECT_NE(weighted.out.find("(25 samples x each hit's weight), reflections 5"), std::string::npos)
         << weighted.out;
+    const CliRun weighted_08 =
+        render(view + "--lighting thesis --samples-by weight --weight-exponent 0.8 --out " + dir() + "/w08.png");
+    EXPECT_EQ(weighted_08.code, 0) << weighted_08.out;
+    EXPECT_NE(weighted_08.out.find("(25 samples x each hit's weight^0.8), reflections 5"), std::string::npos)
+        << weighted_08.out;
+    const CliRun bad_exponent = vx("render " + view + "--samples-by weight --weight-exponent 0", kEnv);
+    EXPECT_EQ(bad_exponent.code, 2) << bad_exponent.out;
+    EXPECT_NE(bad_exponent.out.find("--weight-exponent"), std::string::npos) << bad_exponent.out;
     const CliRun bad_by = vx("render " + view + "--samples-by luck", kEnv);
     EXPECT_EQ(bad_by.code, 2) << bad_by.out;
     EXPECT_NE(bad_by.out.find("--samples-by"), std::string::npos) << bad_by.out;
@@ -376,7 +384,7 @@ TEST(CliRender, BenchRenderEqualError) {
         std::string header;
         std::getline(csv, header);
         EXPECT_EQ(header, "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache,"
-                          "rmse_display,rmse_8bit,by_weight,cold_ms");
+                          "rmse_display,rmse_8bit,by_weight,cold_ms,weight_exponent");
         std::set<std::string> keys;
         for (std::string line; std::getline(csv, line);) {
             std::vector<std::string> f;
@@ -384,23 +392,27 @@ TEST(CliRender, BenchRenderEqualError) {
                 next = std::min(line.find(',', at), line.size());
                 f.push_back(line.substr(at, next - at));
             }
-            EXPECT_EQ(f.size(), 13u) << line;
-            if (f.size() != 13u)
+            EXPECT_EQ(f.size(), 14u) << line;
+            if (f.size() != 14u)
                 continue;
+            EXPECT_TRUE(f[13] == "1" || (f[11] == "1" && f[13] == "0.8")) << line; // weight_exponent
             EXPECT_EQ(f[5], display ? f[9] : f[10]) << line;
             EXPECT_GT(std::stod(f[4]), 0.0) << line; // Lavapipe has timestamps: both timings measured.
             EXPECT_GT(std::stod(f[12]), 0.0) << line;
             EXPECT_GE(std::stod(f[9]), 0.0) << line;
             EXPECT_GE(std::stod(f[10]), 0.0) << line;
-            keys.insert(f[0] + "," + f[1] + "," + f[2] + "," + f[3] + (f[11] == "1" ? ",w" : ""));
+            keys.insert(f[0] + "," + f[1] + "," + f[2] + "," + f[3] + (f[11] == "1" ? ",w" : "") +
+                        (f[13] == "1" ? "" : "^" + f[13]));
         }
         return keys;
     };
     // The targets and the one-sample rows are always measured (nothing bounds those below), and
-    // the fewest samples by weight; others may be skipped, depending on the frame times.
+    // the fewest samples by weight of each exponent; others may be skipped, depending on the
+    // frame times.
     const std::set<std::string> keys = read_csv(out, true);
     for (const char* key : {"shadows,1,0,0", "shadows,25,0,0", "shadows+reflections,1,1,0",
-                            "shadows+reflections,25,25,0", "shadows+reflections,16,0,0,w"})
+                            "shadows+reflections,25,25,0", "shadows+reflections,16,0,0,w",
+                            "shadows+reflections,32,0,0,w^0.8"})
         EXPECT_TRUE(keys.count(key)) << key;
     EXPECT_FALSE(keys.count("shadows,25,0,1")); // 25 raw plus the denoiser: dearer than the target.
     const std::string out8 = dir() + "/bench_equal_error_8bit";
