@@ -45,19 +45,23 @@ def plot_equal_error(rows, out_dir):
         pts = [r for r in rows if r["feature_set"] == name]
         flat = float(pts[0]["flat_ms"])
         fig, ax = plt.subplots(figsize=(6, 4))
-        for denoise, cache, weight, marker in ((0, 0, 0, "o"), (1, 0, 0, "^"), (0, 1, 0, "s"), (1, 1, 0, "D"),
-                                               (0, 0, 1, "P"), (1, 0, 1, "X")):
+        # Samples by weight: exponent 1 ("w") and below 1 (stop 30's weight^0.8: "w^0.8").
+        for denoise, cache, weight, exponent, marker in (
+                (0, 0, 0, 1, "o"), (1, 0, 0, 1, "^"), (0, 1, 0, 1, "s"), (1, 1, 0, 1, "D"),
+                (0, 0, 1, 1, "P"), (1, 0, 1, 1, "X"), (0, 0, 1, 0.8, "*"), (1, 0, 1, 0.8, "v")):
             sel = [r for r in pts if int(r["denoise"]) == denoise and int(r.get("light_cache", 0)) == cache
-                   and int(r.get("by_weight", 0)) == weight]
+                   and int(r.get("by_weight", 0)) == weight
+                   and abs(float(r.get("weight_exponent", 1)) - exponent) < 1e-6]
             if not sel:
                 continue
             xs = [float(r["frame_ms"]) / flat for r in sel]
             ys = [float(r["rmse"]) for r in sel]
+            power = "" if exponent == 1 else f"^{exponent:g}"
             ax.scatter(xs, ys, marker=marker,
                        label=("denoised" if denoise else "raw") + (", light cache" if cache else "")
-                       + (", samples by weight" if weight else ""))
+                       + (f", samples by weight{power}" if weight else ""))
             for r, x, y in zip(sel, xs, ys):
-                tag = r["spp"] + ("/" + r["bounce_spp"] if int(r["bounce_spp"]) else "") + ("w" if weight else "")
+                tag = r["spp"] + ("/" + r["bounce_spp"] if int(r["bounce_spp"]) else "") + ("w" + power if weight else "")
                 ax.annotate(tag, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
         ax.axhline(float(pts[0]["target_rmse"]), color="k", linestyle="--", linewidth=0.8,
                    label="target: 25 spp raw")

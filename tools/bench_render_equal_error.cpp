@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bench_render_frames.h"
+#include "cli_common.h"
 #include "equal_error_pick.h"
 #include "render/image_metrics.h"
 
@@ -49,6 +50,7 @@ render::RenderSettings candidate_settings(const EqualErrorBenchInfo& info, uint3
     s.shadow_samples = c.spp;
     s.bounce_shadow_samples = bounces > 0 && !c.by_weight ? c.bounce_spp : c.spp;
     s.samples_by_weight = c.by_weight;
+    s.weight_exponent = c.weight_exponent;
     s.denoise = c.denoise;
     s.light_cache = c.light_cache;
     s.accumulate = 1; // One frame: no history.
@@ -94,7 +96,7 @@ std::string candidate_name(const EqualErrorCandidate& c) {
     if (c.bounce_spp > 0)
         name += ", bounce spp " + std::to_string(c.bounce_spp);
     if (c.by_weight)
-        name += " by weight";
+        name += " by weight" + weight_exponent_text(c.weight_exponent);
     return name + (c.denoise ? ", denoised" : ", raw") + (c.light_cache ? ", light cache" : "");
 }
 
@@ -165,7 +167,7 @@ std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms
     std::string md = "\n| features | configuration | frame ms | x RT flat | cold ms | RMSE | meets target | "
                      "RMSE display | RMSE 8-bit |\n|---|---|---|---|---|---|---|---|---|\n";
     csv << "feature_set,spp,bounce_spp,denoise,frame_ms,rmse,target_rmse,flat_ms,light_cache,rmse_display,"
-           "rmse_8bit,by_weight,cold_ms\n";
+           "rmse_8bit,by_weight,cold_ms,weight_exponent\n";
     char line[512];
     for (const FeatureSet& set : sets)
         for (const EqualErrorCandidate& c : set.candidates) {
@@ -178,7 +180,7 @@ std::string candidates_table(const std::vector<FeatureSet>& sets, double flat_ms
             csv << set.name << ',' << c.spp << ',' << c.bounce_spp << ',' << (c.denoise ? 1 : 0) << ',' << c.frame_ms
                 << ',' << c.rmse << ',' << set.target() << ',' << flat_ms << ',' << (c.light_cache ? 1 : 0) << ','
                 << c.rmse_display << ',' << c.rmse_8bit << ',' << (c.by_weight ? 1 : 0) << ',' << c.cold_ms
-                << '\n';
+                << ',' << c.weight_exponent << '\n';
         }
     return md;
 }

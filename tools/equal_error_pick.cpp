@@ -1,5 +1,7 @@
 #include "equal_error_pick.h"
 
+#include <initializer_list>
+
 namespace vx::tools {
 
 static EqualErrorCandidate candidate(uint32_t spp, uint32_t bounce_spp, bool denoise, bool light_cache) {
@@ -24,11 +26,18 @@ std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections) {
                         last = bounce;
                     }
             }
-    if (reflections)
+    if (!reflections)
+        return v;
+    // By weight (exponent 1), then by weight^0.8 (render::RenderSettings::weight_exponent): its
+    // counts are finer where stop 29's pick lay between two.
+    const std::initializer_list<uint32_t> by_weight = {16u, kThesisSpp, 32u, 40u, 44u, 48u, 52u, 54u, 56u, 64u};
+    const std::initializer_list<uint32_t> by_weight_08 = {32u, 36u, 40u, 42u, 44u, 46u, 48u, 52u, 56u};
+    for (float exponent : {1.f, 0.8f})
         for (bool denoise : {false, true})
-            for (uint32_t spp : {16u, kThesisSpp, 32u, 40u, 44u, 48u, 52u, 56u, 64u}) {
+            for (uint32_t spp : exponent == 1.f ? by_weight : by_weight_08) {
                 EqualErrorCandidate c = candidate(spp, 0, denoise, false);
                 c.by_weight = true;
+                c.weight_exponent = exponent;
                 v.push_back(c);
             }
     return v;
@@ -38,7 +47,8 @@ bool equal_error_skip(const EqualErrorCandidate& c, std::span<const EqualErrorCa
     if (best_ms <= 0)
         return false;
     for (const EqualErrorCandidate& m : measured)
-        if (m.frame_ms >= best_ms && m.by_weight == c.by_weight && m.spp <= c.spp && m.bounce_spp <= c.bounce_spp &&
+        if (m.frame_ms >= best_ms && m.by_weight == c.by_weight && m.weight_exponent == c.weight_exponent &&
+            m.spp <= c.spp && m.bounce_spp <= c.bounce_spp &&
             (c.denoise || !m.denoise) &&
             (c.light_cache || !m.light_cache))
             return true;

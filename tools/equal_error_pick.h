@@ -20,8 +20,10 @@ struct EqualErrorCandidate {
     double rmse_display = -1; // Of the output before 8-bit rounding (render::display_float).
     double rmse_8bit = -1;    // Of the 8-bit output.
     // Each hit's samples by its weight in the pixel (render::RenderSettings::samples_by_weight):
-    // `spp` is the count of a matte first hit; bounce_spp is 0.
+    // `spp` is the count of a matte first hit; bounce_spp is 0. With weight_exponent
+    // (render::RenderSettings::weight_exponent) below 1 the bounces get more of them.
     bool by_weight = false;
+    float weight_exponent = 1.f;
     // Median GPU frame time of the first frames after the previous candidate's error frames
     // (after one frame, as frame_ms was before stop 28): beside frame_ms it shows whether the
     // GPU was slow to resume (tools/bench_render_frames.h, time_frames()).
@@ -36,7 +38,8 @@ inline constexpr uint32_t kThesisSpp = 25;
 // order: no candidate precedes one with fewer samples of the same denoiser and cache setting, so
 // equal_error_skip() can bound a candidate by earlier ones. The thesis's configuration (25, 25
 // or 0, raw, no cache) is among them. With reflections, last: samples by weight (spp in {16, 25,
-// 32, 40, 44, 48, 52, 56, 64}, raw then denoised, no cache).
+// 32, 40, 44, 48, 52, 54, 56, 64}, raw then denoised, no cache), then by weight^0.8 (spp in {32,
+// 36, 40, 42, 44, 46, 48, 52, 56}, raw then denoised, no cache).
 std::vector<EqualErrorCandidate> equal_error_candidates(bool reflections);
 
 // True when `c` cannot be cheaper than `best_ms` (the cheapest frame time meeting the target so

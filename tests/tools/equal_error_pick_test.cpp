@@ -11,24 +11,26 @@ using C = EqualErrorCandidate;
 
 // Without reflections: 6 spp x raw/denoised x light cache off/on, bounce spp 0. With: bounce spp
 // {1, 2, 4, 8, 16, spp} up to spp, repeats dropped: 1 + 2 + 3 + 4 + 5 + 6 = 21 per denoiser and
-// cache setting, then 9 by weight, raw and denoised.
+// cache setting, then 10 by weight and 9 by weight^0.8, raw and denoised.
 TEST(EqualErrorPick, Candidates) {
     const std::vector<C> shadows = equal_error_candidates(false);
     ASSERT_EQ(shadows.size(), 24u);
     for (const C& c : shadows)
         EXPECT_EQ(c.bounce_spp, 0u);
     const std::vector<C> both = equal_error_candidates(true);
-    ASSERT_EQ(both.size(), 102u);
+    ASSERT_EQ(both.size(), 122u);
     std::vector<uint32_t> bounces_of_4, bounces_of_16, bounces_of_25;
-    std::vector<uint32_t> by_weight;
+    std::vector<uint32_t> by_weight, by_weight_08;
     for (const C& c : both) {
         EXPECT_FALSE(c.light_cache && c.by_weight);
         if (c.by_weight) {
             EXPECT_EQ(c.bounce_spp, 0u);
+            EXPECT_TRUE(c.weight_exponent == 1.f || c.weight_exponent == 0.8f) << c.weight_exponent;
             if (!c.denoise)
-                by_weight.push_back(c.spp);
+                (c.weight_exponent == 1.f ? by_weight : by_weight_08).push_back(c.spp);
             continue;
         }
+        EXPECT_EQ(c.weight_exponent, 1.f);
         EXPECT_LE(c.bounce_spp, c.spp);
         EXPECT_GE(c.bounce_spp, 1u);
         EXPECT_LT(c.frame_ms, 0.0); // Unmeasured.
@@ -42,23 +44,27 @@ TEST(EqualErrorPick, Candidates) {
     EXPECT_EQ(bounces_of_4, (std::vector<uint32_t>{1, 2, 4}));
     EXPECT_EQ(bounces_of_16, (std::vector<uint32_t>{1, 2, 4, 8, 16}));
     EXPECT_EQ(bounces_of_25, (std::vector<uint32_t>{1, 2, 4, 8, 16, 25}));
-    EXPECT_EQ(by_weight, (std::vector<uint32_t>{16, 25, 32, 40, 44, 48, 52, 56, 64}));
+    EXPECT_EQ(by_weight, (std::vector<uint32_t>{16, 25, 32, 40, 44, 48, 52, 54, 56, 64}));
+    EXPECT_EQ(by_weight_08, (std::vector<uint32_t>{32, 36, 40, 42, 44, 46, 48, 52, 56}));
     for (const C& c : shadows)
         EXPECT_FALSE(c.by_weight); // Without bounces it would only scale the first hit's count.
     // Measuring order: nothing precedes a candidate it has no fewer samples than (same denoiser,
-    // cache and allocation), samples by weight come last, before them every one without the cache
-    // precedes every one with it, and within each, every raw one precedes every denoised one.
+    // cache and allocation), samples by weight come last (by weight^0.8 after by weight), before
+    // them every one without the cache precedes every one with it, and within each, every raw one
+    // precedes every denoised one.
     for (size_t i = 0; i < both.size(); ++i)
         for (size_t j = i + 1; j < both.size(); ++j) {
             EXPECT_LE(both[i].by_weight, both[j].by_weight);
+            EXPECT_GE(both[i].weight_exponent, both[j].weight_exponent);
             if (!both[j].by_weight) {
                 EXPECT_LE(both[i].light_cache, both[j].light_cache);
             }
-            if (both[i].light_cache == both[j].light_cache && both[i].by_weight == both[j].by_weight) {
+            const bool same_allocation =
+                both[i].by_weight == both[j].by_weight && both[i].weight_exponent == both[j].weight_exponent;
+            if (both[i].light_cache == both[j].light_cache && same_allocation) {
                 EXPECT_LE(both[i].denoise, both[j].denoise);
             }
-            if (both[i].denoise == both[j].denoise && both[i].light_cache == both[j].light_cache &&
-                both[i].by_weight == both[j].by_weight) {
+            if (both[i].denoise == both[j].denoise && both[i].light_cache == both[j].light_cache && same_allocation) {
                 EXPECT_FALSE(both[j].spp <= both[i].spp && both[j].bounce_spp <= both[i].bounce_spp) << i << " " << j;
             }
         }
@@ -123,6 +129,12 @@ TEST(EqualErrorPick, Skip) {
     more.spp = 40;
     EXPECT_TRUE(equal_error_skip(more, weighted_rows, 25.0));
     EXPECT_FALSE(equal_error_skip({40, 4, false}, weighted_rows, 25.0));
+    // ... and so is each exponent: 32 by weight at 30 ms bounds no count by weight^0.8.
+    C weighted_08 = more;
+    weighted_08.weight_exponent = 0.8f;
+    EXPECT_FALSE(equal_error_skip(weighted_08, weighted_rows, 25.0));
+    weighted_rows[0].weight_exponent = 0.8f;
+    EXPECT_TRUE(equal_error_skip(weighted_08, weighted_rows, 25.0));
     EXPECT_TRUE(equal_error_skip(cached, cached_rows, 11.0));
 }
 
