@@ -5,14 +5,7 @@
 source "$(dirname "$0")/device_env.sh"
 V=".devbuild/new/vx render --scene seed --scene-block glazed --size 1920x1080 --device gpu --lighting thesis --repeat 30 --reflections 5"
 t0=$(date +%s)
-run() { # name, splits, config
-  local name=$1 order=$2; shift 2
-  for k in $order; do
-    echo "== $name split=$k"
-    timeout 60 $V "$@" --split-hits $k --out /tmp/${name}_$k.png 2>&1 | grep -E "frames 2\.\.|rror"
-  done
-  md5sum /tmp/${name}_*.png | awk '{print $1}' | sort -u | wc -l | awk '{print "  distinct images:", $1}'
-}
+source "$(dirname "$0")/../../scripts/split_pairs.sh" # run NAME "SPLITS" ARGS...
 run w56 "0 1 2 3 5" --spp 56 --samples-by weight
 run w40 "0 1 2 3 5" --spp 40 --samples-by weight
 run w48 "5 3 2 1" --spp 48 --samples-by weight

@@ -8,14 +8,8 @@ source "$(dirname "$0")/device_env.sh"
 T="--seed 1 --radius 6 --size 1920x1080 --device gpu --repeat 30"
 M="--scene seed --scene-block mirror --size 1920x1080 --device gpu --repeat 30 --reflections 5"
 t0=$(date +%s)
-run() { # name, splits, args
-  local name=$1 splits=$2; shift 2
-  for k in $splits; do
-    echo "== $name split=$k"
-    timeout 90 .devbuild/new/vx render "$@" --split-hits $k --out /tmp/${name}_$k.png 2>&1 | grep -E "frames 2\.\.|rror"
-  done
-  md5sum /tmp/${name}_*.png | awk '{print $1}' | sort -u | wc -l | awk '{print "  distinct images:", $1}'
-}
+V=".devbuild/new/vx render" TIMEOUT=90
+source "$(dirname "$0")/../../scripts/split_pairs.sh" # run NAME "SPLITS" ARGS...
 run terrain_sandbox "0 2 0 2" $T --spp 8 --bounce-spp 1 --denoise on
 run terrain_default "0 2 0 2" $T
 run mirror_4_4_denoised "0 5 0 5" $M --spp 4 --bounce-spp 4 --denoise on
