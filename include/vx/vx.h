@@ -257,7 +257,9 @@ struct RenderSettings {
     // Trace the first split_hits hits of every path (the primary hit, then its mirror bounces)
     // each in a pass of its own, later passes over only the paths still going, then the rest.
     // The same image, faster on a GPU with reflections (H200, 5 bounces: 23% at 1 sample, 31% at
-    // 56 by weight; docs/render_report.md, stop 29) for 88 bytes a pixel (182 MB at 1080p). 0: one pass; more than max_bounces counts as max_bounces.
+    // 56 by weight; docs/render_report.md, stop 29) for 88 bytes a pixel (182 MB at 1080p). 0: one
+    // pass; more than max_bounces counts as max_bounces. On terrain it was 0.5-1% slower
+    // (stop 30).
     uint32_t split_hits = 0;
     uint32_t max_bounces = 2;    // Mirror reflection depth.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance.
