@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include <CLI/CLI.hpp>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -65,6 +67,20 @@ std::string weight_exponent_text(float exponent) {
     char text[32];
     std::snprintf(text, sizeof text, "^%g", double(exponent));
     return text;
+}
+
+CLI::Validator finite_range(double lo, double hi, const std::string& what) {
+    char name[64];
+    std::snprintf(name, sizeof name, "FLOAT in [%g, %g]", lo, hi);
+    return CLI::Validator(
+        [lo, hi, what](std::string& v) {
+            char* end = nullptr;
+            errno = 0;
+            const double x = std::strtod(v.c_str(), &end);
+            const bool ok = errno == 0 && end != v.c_str() && *end == '\0' && std::isfinite(x) && x >= lo && x <= hi;
+            return ok ? std::string() : what + ", got '" + v + "'";
+        },
+        name);
 }
 
 int bad_input(const std::string& message) {

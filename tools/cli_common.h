@@ -8,6 +8,10 @@
 
 #include <glm/glm.hpp>
 
+namespace CLI {
+class Validator;
+}
+
 namespace vx::tools {
 
 inline constexpr int kExitOk = 0;
@@ -29,6 +33,11 @@ uint32_t split_hits_arg(const std::string& first_hit_pass, uint32_t split_hits);
 // How reports name render::RenderSettings::weight_exponent after "by weight": "" for 1, else
 // "^0.8" (shortest form).
 std::string weight_exponent_text(float exponent);
+
+// A CLI11 check that the option is a finite decimal within [lo, hi]: CLI::Range lets NaN through
+// (every comparison with it is false), and "nan" would reach the renderer or a size cast.
+// `what` names the accepted values in the message, e.g. "an exponent from 0.05 to 1".
+CLI::Validator finite_range(double lo, double hi, const std::string& what);
 
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);

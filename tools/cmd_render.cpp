@@ -499,7 +499,7 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--weight-exponent", a->weight_exponent,
                     "With --samples-by weight: every hit ceil(--spp x weight^E) (0.8: the weak bounces get more "
                     "rays; render::RenderSettings::weight_exponent)")
-        ->check(CLI::Range(0.05f, 1.f));
+        ->check(finite_range(0.05, 1.0, "an exponent from 0.05 to 1"));
     cmd->add_option("--first-hit-pass", a->first_hit_pass,
                     "on: trace the primary hits' light in a pass of its own, then the reflections (the same "
                     "image; --split-hits 1)")

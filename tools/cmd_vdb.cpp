@@ -134,7 +134,7 @@ std::optional<std::vector<DensityBlock>> parse_density(const std::string& s) {
         int id;
         char colon;
         std::istringstream is(item);
-        if (!(is >> d >> colon >> id) || colon != ':' || d < 0 || d > 1 || id < 1 || id > 0xFFFF)
+        if (!(is >> d >> colon >> id) || colon != ':' || !(d >= 0 && d <= 1) || id < 1 || id > 0xFFFF)
             return std::nullopt;
         out.push_back({d, BlockId(id)});
     }
@@ -248,7 +248,7 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     im->add_option("--density", i->density, "Fog: relative density -> block id, e.g. 0.2:3,0.6:1");
     im->add_option("--offset", i->offset, "X,Y,Z added to every block (world block coordinates)");
     im->add_option("--max-memory", i->max_memory_gib, "Memory cap of the isolated reader in GiB (default 4; 0: none)")
-        ->check(CLI::Range(0.0, 65536.0));
+        ->check(finite_range(0.0, 65536.0, "a size in GiB from 0 to 65536"));
     im->add_option("--max-seconds", i->max_seconds, "CPU-time cap of the isolated reader in seconds (default 600; 0: none)");
     im->add_option("--sampling", i->sampling, "adaptive (default), centre, majority or supersample")
         ->check(CLI::IsMember({"adaptive", "centre", "majority", "supersample"}));

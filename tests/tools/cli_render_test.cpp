@@ -287,9 +287,11 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
     EXPECT_EQ(weighted_08.code, 0) << weighted_08.out;
     EXPECT_NE(weighted_08.out.find("(25 samples x each hit's weight^0.8), reflections 5"), std::string::npos)
         << weighted_08.out;
-    const CliRun bad_exponent = vx("render " + view + "--samples-by weight --weight-exponent 0", kEnv);
-    EXPECT_EQ(bad_exponent.code, 2) << bad_exponent.out;
-    EXPECT_NE(bad_exponent.out.find("--weight-exponent"), std::string::npos) << bad_exponent.out;
+    for (const char* e : {"0", "1.5", "nan", "-nan", "inf", "0.8x"}) { // NaN once rendered.
+        const CliRun bad_exponent = vx("render " + view + "--samples-by weight --weight-exponent=" + e, kEnv);
+        EXPECT_EQ(bad_exponent.code, 2) << e << ": " << bad_exponent.out;
+        EXPECT_NE(bad_exponent.out.find("--weight-exponent"), std::string::npos) << bad_exponent.out;
+    }
     const CliRun bad_by = vx("render " + view + "--samples-by luck", kEnv);
     EXPECT_EQ(bad_by.code, 2) << bad_by.out;
     EXPECT_NE(bad_by.out.find("--samples-by"), std::string::npos) << bad_by.out;

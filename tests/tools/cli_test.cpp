@@ -458,6 +458,13 @@ TEST(Cli, VdbWorldExportsWithItsEditsAndReaderCapsAreOptions) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 #endif
     EXPECT_EQ(run_vx("import-vdb " + merged + " --out " + back + " --max-seconds abc").code, 2);
+    // A cap that is not a finite size is refused before any reader starts (NaN would reach the
+    // cast to bytes: CLI::Range lets it through).
+    for (const char* bad : {"nan", "inf", "-1", "8x"}) {
+        r = run_vx("import-vdb " + merged + " --out " + back + " --max-memory=" + bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--max-memory"), std::string::npos) << r.out;
+    }
 
     // A reader capped at 1 s of CPU on an import of about a minute (a level set of radius 150
     // voxels at one voxel per block: ~15x the 3-4 s of radius 60 here) stops with one line naming
