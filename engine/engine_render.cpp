@@ -113,7 +113,7 @@ Status check_render_settings(const RenderSettings& s) {
     constexpr uint32_t kMaxSamples = 1024, kMaxBounces = 16, kMaxAccumulate = 1024;
     if (s.shadow_samples > kMaxSamples || s.bounce_shadow_samples.value_or(0) > kMaxSamples)
         return Error{"render settings: shadow samples must be 0.." + std::to_string(kMaxSamples)};
-    if (!(s.weight_exponent > 0.f && s.weight_exponent <= 1.f))
+    if (!render::weight_exponent_valid(s.weight_exponent))
         return Error{"render settings: weight_exponent must be in (0, 1]"};
     if (s.max_bounces > kMaxBounces)
         return Error{"render settings: max_bounces must be 0.." + std::to_string(kMaxBounces)};

@@ -582,7 +582,10 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     const EmitterCounts emitters = write_emitter_list(cam.block, s.emitter_sampling);
     frame_samples_faces = emitters.quads > 0;
     p.flags = glm::uvec4(s.sky_access ? 1u : 0u, emitters.chunks, emitters.quads, emitters.covered);
-    p.sampling = glm::uvec4(s.samples_by_weight ? 1u : 0u, glm::floatBitsToUint(s.weight_exponent), 0u, 0u);
+    // An exponent outside (0, 1] (NaN too) counts as 1: pow() of NaN would make every count
+    // undefined. The facade and `vx render` refuse such values (weight_exponent_valid).
+    const float exponent = weight_exponent_valid(s.weight_exponent) ? s.weight_exponent : 1.f;
+    p.sampling = glm::uvec4(s.samples_by_weight ? 1u : 0u, glm::floatBitsToUint(exponent), 0u, 0u);
     const uint32_t slot = ctx->frame_slot();
     metering[slot] = metered(s);
     if (metering[slot]) {

@@ -119,6 +119,10 @@ constexpr bool light_cache_pixels_valid(float pixels) {
     return pixels >= kMinLightCachePixels && pixels <= kMaxLightCachePixels;
 }
 
+// RenderSettings::weight_exponent's range, (0, 1]; false for NaN. The renderer takes any other
+// value as 1; the facade and `vx render` refuse it.
+constexpr bool weight_exponent_valid(float exponent) { return exponent > 0.f && exponent <= 1.f; }
+
 struct RenderSettings {
     uint32_t width = 64, height = 64;
     PipelineKind pipeline = PipelineKind::RayTraced;

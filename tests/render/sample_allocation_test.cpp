@@ -2,6 +2,7 @@
 // it gives, that a matte scene keeps its image, and that glazed blocks converge to the same image
 // with fewer rays.
 #include <cstdio>
+#include <limits>
 #include <set>
 
 #include "scene_util.h"
@@ -78,6 +79,23 @@ TEST_F(RendererTest, SamplesByWeightCountAFirstHitsDiffuseShare) {
     EXPECT_TRUE(glazed_08.count(64) || glazed_08.count(128) || glazed_08.count(191));
     for (int v : glazed_08)
         EXPECT_TRUE(v == 0 || v == 64 || v == 128 || v == 191 || v == 255 || v == 140) << v;
+}
+
+// An exponent outside (0, 1] reaches the renderer only past the facade's and the CLI's checks
+// (a game's own settings): it counts as 1, the same image as exponent 1, never NaN counts.
+TEST_F(RendererTest, SamplesByWeightTakeABadExponentAsOne) {
+    test::load_meshes(*m_renderer, test::mesh_world(yard("glazed", "stone")));
+    RenderSettings s = thesis_light(ShadingMode::Full);
+    s.shadow_samples = 4;
+    s.samples_by_weight = true;
+    const RenderImage one = m_renderer->render(s, kView);
+    s.weight_exponent = 0.5f; // A valid exponent changes the counts: the test can tell.
+    EXPECT_NE(m_renderer->render(s, kView).rgba, one.rgba);
+    for (float bad : {std::numeric_limits<float>::quiet_NaN(), 0.f, -1.f, 2.f,
+                      std::numeric_limits<float>::infinity()}) {
+        s.weight_exponent = bad;
+        EXPECT_EQ(m_renderer->render(s, kView).rgba, one.rgba) << bad;
+    }
 }
 
 // With no glazed or mirror block every hit weighs 1: the same samples, byte for byte.
