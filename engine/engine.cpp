@@ -21,14 +21,20 @@ static_assert(chunk_index(1, 2, 3) == world::local_index(1, 2, 3));
 
 namespace {
 
+constexpr double kMaxUpdateBudgetMs = 1000; // A second of main-thread work a frame.
+
 Status validate(const EngineCreateInfo& info) {
     const StreamingDesc& s = info.streaming;
     if (s.view_radius < 0 || s.view_radius_vertical < 0 || s.unload_margin < 0)
         return Error{"streaming radii must be >= 0"};
     if (s.view_radius > 64 || s.view_radius_vertical > 64)
         return Error{"streaming radii above 64 chunks are not supported"};
-    if (!(s.unload_delay_s >= 0) || !(s.save_delay_s >= 0) || !(s.update_budget_ms > 0))
-        return Error{"streaming delays must be >= 0 and the update budget > 0"};
+    if (!(s.unload_delay_s >= 0) || !(s.save_delay_s >= 0)) // NaN fails; infinity: only on save().
+        return Error{"streaming delays must be >= 0 seconds (infinity: never)"};
+    // The budget becomes integer nanoseconds: infinity or 1e30 would overflow the conversion.
+    if (!(s.update_budget_ms > 0 && s.update_budget_ms <= kMaxUpdateBudgetMs))
+        return Error{"update_budget_ms must be in (0, " + std::to_string(int(kMaxUpdateBudgetMs)) + "], got " +
+                     std::to_string(s.update_budget_ms)};
     if (s.worker_threads < 0)
         return Error{"worker_threads must be >= 0 (0: cores - 1)"};
     if (s.view_distance < 0 || s.view_distance > 65536)

@@ -172,6 +172,48 @@ TEST(FacadeChecks, CreateRefusesBlockMaterialsOutOfRange) {
     EXPECT_TRUE(engine) << engine.error();
 }
 
+// Streaming delays are seconds >= 0 (infinity: never); the update budget is (0, 1000] ms, as it
+// becomes integer nanoseconds (infinity once overflowed the conversion).
+TEST(FacadeChecks, CreateRefusesStreamingTimesOutOfRange) {
+    const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
+    for (double budget : {0.0, -1.0, nan, inf, 1e30, 1000.5}) {
+        vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+        info.streaming.update_budget_ms = budget;
+        const std::string error = error_of(vx::Engine::create(info));
+        EXPECT_NE(error.find("update_budget_ms must be in (0, 1000]"), std::string::npos) << budget << ": " << error;
+    }
+    for (double delay : {-1.0, nan}) {
+        vx::EngineCreateInfo unload = tiny_info(vx::WorldSource::terrain(1)), save = unload;
+        unload.streaming.unload_delay_s = delay;
+        save.streaming.save_delay_s = delay;
+        EXPECT_NE(error_of(vx::Engine::create(unload)).find("streaming delays must be >= 0"), std::string::npos);
+        EXPECT_NE(error_of(vx::Engine::create(save)).find("streaming delays must be >= 0"), std::string::npos);
+    }
+    // The edges: a budget of 1000 ms, and delays of infinity: an edit stays unsaved through
+    // updates an hour apart until save() writes it.
+    const std::string path = checks_world("never_saves");
+    vx::EngineCreateInfo edges = tiny_info(vx::WorldSource::sqlite(path, 1));
+    edges.streaming.update_budget_ms = 1000.0;
+    edges.streaming.unload_delay_s = inf;
+    edges.streaming.save_delay_s = inf;
+    auto engine = vx::Engine::create(edges);
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(1, 0, 0) + 4, 0};
+    ASSERT_TRUE(e.set_viewer(v));
+    ASSERT_TRUE(vx::test::settle(e));
+    ASSERT_TRUE(e.set_block(v.block, *e.find_block("stone")));
+    const auto now = std::chrono::steady_clock::now();
+    for (int hour = 1; hour <= 3; ++hour)
+        e.update(now + std::chrono::hours(hour));
+    EXPECT_EQ(e.stats().dirty_chunks, 1u);
+    auto ticket = e.save();
+    ASSERT_TRUE(ticket) << ticket.error();
+    ASSERT_TRUE(e.wait(*ticket));
+    EXPECT_EQ(e.stats().dirty_chunks, 0u);
+}
+
 // A generator with a name and version the test picks; every chunk below y = 0 rock.
 class NamedGenerator final : public vx::Generator {
 public:
