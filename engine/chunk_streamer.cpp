@@ -43,7 +43,9 @@ ChunkStreamer::~ChunkStreamer() {
     // Once: after a flush requested with nothing handed to the store since (the engine's
     // shutdown flushes first), another would only repeat it, and with the server away wait
     // another connect timeout for the same error.
-    if (m_store && (m_dirty_count > 0 || m_saves != m_saves_at_request)) {
+    // Without threads (the OS refused them: JobSystem::start_error) nothing was loaded, so
+    // nothing can be edited or unsaved, and no thread would run the flush.
+    if (m_store && m_jobs->start_error().empty() && (m_dirty_count > 0 || m_saves != m_saves_at_request)) {
         Status s = flush();
         if (!s)
             VX_LOG_ERROR("saving the world on shutdown failed: %s", s.error().c_str());
@@ -674,6 +676,10 @@ uint64_t ChunkStreamer::request_save() {
     const uint64_t sequence = m_saves_done->next();
     if (!m_store) {
         m_saves_done->finished(sequence, {}); // Nothing persists: nothing to wait for.
+        return sequence;
+    }
+    if (!m_jobs->start_error().empty()) { // No I/O thread to run the sync: say so, never wait.
+        m_saves_done->finished(sequence, Error{"no thread to save on: " + m_jobs->start_error()});
         return sequence;
     }
     save_dirty(m_last_now, true);

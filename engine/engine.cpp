@@ -35,8 +35,9 @@ Status validate(const EngineCreateInfo& info) {
     if (!(s.update_budget_ms > 0 && s.update_budget_ms <= kMaxUpdateBudgetMs))
         return Error{"update_budget_ms must be in (0, " + std::to_string(int(kMaxUpdateBudgetMs)) + "], got " +
                      std::to_string(s.update_budget_ms)};
-    if (s.worker_threads < 0)
-        return Error{"worker_threads must be >= 0 (0: cores - 1)"};
+    if (s.worker_threads < 0 || s.worker_threads > engine::kMaxWorkerThreads)
+        return Error{"worker_threads must be 0.." + std::to_string(engine::kMaxWorkerThreads) + " (0: cores - 1), got " +
+                     std::to_string(s.worker_threads)};
     if (s.view_distance < 0 || s.view_distance > 65536)
         return Error{"view_distance must be 0..65536 blocks, got " + std::to_string(s.view_distance)};
     if (s.lod_ring < 1 || s.lod_ring > 64)
@@ -183,6 +184,16 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
         streaming.frame_budget = streaming.frame_budget * 3 / 4;
     m.streamer = std::make_unique<engine::ChunkStreamer>(*m.world.generator, m.world.store.get(), *meshes,
                                                          streaming, m.world.registry);
+    const engine::JobSystem& jobs = m.streamer->jobs();
+    if (!jobs.start_error().empty()) {
+        const std::string why = "engine: cannot start its worker threads: " + jobs.start_error();
+        m.streamer.reset(); // Nothing loaded or edited, so nothing to flush (and no thread to do it).
+        return Error{why};
+    }
+    if (jobs.refused_workers() > 0)
+        VX_LOG_WARN("engine: the OS refused %d of the %d worker threads asked for (%s); running on %d",
+                    jobs.refused_workers(), jobs.refused_workers() + jobs.worker_count(),
+                    jobs.refused_reason().c_str(), jobs.worker_count());
     m.streamer->set_observer(m.sink.get());
     if (m.lod)
         m.lod->attach(m.streamer->jobs(), m.streamer->world());

@@ -1,6 +1,8 @@
 #include "engine/job_system.h"
 
 #include <algorithm>
+#include <string>
+#include <system_error>
 
 #include "world/base/assert.h"
 
@@ -23,11 +25,29 @@ std::chrono::nanoseconds steady_now() {
 JobSystem::JobSystem(const JobSystemCreateInfo& info)
     : m_info(info), m_main_thread(std::this_thread::get_id()), m_paused(info.start_paused) {
     m_pool_queue.set_view_weight(std::max(0.0, info.view_weight));
-    const int workers = info.worker_count > 0 ? info.worker_count : default_worker_count();
+    const int workers = std::min(info.worker_count > 0 ? info.worker_count : default_worker_count(), kMaxWorkerThreads);
     m_pool_threads.reserve(size_t(workers));
-    for (int i = 0; i < workers; ++i)
-        m_pool_threads.emplace_back([this, i] { worker_main(JobLane::Pool, i); });
-    m_io_thread = std::thread([this] { worker_main(JobLane::Io, -1); });
+    // std::thread reports a refused thread (EAGAIN: a thread limit, or no memory for its stack)
+    // by throwing std::system_error: caught here, at the boundary, and kept as a reason. The I/O
+    // thread starts first, so a shortage costs pool workers before the one store lane.
+    try {
+        m_io_thread = std::thread([this] { worker_main(JobLane::Io, -1); });
+    } catch (const std::system_error& e) {
+        m_start_error = std::string("the OS refused the I/O thread: ") + e.what();
+        return;
+    }
+    for (int i = 0; i < workers; ++i) {
+        try {
+            m_pool_threads.emplace_back([this, i] { worker_main(JobLane::Pool, i); });
+        } catch (const std::system_error& e) {
+            m_refused_workers = workers - i;
+            m_refused_reason = e.what();
+            break;
+        }
+    }
+    if (m_pool_threads.empty())
+        m_start_error = "the OS refused every worker thread (" + std::to_string(workers) + " asked for): " +
+                        m_refused_reason;
 }
 
 JobSystem::~JobSystem() {
@@ -52,7 +72,8 @@ JobSystem::~JobSystem() {
     unstarted.clear();
     for (std::thread& t : m_pool_threads)
         t.join();
-    m_io_thread.join();
+    if (m_io_thread.joinable()) // Not where the OS refused it.
+        m_io_thread.join();
     // Every thread is gone: finished results are discarded without complete().
     m_counters.cancelled += m_completions.size();
     for (const Finished& f : m_completions)

@@ -56,6 +56,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -66,8 +67,11 @@
 namespace vx::engine {
 
 // Creation parameters. Plain value (not thread-safe).
+// The most pool workers a JobSystem starts (the facade and the CLI refuse more).
+inline constexpr int kMaxWorkerThreads = 256;
+
 struct JobSystemCreateInfo {
-    int worker_count = 0;            // Pool workers; <= 0: hardware threads - 1, at least 1.
+    int worker_count = 0;            // Pool workers, at most kMaxWorkerThreads; <= 0: hardware threads - 1, at least 1.
     double view_weight = 1.0;        // See priority_score(); 0 = pure distance.
     double reprioritize_distance = 8.0; // Blocks the viewer must move before the queue is re-scored.
     double reprioritize_cos = 0.985; // Re-score when the view direction turns past this (cos ~10°).
@@ -122,7 +126,9 @@ struct JobTicket {
 // Owns the worker threads. The thread that constructs a JobSystem is its main thread.
 class JobSystem {
 public:
-    // Main thread. Starts the pool workers and the I/O thread.
+    // Main thread. Starts the pool workers and the I/O thread. The system may hold fewer threads
+    // than asked for when the OS refuses one (a thread limit, no memory for a stack): see
+    // start_error() and worker_count().
     explicit JobSystem(const JobSystemCreateInfo& info = {});
     // Main thread. Cancels queued jobs, stops running ones, joins; see the file comment.
     ~JobSystem();
@@ -157,8 +163,15 @@ public:
 
     // Thread-safe.
     JobMetrics metrics() const;
-    // Thread-safe.
+    // Thread-safe. The pool workers that started (fewer than asked where the OS refused some).
     int worker_count() const { return int(m_pool_threads.size()); }
+    // Thread-safe. Why the system cannot run jobs ("" when it can): the OS refused the I/O thread
+    // or every pool worker. Its owner must not wait for jobs then; destroying it is safe.
+    const std::string& start_error() const { return m_start_error; }
+    // Thread-safe. How many of the pool workers asked for the OS refused (the system runs on the
+    // rest), and its reason ("" when none).
+    int refused_workers() const { return m_refused_workers; }
+    const std::string& refused_reason() const { return m_refused_reason; }
 
 private:
     struct KeyState {
@@ -229,6 +242,8 @@ private:
 
     std::vector<std::thread> m_pool_threads;
     std::thread m_io_thread;
+    std::string m_start_error, m_refused_reason; // Set in the constructor only.
+    int m_refused_workers = 0;
 };
 
 } // namespace vx::engine

@@ -88,6 +88,15 @@ int bad_input(const std::string& message) {
     return kExitBadInput;
 }
 
+int failed(const std::string& message) {
+    std::fprintf(stderr, "vx: %s\n", message.c_str());
+    return kExitFailure;
+}
+
+std::string job_system_problem(const std::string& start_error) {
+    return start_error.empty() ? std::string() : "cannot start the worker threads: " + start_error;
+}
+
 bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
 } // namespace vx::tools

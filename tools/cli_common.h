@@ -41,6 +41,11 @@ CLI::Validator finite_range(double lo, double hi, const std::string& what);
 
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);
+// Prints "vx: <message>" to stderr and returns kExitFailure: the machine, not the input, stopped
+// the command (the OS refused its threads).
+int failed(const std::string& message);
+// "" when `jobs` can run jobs, else the line to print (engine::JobSystem::start_error()).
+std::string job_system_problem(const std::string& start_error);
 
 // Whether stderr is a terminal: progress bars redraw in place ('\r') only there; piped into a
 // log, commands print one summary line instead. Thread-safe.

@@ -178,6 +178,8 @@ int run_bench_lod(const BenchLodArgs& a) {
     if (!full_info)
         return bad_input(full_info.error());
     engine::JobSystem jobs(engine::batch_job_system_info(a.threads));
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
     auto full_scene = engine::load_scene(jobs, *full_info);
     if (!full_scene)
         return bad_input(full_scene.error());
@@ -293,7 +295,8 @@ int run_bench_lod_command(int argc, char** argv) {
     app.add_option("--eye", a.eye, "Camera X,Y,Z in blocks (default: the terrain's default view)");
     app.add_option("--target", a.target, "Point looked at, X,Y,Z in blocks");
     app.add_option("--repeat", a.repeat, "Timed frames per scene and shading (medians)")->check(CLI::Range(1u, 10000u));
-    app.add_option("--threads", a.threads, "Generation and meshing threads (0 = all cores)");
+    app.add_option("--threads", a.threads, "Generation and meshing threads (0 = all cores; at most 256)")
+        ->check(CLI::Range(0u, unsigned(engine::kMaxWorkerThreads)));
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
     try {

@@ -230,6 +230,8 @@ int run_bench_render(const BenchRenderArgs& a) {
     if (!info)
         return bad_input(info.error());
     engine::JobSystem jobs(engine::batch_job_system_info(sa.threads));
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
     auto scene = engine::load_scene(jobs, *info);
     if (!scene)
         return bad_input(scene.error());

@@ -148,6 +148,8 @@ int run_mesh(const MeshArgs& a) {
     const double edits_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     // The process's one job system, a worker per thread asked for (the main thread only waits).
     engine::JobSystem jobs(engine::batch_job_system_info(a.threads));
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
     const int threads = jobs.worker_count();
     auto scene = engine::load_scene(jobs, *info);
     if (!scene)
@@ -193,7 +195,8 @@ void add_mesh_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--mesher", args->mesher, "Mesher")->check(CLI::IsMember({"greedy", "culled", "naive"}));
     cmd->add_option("--obj", args->obj, "Write a Wavefront OBJ (+ .mtl) here");
     cmd->add_option("--scene", args->scene, "Built-in scene instead of --raw: 'seed' (thesis: 1024 chunks, 10% random)");
-    cmd->add_option("--threads", args->threads, "Meshing threads (0 = all cores)");
+    cmd->add_option("--threads", args->threads, "Meshing threads (0 = all cores; at most 256)")
+        ->check(CLI::Range(0u, unsigned(engine::kMaxWorkerThreads)));
     cmd->callback([args, &action] { action = [args] { return run_mesh(*args); }; });
 }
 

@@ -385,6 +385,8 @@ int run_render(RenderArgs a) {
         return bad_input(info.error());
     // The process's one job system: loading, generation and meshing run on it.
     engine::JobSystem jobs(engine::batch_job_system_info(a.scene.threads));
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
     auto scene = engine::load_scene(jobs, *info);
     if (!scene)
         return bad_input(scene.error());
@@ -478,7 +480,8 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--lod-ring", a->scene.lod_ring,
                     "Coarse levels' box half-width in their own chunks (default 12; each level reaches about "
                     "ring x 32 x 2^level blocks)");
-    cmd->add_option("--threads", a->scene.threads, "Generation and meshing threads (0 = all cores)");
+    cmd->add_option("--threads", a->scene.threads, "Generation and meshing threads (0 = all cores; at most 256)")
+        ->check(CLI::Range(0u, unsigned(engine::kMaxWorkerThreads)));
     cmd->add_option("--eye", a->eye, "Camera position X,Y,Z in blocks (decimal; integer part read as 64-bit)");
     cmd->add_option("--target", a->target, "Point looked at, X,Y,Z in blocks");
     cmd->add_option("--up", a->up, "Up vector X,Y,Z");

@@ -145,7 +145,7 @@ struct StreamingDesc {
                                   // >= 0; infinity: only save() and shutdown write them).
     size_t memory_cap_bytes = 0;  // Block data cap (0: none); never evicts inside the view.
     double update_budget_ms = 2.0; // Main-thread time update() may spend applying results, (0, 1000].
-    int worker_threads = 0;       // Generation/meshing threads (0: cores - 1, at least 1).
+    int worker_threads = 0;       // Generation/meshing threads, 0..256 (0: cores - 1, at least 1).
     // Levels of detail: terrain is drawn to `view_distance` blocks (horizontal, 0..65536): full
     // detail within view_radius, then levels with cells of 2, 4, 8, ... blocks, each reaching
     // lod_ring of its own chunks (chunks of 32 cells) around the viewer. Coarse levels are

@@ -173,8 +173,15 @@ TEST(FacadeChecks, CreateRefusesBlockMaterialsOutOfRange) {
 }
 
 // Streaming delays are seconds >= 0 (infinity: never); the update budget is (0, 1000] ms, as it
-// becomes integer nanoseconds (infinity once overflowed the conversion).
-TEST(FacadeChecks, CreateRefusesStreamingTimesOutOfRange) {
+// becomes integer nanoseconds (infinity once overflowed the conversion); worker threads 0..256
+// (100,000 once aborted the process when the OS ran out of threads).
+TEST(FacadeChecks, CreateRefusesStreamingSettingsOutOfRange) {
+    for (int workers : {-1, 257, 100000}) {
+        vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+        info.streaming.worker_threads = workers;
+        const std::string error = error_of(vx::Engine::create(info));
+        EXPECT_NE(error.find("worker_threads must be 0..256"), std::string::npos) << workers << ": " << error;
+    }
     const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
     for (double budget : {0.0, -1.0, nan, inf, 1e30, 1000.5}) {
         vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));

@@ -1,6 +1,7 @@
 // The facade <vx/vx.h> under a game's faults, without a GPU: a Generator that throws for some
 // chunks (std and non-std exceptions), a game clock behind or ahead of the steady clock, and the
-// log hook (engine messages reach it; a handler that throws takes nothing down). Game time is a
+// log hook (engine messages reach it; a handler that throws takes nothing down), and an OS that
+// refuses the engine's threads. Game time is a
 // synthetic clock the test advances; waits are bounded by conditions, never by the machine.
 #include <atomic>
 #include <chrono>
@@ -18,6 +19,7 @@
 #include <vx/vx.h>
 
 #include "facade_test_util.h"
+#include "thread_refusal.h"
 #include "world/store/store_open.h"
 
 using Clock = std::chrono::steady_clock;
@@ -315,3 +317,30 @@ TEST(FacadeFaults, GameClockBehindSavesEdits) { check_save_delay_on_game_clock(-
 TEST(FacadeFaults, GameClockAheadWaitsForSaveDelay) { check_save_delay_on_game_clock(1h); }
 
 } // namespace
+
+// The OS refuses the engine's threads (tests/engine/thread_refusal.h): create() says so and
+// returns, with nothing to wait for; once threads start again, so does an engine. A stored
+// world's file is left as it was (nothing was loaded or saved).
+TEST(FacadeFaults, NoThreadsIsAnErrorFromCreate) {
+    const std::string path = fault_world("no_threads");
+    vx::EngineCreateInfo info;
+    info.world = vx::WorldSource::sqlite(path, 5);
+    info.streaming.view_radius = 1;
+    info.streaming.view_radius_vertical = 1;
+    info.streaming.worker_threads = 2;
+    {
+        vx::engine::test::RefuseThreads refuse;
+        ASSERT_TRUE(refuse.ok()) << "could not set the default thread attributes";
+        auto engine = vx::Engine::create(info);
+        ASSERT_FALSE(engine);
+        EXPECT_NE(engine.error().find("cannot start its worker threads"), std::string::npos) << engine.error();
+        EXPECT_NE(engine.error().find("Resource temporarily unavailable"), std::string::npos) << engine.error();
+    }
+    auto engine = vx::Engine::create(info);
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(5, 0, 0) + 4, 0};
+    ASSERT_TRUE((*engine)->set_viewer(v));
+    ASSERT_TRUE(vx::test::settle(**engine));
+    EXPECT_GT((*engine)->stats().chunks_meshed, 0u);
+}

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -16,6 +17,7 @@
 
 #include "engine/chunk_streamer.h"
 #include "stream_test_util.h"
+#include "thread_refusal.h"
 #include "world/gen/terrain.h"
 #include "world/store/sqlite_store.h"
 
@@ -208,4 +210,27 @@ TEST(StoreFaults, AChunkWhoseLoadFailsIsNotGeneratedOverAndLoadsWhenTheStoreIsBa
     ASSERT_TRUE(settle(s, there, now));
     EXPECT_EQ(s.get_block(far), BlockId(11)); // The stored edit, not the generator's block.
     ASSERT_TRUE(s.flush().ok());
+}
+
+// The OS refuses every thread (thread_refusal.h): the streamer's job system cannot run, so a
+// save says so at once instead of waiting for an I/O thread that does not exist, and destroying
+// the streamer does not wait for one either.
+TEST(StoreFaults, NoThreadsMakesASaveFailAtOnce) {
+    const std::string path = temp_world("no_threads");
+    const TerrainGenerator gen(5);
+    auto opened = SqliteStore::open({path});
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    NullSink sink;
+    std::optional<ChunkStreamer> s;
+    {
+        vx::engine::test::RefuseThreads refuse;
+        ASSERT_TRUE(refuse.ok()) << "could not set the default thread attributes";
+        s.emplace(gen, opened->get(), sink, settings());
+    }
+    ASSERT_FALSE(s->jobs().start_error().empty());
+    const Status saved = s->wait_saved(s->request_save());
+    ASSERT_FALSE(saved.ok());
+    EXPECT_NE(saved.error().find("no thread to save on"), std::string::npos) << saved.error();
+    EXPECT_FALSE(s->flush().ok());
+    s.reset();
 }

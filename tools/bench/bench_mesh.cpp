@@ -148,6 +148,10 @@ void bench_seed_scene(benchmark::State& state) {
             world.put_chunk(ChunkCoord(x, 0, z), seed_scene_chunk(ChunkCoord(x, 0, z)));
     const std::vector<ChunkCoord> coords = engine::chunk_coords(world);
     engine::JobSystem jobs(engine::batch_job_system_info());
+    if (!jobs.start_error().empty()) {
+        state.SkipWithError(("cannot start the worker threads: " + jobs.start_error()).c_str());
+        return;
+    }
     engine::RegionMesher mesher(jobs, {engine::ApronMode::Air, {}});
     MeshMap meshes;
     uint64_t tris = 0;
