@@ -1,6 +1,8 @@
 #include "engine/world_pregen.h"
 
+#include <algorithm>
 #include <chrono>
+#include <climits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -120,6 +122,23 @@ size_t box_volume(ChunkCoord lo, ChunkCoord hi) {
     return size_t(hi.x - lo.x + 1) * size_t(hi.y - lo.y + 1) * size_t(hi.z - lo.z + 1);
 }
 
+// PregenInfo's rules for its box (world_pregen.h), in 64-bit arithmetic: the int32 sides of a
+// box across the whole world overflow.
+Status check_box(ChunkCoord lo, ChunkCoord hi) {
+    int64_t volume = 1;
+    for (int a = 0; a < 3; ++a) {
+        if (lo[a] > hi[a])
+            return Error{"pregeneration box: lo is above hi"};
+        if (lo[a] == INT32_MIN || hi[a] == INT32_MAX)
+            return Error{"pregeneration box: the world's outermost chunk layer has no neighbours to mesh against"};
+        volume *= std::min<int64_t>(int64_t(hi[a]) - lo[a] + 1, kMaxPregenChunks + 1);
+        volume = std::min(volume, kMaxPregenChunks + 1);
+    }
+    if (volume > kMaxPregenChunks)
+        return Error{"pregeneration box: more than " + std::to_string(kMaxPregenChunks) + " chunks"};
+    return {};
+}
+
 } // namespace
 
 Result<PregenStats> pregenerate(JobSystem& jobs, const TerrainGenerator& gen, ChunkStore& store,
@@ -127,11 +146,14 @@ Result<PregenStats> pregenerate(JobSystem& jobs, const TerrainGenerator& gen, Ch
     VX_ASSERT_RETURN(info.lod_levels >= 0 && info.lod_levels <= kMaxLodLevel, Error{"lod levels out of range"});
     if (info.lod_levels > 0 && !store.supports_lod())
         return Error{"this store keeps no coarse levels"};
+    if (Status s = check_box(info.lo, info.hi); !s)
+        return Error{s.error()};
     const auto t0 = Clock::now();
     Progress p{jobs, store, {}, {}, 0};
     p.stats.lod_chunks.assign(size_t(info.lod_levels), 0);
     std::vector<std::unique_ptr<Job>> batch;
-    for (int y = info.lo.y; y <= info.hi.y; ++y)
+    batch.reserve(size_t(box_volume(info.lo, info.hi)));
+    for (int y = info.lo.y; y <= info.hi.y; ++y) // check_box: hi < INT32_MAX, so ++ cannot overflow.
         for (int z = info.lo.z; z <= info.hi.z; ++z)
             for (int x = info.lo.x; x <= info.hi.x; ++x)
                 batch.push_back(std::make_unique<GenerateChunkJob>(ChunkCoord(x, y, z), gen, p));

@@ -20,8 +20,13 @@
 namespace vx::engine {
 
 // What to generate. Plain value (not thread-safe).
+// The most chunks one pregenerate() call makes (about 10^8: 512 x 512 columns of 256 layers).
+inline constexpr int64_t kMaxPregenChunks = int64_t(1) << 26;
+
 struct PregenInfo {
-    world::ChunkCoord lo{0}, hi{0}; // Inclusive box of chunk coordinates; lo <= hi per axis.
+    // Inclusive box of chunk coordinates; lo <= hi per axis, at most kMaxPregenChunks, and a
+    // chunk inside the world's outermost layer (each chunk's mesh reads its six neighbours).
+    world::ChunkCoord lo{0}, hi{0};
     // Called on the main thread about every 50 ms: chunks saved so far, and the total.
     // Coarse chunks count as chunks here.
     std::function<void(size_t done, size_t total)> progress;

@@ -2,6 +2,7 @@
 // verify one.
 #include <chrono>
 #include <cinttypes>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -49,12 +50,21 @@ void progress(size_t done, size_t total, double seconds) {
     std::fflush(stderr);
 }
 
+// The most chunk layers `vx world gen` fills: 32,768 blocks, far past any terrain.
+constexpr int64_t kMaxGenLayers = 1024;
+
 // Generates, meshes and saves every chunk in the box through the engine (engine/world_pregen.h).
 int run_gen(const GenArgs& a) {
     if (a.radius < 0 || a.radius > 256)
         return bad_input("--radius must be 0..256 chunks");
     if (a.bottom > a.top)
         return bad_input("--bottom must not be above --top");
+    if (a.bottom == INT32_MIN || a.top == INT32_MAX) // Its loop once never ended there.
+        return bad_input("--bottom and --top must leave the world's outermost chunk layer (-2147483648, 2147483647) "
+                         "out: it has no neighbours to mesh against");
+    if (int64_t(a.top) - a.bottom >= kMaxGenLayers) // 2^32 layers once ran for days.
+        return bad_input("--bottom..--top must span at most " + std::to_string(kMaxGenLayers) + " chunk layers, got " +
+                         std::to_string(int64_t(a.top) - a.bottom + 1));
     if (a.lod_levels < 0 || a.lod_levels > kMaxLodLevel)
         return bad_input("--lod-levels must be 0.." + std::to_string(kMaxLodLevel));
     auto store = open_store({a.path}); // A SQLite file or a postgresql:// URI.
@@ -82,6 +92,8 @@ int run_gen(const GenArgs& a) {
         return bad_input("--part must be K/N with 1 <= K <= N <= 1024");
     const TerrainGenerator gen(a.seed);
     engine::JobSystem jobs(engine::batch_job_system_info());
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
     // Part K of N: the K-th of N slabs of the box along x, so N processes (or machines) sharing
     // one PostgreSQL world fill it together without overlap.
     const int width = 2 * a.radius + 1, k = part->first - 1, n = part->second;

@@ -4,6 +4,7 @@
 // function is the one used; pregeneration saves what the generator makes.
 
 #include <atomic>
+#include <climits>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -306,5 +307,40 @@ TEST(WorldPregen, CoarseLevelsNeedAStoreThatKeepsThem) {
         EXPECT_NE(r.error().find(want), std::string::npos) << r.error();
         EXPECT_EQ(*store.count(), failing ? 2u : 0u);
     }
+    std::filesystem::remove(path);
+}
+
+// A box pregenerate() cannot make is an error before any chunk: lo above hi, the world's
+// outermost layer (an int loop to INT32_MAX never ended), more than kMaxPregenChunks (a box of
+// 2^32 layers once queued until memory ran out). Nothing reaches the store.
+TEST(WorldPregen, BoxesItCannotMakeAreErrors) {
+    const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_box_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(path);
+    auto store = SqliteStore::open({path.string()});
+    ASSERT_TRUE(store) << store.error();
+    const TerrainGenerator gen(3);
+    JobSystem jobs(batch_job_system_info(2));
+    const int max = INT32_MAX, min = INT32_MIN;
+    struct Case {
+        ChunkCoord lo, hi;
+        const char* want;
+    };
+    const Case cases[] = {
+        {{0, 1, 0}, {0, 0, 0}, "lo is above hi"},
+        {{0, max, 0}, {0, max, 0}, "outermost chunk layer"},
+        {{min, 0, 0}, {min, 0, 0}, "outermost chunk layer"},
+        {{0, min + 1, 0}, {0, max - 1, 0}, "more than 67108864 chunks"},
+        {{-5000, 0, -5000}, {5000, 0, 5000}, "more than 67108864 chunks"},
+    };
+    for (const Case& c : cases) {
+        auto r = pregenerate(jobs, gen, **store, {c.lo, c.hi, {}});
+        ASSERT_FALSE(r) << c.want;
+        EXPECT_NE(r.error().find(c.want), std::string::npos) << r.error();
+    }
+    EXPECT_EQ(*(*store)->count(), 0u);
+    // One layer in from the edge is a box like any other.
+    auto edge = pregenerate(jobs, gen, **store, {{0, max - 1, 0}, {0, max - 1, 0}, {}});
+    ASSERT_TRUE(edge) << edge.error();
+    EXPECT_EQ(edge->chunks, 1u);
     std::filesystem::remove(path);
 }

@@ -73,6 +73,10 @@ TEST(Cli, BadArgumentsExitTwo) {
     EXPECT_NE(r.out.find("bytes"), std::string::npos) << r.out;
     EXPECT_EQ(run_vx("mesh --raw " + vol + " --dims 40,20,36 --mesher fancy").code, 2);
     EXPECT_EQ(run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 1,2,x").code, 2);
+    // More threads than the job system starts (100,000 once aborted when the OS ran out).
+    r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --threads 100000");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.out.find("--threads"), std::string::npos) << r.out;
     const auto edits = (temp_dir() / "bad_edits.txt").string();
     std::ofstream(edits) << "1 2 3 4\n5 6 seven 8\n";
     r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --edits " + edits);
@@ -186,6 +190,17 @@ TEST(Cli, WorldGenInfoAndCheck) {
 
     // Another seed into the same store is refused, and so is a world a game's generator made.
     EXPECT_EQ(run_vx("world gen " + db + " --seed 10 --radius 1").code, 2);
+    // A box of more than 1,024 chunk layers is refused (2^32 of them once ran for days), and so is
+    // the world's outermost layer (its loop once never ended).
+    const std::string tall = (dir / "tall.db").string();
+    r = run_vx("world gen " + tall + " --seed 9 --radius 0 --bottom -2147483647 --top 2147483646");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("at most 1024 chunk layers, got 4294967294"), std::string::npos) << r.out;
+    for (const char* edge : {"--bottom 2147483647 --top 2147483647", "--bottom -2147483648 --top -2147483648"}) {
+        r = run_vx("world gen " + tall + " --seed 9 --radius 0 " + edge);
+        EXPECT_EQ(r.code, 2) << edge << ": " << r.out;
+        EXPECT_NE(r.out.find("outermost chunk layer"), std::string::npos) << r.out;
+    }
     const std::string game_db = (dir / "game.db").string();
     {
         auto game = vx::world::SqliteStore::open({game_db});
