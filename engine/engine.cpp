@@ -27,8 +27,8 @@ Status validate(const EngineCreateInfo& info) {
     const StreamingDesc& s = info.streaming;
     if (s.view_radius < 0 || s.view_radius_vertical < 0 || s.unload_margin < 0)
         return Error{"streaming radii must be >= 0"};
-    if (s.view_radius > 64 || s.view_radius_vertical > 64)
-        return Error{"streaming radii above 64 chunks are not supported"};
+    if (s.view_radius > 64 || s.view_radius_vertical > 64 || s.unload_margin > 64)
+        return Error{"streaming radii and the unload margin above 64 chunks are not supported"};
     if (!(s.unload_delay_s >= 0) || !(s.save_delay_s >= 0)) // NaN fails; infinity: only on save().
         return Error{"streaming delays must be >= 0 seconds (infinity: never)"};
     // The budget becomes integer nanoseconds: infinity or 1e30 would overflow the conversion.
@@ -211,8 +211,13 @@ Status Engine::set_viewer(const Viewer& viewer) {
     // Fold the offset's whole blocks into the 64-bit block, so the float camera stays exact.
     const glm::dvec3 whole = glm::floor(viewer.offset);
     const BlockPos block = viewer.block + BlockPos(whole);
-    if (!world::in_world(block))
-        return Error{"viewer: position outside the world (|coordinate| < 2^36 blocks)"};
+    // The streamer's boxes reach 2 view radii + the unload margin + 2 chunks (at most 194) past
+    // the viewer's chunk, in 32-bit chunk coordinates; a box ending at INT32_MAX once looped
+    // forever. 4096 chunks (2^17 blocks) keep every box inside.
+    constexpr int64_t kEdgeBlocks = int64_t(4096) * world::kChunkSize;
+    if (glm::any(glm::lessThan(block, BlockPos(world::kWorldMinBlock + kEdgeBlocks))) ||
+        glm::any(glm::greaterThan(block, BlockPos(world::kWorldMaxBlock - kEdgeBlocks))))
+        return Error{"viewer: position outside the streamed world (|coordinate| < 2^36 - 2^17 blocks)"};
     m->viewer = viewer;
     m->viewer.block = block;
     m->viewer.offset -= whole;

@@ -139,7 +139,7 @@ inline constexpr int kLodLevels = 11;
 struct StreamingDesc {
     int view_radius = 8;
     int view_radius_vertical = 4;
-    int unload_margin = 2;
+    int unload_margin = 2;        // Chunks, 0..64 (the radii too).
     double unload_delay_s = 3.0;  // Seconds outside before a chunk is dropped (>= 0; infinity: never).
     double save_delay_s = 1.0;    // Edited chunks reach the store within this (not yet durable;
                                   // >= 0; infinity: only save() and shutdown write them).
@@ -469,8 +469,10 @@ public:
     Engine& operator=(const Engine&) = delete;
 
     // Main thread. Where the camera is and where streaming centres; takes effect at update().
-    // Fails, keeping the previous viewer, on non-finite values, a position outside the world, a
-    // zero forward or up, forward parallel to up, or a field of view outside (0, 180) degrees.
+    // Fails, keeping the previous viewer, on non-finite values, a position outside the streamed
+    // world (|coordinate| < 2^36 - 2^17 blocks: the loaded box stays inside the world's 32-bit
+    // chunk coordinates), a zero forward or up, forward parallel to up, or a field of view outside
+    // (0, 180) degrees.
     Status set_viewer(const Viewer& viewer);
     // Main thread, once per frame. Streams around the viewer, applies finished loads and meshes
     // (within update_budget_ms), unloads, saves edited chunks after save_delay_s. `now` is the

@@ -82,6 +82,31 @@ TEST(FacadeChecks, SetViewerRefusesACameraTheRendererCannotMake) {
     EXPECT_TRUE(e.set_viewer(down));
 }
 
+// The streamed world ends 2^17 blocks inside the world's edge (2^36), on every axis and side: a
+// viewer past it is refused (its box of chunks once ended at INT32_MAX, and the loop over it
+// never did). A viewer just inside it streams and meshes as anywhere else.
+TEST(FacadeChecks, SetViewerKeepsTheStreamedBoxInsideTheWorld) {
+    auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    const int64_t edge = (int64_t(1) << 36) - (int64_t(1) << 17); // First block outside, positive side.
+    for (int axis = 0; axis < 3; ++axis)
+        for (int64_t at : {edge, -edge - 1, edge + 1000, (int64_t(1) << 36) - 1}) {
+            vx::Viewer v;
+            v.block[axis] = at;
+            const vx::Status s = e.set_viewer(v);
+            ASSERT_FALSE(s) << axis << " " << at;
+            EXPECT_NE(s.error().find("outside the streamed world"), std::string::npos) << s.error();
+        }
+    vx::Viewer inside;
+    inside.block = {edge - 1, 0, -edge};
+    inside.block.y = vx::terrain_height(1, inside.block.x, inside.block.z) + 4;
+    ASSERT_TRUE(e.set_viewer(inside));
+    ASSERT_TRUE(vx::test::settle(e));
+    EXPECT_EQ(e.stats().chunks_meshed, 27u); // Radius 1: 3 x 3 x 3 chunks in view.
+    EXPECT_TRUE(e.get_block(inside.block).has_value());
+}
+
 TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
     auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
     ASSERT_TRUE(engine) << engine.error();
