@@ -110,7 +110,7 @@ bool non_negative3(glm::vec3 v) { return finite3(v) && v.x >= 0.f && v.y >= 0.f 
 
 // Why `s` cannot be rendered, or success: checked where the game hands it over, not frames later.
 Status check_render_settings(const RenderSettings& s) {
-    constexpr uint32_t kMaxSamples = 1024, kMaxBounces = 16, kMaxAccumulate = 1024;
+    constexpr uint32_t kMaxSamples = 1024, kMaxBounces = render::kMaxMirrorBounces, kMaxAccumulate = 1024;
     if (s.shadow_samples > kMaxSamples || s.bounce_shadow_samples.value_or(0) > kMaxSamples)
         return Error{"render settings: shadow samples must be 0.." + std::to_string(kMaxSamples)};
     if (!render::weight_exponent_valid(s.weight_exponent))

@@ -574,7 +574,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
                                 std::cos(glm::radians(s.sun.angular_radius_degrees)));
     p.sun_irradiance = glm::vec4(sun_len > 0.f ? s.sun.irradiance : glm::vec3(0.f), 0.f);
     p.sky_light = glm::vec4(s.sky * std::max(s.sky_light, 0.f), 0.f);
-    p.size_samples = glm::uvec4(s.width, s.height, s.shadow_samples, s.max_bounces);
+    p.size_samples = glm::uvec4(s.width, s.height, s.shadow_samples, std::min(s.max_bounces, kMaxMirrorBounces));
     const uint32_t mode = s.mode == ShadingMode::Flat ? gpu::kModeFlat
                           : s.mode == ShadingMode::Full ? gpu::kModeFull
                                                         : gpu::kModeVisibility;

@@ -119,6 +119,11 @@ constexpr bool light_cache_pixels_valid(float pixels) {
     return pixels >= kMinLightCachePixels && pixels <= kMaxLightCachePixels;
 }
 
+// The deepest mirror reflection the renderer traces (RenderSettings::max_bounces above it counts
+// as this; the facade and `vx render` refuse it): between two facing perfect mirrors a path
+// ends only there, and 2^32 bounces would hang the GPU.
+inline constexpr uint32_t kMaxMirrorBounces = 16;
+
 // RenderSettings::weight_exponent's range, (0, 1]; false for NaN. The renderer takes any other
 // value as 1; the facade and `vx render` refuse it.
 constexpr bool weight_exponent_valid(float exponent) { return exponent > 0.f && exponent <= 1.f; }
@@ -159,7 +164,7 @@ struct RenderSettings {
     // docs/render_report.md, stop 29). Same image; 0: one dispatch; ignored where it cannot
     // apply; at most max_bounces (and gpu::kMaxSplitHits) count.
     uint32_t split_hits = 0;
-    uint32_t max_bounces = 2;    // Mirror reflection depth.
+    uint32_t max_bounces = 2;    // Mirror reflection depth; the renderer clamps to kMaxMirrorBounces.
     uint32_t seed = 1;           // Same seed, same image.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).
     // Sky term: sky rays that escape see sky * sky_light (ambient light with occlusion). 0: none.

@@ -412,7 +412,8 @@ int run_bench_render_command(int argc, char** argv) {
                    "the rest (render::RenderSettings::split_hits; the same images); 0: one pass")
         ->check(CLI::Range(0u, 64u));
     app.add_option("--reflections", a.reflections,
-                   "Reflection bounces of the full-shading rows (defaults: the facade's default instead)");
+                   "Reflection bounces of the full-shading rows, 0..16 (defaults: the facade's default instead)")
+        ->check(CLI::Range(0u, render::kMaxMirrorBounces));
     app.add_option("--device", a.device, "auto, cpu, gpu or a device index");
     app.add_option("--out", a.out, "Directory for the report, CSV and PNGs");
     app.add_option("--lighting", a.lighting,

@@ -520,7 +520,8 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--shading", a->shading, "Shading")->check(CLI::IsMember({"flat", "full"}));
     cmd->add_option("--shadows", a->shadows, "Shadows of all lights and sky occlusion")->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--reflections", a->reflections, "Mirror reflection depth");
+    cmd->add_option("--reflections", a->reflections, "Mirror reflection depth (0..16)")
+        ->check(CLI::Range(0u, render::kMaxMirrorBounces));
     cmd->add_option("--light", a->light, "Centre of the area light X,Y,Z (default: above the scene)");
     cmd->add_option("--device", a->device, "auto, cpu, gpu or a device index (see vx info)");
     cmd->add_option("--out", a->out, "PNG file to write");

@@ -292,6 +292,9 @@ TEST(CliRender, ThesisLightingIsTheAreaLightAlone) {
         EXPECT_EQ(bad_exponent.code, 2) << e << ": " << bad_exponent.out;
         EXPECT_NE(bad_exponent.out.find("--weight-exponent"), std::string::npos) << bad_exponent.out;
     }
+    const CliRun too_deep = vx("render " + view + "--reflections 17", kEnv); // Past kMaxMirrorBounces.
+    EXPECT_EQ(too_deep.code, 2) << too_deep.out;
+    EXPECT_NE(too_deep.out.find("--reflections"), std::string::npos) << too_deep.out;
     const CliRun bad_by = vx("render " + view + "--samples-by luck", kEnv);
     EXPECT_EQ(bad_by.code, 2) << bad_by.out;
     EXPECT_NE(bad_by.out.find("--samples-by"), std::string::npos) << bad_by.out;
