@@ -213,10 +213,8 @@ Status Engine::set_viewer(const Viewer& viewer) {
     const BlockPos block = viewer.block + BlockPos(whole);
     // The streamer's boxes reach 2 view radii + the unload margin + 2 chunks (at most 194) past
     // the viewer's chunk, in 32-bit chunk coordinates; a box ending at INT32_MAX once looped
-    // forever. 4096 chunks (2^17 blocks) keep every box inside.
-    constexpr int64_t kEdgeBlocks = int64_t(4096) * world::kChunkSize;
-    if (glm::any(glm::lessThan(block, BlockPos(world::kWorldMinBlock + kEdgeBlocks))) ||
-        glm::any(glm::greaterThan(block, BlockPos(world::kWorldMaxBlock - kEdgeBlocks))))
+    // forever. The margin (2^17 blocks) keeps every box inside.
+    if (!world::inside_edge_margin(block))
         return Error{"viewer: position outside the streamed world (|coordinate| < 2^36 - 2^17 blocks)"};
     m->viewer = viewer;
     m->viewer.block = block;

@@ -29,6 +29,14 @@ inline constexpr int64_t kWorldMinBlock = int64_t(INT32_MIN) * kChunkSize;
 inline constexpr int64_t kWorldMaxBlock = int64_t(INT32_MAX) * kChunkSize + (kChunkSize - 1);
 inline constexpr bool in_world(int64_t v) { return v >= kWorldMinBlock && v <= kWorldMaxBlock; }
 inline bool in_world(glm::i64vec3 p) { return in_world(p.x) && in_world(p.y) && in_world(p.z); }
+// Points with a box of chunks around them (the streamer's viewer, a loaded scene's eye or volume)
+// stay this far inside the world's edge, so the box's 32-bit chunk coordinates cannot overflow:
+// 4096 chunks, past any box the engine makes (the streamer's reach at most 194 chunks).
+inline constexpr int64_t kEdgeMarginBlocks = int64_t(4096) * kChunkSize; // 2^17
+inline bool inside_edge_margin(glm::i64vec3 p) {
+    const glm::i64vec3 lo(kWorldMinBlock + kEdgeMarginBlocks), hi(kWorldMaxBlock - kEdgeMarginBlocks);
+    return glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi));
+}
 
 // Linear index of a local position: x fastest, then y, then z.
 inline constexpr int local_index(int x, int y, int z) { return x | (y << kChunkBits) | (z << (2 * kChunkBits)); }

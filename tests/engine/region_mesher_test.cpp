@@ -143,6 +143,29 @@ TEST(SceneLoader, BadInputIsAOneLineError) {
     info.kind = SceneKind::Terrain;
     info.radius = 65;
     EXPECT_FALSE(load_scene(jobs, info));
+    // An eye or a volume within 2^17 blocks of the world's edge: its box of chunks would leave
+    // the 32-bit chunk coordinates (they once overflowed there). Just inside loads as anywhere.
+    const int64_t last = kWorldMaxBlock - kEdgeMarginBlocks; // The last block inside the margin.
+    info.radius = 0;
+    info.vradius = 0;
+    for (int64_t x : {last + 1, kWorldMaxBlock, kWorldMinBlock}) {
+        info.eye = WorldPos{BlockPos(x, 40, 0), glm::dvec3(0.5)};
+        r = load_scene(jobs, info);
+        ASSERT_FALSE(r) << x;
+        EXPECT_NE(r.error().find("--eye must stay 2^17 blocks inside"), std::string::npos) << r.error();
+    }
+    info.eye = WorldPos{BlockPos(last, 40, 0), glm::dvec3(0.5)};
+    r = load_scene(jobs, info);
+    ASSERT_TRUE(r) << r.error();
+    EXPECT_EQ(r->world->chunk_count(), 27u); // The eye's chunk and its ring of neighbours.
+    info.eye.reset();
+    info.kind = SceneKind::RawVolume;
+    info.raw_path = "/nonexistent/v.raw";
+    info.raw.dims = {8, 8, 8};
+    info.raw.origin = {0, last - 4, 0};
+    r = load_scene(jobs, info);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().find("--origin must keep the volume 2^17 blocks inside"), std::string::npos) << r.error();
 }
 
 // Pregeneration saves every chunk of the box, exactly as generated, and counts what it made.
