@@ -557,15 +557,8 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--light-cache-pixels", a->light_cache_pixels,
                     "The light cache's patch width in pixels at its distance, up to the next power of two "
                     "blocks (default 3; from 1/64 to 4096, the renderer's bounds)")
-        ->check(CLI::Validator(
-            [](std::string& v) { // CLI::Range lets NaN through (every comparison with it is false).
-                char* end = nullptr;
-                const float x = std::strtof(v.c_str(), &end);
-                return end != v.c_str() && *end == '\0' && render::light_cache_pixels_valid(x)
-                           ? std::string()
-                           : "a patch width from 1/64 to 4096 pixels, got '" + v + "'";
-            },
-            "FLOAT in [1/64, 4096]"));
+        ->check(finite_range(render::kMinLightCachePixels, render::kMaxLightCachePixels,
+                             "a patch width from 1/64 to 4096 pixels"));
     cmd->add_option("--exposure", a->exposure,
                     "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
                     "mid-grey; +1 halves the light) or auto (metered from the frame)");
