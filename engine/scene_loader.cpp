@@ -362,12 +362,12 @@ Result<LoadedScene> load_scene(JobSystem& jobs, const SceneLoadInfo& info) {
         if (info.lod_ring < 1 || info.lod_ring > 64)
             return Error{"--lod-ring must be 1..64 chunks, got " + std::to_string(info.lod_ring)};
     }
-    // Boxes of chunks around the eye or the volume, in 32-bit chunk coordinates (world/coords.h).
-    if (info.eye && !inside_edge_margin(info.eye->block))
+    // Terrain and stored worlds load a box of chunks around the eye, in 32-bit chunk coordinates
+    // (world/coords.h). The seed scene and raw volumes load only their own chunks: their eye (and
+    // volume, raw_volume.cpp) may lie anywhere inside the world.
+    const bool eye_picks_chunks = info.kind == SceneKind::Terrain || info.kind == SceneKind::StoredWorld;
+    if (eye_picks_chunks && info.eye && !inside_edge_margin(info.eye->block))
         return Error{"--eye must stay 2^17 blocks inside the world's edge (|coordinate| < 2^36 - 2^17)"};
-    if (info.kind == SceneKind::RawVolume &&
-        !(inside_edge_margin(info.raw.origin) && inside_edge_margin(info.raw.origin + info.raw.dims)))
-        return Error{"--origin must keep the volume 2^17 blocks inside the world's edge (|coordinate| < 2^36 - 2^17)"};
     LoadedScene scene;
     scene.world = std::make_unique<World>();
     Status s;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <unistd.h>
 #include <vector>
@@ -81,6 +82,19 @@ CLI::Validator finite_range(double lo, double hi, const std::string& what) {
             return ok ? std::string() : what + ", got '" + v + "'";
         },
         name);
+}
+
+std::string output_file_problem(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path p(path);
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st))
+        return "'" + path + "' exists and is not a file";
+    const fs::path folder = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    if (!fs::is_directory(folder, ec))
+        return "the folder of '" + path + "' does not exist";
+    return {};
 }
 
 int bad_input(const std::string& message) {

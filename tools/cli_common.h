@@ -39,6 +39,10 @@ std::string weight_exponent_text(float exponent);
 // `what` names the accepted values in the message, e.g. "an exponent from 0.05 to 1".
 CLI::Validator finite_range(double lo, double hi, const std::string& what);
 
+// "" when a command may write its output file at `path` (nothing there yet, or a file it
+// replaces, in a folder that exists), else why not: checked before the work, not after it.
+std::string output_file_problem(const std::string& path);
+
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);
 // Prints "vx: <message>" to stderr and returns kExitFailure: the machine, not the input, stopped

@@ -135,6 +135,8 @@ uint64_t apply_edits(engine::LoadedScene& scene, const std::vector<Edit>& edits,
 
 int run_mesh(const MeshArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (const std::string why = a.obj.empty() ? std::string() : output_file_problem(a.obj); !why.empty())
+        return bad_input("--obj: " + why);
     const auto info = load_info_of(a);
     if (!info)
         return bad_input(info.error());

@@ -23,6 +23,7 @@
 #include "engine/job_batch.h"
 #include "engine/scene_loader.h"
 #include "world/base/median.h"
+#include "world/coords.h"
 #include "world/mesh/edit_mesher.h"
 #include "render/renderer.h"
 #include "scene_args.h"
@@ -172,6 +173,8 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     }
     if (!a.eye.empty() && !(eye = parse_world_pos(a.eye)))
         return "--eye must be X,Y,Z (decimals, inside the world), got '" + a.eye + "'";
+    if (!world::in_world(eye->block)) // The eye framing a volume at the world's edge.
+        return "the default eye would stand outside the world (|coordinate| < 2^36): give --eye";
     if (!a.target.empty() && !(target = parse_world_pos(a.target)))
         return "--target must be X,Y,Z (decimals, inside the world), got '" + a.target + "'";
     const auto up = parse_dvec3(a.up);
@@ -372,6 +375,8 @@ void edit_bursts(render::Renderer& r, engine::LoadedScene& scene, const Settings
 
 int run_render(RenderArgs a) {
     const auto t_start = Clock::now();
+    if (const std::string why = output_file_problem(a.out); !why.empty())
+        return bad_input("--out: " + why); // Before the scene loads and renders, not after.
     if (!a.eye.empty()) {
         a.scene.eye = parse_world_pos(a.eye);
         if (!a.scene.eye)

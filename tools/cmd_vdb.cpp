@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -54,6 +55,8 @@ int run_export(const ExportArgs& a) {
     std::optional<BlockBox> box;
     if (!a.box.empty() && !(box = parse_box(a.box)))
         return bad_input("--box must be X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1");
+    if (std::string why = output_file_problem(a.out); !why.empty())
+        return bad_input("--out: " + why);
     if (!a.overlay.empty() && !names_vdb_file(a.world))
         return bad_input("--overlay goes with a VDB world (a .vdb file), not '" + a.world + "'");
     const auto t0 = Clock::now();
@@ -95,6 +98,7 @@ struct ImportArgs {
     bool list = false;
     double max_memory_gib = 4;   // The isolated reader's address-space cap.
     uint32_t max_seconds = 600;  // Its CPU-time cap.
+    std::vector<std::string> volume_options; // Volume-only options given (a vx world refuses them).
 };
 
 IsolationOptions isolation(const ImportArgs& a) {
@@ -143,11 +147,51 @@ std::optional<std::vector<DensityBlock>> parse_density(const std::string& s) {
     return out;
 }
 
+// The volume options, checked before any file is read: a bad one costs no import.
+Result<VolumeImportOptions> volume_options(const ImportArgs& a) {
+    VolumeImportOptions o;
+    o.grid_name = a.grid;
+    o.grid_index = a.index;
+    if (a.block_size_given && a.voxels_per_block > 0)
+        return Error{"give --block-size (world units) or --voxels-per-block, not both"};
+    if (a.block_size_given && !(a.block_size > 0 && std::isfinite(a.block_size)))
+        return Error{"--block-size must be a positive, finite length in the file's world units"};
+    o.block_size = a.block_size_given ? a.block_size : 0.0;
+    o.voxels_per_block = a.voxels_per_block;
+    o.mode = a.mode == "levelset" ? VolumeMode::LevelSet : a.mode == "fog" ? VolumeMode::Fog : VolumeMode::Auto;
+    o.sampling = a.sampling == "centre"        ? VolumeSampling::CentreOnly
+                 : a.sampling == "majority"    ? VolumeSampling::VoxelMajority
+                 : a.sampling == "supersample" ? VolumeSampling::Supersample
+                                               : VolumeSampling::Adaptive;
+    if (!(a.threshold > 0.f && a.threshold <= 1.f)) // NaN too.
+        return Error{"--threshold must be a fraction of the grid's maximum in (0, 1]"};
+    o.threshold = a.threshold;
+    if (a.block < 1 || a.block > 0xFFFF)
+        return Error{"--block must be a block id 1..65535"};
+    o.block = BlockId(a.block);
+    if (!a.density.empty()) {
+        auto d = parse_density(a.density);
+        if (!d)
+            return Error{"--density must look like 0.2:3,0.6:1 (relative density 0..1 : block id)"};
+        o.density_blocks = *d;
+    }
+    auto off = parse_i64vec3(a.offset);
+    if (!off)
+        return Error{"--offset must be X,Y,Z (integers)"};
+    o.offset = *off;
+    return o;
+}
+
 int run_import(const ImportArgs& a) {
     if (a.list)
         return list(a.file, isolation(a));
     if (a.out.empty())
         return bad_input("need --out WORLD (or --list)");
+    if (Status s = check_store_output(a.out); !s)
+        return bad_input("--out: " + s.error());
+    auto options = volume_options(a);
+    if (!options)
+        return bad_input(options.error());
     const auto t0 = Clock::now();
     // A vx world (an Int32 grid named 'blocks') comes back as it was; anything else is a volume.
     auto grids = list_grids_isolated(a.file, isolation(a));
@@ -161,6 +205,10 @@ int run_import(const ImportArgs& a) {
     }
     World world;
     std::string what;
+    if (is_world && !a.volume_options.empty())
+        return bad_input("'" + a.file + "' holds a vx world (Int32 grid 'blocks'), imported block for block: " +
+                         a.volume_options.front() + " is for volumes (name a grid with --grid or --index to " +
+                         "import it as one)");
     if (is_world) {
         auto w = import_world_vdb_isolated(a.file, {}, isolation(a));
         if (!w)
@@ -168,34 +216,7 @@ int run_import(const ImportArgs& a) {
         world = std::move(*w);
         what = "vx world grid 'blocks'";
     } else {
-        VolumeImportOptions o;
-        o.grid_name = a.grid;
-        o.grid_index = a.index;
-        if (a.block_size_given && a.voxels_per_block > 0)
-            return bad_input("give --block-size (world units) or --voxels-per-block, not both");
-        if (a.block_size_given && !(a.block_size > 0 && std::isfinite(a.block_size)))
-            return bad_input("--block-size must be a positive, finite length in the file's world units");
-        o.block_size = a.block_size_given ? a.block_size : 0.0;
-        o.voxels_per_block = a.voxels_per_block;
-        o.mode = a.mode == "levelset" ? VolumeMode::LevelSet : a.mode == "fog" ? VolumeMode::Fog : VolumeMode::Auto;
-        o.sampling = a.sampling == "centre"        ? VolumeSampling::CentreOnly
-                     : a.sampling == "majority"    ? VolumeSampling::VoxelMajority
-                     : a.sampling == "supersample" ? VolumeSampling::Supersample
-                                                   : VolumeSampling::Adaptive;
-        o.threshold = a.threshold;
-        if (a.block < 1 || a.block > 0xFFFF)
-            return bad_input("--block must be a block id 1..65535");
-        o.block = BlockId(a.block);
-        if (!a.density.empty()) {
-            auto d = parse_density(a.density);
-            if (!d)
-                return bad_input("--density must look like 0.2:3,0.6:1 (relative density 0..1 : block id)");
-            o.density_blocks = *d;
-        }
-        auto off = parse_i64vec3(a.offset);
-        if (!off)
-            return bad_input("--offset must be X,Y,Z (integers)");
-        o.offset = *off;
+        const VolumeImportOptions& o = *options;
         std::fprintf(stderr, "importing %s ...\n", a.file.c_str());
         auto r = import_volume_isolated(a.file, o, isolation(a));
         if (!r)
@@ -236,7 +257,7 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     im->add_option("--out", i->out, "World store to write (replaced only when the import succeeds)");
     im->add_flag("--list", i->list, "List the file's grids and exit");
     im->add_option("--grid", i->grid, "Grid by name");
-    im->add_option("--index", i->index, "Grid by index (see --list)");
+    im->add_option("--index", i->index, "Grid by index (see --list)")->check(CLI::NonNegativeNumber);
     CLI::Option* block_size = im->add_option(
         "--block-size", i->block_size,
         "Block edge in the file's world units (decimal; default: the voxel size, one block per voxel)");
@@ -252,8 +273,13 @@ void add_vdb_commands(CLI::App& app, std::function<int()>& action) {
     im->add_option("--max-seconds", i->max_seconds, "CPU-time cap of the isolated reader in seconds (default 600; 0: none)");
     im->add_option("--sampling", i->sampling, "adaptive (default), centre, majority or supersample")
         ->check(CLI::IsMember({"adaptive", "centre", "majority", "supersample"}));
-    im->callback([i, block_size, &action] {
+    im->callback([i, block_size, im, &action] {
         i->block_size_given = block_size->count() > 0;
+        i->volume_options.clear();
+        for (const char* name : {"--block-size", "--voxels-per-block", "--mode", "--threshold", "--block",
+                                 "--density", "--offset", "--sampling"})
+            if (im->get_option(name)->count() > 0)
+                i->volume_options.push_back(name);
         action = [i] { return run_import(*i); };
     });
 }

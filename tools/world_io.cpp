@@ -86,57 +86,85 @@ Status replace_pg_world(const World& world, const std::string& uri, const std::s
 
 } // namespace
 
-Status save_store_world(const World& world, const std::string& path, const std::string& source) {
+Status check_store_output(const std::string& path) {
+    if (path.empty())
+        return Error{"need --out WORLD"};
     if (is_pg_uri(path))
-        return replace_pg_world(world, path, source);
+        return {};
+    if (std::string why = output_file_problem(path); !why.empty())
+        return Error{why + " (a world store is one SQLite file)"};
+    return {};
+}
+
+namespace {
+
+// Writes every chunk into a new SQLite store at `tmp`, flushed; the store is closed on return.
+Status write_sqlite_world(const World& world, const std::string& tmp, const std::string& source) {
+    auto store = SqliteStore::open({tmp});
+    if (!store)
+        return Error{store.error()};
+    size_t done = 0;
+    const size_t total = world.chunk_count();
+    const bool bar = stderr_is_terminal(); // Piped: one line at the end instead.
+    Status failure;
+    world.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
+        if (!failure.ok())
+            return;
+        if (Status s = (*store)->save(c, chunk); !s)
+            failure = s;
+        ++done;
+        if (bar && (done % 256 == 0 || done == total))
+            std::fprintf(stderr, "\rwriting %zu/%zu chunks", done, total);
+    });
+    if (bar)
+        std::fputc('\n', stderr);
+    else
+        std::fprintf(stderr, "wrote %zu chunks\n", total);
+    if (failure.ok())
+        failure = (*store)->set_meta("source", source);
+    if (failure.ok())
+        failure = (*store)->flush();
+    return failure; // Closing the last connection checkpoints the WAL into the file and deletes it.
+}
+
+// Moves the finished store at `tmp` over `path`.
+Status replace_sqlite_world(const std::string& tmp, const std::string& path) {
     namespace fs = std::filesystem;
-    const std::string tmp = path + ".tmp-" + std::to_string(getpid());
     std::error_code ec;
-    for (const char* suffix : {"", "-wal", "-shm"})
-        fs::remove(tmp + suffix, ec);
-    {
-        auto store = SqliteStore::open({tmp});
-        if (!store)
-            return Error{store.error()};
-        size_t done = 0;
-        const size_t total = world.chunk_count();
-        const bool bar = stderr_is_terminal(); // Piped: one line at the end instead.
-        Status failure;
-        world.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
-            if (!failure.ok())
-                return;
-            if (Status s = (*store)->save(c, chunk); !s)
-                failure = s;
-            ++done;
-            if (bar && (done % 256 == 0 || done == total))
-                std::fprintf(stderr, "\rwriting %zu/%zu chunks", done, total);
-        });
-        if (bar)
-            std::fputc('\n', stderr);
-        else
-            std::fprintf(stderr, "wrote %zu chunks\n", total);
-        if (failure.ok())
-            failure = (*store)->set_meta("source", source);
-        if (failure.ok())
-            failure = (*store)->flush();
-        if (!failure.ok()) {
-            store->reset();
-            for (const char* suffix : {"", "-wal", "-shm"})
-                fs::remove(tmp + suffix, ec);
-            return failure;
-        }
-    } // Closing the last connection checkpoints the WAL into the file and deletes it.
-    if (fs::exists(path)) {
+    if (fs::exists(path, ec)) {
         // Fold the old world's WAL into its file first, so no stale -wal is applied to the new one.
         if (auto old = SqliteStore::open({path}); !old)
             return Error{"cannot replace '" + path + "': " + old.error()};
-        if (fs::exists(path + "-wal"))
+        if (fs::exists(path + "-wal", ec))
             return Error{"cannot replace '" + path + "': it is open in another process"};
     }
     fs::rename(tmp, path, ec);
     if (ec)
         return Error{"cannot move the new world into place at '" + path + "': " + ec.message()};
     return {};
+}
+
+} // namespace
+
+Status save_store_world(const World& world, const std::string& path, const std::string& source) {
+    if (is_pg_uri(path))
+        return replace_pg_world(world, path, source);
+    if (Status s = check_store_output(path); !s)
+        return s;
+    namespace fs = std::filesystem;
+    const std::string tmp = path + ".tmp-" + std::to_string(getpid());
+    auto remove_tmp = [&tmp] {
+        std::error_code ec;
+        for (const char* suffix : {"", "-wal", "-shm"})
+            fs::remove(tmp + suffix, ec);
+    };
+    remove_tmp();
+    Status s = write_sqlite_world(world, tmp, source);
+    if (s.ok())
+        s = replace_sqlite_world(tmp, path);
+    if (!s.ok())
+        remove_tmp(); // No failure leaves the half-written store beside the world.
+    return s;
 }
 
 } // namespace vx::tools

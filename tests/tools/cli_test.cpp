@@ -108,11 +108,22 @@ TEST(Cli, RenderBadArgumentsExitTwoBeforeTouchingVulkan) {
     expect_bad(base + "--eye 1e3,2,3", "--eye");
     expect_bad(base + "--target 1,2,x", "--target");
     expect_bad(base + "--eye 68719476737,0,0", "--eye"); // Beyond the world's 2^36.
+    // A volume at the world's edge renders (CliRender.FarFromOriginRendersIdentically), but the
+    // default eye framing this one would stand outside the world: refused, naming the way out.
+    expect_bad(base + "--origin -68719476736,0,0", "--eye"); // The first block of the world.
     expect_bad(base + "--eye 0,10,0 --target 0,0,0", "--up"); // Looking straight down the up axis.
     expect_bad(base + "--device fastest", "fastest");
     expect_bad(base + "--fov 0", "--fov");
     EXPECT_EQ(run_vx(base + "--shading glossy").code, 2);
     EXPECT_EQ(run_vx(base + "--shadows maybe").code, 2);
+    // An --out that cannot be written is refused before the render (it failed after it).
+    const auto folder = temp_dir() / "render_out_folder";
+    std::filesystem::create_directories(folder);
+    expect_bad(base + "--out " + folder.string(), "not a file");
+    expect_bad(base + "--out /nonexistent/dir/x.png", "folder");
+    // The same for vx mesh --obj (checked before loading, the OBJ and its .mtl after meshing).
+    expect_bad("mesh --raw " + vol + " --dims 40,20,36 --obj " + folder.string(), "--obj");
+    expect_bad("mesh --raw " + vol + " --dims 40,20,36 --obj /nonexistent/dir/x.obj", "folder");
 }
 
 // The OBJ has 4 vertices per quad, every face is CCW seen from outside (its normal points to
@@ -350,6 +361,41 @@ TEST(Cli, VdbExportImport) {
         EXPECT_TRUE(it->second == chunk);
     }
     EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 1,2,3").code, 2);
+    // Options are checked before the file is read, and volume options do not pass silently on a
+    // vx world (its blocks come back as they were: an --offset would have been ignored).
+    const auto refuses = [](const std::string& args, const std::string& says) {
+        const CliRun bad = run_vx(args);
+        EXPECT_EQ(bad.code, 2) << args << ": " << bad.out;
+        EXPECT_NE(bad.out.find(says), std::string::npos) << args << ": " << bad.out;
+    };
+    for (const std::string threshold : {"nan", "5", "0", "-0.5"})
+        refuses("import-vdb /nonexistent.vdb --out " + back + " --threshold " + threshold, "--threshold");
+    refuses("import-vdb /nonexistent.vdb --out " + back + " --block 0", "--block");
+    refuses("import-vdb /nonexistent.vdb --out " + back + " --index -1", "--index");
+    refuses("import-vdb /nonexistent.vdb --out " + back + " --offset 1,2", "--offset");
+    for (const std::string option : {"--offset 32,0,0", "--block 3", "--voxels-per-block 2", "--mode fog"})
+        refuses("import-vdb " + vdb + " --out " + back + " " + option, "vx world");
+    // Outputs that are folders are refused before any work; no temporary is left beside them.
+    const std::string folder = (dir / "folder").string();
+    std::filesystem::create_directory(folder);
+    refuses("import-vdb " + vdb + " --out " + folder, "not a file");
+    refuses("export-vdb " + db + " --out " + folder, "not a file");
+    EXPECT_TRUE(std::filesystem::is_directory(folder));
+    const auto temporaries = [&dir] {
+        int n = 0;
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            n += e.path().filename().string().find(".tmp-") != std::string::npos;
+        return n;
+    };
+    EXPECT_EQ(temporaries(), 0);
+    {
+        // The world open in another process (this one): the import is refused after writing its
+        // temporary, which it removes (it was left behind), and the open world is untouched.
+        auto open_world = vx::world::SqliteStore::open({back});
+        ASSERT_TRUE(open_world) << open_world.error();
+        refuses("import-vdb " + vdb + " --out " + back, "open in another process");
+        EXPECT_EQ(temporaries(), 0);
+    }
 
     // A frustum-transform grid cannot become blocks of one size: refused with a clear line.
     vx::vdb::AnalyticVolume frustum;

@@ -221,6 +221,17 @@ TEST(VdbTempFiles, UniqueExclusiveAndNeverLeftBehind) {
     // A successful export leaves only its file.
     ASSERT_TRUE(export_vdb(terrain_world(), base));
     EXPECT_EQ(temporaries(dir), 0);
+    // An output path that is a folder: the final rename fails; the message says why (it said
+    // "Success": the temporary's removal had reset the error first), nothing is left behind.
+    const std::string folder = dir.file("folder.vdb");
+    std::filesystem::create_directory(folder);
+    s = export_vdb(terrain_world(), folder);
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find(std::make_error_code(std::errc::is_a_directory).message()), std::string::npos)
+        << s.error();
+    EXPECT_EQ(s.error().find("Success"), std::string::npos) << s.error();
+    EXPECT_TRUE(std::filesystem::is_directory(folder));
+    EXPECT_EQ(temporaries(dir), 0);
 }
 
 // ---- through the facade ----

@@ -71,8 +71,9 @@ Status replace_file(const std::string& from, const std::string& to) {
     std::error_code ec;
     std::filesystem::rename(from, to, ec);
     if (ec) {
+        const std::string why = ec.message(); // Before remove() reuses ec.
         std::filesystem::remove(from, ec);
-        return make_error("cannot rename '" + from + "' to '" + to + "'", ec.message());
+        return make_error("cannot rename '" + from + "' to '" + to + "'", why);
     }
     return {};
 }
