@@ -67,6 +67,19 @@ int run_gen(const GenArgs& a) {
                          std::to_string(int64_t(a.top) - a.bottom + 1));
     if (a.lod_levels < 0 || a.lod_levels > kMaxLodLevel)
         return bad_input("--lod-levels must be 0.." + std::to_string(kMaxLodLevel));
+    // Part K of N: the K-th of N slabs of the box along x, so N processes (or machines) sharing
+    // one PostgreSQL world fill it together without overlap.
+    const auto part = parse_part(a.part);
+    if (!part)
+        return bad_input("--part must be K/N with 1 <= K <= N <= 1024");
+    const int width = 2 * a.radius + 1, k = part->first - 1, n = part->second;
+    const int x0 = -a.radius + width * k / n, x1 = -a.radius + width * (k + 1) / n - 1;
+    if (x1 < x0)
+        return bad_input("--part " + a.part + " is empty: the box is only " + std::to_string(width) + " chunks wide");
+    engine::JobSystem jobs(engine::batch_job_system_info());
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
+    // Only now the store: a refused command creates no file.
     auto store = open_store({a.path}); // A SQLite file or a postgresql:// URI.
     if (!store)
         return bad_input(store.error());
@@ -87,19 +100,7 @@ int run_gen(const GenArgs& a) {
     if (Status s = (*store)->set_meta("seed", std::to_string(a.seed)); !s)
         return bad_input(s.error());
 
-    const auto part = parse_part(a.part);
-    if (!part)
-        return bad_input("--part must be K/N with 1 <= K <= N <= 1024");
     const TerrainGenerator gen(a.seed);
-    engine::JobSystem jobs(engine::batch_job_system_info());
-    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
-        return failed(why);
-    // Part K of N: the K-th of N slabs of the box along x, so N processes (or machines) sharing
-    // one PostgreSQL world fill it together without overlap.
-    const int width = 2 * a.radius + 1, k = part->first - 1, n = part->second;
-    const int x0 = -a.radius + width * k / n, x1 = -a.radius + width * (k + 1) / n - 1;
-    if (x1 < x0)
-        return bad_input("--part " + a.part + " is empty: the box is only " + std::to_string(width) + " chunks wide");
     engine::PregenInfo info{ChunkCoord(x0, a.bottom, -a.radius), ChunkCoord(x1, a.top, a.radius), {}};
     info.lod_levels = a.lod_levels;
     const auto t0 = Clock::now();

@@ -291,6 +291,13 @@ TEST(Cli, WorldGenPartsCoverTheBox) {
     }
     r = run_vx("world gen " + db + " --seed 9 --radius 0 --part 1/2"); // Width 1: the first half is empty.
     EXPECT_EQ(r.code, 2) << r.out;
+    // A refused part creates no store (it once left an empty world file behind).
+    const std::string fresh = (dir / "fresh.db").string();
+    for (const char* bad : {"0/2", "1/2 --radius 0"}) {
+        r = run_vx("world gen " + fresh + " --seed 9 --part " + bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_FALSE(std::filesystem::exists(fresh)) << bad;
+    }
 }
 
 // Progress bars draw only on a terminal: piped (as here, and into CI logs) `vx world gen` prints
