@@ -470,7 +470,8 @@ private:
 // every frame slot, the read-back, and the denoiser's images. Thread-safe.
 uint64_t frame_bytes_per_pixel();
 
-// Writes an image as PNG (stb_image_write). Main thread only.
+// Writes an image as PNG (stb_image_write encodes it). Errors: the file cannot be opened or a
+// write fails (a full disk: a cut file is removed). Thread-safe (stb keeps no state while encoding).
 Status write_png(const std::string& path, const RenderImage& image);
 
 } // namespace vx::render

@@ -594,7 +594,8 @@ private:
 // (x + 0.5, y + 0.5), so the frame's centre is the forward direction. Errors: a viewer set_viewer
 // would refuse, a frame size of 0, a non-finite pixel (pixels outside the frame are fine).
 Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 frame_size);
-// Writes an image as PNG. Thread-safe.
+// Writes an image as PNG. Errors: a malformed image, a file that cannot be opened, a failed
+// write (a full disk; the cut file is removed). Thread-safe.
 Status write_png(const std::string& path, const Image& image);
 // The built-in terrain's surface height (world y of the topmost terrain block, before caves) at
 // column (x, z) for `seed`: where to put a player. Thread-safe.

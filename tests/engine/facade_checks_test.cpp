@@ -3,7 +3,10 @@
 // generator that made it, and the small queries a game's UI needs: the ray through a screen pixel
 // and the block registry read back.
 // No GPU (RenderTarget::none).
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 
@@ -414,3 +417,35 @@ TEST(FacadeChecks, BlockRegistryReadsBack) {
 }
 
 } // namespace
+
+// write_png reports a failed write: stb's file writer ignored fwrite's errors, so a full disk
+// (/dev/full) gave success and a cut file. A good write starts with the PNG signature.
+TEST(FacadeChecks, WritePngReportsFailedWrites) {
+    vx::Image image;
+    image.width = 4;
+    image.height = 3;
+    image.rgba.assign(4 * 3 * 4, 200);
+    const auto dir = std::filesystem::path(checks_world("png")).parent_path();
+    std::filesystem::create_directories(dir);
+    const std::string good = (dir / "ok.png").string();
+    ASSERT_TRUE(vx::write_png(good, image));
+    std::FILE* f = std::fopen(good.c_str(), "rb");
+    ASSERT_NE(f, nullptr);
+    unsigned char head[8] = {};
+    EXPECT_EQ(std::fread(head, 1, 8, f), 8u);
+    std::fclose(f);
+    EXPECT_EQ(head[1], 'P');
+    EXPECT_EQ(head[2], 'N');
+    EXPECT_EQ(head[3], 'G');
+    vx::Status s = vx::write_png((dir / "no" / "such" / "x.png").string(), image);
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find("cannot write PNG"), std::string::npos) << s.error();
+    image.rgba.pop_back();
+    EXPECT_FALSE(vx::write_png(good, image)); // Pixel count and size disagree.
+    image.rgba.push_back(200);
+    if (!std::filesystem::exists("/dev/full"))
+        GTEST_SKIP() << "no /dev/full here to make a write fail";
+    s = vx::write_png("/dev/full", image);
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find(std::strerror(ENOSPC)), std::string::npos) << s.error();
+}
