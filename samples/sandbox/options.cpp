@@ -27,6 +27,27 @@ const char* usage() {
            "                  [--stats-out FILE.csv] [--headless (with --replay: no window)]\n";
 }
 
+vx::Status check_outputs(const Options& options, const std::vector<ReplayCommand>& replay) {
+    namespace fs = std::filesystem;
+    std::vector<std::pair<const char*, std::string>> outputs;
+    if (!options.screenshot.empty())
+        outputs.emplace_back("--screenshot", options.screenshot);
+    if (!options.stats_out.empty())
+        outputs.emplace_back("--stats-out", options.stats_out);
+    for (const ReplayCommand& c : replay)
+        if (c.kind == ReplayCommand::Kind::Screenshot)
+            outputs.emplace_back("the replay's screenshot", c.name);
+    for (const auto& [what, path] : outputs) {
+        std::error_code ec;
+        const fs::path p(path);
+        if (fs::is_directory(p, ec))
+            return vx::Error{std::string(what) + " '" + path + "' is a folder, not a file"};
+        if (!fs::is_directory(p.has_parent_path() ? p.parent_path() : fs::path("."), ec))
+            return vx::Error{std::string(what) + " '" + path + "': its folder does not exist"};
+    }
+    return {};
+}
+
 std::string default_world_path() {
     std::filesystem::path base = ".";
     if (const char* xdg = std::getenv("XDG_DATA_HOME"); xdg && *xdg)

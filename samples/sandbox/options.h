@@ -6,6 +6,8 @@
 
 #include <vx/result.h>
 
+#include "replay.h"
+
 namespace sandbox {
 
 struct Options {
@@ -32,6 +34,9 @@ struct Options {
 
 // Parses argv[1..]. Error: one line naming the bad argument (the caller prints usage, exits 2).
 vx::Result<Options> parse_options(const std::vector<std::string>& args);
+// The files a scripted run will write (--screenshot, --stats-out and the replay's screenshots):
+// a folder, or a folder that does not exist, fails here, before the world opens, not at the end.
+vx::Status check_outputs(const Options& options, const std::vector<ReplayCommand>& replay);
 // The default world path: $XDG_DATA_HOME/vx/worlds/default.sqlite (fallback ~/.local/share).
 std::string default_world_path();
 // Usage text for --help and errors.

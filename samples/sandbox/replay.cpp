@@ -1,7 +1,9 @@
 #include "replay.h"
 
 #include <charconv>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -155,15 +157,24 @@ vx::Result<std::vector<ReplayCommand>> parse_replay(std::string_view text) {
 }
 
 vx::Result<std::vector<ReplayCommand>> load_replay(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) // An ifstream opens a folder and reads nothing.
+        return vx::Error{"cannot read replay " + path + ": it is a folder"};
     std::ifstream in(path, std::ios::binary);
     if (!in)
         return vx::Error{"cannot read replay " + path};
     std::ostringstream ss;
     ss << in.rdbuf();
+    if (in.bad())
+        return vx::Error{"cannot read replay " + path + ": read error"};
     auto parsed = parse_replay(ss.str());
     if (!parsed)
         return vx::Error{path + ": " + parsed.error()};
     return parsed;
+}
+
+bool replay_quits(const std::vector<ReplayCommand>& replay) {
+    return std::any_of(replay.begin(), replay.end(), [](const ReplayCommand& c) { return c.kind == Kind::Quit; });
 }
 
 } // namespace sandbox

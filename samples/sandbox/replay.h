@@ -35,8 +35,11 @@ struct ReplayCommand {
 
 // Parses a whole replay. Error: "replay line N: <why>: <the line>" for the first bad line.
 vx::Result<std::vector<ReplayCommand>> parse_replay(std::string_view text);
-// Reads and parses a replay file. Error: unreadable file or a bad line (as above).
+// Reads and parses a replay file. Error: unreadable file (a folder too) or a bad line (as above).
 vx::Result<std::vector<ReplayCommand>> load_replay(const std::string& path);
+// Whether the replay ends the game itself (a `quit` line). Without one, or --frames, a headless
+// replay would run for ever: nobody can close a window that is not there.
+bool replay_quits(const std::vector<ReplayCommand>& replay);
 
 // Key names a replay may press: w a s d space shift f escape f1 f3 (escape, f1, f3 toggle the
 // menu, help and stats on `down`, as the keys do).

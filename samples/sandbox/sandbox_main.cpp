@@ -54,6 +54,8 @@ struct App {
     // press and release within one poll still reaches ImGui as a click).
     std::array<bool, 3> mouse_down{}, mouse_pressed{};
     bool screenshot_now = false;
+    bool screenshot_failed = false; // A scripted screenshot (--screenshot, a replay's) not written.
+    bool screenshot_scripted = false; // The pending one is scripted (F2's: no exit code).
     std::string screenshot_path;
     std::string message;
     double last_x = 0, last_y = 0;
@@ -105,6 +107,7 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
     } else if (key == GLFW_KEY_F2) {
         app.screenshot_now = true;
         app.screenshot_path = "vx_sandbox_" + std::to_string(app.frame) + ".png";
+        app.screenshot_scripted = false;
     } else if (key == GLFW_KEY_F3) {
         app.show_stats = !app.show_stats;
     } else if (key == GLFW_KEY_G) {
@@ -202,6 +205,7 @@ bool run_replay_commands(App& app, Clock::time_point game_now) {
         case K::Screenshot:
             app.screenshot_now = true;
             app.screenshot_path = c.name;
+            app.screenshot_scripted = true;
             break;
         case K::Quit: app.quit = true; break;
         }
@@ -334,6 +338,7 @@ int run(App& app) {
         if (app.opt.frames > 0 && app.frame + 1 == app.opt.frames && !app.opt.screenshot.empty()) {
             app.screenshot_now = true;
             app.screenshot_path = app.opt.screenshot;
+            app.screenshot_scripted = true;
         }
         app.game->step(app.menu && !replaying ? 0.0 : dt);
         app.engine->update(game_now);
@@ -363,8 +368,10 @@ int run(App& app) {
         }
         if (capture) {
             app.screenshot_now = false;
-            if (vx::Status s = vx::write_png(app.screenshot_path, shot); !s)
+            if (vx::Status s = vx::write_png(app.screenshot_path, shot); !s) {
                 say(app, s.error());
+                app.screenshot_failed |= app.screenshot_scripted; // Exit 1 at the end.
+            }
             else { // The crosshair pixel too: tests and demos compare it across screenshots.
                 const glm::u8vec4 c = shot.at(shot.width / 2, shot.height / 2);
                 say(app, "screenshot " + app.screenshot_path + " centre " + std::to_string(c.r) + " " +
@@ -404,6 +411,8 @@ int finish(App& app, int code) {
                 (unsigned long long)app.frame, app.game->last_edit_to_screen(),
                 (unsigned long long)app.game->frames_inside_block(), errors);
     if (app.opt.validation && errors > 0)
+        code = code ? code : 1;
+    if (app.screenshot_failed)
         code = code ? code : 1;
     return code;
 }
@@ -455,13 +464,27 @@ int main_headless(App& app) {
 int main_with(const Options& opt) {
     App app;
     app.opt = opt;
-    if (!opt.replay.empty()) {
+    if (opt.replay.empty()) {
+        if (vx::Status s = check_outputs(opt, {}); !s) {
+            std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
+            return 2;
+        }
+    } else {
         auto parsed = load_replay(opt.replay);
         if (!parsed) {
             std::fprintf(stderr, "vx_sandbox: %s\n", parsed.error().c_str());
             return 2;
         }
         app.replay = std::move(*parsed);
+        if (vx::Status s = check_outputs(opt, app.replay); !s) {
+            std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
+            return 2;
+        }
+        if (opt.headless && opt.frames == 0 && !replay_quits(app.replay)) {
+            std::fprintf(stderr, "vx_sandbox: --headless: %s has no 'quit' line and no --frames N was given, so "
+                                 "it would never end\n", opt.replay.c_str());
+            return 2;
+        }
     }
     if (opt.headless)
         return main_headless(app);

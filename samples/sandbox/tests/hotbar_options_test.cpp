@@ -1,5 +1,6 @@
 // The hotbar (select, wheel wrap, pick) and the command line.
 #include <cstdlib>
+#include <filesystem>
 
 #include <gtest/gtest.h>
 
@@ -55,6 +56,33 @@ TEST(Options, ParsesAndRejects) {
         auto r = sandbox::parse_options(bad);
         EXPECT_FALSE(r) << bad[0];
     }
+}
+
+// Scripted outputs that cannot be written are refused before the world opens.
+TEST(Options, OutputsThatCannotBeWrittenAreRefusedFirst) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_sandbox_outputs_test";
+    std::filesystem::create_directories(dir);
+    sandbox::Options o;
+    EXPECT_TRUE(sandbox::check_outputs(o, {}));
+    o.screenshot = (dir / "shot.png").string();
+    o.stats_out = (dir / "stats.csv").string();
+    EXPECT_TRUE(sandbox::check_outputs(o, {}));
+    o.screenshot = dir.string();
+    auto s = sandbox::check_outputs(o, {});
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find("--screenshot"), std::string::npos) << s.error();
+    o.screenshot.clear();
+    o.stats_out = (dir / "no" / "stats.csv").string();
+    s = sandbox::check_outputs(o, {});
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find("--stats-out"), std::string::npos) << s.error();
+    o.stats_out.clear();
+    auto replay = sandbox::parse_replay("5 screenshot " + (dir / "missing" / "a.png").string() + "\n");
+    ASSERT_TRUE(replay) << replay.error();
+    s = sandbox::check_outputs(o, *replay);
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().find("replay"), std::string::npos) << s.error();
+    std::filesystem::remove_all(dir);
 }
 
 // --vdb plays with the edits overlay; --read-only keeps none.

@@ -1,11 +1,16 @@
 // The replay parser: every command parses into the right fields; bad lines are rejected with a
 // message naming the line number and quoting the line.
+#include <filesystem>
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "replay.h"
 
 using sandbox::is_replay_key;
+using sandbox::load_replay;
 using sandbox::parse_replay;
+using sandbox::replay_quits;
 using Kind = sandbox::ReplayCommand::Kind;
 
 TEST(Replay, ParsesEveryCommand) {
@@ -96,4 +101,30 @@ TEST(Replay, EmptyAndCommentOnlyFilesAreEmptyReplays) {
     auto r = parse_replay("# nothing\n\n   \n");
     ASSERT_TRUE(r);
     EXPECT_TRUE(r->empty());
+}
+
+// A headless replay without a `quit` would run for ever (vx_sandbox refuses it without --frames).
+TEST(Replay, QuitsOnlyWithAQuitLine) {
+    EXPECT_FALSE(replay_quits({}));
+    auto r = parse_replay("0 pose 0 40 0 0 0\n10 key w down\n");
+    ASSERT_TRUE(r);
+    EXPECT_FALSE(replay_quits(*r));
+    r = parse_replay("0 pose 0 40 0 0 0\n10 quit\n");
+    ASSERT_TRUE(r);
+    EXPECT_TRUE(replay_quits(*r));
+}
+
+// A folder opens as an ifstream and reads as an empty replay: refused, saying so.
+TEST(Replay, AFolderIsNotAReplay) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_replay_folder_test";
+    std::filesystem::create_directories(dir);
+    auto r = load_replay(dir.string());
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().find("folder"), std::string::npos) << r.error();
+    EXPECT_FALSE(load_replay((dir / "missing.txt").string()));
+    std::ofstream(dir / "ok.txt") << "5 quit\n";
+    r = load_replay((dir / "ok.txt").string());
+    ASSERT_TRUE(r) << r.error();
+    EXPECT_TRUE(replay_quits(*r));
+    std::filesystem::remove_all(dir);
 }
