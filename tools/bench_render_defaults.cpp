@@ -10,6 +10,7 @@
 #include <vx/vx.h>
 
 #include "bench_render_frames.h"
+#include "cli_common.h"
 #include "bench_render_paths.h"
 #include "defaults_rule.h"
 #include "render/image_metrics.h"
@@ -136,7 +137,7 @@ std::string results(const std::vector<Candidate>& cands, const std::vector<Measu
     for (const Measured& m : ms)
         ce.push_back({m.ms, m.error});
     const DefaultsRuleResult rule = apply_defaults_rule(ce);
-    std::ofstream csv(out + "/defaults.csv");
+    ReportFile csv(out + "/defaults.csv");
     csv << "shadow_spp,bounce_spp,denoise,history,sandbox_now,ms,orbit_median,orbit_p95,fly_median,fly_p95,error,"
            "best_at_2x,qualifies,pick\n";
     std::string md;

@@ -246,7 +246,7 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
                   info.repeat, info.warmup_s, flat_ms, flat_first, flat_last, info.reflections,
                   (unsigned long long)ctx.frames, (unsigned long long)ctx.warmup);
     std::string md = head + rows_table(sets, flat_ms);
-    std::ofstream csv(info.out + "/equal_error.csv");
+    ReportFile csv(info.out + "/equal_error.csv");
     md += candidates_table(sets, flat_ms, csv);
     std::printf("  equal error: %llu frames rendered (and %llu to warm up), %zu candidates skipped; wrote "
                 "%s/equal_error.csv\n",

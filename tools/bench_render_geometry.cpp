@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench_render_frames.h"
+#include "cli_common.h"
 #include "world/base/median.h"
 #include "world/mesh/apron.h"
 #include "world/mesh/edit_mesher.h"
@@ -295,7 +296,7 @@ std::string edit_section(engine::LoadedScene& scene, const GeometryBenchInfo& in
 } // namespace
 
 std::string run_geometry_bench(engine::LoadedScene& scene, const GeometryBenchInfo& info) {
-    std::ofstream csv(info.out + "/geometry.csv");
+    ReportFile csv(info.out + "/geometry.csv");
     csv << "# mesher,name,triangles,mesh_us_median,mesh_ms_total,build_ms_gpu,build_ms_wall,blas_bytes,chunk_bytes,"
            "flat_ms,full_ms,raster_ms\n# burst,run,median_ms,refits,builds\n"
            "# trace,k,refit_flat_ms,rebuild_flat_ms,refit_full_ms,rebuild_full_ms\n";

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bench_render_frames.h"
+#include "cli_common.h"
 #include "render/image_metrics.h"
 #include "world/base/median.h"
 #include "world/mesh/edit_mesher.h"
@@ -165,7 +166,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                      "row's (worse than no history).\n\n"
                      "| path | configuration | RMSE median | RMSE p95 | flicker | reference flicker | recovery "
                      "frames | ghost frames |\n|---|---|---|---|---|---|---|---|\n";
-    std::ofstream csv(info.out + "/paths.csv");
+    ReportFile csv(info.out + "/paths.csv");
     csv << "path,configuration,frame,rmse,edited_rmse\n"; // edited_rmse: the edit's pixels (edit path).
     char line[512];
     const std::vector<PathRow> rows = info.rows.empty() ? default_path_rows(info) : info.rows;

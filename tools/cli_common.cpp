@@ -11,6 +11,8 @@
 #include <unistd.h>
 #include <vector>
 
+#include "render/renderer.h"
+
 namespace vx::tools {
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -95,6 +97,42 @@ std::string output_file_problem(const std::string& path) {
     if (!fs::is_directory(folder, ec))
         return "the folder of '" + path + "' does not exist";
     return {};
+}
+
+namespace {
+std::vector<std::string>& output_failures() {
+    static std::vector<std::string> failures; // The CLI's thread only (see ReportFile).
+    return failures;
+}
+} // namespace
+
+ReportFile::ReportFile(const std::string& path) : std::ofstream(path), m_path(path) {}
+
+ReportFile::~ReportFile() { finish(); }
+
+void ReportFile::finish() {
+    if (m_finished)
+        return;
+    m_finished = true;
+    if (is_open())
+        close(); // Sets failbit when the last buffered write or the close fails.
+    if (fail())
+        note_output_failure(m_path, "cannot write it");
+}
+
+void note_output_failure(const std::string& path, const std::string& why) {
+    output_failures().push_back(path + ": " + why);
+}
+
+void note_png(const std::string& path, const render::RenderImage& image) {
+    if (Status s = render::write_png(path, image); !s)
+        note_output_failure(path, s.error());
+}
+
+int report_outputs() {
+    for (const std::string& f : output_failures())
+        std::fprintf(stderr, "vx: report output not written: %s\n", f.c_str());
+    return output_failures().empty() ? kExitOk : kExitFailure;
 }
 
 int bad_input(const std::string& message) {

@@ -2,6 +2,7 @@
 // Shared helpers of the vx CLI: argument parsing of vectors, and the exit codes.
 
 #include <cstdint>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,9 @@
 
 namespace CLI {
 class Validator;
+}
+namespace vx::render {
+struct RenderImage;
 }
 
 namespace vx::tools {
@@ -42,6 +46,30 @@ CLI::Validator finite_range(double lo, double hi, const std::string& what);
 // "" when a command may write its output file at `path` (nothing there yet, or a file it
 // replaces, in a folder that exists), else why not: checked before the work, not after it.
 std::string output_file_problem(const std::string& path);
+
+// A file of a bench's report (CSV, Markdown): an std::ofstream that, on closing, records a failed
+// open or write (report_outputs): a long bench's figures must not vanish silently on a full disk.
+// CLI thread only.
+class ReportFile : public std::ofstream {
+public:
+    explicit ReportFile(const std::string& path);
+    ~ReportFile() override; // finish(), unless called.
+    // Closes the file and records a failure; call it before report_outputs() while in scope.
+    void finish();
+    ReportFile(const ReportFile&) = delete;
+    ReportFile& operator=(const ReportFile&) = delete;
+
+private:
+    std::string m_path;
+    bool m_finished = false;
+};
+// Records that the report output at `path` was not written (`why`: e.g. write_png's error).
+void note_output_failure(const std::string& path, const std::string& why);
+// Writes a bench's picture as PNG; a failure is noted (note_output_failure), not fatal.
+void note_png(const std::string& path, const render::RenderImage& image);
+// A bench's exit: kExitOk when every report output was written, else prints each one that was not
+// and returns kExitFailure (the figures above were measured; the files are incomplete).
+int report_outputs();
 
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);

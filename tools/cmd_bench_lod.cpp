@@ -244,7 +244,7 @@ int run_bench_lod(const BenchLodArgs& a) {
                      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::string levels_md = "\n## Per level\n\nChunks with triangles (BLASes) and their GPU memory (MB) by level.\n\n"
                             "| scene | BLAS by level | MB by level |\n|---|---|---|\n";
-    std::ofstream csv(a.out + "/lod_bench.csv");
+    ReportFile csv(a.out + "/lod_bench.csv");
     csv << "scene,radius,top_level,chunks,blas,triangles,gpu_bytes,flat_ms,full_ms,full_wall_ms,cpu_ms,rmse_flat,"
            "rmse_full,psnr_full,ssim_full,uncovered,ground,load_ms\n";
     char line[768];
@@ -270,15 +270,16 @@ int run_bench_lod(const BenchLodArgs& a) {
             << s.cpu_ms << ',' << ef.rmse << ',' << eu.rmse << ',' << eu.psnr << ',' << eu.ssim << ',' << uncovered << ','
             << ground << ',' << s.load_ms << '\n';
         const std::string stem = a.out + (ref ? "/full" : "/lod_r" + std::to_string(s.radius));
-        (void)render::write_png(stem + "_flat.png", s.flat);
-        (void)render::write_png(stem + "_full.png", s.full);
+        note_png(stem + "_flat.png", s.flat);
+        note_png(stem + "_full.png", s.full);
     }
     md += levels_md;
     md += "\nPictures: full_flat.png and full_full.png (full detail), lod_r<R>_flat.png and lod_r<R>_full.png.\n";
-    std::ofstream(a.out + "/lod_report.md") << md;
+    ReportFile(a.out + "/lod_report.md") << md;
     std::printf("  for scale: full shading, full detail with another sample seed: RMSE %.4f\n", noise.rmse);
+    csv.finish();
     std::printf("  wrote %s/lod_report.md, lod_bench.csv and PNG pairs\n", a.out.c_str());
-    return kExitOk;
+    return report_outputs();
 }
 
 } // namespace

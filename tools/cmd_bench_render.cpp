@@ -272,28 +272,28 @@ int run_bench_render(const BenchRenderArgs& a) {
                                     a.error_metric == "display", a.warmup_ms / 1000.0};
     if (a.sections == "equal-error") {
         md += run_equal_error_bench(r, equal);
-        std::ofstream(a.out + "/render_report.md") << md;
+        ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and equal_error.csv\n", a.out.c_str());
-        return kExitOk;
+        return report_outputs();
     }
     if (a.sections == "defaults") { // Only section 6.
         md += run_defaults_bench(r, *scene, defaults);
-        std::ofstream(a.out + "/render_report.md") << md;
+        ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and defaults.csv\n", a.out.c_str());
-        return kExitOk;
+        return report_outputs();
     }
     if (a.sections == "paths") { // Only section 5.
         md += run_path_bench(r, *scene, paths);
-        std::ofstream(a.out + "/render_report.md") << md;
+        ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and paths.csv\n", a.out.c_str());
-        return kExitOk;
+        return report_outputs();
     }
     if (a.sections == "geometry") { // Only section 4.
         renderer->reset(); // Its renderers are made one at a time (volk loads one device's entry points).
         md += run_geometry_bench(*scene, geometry);
-        std::ofstream(a.out + "/render_report.md") << md;
+        ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and geometry.csv\n", a.out.c_str());
-        return kExitOk;
+        return report_outputs();
     }
 
     // 1. Pipelines and features.
@@ -305,7 +305,7 @@ int run_bench_render(const BenchRenderArgs& a) {
     ref_s.max_bounces = a.reflections;
     img = render_reference(r, ref_s, cam, a.reference_spp);
     const render::ImageF reference = render::to_float(img);
-    (void)render::write_png(a.out + "/reference.png", img);
+    note_png(a.out + "/reference.png", img);
     std::snprintf(line, sizeof line,
                   "\n## Speed against error\n\nReference: %u samples per pixel (%u frames of 8, accumulated, no "
                   "filter), %u reflection bounces.\n\n",
@@ -315,7 +315,7 @@ int run_bench_render(const BenchRenderArgs& a) {
           "|---|---|---|---|---|---|---|---|\n";
     std::vector<SweepRow> candidates;
     SweepRow thesis{"25 spp, bounce spp 25, denoiser off"};
-    std::ofstream csv(a.out + "/render_bench.csv");
+    ReportFile csv(a.out + "/render_bench.csv");
     csv << "spp,bounce_spp,denoise,frame_ms,rmse,psnr,ssim,light_cache\n";
     for (bool cache : {false, true})
         for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, 25u, 64u}) {
@@ -339,7 +339,7 @@ int run_bench_render(const BenchRenderArgs& a) {
                         << e.psnr << ',' << e.ssim << ',' << (cache ? 1 : 0) << '\n';
                     const std::string png = a.out + "/spp" + std::to_string(spp) + "_b" + std::to_string(bounce) +
                                             (denoise ? "_denoised" : "") + (cache ? "_cache" : "") + ".png";
-                    (void)render::write_png(png, img);
+                    note_png(png, img);
                 }
         }
     // 3. A still camera: frames accumulated by the temporal pass (SVGF moments once 4 are in).
@@ -376,9 +376,10 @@ int run_bench_render(const BenchRenderArgs& a) {
         renderer->reset();
         md += run_geometry_bench(*scene, geometry);
     }
-    std::ofstream(a.out + "/render_report.md") << md;
+    ReportFile(a.out + "/render_report.md") << md;
+    csv.finish();
     std::printf("  wrote %s/render_report.md, render_bench.csv and PNGs\n", a.out.c_str());
-    return kExitOk;
+    return report_outputs();
 }
 
 } // namespace

@@ -460,6 +460,18 @@ TEST(CliRender, BenchRenderCameraPaths) {
     EXPECT_EQ(frames, 4 * 6); // Four configurations (the sandbox's among them), six frames.
     EXPECT_NE(text.find("| orbit | sandbox: "), std::string::npos) << text; // Marked, not added.
     EXPECT_EQ(vx("bench render --sections paths --path-frames 2").code, 2);
+    // Report files that cannot be written (here folders in their place) exit 1 naming them: the
+    // bench once exited 0 with its figures lost.
+    const std::string blocked = dir() + "/bench_paths_blocked";
+    std::filesystem::remove_all(blocked);
+    std::filesystem::create_directories(blocked + "/paths.csv");
+    std::filesystem::create_directories(blocked + "/render_report.md");
+    const CliRun lost = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --reflections 1 "
+                           "--sections paths --path-frames 4 --path-reference-spp 8 --out " +
+                           blocked);
+    EXPECT_EQ(lost.code, 1) << lost.out;
+    EXPECT_NE(lost.out.find("not written: " + blocked + "/paths.csv"), std::string::npos) << lost.out;
+    EXPECT_NE(lost.out.find("not written: " + blocked + "/render_report.md"), std::string::npos) << lost.out;
 }
 
 // `vx bench render --sections defaults` (tiny): a table row and a CSV line per candidate (7
@@ -595,6 +607,15 @@ TEST(CliRender, BenchLodReport) {
         EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
         EXPECT_EQ(std::count(b.out.begin(), b.out.end(), '\n'), 1) << "one line: " << b.out;
     }
+    // A picture that cannot be written (a folder in its place) is named, and the exit is 1.
+    const std::string blocked = dir() + "/bench_lod_blocked";
+    std::filesystem::remove_all(blocked);
+    std::filesystem::create_directories(blocked + "/full_flat.png");
+    const CliRun lost = vx("bench lod --seed 1 --view-distance 160 --radii 1 --vradius 1 --lod-ring 2 --size 24x16 "
+                           "--repeat 1 --out " + blocked);
+    EXPECT_EQ(lost.code, 1) << lost.out;
+    EXPECT_NE(lost.out.find("not written: " + blocked + "/full_flat.png"), std::string::npos) << lost.out;
+    EXPECT_NE(read_text(blocked + "/lod_report.md").find("| LOD r=1 | 32 |"), std::string::npos); // The rest is.
 }
 
 TEST(CliRender, InfoListsTheRayTracingDevice) {
