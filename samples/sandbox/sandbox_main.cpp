@@ -4,9 +4,11 @@
 // screenshots and the per-frame CSV. The game logic lives in game.*, player_physics.*,
 // hotbar.*, replay.* and options.*.
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -402,8 +404,15 @@ int finish(App& app, int code) {
         std::fprintf(stderr, "vx_sandbox: saving the world failed: %s\n", s.error().c_str());
         code = code ? code : 1;
     }
-    if (app.csv)
-        std::fclose(app.csv);
+    if (app.csv) { // Buffered rows reach the file here: a full disk shows at ferror or fclose.
+        const bool written = std::ferror(app.csv) == 0;
+        if (std::fclose(app.csv) != 0 || !written) {
+            std::fprintf(stderr, "vx_sandbox: cannot write --stats-out %s: %s\n", app.opt.stats_out.c_str(),
+                         std::strerror(errno));
+            code = code ? code : 1;
+        }
+        app.csv = nullptr;
+    }
     const glm::dvec3 feet = app.game->player().feet();
     std::printf("vx_sandbox: player's feet at %.2f %.2f %.2f (%s)\n", feet.x, feet.y, feet.z,
                 app.game->player().walking() ? "walk" : "fly");

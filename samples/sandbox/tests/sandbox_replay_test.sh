@@ -3,7 +3,7 @@
 # on): an edit replay flies, places and removes a block at the crosshair with screenshots; the
 # crosshair pixel changes when the block is placed and returns when it is removed; a second run
 # on the same world shows the placed block again (saved); the Esc menu covers the centre; a walk replay never ends a frame inside
-# a block; a bad replay line exits 2 naming the line; a headless replay that cannot end exits 2; a lost scripted screenshot exits 1. Coarse levels are on (--view-distance 300):
+# a block; a bad replay line exits 2 naming the line; a headless replay that cannot end exits 2; a lost scripted screenshot or stats CSV exits 1. Coarse levels are on (--view-distance 300):
 # level 0 near the player, levels of detail beyond, drawn with the validation layer on. Usage: sandbox_replay_test.sh EXE SRC WORK
 set -euo pipefail
 exe=$1 src=$2 work=$3
@@ -64,16 +64,17 @@ set -e
 cat noquit.log
 ((code == 2)) || fail "a headless replay without an end exited $code, not 2"
 grep -q "would never end" noquit.log || fail "the endless headless replay is not explained"
-# A scripted screenshot that cannot be written (a full disk: /dev/full) is exit 1, not success.
+# A scripted screenshot or stats CSV that cannot be written (a full disk: /dev/full) is exit 1.
 if [[ -e /dev/full ]]; then
   set +e
   "$exe" --replay noquit.txt "${common[@]}" --world "$work/full.sqlite" --view-distance 0 --view-radius 1 \
-    --headless --frames 2 --screenshot /dev/full >full.log 2>&1
+    --headless --frames 2 --screenshot /dev/full --stats-out /dev/full >full.log 2>&1
   code=$?
   set -e
   cat full.log
   ((code == 1)) || fail "a screenshot lost to a full disk exited $code, not 1"
   grep -q "cannot write PNG /dev/full" full.log || fail "the lost screenshot is not reported"
+  grep -q "cannot write --stats-out /dev/full" full.log || fail "the lost stats CSV is not reported"
 else
   echo "skipped the full-disk screenshot: no /dev/full here"
 fi
