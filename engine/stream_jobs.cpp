@@ -54,7 +54,7 @@ void GenerateJob::complete() {
 MeshJob::MeshJob(StreamJobEvents& owner, world::ChunkCoord c, const world::World& world)
     : Job({c, JobKind::Mesh}), m_owner(owner), m_chunk(*world.find_chunk(c)), m_registry(world.registry()) {
     for (int f = 0; f < 6; ++f)
-        m_layers[size_t(f)].take(world::Face(f), world.find_chunk(c + world::face_normal(world::Face(f))));
+        m_layers[size_t(f)].take(world::Face(f), world.find_neighbour(c, world::Face(f)));
 }
 
 void MeshJob::run(JobContext& ctx) {

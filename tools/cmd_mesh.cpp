@@ -124,6 +124,8 @@ uint64_t apply_edits(engine::LoadedScene& scene, const std::vector<Edit>& edits,
         world.set_block(e.pos, e.id);
         const ChunkCoord c = chunk_of(e.pos);
         for (int f = -1; f < 6; ++f) {
+            if (f >= 0 && !has_neighbour(c, Face(f)))
+                continue; // The world's edge: nothing beyond it to remesh.
             const ChunkCoord n = f < 0 ? c : c + face_normal(Face(f));
             // Real neighbours, as the greedy edit path reads them, even in the isolated seed scene.
             if (world.find_chunk(n))

@@ -195,6 +195,8 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     std::optional<WorldPos> light = world_pos_at({centre.x, hi.y + above, centre.z});
     if (!a.light.empty() && !(light = parse_world_pos(a.light)))
         return "--light must be X,Y,Z (decimals, inside the world), got '" + a.light + "'";
+    if (!world::in_world(light->block)) // Above a volume at the world's top.
+        return "the default light would lie outside the world (|coordinate| < 2^36): give --light";
     const float side = float(above * 0.5);
     s.light.edge_u = {side, 0, 0};
     s.light.edge_v = {0, 0, side};

@@ -74,5 +74,11 @@ inline glm::ivec3 face_normal(Face f) {
     n[face_axis(f)] = face_positive(f) ? 1 : -1;
     return n;
 }
+// Whether chunk c has a face neighbour towards f: a chunk on the world's edge has none there
+// (outside the world reads as air), and c + face_normal(f) would overflow its 32 bits.
+inline bool has_neighbour(ChunkCoord c, Face f) {
+    const int v = c[face_axis(f)];
+    return face_positive(f) ? v != INT32_MAX : v != INT32_MIN;
+}
 
 } // namespace vx::world

@@ -134,6 +134,8 @@ RaycastHit raycast(const World& world, const Ray& ray, double max_distance) {
     const Chunk* cached = nullptr;
     bool valid = false;
     auto query = [&](BlockPos p) -> BlockId {
+        if (!in_world(p)) // Beyond the edge is air (chunk_of would wrap to the far side).
+            return kAir;
         const ChunkCoord c = chunk_of(p);
         if (!valid || c != cached_coord) {
             cached = world.find_chunk(c);

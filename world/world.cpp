@@ -5,6 +5,8 @@
 namespace vx::world {
 
 BlockId World::get_block(BlockPos p) const {
+    if (!in_world(p)) // Beyond the edge is air (chunk_of would wrap to the far side).
+        return kAir;
     const Chunk* c = find_chunk(chunk_of(p));
     return c ? c->get(local_of(p)) : kAir;
 }

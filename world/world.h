@@ -20,12 +20,16 @@ public:
     const BlockRegistry& registry() const { return m_registry; }
     BlockRegistry& registry() { return m_registry; }
 
-    BlockId get_block(BlockPos p) const;
+    BlockId get_block(BlockPos p) const; // Air outside the world.
     // Sets a block, creating its chunk if needed; returns the id it replaced. p must be in_world().
     BlockId set_block(BlockPos p, BlockId id);
 
     const Chunk* find_chunk(ChunkCoord c) const;
     Chunk* find_chunk(ChunkCoord c);
+    // The face neighbour of c towards f; null when absent or beyond the world's edge.
+    const Chunk* find_neighbour(ChunkCoord c, Face f) const {
+        return has_neighbour(c, f) ? find_chunk(c + face_normal(f)) : nullptr;
+    }
     Chunk& chunk(ChunkCoord c); // Creates an air chunk if absent.
     void put_chunk(ChunkCoord c, Chunk chunk);
     bool remove_chunk(ChunkCoord c);

@@ -126,21 +126,31 @@ TEST(CliRender, RasterPipelineAndDenoiser) {
 TEST(CliRender, FarFromOriginRendersIdentically) {
     const std::string vol = write_volume();
     const int64_t ox = 68719470000, oy = 4294967296, oz = 34359738373; // 2^35 + 5.
+    const int64_t edge = -68719476736; // -2^36: the world's first block, chunk INT32_MIN.
+    // n + quarters / 4 as an exact decimal ("-9.5" is block -10 plus 0.5).
+    auto exact = [](int64_t n, int quarters) {
+        static const char* const kFrac[] = {"", ".25", ".5", ".75"};
+        if (n >= 0 || quarters == 0)
+            return std::to_string(n) + kFrac[quarters];
+        return (n + 1 == 0 ? std::string("-0") : std::to_string(n + 1)) + kFrac[4 - quarters];
+    };
     auto run = [&](int64_t x, int64_t y, int64_t z, const std::string& name) {
         const std::string out = dir() + "/" + name;
-        // Eye at (30.5, 20.25, 28.75) + origin, target (12, 2, 10) + origin; all coordinates are
-        // positive, so appending the fraction's digits adds it.
-        const std::string eye = std::to_string(x + 30) + ".5," + std::to_string(y + 20) + ".25," +
-                                std::to_string(z + 28) + ".75";
+        // Eye at (30.5, 20.25, 28.75) + origin, target (12, 2, 10) + origin.
+        const std::string eye = exact(x + 30, 2) + "," + exact(y + 20, 1) + "," + exact(z + 28, 3);
         const std::string target = std::to_string(x + 12) + "," + std::to_string(y + 2) + "," + std::to_string(z + 10);
         render("--raw " + vol + " --dims 24,12,20 --size 40x30 --shading flat --origin " + std::to_string(x) + "," +
                std::to_string(y) + "," + std::to_string(z) + " --eye " + eye + " --target " + target + " --out " + out);
         return read_png(out);
     };
     const Png near = run(0, 0, 0, "near.png"), far = run(ox, oy, oz, "far.png");
+    // The world's corner: the chunks there have no neighbours beyond the edge (air).
+    const Png corner = run(edge, edge, edge, "corner.png");
     ASSERT_EQ(near.w, 40);
     ASSERT_EQ(far.w, 40);
+    ASSERT_EQ(corner.w, 40);
     EXPECT_TRUE(near.rgba == far.rgba);
+    EXPECT_TRUE(near.rgba == corner.rgba);
     EXPECT_NE(near.at(20, 15), near.at(0, 0)); // Not all sky.
 }
 

@@ -111,6 +111,8 @@ TEST(Cli, RenderBadArgumentsExitTwoBeforeTouchingVulkan) {
     // A volume at the world's edge renders (CliRender.FarFromOriginRendersIdentically), but the
     // default eye framing this one would stand outside the world: refused, naming the way out.
     expect_bad(base + "--origin -68719476736,0,0", "--eye"); // The first block of the world.
+    // The same for the default light above a volume at the world's top.
+    expect_bad(base + "--origin 0,68719476700,0 --eye 50,68719476710,50 --target 0,68719476700,0", "--light");
     expect_bad(base + "--eye 0,10,0 --target 0,0,0", "--up"); // Looking straight down the up axis.
     expect_bad(base + "--device fastest", "fastest");
     expect_bad(base + "--fov 0", "--fov");

@@ -421,3 +421,69 @@ TEST(EditMesher, IncrementalEqualsFullRemesh) {
         ASSERT_TRUE(mc.mesh == expect);
     }
 }
+
+// Chunks on the world's edge (chunk coordinates INT32_MIN and INT32_MAX) have no neighbour
+// beyond it: their aprons read air there, and an edit on the edge remeshes nothing outside (the
+// neighbour's coordinate would overflow). The meshes equal those of the same blocks near the
+// origin with nothing loaded beyond, through full meshing and 2000 border edits.
+TEST(EditMesher, TheWorldsEdgeMeshesAsAirBeyond) {
+    for (const int corner : {INT32_MIN, INT32_MAX}) {
+        const int inward = corner == INT32_MIN ? 1 : -1;
+        // Block offset of the corner chunk from its twin at (0,0,0) (the twin's neighbours beyond
+        // the edge side are simply never loaded).
+        const BlockPos shift = chunk_origin(ChunkCoord(corner));
+        std::mt19937 rng(23);
+        World edge(make_registry(4, 2)), twin(make_registry(4, 2));
+        auto both_set = [&](BlockPos p, BlockId id) { // p relative to the twin's chunk (0,0,0).
+            edge.set_block(p + shift, id);
+            twin.set_block(p, id);
+        };
+        auto pick = [&](bool border) -> int64_t { // Two chunks per axis, from the edge inwards.
+            const int64_t base = inward > 0 ? int64_t(rng() % 2) * 32 : -int64_t(rng() % 2) * 32;
+            return base + (border ? (rng() % 2 ? 31 : 0) : int64_t(rng() % 32));
+        };
+        for (int i = 0; i < 6000; ++i)
+            both_set(BlockPos(pick(false), pick(false), pick(false)), BlockId(1 + rng() % 6));
+        // Solid chunks where a neighbour coordinate that wrapped round would land: read as an
+        // apron, they would hide the edge's faces.
+        for (int z = 0; z < 2; ++z)
+            for (int y = 0; y < 2; ++y)
+                for (int x = 0; x < 2; ++x)
+                    for (int f = 0; f < 6; ++f) {
+                        const ChunkCoord c = ChunkCoord(corner) + ChunkCoord(x, y, z) * inward;
+                        if (has_neighbour(c, Face(f)))
+                            continue;
+                        ChunkCoord wrapped = c;
+                        wrapped[face_axis(Face(f))] = face_positive(Face(f)) ? INT32_MIN : INT32_MAX;
+                        edge.put_chunk(wrapped, Chunk(BlockId(1)));
+                    }
+        EditMesher em_edge, em_twin;
+        MeshMap m_edge, m_twin;
+        for (int z = 0; z < 2; ++z)
+            for (int y = 0; y < 2; ++y)
+                for (int x = 0; x < 2; ++x) {
+                    const ChunkCoord d = ChunkCoord(x, y, z) * inward;
+                    em_edge.mesh_chunk(edge, ChunkCoord(corner) + d, m_edge);
+                    em_twin.mesh_chunk(twin, d, m_twin);
+                }
+        auto expect_same = [&](int edit) {
+            ASSERT_EQ(m_edge.size(), m_twin.size()) << "corner " << corner << " edit " << edit;
+            for (const auto& [c, mc] : m_twin) {
+                const auto it = m_edge.find(ChunkCoord(corner) + c);
+                ASSERT_NE(it, m_edge.end());
+                ASSERT_TRUE(it->second.mesh == mc.mesh) << "corner " << corner << " edit " << edit;
+            }
+        };
+        expect_same(-1);
+        for (int i = 0; i < 2000; ++i) {
+            const BlockPos p(pick(rng() % 2), pick(rng() % 2), pick(true)); // On a border plane.
+            const BlockId id = rng() % 3 == 0 ? kAir : BlockId(1 + rng() % 6);
+            const EditResult a = em_edge.apply(edge, p + shift, id, m_edge);
+            const EditResult b = em_twin.apply(twin, p, id, m_twin);
+            ASSERT_EQ(a.updates.size(), b.updates.size());
+            if (i % 100 == 0)
+                expect_same(i);
+        }
+        expect_same(2000);
+    }
+}

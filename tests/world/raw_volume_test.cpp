@@ -62,3 +62,16 @@ TEST(RawVolume, ClearErrorsForBadInput) {
     EXPECT_EQ(w.chunk_count(), 0u); // Nothing half-loaded from refused input.
     std::filesystem::remove(path);
 }
+
+// A write that the disk refuses (/dev/full: every write is ENOSPC) is an error naming the file,
+// not a success with a cut volume.
+TEST(RawVolume, AFullDiskIsAnError) {
+    if (!std::filesystem::exists("/dev/full"))
+        GTEST_SKIP() << "no /dev/full here to make a write fail";
+    World w;
+    w.set_block(BlockPos(1, 2, 3), 7);
+    const auto s = save_raw_volume("/dev/full", {glm::i64vec3(8, 8, 8), RawType::U8, BlockPos(0)}, w);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().find("/dev/full"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("No space"), std::string::npos) << s.error();
+}

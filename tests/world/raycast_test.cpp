@@ -368,5 +368,29 @@ TEST(Raycast, WorldOverloadMatchesCallback) {
     EXPECT_GT(hits, 100);
 }
 
+// Past the world's edge is air: a ray leaving the world does not wrap round to the chunk at the
+// other edge (32-bit chunk coordinates would), and a ray coming in from beyond hits what is there.
+TEST(Raycast, BeyondTheWorldsEdgeIsAir) {
+    World world;
+    const BlockPos first(kWorldMinBlock, 0, 0), last(kWorldMaxBlock, 0, 5);
+    world.set_block(first, 1); // Where a walk leaving at +x on row z = 0 would wrap to.
+    world.set_block(last, 2);  // Where a walk leaving at -x on row z = 5 would wrap to.
+    EXPECT_EQ(world.get_block(BlockPos(kWorldMaxBlock + 1, 0, 0)), kAir);
+    EXPECT_EQ(world.get_block(BlockPos(kWorldMinBlock - 1, 0, 5)), kAir);
+    Ray ray;
+    ray.offset = {0.5, 0.5, 0.5};
+    ray.anchor = BlockPos(kWorldMaxBlock - 3, 0, 0);
+    ray.direction = {1.0, 0.0, 0.0};
+    EXPECT_FALSE(raycast(world, ray, 64.0).hit);
+    ray.anchor = BlockPos(kWorldMinBlock + 3, 0, 5);
+    ray.direction = {-1.0, 0.0, 0.0};
+    EXPECT_FALSE(raycast(world, ray, 64.0).hit);
+    ray.anchor = BlockPos(kWorldMaxBlock + 40, 0, 5); // From outside, back in.
+    const RaycastHit h = raycast(world, ray, 64.0);
+    ASSERT_TRUE(h.hit);
+    EXPECT_EQ(h.block, last);
+    EXPECT_EQ(h.id, 2);
+}
+
 } // namespace
 } // namespace vx::world

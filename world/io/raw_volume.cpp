@@ -1,5 +1,6 @@
 #include "world/io/raw_volume.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -119,8 +120,9 @@ Status save_raw_volume(const std::string& path, const RawVolumeDesc& desc, const
             if (std::fwrite(row.data(), 1, row.size(), f.get()) != row.size())
                 return Error{"write to '" + path + "' failed"};
         }
-    if (std::fflush(f.get()) != 0)
-        return Error{"write to '" + path + "' failed"};
+    // A full disk shows at the flush; a failing close (NFS, quotas) loses the tail just the same.
+    if (std::fflush(f.get()) != 0 || std::fclose(f.release()) != 0)
+        return Error{"write to '" + path + "' failed: " + std::strerror(errno)};
     return {};
 }
 

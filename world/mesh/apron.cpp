@@ -132,7 +132,7 @@ void Apron::copy_face(Face f, const Chunk* neighbour, const BlockRegistry& regis
 Apron make_apron(const World& world, ChunkCoord c) {
     Apron a;
     for (int f = 0; f < 6; ++f)
-        a.copy_face(Face(f), world.find_chunk(c + face_normal(Face(f))), world.registry());
+        a.copy_face(Face(f), world.find_neighbour(c, Face(f)), world.registry());
     return a;
 }
 

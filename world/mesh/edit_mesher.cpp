@@ -31,7 +31,7 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLoo
         for (int f = 0; f < 6; ++f) {
             const Face face = Face(f);
             if (l[face_axis(face)] == (face_positive(face) ? kChunkSize - 1 : 0))
-                m_apron.copy_face(face, world.find_chunk(c + face_normal(face)), reg);
+                m_apron.copy_face(face, world.find_neighbour(c, face), reg);
         }
         const uint32_t changed = m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, old, *mesh);
         SliceUpdate u{c, false, 0, {}};
@@ -47,7 +47,7 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLoo
         const Face face = Face(f);
         const int axis = face_axis(face);
         const bool pos = face_positive(face);
-        if (l[axis] != (pos ? kChunkSize - 1 : 0))
+        if (l[axis] != (pos ? kChunkSize - 1 : 0) || !has_neighbour(c, face))
             continue;
         const ChunkCoord n = c + face_normal(face);
         ChunkMesh* mesh = lookup(n);
