@@ -135,6 +135,14 @@ int report_outputs() {
     return output_failures().empty() ? kExitOk : kExitFailure;
 }
 
+int parse_failure(const CLI::App& app, const CLI::ParseError& e, const std::string& usage) {
+    if (e.get_exit_code() == 0) // --help (CLI::CallForHelp, CallForAllHelp): success.
+        return app.exit(e);
+    const std::string where = usage.empty() ? "'" + app.get_name() + " --help'" : usage;
+    std::fprintf(stderr, "vx: %s\nRun %s for usage.\n", e.what(), where.c_str());
+    return kExitBadInput;
+}
+
 int bad_input(const std::string& message) {
     std::fprintf(stderr, "vx: %s\n", message.c_str());
     return kExitBadInput;

@@ -10,6 +10,8 @@
 #include <glm/glm.hpp>
 
 namespace CLI {
+class App;
+class ParseError;
 class Validator;
 }
 namespace vx::render {
@@ -73,6 +75,11 @@ int report_outputs();
 
 // Prints "vx: <message>" to stderr and returns kExitBadInput.
 int bad_input(const std::string& message);
+// A command's CLI11 parse failure at the tool's boundary: --help prints the help and is kExitOk;
+// anything else is one "vx: <what>" line, where to find the usage, and kExitBadInput (CLI11's
+// own exit codes, e.g. 105 for a failed check, are not the tool's). `usage` says where the usage
+// is; empty: "'<app name> --help'".
+int parse_failure(const CLI::App& app, const CLI::ParseError& e, const std::string& usage = "");
 // Prints "vx: <message>" to stderr and returns kExitFailure: the machine, not the input, stopped
 // the command (the OS refused its threads).
 int failed(const std::string& message);

@@ -303,7 +303,7 @@ int run_bench_lod_command(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? kExitOk : kExitBadInput;
+        return parse_failure(app, e);
     }
     return run_bench_lod(a);
 }

@@ -441,7 +441,7 @@ int run_bench_render_command(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? kExitOk : kExitBadInput;
+        return parse_failure(app, e);
     }
     if (seed_opt->count() > 0)
         a.scene.seed = seed;

@@ -141,7 +141,7 @@ int run_bench_vdb(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        return parse_failure(app, e);
     }
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);

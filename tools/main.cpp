@@ -27,13 +27,8 @@ int main(int argc, char** argv) {
     app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store; vdb: export memory)");
     try {
         app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "vx: %s\nRun 'vx --help' or 'vx COMMAND --help' for usage.\n", e.what());
-        return kExitBadInput;
+        return parse_failure(app, e, "'vx --help' or 'vx COMMAND --help'");
     }
     return action ? action() : kExitBadInput;
 }

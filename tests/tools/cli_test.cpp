@@ -83,6 +83,16 @@ TEST(Cli, BadArgumentsExitTwo) {
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find(":2:"), std::string::npos) << r.out; // Names the bad line.
     EXPECT_EQ(run_vx("bench").code, 2);
+    // The bench commands' own parsers: exit 2 and a "vx:" line (bench vdb exited 105, CLI11's code).
+    const std::pair<const char*, const char*> benches[] = {
+        {"bench vdb --side 0", "--side"}, {"bench render --repeat 0", "--repeat"}, {"bench lod --repeat 0", "--repeat"}};
+    for (const auto& [args, option] : benches) {
+        r = run_vx(args);
+        EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+        EXPECT_EQ(r.out.rfind("vx: ", 0), 0u) << args << "\n" << r.out;
+        EXPECT_NE(r.out.find(option), std::string::npos) << args << "\n" << r.out;
+    }
+    EXPECT_EQ(run_vx("bench vdb --help").code, 0);
     r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;
