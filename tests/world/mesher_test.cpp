@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <map>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -444,28 +445,26 @@ TEST(EditMesher, TheWorldsEdgeMeshesAsAirBeyond) {
         };
         for (int i = 0; i < 6000; ++i)
             both_set(BlockPos(pick(false), pick(false), pick(false)), BlockId(1 + rng() % 6));
+        std::vector<ChunkCoord> twin_chunks; // The 2 x 2 x 2 chunks, the twin's coordinates.
+        for (int i = 0; i < 8; ++i)
+            twin_chunks.push_back(ChunkCoord(i & 1, i >> 1 & 1, i >> 2) * inward);
         // Solid chunks where a neighbour coordinate that wrapped round would land: read as an
         // apron, they would hide the edge's faces.
-        for (int z = 0; z < 2; ++z)
-            for (int y = 0; y < 2; ++y)
-                for (int x = 0; x < 2; ++x)
-                    for (int f = 0; f < 6; ++f) {
-                        const ChunkCoord c = ChunkCoord(corner) + ChunkCoord(x, y, z) * inward;
-                        if (has_neighbour(c, Face(f)))
-                            continue;
-                        ChunkCoord wrapped = c;
-                        wrapped[face_axis(Face(f))] = face_positive(Face(f)) ? INT32_MIN : INT32_MAX;
-                        edge.put_chunk(wrapped, Chunk(BlockId(1)));
-                    }
+        for (const ChunkCoord d : twin_chunks)
+            for (int f = 0; f < 6; ++f) {
+                const ChunkCoord c = ChunkCoord(corner) + d;
+                if (has_neighbour(c, Face(f)))
+                    continue;
+                ChunkCoord wrapped = c;
+                wrapped[face_axis(Face(f))] = face_positive(Face(f)) ? INT32_MIN : INT32_MAX;
+                edge.put_chunk(wrapped, Chunk(BlockId(1)));
+            }
         EditMesher em_edge, em_twin;
         MeshMap m_edge, m_twin;
-        for (int z = 0; z < 2; ++z)
-            for (int y = 0; y < 2; ++y)
-                for (int x = 0; x < 2; ++x) {
-                    const ChunkCoord d = ChunkCoord(x, y, z) * inward;
-                    em_edge.mesh_chunk(edge, ChunkCoord(corner) + d, m_edge);
-                    em_twin.mesh_chunk(twin, d, m_twin);
-                }
+        for (const ChunkCoord d : twin_chunks) {
+            em_edge.mesh_chunk(edge, ChunkCoord(corner) + d, m_edge);
+            em_twin.mesh_chunk(twin, d, m_twin);
+        }
         auto expect_same = [&](int edit) {
             ASSERT_EQ(m_edge.size(), m_twin.size()) << "corner " << corner << " edit " << edit;
             for (const auto& [c, mc] : m_twin) {
