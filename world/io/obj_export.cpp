@@ -1,21 +1,17 @@
 #include "world/io/obj_export.h"
 
+#include "world/io/stdio_file.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
 #include <map>
-#include <memory>
 #include <vector>
 
 namespace vx::world {
 namespace {
-
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 std::string mtl_path_for(const std::string& path) {
     const size_t slash = path.find_last_of('/');
@@ -45,17 +41,17 @@ Result<ObjStats> write_obj(const std::string& path, const MeshMap& meshes, const
         meshes.at(c).mesh.for_each_quad([&](const Quad& q) { by_block[q.block].push_back({c, q}); });
 
     const std::string mtl = mtl_path_for(path);
-    File m(std::fopen(mtl.c_str(), "w"));
+    StdioFile m(std::fopen(mtl.c_str(), "w"));
     if (!m)
         return Error{"cannot create '" + mtl + "': " + std::strerror(errno)};
     for (const auto& [id, quads] : by_block) {
         const glm::vec3 a = registry.info(id).albedo;
         std::fprintf(m.get(), "newmtl block_%u\nKd %.4f %.4f %.4f\n", unsigned(id), a.r, a.g, a.b);
     }
-    if (std::fflush(m.get()) != 0)
-        return Error{"write to '" + mtl + "' failed"};
+    if (Status s = close_written(std::move(m), mtl); !s)
+        return Error{s.error()};
 
-    File f(std::fopen(path.c_str(), "w"));
+    StdioFile f(std::fopen(path.c_str(), "w"));
     if (!f)
         return Error{"cannot create '" + path + "': " + std::strerror(errno)};
     std::fprintf(f.get(), "# vx mesh export: world block units, CCW faces seen from the air side\nmtllib %s\n",
@@ -74,8 +70,8 @@ Result<ObjStats> write_obj(const std::string& path, const MeshMap& meshes, const
             stats.vertices += 4;
         }
     }
-    if (std::fflush(f.get()) != 0 || std::ferror(f.get()))
-        return Error{"write to '" + path + "' failed"};
+    if (Status s = close_written(std::move(f), path); !s)
+        return Error{s.error()};
     return stats;
 }
 

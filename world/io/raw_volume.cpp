@@ -1,19 +1,15 @@
 #include "world/io/raw_volume.h"
 
+#include "world/io/stdio_file.h"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 #include <unordered_map>
 #include <vector>
 
 namespace vx::world {
 namespace {
-
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 Status check_desc(const RawVolumeDesc& d) {
     if (d.dims.x <= 0 || d.dims.y <= 0 || d.dims.z <= 0)
@@ -32,7 +28,7 @@ Status check_desc(const RawVolumeDesc& d) {
 Result<RawVolumeStats> load_raw_volume(const std::string& path, const RawVolumeDesc& desc, World& world) {
     if (Status s = check_desc(desc); !s)
         return Error{s.error()};
-    File f(std::fopen(path.c_str(), "rb"));
+    StdioFile f(std::fopen(path.c_str(), "rb"));
     if (!f)
         return Error{"cannot open '" + path + "': " + std::strerror(errno)};
     const uint64_t bpv = desc.type == RawType::U8 ? 1 : 2;
@@ -99,7 +95,7 @@ Result<RawVolumeStats> load_raw_volume(const std::string& path, const RawVolumeD
 Status save_raw_volume(const std::string& path, const RawVolumeDesc& desc, const World& world) {
     if (Status s = check_desc(desc); !s)
         return s;
-    File f(std::fopen(path.c_str(), "wb"));
+    StdioFile f(std::fopen(path.c_str(), "wb"));
     if (!f)
         return Error{"cannot create '" + path + "': " + std::strerror(errno)};
     const bool u8 = desc.type == RawType::U8;
@@ -118,12 +114,9 @@ Status save_raw_volume(const std::string& path, const RawVolumeDesc& desc, const
                 }
             }
             if (std::fwrite(row.data(), 1, row.size(), f.get()) != row.size())
-                return Error{"write to '" + path + "' failed"};
+                return Error{"write to '" + path + "' failed: " + std::strerror(errno)};
         }
-    // A full disk shows at the flush; a failing close (NFS, quotas) loses the tail just the same.
-    if (std::fflush(f.get()) != 0 || std::fclose(f.release()) != 0)
-        return Error{"write to '" + path + "' failed: " + std::strerror(errno)};
-    return {};
+    return close_written(std::move(f), path);
 }
 
 } // namespace vx::world
