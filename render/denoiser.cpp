@@ -220,7 +220,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
                        (settings.history_clamp ? gpu::kDenoiseHistoryClamp : 0u) |
                        (mirror ? gpu::kDenoiseMirror : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
-                   inputs.exposure, 0.f};
+                   inputs.exposure, float(inputs.first_hit_samples)};
     const glm::quat r = inputs.history_rotation;
     push.history_rotation = {r.x, r.y, r.z, r.w};
     const uint32_t gx = (m_width + gpu::kDenoiseGroupSize - 1) / gpu::kDenoiseGroupSize;
@@ -303,7 +303,7 @@ void copy_buffer_to_image(VkCommandBuffer cmd, VkBuffer src, VkDeviceSize offset
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings, const glm::mat4& reproject,
                        float fov_y_degrees, const ImageF* reflected, const MirrorImagesF* mirror,
-                       const glm::quat& history_rotation) {
+                       const glm::quat& history_rotation, uint32_t first_hit_samples) {
     const uint32_t w = denoiser.width(), h = denoiser.height();
     const ImageF zero = reflected ? ImageF{} : ImageF::make(w, h);
     const ImageF& refl = reflected ? *reflected : zero;
@@ -355,6 +355,7 @@ ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, c
     in.reproject = reproject;
     in.history_rotation = history_rotation;
     in.fov_y_degrees = fov_y_degrees;
+    in.first_hit_samples = first_hit_samples;
     if (mirror) {
         in.mirror_light = inputs[4].view();
         in.mirror_albedo = inputs[5].view();

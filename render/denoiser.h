@@ -100,7 +100,10 @@ struct DenoiseInputs {
     // Scale from radiance to the tone curve's input for the 8-bit output (vx_exposure_scale,
     // shaders/shared/tonemap.h). The HDR output() is not scaled.
     float exposure = 1.f;
-
+    // Shadow samples per pixel at every primary hit (RenderSettings::shadow_samples); 0: unknown
+    // or not the same everywhere (samples by weight), filtered as a few. From kPrefilterFrom
+    // (shaders/denoise_atrous.comp) a pixel's own light is trusted in the first pass.
+    uint32_t first_hit_samples = 0;
 };
 
 class Denoiser {
@@ -175,11 +178,12 @@ struct MirrorImagesF {
 // reflected and the mirror's light and normal_depth as RGBA16F, albedos as RGBA8 from 0..1
 // floats; no `reflected`: zero; no `mirror`: the reflected part is not filtered), runs
 // `denoiser` once (it keeps its history between calls) and reads the output back. Waits for
-// the GPU. Sizes must match the denoiser.
+// the GPU. Sizes must match the denoiser. `first_hit_samples`: DenoiseInputs's.
 ImageF denoise_on_host(Context& ctx, Denoiser& denoiser, const ImageF& colour, const ImageF& albedo,
                        const ImageF& normal_depth, const DenoiseSettings& settings,
                        const glm::mat4& reproject = glm::mat4(1.f), float fov_y_degrees = 60.f,
                        const ImageF* reflected = nullptr, const MirrorImagesF* mirror = nullptr,
-                       const glm::quat& history_rotation = glm::quat(1.f, 0.f, 0.f, 0.f));
+                       const glm::quat& history_rotation = glm::quat(1.f, 0.f, 0.f, 0.f),
+                       uint32_t first_hit_samples = 0);
 
 } // namespace vx::render

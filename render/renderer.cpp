@@ -798,6 +798,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
     in.fov_y_degrees = cam.fov_y_degrees;
     in.ldr_target = target().view();
     in.exposure = gpu::vx_exposure_scale(frame_ev100);
+    in.first_hit_samples = s.samples_by_weight ? 0u : s.shadow_samples;
     DenoiseSettings ds;
     ds.iterations = s.denoise ? ds.iterations : 0;
     ds.max_history = std::max(s.accumulate, 1u);

@@ -36,7 +36,8 @@ struct DenoisePush {
     uvec4 params;
     // x: tan(vertical fov / 2), y: aspect (width / height) of the pinhole camera
     // (shaders/raygen.rgen): turns distances along primary rays into view depths. z: exposure
-    // of the 8-bit output (vx_exposure_scale, tonemap.h).
+    // of the 8-bit output (vx_exposure_scale, tonemap.h). w: the first hit's shadow samples per
+    // pixel (0: unknown, as a few).
     vec4 camera;
     // Temporal pass: the rotation (unit quaternion x, y, z, w) from world to the previous
     // frame's view space, whose pixels `reproject` maps to: turns world normals into that space

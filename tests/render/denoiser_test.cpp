@@ -132,6 +132,44 @@ TEST_F(DenoiserTest, KnownNoiseFreeDetailIsKept) {
     EXPECT_GT(spatial_error, 0.05);
 }
 
+// A shadow one pixel wide (a fence post's, a tenth of the light) in well-sampled light: each
+// floor pixel's own standard deviation is 5% of its light. Below 16 samples the first pass
+// compares the neighbours with the centre's 3x3 blur, which lies halfway to the lit side, and
+// the line takes their light; from 16 samples (prefiltered_luminance(), shaders/
+// denoise_atrous.comp) its own light is trusted and the line stays dark.
+TEST_F(DenoiserTest, ManySamplesKeepAOnePixelShadow) {
+    GBuffer g = make_scene();
+    constexpr uint32_t kLine = 10;
+    for (uint32_t y = kSkyRows; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            float* ref = g.reference.at(x, y);
+            const float light = g.illumination.at(x, y)[0] * (x == kLine ? 0.1f : 1.f);
+            for (int c = 0; c < 3; ++c)
+                ref[c] = g.albedo.at(x, y)[c] * light;
+            ref[3] = (0.05f * light) * (0.05f * light);
+        }
+    Denoiser denoiser(*m_ctx, kW, kH);
+    auto line_gain = [&](uint32_t samples) {
+        denoiser.reset_history();
+        const ImageF out = denoise_on_host(*m_ctx, denoiser, g.reference, g.albedo, g.normal_depth, spatial_only(),
+                                           glm::mat4(1.f), 60.f, nullptr, nullptr, glm::quat(1.f, 0.f, 0.f, 0.f),
+                                           samples);
+        double sum_out = 0, sum_ref = 0;
+        for (uint32_t y = kSkyRows + 2; y < kH - 2; ++y)
+            for (int c = 0; c < 3; ++c) {
+                sum_out += out.at(kLine, y)[c];
+                sum_ref += g.reference.at(kLine, y)[c];
+            }
+        return sum_out / sum_ref;
+    };
+    const double few = line_gain(4), unknown = line_gain(0), many = line_gain(16);
+    std::printf("one-pixel shadow, its light over the true light: %.3f (4 samples), %.3f (unknown), %.3f (16)\n",
+                few, unknown, many);
+    EXPECT_GT(few, 1.5) << "the prefilter no longer draws the lit side's light in at a few samples";
+    EXPECT_EQ(few, unknown);
+    EXPECT_LT(many, 1.15);
+}
+
 // The light's guide (render/gbuffer.h, reflected a), on the floor whose columns 12-23 lie in a
 // sun shadow (a fifth of the light): with the sun flag (negative a in the shadow) no tap crosses
 // the shadow's edge, so the shadowed pixels next to it take no light from the lit side; with
