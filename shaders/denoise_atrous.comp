@@ -71,8 +71,9 @@ float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
 // of step <= kRelaxLastStep compare with a luminance scale kRelax times wider (ramped in from
 // kRelaxFrom to kRelaxFull pixels), and every pass compares with the blurred centre (below
 // kPrefilterFrom samples). Where the scale is a pixel or two (an inner corner's darkening, a
-// contact shadow: the hills' detail) the filter is as before. Measured on lavapipe (docs/render_report.md): a wider scale (x8) or
-// relaxing the wider passes too blurred light across sun shadows and the 16-spp mirror field.
+// contact shadow: the hills' detail) the filter is as before. Measured on lavapipe
+// (docs/render_report.md): a wider scale (x8) or relaxing the wider passes too blurred light
+// across sun shadows and the 16-spp mirror field.
 const float kRelaxFrom = 2.0;
 const float kRelaxFull = 8.0;
 const float kRelax = 6.0;
