@@ -87,6 +87,8 @@ TEST(IoFault, ObjExportWritesEveryFaceWithItsMaterial) {
     EXPECT_NE(text.find("usemtl block_2"), std::string::npos);
     EXPECT_NE(text.find("v 6 2 2"), std::string::npos) << "the blue block's far corner";
     EXPECT_NE(mtl.find("newmtl block_2\nKd 0.1000 0.2000 0.9000"), std::string::npos) << mtl;
+    std::filesystem::remove(obj);
+    std::filesystem::remove(temp_dir() / "two.mtl");
 }
 
 // A close that fails is an error naming the file, for each of the export's two files; the
@@ -104,8 +106,9 @@ TEST(IoFault, ObjExportReportsAFailedClose) {
         EXPECT_NE(r.error().find(file), std::string::npos) << r.error();
         EXPECT_NE(r.error().find(std::strerror(EIO)), std::string::npos) << r.error();
     }
-    fail_close(-1);
-    EXPECT_TRUE(write_obj(obj.string(), s.meshes, s.world.registry()).ok());
+    EXPECT_TRUE(write_obj(obj.string(), s.meshes, s.world.registry()).ok()); // The injection is spent.
+    std::filesystem::remove(obj);
+    std::filesystem::remove(temp_dir() / "closing.mtl");
 }
 
 TEST(IoFault, RawVolumeReportsAFailedClose) {
@@ -119,4 +122,5 @@ TEST(IoFault, RawVolumeReportsAFailedClose) {
     EXPECT_NE(st.error().find("closing '" + path + "'"), std::string::npos) << st.error();
     EXPECT_NE(st.error().find(std::strerror(EIO)), std::string::npos) << st.error();
     EXPECT_TRUE(save_raw_volume(path, {glm::i64vec3(8, 8, 8), RawType::U8, BlockPos(0)}, w).ok());
+    std::filesystem::remove(path);
 }

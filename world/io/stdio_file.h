@@ -13,7 +13,9 @@
 namespace vx::world {
 
 struct StdioFileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); } // Only on an error path: its error is moot.
+    // Files only read, and written files left on an error path: a close's error adds nothing there.
+    // A written file that succeeded is closed by close_written, which checks it.
+    void operator()(std::FILE* f) const { std::fclose(f); }
 };
 using StdioFile = std::unique_ptr<std::FILE, StdioFileCloser>;
 
