@@ -3,6 +3,7 @@
 // through __wrap_fclose below, which can make a chosen close fail after it has closed the file,
 // as close(2) does when NFS or a quota reports a lost write there (EIO). No file system here fails
 // a close on demand, and /dev/full cannot stand in for an OBJ export (its .mtl goes beside it).
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -91,11 +93,33 @@ TEST(IoFault, ObjExportWritesEveryFaceWithItsMaterial) {
     std::filesystem::remove(temp_dir() / "two.mtl");
 }
 
-// A close that fails is an error naming the file, for each of the export's two files; the
-// injection is checked to have fired (the wrap is in force) before the result is judged.
-TEST(IoFault, ObjExportReportsAFailedClose) {
+// The names in `dir`, sorted: a failed write must leave no temporary behind.
+std::vector<std::string> names_in(const std::filesystem::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::filesystem::path fresh_dir(const char* name) {
+    const auto d = temp_dir() / name;
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+void write_text(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+// A close that fails is an error naming the file, for each of the export's two files, and leaves
+// the previous export as it was: no cut file, no temporary. The injection is checked to have
+// fired (the wrap is in force) before the result is judged.
+TEST(IoFault, ObjExportReportsAFailedCloseAndKeepsThePreviousFiles) {
     TwoBlocks s;
-    const auto obj = temp_dir() / "closing.obj";
+    const auto dir = fresh_dir("obj_close");
+    const auto obj = dir / "closing.obj", mtl = dir / "closing.mtl";
+    write_text(obj, "previous obj\n");
+    write_text(mtl, "previous mtl\n");
     for (int nth : {0, 1}) { // The .mtl is closed first, then the .obj.
         fail_close(nth);
         auto r = write_obj(obj.string(), s.meshes, s.world.registry());
@@ -105,22 +129,45 @@ TEST(IoFault, ObjExportReportsAFailedClose) {
         EXPECT_NE(r.error().find("closing '"), std::string::npos) << r.error();
         EXPECT_NE(r.error().find(file), std::string::npos) << r.error();
         EXPECT_NE(r.error().find(std::strerror(EIO)), std::string::npos) << r.error();
+        EXPECT_EQ(read_text(obj), "previous obj\n") << "close " << nth;
+        EXPECT_EQ(read_text(mtl), "previous mtl\n") << "close " << nth;
+        EXPECT_EQ(names_in(dir), (std::vector<std::string>{"closing.mtl", "closing.obj"})) << "close " << nth;
     }
-    EXPECT_TRUE(write_obj(obj.string(), s.meshes, s.world.registry()).ok()); // The injection is spent.
-    std::filesystem::remove(obj);
-    std::filesystem::remove(temp_dir() / "closing.mtl");
+    ASSERT_TRUE(write_obj(obj.string(), s.meshes, s.world.registry()).ok()); // The injection is spent.
+    EXPECT_NE(read_text(obj).find("mtllib closing.mtl"), std::string::npos);
+    EXPECT_NE(read_text(mtl).find("newmtl block_1"), std::string::npos);
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{"closing.mtl", "closing.obj"}));
+    std::filesystem::remove_all(dir);
 }
 
-TEST(IoFault, RawVolumeReportsAFailedClose) {
+// Where nothing was exported before, a failed export leaves nothing: no pair half written.
+TEST(IoFault, AFailedFirstObjExportLeavesNoFile) {
+    TwoBlocks s;
+    const auto dir = fresh_dir("obj_first");
+    fail_close(1); // The .obj's close: the .mtl was whole, but without its .obj it goes too.
+    auto r = write_obj((dir / "first.obj").string(), s.meshes, s.world.registry());
+    ASSERT_EQ(g_closes_until_failure.load(), -1) << "the injected failure did not fire";
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(names_in(dir).empty()) << names_in(dir).front();
+    std::filesystem::remove_all(dir);
+}
+
+TEST(IoFault, RawVolumeReportsAFailedCloseAndKeepsThePreviousFile) {
     World w;
     w.set_block(BlockPos(1, 2, 3), 7);
-    const auto path = (temp_dir() / "closing.raw").string();
+    const auto dir = fresh_dir("raw_close");
+    const std::string path = (dir / "closing.raw").string();
+    write_text(path, "previous");
     fail_close(0);
     const vx::Status st = save_raw_volume(path, {glm::i64vec3(8, 8, 8), RawType::U8, BlockPos(0)}, w);
     ASSERT_EQ(g_closes_until_failure.load(), -1) << "the injected failure did not fire";
     ASSERT_FALSE(st.ok());
     EXPECT_NE(st.error().find("closing '" + path + "'"), std::string::npos) << st.error();
     EXPECT_NE(st.error().find(std::strerror(EIO)), std::string::npos) << st.error();
-    EXPECT_TRUE(save_raw_volume(path, {glm::i64vec3(8, 8, 8), RawType::U8, BlockPos(0)}, w).ok());
-    std::filesystem::remove(path);
+    EXPECT_EQ(read_text(path), "previous");
+    EXPECT_EQ(names_in(dir), std::vector<std::string>{"closing.raw"});
+    ASSERT_TRUE(save_raw_volume(path, {glm::i64vec3(8, 8, 8), RawType::U8, BlockPos(0)}, w).ok());
+    EXPECT_EQ(std::filesystem::file_size(path), 512u);
+    EXPECT_EQ(names_in(dir), std::vector<std::string>{"closing.raw"});
+    std::filesystem::remove_all(dir);
 }

@@ -75,3 +75,47 @@ TEST(RawVolume, AFullDiskIsAnError) {
     EXPECT_NE(s.error().find("/dev/full"), std::string::npos) << s.error();
     EXPECT_NE(s.error().find("No space"), std::string::npos) << s.error();
 }
+
+// An error half-way through a save (a block id past 255 in a u8 volume) leaves the file that was
+// there before, not the rows written up to the error, and no temporary beside it.
+TEST(RawVolume, AFailedSaveKeepsThePreviousFile) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_raw_failed_save";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "v.raw").string();
+    World w;
+    w.set_block(BlockPos(1, 1, 1), 7);
+    ASSERT_TRUE(save_raw_volume(path, {glm::i64vec3(4, 4, 4), RawType::U8, BlockPos(0)}, w).ok());
+    w.set_block(BlockPos(2, 3, 3), 300); // The last row: every row before it is already written.
+    const auto s = save_raw_volume(path, {glm::i64vec3(4, 4, 4), RawType::U8, BlockPos(0)}, w);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().find("does not fit in u8"), std::string::npos) << s.error();
+    World back;
+    ASSERT_TRUE(load_raw_volume(path, {glm::i64vec3(4, 4, 4), RawType::U8, BlockPos(0)}, back).ok());
+    EXPECT_EQ(back.get_block(BlockPos(1, 1, 1)), 7);
+    EXPECT_EQ(back.get_block(BlockPos(2, 3, 3)), 0);
+    size_t files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir))
+        ++files;
+    EXPECT_EQ(files, 1u) << "a temporary was left beside the volume";
+    std::filesystem::remove_all(dir);
+}
+
+// A path that is a symbolic link is written through the link, in place, as before: renaming a
+// temporary over it would replace the link with a file.
+TEST(RawVolume, SavesThroughASymbolicLink) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_raw_link";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::filesystem::create_symlink("target.raw", dir / "link.raw");
+    World w;
+    w.set_block(BlockPos(3, 0, 1), 9);
+    const RawVolumeDesc desc{glm::i64vec3(4, 1, 2), RawType::U8, BlockPos(0)};
+    ASSERT_TRUE(save_raw_volume((dir / "link.raw").string(), desc, w).ok());
+    EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.raw"));
+    ASSERT_EQ(std::filesystem::file_size(dir / "target.raw"), 8u);
+    World back;
+    ASSERT_TRUE(load_raw_volume((dir / "target.raw").string(), desc, back).ok());
+    EXPECT_EQ(back.get_block(BlockPos(3, 0, 1)), 9);
+    std::filesystem::remove_all(dir);
+}

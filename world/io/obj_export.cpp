@@ -1,6 +1,6 @@
 #include "world/io/obj_export.h"
 
-#include "world/io/stdio_file.h"
+#include "world/io/file_replace.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -40,20 +40,21 @@ Result<ObjStats> write_obj(const std::string& path, const MeshMap& meshes, const
     for (const ChunkCoord& c : coords)
         meshes.at(c).mesh.for_each_quad([&](const Quad& q) { by_block[q.block].push_back({c, q}); });
 
+    // Both files go through temporaries: a failed export leaves the previous pair, not a cut one.
     const std::string mtl = mtl_path_for(path);
-    StdioFile m(std::fopen(mtl.c_str(), "w"));
-    if (!m)
-        return Error{"cannot create '" + mtl + "': " + std::strerror(errno)};
+    ReplacingFile m;
+    if (Status s = m.open(mtl, "w"); !s)
+        return Error{s.error()};
     for (const auto& [id, quads] : by_block) {
         const glm::vec3 a = registry.info(id).albedo;
         std::fprintf(m.get(), "newmtl block_%u\nKd %.4f %.4f %.4f\n", unsigned(id), a.r, a.g, a.b);
     }
-    if (Status s = close_written(std::move(m), mtl); !s)
+    if (Status s = m.finish(); !s)
         return Error{s.error()};
 
-    StdioFile f(std::fopen(path.c_str(), "w"));
-    if (!f)
-        return Error{"cannot create '" + path + "': " + std::strerror(errno)};
+    ReplacingFile f;
+    if (Status s = f.open(path, "w"); !s)
+        return Error{s.error()};
     std::fprintf(f.get(), "# vx mesh export: world block units, CCW faces seen from the air side\nmtllib %s\n",
                  base_name(mtl).c_str());
     ObjStats stats;
@@ -70,8 +71,9 @@ Result<ObjStats> write_obj(const std::string& path, const MeshMap& meshes, const
             stats.vertices += 4;
         }
     }
-    if (Status s = close_written(std::move(f), path); !s)
-        return Error{s.error()};
+    for (ReplacingFile* file : {&f, &m})
+        if (Status s = file->commit(); !s)
+            return Error{s.error()};
     return stats;
 }
 

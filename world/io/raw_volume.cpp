@@ -1,5 +1,6 @@
 #include "world/io/raw_volume.h"
 
+#include "world/io/file_replace.h"
 #include "world/io/stdio_file.h"
 
 #include <cerrno>
@@ -95,9 +96,9 @@ Result<RawVolumeStats> load_raw_volume(const std::string& path, const RawVolumeD
 Status save_raw_volume(const std::string& path, const RawVolumeDesc& desc, const World& world) {
     if (Status s = check_desc(desc); !s)
         return s;
-    StdioFile f(std::fopen(path.c_str(), "wb"));
-    if (!f)
-        return Error{"cannot create '" + path + "': " + std::strerror(errno)};
+    ReplacingFile f; // A failed save leaves the file that was there, not a cut one.
+    if (Status s = f.open(path, "wb"); !s)
+        return s;
     const bool u8 = desc.type == RawType::U8;
     std::vector<uint8_t> row(size_t(desc.dims.x) * (u8 ? 1 : 2));
     for (int64_t z = 0; z < desc.dims.z; ++z)
@@ -116,7 +117,7 @@ Status save_raw_volume(const std::string& path, const RawVolumeDesc& desc, const
             if (std::fwrite(row.data(), 1, row.size(), f.get()) != row.size())
                 return Error{"write to '" + path + "' failed: " + std::strerror(errno)};
         }
-    return close_written(std::move(f), path);
+    return f.commit();
 }
 
 } // namespace vx::world

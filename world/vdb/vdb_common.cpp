@@ -1,17 +1,8 @@
 #include "world/vdb/vdb_common.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <cstring>
-#include <random>
-#include <system_error>
-
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <tbb/task_arena.h>
 
@@ -45,37 +36,6 @@ Error make_error(std::string_view context, std::string_view what) {
     while (!msg.empty() && msg.back() == ' ')
         msg.pop_back();
     return Error{msg};
-}
-
-Result<std::string> create_temp_beside(const std::string& path) {
-    static std::atomic<uint64_t> counter{0};
-    thread_local std::mt19937_64 rng(std::random_device{}() ^ (uint64_t(::getpid()) << 32) ^ counter.fetch_add(1));
-    int err = 0;
-    for (int attempt = 0; attempt < 64; ++attempt) {
-        char suffix[24];
-        std::snprintf(suffix, sizeof suffix, ".tmp-%012llx", (unsigned long long)(rng() & 0xFFFFFFFFFFFFull));
-        std::string name = path + suffix;
-        const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) {
-            ::close(fd);
-            return name;
-        }
-        err = errno;
-        if (err != EEXIST)
-            break;
-    }
-    return make_error("cannot create a temporary file beside '" + path + "'", std::strerror(err));
-}
-
-Status replace_file(const std::string& from, const std::string& to) {
-    std::error_code ec;
-    std::filesystem::rename(from, to, ec);
-    if (ec) {
-        const std::string why = ec.message(); // Before remove() reuses ec.
-        std::filesystem::remove(from, ec);
-        return make_error("cannot rename '" + from + "' to '" + to + "'", why);
-    }
-    return {};
 }
 
 void run_in_calling_thread(const std::function<void()>& f) {

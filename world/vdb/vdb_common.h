@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "world/base/result.h"
+#include "world/io/file_replace.h"
 #include "world/vdb/vdb_volume.h"
 
 namespace vx::vdb::detail {
@@ -27,13 +28,9 @@ Status check_volume_options(const VolumeImportOptions& o);
 // `what` is cut at 240 characters ("..." marks the cut). Thread-safe.
 Error make_error(std::string_view context, std::string_view what);
 
-// Creates a new empty file named `path` + ".tmp-" + 12 random hex digits, exclusively
-// (O_CREAT | O_EXCL, mode 0666 less the umask: no other process's file or link is ever reused),
-// and returns its name; the caller writes it and removes or renames it. Thread-safe.
-Result<std::string> create_temp_beside(const std::string& path);
-
-// Renames `from` over `to` (atomic on one file system); removes `from` on failure. Thread-safe.
-Status replace_file(const std::string& from, const std::string& to);
+// Temporaries beside a path and their rename over it: world/io/file_replace.h.
+using world::create_temp_beside;
+using world::replace_file;
 
 // Runs `f` in the calling thread with OpenVDB's TBB parallelism confined to a one-slot arena, so
 // an import starts no worker threads: it cannot fail to create one (under a memory limit, where a

@@ -1,0 +1,56 @@
+#pragma once
+// Files written whole or not at all: a writer fills a temporary beside its target and renames it
+// over the target only once every byte is written and the close succeeded, so a full disk, a
+// failed close or an error half-way (a block id that does not fit) leaves what was at the path
+// before, and no cut file that a reader might take for a whole one. Any thread; one file per owner.
+
+#include <cstdio>
+#include <string>
+
+#include "world/base/assert.h"
+#include "world/base/result.h"
+#include "world/io/stdio_file.h"
+
+namespace vx::world {
+
+// Creates a new empty file named `path` + ".tmp-" + 12 random hex digits, exclusively
+// (O_CREAT | O_EXCL, mode 0666 less the umask: no other process's file or link is ever reused),
+// and returns its name; the caller writes it and removes or renames it. Thread-safe.
+Result<std::string> create_temp_beside(const std::string& path);
+
+// Renames `from` over `to` (atomic on one file system, POSIX rename(2)); removes `from` on
+// failure. Thread-safe.
+Status replace_file(const std::string& from, const std::string& to);
+
+// A file to be written at `path`, through a temporary beside it. A path that names something
+// other than a regular file (a device such as /dev/stdout or /dev/full, a FIFO, a symbolic link)
+// is written in place, as before: renaming over it would replace the device or the link itself.
+// Destroyed without a successful commit(), it removes its temporary. Move-only.
+class ReplacingFile {
+public:
+    ReplacingFile() = default;
+    ReplacingFile(ReplacingFile&& other) noexcept;
+    ReplacingFile& operator=(ReplacingFile&&) noexcept;
+    ~ReplacingFile();
+
+    // Opens the file for writing (`mode` as fopen's: "w" or "wb"). Errors name `path`.
+    Status open(const std::string& path, const char* mode);
+    // The stream to write; null before open() and after commit().
+    std::FILE* get() const { return m_file.get(); }
+    // Flushes and closes the stream, both checked (see close_written); the path is not touched
+    // yet. Files that belong together (an OBJ and its .mtl) finish all, then commit all, so only
+    // a failed rename, not a full disk, can part them. On failure the temporary is removed.
+    Status finish();
+    // finish() if not yet done, then renames the temporary over the path. On any failure the
+    // temporary is removed and the path keeps what it had.
+    Status commit();
+
+private:
+    void discard();
+
+    StdioFile m_file;
+    std::string m_path, m_temp; // m_temp empty: written in place.
+    bool m_finished = false;
+};
+
+} // namespace vx::world
