@@ -221,8 +221,9 @@ TEST(VdbTempFiles, UniqueExclusiveAndNeverLeftBehind) {
     // A successful export leaves only its file.
     ASSERT_TRUE(export_vdb(terrain_world(), base));
     EXPECT_EQ(temporaries(dir), 0);
-    // An output path that is a folder: the final rename fails; the message says why (it said
-    // "Success": the temporary's removal had reset the error first), nothing is left behind.
+    // An output path that is a folder: the export is refused before it writes; the message says
+    // why (it once said "Success": the temporary's removal had reset the error first), nothing is
+    // left behind.
     const std::string folder = dir.file("folder.vdb");
     std::filesystem::create_directory(folder);
     s = export_vdb(terrain_world(), folder);

@@ -224,6 +224,35 @@ TEST(VdbStream, WriteFailureKeepsTheOldFile) {
     EXPECT_EQ(files, 1u);
 }
 
+// An export to a symbolic link replaces the file the link names and keeps the link. One to a
+// device is refused, and the device stays: the temporary's rename would have replaced it (as
+// root, /dev/null itself).
+TEST(VdbStream, ExportKeepsALinkAndRefusesADevice) {
+    TempDir dir;
+    world::World small;
+    small.set_block(BlockPos(1, 2, 3), 4);
+    ASSERT_TRUE(export_vdb(small, dir.file("end.vdb")));
+    std::filesystem::create_symlink("end.vdb", dir.file("link.vdb"));
+    small.set_block(BlockPos(5, 6, 7), 8);
+    ASSERT_TRUE(export_vdb(small, dir.file("link.vdb")));
+    EXPECT_TRUE(std::filesystem::is_symlink(dir.file("link.vdb")));
+    EXPECT_TRUE(read_bytes(dir.file("end.vdb")) == read_bytes(dir.file("link.vdb")));
+    size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+        files += e.is_regular_file() && !e.is_symlink() ? 1 : 0;
+    EXPECT_EQ(files, 1u) << "a temporary was left";
+    Result<world::World> back = import_world_vdb(dir.file("end.vdb"));
+    ASSERT_TRUE(back.ok()) << back.error();
+    EXPECT_EQ(back->get_block(BlockPos(5, 6, 7)), 8);
+
+    if (!std::filesystem::exists("/dev/null"))
+        GTEST_SKIP() << "no /dev/null here";
+    const Status s = export_vdb(small, "/dev/null");
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().find("not a regular file"), std::string::npos) << s.error();
+    EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
+}
+
 TEST(VdbStream, ReaderExpandsRootTilesAndCapsThem) {
     TempDir dir;
     const std::string path = dir.file("root_tile.vdb");

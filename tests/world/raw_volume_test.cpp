@@ -101,21 +101,24 @@ TEST(RawVolume, AFailedSaveKeepsThePreviousFile) {
     std::filesystem::remove_all(dir);
 }
 
-// A path that is a symbolic link is written through the link, in place, as before: renaming a
-// temporary over it would replace the link with a file.
+// A path that is a symbolic link keeps the link: the first save creates the file it names (the
+// link dangled), the second replaces that file through a temporary beside it, not the link.
 TEST(RawVolume, SavesThroughASymbolicLink) {
     const auto dir = std::filesystem::temp_directory_path() / "vx_raw_link";
     std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    std::filesystem::create_symlink("target.raw", dir / "link.raw");
-    World w;
-    w.set_block(BlockPos(3, 0, 1), 9);
+    std::filesystem::create_directories(dir / "data");
+    std::filesystem::create_symlink("data/target.raw", dir / "link.raw");
     const RawVolumeDesc desc{glm::i64vec3(4, 1, 2), RawType::U8, BlockPos(0)};
-    ASSERT_TRUE(save_raw_volume((dir / "link.raw").string(), desc, w).ok());
-    EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.raw"));
-    ASSERT_EQ(std::filesystem::file_size(dir / "target.raw"), 8u);
-    World back;
-    ASSERT_TRUE(load_raw_volume((dir / "target.raw").string(), desc, back).ok());
-    EXPECT_EQ(back.get_block(BlockPos(3, 0, 1)), 9);
+    for (BlockId id : {9, 11}) {
+        World w;
+        w.set_block(BlockPos(3, 0, 1), id);
+        ASSERT_TRUE(save_raw_volume((dir / "link.raw").string(), desc, w).ok());
+        EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.raw"));
+        ASSERT_EQ(std::filesystem::file_size(dir / "data" / "target.raw"), 8u);
+        World back;
+        ASSERT_TRUE(load_raw_volume((dir / "data" / "target.raw").string(), desc, back).ok());
+        EXPECT_EQ(back.get_block(BlockPos(3, 0, 1)), id);
+        EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "data"), {}), 1);
+    }
     std::filesystem::remove_all(dir);
 }

@@ -45,8 +45,23 @@ Status replace_file(const std::string& from, const std::string& to) {
     return {};
 }
 
+WriteTarget write_target(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status link = fs::symlink_status(path, ec);
+    if (ec || !fs::exists(link))
+        return {path, false};
+    if (fs::is_symlink(link)) {
+        const fs::path end = fs::canonical(path, ec); // Every link on the way resolved.
+        if (ec)
+            return {path, true}; // Dangling: fopen creates the file it names.
+        return {end.string(), !fs::is_regular_file(end, ec)};
+    }
+    return {path, !fs::is_regular_file(link)};
+}
+
 ReplacingFile::ReplacingFile(ReplacingFile&& other) noexcept
-    : m_file(std::move(other.m_file)), m_path(std::move(other.m_path)),
+    : m_file(std::move(other.m_file)), m_path(std::move(other.m_path)), m_target(std::move(other.m_target)),
       m_temp(std::exchange(other.m_temp, {})), m_finished(std::exchange(other.m_finished, false)) {}
 
 ReplacingFile& ReplacingFile::operator=(ReplacingFile&& other) noexcept {
@@ -54,6 +69,7 @@ ReplacingFile& ReplacingFile::operator=(ReplacingFile&& other) noexcept {
         discard();
         m_file = std::move(other.m_file);
         m_path = std::move(other.m_path);
+        m_target = std::move(other.m_target);
         m_temp = std::exchange(other.m_temp, {});
         m_finished = std::exchange(other.m_finished, false);
     }
@@ -75,11 +91,11 @@ void ReplacingFile::discard() {
 Status ReplacingFile::open(const std::string& path, const char* mode) {
     discard();
     m_path = path;
-    std::error_code ec;
-    const std::filesystem::file_status st = std::filesystem::symlink_status(path, ec);
-    const bool in_place = !ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st);
+    const WriteTarget target = write_target(path);
+    const bool in_place = target.in_place;
+    m_target = target.path;
     if (!in_place) {
-        Result<std::string> temp = create_temp_beside(path);
+        Result<std::string> temp = create_temp_beside(m_target);
         if (!temp)
             return Error{temp.error()}; // It names the path and the cause.
         m_temp = std::move(*temp);
@@ -110,7 +126,7 @@ Status ReplacingFile::commit() {
         return s;
     m_finished = false;
     const std::string temp = std::exchange(m_temp, {});
-    return temp.empty() ? Status{} : replace_file(temp, m_path);
+    return temp.empty() ? Status{} : replace_file(temp, m_target);
 }
 
 } // namespace vx::world

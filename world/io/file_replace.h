@@ -22,10 +22,21 @@ Result<std::string> create_temp_beside(const std::string& path);
 // failure. Thread-safe.
 Status replace_file(const std::string& from, const std::string& to);
 
-// A file to be written at `path`, through a temporary beside it. A path that names something
-// other than a regular file (a device such as /dev/stdout or /dev/full, a FIFO, a symbolic link)
-// is written in place, as before: renaming over it would replace the device or the link itself.
-// Destroyed without a successful commit(), it removes its temporary. Move-only.
+// Where a whole-file write to `path` lands. A symbolic link is followed to the file it names, so
+// the rename replaces that file and the link stays a link. `in_place` when the path (or the link's
+// end) exists and is not a regular file: a device such as /dev/stdout or /dev/full, a FIFO. A
+// rename over one would replace the device itself (as root, in /dev), so it is written directly
+// or refused. A dangling link is in place too (writing creates the file it names). Any thread.
+struct WriteTarget {
+    std::string path;
+    bool in_place = false;
+};
+WriteTarget write_target(const std::string& path);
+
+// A file to be written at `path`, through a temporary beside it (beside the file a symbolic link
+// names), renamed over it by commit(). Where write_target says in place, it is written directly,
+// as a device must be. Destroyed without a successful commit(), it removes its temporary.
+// Move-only.
 class ReplacingFile {
 public:
     ReplacingFile() = default;
@@ -49,7 +60,9 @@ private:
     void discard();
 
     StdioFile m_file;
-    std::string m_path, m_temp; // m_temp empty: written in place.
+    std::string m_path;   // As given: errors name it.
+    std::string m_target; // What the temporary is renamed over (a link's end).
+    std::string m_temp;   // Empty: written in place.
     bool m_finished = false;
 };
 

@@ -101,7 +101,7 @@ bool in_vdb_range(BlockPos p) {
 } // namespace
 
 struct VdbStreamWriter::State {
-    std::string path, tmp;
+    std::string path, target, tmp; // As given; what tmp replaces (a link's end); the temporary.
     // The file; the current Internal5 node's children's topology; the root's children's topology
     // (root tiles precede them in the file); leaf values.
     Out out, kids, roots, bufs;
@@ -402,7 +402,17 @@ Result<std::unique_ptr<VdbStreamWriter>> VdbStreamWriter::create(const std::stri
                                                                  const VdbExportOptions& options) {
     auto s = std::make_unique<State>();
     s->path = path;
-    Result<std::string> tmp = create_temp_beside(path);
+    // The file is patched as it is written (seeks), then renamed over its target: a device or a
+    // FIFO there can take neither, and a rename over a device would replace it.
+    const world::WriteTarget target = world::write_target(path);
+    if (target.in_place) {
+        std::error_code ec;
+        const bool folder = std::filesystem::is_directory(target.path, ec);
+        const std::string why = folder ? std::strerror(EISDIR) : "not a regular file (a VDB export needs one)";
+        return Error{"cannot export to '" + path + "': " + why};
+    }
+    s->target = target.path;
+    Result<std::string> tmp = create_temp_beside(s->target);
     if (!tmp)
         return Error{"cannot export to '" + path + "': " + tmp.error()};
     s->tmp = *tmp;
@@ -498,7 +508,7 @@ Status VdbStreamWriter::finish() {
         return make_error("cannot write '" + s.path + "'", std::strerror(errno));
     }
     s.finished = true;
-    if (Status r = replace_file(s.tmp, s.path); !r)
+    if (Status r = replace_file(s.tmp, s.target); !r)
         return r;
     return {};
 }
