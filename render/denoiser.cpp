@@ -212,7 +212,9 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     }
     gpu::DenoisePush push{};
     push.reproject = inputs.reproject;
-    push.sigmas = {settings.sigma_normal, settings.sigma_depth, settings.sigma_luminance,
+    const bool many = float(inputs.first_hit_samples) >= gpu::kDenoiseManySamples;
+    push.sigmas = {settings.sigma_normal, settings.sigma_depth,
+                   many ? settings.sigma_luminance_many : settings.sigma_luminance,
                    float(std::max(settings.max_history, 1u))};
     push.params = {m_width, m_height, 1,
                    (m_history_valid ? gpu::kDenoiseHistoryValid : 0u) |

@@ -35,7 +35,6 @@ layout(binding = 10, rgba8) readonly uniform image2D u_mirror_albedo;
 #include "shared/denoise_common.glsl"
 
 const float kKernel[3] = float[](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
-const float kPrefilterFrom = 16.0; // Shadow samples per pixel (see prefiltered_luminance()).
 
 // The channel's images: the primary hit's illumination and guides, or the mirror bounce's.
 vec4 load_in(bool mirror, ivec2 q) { return mirror ? imageLoad(u_mirror_in, q) : imageLoad(u_in, q); }
@@ -49,7 +48,7 @@ float depth_at(bool mirror, ivec2 q, ivec2 size) { return load_nd(mirror, clamp(
 // neighbour looks like an edge, so the outlier stayed; the blurred value is near the truth there.
 // Only the first pass: later ones see filtered values. Not for the mirror light: at 16 spp the
 // blur cost the mirror field's reflections more than it gained (docs/render_report.md). Not from
-// kPrefilterFrom samples (DenoisePush camera.w): there a pixel's own light is rarely an outlier,
+// kDenoiseManySamples (DenoisePush camera.w): there a pixel's own light is rarely an outlier,
 // and the blur drew penumbrae's light across their gradients (lavapipe, stop 40: terrain at 16 spp
 // 0.984 -> 0.925 of the raw error; the thesis's light at 25 spp 1.16 -> 1.08).
 float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
@@ -70,7 +69,7 @@ float prefiltered_luminance(ivec2 p, ivec2 size, vec4 nd) {
 // although the light under an overhang 7 blocks up is smooth over many pixels: there the passes
 // of step <= kRelaxLastStep compare with a luminance scale kRelax times wider (ramped in from
 // kRelaxFrom to kRelaxFull pixels), and every pass compares with the blurred centre (below
-// kPrefilterFrom samples). Where the scale is a pixel or two (an inner corner's darkening, a
+// kDenoiseManySamples). Where the scale is a pixel or two (an inner corner's darkening, a
 // contact shadow: the hills' detail) the filter is as before. Measured on lavapipe
 // (docs/render_report.md): a wider scale (x8) or relaxing the wider passes too blurred light
 // across sun shadows and the 16-spp mirror field.
@@ -96,7 +95,7 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
     const float relax = step <= kRelaxLastStep && footprint > 0.0 && footprint < kNoOccluder
                             ? mix(1.0, kRelax, smoothstep(kRelaxFrom, kRelaxFull, footprint))
                             : 1.0;
-    const bool prefiltered = (step == 1 || wide) && !mirror && pc.camera.w < kPrefilterFrom;
+    const bool prefiltered = (step == 1 || wide) && !mirror && pc.camera.w < kDenoiseManySamples;
     const float lum = prefiltered ? prefiltered_luminance(p, size, nd) : luminance(centre.rgb);
     const float lum_scale = relax * pc.sigmas.z * sqrt(abs(centre.a)) + 1e-4;
     vec3 sum = vec3(0);

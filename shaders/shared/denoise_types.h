@@ -25,6 +25,13 @@ VX_CONST uint kDenoiseMirror = 8u;       // The mirror images are inputs (else n
 VX_CONST float kStratifiedVarianceScale = 1.0f / 16.0f;
 VX_CONST float kNoOccluder = 60000.0f;
 
+// From this many shadow samples per pixel at the first hit (DenoisePush camera.w) a pixel's own
+// light and variance are measured well enough to trust: the first a-trous pass compares with the
+// centre, not its 3x3 blur (denoise_atrous.comp, prefiltered_luminance), and the luminance stop
+// narrows (DenoiseSettings::sigma_luminance_many). Fewer: filtered as few (docs/render_report.md,
+// stops 40-41).
+VX_CONST float kDenoiseManySamples = 16.0f;
+
 struct DenoisePush {
     // Temporal pass: maps (x d, y d, d, 1) of the current pixel centre (x, y) at view depth d to
     // (x' d', y' d', d', 1) of the previous frame's pixel (x', y') and view depth d'.
