@@ -1,4 +1,6 @@
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <random>
 
@@ -120,5 +122,29 @@ TEST(RawVolume, SavesThroughASymbolicLink) {
         EXPECT_EQ(back.get_block(BlockPos(3, 0, 1)), id);
         EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "data"), {}), 1);
     }
+    std::filesystem::remove_all(dir);
+}
+
+// A save that cannot start says why and names the path: a folder that does not exist (no
+// temporary can be made beside the file) and a path that is a folder. Nothing is created.
+TEST(RawVolume, SaveErrorsNameThePathAndCreateNothing) {
+    const auto dir = std::filesystem::temp_directory_path() / "vx_raw_bad_paths";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "folder.raw");
+    World w;
+    const RawVolumeDesc desc{glm::i64vec3(2, 2, 2), RawType::U8, BlockPos(0)};
+    const std::string missing = (dir / "no" / "v.raw").string();
+    const auto s1 = save_raw_volume(missing, desc, w);
+    ASSERT_FALSE(s1.ok());
+    EXPECT_NE(s1.error().find(missing), std::string::npos) << s1.error();
+    EXPECT_NE(s1.error().find(std::strerror(ENOENT)), std::string::npos) << s1.error();
+    const std::string folder = (dir / "folder.raw").string();
+    const auto s2 = save_raw_volume(folder, desc, w);
+    ASSERT_FALSE(s2.ok());
+    EXPECT_NE(s2.error().find(folder), std::string::npos) << s2.error();
+    EXPECT_NE(s2.error().find(std::strerror(EISDIR)), std::string::npos) << s2.error();
+    EXPECT_TRUE(std::filesystem::is_directory(folder));
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+    EXPECT_TRUE(std::filesystem::is_empty(folder));
     std::filesystem::remove_all(dir);
 }
