@@ -104,7 +104,8 @@ TEST(RawVolume, AFailedSaveKeepsThePreviousFile) {
 }
 
 // A path that is a symbolic link keeps the link: the first save creates the file it names (the
-// link dangled), the second replaces that file through a temporary beside it, not the link.
+// link dangled), the second replaces that file through a temporary beside it, not the link, and
+// the file keeps its mode.
 TEST(RawVolume, SavesThroughASymbolicLink) {
     const auto dir = std::filesystem::temp_directory_path() / "vx_raw_link";
     std::filesystem::remove_all(dir);
@@ -121,6 +122,11 @@ TEST(RawVolume, SavesThroughASymbolicLink) {
         ASSERT_TRUE(load_raw_volume((dir / "data" / "target.raw").string(), desc, back).ok());
         EXPECT_EQ(back.get_block(BlockPos(3, 0, 1)), id);
         EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "data"), {}), 1);
+        const auto target = dir / "data" / "target.raw";
+        if (id == 9) // The second save replaces the file: it must keep this mode.
+            std::filesystem::permissions(target, std::filesystem::perms(0640));
+        else
+            EXPECT_EQ(std::filesystem::status(target).permissions(), std::filesystem::perms(0640));
     }
     std::filesystem::remove_all(dir);
 }

@@ -99,6 +99,11 @@ Status ReplacingFile::open(const std::string& path, const char* mode) {
         if (!temp)
             return Error{temp.error()}; // It names the path and the cause.
         m_temp = std::move(*temp);
+        // The file replaced keeps its mode (an export kept private stays so).
+        std::error_code ec;
+        const std::filesystem::file_status old = std::filesystem::status(m_target, ec);
+        if (!ec && std::filesystem::is_regular_file(old))
+            std::filesystem::permissions(m_temp, old.permissions(), ec);
     }
     m_file.reset(std::fopen(in_place ? path.c_str() : m_temp.c_str(), mode));
     if (!m_file) {

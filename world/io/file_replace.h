@@ -34,7 +34,8 @@ struct WriteTarget {
 WriteTarget write_target(const std::string& path);
 
 // A file to be written at `path`, through a temporary beside it (beside the file a symbolic link
-// names), renamed over it by commit(). Where write_target says in place, it is written directly,
+// names), renamed over it by commit(); a file replaced so keeps its permission bits. Where
+// write_target says in place, it is written directly,
 // as a device must be. Destroyed without a successful commit(), it removes its temporary.
 // Move-only.
 class ReplacingFile {
