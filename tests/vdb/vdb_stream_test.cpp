@@ -224,18 +224,20 @@ TEST(VdbStream, WriteFailureKeepsTheOldFile) {
     EXPECT_EQ(files, 1u);
 }
 
-// An export to a symbolic link replaces the file the link names and keeps the link. One to a
-// device is refused, and the device stays: the temporary's rename would have replaced it (as
-// root, /dev/null itself).
+// An export to a symbolic link replaces the file the link names (keeping its mode) and keeps the
+// link. One to a device is refused, and the device stays: the temporary's rename would have
+// replaced it (as root, /dev/null itself).
 TEST(VdbStream, ExportKeepsALinkAndRefusesADevice) {
     TempDir dir;
     world::World small;
     small.set_block(BlockPos(1, 2, 3), 4);
     ASSERT_TRUE(export_vdb(small, dir.file("end.vdb")));
     std::filesystem::create_symlink("end.vdb", dir.file("link.vdb"));
+    std::filesystem::permissions(dir.file("end.vdb"), std::filesystem::perms(0640));
     small.set_block(BlockPos(5, 6, 7), 8);
     ASSERT_TRUE(export_vdb(small, dir.file("link.vdb")));
     EXPECT_TRUE(std::filesystem::is_symlink(dir.file("link.vdb")));
+    EXPECT_EQ(std::filesystem::status(dir.file("end.vdb")).permissions(), std::filesystem::perms(0640));
     EXPECT_TRUE(read_bytes(dir.file("end.vdb")) == read_bytes(dir.file("link.vdb")));
     size_t files = 0;
     for (const auto& e : std::filesystem::directory_iterator(dir.path()))

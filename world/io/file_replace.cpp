@@ -60,6 +60,13 @@ WriteTarget write_target(const std::string& path) {
     return {path, !fs::is_regular_file(link)};
 }
 
+void keep_permissions(const std::string& temp, const std::string& target) {
+    std::error_code ec;
+    const std::filesystem::file_status old = std::filesystem::status(target, ec);
+    if (!ec && std::filesystem::is_regular_file(old))
+        std::filesystem::permissions(temp, old.permissions(), ec);
+}
+
 ReplacingFile::ReplacingFile(ReplacingFile&& other) noexcept
     : m_file(std::move(other.m_file)), m_path(std::move(other.m_path)), m_target(std::move(other.m_target)),
       m_temp(std::exchange(other.m_temp, {})), m_finished(std::exchange(other.m_finished, false)) {}
@@ -99,11 +106,7 @@ Status ReplacingFile::open(const std::string& path, const char* mode) {
         if (!temp)
             return Error{temp.error()}; // It names the path and the cause.
         m_temp = std::move(*temp);
-        // The file replaced keeps its mode (an export kept private stays so).
-        std::error_code ec;
-        const std::filesystem::file_status old = std::filesystem::status(m_target, ec);
-        if (!ec && std::filesystem::is_regular_file(old))
-            std::filesystem::permissions(m_temp, old.permissions(), ec);
+        keep_permissions(m_temp, m_target);
     }
     m_file.reset(std::fopen(in_place ? path.c_str() : m_temp.c_str(), mode));
     if (!m_file) {

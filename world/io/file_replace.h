@@ -33,11 +33,14 @@ struct WriteTarget {
 };
 WriteTarget write_target(const std::string& path);
 
+// Gives `temp` the permission bits of `target` where that is a regular file, so a file replaced
+// by a rename keeps its mode (an export kept private stays so). Best effort. Any thread.
+void keep_permissions(const std::string& temp, const std::string& target);
+
 // A file to be written at `path`, through a temporary beside it (beside the file a symbolic link
 // names), renamed over it by commit(); a file replaced so keeps its permission bits. Where
-// write_target says in place, it is written directly,
-// as a device must be. Destroyed without a successful commit(), it removes its temporary.
-// Move-only.
+// write_target says in place, it is written directly, as a device must be. Destroyed without a
+// successful commit(), it removes its temporary. Move-only.
 class ReplacingFile {
 public:
     ReplacingFile() = default;

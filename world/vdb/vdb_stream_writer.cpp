@@ -416,6 +416,7 @@ Result<std::unique_ptr<VdbStreamWriter>> VdbStreamWriter::create(const std::stri
     if (!tmp)
         return Error{"cannot export to '" + path + "': " + tmp.error()};
     s->tmp = *tmp;
+    world::keep_permissions(s->tmp, s->target);
     s->out.f = std::fopen(s->tmp.c_str(), "wb");
     if (!s->out.f)
         return make_error("cannot export to '" + path + "'", std::strerror(errno));
