@@ -224,8 +224,8 @@ TEST(VdbStream, WriteFailureKeepsTheOldFile) {
     EXPECT_EQ(files, 1u);
 }
 
-// An export to a symbolic link replaces the file the link names (keeping its mode) and keeps the
-// link. One to a device is refused, and the device stays: the temporary's rename would have
+// An export to a symbolic link replaces (or creates) the file the link names, keeping its mode,
+// and keeps the link. One to a device is refused, and the device stays: the temporary's rename would have
 // replaced it (as root, /dev/null itself).
 TEST(VdbStream, ExportKeepsALinkAndRefusesADevice) {
     TempDir dir;
@@ -246,6 +246,13 @@ TEST(VdbStream, ExportKeepsALinkAndRefusesADevice) {
     Result<world::World> back = import_world_vdb(dir.file("end.vdb"));
     ASSERT_TRUE(back.ok()) << back.error();
     EXPECT_EQ(back->get_block(BlockPos(5, 6, 7)), 8);
+    // A link to a file not made yet: the export creates that file, and the link stays.
+    std::filesystem::create_symlink("later.vdb", dir.file("ahead.vdb"));
+    ASSERT_TRUE(export_vdb(small, dir.file("ahead.vdb")));
+    EXPECT_TRUE(std::filesystem::is_symlink(dir.file("ahead.vdb")));
+    Result<world::World> later = import_world_vdb(dir.file("later.vdb"));
+    ASSERT_TRUE(later.ok()) << later.error();
+    EXPECT_EQ(later->get_block(BlockPos(5, 6, 7)), 8);
 
     if (!std::filesystem::exists("/dev/null"))
         GTEST_SKIP() << "no /dev/null here";

@@ -47,17 +47,20 @@ Status replace_file(const std::string& from, const std::string& to) {
 
 WriteTarget write_target(const std::string& path) {
     namespace fs = std::filesystem;
+    fs::path p = path;
     std::error_code ec;
-    const fs::file_status link = fs::symlink_status(path, ec);
-    if (ec || !fs::exists(link))
-        return {path, false};
-    if (fs::is_symlink(link)) {
-        const fs::path end = fs::canonical(path, ec); // Every link on the way resolved.
+    for (int hop = 0; hop < 40; ++hop) { // Linux's own limit on links in a path (ELOOP).
+        const fs::file_status st = fs::symlink_status(p, ec);
+        if (ec || !fs::exists(st))
+            return {p.string(), false}; // Absent (or a dangling link's end): created by the rename.
+        if (!fs::is_symlink(st))
+            return {p.string(), !fs::is_regular_file(st)};
+        const fs::path next = fs::read_symlink(p, ec);
         if (ec)
-            return {path, true}; // Dangling: fopen creates the file it names.
-        return {end.string(), !fs::is_regular_file(end, ec)};
+            break;
+        p = next.is_absolute() ? next : p.parent_path() / next;
     }
-    return {path, !fs::is_regular_file(link)};
+    return {path, true}; // A loop: fopen reports it (ELOOP).
 }
 
 void keep_permissions(const std::string& temp, const std::string& target) {
@@ -99,16 +102,15 @@ Status ReplacingFile::open(const std::string& path, const char* mode) {
     discard();
     m_path = path;
     const WriteTarget target = write_target(path);
-    const bool in_place = target.in_place;
     m_target = target.path;
-    if (!in_place) {
+    if (!target.in_place) {
         Result<std::string> temp = create_temp_beside(m_target);
         if (!temp)
             return Error{temp.error()}; // It names the path and the cause.
         m_temp = std::move(*temp);
         keep_permissions(m_temp, m_target);
     }
-    m_file.reset(std::fopen(in_place ? path.c_str() : m_temp.c_str(), mode));
+    m_file.reset(std::fopen(target.in_place ? path.c_str() : m_temp.c_str(), mode));
     if (!m_file) {
         const int err = errno;
         discard();

@@ -22,11 +22,11 @@ Result<std::string> create_temp_beside(const std::string& path);
 // failure. Thread-safe.
 Status replace_file(const std::string& from, const std::string& to);
 
-// Where a whole-file write to `path` lands. A symbolic link is followed to the file it names, so
-// the rename replaces that file and the link stays a link. `in_place` when the path (or the link's
-// end) exists and is not a regular file: a device such as /dev/stdout or /dev/full, a FIFO. A
-// rename over one would replace the device itself (as root, in /dev), so it is written directly
-// or refused. A dangling link is in place too (writing creates the file it names). Any thread.
+// Where a whole-file write to `path` lands. Symbolic links are followed to the file they name
+// (which may not exist yet), so the rename replaces or creates that file and the link stays a
+// link. `in_place` when that exists and is not a regular file: a device such as /dev/stdout or
+// /dev/full, a FIFO. A rename over one would replace the device itself (as root, in /dev), so it
+// is written directly or refused. A loop of links is in place too (opening it fails). Any thread.
 struct WriteTarget {
     std::string path;
     bool in_place = false;
