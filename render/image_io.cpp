@@ -1,12 +1,12 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <vector>
 
 #include <stb/stb_image_write.h>
 
 #include "render/renderer.h"
+#include "world/base/file_replace.h"
 
 namespace vx::render {
 namespace {
@@ -19,19 +19,19 @@ void append_bytes(void* context, void* data, int size) {
     out->insert(out->end(), bytes, bytes + size);
 }
 
+// Written whole or not at all (world/base/file_replace.h): a temporary beside the path is renamed
+// over it once every byte is written and closed, so a full disk leaves the previous image, not a
+// cut one that a viewer would show as whole.
 Status write_all(const std::string& path, const std::vector<unsigned char>& bytes) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f)
-        return Error{"cannot write PNG " + path + ": " + std::strerror(errno)};
-    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
-    const int err = errno;
-    const bool closed = std::fclose(f) == 0;
-    if (written && closed)
-        return {};
-    std::error_code ec; // A cut PNG is worse than none; a device (/dev/full) stays.
-    if (std::filesystem::is_regular_file(path, ec))
-        std::filesystem::remove(path, ec);
-    return Error{"cannot write PNG " + path + ": " + std::strerror(written ? errno : err)};
+    world::ReplacingFile file;
+    Status s = file.open(path, "wb");
+    if (s && std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size())
+        s = Error{"write to '" + path + "' failed: " + std::strerror(errno)};
+    if (s)
+        s = file.commit(); // The flush and the close are checked there.
+    if (!s)
+        return Error{"cannot write PNG: " + s.error()};
+    return {};
 }
 
 } // namespace

@@ -1,6 +1,6 @@
 #include "world/io/obj_export.h"
 
-#include "world/io/file_replace.h"
+#include "world/base/file_replace.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -1,7 +1,7 @@
 #include "world/io/raw_volume.h"
 
-#include "world/io/file_replace.h"
-#include "world/io/stdio_file.h"
+#include "world/base/file_replace.h"
+#include "world/base/stdio_file.h"
 
 #include <cerrno>
 #include <cstdio>

@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "world/base/result.h"
-#include "world/io/file_replace.h"
+#include "world/base/file_replace.h"
 #include "world/vdb/vdb_volume.h"
 
 namespace vx::vdb::detail {
@@ -28,7 +28,7 @@ Status check_volume_options(const VolumeImportOptions& o);
 // `what` is cut at 240 characters ("..." marks the cut). Thread-safe.
 Error make_error(std::string_view context, std::string_view what);
 
-// Temporaries beside a path and their rename over it: world/io/file_replace.h.
+// Temporaries beside a path and their rename over it: world/base/file_replace.h.
 using world::create_temp_beside;
 using world::replace_file;
 

@@ -1,6 +1,6 @@
 #pragma once
-// An owned C stdio file and its checked close, for the world's file writers (raw volumes, OBJ
-// exports). Any thread; one file per owner.
+// An owned C stdio file and its checked close, for every whole-file writer (raw volumes, OBJ
+// exports, PNG images). Any thread; one file per owner.
 
 #include <cerrno>
 #include <cstdio>

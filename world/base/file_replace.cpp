@@ -1,4 +1,4 @@
-#include "world/io/file_replace.h"
+#include "world/base/file_replace.h"
 
 #include <atomic>
 #include <cerrno>

@@ -9,7 +9,7 @@
 
 #include "world/base/assert.h"
 #include "world/base/result.h"
-#include "world/io/stdio_file.h"
+#include "world/base/stdio_file.h"
 
 namespace vx::world {
 
