@@ -19,6 +19,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "bench/scratch_dir.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "world/gen/terrain.h"
@@ -132,10 +133,11 @@ Result<size_t> make_world_apart(const std::string& vdb, int nx, int nz) {
 int run_bench_vdb(int argc, char** argv) {
     CLI::App app("Peak RSS of vx export-vdb of a VDB world with edits, at 1x and 8x the chunks", "vx bench vdb");
     int side = 8;
-    std::string dir = (std::filesystem::temp_directory_path() / (std::string("vx_bench_vdb_") + std::to_string(::getpid()))).string();
+    std::string scratch_base; // Empty: $TMPDIR, else /tmp (bench/scratch_dir.h).
     app.add_option("--side", side, "1x world: side x 4 x side chunks; 8x: 4 side x 4 x 2 side (default 8)")
         ->check(CLI::Range(1, 256));
-    app.add_option("--dir", dir, "Scratch folder (removed afterwards)");
+    app.add_option("--dir", scratch_base,
+                   "Folder in which to make a new scratch folder, removed afterwards (default: $TMPDIR, else /tmp)");
     std::string exe = "/proc/self/exe";
     app.add_option("--exe", exe, "The vx binary whose export-vdb is measured (default: this one), e.g. an older build");
     try {
@@ -143,8 +145,12 @@ int run_bench_vdb(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return parse_failure(app, e);
     }
+    // A folder of its own, made here: only it is removed at the end, never what --dir names.
+    Result<ScratchDir> scratch = ScratchDir::make("vx_bench_vdb", scratch_base);
+    if (!scratch)
+        return bad_input(scratch.error());
+    const std::string& dir = scratch->path();
     std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
     int rc = kExitOk;
     const Run base = run_exe(exe, {"export-vdb", dir + "/missing.vdb", "--out", dir + "/none.vdb"});
     std::printf("vx bench vdb: baseline (export-vdb of a missing file: process and libraries): peak RSS %.1f MB\n",
@@ -168,8 +174,7 @@ int run_bench_vdb(int argc, char** argv) {
                     double(std::filesystem::file_size(out, ec)) / 1e6, double(r.peak_rss_kb) / 1024.0, r.seconds);
         std::fflush(stdout);
     }
-    std::filesystem::remove_all(dir, ec);
-    return rc;
+    return rc; // ~ScratchDir removes the folder.
 }
 
 } // namespace vx::tools

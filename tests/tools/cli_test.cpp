@@ -44,6 +44,14 @@ std::string write_volume() {
     return path;
 }
 
+// A whole file's bytes ("" when it cannot be read).
+std::string read_file(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
 } // namespace
 
 TEST(Cli, InfoPrintsVersion) {
@@ -561,4 +569,40 @@ TEST(Cli, VdbWorldExportsWithItsEditsAndReaderCapsAreOptions) {
     EXPECT_NE(r.out.find("CPU time limit of 1 s (raise --max-seconds", line), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.out.begin() + std::ptrdiff_t(line), r.out.end(), '\n'), 1) << r.out;
 }
+// `vx bench vdb --dir D` makes its scratch folder inside D and removes only that: it once removed
+// D itself, with whatever the user kept there (or a file named as D). A base that is a file is
+// refused with exit 2 and left alone; an unusable $TMPDIR no longer aborts --help.
+TEST(Cli, BenchVdbRemovesOnlyTheFolderItMade) {
+    const auto dir = temp_dir() / "bench_vdb_keep";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "notes.txt") << "kept\n";
+    CliRun r = run_vx("bench vdb --side 1 --dir " + dir.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(read_file(dir / "notes.txt"), "kept\n");
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1)
+        << "the scratch folder is gone, the note stays";
+    r = run_vx("bench vdb --side 1 --dir " + (dir / "notes.txt").string());
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("cannot make a scratch folder in"), std::string::npos) << r.out;
+    EXPECT_EQ(read_file(dir / "notes.txt"), "kept\n");
+    r = run_vx("bench vdb --help", "TMPDIR=" + (dir / "notes.txt").string());
+    EXPECT_EQ(r.code, 0) << r.out;
+}
 #endif
+
+// `vx bench store` with an unusable $TMPDIR (here a file) reports that its scratch folder cannot
+// be made and touches nothing: it once fell back to /tmp and removed all of /tmp at exit.
+TEST(Cli, BenchStoreWithAnUnusableTmpdirTouchesNothing) {
+    if (run_vx("bench store --help").code != 0)
+        GTEST_SKIP() << "this build has no benchmarks (VX_BUILD_BENCHMARKS=OFF)";
+    const auto dir = temp_dir() / "bench_store_tmpdir";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "not_a_folder";
+    std::ofstream(file) << "kept\n";
+    const CliRun r = run_vx("bench store --benchmark_filter=store/sqlite_save_chunks_per_commit/64", "TMPDIR=" + file.string());
+    EXPECT_NE(r.out.find("cannot make a scratch folder in '" + file.string() + "'"), std::string::npos) << r.out;
+    EXPECT_EQ(read_file(file), "kept\n");
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
+}

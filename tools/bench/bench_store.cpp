@@ -22,6 +22,7 @@
 
 #include "world/store/chunk_record.h"
 #include "world/store/sqlite_store.h"
+#include "scratch_dir.h"
 
 namespace vx::world {
 namespace {
@@ -140,16 +141,15 @@ const Dataset& dataset() {
     return d;
 }
 
-// A scratch directory for store files, removed at exit. Honours $TMPDIR.
-std::string scratch_dir() {
-    static const std::string dir = [] {
-        const char* base = std::getenv("TMPDIR");
-        std::string tmpl = std::string(base && *base ? base : "/tmp") + "/vx_bench_store_XXXXXX";
-        const char* made = mkdtemp(tmpl.data());
-        std::atexit([] { std::filesystem::remove_all(scratch_dir()); });
-        return std::string(made ? made : "/tmp");
-    }();
-    return dir;
+// The folder for the store files (tools/bench/scratch_dir.h: made on first use, removed whole at
+// exit), or null after marking the benchmark failed with the reason ($TMPDIR unusable).
+const std::string* scratch_dir(benchmark::State& state) {
+    static const Result<tools::ScratchDir> dir = tools::ScratchDir::make("vx_bench_store");
+    if (!dir) {
+        state.SkipWithError(dir.error().c_str());
+        return nullptr;
+    }
+    return &dir->path();
 }
 
 std::unique_ptr<SqliteStore> open_or_die(const std::string& path, benchmark::State& state) {
@@ -206,14 +206,18 @@ BENCHMARK(BM_RecordDecode)->Name("store/record_decode")->Unit(benchmark::kMillis
 // chunks per commit are the chunks saved per second: 64 for a player editing and unloading, 2048
 // (one commit for the whole set) as the bound a bulk writer reaches.
 void BM_StoreSave(benchmark::State& state) {
+    const std::string* dir = scratch_dir(state);
+    if (!dir)
+        return;
     const Dataset& d = dataset();
     const size_t per_commit = size_t(state.range(0));
-    const std::string path = scratch_dir() + "/save.db";
+    const std::string path = *dir + "/save.db";
     double file_bytes = 0;
     for (auto _ : state) {
         state.PauseTiming();
+        std::error_code ec; // Absent on the first iteration.
         for (const char* suffix : {"", "-wal", "-shm"})
-            std::filesystem::remove(path + suffix);
+            std::filesystem::remove(path + suffix, ec);
         std::unique_ptr<SqliteStore> store = open_or_die(path, state);
         if (!store)
             return;
@@ -227,7 +231,7 @@ void BM_StoreSave(benchmark::State& state) {
         }
         store.reset(); // Checkpoints the WAL into the main file (timed: the writer pays it too).
         state.PauseTiming();
-        file_bytes = double(std::filesystem::file_size(path));
+        file_bytes = double(std::filesystem::file_size(path, ec));
         state.ResumeTiming();
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(d.chunks.size()));
@@ -239,7 +243,8 @@ BENCHMARK(BM_StoreSave)->Name("store/sqlite_save_chunks_per_commit")->Arg(64)->A
 // Writes `copies` copies of the dataset (shifted 16 chunks apart along x) into a store at `path`,
 // once, and closes it (checkpointed).
 bool write_store(const std::string& path, int copies, benchmark::State& state) {
-    if (std::filesystem::exists(path))
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec))
         return true;
     const Dataset& d = dataset();
     std::unique_ptr<SqliteStore> w = open_or_die(path, state);
@@ -260,8 +265,11 @@ bool write_store(const std::string& path, int copies, benchmark::State& state) {
 // order), through one connection kept open: after the first pass the 1.5 MB file sits in
 // SQLite's page cache (2 MB by default), so this is the warm figure.
 void BM_StoreLoad(benchmark::State& state) {
+    const std::string* dir = scratch_dir(state);
+    if (!dir)
+        return;
     const Dataset& d = dataset();
-    const std::string path = scratch_dir() + "/load.db";
+    const std::string path = *dir + "/load.db";
     if (!write_store(path, 1, state))
         return;
     std::unique_ptr<SqliteStore> store = open_or_die(path, state);
@@ -287,9 +295,12 @@ BENCHMARK(BM_StoreLoad)->Name("store/sqlite_load_warm")->Unit(benchmark::kMillis
 // to drop the file's pages (posix_fadvise DONTNEED: clean pages leave the kernel's cache, so the
 // reads go to the disk), then loads 4,096 chunks spread over the whole file in shuffled order.
 void BM_StoreLoadCold(benchmark::State& state) {
+    const std::string* dir = scratch_dir(state);
+    if (!dir)
+        return;
     const Dataset& d = dataset();
     constexpr int kCopies = 16;
-    const std::string path = scratch_dir() + "/load_cold.db";
+    const std::string path = *dir + "/load_cold.db";
     if (!write_store(path, kCopies, state))
         return;
     std::mt19937 rng(5);
@@ -315,7 +326,8 @@ void BM_StoreLoadCold(benchmark::State& state) {
         }
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(picks.size()));
-    state.counters["file_MB"] = double(std::filesystem::file_size(path)) / 1e6;
+    std::error_code ec;
+    state.counters["file_MB"] = double(std::filesystem::file_size(path, ec)) / 1e6;
 }
 BENCHMARK(BM_StoreLoadCold)->Name("store/sqlite_load_cold")->Unit(benchmark::kMillisecond)->UseRealTime();
 

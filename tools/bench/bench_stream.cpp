@@ -18,6 +18,7 @@
 #include "world/gen/terrain.h"
 
 #include "world/store/sqlite_store.h"
+#include "scratch_dir.h"
 
 namespace vx::tools {
 namespace {
@@ -43,23 +44,14 @@ struct FillSink : MeshSink {
 constexpr int kFillRadius = 8, kFillRadiusVertical = 3;
 
 // A store holding every chunk the fill of `gen` at its surface near (0, 0) can ask for (the view
-// plus the meshing apron and a margin), written once per process into $TMPDIR.
-std::string& fill_store_file() {
-    static std::string file;
-    return file;
-}
-
+// plus the meshing apron and a margin), written once per process into a scratch folder
+// (scratch_dir.h: removed at exit). Empty when it could not be written.
 const std::string& fill_store_path(const TerrainGenerator& gen, const glm::dvec3& pos) {
+    static const Result<tools::ScratchDir> dir = tools::ScratchDir::make("vx_bench_fill");
     static const std::string path = [&] {
-        const char* base = std::getenv("TMPDIR");
-        const std::string p = std::string(base && *base ? base : "/tmp") + "/vx_bench_fill_" +
-                              std::to_string(getpid()) + ".db";
-        fill_store_file() = p;
-        std::atexit([] {
-            std::error_code ec;
-            for (const char* suffix : {"", "-wal", "-shm"})
-                std::filesystem::remove(fill_store_file() + suffix, ec);
-        });
+        if (!dir)
+            return std::string();
+        const std::string p = dir->path() + "/fill.db";
         Result<std::unique_ptr<SqliteStore>> store = SqliteStore::open({p});
         if (!store)
             return std::string();
@@ -144,12 +136,15 @@ double percentile(std::vector<double> v, double p) {
 void run_flythrough(benchmark::State& state, bool use_store) {
     const TerrainGenerator gen(77);
     for (auto _ : state) {
+        Result<tools::ScratchDir> dir = tools::ScratchDir(); // Removed after the store closes.
         std::unique_ptr<SqliteStore> store;
-        const auto dir = std::filesystem::temp_directory_path() / "vx_bench_stream_store";
         if (use_store) {
-            std::filesystem::remove_all(dir);
-            std::filesystem::create_directories(dir);
-            auto opened = SqliteStore::open({(dir / "world.db").string()});
+            dir = tools::ScratchDir::make("vx_bench_stream_store");
+            if (!dir) {
+                state.SkipWithError(dir.error().c_str());
+                return;
+            }
+            auto opened = SqliteStore::open({dir->path() + "/world.db"});
             if (!opened) {
                 state.SkipWithError(opened.error().c_str());
                 return;
