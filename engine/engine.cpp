@@ -6,7 +6,9 @@
 
 #include "engine/cpu_time.h"
 #include "engine/engine_impl.h"
+#include "render/renderer.h"
 #include "world/base/log.h"
+#include "world/lod/lod_cut.h"
 #include "world/raycast.h"
 
 namespace vx {
@@ -42,8 +44,8 @@ Status validate(const EngineCreateInfo& info) {
         return Error{"view_distance must be 0..65536 blocks, got " + std::to_string(s.view_distance)};
     if (s.lod_ring < 1 || s.lod_ring > 64)
         return Error{"lod_ring must be 1..64 chunks, got " + std::to_string(s.lod_ring)};
-    if (s.lod_vertical_reach < 0 || s.lod_vertical_reach > 65536)
-        return Error{"lod_vertical_reach must be 0..65536 blocks"};
+    if (s.lod_vertical_reach < 0 || s.lod_vertical_reach > world::kMaxLodVerticalReach)
+        return Error{"lod_vertical_reach must be 0.." + std::to_string(world::kMaxLodVerticalReach) + " blocks"};
     const RenderTarget& t = info.render.target;
     if (t.kind == RenderTarget::Kind::Window && !t.window)
         return Error{"a window target needs a GLFWwindow* (RenderTarget::glfw_window)"};
@@ -115,8 +117,11 @@ Status check_viewer(const Viewer& v) {
         return Error{"viewer: forward is zero (it gives the view direction)"};
     if (v.up == glm::dvec3(0.0))
         return Error{"viewer: up is zero (give the world's up, e.g. 0, 1, 0)"};
-    // The same bound the renderer's float basis tolerates (sine of the angle between them).
-    if (!(glm::length(glm::cross(glm::normalize(v.forward), glm::normalize(v.up))) > 1e-6))
+    if (glm::any(glm::greaterThan(glm::abs(v.offset), glm::dvec3(double(int64_t(1) << 40)))))
+        return Error{"viewer: keep the offset small and put the position in `block`"};
+    // The same bound the renderer's float basis tolerates (sine of the angle between them), on
+    // the unit vectors it gets (any length of forward and up is fine: render::unit_direction).
+    if (!(glm::length(glm::cross(render::unit_direction(v.forward), render::unit_direction(v.up))) > 1e-6))
         return Error{"viewer: forward is parallel to up (looking straight up or down needs another up, e.g. 0, 0, -1)"};
     if (!(v.fov_y_degrees > 0.f && v.fov_y_degrees < 180.f))
         return Error{"viewer: fov_y_degrees must be in (0, 180), got " + std::to_string(v.fov_y_degrees)};
@@ -135,8 +140,8 @@ Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 
     // As shaders/shared/raygen_common.glsl primary_dir(): ndc in -1..1 over the frame (y down), the
     // vertical half-angle over the height, the aspect ratio widening x; the same basis as
     // render::Renderer (right = forward x up, up' = right x forward).
-    const glm::dvec3 fwd = glm::normalize(viewer.forward);
-    const glm::dvec3 right = glm::normalize(glm::cross(fwd, viewer.up));
+    const glm::dvec3 fwd = render::unit_direction(viewer.forward);
+    const glm::dvec3 right = glm::normalize(glm::cross(fwd, render::unit_direction(viewer.up)));
     const glm::dvec3 up = glm::cross(right, fwd);
     const glm::dvec2 ndc = pixel / glm::dvec2(frame_size) * 2.0 - 1.0;
     const double th = std::tan(glm::radians(double(viewer.fov_y_degrees)) * 0.5);
@@ -206,8 +211,6 @@ Status Engine::set_viewer(const Viewer& viewer) {
         return s;
     if (Status s = check_viewer(viewer); !s)
         return s;
-    if (glm::any(glm::greaterThan(glm::abs(viewer.offset), glm::dvec3(double(int64_t(1) << 40)))))
-        return Error{"viewer: keep the offset small and put the position in `block`"};
     // Fold the offset's whole blocks into the 64-bit block, so the float camera stays exact.
     const glm::dvec3 whole = glm::floor(viewer.offset);
     const BlockPos block = viewer.block + BlockPos(whole);
@@ -219,6 +222,8 @@ Status Engine::set_viewer(const Viewer& viewer) {
     m->viewer = viewer;
     m->viewer.block = block;
     m->viewer.offset -= whole;
+    m->viewer.forward = render::unit_direction(viewer.forward); // The camera's floats stay finite.
+    m->viewer.up = render::unit_direction(viewer.up);
     return {};
 }
 

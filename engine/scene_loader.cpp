@@ -207,6 +207,11 @@ Status load_terrain_view(JobSystem& jobs, LoadedScene& scene, const SceneLoadInf
     vs.ring = a.lod_ring;
     // Coarse boxes reach the terrain's whole height: from the eye to its lowest and highest block.
     vs.vertical_reach = int64_t(std::ceil(std::max({viewer.y - double(y_lo), double(y_hi + 1) - viewer.y, 0.0})));
+    if (a.lod && vs.vertical_reach > kMaxLodVerticalReach)
+        return Error{"the eye (y " + std::to_string(eye.block.y) + ") is " + std::to_string(vs.vertical_reach) +
+                     " blocks from the far side of the terrain (y " + std::to_string(y_lo) + ".." +
+                     std::to_string(y_hi) + "); levels of detail reach at most " +
+                     std::to_string(kMaxLodVerticalReach) + " blocks up or down"};
     vs.view_distance = a.view_distance;
     vs.max_level = a.lod ? kMaxLodLevel : 0;
     const LodView view(viewer, vs);

@@ -32,10 +32,19 @@ namespace vx::render {
 
 class Context;
 
+// A direction of any finite, non-zero length (e.g. towards a target 1e-30 blocks away, or 1e30)
+// as a unit vector: divided by its largest component before normalising, so the squares neither
+// underflow nor overflow (in float they did, and the camera's basis became NaN). Zero stays zero.
+// Convert to Camera's floats only after this. Any thread.
+inline glm::dvec3 unit_direction(const glm::dvec3& v) {
+    const double m = glm::max(glm::max(glm::abs(v.x), glm::abs(v.y)), glm::abs(v.z));
+    return m > 0.0 ? glm::normalize(v / m) : glm::dvec3(0.0);
+}
+
 struct Camera {
     world::BlockPos block{0};       // World block holding the eye.
     glm::vec3 offset{0.5f};         // Eye position inside that block, 0..1 per axis.
-    glm::vec3 forward{0, 0, -1};    // View direction (need not be unit).
+    glm::vec3 forward{0, 0, -1};    // View direction (need not be unit; see unit_direction).
     glm::vec3 up{0, 1, 0};          // Approximate up; must not be parallel to forward.
     float fov_y_degrees = 60.f;     // Vertical field of view.
 

@@ -178,15 +178,17 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (!a.target.empty() && !(target = parse_world_pos(a.target)))
         return "--target must be X,Y,Z (decimals, inside the world), got '" + a.target + "'";
     const auto up = parse_dvec3(a.up);
-    if (!up || glm::length(*up) == 0.0)
+    if (!up || *up == glm::dvec3(0.0))
         return "--up must be a non-zero X,Y,Z, got '" + a.up + "'";
-    const glm::dvec3 fwd = world_delta(*target, *eye);
-    if (glm::length(fwd) == 0.0 || glm::length(glm::cross(glm::normalize(fwd), glm::normalize(*up))) < 1e-6)
+    // Unit vectors before the camera's floats: a target 1e-30 blocks from the eye made a NaN basis.
+    const glm::dvec3 fwd = render::unit_direction(world_delta(*target, *eye));
+    const glm::dvec3 unit_up = render::unit_direction(*up);
+    if (fwd == glm::dvec3(0.0) || !(glm::length(glm::cross(fwd, unit_up)) >= 1e-6))
         return "--target must differ from --eye and not lie along --up";
     out.camera.block = eye->block;
     out.camera.offset = glm::vec3(eye->frac);
     out.camera.forward = glm::vec3(fwd);
-    out.camera.up = glm::vec3(*up);
+    out.camera.up = glm::vec3(unit_up);
     out.camera.fov_y_degrees = a.fov;
     // Light: a square above the scene, its side half its height above the top. Emission 10:
     // irradiance ≈ 10 / 4 = 2.5 below it, the facade's default Light's, so the default exposure

@@ -27,20 +27,17 @@ using namespace vx::world;
 using namespace vx::vdb;
 using Clock = std::chrono::steady_clock;
 
+// "X0,Y0,Z0,X1,Y1,Z1" of blocks inside the world (|coordinate| < 2^36), X0 <= X1 and so on. A
+// number past 64 bits was clamped by strtoll and exported an empty box as a success.
 std::optional<BlockBox> parse_box(const std::string& s) {
-    std::stringstream ss(s);
-    std::string item;
-    std::vector<long long> v;
-    while (std::getline(ss, item, ',')) {
-        char* end = nullptr;
-        const long long x = std::strtoll(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0')
-            return std::nullopt;
-        v.push_back(x);
-    }
-    if (v.size() != 6 || v[0] > v[3] || v[1] > v[4] || v[2] > v[5])
+    const std::vector<std::string> parts = split_commas(s);
+    if (parts.size() != 6)
         return std::nullopt;
-    return BlockBox{BlockPos(v[0], v[1], v[2]), BlockPos(v[3], v[4], v[5])};
+    const auto lo = parse_i64vec3(parts[0] + "," + parts[1] + "," + parts[2]);
+    const auto hi = parse_i64vec3(parts[3] + "," + parts[4] + "," + parts[5]);
+    if (!lo || !hi || !in_world(BlockPos(*lo)) || !in_world(BlockPos(*hi)) || glm::any(glm::greaterThan(*lo, *hi)))
+        return std::nullopt;
+    return BlockBox{BlockPos(*lo), BlockPos(*hi)};
 }
 
 struct ExportArgs {
@@ -54,7 +51,8 @@ bool names_vdb_file(const std::string& world) {
 int run_export(const ExportArgs& a) {
     std::optional<BlockBox> box;
     if (!a.box.empty() && !(box = parse_box(a.box)))
-        return bad_input("--box must be X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1");
+        return bad_input("--box must be X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1, inside the world "
+                         "(|coordinate| < 2^36)");
     if (std::string why = output_file_problem(a.out); !why.empty())
         return bad_input("--out: " + why);
     if (!a.overlay.empty() && !names_vdb_file(a.world))

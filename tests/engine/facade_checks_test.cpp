@@ -87,6 +87,36 @@ TEST(FacadeChecks, SetViewerRefusesACameraTheRendererCannotMake) {
     EXPECT_TRUE(e.set_viewer(down));
 }
 
+// Forward and up of any finite, non-zero length are directions: 1e-200 and 1e300 long ones give
+// the same screen rays as unit ones (their squares underflowed or overflowed, and the camera's
+// basis became NaN), and set_viewer takes them. An offset past 2^40 is refused by screen_ray as
+// by set_viewer.
+TEST(FacadeChecks, ViewerDirectionsOfAnyLengthAreDirections) {
+    auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Viewer unit;
+    unit.forward = {0.6, 0, -0.8};
+    unit.up = {0, 1, 0};
+    const glm::uvec2 size{64, 48};
+    auto expected = vx::screen_ray(unit, {10, 7}, size);
+    ASSERT_TRUE(expected) << expected.error();
+    for (const double scale : {1e-200, 1e-30, 1e30, 1e300}) {
+        vx::Viewer v = unit;
+        v.forward *= scale;
+        v.up *= scale;
+        EXPECT_TRUE((*engine)->set_viewer(v)) << scale;
+        auto ray = vx::screen_ray(v, {10, 7}, size);
+        ASSERT_TRUE(ray) << scale << ": " << ray.error();
+        for (int i = 0; i < 3; ++i)
+            EXPECT_NEAR(ray->direction[i], expected->direction[i], 1e-12) << scale;
+    }
+    vx::Viewer far = unit;
+    far.offset = {double(int64_t(1) << 41), 0, 0};
+    auto ray = vx::screen_ray(far, {10, 7}, size);
+    ASSERT_FALSE(ray);
+    EXPECT_NE(ray.error().find("keep the offset small"), std::string::npos) << ray.error();
+}
+
 // The streamed world ends 2^17 blocks inside the world's edge (2^36), on every axis and side: a
 // viewer past it is refused (its box of chunks once ended at INT32_MAX, and the loop over it
 // never did). A viewer just inside it streams and meshes as anywhere else.

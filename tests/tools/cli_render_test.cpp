@@ -172,6 +172,24 @@ TEST(CliRender, NegativeFractionalEyeParsesExactly) {
     EXPECT_NE(a.at(20, 15), a.at(0, 0));
 }
 
+// A target 1e-30 blocks from the eye is a direction like any other: the same image as a target a
+// block away along it (in float the direction's square underflowed, and the camera was NaN: a
+// flat image and exit 0).
+TEST(CliRender, ATargetATinyDistanceAwayIsADirection) {
+    const std::string vol = write_volume();
+    auto run = [&](const std::string& target, const std::string& name) {
+        const std::string out = dir() + "/" + name;
+        render("--raw " + vol + " --dims 24,12,20 --origin 10,0,0 --size 40x30 --shading flat --eye 0,3,8.5 --target " +
+               target + " --out " + out);
+        return read_png(out);
+    };
+    const Png unit = run("1,3,8.5", "tiny_unit.png");
+    const Png tiny = run("0.000000000000000000000000000001,3,8.5", "tiny_1e-30.png");
+    ASSERT_EQ(unit.w, 40);
+    EXPECT_TRUE(unit.rgba == tiny.rgba);
+    EXPECT_NE(unit.at(20, 15), unit.at(20, 0)) << "the pillar is in view, the sky above it";
+}
+
 // A stored world of 3 chunks (one of them all air): every stored chunk is loaded and meshed.
 TEST(CliRender, StoredWorldRendersEveryChunk) {
     const std::string path = dir() + "/world.db";

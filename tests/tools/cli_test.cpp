@@ -132,6 +132,9 @@ TEST(Cli, RenderBadArgumentsExitTwoBeforeTouchingVulkan) {
     // The same for the default light above a volume at the world's top.
     expect_bad(base + "--origin 0,68719476700,0 --eye 50,68719476710,50 --target 0,68719476700,0", "--light");
     expect_bad(base + "--eye 0,10,0 --target 0,0,0", "--up"); // Looking straight down the up axis.
+    // Levels of detail from a billion blocks above the terrain asked for billions of chunks.
+    expect_bad("render --seed 1 --view-distance 1000 --eye 0,1000000000,0 --target 100,0,100",
+               "levels of detail reach at most 65536 blocks");
     expect_bad(base + "--device fastest", "fastest");
     expect_bad(base + "--fov 0", "--fov");
     EXPECT_EQ(run_vx(base + "--shading glossy").code, 2);
@@ -388,6 +391,11 @@ TEST(Cli, VdbExportImport) {
         EXPECT_TRUE(it->second == chunk);
     }
     EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 1,2,3").code, 2);
+    // Past 64 bits (strtoll clamped it: an empty export and exit 0) or outside the world.
+    EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 99999999999999999999,0,0,99999999999999999999,1,1")
+                  .code,
+              2);
+    EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 0,0,0,68719476736,1,1").code, 2);
     // Options are checked before the file is read, and volume options do not pass silently on a
     // vx world (its blocks come back as they were: an --offset would have been ignored).
     const auto refuses = [](const std::string& args, const std::string& says) {

@@ -29,6 +29,11 @@
 
 namespace vx::world {
 
+// The most blocks coarse levels may reach above and below the viewer (LodViewSettings::
+// vertical_reach): the roots span 2 reach / chunk size + 1 chunks in every column, so a reach of
+// a billion blocks (an eye far above the terrain) asked for billions of chunks.
+inline constexpr int64_t kMaxLodVerticalReach = 65536;
+
 struct LodViewSettings {
     int radius0 = 12;              // Level 0's box: chunks from the viewer's chunk, horizontally
     int vradius0 = 4;              // and vertically (the full-detail streamer's view radii).
