@@ -145,7 +145,9 @@ JobTicket JobSystem::submit_nolock(std::unique_ptr<Job> job, const glm::dvec3& p
     state.queued = std::move(job);
     state.queued_position = position;
     if (lane_of(key.kind) == JobLane::Io) {
-        if (state.io_entry == 0) { // Otherwise the new job inherits the replaced job's entry.
+        // A write inherits the replaced job's entry; a load goes to the back (see the header).
+        // The entry left behind is dead: its sequence is no longer the key's.
+        if (state.io_entry == 0 || key.kind == JobKind::Load) {
             state.io_entry = ++m_next_sequence;
             m_io_queue.push_back({key, state.io_entry});
             wake.io = true;

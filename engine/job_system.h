@@ -22,10 +22,13 @@
 //   `queued`) until a worker reaches it and drops it unrun.
 // - I/O lane: jobs of kinds whose lane_of() is Io run on one dedicated thread, one at a time, in
 //   submission order. The lane ignores the viewer: disk order is the caller's order (a save
-//   submitted before a load of the same chunk is written first). A replacing submit takes the
-//   place in line of the job it replaces, so a job submitted after the first request still runs
-//   after the data of that request (or newer) is written; moving it to the back could let a later
-//   load read older data than an earlier save.
+//   submitted before a load of the same chunk is written first). A replacing save (or other
+//   write: Save, IoTask) takes the place in line of the job it replaces, so a job submitted after
+//   the first request still runs after the data of that request (or newer) is written; moving it
+//   to the back could let a later load read older data than an earlier save. A replacing load
+//   goes to the back: it must read every save submitted before it. In its replaced job's place it
+//   ran ahead of a save queued between the two (a chunk unloaded with an edit while its reload
+//   waited, then loaded again, came back without the edit).
 // - Continuations: a job's take_continuation() is submitted by the worker that ran it, under the
 //   lock that hands the job's own result over, and only if that result is still wanted; the
 //   follow-up then follows the rules above like any submit (chains need no main thread).

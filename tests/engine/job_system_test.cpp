@@ -251,7 +251,12 @@ TEST(JobSystem, IoLaneRunsOneAtATimeInSubmissionOrder) {
     jobs.submit(io_job(102, JobKind::Save, 1004));
     jobs.cancel(key_at(101, 0, 0, JobKind::Save));
     jobs.submit(io_job(101, JobKind::Save, 1005));
-    expected.insert(expected.end(), {1002, 1001, 1004, 1005});
+    // A replacing load goes to the back: it reads what the save submitted before it wrote (in
+    // the replaced load's place, 1008 ran before 1007).
+    jobs.submit(io_job(103, JobKind::Load, 1006));
+    jobs.submit(io_job(103, JobKind::Save, 1007));
+    jobs.submit(io_job(103, JobKind::Load, 1008));
+    expected.insert(expected.end(), {1002, 1001, 1004, 1005, 1007, 1008});
     jobs.resume();
     drain(jobs);
     EXPECT_EQ(order.values(), expected);
