@@ -234,7 +234,7 @@ std::unique_ptr<Job> ChunkStreamer::request_data(ChunkCoord c) {
     return generate;
 }
 
-void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const std::string& problem,
+void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, uint64_t version, const std::string& problem,
                               bool store_failed) {
     auto it = m_chunks.find(c);
     if (it == m_chunks.end() || it->second.data != Data::Requested)
@@ -252,6 +252,7 @@ void ChunkStreamer::on_loaded(ChunkCoord c, std::optional<Chunk> chunk, const st
     }
     m_store_failing = false;
     if (chunk) {
+        it->second.store_version = version;
         put_chunk(c, std::move(*chunk));
         return;
     }
@@ -475,11 +476,14 @@ void ChunkStreamer::poll_store_changes() {
         m_jobs->submit_batch(std::move(jobs));
 }
 
-void ChunkStreamer::on_reloaded(ChunkCoord c, std::optional<Chunk> chunk) {
+void ChunkStreamer::on_reloaded(ChunkCoord c, std::optional<Chunk> chunk, uint64_t version) {
     auto it = m_chunks.find(c);
     if (it == m_chunks.end() || it->second.data != Data::Present || !chunk)
         return;
     ChunkState& s = it->second;
+    // The copy is this version now, with the edits on top: its saves replace this version. (A
+    // save queued before, of the older copy, still names the older one: it merges, not overwrites.)
+    s.store_version = version;
     for (const BlockEdit& e : s.edits) // This process's edits the store has not seen stay on top.
         chunk->set(e.pos, e.id);
     const Chunk* now = m_world.find_chunk(c);
@@ -595,7 +599,8 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     if (s.data == Data::Present) {
         Chunk* chunk = m_world.find_chunk(c);
         if (s.dirty && m_store) { // Saved before it is dropped: the job owns the data now.
-            m_jobs->submit(std::make_unique<SaveJob>(events(), c, std::move(*chunk), *m_store, std::move(s.edits)));
+            m_jobs->submit(
+                std::make_unique<SaveJob>(events(), c, std::move(*chunk), *m_store, std::move(s.edits), s.store_version));
             ++m_saves;
         }
         m_block_bytes -= s.bytes;
@@ -630,7 +635,7 @@ void ChunkStreamer::save_dirty(Clock::time_point now, bool all) {
         if (it == m_chunks.end() || !it->second.dirty || it->second.dirty_since != e.time)
             continue; // Saved when it was dropped.
         m_jobs->submit(std::make_unique<SaveJob>(events(), e.chunk, *m_world.find_chunk(e.chunk), *m_store,
-                                                 it->second.edits));
+                                                 it->second.edits, it->second.store_version));
         it->second.dirty = false;
         --m_dirty_count;
         ++m_saves;

@@ -175,12 +175,15 @@ private:
         // Block edits not yet handed to the store, oldest first (a shared store re-applies them
         // when another process wrote the chunk meanwhile; a reload keeps them on top).
         std::vector<world::BlockEdit> edits;
+        // The store's version of the chunk (world::ChunkLoad::version) under `edits`: what its
+        // saves replace (0: absent, generated here, or a store with one writer).
+        uint64_t store_version = 0;
     };
 
     // StreamJobEvents: results from jobs (main thread, via complete()).
-    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem,
-                   bool store_failed) override;
-    void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk) override;
+    void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, uint64_t version,
+                   const std::string& problem, bool store_failed) override;
+    void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, uint64_t version) override;
     void on_generated(world::ChunkCoord c, world::Chunk chunk) override;
     void on_generate_failed(world::ChunkCoord c, const std::string& error) override;
     void retry_failed(std::chrono::steady_clock::time_point now);

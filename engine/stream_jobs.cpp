@@ -13,6 +13,7 @@ void LoadJob::run(JobContext& ctx) {
         m_failed = true;
         return;
     }
+    m_version = r->version;
     if (r->state == world::LoadState::Present)
         m_chunk = std::move(r->chunk);
     else if (r->state == world::LoadState::Corrupt)
@@ -21,17 +22,19 @@ void LoadJob::run(JobContext& ctx) {
 
 std::unique_ptr<Job> LoadJob::take_continuation() { return m_chunk || m_failed ? nullptr : std::move(m_fallback); }
 
-void LoadJob::complete() { m_owner.on_loaded(key().chunk, std::move(m_chunk), m_problem, m_failed); }
+void LoadJob::complete() { m_owner.on_loaded(key().chunk, std::move(m_chunk), m_version, m_problem, m_failed); }
 
 void ReloadJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
         return;
     Result<world::ChunkLoad> r = m_store.load(key().chunk);
-    if (r && r->state == world::LoadState::Present)
+    if (r && r->state == world::LoadState::Present) {
         m_chunk = std::move(r->chunk);
+        m_version = r->version;
+    }
 }
 
-void ReloadJob::complete() { m_owner.on_reloaded(key().chunk, std::move(m_chunk)); }
+void ReloadJob::complete() { m_owner.on_reloaded(key().chunk, std::move(m_chunk), m_version); }
 
 void GenerateJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
@@ -72,7 +75,8 @@ void MeshJob::complete() { m_owner.on_meshed(key().chunk, std::move(m_mesh)); }
 
 void SaveJob::run(JobContext&) {
     // Saves are never skipped, even when cancelled: the chunk was dropped trusting this job.
-    const world::ChunkWrite w{key().chunk, &m_chunk, m_edits};
+    world::ChunkWrite w{key().chunk, &m_chunk, m_edits};
+    w.base_version = m_base_version;
     Status s = m_store.save(std::span<const world::ChunkWrite>(&w, 1));
     if (!s)
         m_error = s.error();

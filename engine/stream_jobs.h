@@ -26,11 +26,12 @@ public:
     // A load finished: `chunk` when stored and intact; else `problem` says why (empty: absent).
     // `store_failed`: the store could not answer (a shared store's server away): nothing was
     // generated in its place, so the caller asks again later.
-    virtual void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, const std::string& problem,
-                           bool store_failed) = 0;
+    // `version`: the store's version of `chunk` (world::ChunkLoad::version), for its saves.
+    virtual void on_loaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, uint64_t version,
+                           const std::string& problem, bool store_failed) = 0;
     // Another process changed chunk `c` in a shared store: its stored version (nullopt: erased,
-    // unreadable or the store failed).
-    virtual void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk) = 0;
+    // unreadable or the store failed), and that version's number.
+    virtual void on_reloaded(world::ChunkCoord c, std::optional<world::Chunk> chunk, uint64_t version) = 0;
     virtual void on_generated(world::ChunkCoord c, world::Chunk chunk) = 0;
     // The generator failed for `c` (a game's generator threw): `error` says why; no chunk.
     virtual void on_generate_failed(world::ChunkCoord c, const std::string& error) = 0;
@@ -64,6 +65,7 @@ private:
     world::ChunkStore& m_store;
     std::unique_ptr<Job> m_fallback; // Submitted on a miss, destroyed unrun on a hit.
     std::optional<world::Chunk> m_chunk;
+    uint64_t m_version = 0;
     std::string m_problem; // Corrupt record or store failure, for the log.
     bool m_failed = false; // The store failed: no fallback.
 };
@@ -80,6 +82,7 @@ private:
     StreamJobEvents& m_owner;
     world::ChunkStore& m_store;
     std::optional<world::Chunk> m_chunk;
+    uint64_t m_version = 0;
 };
 
 // Pool: generates a chunk (a pure function of the coordinate). A generator that fails (a game's
@@ -123,10 +126,11 @@ public:
     // `edits`: the block edits since the chunk was last handed to the store (a shared store
     // re-applies them if another process wrote the chunk meanwhile). A newer SaveJob of the
     // chunk replaces a queued one, so each carries every edit not yet saved, not only new ones.
+    // `base_version`: the stored version the chunk was loaded as (world::ChunkWrite).
     SaveJob(StreamJobEvents& owner, world::ChunkCoord c, world::Chunk chunk, world::ChunkStore& store,
-            std::vector<world::BlockEdit> edits = {})
+            std::vector<world::BlockEdit> edits = {}, uint64_t base_version = 0)
         : Job({c, JobKind::Save}), m_owner(owner), m_chunk(std::move(chunk)), m_store(store),
-          m_edits(std::move(edits)) {}
+          m_edits(std::move(edits)), m_base_version(base_version) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
@@ -135,6 +139,7 @@ private:
     world::Chunk m_chunk;
     world::ChunkStore& m_store;
     std::vector<world::BlockEdit> m_edits;
+    uint64_t m_base_version;
     std::string m_error;
 };
 

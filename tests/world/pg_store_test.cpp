@@ -144,6 +144,70 @@ TEST(PgStore, TwoWritersOfOneChunkBothKeepTheirEdits) {
     EXPECT_TRUE(stored == want); // Nothing else changed.
 }
 
+// A load whose result the caller does not apply (an engine's reload still on its way to the main
+// thread while a save of the older copy is queued) must not make that older copy current: the save
+// names the version its copy was loaded as (ChunkWrite::base_version), so it merges with b's edit
+// instead of writing over it. The store once took the version of its last load, and b's edit was
+// gone (found in review). A copy saved twice, never told the version its first save made, is this
+// process's own lineage: no conflict.
+TEST(PgStore, AStaleCopyMergesEvenAfterALoadOfANewerVersion) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    const ChunkCoord c{-3, 2, 5};
+    {
+        auto seed = open_pg(uri);
+        ASSERT_TRUE(seed->save(c, versioned_chunk(c, 1)).ok());
+        ASSERT_TRUE(seed->flush().ok());
+    }
+    auto a = open_pg(uri), b = open_pg(uri);
+    vx::Result<ChunkLoad> la = a->load(c), lb = b->load(c);
+    ASSERT_TRUE(la && lb);
+    ASSERT_EQ(la->version, 1u);
+    Chunk ca = *la->chunk, cb = *lb->chunk;
+    const BlockEdit eb[] = {{{10, 25, 30}, 11}};
+    cb.set(eb[0].pos, eb[0].id);
+    ChunkWrite wb{c, &cb, eb};
+    wb.base_version = lb->version;
+    ASSERT_TRUE(b->save(std::span(&wb, 1)).ok());
+    ASSERT_TRUE(b->flush().ok()); // Version 2: b's edit.
+    vx::Result<ChunkLoad> unapplied = a->load(c); // Read, never applied to `ca`.
+    ASSERT_TRUE(unapplied);
+    EXPECT_EQ(unapplied->version, 2u);
+    const BlockEdit ea[] = {{{3, 20, 3}, 9}};
+    ca.set(ea[0].pos, ea[0].id);
+    ChunkWrite wa{c, &ca, ea};
+    wa.base_version = la->version; // 1: what `ca` is.
+    ASSERT_TRUE(a->save(std::span(&wa, 1)).ok());
+    ASSERT_TRUE(a->flush().ok());
+    EXPECT_EQ(a->health().conflicts, 1u);
+    auto check = open_pg(uri);
+    Chunk want = versioned_chunk(c, 1);
+    want.set(eb[0].pos, eb[0].id);
+    want.set(ea[0].pos, ea[0].id);
+    EXPECT_TRUE(*check->load(c)->chunk == want) << "both edits";
+
+    // b saves its copy (version 2 plus its edit) twice more, never learning what its saves made.
+    const BlockEdit eb2[] = {{{11, 25, 30}, 12}};
+    cb = *check->load(c)->chunk; // Version 3 (a's merge); b applies it, as an engine's reload does.
+    const uint64_t v3 = check->load(c)->version;
+    cb.set(eb2[0].pos, eb2[0].id);
+    ChunkWrite wb2{c, &cb, eb2};
+    wb2.base_version = v3;
+    ASSERT_TRUE(b->save(std::span(&wb2, 1)).ok());
+    ASSERT_TRUE(b->flush().ok());
+    const BlockEdit eb3[] = {{{12, 25, 30}, 13}};
+    cb.set(eb3[0].pos, eb3[0].id);
+    ChunkWrite wb3{c, &cb, eb3};
+    wb3.base_version = v3; // Still what b loaded: its lineage maps it to its own last write.
+    ASSERT_TRUE(b->save(std::span(&wb3, 1)).ok());
+    ASSERT_TRUE(b->flush().ok());
+    EXPECT_EQ(b->health().conflicts, 0u);
+    want.set(eb2[0].pos, eb2[0].id);
+    want.set(eb3[0].pos, eb3[0].id);
+    auto last = open_pg(uri);
+    EXPECT_TRUE(*last->load(c)->chunk == want) << "every edit of both";
+}
+
 TEST(PgStore, OtherProcessesLearnOfCommitsQuickly) {
     VX_NEED_PG();
     const std::string uri = cluster->new_database();

@@ -43,6 +43,10 @@ struct ChunkLoad {
     LoadState state = LoadState::Absent;
     std::optional<Chunk> chunk; // Set when state == Present.
     std::string problem;        // When state == Corrupt: what was wrong, one line.
+    // The stored version `chunk` is, in a store shared between processes (PgStore's row
+    // version); 0: absent, or a store with one writer. Hand it back as ChunkWrite::base_version
+    // when saving this copy.
+    uint64_t version = 0;
 };
 
 // One block changed by this process: chunk-local position and its new id.
@@ -65,6 +69,13 @@ struct ChunkWrite {
     // thread so the store's thread only writes): stored as is, `chunk` is then not read. The
     // caller vouches that it encodes `chunk` at `coord` (`chunk` stays non-null: null erases).
     std::span<const uint8_t> record{};
+    // The ChunkLoad::version the caller's copy was loaded as, `edits` made on top (0: it was
+    // absent). A shared store writes only if no other process wrote the chunk since then, else it
+    // merges (above): a copy made from an older version than one the store read later, for a
+    // load whose result the caller had not applied, stays older. Nullopt: the version this store
+    // last read or wrote (right only when the caller applies every load). Single-writer stores
+    // ignore it.
+    std::optional<uint64_t> base_version{};
 };
 
 // One coarse chunk of a save_lod batch (levels of detail, world/lod/lod_coords.h). `chunk` ==

@@ -100,7 +100,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
         const Pending& p = m_queue.chunks[order[i]];
         pg::Params params;
         params.add_coord(order[i]);
-        params.add_i64(int64_t(known_version(order[i])));
+        params.add_i64(int64_t(p.base));
         if (p.record)
             params.add_ref(p.record->data(), p.record->size());
         else
@@ -171,14 +171,21 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
         return error("cannot write " + std::to_string(order.size()) + " chunks (" + why + ")");
     }
     if (conflicted) {
-        if (Status s = changed_since_known(order, conflicts); !s)
+        const auto base = [this](ChunkCoord c) { return m_queue.chunks[c].base; };
+        if (Status s = changed_since(order, base, conflicts); !s)
             return Error{s.error()};
         if (conflicts.empty())
-            return error("a write conflicted, but every stored version is the known one");
+            return error("a write conflicted, but every stored version is the one it replaces");
         return false;
     }
-    for (size_t i = 0; i < order.size(); ++i)
+    for (size_t i = 0; i < order.size(); ++i) {
         note_version(order[i], versions[i]);
+        const Pending& p = m_queue.chunks[order[i]];
+        if (p.caller_base && !p.merged)
+            m_lineage[order[i]] = {*p.caller_base, versions[i]};
+        else
+            m_lineage.erase(order[i]); // The caller's copy lacks what was merged: it must reload.
+    }
     return true;
 }
 
@@ -209,8 +216,10 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
         }
     }
     note_version(c, version);
+    p.base = version;
     if (p.whole || !p.record || !theirs)
         return {};
+    p.merged = true;
     for (const BlockEdit& e : p.edits)
         theirs->set(e.pos, e.id);
     m_queue.chunks.reencode(c, p, *theirs, m_codec);

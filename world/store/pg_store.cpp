@@ -199,8 +199,12 @@ void add_key(pg::Params& p, LodCoord c) {
 } // namespace
 
 Result<ChunkLoad> PgStore::load_level(LodCoord c) {
-    if (const auto* queued = c.level == 0 ? m_queue.chunks.find(c.chunk) : m_queue.lods.find(c))
-        return load_queued(*queued, c, m_codec);
+    if (const auto* queued = c.level == 0 ? m_queue.chunks.find(c.chunk) : m_queue.lods.find(c)) {
+        ChunkLoad out = load_queued(*queued, c, m_codec);
+        if (c.level == 0) // The caller's own copy, not yet written: what it was loaded as.
+            out.version = m_queue.chunks[c.chunk].caller_base.value_or(known_version(c.chunk));
+        return out;
+    }
     if (Status s = ensure_connected(false); !s)
         return Error{s.error()};
     if (c.level > 0) {
@@ -226,6 +230,8 @@ Result<ChunkLoad> PgStore::load_level(LodCoord c) {
     if (n == 0 && c.level == 0)
         return ChunkLoad{}; // A tombstone: erased.
     ChunkLoad out = load_stored(std::span<const uint8_t>(data, n), c, m_codec);
+    if (c.level == 0 && out.state == LoadState::Present)
+        out.version = version;
     if (out.state == LoadState::Corrupt)
         if (Status s = quarantine(c, version, out.problem); !s)
             return Error{s.error()};
@@ -336,7 +342,14 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
     // Records the caller did not encode are encoded together afterwards, on several threads.
     RecordBatchEncoder::Batch encodes;
     for (const ChunkWrite& w : batch) {
+        const bool first = !m_queue.chunks.contains(w.coord);
+        const uint64_t base = base_of(w);
         Pending& p = m_queue.chunks.write(w.coord, w.chunk, w.record, encodes);
+        // A later write of a queued chunk keeps the first one's base: if another process wrote
+        // since, all the queued edits are re-applied to its version.
+        if (first)
+            p.base = base;
+        p.caller_base = w.base_version;
         if (!w.chunk || w.edits.empty()) {
             p.whole = true;
             p.edits.clear();
@@ -415,7 +428,8 @@ Status PgStore::commit_attempts() {
                  " conflicting attempts; edits kept in memory"};
 }
 
-Status PgStore::changed_since_known(const std::vector<ChunkCoord>& coords, std::vector<ChunkCoord>& changed) {
+Status PgStore::changed_since(const std::vector<ChunkCoord>& coords,
+                             const std::function<uint64_t(ChunkCoord)>& expected, std::vector<ChunkCoord>& changed) {
     std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> stored;
     constexpr size_t kBatch = 8192; // Coordinates per query (a few hundred KB of text).
     for (size_t begin = 0; begin < coords.size(); begin += kBatch) {
@@ -441,7 +455,7 @@ Status PgStore::changed_since_known(const std::vector<ChunkCoord>& coords, std::
         }
         for (size_t i = begin; i < end; ++i) {
             const auto it = stored.find(coords[i]);
-            if ((it == stored.end() ? 0 : it->second) != known_version(coords[i]))
+            if ((it == stored.end() ? 0 : it->second) != expected(coords[i]))
                 changed.push_back(coords[i]);
         }
     }
@@ -461,7 +475,7 @@ Status PgStore::catch_up() {
     for (const auto& [c, v] : m_versions)
         coords.push_back(c);
     std::vector<ChunkCoord> changed;
-    if (Status s = changed_since_known(coords, changed); !s)
+    if (Status s = changed_since(coords, [this](ChunkCoord c) { return known_version(c); }, changed); !s)
         return s;
     m_caught_up_epoch = epoch;
     std::lock_guard lock(m_health_mutex);
@@ -481,8 +495,22 @@ void PgStore::trim_versions() {
     if (m_versions.size() <= m_info.max_known_versions || m_queue.chunks.size() >= keep)
         return; // (A commit of more than `keep` chunks trims once it is done.)
     // Forget (in hash order: no recency is kept, forgetting is only slower) until half remain.
-    for (auto it = m_versions.begin(); it != m_versions.end() && m_versions.size() > keep;)
-        it = m_queue.chunks.contains(it->first) ? std::next(it) : m_versions.erase(it);
+    // A forgotten lineage costs a conflict and a merge, as a forgotten version does.
+    for (auto it = m_versions.begin(); it != m_versions.end() && m_versions.size() > keep;) {
+        if (m_queue.chunks.contains(it->first)) {
+            ++it;
+            continue;
+        }
+        m_lineage.erase(it->first);
+        it = m_versions.erase(it);
+    }
+}
+
+uint64_t PgStore::base_of(const ChunkWrite& w) const {
+    if (!w.base_version)
+        return known_version(w.coord);
+    const auto it = m_lineage.find(w.coord);
+    return it != m_lineage.end() && it->second.caller_base == *w.base_version ? it->second.latest : *w.base_version;
 }
 
 uint64_t PgStore::known_version(ChunkCoord c) const {

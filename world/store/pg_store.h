@@ -43,6 +43,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -128,8 +129,20 @@ public:
 private:
     struct Pending {
         std::optional<std::vector<uint8_t>> record; // Nullopt: erase.
-        std::vector<BlockEdit> edits;               // Since the known version.
+        std::vector<BlockEdit> edits;               // Since `base`.
         bool whole = false;                         // A write without edits: replaces the chunk.
+        // The stored version this write replaces (the commit checks the row still is it): the
+        // first queued write's (base_of), or the version a conflict merged onto.
+        uint64_t base = 0;
+        std::optional<uint64_t> caller_base; // The latest write's ChunkWrite::base_version.
+        bool merged = false; // Another process's blocks were merged in: no caller's copy has them.
+    };
+    // What this process's own commits made of a caller's copy: a copy loaded as `caller_base`
+    // (plus edits) was written as `latest`, with nothing of another process merged in. A later
+    // save of that copy (the caller never learns `latest`) replaces `latest`.
+    struct Lineage {
+        uint64_t caller_base = 0;
+        uint64_t latest = 0;
     };
 
     explicit PgStore(PgStoreCreateInfo info);
@@ -150,8 +163,12 @@ private:
     Status commit_attempts(); // commit() on one connection: rounds of try_commit + conflicts.
     Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
     Status catch_up(); // After the listener (re)started: report chunks changed meanwhile.
-    // Appends the chunks of `coords` whose stored version is not the known one.
-    Status changed_since_known(const std::vector<ChunkCoord>& coords, std::vector<ChunkCoord>& changed);
+    // Appends the chunks of `coords` whose stored version is not `expected`'s (0: absent).
+    Status changed_since(const std::vector<ChunkCoord>& coords, const std::function<uint64_t(ChunkCoord)>& expected,
+                         std::vector<ChunkCoord>& changed);
+    // The stored version a write of `w` replaces: its base_version, or this process's own later
+    // write of that copy (Lineage); without one, the known version.
+    uint64_t base_of(const ChunkWrite& w) const;
     Status resolve_conflict(ChunkCoord c);
     Error error(const std::string& what);
     void note_version(ChunkCoord c, uint64_t version); // Remembers, then trim_versions().
@@ -165,6 +182,7 @@ private:
     RecordCodec m_codec;
     RecordBatchEncoder m_encoder;
     std::unordered_map<ChunkCoord, uint64_t, ChunkCoordHash> m_versions; // Last version seen.
+    std::unordered_map<ChunkCoord, Lineage, ChunkCoordHash> m_lineage;   // Trimmed with m_versions.
     StoreQueue<Pending> m_queue; // Edits not yet committed.
     Clock::time_point m_next_retry{};
     std::chrono::milliseconds m_backoff{250};
