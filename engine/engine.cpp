@@ -348,6 +348,8 @@ Result<SaveTicket> Engine::save() {
         return Error{"this world does not persist (built-in terrain or a generator): open a SQLite world to save"};
     if (m->world.store->read_only())
         return Error{"this world is read-only (a VDB world opened read_only): edits stay in memory"};
+    if (m->lod) // The coarse levels' saves and stale marks of edits made since the last frame.
+        m->lod->flush_edits();
     return SaveTicket{m->streamer->request_save()};
 }
 
@@ -401,8 +403,11 @@ Status Engine::Impl::shutdown() {
         return {};
     shut_down = true;
     Status result;
-    if (streamer && world.store && !world.store->read_only())
+    if (streamer && world.store && !world.store->read_only()) {
+        if (lod) // Edits since the last frame reach the coarse levels' records too.
+            lod->flush_edits();
         result = streamer->flush(); // Every edit saved and synced before the threads stop.
+    }
     streamer.reset();               // Joins the workers and the I/O thread.
     lod.reset();                    // Its jobs ran on those.
     if (sink)

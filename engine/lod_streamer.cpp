@@ -268,6 +268,12 @@ void LodStreamer::note_edit(ChunkCoord c) {
         m_edited.insert(c);
 }
 
+void LodStreamer::flush_edits() {
+    apply_edits();
+    if (!m_batch.empty())
+        m_jobs->submit_batch(std::exchange(m_batch, {}));
+}
+
 void LodStreamer::apply_edits() {
     const int top = top_level();
     for (auto it = m_edited.begin(); it != m_edited.end();) {

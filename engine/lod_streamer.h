@@ -96,6 +96,11 @@ public:
     // Main thread. Level-0 chunk `c`'s blocks changed (an edit): its coarse ancestors follow in
     // the next update().
     void note_edit(world::ChunkCoord c);
+    // Main thread. Applies the edits noted since the last update() now and submits their coarse
+    // saves and stale marks, so a store flush requested next (Engine::save, shutdown) carries
+    // them with the edits' own chunks: a coarse level saved or marked stale with its blocks,
+    // neither without the other (chunk_store.h), also when no frame ran between.
+    void flush_edits();
 
     // Main thread, once per frame after the ChunkStreamer's update(). `viewer` in world blocks.
     // Swaps and bookkeeping stop at `deadline` (a few always happen, so the cut keeps moving).

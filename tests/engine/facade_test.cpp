@@ -19,6 +19,8 @@
 #include "facade_test_util.h"
 
 #include "world/gen/terrain.h"
+#include "world/lod/lod_coords.h"
+#include "world/store/sqlite_store.h"
 #if VX_WITH_OPENVDB
 #include "world/vdb/vdb_world.h"
 #endif
@@ -482,5 +484,38 @@ TEST(Facade, GameGeneratorCoarseChunksOfferedAbsentOrThrowing) {
         }
         for (int k = 1; k <= s.lod_top_level; ++k)
             EXPECT_GT(s.level_chunks_drawn[size_t(k)], 0u) << "level " << k;
+    }
+}
+
+// An edit followed at once by save() or shutdown(), with no frame between, reaches the coarse
+// levels' records too: the flush carries their saves (LodStreamer::flush_edits). Before, only the
+// block's own chunk was saved, and the next session's far view showed the world without it.
+TEST(Facade, ShutdownRightAfterAnEditSavesTheCoarseLevels) {
+    const std::string path = temp_path("lod_shutdown");
+    const int64_t x = dry_column_x(16), h = vx::terrain_height(kSeed, x, 16);
+    const vx::BlockPos high{x, h + 40, 16}; // In the air above the viewer: every level changes.
+    int top = 0;
+    {
+        auto engine = vx::Engine::create(lod_info(vx::WorldSource::sqlite(path, kSeed)));
+        ASSERT_TRUE(engine) << engine.error();
+        vx::Engine& e = **engine;
+        ASSERT_TRUE(e.set_viewer(viewer_at({x, h + 2, 16})));
+        ASSERT_TRUE(settle(e));
+        top = e.stats().lod_top_level;
+        ASSERT_GE(top, 1);
+        ASSERT_TRUE(e.set_block(high, 1));
+        ASSERT_TRUE(e.shutdown());
+    }
+    vx::world::SqliteStoreCreateInfo info;
+    info.path = path;
+    auto store = vx::world::SqliteStore::open(info);
+    ASSERT_TRUE(store) << store.error();
+    const vx::world::BlockPos p(high.x, high.y, high.z);
+    for (int k = 1; k <= top; ++k) {
+        auto loaded = (*store)->load_lod(vx::world::lod_chunk_of(p, k));
+        ASSERT_TRUE(loaded) << loaded.error();
+        ASSERT_EQ(loaded->state, vx::world::LoadState::Present) << "level " << k;
+        EXPECT_NE(loaded->chunk->get(vx::world::local_index(vx::world::lod_local_of(p, k))), vx::world::kAir)
+            << "level " << k;
     }
 }

@@ -315,6 +315,49 @@ TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
     std::filesystem::remove(path);
 }
 
+// Edits followed at once by a flush, with no frame between (Engine::save or shutdown right after
+// set_block): flush_edits() puts the coarse levels' saves ahead of the flush, so the stored
+// coarse chunks hold the edit. Before, the flush saved the blocks only, and the coarse records
+// stayed as they were, not even marked stale.
+TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
+    const TerrainGenerator terrain(5);
+    LodViewSettings s = small_view();
+    s.view_distance = 300;
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / "vx_lod_streamer_flush.sqlite";
+    std::filesystem::remove(path);
+    const glm::dvec3 eye(16.5, 20.0, 16.5);
+    const BlockPos p(20, 45, 20); // High in the air: every level's cell over it changes.
+    int top = 0;
+    {
+        SqliteStoreCreateInfo info;
+        info.path = path.string();
+        auto store = SqliteStore::open(info);
+        ASSERT_TRUE(store) << store.error();
+        Rig rig(terrain, store->get(), s);
+        auto& [rec, lod, streamer] = rig;
+        Clock::time_point now{};
+        ASSERT_TRUE(settle(streamer, lod, eye, now));
+        ASSERT_TRUE(streamer.flush());
+        top = lod.top_level();
+        ASSERT_GE(top, 1);
+        ASSERT_TRUE(streamer.set_block(p, 1));
+        lod.note_edit(chunk_of(p));
+        lod.flush_edits();
+        ASSERT_TRUE(streamer.flush());
+    }
+    SqliteStoreCreateInfo info;
+    info.path = path.string();
+    auto store = SqliteStore::open(info);
+    ASSERT_TRUE(store) << store.error();
+    for (int k = 1; k <= top; ++k) {
+        auto loaded = (*store)->load_lod(lod_chunk_of(p, k));
+        ASSERT_TRUE(loaded) << loaded.error();
+        ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k;
+        EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(p, k))), kAir) << "level " << k;
+    }
+    std::filesystem::remove(path);
+}
+
 } // namespace
 } // namespace vx::engine
 
