@@ -247,23 +247,55 @@ TEST(LodStreamer, FullDetailLaggingFarBehindStillLeavesNoHole) {
     expect_target_cut(rec.drawn, eye, s);
 }
 
-TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
-    const TerrainGenerator terrain(5);
+// The edit tests' view: a few levels over a small box, to 300 blocks.
+LodViewSettings edit_view() {
     LodViewSettings s = small_view();
     s.view_distance = 300;
-    const std::filesystem::path path = std::filesystem::temp_directory_path() / "vx_lod_streamer_edits.sqlite";
+    return s;
+}
+
+// `name` in the temporary folder, removed if a run before left it.
+std::filesystem::path fresh_file(const char* name) {
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / name;
     std::filesystem::remove(path);
+    return path;
+}
+
+// A SQLite store at `path`, a test's own file (null, with a test failure, when it cannot open).
+std::unique_ptr<SqliteStore> open_sqlite(const std::filesystem::path& path) {
+    SqliteStoreCreateInfo info;
+    info.path = path.string();
+    auto store = SqliteStore::open(info);
+    EXPECT_TRUE(store) << store.error();
+    return store ? std::move(*store) : nullptr;
+}
+
+// Reopens the store at `path` and expects its coarse chunks over block `p`, levels 1..top, to hold
+// a block there (an edit reached every stored level).
+void expect_stored_levels_hold(const std::filesystem::path& path, BlockPos p, int top) {
+    auto store = open_sqlite(path);
+    ASSERT_TRUE(store);
+    for (int k = 1; k <= top; ++k) {
+        auto loaded = store->load_lod(lod_chunk_of(p, k));
+        ASSERT_TRUE(loaded) << loaded.error();
+        ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k;
+        EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(p, k))), kAir) << "level " << k;
+    }
+}
+
+TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
+    const TerrainGenerator terrain(5);
+    const LodViewSettings s = edit_view();
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_edits.sqlite");
     const glm::dvec3 eye(16.5, 20.0, 16.5);
     // A column of stone high in the air above the viewer: it changes every level's cells.
     std::vector<BlockPos> column;
     for (int y = 40; y < 50; ++y)
         column.push_back(BlockPos(20, y, 20));
     {
-        SqliteStoreCreateInfo info;
-        info.path = path.string();
-        auto store = SqliteStore::open(info);
-        ASSERT_TRUE(store) << store.error();
-        Rig rig(terrain, store->get(), s);
+        auto store = open_sqlite(path);
+        ASSERT_TRUE(store);
+        Rig rig(terrain, store.get(), s);
         auto& [rec, lod, streamer] = rig;
         Clock::time_point now{};
         ASSERT_TRUE(settle(streamer, lod, eye, now));
@@ -301,17 +333,7 @@ TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
         ASSERT_TRUE(settle(streamer, lod, eye, now));
         ASSERT_TRUE(streamer.flush());
     }
-    SqliteStoreCreateInfo info;
-    info.path = path.string();
-    auto store = SqliteStore::open(info);
-    ASSERT_TRUE(store) << store.error();
-    for (int k = 1; k <= LodView(eye, s).top_level(); ++k) {
-        const LodCoord c = lod_chunk_of(column.front(), k);
-        auto loaded = (*store)->load_lod(c);
-        ASSERT_TRUE(loaded) << loaded.error();
-        ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k;
-        EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(column.front(), k))), kAir) << "level " << k;
-    }
+    expect_stored_levels_hold(path, column.front(), LodView(eye, s).top_level());
     std::filesystem::remove(path);
 }
 
@@ -321,19 +343,15 @@ TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
 // stayed as they were, not even marked stale.
 TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
     const TerrainGenerator terrain(5);
-    LodViewSettings s = small_view();
-    s.view_distance = 300;
-    const std::filesystem::path path = std::filesystem::temp_directory_path() / "vx_lod_streamer_flush.sqlite";
-    std::filesystem::remove(path);
+    const LodViewSettings s = edit_view();
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_flush.sqlite");
     const glm::dvec3 eye(16.5, 20.0, 16.5);
     const BlockPos p(20, 45, 20); // High in the air: every level's cell over it changes.
     int top = 0;
     {
-        SqliteStoreCreateInfo info;
-        info.path = path.string();
-        auto store = SqliteStore::open(info);
-        ASSERT_TRUE(store) << store.error();
-        Rig rig(terrain, store->get(), s);
+        auto store = open_sqlite(path);
+        ASSERT_TRUE(store);
+        Rig rig(terrain, store.get(), s);
         auto& [rec, lod, streamer] = rig;
         Clock::time_point now{};
         ASSERT_TRUE(settle(streamer, lod, eye, now));
@@ -345,16 +363,7 @@ TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
         lod.flush_edits();
         ASSERT_TRUE(streamer.flush());
     }
-    SqliteStoreCreateInfo info;
-    info.path = path.string();
-    auto store = SqliteStore::open(info);
-    ASSERT_TRUE(store) << store.error();
-    for (int k = 1; k <= top; ++k) {
-        auto loaded = (*store)->load_lod(lod_chunk_of(p, k));
-        ASSERT_TRUE(loaded) << loaded.error();
-        ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k;
-        EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(p, k))), kAir) << "level " << k;
-    }
+    expect_stored_levels_hold(path, p, top);
     std::filesystem::remove(path);
 }
 
