@@ -303,6 +303,10 @@ Result<RayHit> Engine::raycast(BlockPos origin_block, glm::dvec3 origin_offset, 
         return Error{s.error()};
     if (!finite(direction) || direction == glm::dvec3(0.0) || !finite(origin_offset))
         return Error{"raycast: the direction must be finite and non-zero, the origin finite"};
+    if (glm::any(glm::greaterThan(glm::abs(origin_offset), glm::dvec3(double(int64_t(1) << 40)))) ||
+        !world::in_world(origin_block))
+        return Error{"raycast: the origin block must lie inside the world (|coordinate| < 2^36) and the offset "
+                     "be small (|offset| <= 2^40)"};
     if (!std::isfinite(max_distance) || max_distance < 0)
         return Error{"raycast: max_distance must be finite and >= 0"};
     const world::World& w = m->streamer->world();

@@ -32,14 +32,9 @@ namespace vx::render {
 
 class Context;
 
-// A direction of any finite, non-zero length (e.g. towards a target 1e-30 blocks away, or 1e30)
-// as a unit vector: divided by its largest component before normalising, so the squares neither
-// underflow nor overflow (in float they did, and the camera's basis became NaN). Zero stays zero.
-// Convert to Camera's floats only after this. Any thread.
-inline glm::dvec3 unit_direction(const glm::dvec3& v) {
-    const double m = glm::max(glm::max(glm::abs(v.x), glm::abs(v.y)), glm::abs(v.z));
-    return m > 0.0 ? glm::normalize(v / m) : glm::dvec3(0.0);
-}
+// Camera directions are made unit in doubles first (a target 1e-30 blocks away, or 1e30: in
+// float their squares underflowed or overflowed, and the basis became NaN).
+using world::unit_direction;
 
 struct Camera {
     world::BlockPos block{0};       // World block holding the eye.

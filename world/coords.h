@@ -6,6 +6,7 @@
 // All helpers here are pure functions. Thread-safe.
 
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 
@@ -79,6 +80,26 @@ inline glm::ivec3 face_normal(Face f) {
 inline bool has_neighbour(ChunkCoord c, Face f) {
     const int v = c[face_axis(f)];
     return face_positive(f) ? v != INT32_MAX : v != INT32_MIN;
+}
+
+// A direction of any finite, non-zero length scaled by a power of two so its largest component
+// lies in [0.5, 1): exact (the same ray, bit for bit, wherever no tiny component underflows;
+// directions that differ by other factors give results within rounding of each other), and
+// its squared length neither underflows nor overflows (a ray along (1e-200, 0, 0) had length 0,
+// one along (1e200, 0, 0) infinite length). Zero stays zero. Any thread.
+inline glm::dvec3 scaled_direction(const glm::dvec3& d) {
+    const double m = glm::max(glm::max(glm::abs(d.x), glm::abs(d.y)), glm::abs(d.z));
+    if (!(m > 0.0) || !std::isfinite(m))
+        return d;
+    int e = 0;
+    std::frexp(m, &e);
+    return {std::ldexp(d.x, -e), std::ldexp(d.y, -e), std::ldexp(d.z, -e)};
+}
+
+// The same direction as a unit vector (zero for zero). Any thread.
+inline glm::dvec3 unit_direction(const glm::dvec3& d) {
+    const glm::dvec3 s = scaled_direction(d);
+    return s == glm::dvec3(0.0) ? s : glm::normalize(s);
 }
 
 } // namespace vx::world

@@ -94,10 +94,13 @@ Ray Ray::from_world(glm::dvec3 origin, glm::dvec3 direction) {
 }
 
 RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query) {
-    const glm::dvec3 d = ray.direction;
-    VX_ASSERT_RETURN(is_finite(d) && is_finite(ray.offset), RaycastHit{});
-    VX_ASSERT_RETURN(d != glm::dvec3(0.0), RaycastHit{});
+    VX_ASSERT_RETURN(is_finite(ray.direction) && is_finite(ray.offset), RaycastHit{});
+    VX_ASSERT_RETURN(ray.direction != glm::dvec3(0.0), RaycastHit{});
     VX_ASSERT_RETURN(std::isfinite(max_distance), RaycastHit{});
+    // Past 2^52 the offset has no fraction left, and its floor would not fit the anchor's integers.
+    VX_ASSERT_RETURN(glm::all(glm::lessThan(glm::abs(ray.offset), glm::dvec3(0x1p52))), RaycastHit{});
+    // Scaled by a power of two (exact): any finite length walks, and t * len stays the distance.
+    const glm::dvec3 d = scaled_direction(ray.direction);
     if (!(max_distance >= 0.0))
         return {};
     // Fold the integer part of the offset into the anchor (both steps exact).
@@ -118,7 +121,7 @@ RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query) {
     for (;;) {
         const int a = next_axis(w);
         const double t = w.t_next[a];
-        if (!(t <= t_limit) || t == kInf) // (An underflowing length makes t_limit infinite.)
+        if (!(t <= t_limit) || t == kInf)
             return {};
         w.cell[a] += w.step[a];
         w.t_next[a] = crossing(w, a, w.cell[a] + (w.step[a] > 0 ? 1 : 0));

@@ -35,8 +35,8 @@ namespace vx::world {
 class World;
 
 // A ray in world block coordinates: origin = anchor + offset, direction need not be normalized
-// (it must be finite and not zero). Keep |offset| small (say < 2^20) for full precision; the
-// raycast folds its integer part into the anchor.
+// (it must be finite and not zero; any length, 1e-300 or 1e300, is the same ray, up to rounding). Keep |offset|
+// small (say < 2^20) for full precision; the raycast folds its integer part into the anchor.
 struct Ray {
     BlockPos anchor{0};
     glm::dvec3 offset{0.0};
@@ -89,7 +89,8 @@ private:
 // Finds the first non-air block within `max_distance` blocks (inclusive) along the ray; the
 // origin's own block counts (then `inside` is set). To see through a block type (water, say),
 // have the query return kAir for it. Returns hit = false for a zero or non-finite direction, a
-// non-finite offset or max distance (these also log), or a negative max distance. Thread-safe if the query is.
+// non-finite offset or max distance, an offset past 2^52 (these also log), or a negative max
+// distance. Thread-safe if the query is.
 RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query);
 
 // The same on a World (chunks not present are air). Thread-safe for concurrent reads.

@@ -499,8 +499,9 @@ public:
     // Main thread. The block at `pos`, kAir for air; nullopt when its chunk is not loaded.
     std::optional<BlockId> get_block(BlockPos pos) const;
     // Main thread. First non-air block along the ray from origin_block + origin_offset in
-    // `direction` (need not be unit) within max_distance blocks; see RayHit::Kind. Errors: zero
-    // or non-finite direction, negative or non-finite max distance.
+    // `direction` (need not be unit; any finite length) within max_distance blocks; see
+    // RayHit::Kind. Errors: zero or non-finite direction, negative or non-finite max distance, an
+    // origin block outside the world or an offset past 2^40.
     Result<RayHit> raycast(BlockPos origin_block, glm::dvec3 origin_offset, glm::dvec3 direction,
                            double max_distance) const;
     // Thread-safe (after create). The id of a block by name, or nullopt.

@@ -136,6 +136,17 @@ TEST(Facade, EditsAndRaycasts) {
     EXPECT_EQ(down->previous, p + vx::BlockPos(0, 1, 0));
 
     EXPECT_FALSE(e.raycast(eye, {0.5, 0.5, 0.5}, {0, 0, 0}, 10.0)); // No direction: an error.
+    // Any finite length is a direction (1e-200 hit the stone below at distance 0, past the limit).
+    for (const double scale : {1e-200, 1e200}) {
+        auto scaled = e.raycast({x, h + 11, 16}, {0.5, 0.5, 0.5}, {0, -scale, 0}, 20.0);
+        ASSERT_TRUE(scaled) << scaled.error();
+        EXPECT_EQ(scaled->kind, down->kind) << scale;
+        EXPECT_NEAR(scaled->distance, down->distance, 1e-12) << scale;
+        EXPECT_FALSE(e.raycast({x, h + 11, 16}, {0.5, 0.5, 0.5}, {0, -scale, 0}, 2.0)->kind == vx::RayHit::Kind::Hit);
+    }
+    // An offset past 2^40 or an origin outside the world is an error, not a wrapped block.
+    EXPECT_FALSE(e.raycast(eye, {1e300, 0.5, 0.5}, {0, 1, 0}, 2.0));
+    EXPECT_FALSE(e.raycast({int64_t(1) << 40, 0, 0}, {0.5, 0.5, 0.5}, {0, 1, 0}, 2.0));
 
     // Refusals change nothing: an unknown id, a chunk not loaded, and a batch holding either.
     vx::Status bad_id = e.set_block(p, vx::BlockId(999));

@@ -382,6 +382,27 @@ TEST(LodRaycast, SceneRefusesOverlapsAndCoversByLevel) {
     EXPECT_FALSE(raycast_lod(scene, Ray::from_world(o, glm::dvec3(-1, 0, 0)), 500.0).hit.hit);
 }
 
+// Past the world's edge is air for LOD rays too: a scene of level 0 only (no coarse lookup to stop
+// it) once wrapped a ray leaving at +x round to the chunk at the far edge (32-bit chunk
+// coordinates), reporting a block outside the world.
+TEST(LodRaycast, BeyondTheWorldsEdgeIsAir) {
+    LodScene scene;
+    ASSERT_TRUE(scene.add({0, ChunkCoord(INT32_MIN, 0, 0)}, Chunk(3)));
+    Ray ray;
+    ray.anchor = BlockPos(kWorldMaxBlock - 3, 5, 5);
+    ray.offset = {0.5, 0.5, 0.5};
+    ray.direction = {1, 0, 0};
+    EXPECT_FALSE(raycast_lod(scene, ray, 64.0).hit.hit);
+    ray.anchor = BlockPos(kWorldMaxBlock + 40, 5, 5); // From beyond the edge, back in: still nothing there.
+    ray.direction = {-1, 0, 0};
+    EXPECT_FALSE(raycast_lod(scene, ray, 64.0).hit.hit);
+    ray.anchor = BlockPos(kWorldMinBlock + 40, 5, 5); // The chunk itself is found from inside the world.
+    const LodRaycastHit h = raycast_lod(scene, ray, 64.0);
+    ASSERT_TRUE(h.hit.hit);
+    EXPECT_EQ(h.hit.block, BlockPos(kWorldMinBlock + 31, 5, 5));
+    EXPECT_EQ(h.hit.distance, 8.5);
+}
+
 TEST(LodRaycast, DirectCoarseTerrainLetsNoRayThrough) {
     Case c;
     c.settings.radius0 = 2;

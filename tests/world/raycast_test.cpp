@@ -310,6 +310,30 @@ TEST(Raycast, MaxDistanceIsInclusive) {
     EXPECT_TRUE(cast(o, {0.5, 0.5, 0.5}, {0, 1, 0}, 0.0).inside);
 }
 
+// A direction of any finite length is the same ray: 1e-200 and 1e200 long ones find the same
+// block at the same distance as a unit one, and keep to max_distance. Their squared lengths
+// underflowed (distance 0, no limit: a hit 1000 blocks away at distance 0, and the World walk never
+// ended) or overflowed (every ray missed). An offset past 2^52 (no fraction, and a floor past the
+// anchor's integers) is refused as a bad ray.
+TEST(Raycast, DirectionsOfAnyLengthAreTheSameRay) {
+    BlockSet s{{{3, 0, 0}, {1000, 0, 0}}};
+    for (const double scale : {1e-300, 1e-200, 1.0, 1e200, 1e300}) {
+        const RaycastHit h = cast(s, {0.5, 0.5, 0.5}, {scale, 0, 0}, 10.0);
+        ASSERT_TRUE(h.hit) << scale;
+        EXPECT_EQ(h.block, BlockPos(3, 0, 0)) << scale;
+        EXPECT_NEAR(h.distance, 2.5, 1e-12) << scale;
+        EXPECT_FALSE(cast(s, {0.5, 0.5, 0.5}, {scale, 0, 0}, 2.4).hit) << scale;
+        const RaycastHit slant = cast(s, {0.5, 0.5, 0.5}, {scale, scale * 1e-3, 0}, 10.0);
+        ASSERT_TRUE(slant.hit) << scale;
+        EXPECT_NEAR(slant.distance, 2.5 * std::sqrt(1.0 + 1e-6), 1e-12) << scale;
+    }
+    World empty;
+    Ray tiny;
+    tiny.direction = {1e-200, 0, 0};
+    EXPECT_FALSE(raycast(empty, tiny, 5.0).hit); // Returns: the walk ends at max_distance.
+    EXPECT_FALSE(cast(s, {0x1p53, 0.5, 0.5}, {1, 0, 0}, 10.0).hit);
+}
+
 TEST(Raycast, NegativeCoordinatesAndZeroComponents) {
     BlockSet s{{{-7, -3, -12}}};
     const RaycastHit h = cast(s, {-6.75, -2.5, 0.25}, {0, 0, -1});

@@ -46,6 +46,8 @@ LodRaycastHit raycast_lod(const LodScene& scene, const Ray& ray, double max_dist
     LodBlockBox box{BlockPos(1), BlockPos(0)}; // Empty until the first lookup.
     LodScene::Covering cov;
     auto query = [&](BlockPos p) -> BlockId {
+        if (!in_world(p)) // Beyond the edge is air (lod_chunk_of would wrap to the far side).
+            return kAir;
         if (glm::any(glm::lessThan(p, box.min)) || glm::any(glm::greaterThan(p, box.max))) {
             cov = scene.covering(p);
             box = lod_block_box(cov.coord);
