@@ -395,6 +395,7 @@ std::unique_ptr<Job> ChunkStreamer::request_mesh(ChunkCoord c, ChunkState& s) {
     if (chunk.is_empty()) { // Air has no faces: no job, no mesh to draw.
         s.mesh.reset();
         set_mesh_flags(c, s, true, false);
+        s.in_sink = true;
         m_sink.on_mesh(c, empty_mesh(), {});
         return nullptr;
     }
@@ -416,6 +417,7 @@ void ChunkStreamer::on_meshed(ChunkCoord c, ChunkMesh mesh) {
     }
     s.mesh = mesh.empty() ? nullptr : std::make_unique<ChunkMesh>(std::move(mesh));
     set_mesh_flags(c, s, true, false);
+    s.in_sink = true;
     m_sink.on_mesh(c, s.mesh ? *s.mesh : empty_mesh(), {});
 }
 
@@ -609,7 +611,10 @@ void ChunkStreamer::drop(ChunkCoord c, ChunkState& s) {
     if (s.data == Data::Failed)
         remesh_around(c); // Its neighbours were meshed against air: not what it will hold when back.
     const bool had_data = s.data == Data::Present;
-    if (s.has_mesh)
+    // Not has_mesh: a mesh outdated by a neighbour's change (remesh_around) is still drawn, and a
+    // chunk beyond the meshing ring never gets the new one. Left in the sink it stayed drawn after
+    // the chunk went, and the LOD streamer kept a pointer to the freed mesh.
+    if (s.in_sink)
         m_sink.on_unload(c);
     set_mesh_flags(c, s, false, false); // Keeps the counts; the sink was told above.
     (s.data == Data::Present ? m_present : s.data == Data::Failed ? m_failed : m_requested) -= 1;

@@ -162,6 +162,10 @@ private:
     struct ChunkState {
         Data data = Data::Requested;
         bool has_mesh = false;      // `mesh` is current and was handed to the sink.
+        // The sink holds a mesh of this chunk (maybe an outdated one: has_mesh is cleared when a
+        // neighbour's change asks for a new mesh, but the old one stays drawn until it comes, or
+        // until the chunk goes: then the sink is told, whatever has_mesh says).
+        bool in_sink = false;
         bool mesh_pending = false;  // A mesh job is in flight.
         bool mesh_stale = false;    // The in-flight mesh job's snapshot is out of date.
         bool dirty = false;         // Edited since it was last handed to the store.

@@ -385,6 +385,48 @@ TEST(Streaming, TeleportFillsTheNewView) {
     EXPECT_GE(s.metrics().unloaded, 2u * 7 * 7 * 5);
 }
 
+// A chunk whose generation fails makes its neighbours mesh against air, and when it goes their
+// meshes are asked for again (remesh_around), so has_mesh is cleared while the old meshes stay
+// drawn. Dropped before the new ones came, they once stayed in the sink: ghost geometry far from
+// the view (and, with levels of detail, a pointer to a freed mesh). After a teleport the sink
+// holds only chunks the streamer holds.
+TEST(Streaming, DroppedChunksLeaveNoMeshBehindAfterAFailedNeighbour) {
+    const TerrainGenerator terrain(17);
+    struct FailingOne final : ChunkGenerator {
+        const TerrainGenerator& inner;
+        ChunkCoord bad;
+        FailingOne(const TerrainGenerator& g, ChunkCoord c) : inner(g), bad(c) {}
+        Chunk generate(ChunkCoord c) const override { return inner.generate(c); }
+        Result<Chunk> try_generate(ChunkCoord c) const override {
+            if (c == bad)
+                return Error{"injected generator failure"};
+            return inner.generate(c);
+        }
+    };
+    const glm::dvec3 a(16.5, double(terrain.surface_height(16, 16)) + 2, 16.5);
+    const FailingOne gen(terrain, chunk_at(a) + ChunkCoord(1, 0, 0));
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    // The view around the failure meshes (a real-time limit only for a very slow machine).
+    const auto limit = Clock::now() + std::chrono::minutes(2);
+    while ((s.metrics().meshed < 50 || s.metrics().generate_failures == 0) && Clock::now() < limit) {
+        now += std::chrono::milliseconds(16);
+        s.update(a, glm::dvec3(0, 0, -1), now);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_GT(s.metrics().generate_failures, 0u);
+    ASSERT_GE(s.metrics().meshed, 50u);
+    const glm::dvec3 b(32000.5, double(terrain.surface_height(32000, -9000)) + 2, -9000.5);
+    ASSERT_TRUE(settle(s, b, now));
+    int ghosts = 0;
+    for (const auto& [key, mesh] : sink.meshes) {
+        const auto [x, y, z] = key;
+        ghosts += s.world().find_chunk(ChunkCoord(x, y, z)) == nullptr;
+    }
+    EXPECT_EQ(ghosts, 0) << "meshes of chunks the streamer dropped";
+}
+
 // metrics() keeps its counts as states change (no scan); they match a recount through the
 // public API on every frame of a flight that turns and stops.
 TEST(Streaming, MetricsMatchARecountInFlight) {
