@@ -233,6 +233,8 @@ void Engine::update(std::chrono::steady_clock::time_point now) {
     const glm::dvec3 forward = m->viewer.forward;
     const auto t0 = std::chrono::steady_clock::now();
     const std::chrono::nanoseconds cpu0 = engine::thread_cpu_time();
+    if (m->lod) // Edits since the last frame reach the coarse levels before their chunks may go.
+        m->lod->apply_noted_edits();
     if (m->viewer.velocity)
         m->streamer->update(m->eye(), forward, *m->viewer.velocity, now);
     else

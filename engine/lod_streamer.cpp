@@ -306,9 +306,11 @@ void LodStreamer::apply_edits() {
             child = &n.chunk;
         }
         if (!retry && m_store && m_store->supports_lod() && !m_store->read_only()) {
-            // Levels above those kept here: stored ones (vx world gen --lod-levels) go stale.
+            // Levels above those kept here: stored ones (vx world gen --lod-levels) go stale. All
+            // levels when the edited chunk is gone (dropped before its edit was applied): none
+            // of them could be refreshed from it.
             std::vector<LodCoord> above;
-            for (int k = top + 1; k <= kMaxLodLevel; ++k)
+            for (int k = m_blocks->find_chunk(*it) ? top + 1 : 1; k <= kMaxLodLevel; ++k)
                 above.push_back(lod_ancestor({0, *it}, k));
             m_batch.push_back(std::make_unique<LodMarkDirtyJob>(*it, *m_store, std::move(above)));
         }

@@ -96,6 +96,11 @@ public:
     // Main thread. Level-0 chunk `c`'s blocks changed (an edit): its coarse ancestors follow in
     // the next update().
     void note_edit(world::ChunkCoord c);
+    // Main thread. Applies the edits noted so far to the coarse levels kept here, while their
+    // chunks are still in memory: call before the ChunkStreamer's update(), which may drop them
+    // (update() applies what is left). An edited chunk already gone has its stored ancestors marked
+    // stale instead, so they are derived from its saved blocks when next loaded.
+    void apply_noted_edits() { apply_edits(); }
     // Main thread. Applies the edits noted since the last update() now and submits their coarse
     // saves and stale marks, so a store flush requested next (Engine::save, shutdown) carries
     // them with the edits' own chunks: a coarse level saved or marked stale with its blocks,

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -364,6 +365,56 @@ TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
         ASSERT_TRUE(streamer.flush());
     }
     expect_stored_levels_hold(path, p, top);
+    std::filesystem::remove(path);
+}
+
+// An edit to a chunk that the next frame drops (the viewer moved on): applied before the
+// ChunkStreamer's update (apply_noted_edits, as Engine::update does), its coarse levels are
+// refreshed and saved; one whose chunk is already gone has every stored ancestor marked stale, to
+// be derived from the saved blocks. Before, apply_edits found no chunk and forgot the edit: the
+// coarse levels never showed it, in this session or the next.
+TEST(LodStreamer, EditsOfChunksDroppedInTheNextFrameStillReachTheCoarseLevels) {
+    const TerrainGenerator terrain(5);
+    const LodViewSettings s = edit_view();
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_dropped.sqlite");
+    const glm::dvec3 eye(16.5, 20.0, 16.5);
+    const BlockPos applied(20, 45, 20), late(84, 45, 20); // Level-0 chunks 0 and 2: other parents.
+    int top = 0;
+    {
+        auto store = open_sqlite(path);
+        ASSERT_TRUE(store);
+        Rig rig(terrain, store.get(), s);
+        auto& [rec, lod, streamer] = rig;
+        Clock::time_point now{};
+        ASSERT_TRUE(settle(streamer, lod, eye, now));
+        ASSERT_TRUE(streamer.flush());
+        top = lod.top_level();
+        ASSERT_GE(top, 1);
+        const glm::dvec3 far(32000.5, 20.0, -9000.5);
+        streamer.update(far, glm::dvec3(1, 0, 0), now); // The old view's chunks are now outside.
+        ASSERT_TRUE(streamer.set_block(applied, 1));
+        lod.note_edit(chunk_of(applied));
+        lod.apply_noted_edits();
+        ASSERT_TRUE(streamer.set_block(late, 1));
+        lod.note_edit(chunk_of(late)); // Not applied before its chunk goes.
+        now += std::chrono::minutes(1); // Past any unload delay: the next updates drop them.
+        const auto limit = Clock::now() + std::chrono::minutes(1);
+        do {
+            now += std::chrono::milliseconds(16);
+            streamer.update(far, glm::dvec3(1, 0, 0), now); // Drops are spread over frames.
+        } while (streamer.world().find_chunk(chunk_of(late)) && Clock::now() < limit);
+        ASSERT_EQ(streamer.world().find_chunk(chunk_of(late)), nullptr) << "the edited chunk was dropped";
+        lod.update(far, now, Clock::now() + std::chrono::milliseconds(2));
+        ASSERT_TRUE(streamer.flush());
+    }
+    expect_stored_levels_hold(path, applied, top);
+    auto store = open_sqlite(path);
+    ASSERT_TRUE(store);
+    auto dirty = store->list_lod_dirty();
+    ASSERT_TRUE(dirty) << dirty.error();
+    for (int k = 1; k <= kMaxLodLevel; ++k)
+        EXPECT_NE(std::find(dirty->begin(), dirty->end(), lod_ancestor({0, chunk_of(late)}, k)), dirty->end())
+            << "level " << k << " of the dropped chunk's ancestors is not marked stale";
     std::filesystem::remove(path);
 }
 
