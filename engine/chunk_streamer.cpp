@@ -330,6 +330,10 @@ void ChunkStreamer::put_chunk(ChunkCoord c, Chunk chunk) {
     queue_mesh(c);
     for (int f = 0; f < 6; ++f)
         queue_mesh(c + face_normal(Face(f)));
+    if (s.changed_while_requested && m_store) { // The feed's news may be newer than what arrived.
+        s.changed_while_requested = false;
+        m_jobs->submit(std::make_unique<ReloadJob>(events(), c, *m_store));
+    }
     if (m_observer)
         m_observer->on_chunk_loaded(c);
 }
@@ -473,6 +477,8 @@ void ChunkStreamer::poll_store_changes() {
         auto it = m_chunks.find(c);
         if (it != m_chunks.end() && it->second.data == Data::Present)
             jobs.push_back(std::make_unique<ReloadJob>(events(), c, *m_store));
+        else if (it != m_chunks.end() && it->second.data == Data::Requested)
+            it->second.changed_while_requested = true; // Reloaded once present (put_chunk).
     }
     if (!jobs.empty())
         m_jobs->submit_batch(std::move(jobs));

@@ -166,6 +166,9 @@ private:
         // neighbour's change asks for a new mesh, but the old one stays drawn until it comes, or
         // until the chunk goes: then the sink is told, whatever has_mesh says).
         bool in_sink = false;
+        // Another process changed it while its load was in flight (a shared store's feed): the
+        // load may have read the older version, so it is read again once present.
+        bool changed_while_requested = false;
         bool mesh_pending = false;  // A mesh job is in flight.
         bool mesh_stale = false;    // The in-flight mesh job's snapshot is out of date.
         bool dirty = false;         // Edited since it was last handed to the store.

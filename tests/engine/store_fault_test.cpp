@@ -4,6 +4,7 @@
 // saved is lost. The failure is injected by a ChunkStore wrapper around a real SqliteStore.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -210,6 +211,102 @@ TEST(StoreFaults, AChunkWhoseLoadFailsIsNotGeneratedOverAndLoadsWhenTheStoreIsBa
     ASSERT_TRUE(settle(s, there, now));
     EXPECT_EQ(s.get_block(far), BlockId(11)); // The stored edit, not the generator's block.
     ASSERT_TRUE(s.flush().ok());
+}
+
+namespace {
+
+// A shared store in miniature: chunk `c` is stored (version `current`), everything else absent.
+// A load of `c` reads the version current when it starts, then waits for `gate` (a load in
+// flight); poll_changes hands out what `announce` queued. I/O lane and test thread: under a lock.
+class SharedFake final : public ChunkStore {
+public:
+    SharedFake(ChunkCoord c, Chunk first) : m_c(c), m_current(std::move(first)) {}
+    Result<ChunkLoad> load(ChunkCoord c) override {
+        ChunkLoad out;
+        if (c != m_c)
+            return out;
+        std::unique_lock lock(m_mutex);
+        out.state = LoadState::Present;
+        out.chunk = m_current;
+        ++m_loads;
+        m_cv.notify_all();
+        m_cv.wait(lock, [&] { return m_open; });
+        return out;
+    }
+    // Test thread: another process's commit of `c`, and its notification.
+    void announce(Chunk next) {
+        std::lock_guard lock(m_mutex);
+        m_current = std::move(next);
+        m_changed.push_back(m_c);
+    }
+    void open_gate() {
+        std::lock_guard lock(m_mutex);
+        m_open = true;
+        m_cv.notify_all();
+    }
+    bool wait_for_load() {
+        std::unique_lock lock(m_mutex);
+        return m_cv.wait_for(lock, std::chrono::minutes(1), [&] { return m_loads > 0; });
+    }
+    void poll_changes(std::vector<ChunkCoord>& out) override {
+        std::lock_guard lock(m_mutex);
+        out.insert(out.end(), m_changed.begin(), m_changed.end());
+        m_changed.clear();
+    }
+    Status save(std::span<const ChunkWrite>) override { return {}; }
+    Status tick(Clock::time_point) override { return {}; }
+    Status flush() override { return {}; }
+    Result<bool> contains(ChunkCoord c) override { return c == m_c; }
+    Result<uint64_t> count() override { return uint64_t(1); }
+    Status for_each_coord(const std::function<bool(ChunkCoord)>& fn) override {
+        fn(m_c);
+        return {};
+    }
+    Result<std::optional<std::string>> get_meta(std::string_view) override { return std::optional<std::string>{}; }
+    Status set_meta(std::string_view, std::string_view) override { return {}; }
+    bool read_only() const override { return false; }
+
+private:
+    const ChunkCoord m_c;
+    std::mutex m_mutex;
+    std::condition_variable m_cv;
+    Chunk m_current;
+    std::vector<ChunkCoord> m_changed;
+    int m_loads = 0;
+    bool m_open = false;
+};
+
+} // namespace
+
+// Another process changes a chunk while this one's load of it is in flight: the load read the
+// older version, and the notification came while the chunk was not yet present. It is read again
+// once present, so the newer version shows. Before, the news was dropped (only present chunks
+// were reloaded) and the chunk showed the older version until something else touched it.
+TEST(StoreFaults, AChangeDuringALoadIsReadOnceTheChunkIsPresent) {
+    const TerrainGenerator gen(5);
+    const glm::dvec3 eye(8.5, 60.5, 8.5);
+    const ChunkCoord c = chunk_of(BlockPos(8, 60, 8));
+    SharedFake store(c, Chunk(1));
+    NullSink sink;
+    ChunkStreamer s(gen, &store, sink, settings());
+    Clock::time_point now = Clock::now();
+    s.update(eye, glm::dvec3(0, 0, -1), now);
+    ASSERT_TRUE(store.wait_for_load()); // In flight: it has read version 1.
+    store.announce(Chunk(2));
+    for (int i = 0; i < 5; ++i) { // The news arrives while the chunk is still requested.
+        now += std::chrono::milliseconds(16);
+        s.update(eye, glm::dvec3(0, 0, -1), now);
+    }
+    ASSERT_EQ(s.world().find_chunk(c), nullptr);
+    store.open_gate();
+    ASSERT_TRUE(settle(s, eye, now));
+    const auto limit = Clock::now() + std::chrono::minutes(1);
+    while (s.get_block(BlockPos(8, 60, 8)) != BlockId(2) && Clock::now() < limit) {
+        now += std::chrono::milliseconds(16);
+        s.update(eye, glm::dvec3(0, 0, -1), now);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(2)) << "the version committed during the load";
 }
 
 // The OS refuses every thread (thread_refusal.h): the streamer's job system cannot run, so a
