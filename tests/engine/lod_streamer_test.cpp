@@ -284,6 +284,19 @@ void expect_stored_levels_hold(const std::filesystem::path& path, BlockPos p, in
     }
 }
 
+// The flush tests' world: a store at `path`, the streamers over it, settled around `eye` and
+// flushed (settled() says whether that worked), and the clock they ran on.
+struct FlushedWorld {
+    FlushedWorld(const TerrainGenerator& terrain, const std::filesystem::path& path, const glm::dvec3& eye)
+        : store(open_sqlite(path)), rig(terrain, store.get(), edit_view()) {
+        ok = store && settle(rig.streamer, rig.lod, eye, now) && rig.streamer.flush().ok();
+    }
+    std::unique_ptr<SqliteStore> store;
+    Rig rig;
+    Clock::time_point now{};
+    bool ok = false;
+};
+
 TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
     const TerrainGenerator terrain(5);
     const LodViewSettings s = edit_view();
@@ -344,19 +357,13 @@ TEST(LodStreamer, EditsReachTheCoarseLevelsAndSurviveReopening) {
 // stayed as they were, not even marked stale.
 TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
     const TerrainGenerator terrain(5);
-    const LodViewSettings s = edit_view();
     const std::filesystem::path path = fresh_file("vx_lod_streamer_flush.sqlite");
-    const glm::dvec3 eye(16.5, 20.0, 16.5);
     const BlockPos p(20, 45, 20); // High in the air: every level's cell over it changes.
     int top = 0;
     {
-        auto store = open_sqlite(path);
-        ASSERT_TRUE(store);
-        Rig rig(terrain, store.get(), s);
-        auto& [rec, lod, streamer] = rig;
-        Clock::time_point now{};
-        ASSERT_TRUE(settle(streamer, lod, eye, now));
-        ASSERT_TRUE(streamer.flush());
+        FlushedWorld w(terrain, path, glm::dvec3(16.5, 20.0, 16.5));
+        ASSERT_TRUE(w.ok);
+        auto& [rec, lod, streamer] = w.rig;
         top = lod.top_level();
         ASSERT_GE(top, 1);
         ASSERT_TRUE(streamer.set_block(p, 1));
@@ -375,19 +382,14 @@ TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
 // coarse levels never showed it, in this session or the next.
 TEST(LodStreamer, EditsOfChunksDroppedInTheNextFrameStillReachTheCoarseLevels) {
     const TerrainGenerator terrain(5);
-    const LodViewSettings s = edit_view();
     const std::filesystem::path path = fresh_file("vx_lod_streamer_dropped.sqlite");
-    const glm::dvec3 eye(16.5, 20.0, 16.5);
     const BlockPos applied(20, 45, 20), late(84, 45, 20); // Level-0 chunks 0 and 2: other parents.
     int top = 0;
     {
-        auto store = open_sqlite(path);
-        ASSERT_TRUE(store);
-        Rig rig(terrain, store.get(), s);
-        auto& [rec, lod, streamer] = rig;
-        Clock::time_point now{};
-        ASSERT_TRUE(settle(streamer, lod, eye, now));
-        ASSERT_TRUE(streamer.flush());
+        FlushedWorld w(terrain, path, glm::dvec3(16.5, 20.0, 16.5));
+        ASSERT_TRUE(w.ok);
+        auto& [rec, lod, streamer] = w.rig;
+        Clock::time_point& now = w.now;
         top = lod.top_level();
         ASSERT_GE(top, 1);
         const glm::dvec3 far(32000.5, 20.0, -9000.5);
