@@ -4,7 +4,6 @@
 // saved is lost. The failure is injected by a ChunkStore wrapper around a real SqliteStore.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -17,6 +16,7 @@
 #include <vx/log.h>
 
 #include "engine/chunk_streamer.h"
+#include "job_test_util.h"
 #include "stream_test_util.h"
 #include "thread_refusal.h"
 #include "world/gen/terrain.h"
@@ -216,21 +216,24 @@ TEST(StoreFaults, AChunkWhoseLoadFailsIsNotGeneratedOverAndLoadsWhenTheStoreIsBa
 namespace {
 
 // A shared store in miniature: chunk `c` is stored (version `current`), everything else absent.
-// A load of `c` reads the version current when it starts, then waits for `gate` (a load in
-// flight); poll_changes hands out what `announce` queued. I/O lane and test thread: under a lock.
+// A load of `c` reads the version current when it starts, opens `loading`, then waits for
+// `released` (a load in flight); poll_changes hands out what `announce` queued. I/O lane and test
+// thread: the version and the news under a lock.
 class SharedFake final : public ChunkStore {
 public:
     SharedFake(ChunkCoord c, Chunk first) : m_c(c), m_current(std::move(first)) {}
+    engine::test::Gate loading, released;
     Result<ChunkLoad> load(ChunkCoord c) override {
         ChunkLoad out;
         if (c != m_c)
             return out;
-        std::unique_lock lock(m_mutex);
         out.state = LoadState::Present;
-        out.chunk = m_current;
-        ++m_loads;
-        m_cv.notify_all();
-        m_cv.wait(lock, [&] { return m_open; });
+        {
+            std::lock_guard lock(m_mutex);
+            out.chunk = m_current;
+        }
+        loading.open();
+        released.wait();
         return out;
     }
     // Test thread: another process's commit of `c`, and its notification.
@@ -238,15 +241,6 @@ public:
         std::lock_guard lock(m_mutex);
         m_current = std::move(next);
         m_changed.push_back(m_c);
-    }
-    void open_gate() {
-        std::lock_guard lock(m_mutex);
-        m_open = true;
-        m_cv.notify_all();
-    }
-    bool wait_for_load() {
-        std::unique_lock lock(m_mutex);
-        return m_cv.wait_for(lock, std::chrono::minutes(1), [&] { return m_loads > 0; });
     }
     void poll_changes(std::vector<ChunkCoord>& out) override {
         std::lock_guard lock(m_mutex);
@@ -269,11 +263,8 @@ public:
 private:
     const ChunkCoord m_c;
     std::mutex m_mutex;
-    std::condition_variable m_cv;
     Chunk m_current;
     std::vector<ChunkCoord> m_changed;
-    int m_loads = 0;
-    bool m_open = false;
 };
 
 } // namespace
@@ -291,14 +282,14 @@ TEST(StoreFaults, AChangeDuringALoadIsReadOnceTheChunkIsPresent) {
     ChunkStreamer s(gen, &store, sink, settings());
     Clock::time_point now = Clock::now();
     s.update(eye, glm::dvec3(0, 0, -1), now);
-    ASSERT_TRUE(store.wait_for_load()); // In flight: it has read version 1.
+    store.loading.wait(); // In flight: it has read version 1.
     store.announce(Chunk(2));
     for (int i = 0; i < 5; ++i) { // The news arrives while the chunk is still requested.
         now += std::chrono::milliseconds(16);
         s.update(eye, glm::dvec3(0, 0, -1), now);
     }
     ASSERT_EQ(s.world().find_chunk(c), nullptr);
-    store.open_gate();
+    store.released.open();
     ASSERT_TRUE(settle(s, eye, now));
     const auto limit = Clock::now() + std::chrono::minutes(1);
     while (s.get_block(BlockPos(8, 60, 8)) != BlockId(2) && Clock::now() < limit) {
