@@ -6,8 +6,8 @@
 
 #include "engine/cpu_time.h"
 #include "engine/engine_impl.h"
-#include "render/renderer.h"
 #include "world/base/log.h"
+#include "world/coords.h"
 #include "world/lod/lod_cut.h"
 #include "world/raycast.h"
 
@@ -107,6 +107,12 @@ Result<std::unique_ptr<render::Renderer>> make_renderer(const RenderDesc& desc, 
 
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Whether a position's offset from its block is past 2^40 on some axis: the caller is to put the
+// position in the block (the float camera and the raycast's anchor need a small offset).
+bool offset_too_far(const glm::dvec3& offset) {
+    return glm::any(glm::greaterThan(glm::abs(offset), glm::dvec3(double(int64_t(1) << 40))));
+}
+
 // Why the renderer could not make a camera of `v` (render::Renderer builds its basis from
 // normalize(cross(forward, up))), or success. Checked where the viewer arrives.
 Status check_viewer(const Viewer& v) {
@@ -117,11 +123,11 @@ Status check_viewer(const Viewer& v) {
         return Error{"viewer: forward is zero (it gives the view direction)"};
     if (v.up == glm::dvec3(0.0))
         return Error{"viewer: up is zero (give the world's up, e.g. 0, 1, 0)"};
-    if (glm::any(glm::greaterThan(glm::abs(v.offset), glm::dvec3(double(int64_t(1) << 40)))))
+    if (offset_too_far(v.offset))
         return Error{"viewer: keep the offset small and put the position in `block`"};
     // The same bound the renderer's float basis tolerates (sine of the angle between them), on
-    // the unit vectors it gets (any length of forward and up is fine: render::unit_direction).
-    if (!(glm::length(glm::cross(render::unit_direction(v.forward), render::unit_direction(v.up))) > 1e-6))
+    // the unit vectors it gets (any length of forward and up is fine: world::unit_direction).
+    if (!(glm::length(glm::cross(world::unit_direction(v.forward), world::unit_direction(v.up))) > 1e-6))
         return Error{"viewer: forward is parallel to up (looking straight up or down needs another up, e.g. 0, 0, -1)"};
     if (!(v.fov_y_degrees > 0.f && v.fov_y_degrees < 180.f))
         return Error{"viewer: fov_y_degrees must be in (0, 180), got " + std::to_string(v.fov_y_degrees)};
@@ -140,8 +146,8 @@ Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 
     // As shaders/shared/raygen_common.glsl primary_dir(): ndc in -1..1 over the frame (y down), the
     // vertical half-angle over the height, the aspect ratio widening x; the same basis as
     // render::Renderer (right = forward x up, up' = right x forward).
-    const glm::dvec3 fwd = render::unit_direction(viewer.forward);
-    const glm::dvec3 right = glm::normalize(glm::cross(fwd, render::unit_direction(viewer.up)));
+    const glm::dvec3 fwd = world::unit_direction(viewer.forward);
+    const glm::dvec3 right = glm::normalize(glm::cross(fwd, world::unit_direction(viewer.up)));
     const glm::dvec3 up = glm::cross(right, fwd);
     const glm::dvec2 ndc = pixel / glm::dvec2(frame_size) * 2.0 - 1.0;
     const double th = std::tan(glm::radians(double(viewer.fov_y_degrees)) * 0.5);
@@ -222,8 +228,8 @@ Status Engine::set_viewer(const Viewer& viewer) {
     m->viewer = viewer;
     m->viewer.block = block;
     m->viewer.offset -= whole;
-    m->viewer.forward = render::unit_direction(viewer.forward); // The camera's floats stay finite.
-    m->viewer.up = render::unit_direction(viewer.up);
+    m->viewer.forward = world::unit_direction(viewer.forward); // The camera's floats stay finite.
+    m->viewer.up = world::unit_direction(viewer.up);
     return {};
 }
 
@@ -234,7 +240,7 @@ void Engine::update(std::chrono::steady_clock::time_point now) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::chrono::nanoseconds cpu0 = engine::thread_cpu_time();
     if (m->lod) // Edits since the last frame reach the coarse levels before their chunks may go.
-        m->lod->apply_noted_edits();
+        m->lod->apply_edits();
     if (m->viewer.velocity)
         m->streamer->update(m->eye(), forward, *m->viewer.velocity, now);
     else
@@ -305,8 +311,7 @@ Result<RayHit> Engine::raycast(BlockPos origin_block, glm::dvec3 origin_offset, 
         return Error{s.error()};
     if (!finite(direction) || direction == glm::dvec3(0.0) || !finite(origin_offset))
         return Error{"raycast: the direction must be finite and non-zero, the origin finite"};
-    if (glm::any(glm::greaterThan(glm::abs(origin_offset), glm::dvec3(double(int64_t(1) << 40)))) ||
-        !world::in_world(origin_block))
+    if (offset_too_far(origin_offset) || !world::in_world(origin_block))
         return Error{"raycast: the origin block must lie inside the world (|coordinate| < 2^36) and the offset "
                      "be small (|offset| <= 2^40)"};
     if (!std::isfinite(max_distance) || max_distance < 0)

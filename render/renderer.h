@@ -32,14 +32,12 @@ namespace vx::render {
 
 class Context;
 
-// Camera directions are made unit in doubles first (a target 1e-30 blocks away, or 1e30: in
-// float their squares underflowed or overflowed, and the basis became NaN).
-using world::unit_direction;
-
 struct Camera {
     world::BlockPos block{0};       // World block holding the eye.
     glm::vec3 offset{0.5f};         // Eye position inside that block, 0..1 per axis.
-    glm::vec3 forward{0, 0, -1};    // View direction (need not be unit; see unit_direction).
+    glm::vec3 forward{0, 0, -1};    // View direction (need not be unit). From doubles of any
+                                    // length: world::unit_direction first (in float a 1e-30 one's
+                                    // square underflowed, and the basis became NaN).
     glm::vec3 up{0, 1, 0};          // Approximate up; must not be parallel to forward.
     float fov_y_degrees = 60.f;     // Vertical field of view.
 

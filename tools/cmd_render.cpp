@@ -181,8 +181,8 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     if (!up || *up == glm::dvec3(0.0))
         return "--up must be a non-zero X,Y,Z, got '" + a.up + "'";
     // Unit vectors before the camera's floats: a target 1e-30 blocks from the eye made a NaN basis.
-    const glm::dvec3 fwd = render::unit_direction(world_delta(*target, *eye));
-    const glm::dvec3 unit_up = render::unit_direction(*up);
+    const glm::dvec3 fwd = world::unit_direction(world_delta(*target, *eye));
+    const glm::dvec3 unit_up = world::unit_direction(*up);
     if (fwd == glm::dvec3(0.0) || !(glm::length(glm::cross(fwd, unit_up)) >= 1e-6))
         return "--target must differ from --eye and not lie along --up";
     out.camera.block = eye->block;
