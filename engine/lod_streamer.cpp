@@ -277,7 +277,8 @@ void LodStreamer::flush_edits() {
 void LodStreamer::apply_edits() {
     const int top = top_level();
     for (auto it = m_edited.begin(); it != m_edited.end();) {
-        const Chunk* child = m_blocks->find_chunk(*it);
+        const Chunk* const edited = m_blocks->find_chunk(*it); // Null: dropped before this.
+        const Chunk* child = edited;
         bool retry = false;
         LodCoord x{0, *it};
         for (int k = 1; child && k <= top; ++k) {
@@ -310,7 +311,7 @@ void LodStreamer::apply_edits() {
             // levels when the edited chunk is gone (dropped before its edit was applied): none
             // of them could be refreshed from it.
             std::vector<LodCoord> above;
-            for (int k = m_blocks->find_chunk(*it) ? top + 1 : 1; k <= kMaxLodLevel; ++k)
+            for (int k = edited ? top + 1 : 1; k <= kMaxLodLevel; ++k)
                 above.push_back(lod_ancestor({0, *it}, k));
             m_batch.push_back(std::make_unique<LodMarkDirtyJob>(*it, *m_store, std::move(above)));
         }

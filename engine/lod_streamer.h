@@ -100,7 +100,7 @@ public:
     // chunks are still in memory: call before the ChunkStreamer's update(), which may drop them
     // (update() applies what is left). An edited chunk already gone has its stored ancestors marked
     // stale instead, so they are derived from its saved blocks when next loaded.
-    void apply_noted_edits() { apply_edits(); }
+    void apply_edits();
     // Main thread. Applies the edits noted since the last update() now and submits their coarse
     // saves and stale marks, so a store flush requested next (Engine::save, shutdown) carries
     // them with the edits' own chunks: a coarse level saved or marked stale with its blocks,
@@ -155,7 +155,6 @@ private:
     void request_data(world::LodCoord c, Node& n);
     void request_mesh(world::LodCoord c, Node& n);
     void retry_failed(std::chrono::steady_clock::time_point now);
-    void apply_edits();
 
     bool ready(world::LodCoord c) const;
     const world::ChunkMesh* mesh_of(world::LodCoord c) const;

@@ -376,7 +376,7 @@ TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
 }
 
 // An edit to a chunk that the next frame drops (the viewer moved on): applied before the
-// ChunkStreamer's update (apply_noted_edits, as Engine::update does), its coarse levels are
+// ChunkStreamer's update (apply_edits, as Engine::update does), its coarse levels are
 // refreshed and saved; one whose chunk is already gone has every stored ancestor marked stale, to
 // be derived from the saved blocks. Before, apply_edits found no chunk and forgot the edit: the
 // coarse levels never showed it, in this session or the next.
@@ -396,7 +396,7 @@ TEST(LodStreamer, EditsOfChunksDroppedInTheNextFrameStillReachTheCoarseLevels) {
         streamer.update(far, glm::dvec3(1, 0, 0), now); // The old view's chunks are now outside.
         ASSERT_TRUE(streamer.set_block(applied, 1));
         lod.note_edit(chunk_of(applied));
-        lod.apply_noted_edits();
+        lod.apply_edits();
         ASSERT_TRUE(streamer.set_block(late, 1));
         lod.note_edit(chunk_of(late)); // Not applied before its chunk goes.
         now += std::chrono::minutes(1); // Past any unload delay: the next updates drop them.
