@@ -26,19 +26,26 @@ std::vector<std::string> split_commas(const std::string& s) {
     return parts;
 }
 
+std::optional<int64_t> parse_i64(const std::string& s) {
+    const char* b = s.c_str();
+    char* end = nullptr;
+    errno = 0;
+    const long long x = std::strtoll(b, &end, 10);
+    if (errno != 0 || end == b || *end != '\0')
+        return std::nullopt;
+    return int64_t(x);
+}
+
 std::optional<glm::i64vec3> parse_i64vec3(const std::string& s) {
     const auto parts = split_commas(s);
     if (parts.size() != 3)
         return std::nullopt;
     glm::i64vec3 v;
     for (int i = 0; i < 3; ++i) {
-        const char* b = parts[i].c_str();
-        char* end = nullptr;
-        errno = 0;
-        const long long x = std::strtoll(b, &end, 10);
-        if (errno != 0 || end == b || *end != '\0')
+        const std::optional<int64_t> x = parse_i64(parts[i]);
+        if (!x)
             return std::nullopt;
-        v[i] = x;
+        v[i] = *x;
     }
     return v;
 }

@@ -27,6 +27,8 @@ inline constexpr int kExitBadInput = 2; // Bad arguments or unreadable/corrupt i
 // "a,b,,c" -> {"a", "b", "", "c"}; a trailing comma gives a trailing empty part.
 std::vector<std::string> split_commas(const std::string& s);
 
+// Parses one decimal 64-bit integer; nullopt on anything else (overflow included).
+std::optional<int64_t> parse_i64(const std::string& s);
 // Parses "X,Y,Z" of 64-bit integers; nullopt on anything else (overflow included).
 std::optional<glm::i64vec3> parse_i64vec3(const std::string& s);
 // Parses "X,Y,Z" of finite doubles.

@@ -33,11 +33,17 @@ std::optional<BlockBox> parse_box(const std::string& s) {
     const std::vector<std::string> parts = split_commas(s);
     if (parts.size() != 6)
         return std::nullopt;
-    const auto lo = parse_i64vec3(parts[0] + "," + parts[1] + "," + parts[2]);
-    const auto hi = parse_i64vec3(parts[3] + "," + parts[4] + "," + parts[5]);
-    if (!lo || !hi || !in_world(BlockPos(*lo)) || !in_world(BlockPos(*hi)) || glm::any(glm::greaterThan(*lo, *hi)))
+    BlockPos lo(0), hi(0);
+    for (int i = 0; i < 3; ++i) {
+        const std::optional<int64_t> a = parse_i64(parts[size_t(i)]), b = parse_i64(parts[size_t(i + 3)]);
+        if (!a || !b)
+            return std::nullopt;
+        lo[i] = *a;
+        hi[i] = *b;
+    }
+    if (!in_world(lo) || !in_world(hi) || glm::any(glm::greaterThan(lo, hi)))
         return std::nullopt;
-    return BlockBox{BlockPos(*lo), BlockPos(*hi)};
+    return BlockBox{lo, hi};
 }
 
 struct ExportArgs {
