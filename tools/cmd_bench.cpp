@@ -13,6 +13,33 @@
 
 namespace vx::tools {
 
+#ifdef VX_HAVE_BENCHMARKS
+namespace {
+
+// The reporter --benchmark_format asks for, noting each run that stopped with SkipWithError
+// (a store that could not be opened, a failed save): Google Benchmark prints such a run as an
+// error line yet exits 0, and a script must not take its missing figures as measured.
+class ErrorNotingReporter final : public benchmark::BenchmarkReporter {
+public:
+    explicit ErrorNotingReporter(benchmark::BenchmarkReporter* inner) : m_inner(inner) {}
+    bool ReportContext(const Context& context) override { return m_inner->ReportContext(context); }
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& run : runs)
+            if (run.error_occurred)
+                m_failed.push_back(run.benchmark_name() + ": " + run.error_message);
+        m_inner->ReportRuns(runs);
+    }
+    void Finalize() override { m_inner->Finalize(); }
+    const std::vector<std::string>& failed() const { return m_failed; }
+
+private:
+    benchmark::BenchmarkReporter* m_inner; // Google Benchmark's own, not ours to delete.
+    std::vector<std::string> m_failed;
+};
+
+} // namespace
+#endif
+
 int run_bench(int argc, char** argv) {
     if (argc >= 2 && std::string(argv[1]) == "render") // A renderer report, not Google Benchmark.
         return run_bench_render_command(argc - 1, argv + 1);
@@ -43,12 +70,15 @@ int run_bench(int argc, char** argv) {
     benchmark::Initialize(&n, args.data());
     if (benchmark::ReportUnrecognizedArguments(n, args.data()))
         return kExitBadInput;
-    if (benchmark::RunSpecifiedBenchmarks() == 0) {
+    ErrorNotingReporter reporter(benchmark::CreateDefaultDisplayReporter());
+    if (benchmark::RunSpecifiedBenchmarks(&reporter) == 0) {
         std::fprintf(stderr, "vx: no benchmark matches suite '%s'\n", suite.c_str());
         return kExitBadInput;
     }
     benchmark::Shutdown();
-    return kExitOk;
+    for (const std::string& failed : reporter.failed())
+        std::fprintf(stderr, "vx: benchmark failed, no figure: %s\n", failed.c_str());
+    return reporter.failed().empty() ? kExitOk : kExitFailure;
 #endif
 }
 

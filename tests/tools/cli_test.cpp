@@ -600,7 +600,8 @@ TEST(Cli, BenchVdbRemovesOnlyTheFolderItMade) {
 #endif
 
 // `vx bench store` with an unusable $TMPDIR (here a file) reports that its scratch folder cannot
-// be made and touches nothing: it once fell back to /tmp and removed all of /tmp at exit.
+// be made and touches nothing: it once fell back to /tmp and removed all of /tmp at exit. The
+// benchmark that could not run makes the exit 1 (Google Benchmark alone exits 0 after it).
 TEST(Cli, BenchStoreWithAnUnusableTmpdirTouchesNothing) {
     if (run_vx("bench store --help").code != 0)
         GTEST_SKIP() << "this build has no benchmarks (VX_BUILD_BENCHMARKS=OFF)";
@@ -611,6 +612,8 @@ TEST(Cli, BenchStoreWithAnUnusableTmpdirTouchesNothing) {
     std::ofstream(file) << "kept\n";
     const CliRun r = run_vx("bench store --benchmark_filter=store/sqlite_save_chunks_per_commit/64", "TMPDIR=" + file.string());
     EXPECT_NE(r.out.find("cannot make a scratch folder in '" + file.string() + "'"), std::string::npos) << r.out;
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("vx: benchmark failed, no figure: store/sqlite_save_chunks_per_commit/64"), std::string::npos) << r.out;
     EXPECT_EQ(read_file(file), "kept\n");
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
 }
