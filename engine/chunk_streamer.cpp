@@ -9,6 +9,7 @@
 #include "engine/cpu_time.h"
 #include "engine/stream_jobs.h"
 #include "world/base/log.h"
+#include "world/coords.h"
 
 namespace vx::engine {
 
@@ -105,11 +106,15 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
         return chunk_of(BlockPos(int64_t(std::floor(p.x)), int64_t(std::floor(p.y)), int64_t(std::floor(p.z))));
     };
     const ChunkCoord center = chunk_at(position);
-    // Never look further ahead than the view radius itself.
+    // Never look further ahead than the view radius itself. A finite velocity times the
+    // lookahead may overflow (1e308 blocks/s): then only its direction counts.
     glm::dvec3 ahead = m_velocity * m_settings.lookahead_s;
     const double reach = double(m_settings.view_radius * kChunkSize);
-    if (glm::length(ahead) > reach)
-        ahead *= reach / glm::length(ahead);
+    const double length = glm::length(ahead);
+    if (!std::isfinite(length))
+        ahead = world::unit_direction(m_velocity) * reach;
+    else if (length > reach)
+        ahead *= reach / length;
     const ChunkCoord lead = chunk_at(position + ahead);
     if (!m_have_center || center != m_center || lead != m_lead) {
         const ChunkCoord old_center = m_center, old_lead = m_lead;

@@ -453,3 +453,25 @@ TEST(Streaming, MetricsMatchARecountInFlight) {
     EXPECT_EQ(s.metrics().meshed, s.metrics().wanted_meshes);
     EXPECT_EQ(s.metrics().pending_meshes, 0u);
 }
+
+// A game's velocity of 1e308 blocks/s is finite, but times the lookahead it is not: the lookahead
+// point was once NaN (converted to a chunk coordinate: undefined behaviour, a lead chunk near the
+// world's edge). It is where any speed past the view radius puts it: the view radius ahead.
+TEST(Streaming, AnyFiniteVelocityLooksAheadTheViewRadius) {
+    const TerrainGenerator gen(5);
+    const glm::dvec3 pos(0.5, gen.surface_height(0, 0), 0.5);
+    const ChunkCoord lead = chunk_at(pos + glm::dvec3(2 * 32, 0, 0)); // view_radius 2 chunks ahead.
+    for (const double speed : {1e6, 1e308}) {
+        Recorder sink;
+        ChunkStreamer s(gen, nullptr, sink, small_settings());
+        Clock::time_point now = Clock::now();
+        const auto limit = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+        do {
+            s.update(pos, glm::dvec3(1, 0, 0), glm::dvec3(speed, 0, 0), now += std::chrono::milliseconds(16));
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        } while (!s.settled() && std::chrono::steady_clock::now() < limit);
+        ASSERT_TRUE(s.settled()) << speed;
+        EXPECT_EQ(count_meshes(s, lead, 2, 1), size_t(5 * 5 * 3)) << speed;
+        EXPECT_EQ(sink.meshes.size(), size_t(5 * 7 * 3)) << speed; // The two rings overlap.
+    }
+}
