@@ -166,6 +166,11 @@ void LodStreamer::on_lod_data(LodCoord c, std::optional<Chunk> chunk, const std:
         return; // Released meanwhile.
     Node& n = it->second;
     --m_metrics.pending_data;
+    if (n.reload_on_arrival) { // Made stale while this load ran: load it again.
+        n.reload_on_arrival = false;
+        request_data(c, n);
+        return;
+    }
     if (!chunk) {
         // Nothing invented: the chunk above (or a hole, for a root) stays until a retry works.
         n.data = Data::Failed;
@@ -185,9 +190,13 @@ void LodStreamer::on_lod_data(LodCoord c, std::optional<Chunk> chunk, const std:
     n.chunk = std::move(*chunk);
     m_metrics.block_bytes[size_t(c.level)] += n.chunk.memory_bytes();
     if (n.chunk.is_empty()) { // Air: nothing to mesh, nothing to draw.
+        const bool was_ready = n.meshed; // Reloaded (reload()): drawn, maybe.
         n.mesh.reset();
         n.meshed = true;
-        became_ready(c);
+        if (drawn(c))
+            m_down.on_lod_mesh(c, empty_mesh());
+        else if (!was_ready)
+            became_ready(c);
         return;
     }
     request_mesh(c, n);
@@ -279,21 +288,24 @@ void LodStreamer::apply_edits() {
     for (auto it = m_edited.begin(); it != m_edited.end();) {
         const Chunk* const edited = m_blocks->find_chunk(*it); // Null: dropped before this.
         const Chunk* child = edited;
-        bool retry = false;
+        bool retry = false, unchanged = false;
+        int k = 1; // The first level not refreshed from the edited chunk.
         LodCoord x{0, *it};
-        for (int k = 1; child && k <= top; ++k) {
+        for (; child && k <= top; ++k) {
             const LodCoord p = lod_parent(x);
             auto nit = m_coarse.find(p);
             if (nit == m_coarse.end())
-                break; // Not kept: made afresh (from the store) if it comes back.
+                break; // Not kept: derived from the store if it comes back (stale below).
             Node& n = nit->second;
             if (n.data != Data::Present) {
                 retry = n.data == Data::Requested; // Applied once it arrives.
                 break;
             }
             const size_t bytes = n.chunk.memory_bytes();
-            if (!refresh_octant(n.chunk, *child, lod_octant(x)))
-                break; // Nothing changed at this level: none above changes either.
+            if (!refresh_octant(n.chunk, *child, lod_octant(x))) {
+                unchanged = true; // Nothing changed at this level: none above changes either.
+                break;
+            }
             m_metrics.block_bytes[size_t(k)] += n.chunk.memory_bytes() - bytes;
             ++m_metrics.edits_applied;
             // The old mesh stays drawn until the new one replaces it.
@@ -306,17 +318,49 @@ void LodStreamer::apply_edits() {
             x = p;
             child = &n.chunk;
         }
-        if (!retry && m_store && m_store->supports_lod() && !m_store->read_only()) {
-            // Levels above those kept here: stored ones (vx world gen --lod-levels) go stale. All
-            // levels when the edited chunk is gone (dropped before its edit was applied): none
-            // of them could be refreshed from it.
-            std::vector<LodCoord> above;
-            for (int k = edited ? top + 1 : 1; k <= kMaxLodLevel; ++k)
-                above.push_back(lod_ancestor({0, *it}, k));
-            m_batch.push_back(std::make_unique<LodMarkDirtyJob>(*it, *m_store, std::move(above)));
-        }
+        if (!retry && m_store && m_store->supports_lod() && !m_store->read_only())
+            mark_stale(*it, unchanged ? top + 1 : k);
         it = retry ? std::next(it) : m_edited.erase(it);
     }
+}
+
+// Levels `from` and up over `edited` could not be refreshed from it (it was dropped before its
+// edit was applied, or a level between was not kept): stored ones are marked stale and every
+// later load of them derives them from the saved blocks; those kept here are derived again now.
+void LodStreamer::mark_stale(ChunkCoord edited, int from) {
+    if (from > kMaxLodLevel)
+        return;
+    auto stale = std::make_shared<LodDirtySet>(m_stale ? *m_stale : LodDirtySet{}); // Jobs hold the old set.
+    std::vector<LodCoord> above;
+    for (int k = from; k <= kMaxLodLevel; ++k) {
+        above.push_back(lod_ancestor({0, edited}, k));
+        stale->insert(above.back());
+    }
+    m_stale = std::move(stale);
+    m_batch.push_back(std::make_unique<LodMarkDirtyJob>(edited, *m_store, above));
+    for (LodCoord c : above) {
+        auto nit = m_coarse.find(c);
+        if (nit == m_coarse.end())
+            continue;
+        Node& n = nit->second;
+        if (n.data == Data::Requested && n.submitted)
+            n.reload_on_arrival = true; // Its load may have read the store before the edit's save.
+        else if (n.data == Data::Present)
+            reload(c, n);
+    }
+}
+
+// Present data replaced by a new load (derived, as `c` is stale); the mesh stays drawn until the
+// new one replaces it.
+void LodStreamer::reload(LodCoord c, Node& n) {
+    if (n.mesh_pending) {
+        m_jobs->cancel(lod_job_key(c, JobKind::Mesh));
+        --m_metrics.pending_meshes;
+        n.mesh_pending = n.mesh_stale = false;
+    }
+    m_metrics.block_bytes[size_t(c.level)] -= n.chunk.memory_bytes();
+    n.chunk = Chunk();
+    request_data(c, n);
 }
 
 // ---- The drawn cut ---------------------------------------------------------------------------

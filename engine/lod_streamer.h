@@ -98,8 +98,8 @@ public:
     void note_edit(world::ChunkCoord c);
     // Main thread. Applies the edits noted so far to the coarse levels kept here, while their
     // chunks are still in memory: call before the ChunkStreamer's update(), which may drop them
-    // (update() applies what is left). An edited chunk already gone has its stored ancestors marked
-    // stale instead, so they are derived from its saved blocks when next loaded.
+    // (update() applies what is left). An edited chunk already gone has its ancestors marked stale
+    // instead: the stored ones and those kept here are derived from its saved blocks.
     void apply_edits();
     // Main thread. Applies the edits noted since the last update() now and submits their coarse
     // saves and stale marks, so a store flush requested next (Engine::save, shutdown) carries
@@ -137,6 +137,7 @@ private:
         bool mesh_pending = false;  // A mesh job is in flight.
         bool mesh_stale = false;    // Its snapshot predates an edit: mesh again when it returns.
         bool submitted = false;     // Requested: its load/generate job was submitted.
+        bool reload_on_arrival = false; // Requested: made stale meanwhile; load again when it lands.
         uint8_t failures = 0;       // Data failures in a row (retry back-off).
         std::chrono::steady_clock::time_point retry_at{};
         world::Chunk chunk;         // Present: the cells.
@@ -153,6 +154,8 @@ private:
     void keep(world::LodCoord c);
     void release(world::LodCoord c);
     void request_data(world::LodCoord c, Node& n);
+    void mark_stale(world::ChunkCoord edited, int from);
+    void reload(world::LodCoord c, Node& n);
     void request_mesh(world::LodCoord c, Node& n);
     void retry_failed(std::chrono::steady_clock::time_point now);
 
@@ -194,7 +197,8 @@ private:
     std::vector<std::pair<world::LodCoord, std::chrono::steady_clock::time_point>> m_retry;
     std::vector<std::unique_ptr<Job>> m_batch; // Jobs made this update, submitted at its end.
     std::chrono::steady_clock::time_point m_last_now{};
-    // Coarse chunks the store marked stale when this object was made (re-derived on load).
+    // Coarse chunks the store marked stale when this object was made, and those marked since
+    // (mark_stale): derived on load. Copied on change: jobs in flight hold the set they began with.
     std::shared_ptr<const world::LodDirtySet> m_stale;
     int m_draws = 0; // Chunks drawn in this update (the queue's budget).
     bool m_holes_dirty = true;

@@ -377,8 +377,8 @@ TEST(LodStreamer, AFlushRightAfterAnEditCarriesTheCoarseLevels) {
 
 // An edit to a chunk that the next frame drops (the viewer moved on): applied before the
 // ChunkStreamer's update (apply_edits, as Engine::update does), its coarse levels are
-// refreshed and saved; one whose chunk is already gone has every stored ancestor marked stale, to
-// be derived from the saved blocks. Before, apply_edits found no chunk and forgot the edit: the
+// refreshed and saved; one whose chunk is already gone has every ancestor marked stale, to be
+// derived from the saved blocks (those still kept are derived at once, and saved). Before, apply_edits found no chunk and forgot the edit: the
 // coarse levels never showed it, in this session or the next.
 TEST(LodStreamer, EditsOfChunksDroppedInTheNextFrameStillReachTheCoarseLevels) {
     const TerrainGenerator terrain(5);
@@ -414,9 +414,53 @@ TEST(LodStreamer, EditsOfChunksDroppedInTheNextFrameStillReachTheCoarseLevels) {
     ASSERT_TRUE(store);
     auto dirty = store->list_lod_dirty();
     ASSERT_TRUE(dirty) << dirty.error();
-    for (int k = 1; k <= kMaxLodLevel; ++k)
-        EXPECT_NE(std::find(dirty->begin(), dirty->end(), lod_ancestor({0, chunk_of(late)}, k)), dirty->end())
-            << "level " << k << " of the dropped chunk's ancestors is not marked stale";
+    for (int k = 1; k <= kMaxLodLevel; ++k) { // Marked stale, or derived again (those kept) and saved.
+        const LodCoord c = lod_ancestor({0, chunk_of(late)}, k);
+        if (std::find(dirty->begin(), dirty->end(), c) != dirty->end())
+            continue;
+        auto loaded = store->load_lod(c);
+        ASSERT_TRUE(loaded) << loaded.error();
+        ASSERT_EQ(loaded->state, LoadState::Present) << "level " << k << " is neither stale nor saved";
+        EXPECT_NE(loaded->chunk->get(local_index(lod_local_of(late, k))), kAir) << "level " << k;
+    }
+    std::filesystem::remove(path);
+}
+
+// The same with the coarse levels still kept in memory (the viewer moved only far enough to drop
+// the edited chunk, not its coarse ancestors): those are derived again from the saved blocks. They
+// once kept their old cells, so the far view lacked the edit for the rest of the session.
+TEST(LodStreamer, KeptCoarseChunksOverADroppedEditedChunkShowTheEdit) {
+    const TerrainGenerator terrain(5);
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_dropped_kept.sqlite");
+    const BlockPos late(84, 45, 20); // Level-0 chunk 2, high in the air: every level's cell changes.
+    {
+        FlushedWorld w(terrain, path, glm::dvec3(16.5, 20.0, 16.5));
+        ASSERT_TRUE(w.ok);
+        auto& [rec, lod, streamer] = w.rig;
+        Clock::time_point& now = w.now;
+        const int top = lod.top_level();
+        ASSERT_GE(top, 1);
+        const glm::dvec3 moved(-100.5, 20.0, 16.5); // Level-0 chunk -4: chunk 2 leaves the view.
+        ASSERT_TRUE(streamer.set_block(late, 1));
+        lod.note_edit(chunk_of(late)); // Not applied before its chunk goes.
+        now += std::chrono::minutes(1);
+        const auto limit = Clock::now() + std::chrono::minutes(1);
+        do {
+            now += std::chrono::milliseconds(16);
+            streamer.update(moved, glm::dvec3(1, 0, 0), now);
+        } while (streamer.world().find_chunk(chunk_of(late)) && Clock::now() < limit);
+        ASSERT_EQ(streamer.world().find_chunk(chunk_of(late)), nullptr) << "the edited chunk was dropped";
+        ASSERT_TRUE(settle(streamer, lod, moved, now));
+        int kept = 0;
+        for (int k = 1; k <= top; ++k) {
+            if (const Chunk* coarse = lod.coarse_chunk(lod_chunk_of(late, k))) {
+                ++kept;
+                EXPECT_NE(coarse->get(local_index(lod_local_of(late, k))), kAir) << "level " << k;
+            }
+        }
+        EXPECT_GE(kept, 2) << "of " << top << " levels over the edit, kept in memory";
+        ASSERT_TRUE(streamer.flush());
+    }
     std::filesystem::remove(path);
 }
 
