@@ -224,6 +224,26 @@ TEST(VdbStream, WriteFailureKeepsTheOldFile) {
     EXPECT_EQ(files, 1u);
 }
 
+size_t open_descriptors() {
+    size_t n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/fd"))
+        ++n;
+    return n;
+}
+
+// Exports in one process (a game's, the bench loop) close every file they open: the root
+// topology's scratch file once stayed open (and its space on disk, unlinked) after each export.
+TEST(VdbStream, ExportsLeaveNoFileOpen) {
+    TempDir dir;
+    const std::string path = dir.file("many.vdb");
+    const world::World w = varied_world(2);
+    ASSERT_TRUE(export_vdb(w, path));
+    const size_t before = open_descriptors();
+    for (int i = 0; i < 20; ++i)
+        ASSERT_TRUE(export_vdb(w, path));
+    EXPECT_EQ(open_descriptors(), before);
+}
+
 // An export to a symbolic link replaces (or creates) the file the link names, keeping its mode,
 // and keeps the link. One to a device is refused, and the device stays: the temporary's rename would have
 // replaced it (as root, /dev/null itself).

@@ -132,7 +132,7 @@ struct VdbStreamWriter::State {
     std::vector<Bytef> zipped;
 
     ~State() {
-        for (std::FILE* f : {out.f, kids.f, bufs.f})
+        for (std::FILE* f : {out.f, kids.f, roots.f, bufs.f})
             if (f)
                 std::fclose(f);
         if (!finished && !tmp.empty()) {
