@@ -5,6 +5,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -54,6 +55,25 @@ bool names_vdb_file(const std::string& world) {
     return world.size() > 4 && world.compare(world.size() - 4, 4, ".vdb") == 0;
 }
 
+// The file `out` names when it is one of the files the export reads (the world, the overlay, or
+// SQLite's -wal and -shm beside them): the export replaces `out` whole, so the world it read from
+// would be gone. Empty when it is none of them.
+std::string export_reads(const ExportArgs& a) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> inputs = {a.world};
+    if (names_vdb_file(a.world))
+        inputs.push_back(a.overlay.empty() ? default_overlay_name(a.world) : a.overlay);
+    for (size_t i = 0, n = inputs.size(); i < n; ++i)
+        for (const char* suffix : {"-wal", "-shm"})
+            inputs.push_back(inputs[i] + suffix);
+    for (const std::string& in : inputs) {
+        std::error_code ec;
+        if (fs::equivalent(a.out, in, ec))
+            return in;
+    }
+    return {};
+}
+
 int run_export(const ExportArgs& a) {
     std::optional<BlockBox> box;
     if (!a.box.empty() && !(box = parse_box(a.box)))
@@ -61,6 +81,8 @@ int run_export(const ExportArgs& a) {
                          "(|coordinate| < 2^36)");
     if (std::string why = output_file_problem(a.out); !why.empty())
         return bad_input("--out: " + why);
+    if (std::string in = export_reads(a); !in.empty())
+        return bad_input("--out '" + a.out + "' is '" + in + "', which the export reads: it would replace the world");
     if (!a.overlay.empty() && !names_vdb_file(a.world))
         return bad_input("--overlay goes with a VDB world (a .vdb file), not '" + a.world + "'");
     const auto t0 = Clock::now();

@@ -391,6 +391,16 @@ TEST(Cli, VdbExportImport) {
         EXPECT_TRUE(it->second == chunk);
     }
     EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 1,2,3").code, 2);
+    // An export over the store it reads (itself, or by a link) is refused: it replaced the store
+    // with the VDB file and exited 0.
+    const std::string link = (dir / "link.db").string();
+    std::filesystem::create_symlink(db, link);
+    for (const std::string& out : {db, link}) {
+        r = run_vx("export-vdb " + db + " --out " + out);
+        EXPECT_EQ(r.code, 2) << r.out;
+        EXPECT_NE(r.out.find("which the export reads"), std::string::npos) << r.out;
+    }
+    EXPECT_EQ(store_chunks(db).size(), a.size());
     // Past 64 bits (strtoll clamped it: an empty export and exit 0) or outside the world.
     EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 99999999999999999999,0,0,99999999999999999999,1,1")
                   .code,
