@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "cli_common.h"
+#include "world/base/file_lock.h"
 #include "world/store/pg_store.h"
 #include "world/store/sqlite_store.h"
 #include "world/store/store_open.h"
@@ -133,11 +134,17 @@ Status replace_sqlite_world(const std::string& tmp, const std::string& path) {
     std::error_code ec;
     if (fs::exists(path, ec)) {
         // Fold the old world's WAL into its file first, so no stale -wal is applied to the new one.
+        // Refused while a writer has it open (its lock), or a reader (its -wal stays).
         if (auto old = SqliteStore::open({path}); !old)
             return Error{"cannot replace '" + path + "': " + old.error()};
         if (fs::exists(path + "-wal", ec))
             return Error{"cannot replace '" + path + "': it is open in another process"};
     }
+    // No writer may open the old world between the check and the rename (its edits would go to a
+    // removed file).
+    auto lock = FileLock::acquire(path);
+    if (!lock)
+        return Error{"cannot replace " + lock.error()};
     fs::rename(tmp, path, ec);
     if (ec)
         return Error{"cannot move the new world into place at '" + path + "': " + ec.message()};
@@ -155,7 +162,7 @@ Status save_store_world(const World& world, const std::string& path, const std::
     const std::string tmp = path + ".tmp-" + std::to_string(getpid());
     auto remove_tmp = [&tmp] {
         std::error_code ec;
-        for (const char* suffix : {"", "-wal", "-shm"})
+        for (const char* suffix : {"", "-wal", "-shm", "-lock"})
             fs::remove(tmp + suffix, ec);
     };
     remove_tmp();
@@ -164,6 +171,8 @@ Status save_store_world(const World& world, const std::string& path, const std::
         s = replace_sqlite_world(tmp, path);
     if (!s.ok())
         remove_tmp(); // No failure leaves the half-written store beside the world.
+    std::error_code ec;
+    fs::remove(lock_file_of(tmp), ec); // This process's own temporary's lock.
     return s;
 }
 

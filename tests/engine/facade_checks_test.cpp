@@ -305,6 +305,21 @@ public:
 
 std::string open_error(const vx::WorldSource& source) { return error_of(vx::Engine::create(tiny_info(source))); }
 
+// Two engines on one SQLite world each saved their own copy of a chunk both edited; the last
+// save won, and the other's edit, reported durable, was gone. The second is refused at create.
+TEST(FacadeChecks, ASecondEngineOnOneSqliteWorldIsRefused) {
+    const std::string path = checks_world("two_writers");
+    {
+        auto first = vx::Engine::create(tiny_info(vx::WorldSource::sqlite(path, 42)));
+        ASSERT_TRUE(first) << first.error();
+        const std::string e = open_error(vx::WorldSource::sqlite(path, 42));
+        EXPECT_NE(e.find("is open for writing elsewhere"), std::string::npos) << e;
+        EXPECT_NE(e.find("PostgreSQL"), std::string::npos) << e;
+        (*first)->shutdown();
+    }
+    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, 42)), "");
+}
+
 TEST(FacadeChecks, StoredWorldRefusesAnotherGenerator) {
     const std::string path = checks_world("generator");
     auto waves = std::make_shared<NamedGenerator>("waves", 1);

@@ -438,7 +438,7 @@ TEST(Cli, VdbExportImport) {
         // temporary, which it removes (it was left behind), and the open world is untouched.
         auto open_world = vx::world::SqliteStore::open({back});
         ASSERT_TRUE(open_world) << open_world.error();
-        refuses("import-vdb " + vdb + " --out " + back, "open in another process");
+        refuses("import-vdb " + vdb + " --out " + back, "open for writing elsewhere");
         EXPECT_EQ(temporaries(), 0);
     }
 

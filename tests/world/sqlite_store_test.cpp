@@ -1,3 +1,4 @@
+#include <csignal>
 #include <fstream>
 #include <random>
 
@@ -171,4 +172,59 @@ TEST(SqliteStoreErrors, DamagedDatabaseFileNeverCrashes) {
         }
         EXPECT_GT(bad, 0);
     }
+}
+
+// One writer per file. Two writers each saved their own copy of the same chunk, and the last
+// save won: the other's edit, reported saved, was gone. A second writer (in this process or
+// another) is refused at once; readers are not; a writer killed with SIGKILL leaves no lock.
+TEST(SqliteStoreErrors, ASecondWriterIsRefusedReadersAreNot) {
+    TempDir dir;
+    const std::string path = dir.file("w.db");
+    {
+        auto first = open_store(path);
+        ASSERT_TRUE(first);
+        ASSERT_TRUE(first->save({0, 0, 0}, versioned_chunk({0, 0, 0}, 1)).ok());
+        ASSERT_TRUE(first->flush().ok());
+        const std::string refused = open_error({.path = path});
+        EXPECT_NE(refused.find("is open for writing elsewhere"), std::string::npos) << refused;
+        EXPECT_NE(refused.find(path), std::string::npos) << refused;
+        auto reader = open_store(path, /*read_only=*/true);
+        ASSERT_TRUE(reader);
+        EXPECT_EQ(reader->load({0, 0, 0})->state, LoadState::Present);
+        std::fflush(nullptr);
+        const pid_t pid = ::fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            auto s = SqliteStore::open({.path = path});
+            ::_exit(!s && s.error().find("is open for writing elsewhere") != std::string::npos ? 0 : 1);
+        }
+        int status = 0;
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "another process opened it for writing";
+    }
+    // Closed: the next writer opens. Then a writer in a child that is killed: its lock goes with it.
+    ASSERT_TRUE(open_store(path));
+    int ready[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        auto s = SqliteStore::open({.path = path});
+        const char c = s ? 'y' : 'n';
+        (void)!::write(ready[1], &c, 1);
+        ::pause();
+        ::_exit(0);
+    }
+    char c = 0;
+    ASSERT_EQ(::read(ready[0], &c, 1), 1);
+    EXPECT_EQ(c, 'y');
+    EXPECT_NE(open_error({.path = path}).find("is open for writing elsewhere"), std::string::npos);
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+    ::close(ready[0]);
+    ::close(ready[1]);
+    auto after = open_store(path);
+    ASSERT_TRUE(after);
+    EXPECT_EQ(after->load({0, 0, 0})->state, LoadState::Present);
 }

@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include "world/base/file_lock.h"
 #include "world/base/log.h"
 
 namespace vx::world {
@@ -150,6 +151,12 @@ Status SqliteStore::init() {
         return db_error("cannot open");
     if (!m_info.read_only && sqlite3_db_readonly(m_db, "main") == 1)
         return Error{"store '" + m_info.path + "': the file is read-only"};
+    if (!m_info.read_only) { // Readers may look at a world a writer has open (WAL snapshots).
+        auto lock = FileLock::acquire(m_info.path);
+        if (!lock)
+            return Error{"store " + lock.error()};
+        m_lock = std::move(*lock);
+    }
     sqlite3_busy_timeout(m_db, 2000);
     sqlite3_extended_result_codes(m_db, 1);
     if (Status s = init_schema(); !s)

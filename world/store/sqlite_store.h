@@ -10,6 +10,8 @@
 //   lod_quarantine(id, level, x, y, z, data, reason, time)  coarse records that failed verification
 // Edits queue in memory and commit in one transaction (see chunk_store.h for the write model).
 // The file carries application_id "VXWD" and user_version 1; any other SQLite file is refused.
+// One read-write store per file at a time, in all processes (FileLock on "<path>-lock"); readers
+// are not limited.
 // Thread affinity: not thread-safe; one serial I/O lane thread only (as every ChunkStore).
 
 #include <chrono>
@@ -19,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include "world/base/file_lock.h"
 #include "world/store/chunk_record.h"
 #include "world/store/chunk_store.h"
 #include "world/store/pending_writes.h"
@@ -108,6 +111,7 @@ private:
 
     SqliteStoreCreateInfo m_info;
     sqlite3* m_db = nullptr;
+    FileLock m_lock; // Read-write stores: one writer per file (file_lock.h).
     std::unique_ptr<Stmts> m_stmts;
     std::unique_ptr<LodStmts> m_lod_stmts; // Null until the coarse-level tables are found.
     RecordCodec m_codec;
