@@ -147,10 +147,17 @@ Status check_block_names(world::ChunkStore& store, const std::string& path, cons
 
 // What made a world's unedited chunks, as its meta "generator" records it: "terrain" for the
 // built-in terrain (its seed is "seed"), "game:NAME/VERSION" for a game's Generator.
-std::string generator_identity(const WorldSource& source) {
+// The game's name() and version() may throw: an error, as its generate() gives.
+Result<std::string> generator_identity(const WorldSource& source) {
     if (!source.generator)
-        return "terrain";
-    return "game:" + std::string(source.generator->name()) + "/" + std::to_string(source.generator->version());
+        return std::string("terrain");
+    try {
+        return "game:" + std::string(source.generator->name()) + "/" + std::to_string(source.generator->version());
+    } catch (const std::exception& e) {
+        return Error{std::string("the game's generator name() or version() threw: ") + e.what()};
+    } catch (...) {
+        return Error{"the game's generator name() or version() threw an exception that is not a std::exception"};
+    }
 }
 
 // The identity for messages: "the built-in terrain" or "the generator 'NAME' version V".
@@ -176,7 +183,10 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
     for (const auto* r : {&made_by, &seed, &stored})
         if (!*r)
             return Error{r->error()};
-    const std::string identity = generator_identity(source);
+    const Result<std::string> made_now = generator_identity(source);
+    if (!made_now)
+        return Error{made_now.error()};
+    const std::string& identity = *made_now;
     const std::string recorded = *made_by ? **made_by : (*seed ? std::string("terrain") : identity);
     if (recorded != identity)
         return Error{path + " was made by " + describe_generator(recorded) + ", not " + describe_generator(identity) +

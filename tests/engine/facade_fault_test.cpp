@@ -312,6 +312,39 @@ TEST(FacadeFaults, ThrowingGeneratorInAStoredWorldStoresNothingOfItsChunk) {
     EXPECT_EQ(stored_block(path, {-32 + 8, 0, 8}), std::nullopt);
 }
 
+// A game's generator whose name() (or version()) throws: the exception once escaped
+// Engine::create and terminated the program; now create reports it.
+TEST(FacadeFaults, AGeneratorWhoseNameThrowsIsAnErrorFromCreate) {
+    class Nameless final : public vx::Generator {
+    public:
+        explicit Nameless(bool version) : m_version(version) {}
+        void generate(vx::ChunkCoord, std::span<vx::BlockId>) const override {}
+        std::string_view name() const override {
+            if (!m_version)
+                throw std::runtime_error("no name today");
+            return "nameless";
+        }
+        uint32_t version() const override {
+            if (m_version)
+                throw 7;
+            return 1;
+        }
+
+    private:
+        bool m_version;
+    };
+    for (const bool version : {false, true}) {
+        const std::string path = fault_world(version ? "throwing_version" : "throwing_name");
+        auto engine = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, std::make_shared<Nameless>(version))));
+        ASSERT_FALSE(engine);
+        EXPECT_NE(engine.error().find("the game's generator name() or version() threw"), std::string::npos)
+            << engine.error();
+        if (!version) {
+            EXPECT_NE(engine.error().find("no name today"), std::string::npos) << engine.error();
+        }
+    }
+}
+
 TEST(FacadeFaults, GameClockBehindSavesEdits) { check_save_delay_on_game_clock(-1h); }
 
 TEST(FacadeFaults, GameClockAheadWaitsForSaveDelay) { check_save_delay_on_game_clock(1h); }
