@@ -307,7 +307,10 @@ std::vector<BlockType> default_blocks() {
 }
 
 int64_t terrain_height(uint64_t seed, int64_t x, int64_t z) {
-    // Construction is a few lookups; callers spawning a player call this rarely.
+    // Construction is a few lookups; callers spawning a player call this rarely. Columns past the
+    // world's edge are the edge's (the noise lattice near 2^63 would overflow).
+    x = std::clamp(x, world::kWorldMinBlock, world::kWorldMaxBlock);
+    z = std::clamp(z, world::kWorldMinBlock, world::kWorldMaxBlock);
     return world::TerrainGenerator(seed).surface_height(x, z);
 }
 

@@ -599,7 +599,8 @@ Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 
 // write (a full disk; the cut file is removed). Thread-safe.
 Status write_png(const std::string& path, const Image& image);
 // The built-in terrain's surface height (world y of the topmost terrain block, before caves) at
-// column (x, z) for `seed`: where to put a player. Thread-safe.
+// column (x, z) for `seed`: where to put a player. A column outside the world (|x| or |z| past
+// 2^36 blocks) has the height of the nearest column at its edge. Thread-safe.
 int64_t terrain_height(uint64_t seed, int64_t x, int64_t z);
 
 } // namespace vx

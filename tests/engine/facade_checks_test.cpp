@@ -142,6 +142,17 @@ TEST(FacadeChecks, SetViewerKeepsTheStreamedBoxInsideTheWorld) {
     EXPECT_TRUE(e.get_block(inside.block).has_value());
 }
 
+// terrain_height is defined for every column: past the world's edge it is the edge's height (near
+// 2^63 the noise lattice overflowed, undefined behaviour and a meaningless height).
+TEST(FacadeChecks, TerrainHeightPastTheWorldsEdgeIsTheEdges) {
+    const int64_t lo = int64_t(INT32_MIN) * 32, hi = int64_t(INT32_MAX) * 32 + 31;
+    for (const uint64_t seed : {uint64_t(1), ~uint64_t(0)}) {
+        EXPECT_EQ(vx::terrain_height(seed, INT64_MAX, 5), vx::terrain_height(seed, hi, 5));
+        EXPECT_EQ(vx::terrain_height(seed, INT64_MAX - 100, INT64_MIN), vx::terrain_height(seed, hi, lo));
+        EXPECT_EQ(vx::terrain_height(seed, 7, INT64_MAX - (int64_t(1) << 20)), vx::terrain_height(seed, 7, hi));
+    }
+}
+
 TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
     auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
     ASSERT_TRUE(engine) << engine.error();
