@@ -134,6 +134,17 @@ Status check_viewer(const Viewer& v) {
     return {};
 }
 
+// The viewer's block with the offset's whole blocks folded in (so the float camera stays exact),
+// or why it cannot be streamed. The streamer's boxes reach 2 view radii + the unload margin + 2
+// chunks (at most 194) past the viewer's chunk, in 32-bit chunk coordinates; a box ending at
+// INT32_MAX once looped forever. The margin (2^17 blocks) keeps every box inside. `block` is
+// checked before the fold: near 2^63 the sum overflowed. Call after check_viewer.
+Result<BlockPos> viewer_block(const Viewer& v, const glm::dvec3& whole) {
+    if (!world::in_world(v.block) || !world::inside_edge_margin(v.block + BlockPos(whole)))
+        return Error{"viewer: position outside the streamed world (|coordinate| < 2^36 - 2^17 blocks)"};
+    return v.block + BlockPos(whole);
+}
+
 } // namespace
 
 Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 frame_size) {
@@ -154,7 +165,10 @@ Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 
     const double aspect = double(frame_size.x) / double(frame_size.y);
     ScreenRay ray;
     const glm::dvec3 whole = glm::floor(viewer.offset);
-    ray.origin_block = viewer.block + BlockPos(whole);
+    const Result<BlockPos> block = viewer_block(viewer, whole);
+    if (!block)
+        return Error{block.error()};
+    ray.origin_block = *block;
     ray.origin_offset = viewer.offset - whole;
     ray.direction = glm::normalize(fwd + ndc.x * th * aspect * right - ndc.y * th * up);
     return ray;
@@ -217,14 +231,11 @@ Status Engine::set_viewer(const Viewer& viewer) {
         return s;
     if (Status s = check_viewer(viewer); !s)
         return s;
-    // Fold the offset's whole blocks into the 64-bit block, so the float camera stays exact.
     const glm::dvec3 whole = glm::floor(viewer.offset);
-    const BlockPos block = viewer.block + BlockPos(whole);
-    // The streamer's boxes reach 2 view radii + the unload margin + 2 chunks (at most 194) past
-    // the viewer's chunk, in 32-bit chunk coordinates; a box ending at INT32_MAX once looped
-    // forever. The margin (2^17 blocks) keeps every box inside.
-    if (!world::inside_edge_margin(block))
-        return Error{"viewer: position outside the streamed world (|coordinate| < 2^36 - 2^17 blocks)"};
+    const Result<BlockPos> folded = viewer_block(viewer, whole);
+    if (!folded)
+        return Error{folded.error()};
+    const BlockPos block = *folded;
     m->viewer = viewer;
     m->viewer.block = block;
     m->viewer.offset -= whole;

@@ -125,14 +125,25 @@ TEST(FacadeChecks, SetViewerKeepsTheStreamedBoxInsideTheWorld) {
     ASSERT_TRUE(engine) << engine.error();
     vx::Engine& e = **engine;
     const int64_t edge = (int64_t(1) << 36) - (int64_t(1) << 17); // First block outside, positive side.
+    // screen_ray refuses the same viewers (it took them, and INT64_MAX plus an offset of 1.5
+    // overflowed to INT64_MIN); so does a block past the edge that the offset would bring back.
     for (int axis = 0; axis < 3; ++axis)
-        for (int64_t at : {edge, -edge - 1, edge + 1000, (int64_t(1) << 36) - 1}) {
+        for (int64_t at : {edge, -edge - 1, edge + 1000, (int64_t(1) << 36) - 1, int64_t(1) << 50, INT64_MAX,
+                           INT64_MIN}) {
             vx::Viewer v;
             v.block[axis] = at;
+            v.offset[axis] = at > edge + 1000 ? 1.5 : at < -edge - 1 ? -1.5 : 0.5; // Folded in: overflow.
             const vx::Status s = e.set_viewer(v);
             ASSERT_FALSE(s) << axis << " " << at;
             EXPECT_NE(s.error().find("outside the streamed world"), std::string::npos) << s.error();
+            auto ray = vx::screen_ray(v, {0.5, 0.5}, {1, 1});
+            ASSERT_FALSE(ray) << axis << " " << at;
+            EXPECT_NE(ray.error().find("outside the streamed world"), std::string::npos) << ray.error();
         }
+    vx::Viewer back;
+    back.block.x = int64_t(1) << 37;
+    back.offset.x = -double(int64_t(1) << 37);
+    EXPECT_FALSE(e.set_viewer(back));
     vx::Viewer inside;
     inside.block = {edge - 1, 0, -edge};
     inside.block.y = vx::terrain_height(1, inside.block.x, inside.block.z) + 4;
