@@ -139,6 +139,8 @@ Status check_viewer(const Viewer& v) {
 // chunks (at most 194) past the viewer's chunk, in 32-bit chunk coordinates; a box ending at
 // INT32_MAX once looped forever. The margin (2^17 blocks) keeps every box inside. `block` is
 // checked before the fold: near 2^63 the sum overflowed. Call after check_viewer.
+static_assert(world::kWorldMinBlock + world::kEdgeMarginBlocks == -kStreamedWorldExtent &&
+              world::kWorldMaxBlock - world::kEdgeMarginBlocks == kStreamedWorldExtent - 1);
 Result<BlockPos> viewer_block(const Viewer& v, const glm::dvec3& whole) {
     if (!world::in_world(v.block) || !world::inside_edge_margin(v.block + BlockPos(whole)))
         return Error{"viewer: position outside the streamed world (|coordinate| < 2^36 - 2^17 blocks)"};

@@ -132,6 +132,11 @@ struct WorldSource {
 // Levels of detail 0..kLodLevels-1 (level k: cells of 2^k blocks; level 0 is the blocks).
 inline constexpr int kLodLevels = 11;
 
+// The streamed world: a viewer's block lies in [-kStreamedWorldExtent, kStreamedWorldExtent - 1]
+// on every axis (Engine::set_viewer refuses others), so the box loaded around it stays inside the
+// world's 32-bit chunk coordinates. Blocks.
+inline constexpr int64_t kStreamedWorldExtent = (int64_t(1) << 36) - (int64_t(1) << 17);
+
 // How much of the world is kept around the viewer. Radii in chunks from the viewer's chunk
 // (square horizontally, separately vertically). Chunks within the view radius are meshed (and
 // drawn); one more ring is loaded so meshes see their neighbours; beyond view + 1 + margin for

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <vx/vx.h>
+
 namespace sandbox {
 namespace {
 
@@ -62,6 +64,14 @@ std::string parse_command(const std::vector<std::string_view>& w, ReplayCommand&
         for (int i = 0; i < 5; ++i)
             if (!parse_double(w[2 + i], c.pose[i]))
                 return "pose wants 5 numbers (x y z yaw pitch)";
+        // The engine refuses a viewer outside the streamed world: the game went on where it was.
+        for (int i = 0; i < 3; ++i)
+            if (!(std::floor(c.pose[i]) >= -double(vx::kStreamedWorldExtent) &&
+                  std::floor(c.pose[i]) <= double(vx::kStreamedWorldExtent - 1)))
+                return "pose: x, y and z must lie inside the streamed world (|coordinate| < 2^36 - 2^17)";
+        for (int i = 3; i < 5; ++i)
+            if (!(std::abs(c.pose[i]) <= 1e6))
+                return "pose: yaw and pitch are degrees, at most 1e6 in size";
         return "";
     }
     if (cmd == "key") {

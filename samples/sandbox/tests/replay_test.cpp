@@ -79,6 +79,11 @@ TEST(Replay, BadLinesNameTheLine) {
         {"0 screenshot\n", "screenshot takes 1"},
         {"7\n", "expected FRAME COMMAND"},
         {"0 pose 1 2 3 nan 5\n", "pose wants 5 numbers"},
+        // Outside the streamed world: the engine refused the viewer and the game went on silently.
+        {"0 pose 1e300 100 0.5 0 -10\n", "inside the streamed world"},
+        {"0 pose 0 -68719345665 0 0 0\n", "inside the streamed world"},
+        {"0 pose 0 0 68719345664 0 0\n", "inside the streamed world"},
+        {"0 pose 0 0 0 1e300 0\n", "yaw and pitch"},
     };
     for (const Case& c : cases) {
         auto r = parse_replay(c.text);
