@@ -58,6 +58,7 @@ struct App {
     bool screenshot_now = false;
     bool screenshot_failed = false; // A scripted screenshot (--screenshot, a replay's) not written.
     bool screenshot_scripted = false; // The pending one is scripted (F2's: no exit code).
+    bool last_frame_shot = false;     // --screenshot was taken in the last frame of --frames.
     std::string screenshot_path;
     std::string message;
     double last_x = 0, last_y = 0;
@@ -318,6 +319,37 @@ bool write_csv_row(std::FILE* f, const FrameFigures& r) {
                         r.coarse_drawn, r.gpu_mb) > 0;
 }
 
+// Writes the pending screenshot and says so (with the crosshair pixel: tests and demos compare it
+// across screenshots); a scripted one not written makes the exit 1.
+void write_screenshot(App& app, const vx::Image& shot) {
+    app.screenshot_now = false;
+    if (vx::Status s = vx::write_png(app.screenshot_path, shot); !s) {
+        say(app, s.error());
+        app.screenshot_failed |= app.screenshot_scripted;
+        return;
+    }
+    const glm::u8vec4 c = shot.at(shot.width / 2, shot.height / 2);
+    say(app, "screenshot " + app.screenshot_path + " centre " + std::to_string(c.r) + " " + std::to_string(c.g) +
+                 " " + std::to_string(c.b));
+}
+
+// --screenshot when the run ended before a last frame with --frames took it (a replay's quit, a
+// closed window): one more frame of the world as it is. It was silently never written.
+void last_frame_screenshot(App& app) {
+    if (app.opt.screenshot.empty() || app.last_frame_shot)
+        return;
+    app.screenshot_path = app.opt.screenshot;
+    app.screenshot_scripted = true;
+    vx::Image shot;
+    const vx::Status drawn = app.window ? app.engine->render_to_window(&shot) : app.engine->render_to_image(shot);
+    if (!drawn) {
+        say(app, "--screenshot: " + drawn.error());
+        app.screenshot_failed = true;
+        return;
+    }
+    write_screenshot(app, shot);
+}
+
 // The frame loop. Returns the exit code.
 int run(App& app) {
     const Clock::time_point start = Clock::now();
@@ -341,6 +373,7 @@ int run(App& app) {
             app.screenshot_now = true;
             app.screenshot_path = app.opt.screenshot;
             app.screenshot_scripted = true;
+            app.last_frame_shot = true;
         }
         app.game->step(app.menu && !replaying ? 0.0 : dt);
         app.engine->update(game_now);
@@ -368,18 +401,8 @@ int run(App& app) {
             say(app, "the GPU device was lost: renderer recreated");
             continue;
         }
-        if (capture) {
-            app.screenshot_now = false;
-            if (vx::Status s = vx::write_png(app.screenshot_path, shot); !s) {
-                say(app, s.error());
-                app.screenshot_failed |= app.screenshot_scripted; // Exit 1 at the end.
-            }
-            else { // The crosshair pixel too: tests and demos compare it across screenshots.
-                const glm::u8vec4 c = shot.at(shot.width / 2, shot.height / 2);
-                say(app, "screenshot " + app.screenshot_path + " centre " + std::to_string(c.r) + " " +
-                             std::to_string(c.g) + " " + std::to_string(c.b));
-            }
-        }
+        if (capture)
+            write_screenshot(app, shot);
         const double frame_ms = real_dt * 1000.0;
         app.fps_ms = app.fps_ms * 0.9 + frame_ms * 0.1;
         const FrameFigures fig = app.game->after_frame(app.frame, frame_ms);
@@ -395,6 +418,7 @@ int run(App& app) {
         if (app.opt.frames > 0 && app.frame >= app.opt.frames)
             break;
     }
+    last_frame_screenshot(app);
     return 0;
 }
 

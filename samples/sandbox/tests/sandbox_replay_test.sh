@@ -3,7 +3,7 @@
 # on): an edit replay flies, places and removes a block at the crosshair with screenshots; the
 # crosshair pixel changes when the block is placed and returns when it is removed; a second run
 # on the same world shows the placed block again (saved); the Esc menu covers the centre; a walk replay never ends a frame inside
-# a block; a bad replay line exits 2 naming the line; a headless replay that cannot end exits 2; a lost scripted screenshot or stats CSV exits 1. Coarse levels are on (--view-distance 300):
+# a block; a bad replay line exits 2 naming the line; a headless replay that cannot end exits 2; --screenshot after a replay's quit is written; a lost scripted screenshot or stats CSV exits 1. Coarse levels are on (--view-distance 300):
 # level 0 near the player, levels of detail beyond, drawn with the validation layer on. Usage: sandbox_replay_test.sh EXE SRC WORK
 set -euo pipefail
 exe=$1 src=$2 work=$3
@@ -64,6 +64,13 @@ set -e
 cat noquit.log
 ((code == 2)) || fail "a headless replay without an end exited $code, not 2"
 grep -q "would never end" noquit.log || fail "the endless headless replay is not explained"
+# --screenshot with a replay that ends in 'quit' (no --frames): the last frame is written. It was
+# silently never taken (exit 0, no file).
+printf '0 pose 0 40 0 0 0\n3 quit\n' >quit.txt
+"$exe" --replay quit.txt "${common[@]}" --world "$work/quit.sqlite" --view-distance 0 --view-radius 1 \
+  --headless --screenshot last.png >quit.log 2>&1 || { cat quit.log; fail "the quit replay exited $?"; }
+cat quit.log
+[[ -s last.png && -n $(centre last.png quit.log) ]] || fail "--screenshot with a replay's quit was not written"
 # A scripted screenshot or stats CSV that cannot be written (a full disk: /dev/full) is exit 1.
 if [[ -e /dev/full ]]; then
   set +e
