@@ -33,26 +33,29 @@ bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
     info.pGeometries = &geom;
     bool fresh = false; // New buffers: every entry is written.
     if (!f.tlas.valid() || count > f.capacity) {
-        f.capacity = std::max(count, std::max(64u, f.capacity * 2));
+        // The capacity changes only once its buffers exist: a failed attempt retried next frame
+        // once doubled it again each time (terabytes after a second of failures).
+        const uint32_t capacity = count > f.capacity ? std::max(count, std::max(64u, f.capacity * 2)) : f.capacity;
         VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
         vkGetAccelerationStructureBuildSizesKHR(m_ctx->device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
-                                                &f.capacity, &sizes);
+                                                &capacity, &sizes);
         f.tlas_scratch = sizes.buildScratchSize;
         // One at a time: the first that fails is logged (Buffer::create), and the next frame
         // tries again (the TLAS is left invalid).
         f.tlas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
                                      sizes.accelerationStructureSize, "TLAS");
         if (f.tlas.valid())
-            f.instances = Buffer::create(*m_ctx, {f.capacity * sizeof(VkAccelerationStructureInstanceKHR),
+            f.instances = Buffer::create(*m_ctx, {capacity * sizeof(VkAccelerationStructureInstanceKHR),
                                                   VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
                                                   MemoryUse::Upload, 16, "TLAS instances"});
         if (f.tlas.valid() && f.instances.valid())
-            f.table = Buffer::create(*m_ctx, {f.capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+            f.table = Buffer::create(*m_ctx, {capacity * sizeof(uint64_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                               MemoryUse::Upload, 16, "chunk table"});
         if (!f.tlas.valid() || !f.instances.valid() || !f.table.valid()) {
             f.tlas.reset();
             return false;
         }
+        f.capacity = capacity;
         fresh = true;
     }
     // The slot's previous frame has completed (begin_frame waited for it): its buffers are free.

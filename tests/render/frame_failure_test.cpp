@@ -122,6 +122,34 @@ INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
                              return n;
                          });
 
+// A TLAS that cannot be made for many frames (a second of them at 60 fps) does not grow: its
+// capacity doubled at every attempt, so after about 40 failed frames the next allocation asked
+// for terabytes and the process aborted.
+TEST(TlasFailure, ManyFailedFramesDoNotGrowTheTlas) {
+    const world::World w = test::hills();
+    const world::MeshMap meshes = test::mesh_world(w);
+    const RenderSettings s = small(ShadingMode::Flat, false);
+    std::unique_ptr<Renderer> fresh = test::make_renderer();
+    ASSERT_NE(fresh, nullptr);
+    test::load_meshes(*fresh, meshes);
+    ASSERT_TRUE(fresh->try_render(s, kCamera));
+    const uint64_t tlas_bytes = fresh->last_stats().memory.tlas;
+    ASSERT_GT(tlas_bytes, 0u);
+
+    std::unique_ptr<Renderer> r = test::make_renderer();
+    ASSERT_NE(r, nullptr);
+    test::load_meshes(*r, meshes);
+    r->fail_allocations("TLAS");
+    for (int i = 0; i < 64; ++i)
+        ASSERT_FALSE(r->try_render(s, kCamera));
+    r->fail_allocations("");
+    Result<RenderImage> img = r->try_render(s, kCamera);
+    ASSERT_TRUE(img) << img.error();
+    EXPECT_LE(r->last_stats().memory.tlas, 2 * tlas_bytes);
+    EXPECT_EQ(r->last_stats().instances, meshes.size());
+    EXPECT_EQ(r->validation_errors(), 0u);
+}
+
 // A lost device: this frame and every later one fail with the same line, the renderer still
 // takes scene edits and is destroyed cleanly; a new renderer given the meshes renders the image
 // the old one rendered before the loss.
