@@ -35,7 +35,8 @@ bool SceneAccel::record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block) 
     if (!f.tlas.valid() || count > f.capacity) {
         // The capacity changes only once its buffers exist: a failed attempt retried next frame
         // once doubled it again each time (terabytes after a second of failures).
-        const uint32_t capacity = count > f.capacity ? std::max(count, std::max(64u, f.capacity * 2)) : f.capacity;
+        const bool grow = count > f.capacity || f.capacity == 0; // 0: never made (an empty scene too).
+        const uint32_t capacity = grow ? std::max(count, std::max(64u, f.capacity * 2)) : f.capacity;
         VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
         vkGetAccelerationStructureBuildSizesKHR(m_ctx->device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
                                                 &capacity, &sizes);
