@@ -74,6 +74,7 @@ void SceneAccel::apply_mesh(world::LodCoord c, ChunkGpu& g, bool inserted, const
                 mark_dirty(g, s);
         return;
     }
+    g.cooling_from.reset(); // The new mesh decides how it is built.
     g.hash = hash;
     g.quad_count = mesh.quad_count();
     g.failed = false;
@@ -281,7 +282,20 @@ void SceneAccel::fail_chunk(world::LodCoord c, ChunkGpu& g, VkDeviceSize bytes) 
     retally(g);
 }
 
-// New buffers and BLAS for a build; on failure the chunk is dropped from the scene (not drawn).
+// A cool-down rebuild is only an optimisation: without memory for it the chunk stays hot, its
+// BLAS, buffers and mesh as they were, and cools down later.
+void SceneAccel::cool_down_failed(world::LodCoord c, ChunkGpu& g) {
+    g.hot = true;
+    g.layout = *g.cooling_from;
+    g.cooling_from.reset();
+    g.pending = Pending::None;
+    g.dirty.reset();
+    m_hot_queue.emplace_back(c, g.last_edit_frame);
+    retally(g);
+}
+
+// New buffers and BLAS for a build; on failure the chunk is dropped from the scene (not drawn),
+// unless it was a cool-down (cool_down_failed).
 bool SceneAccel::allocate_chunk(world::LodCoord c, ChunkGpu& g,
                                 const VkAccelerationStructureBuildSizesInfoKHR& sizes) {
     const VkDeviceSize slots = g.layout.total;
@@ -298,9 +312,13 @@ bool SceneAccel::allocate_chunk(world::LodCoord c, ChunkGpu& g,
     AccelStruct blas = AccelStruct::create(*m_ctx, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
                                            sizes.accelerationStructureSize, name, true);
     if (!vertices.valid() || !quads.valid() || !blas.valid()) {
-        fail_chunk(c, g, slots * kSlotBytes + sizes.accelerationStructureSize);
+        if (g.cooling_from)
+            cool_down_failed(c, g);
+        else
+            fail_chunk(c, g, slots * kSlotBytes + sizes.accelerationStructureSize);
         return false; // What was allocated retires with the locals.
     }
+    g.cooling_from.reset();
     g.vertices = std::move(vertices); // The old ones retire with this frame.
     g.quads = std::move(quads);
     g.blas = std::move(blas);

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <bitset>
+#include <memory>
 #include <deque>
 #include <span>
 #include <unordered_map>
@@ -144,6 +145,8 @@ private:
         uint64_t hash = 0;             // mesh_hash() of its latest mesh.
         uint32_t instance = TlasInstances::kNone; // Its TLAS instance (drawn chunks).
         bool queued = false;           // Listed in m_pending.
+        // A cool-down rebuild is pending: the hot layout to go back to if it cannot be allocated.
+        std::unique_ptr<SlotLayout> cooling_from;
         struct Tally {
             VkDeviceSize blas = 0, vertices = 0, quads = 0;
             uint64_t quad_count = 0, triangles = 0; // Drawn chunks only.
@@ -170,6 +173,7 @@ private:
     void demote_idle_hot_chunks();
     VkDeviceSize staging_bytes(const ChunkGpu& g) const;
     bool allocate_chunk(world::LodCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);
+    void cool_down_failed(world::LodCoord c, ChunkGpu& g);
     void fail_chunk(world::LodCoord c, ChunkGpu& g, VkDeviceSize bytes);
     void upload_chunk(ChunkGpu& g, bool whole);
     void prepare_chunk(world::LodCoord c, ChunkGpu& g, BuildBatch& batch);

@@ -100,6 +100,7 @@ void SceneAccel::demote_idle_hot_chunks() {
             m_hot_queue.emplace_back(c, frame); // Being built: a later frame cools it down.
             continue;
         }
+        g.cooling_from = std::make_unique<SlotLayout>(g.layout);
         g.hot = false;
         g.layout = SlotLayout::exact(g.mesh);
         g.pending = Pending::Build;

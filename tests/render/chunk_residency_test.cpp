@@ -152,6 +152,35 @@ TEST_F(ChunkResidencyTest, ColdChunksCompactTurnHotOnEditAndCoolDown) {
     EXPECT_EQ(test::differing_bytes(cooled, ref), 0) << "cooled down and compacted";
 }
 
+// A cool-down rebuild (an optimisation) that runs out of memory keeps the chunk hot and drawn
+// and tries again later. It once dropped the chunk's good hot BLAS and mesh: the chunk stayed
+// missing until the game sent it again, which the engine never does.
+TEST_F(ChunkResidencyTest, AFailedCoolDownKeepsTheHotChunkDrawn) {
+    r->render(flat(), kCamera);
+    edit(kOnGround, test::block_id("stone"));
+    const RenderImage hot = r->render(flat(), kCamera);
+    ASSERT_EQ(r->last_stats().hot_chunks, 1u);
+    r->fail_allocations("chunk quads");
+    for (int i = 1; i <= 6; ++i) { // Past hot_frames (3): the cool-down is due and fails.
+        const RenderImage img = r->render(flat(), kCamera);
+        const RenderStats& st = r->last_stats();
+        EXPECT_EQ(st.failed_chunks, 0u) << "frame " << i;
+        EXPECT_EQ(st.instances, meshes.size()) << "frame " << i;
+        EXPECT_EQ(st.hot_chunks, 1u) << "frame " << i;
+        EXPECT_EQ(test::differing_bytes(img, hot), 0) << "frame " << i;
+    }
+    r->fail_allocations("");
+    bool cooled = false;
+    for (int i = 0; i < 6 && !cooled; ++i) {
+        r->render(flat(), kCamera);
+        cooled = r->last_stats().hot_chunks == 0;
+    }
+    EXPECT_TRUE(cooled) << "the cool-down is tried again once memory is back";
+    const RenderImage after = r->render(flat(), kCamera);
+    EXPECT_EQ(r->last_stats().failed_chunks, 0u);
+    EXPECT_EQ(test::differing_bytes(after, scratch()), 0);
+}
+
 // A mesh sent again unchanged (Renderer::render(scene) re-sends every chunk) costs nothing.
 TEST_F(ChunkResidencyTest, UnchangedMeshIsNotUploadedAgain) {
     r->render(flat(), kCamera);
