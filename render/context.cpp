@@ -172,11 +172,14 @@ Status Context::pick_device(const ContextCreateInfo& info) {
     m_pd = pds[*chosen];
     m_report = reports[*chosen];
 
-    m_as_props = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
+    VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+    m_as_props = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR, &p13};
     m_rt_props = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR, &m_as_props};
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &m_rt_props};
     vkGetPhysicalDeviceProperties2(m_pd, &props);
     m_rt_props.pNext = nullptr;
+    m_as_props.pNext = nullptr;
+    m_max_buffer_size = p13.maxBufferSize;
     m_limits = props.properties.limits;
     if (m_surface) {
         m_queue_family = present_family[*chosen];

@@ -72,6 +72,8 @@ public:
     const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& rt_properties() const { return m_rt_props; }
     const VkPhysicalDeviceAccelerationStructurePropertiesKHR& as_properties() const { return m_as_props; }
     const VkPhysicalDeviceLimits& limits() const { return m_limits; }
+    // The largest buffer the device may create (Vulkan 1.3 maxBufferSize), bytes.
+    VkDeviceSize max_buffer_size() const { return m_max_buffer_size; }
     GpuAllocator& allocator() { return *m_allocator; }
 
     // Validation-layer messages of severity error seen so far (tests assert 0). Thread-safe.
@@ -166,6 +168,7 @@ private:
     DeviceReport m_report;
     VkPhysicalDeviceRayTracingPipelinePropertiesKHR m_rt_props{};
     VkPhysicalDeviceAccelerationStructurePropertiesKHR m_as_props{};
+    VkDeviceSize m_max_buffer_size = 0;
     VkPhysicalDeviceLimits m_limits{};
     std::unique_ptr<GpuAllocator> m_allocator;
     std::array<Frame, kFramesInFlight> m_frames{};

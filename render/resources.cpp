@@ -30,13 +30,34 @@ void Buffer::reset() {
     m_address = 0;
 }
 
+namespace {
+
+// Out of host or device memory: a runtime failure the caller reports (an empty resource), where
+// any other result is a bug (VK_CHECK). Drivers return these from object creation and memory
+// binding too, not only from vkAllocateMemory (lavapipe for any buffer past 4 GiB).
+bool out_of_memory(VkResult r) {
+    return r == VK_ERROR_OUT_OF_HOST_MEMORY || r == VK_ERROR_OUT_OF_DEVICE_MEMORY;
+}
+
+} // namespace
+
 Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     ci.size = info.size;
     ci.usage = info.usage | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
     ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     Buffer b;
-    VK_CHECK(vkCreateBuffer(ctx.device(), &ci, nullptr, &b.m_buffer));
+    // Past the device's largest buffer the create call is invalid usage, not an error result.
+    const bool too_large = ctx.max_buffer_size() && info.size > ctx.max_buffer_size();
+    const VkResult created = too_large ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                                       : vkCreateBuffer(ctx.device(), &ci, nullptr, &b.m_buffer);
+    if (out_of_memory(created)) {
+        if (!info.scene)
+            VX_LOG_ERROR("out of GPU memory for buffer '%s' (%llu bytes%s)", info.name, (unsigned long long)info.size,
+                         too_large ? ": past the device's largest buffer" : "");
+        return Buffer();
+    }
+    VK_CHECK(created);
     b.m_ctx = &ctx;
     b.m_size = info.size;
     VkMemoryRequirements req;
@@ -51,7 +72,15 @@ Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
         b.reset();
         return b;
     }
-    VK_CHECK(vkBindBufferMemory(ctx.device(), b.m_buffer, b.m_alloc.memory, b.m_alloc.offset));
+    if (const VkResult bound = vkBindBufferMemory(ctx.device(), b.m_buffer, b.m_alloc.memory, b.m_alloc.offset);
+        out_of_memory(bound)) {
+        if (!info.scene)
+            VX_LOG_ERROR("out of GPU memory binding buffer '%s' (%llu bytes)", info.name, (unsigned long long)info.size);
+        b.reset(); // The buffer and its allocation retire with this frame.
+        return b;
+    } else {
+        VK_CHECK(bound);
+    }
     VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
     ai.buffer = b.m_buffer;
     b.m_address = vkGetBufferDeviceAddress(ctx.device(), &ai);
@@ -100,7 +129,12 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
     if (other_view)
         ci.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT;
     Image img;
-    VK_CHECK(vkCreateImage(ctx.device(), &ci, nullptr, &img.m_image));
+    if (const VkResult created = vkCreateImage(ctx.device(), &ci, nullptr, &img.m_image); out_of_memory(created)) {
+        VX_LOG_ERROR("out of GPU memory for image '%s'", info.name);
+        return Image();
+    } else {
+        VK_CHECK(created);
+    }
     img.m_ctx = &ctx;
     img.m_width = info.width;
     img.m_height = info.height;
@@ -113,13 +147,27 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
         img.reset();
         return img;
     }
-    VK_CHECK(vkBindImageMemory(ctx.device(), img.m_image, img.m_alloc.memory, img.m_alloc.offset));
+    if (const VkResult bound = vkBindImageMemory(ctx.device(), img.m_image, img.m_alloc.memory, img.m_alloc.offset);
+        out_of_memory(bound)) {
+        VX_LOG_ERROR("out of GPU memory binding image '%s'", info.name);
+        img.reset();
+        return img;
+    } else {
+        VK_CHECK(bound);
+    }
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.m_image;
     vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vi.format = other_view ? info.view_format : info.format;
     vi.subresourceRange = {info.aspect, 0, 1, 0, 1};
-    VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &img.m_view));
+    if (const VkResult viewed = vkCreateImageView(ctx.device(), &vi, nullptr, &img.m_view); out_of_memory(viewed)) {
+        VX_LOG_ERROR("out of memory for the view of image '%s'", info.name);
+        img.m_view = VK_NULL_HANDLE;
+        img.reset();
+        return img;
+    } else {
+        VK_CHECK(viewed);
+    }
     ctx.set_name(img.m_image, VK_OBJECT_TYPE_IMAGE, info.name);
     ctx.set_name(img.m_view, VK_OBJECT_TYPE_IMAGE_VIEW, info.name);
     return img;
@@ -162,7 +210,16 @@ AccelStruct AccelStruct::create(Context& ctx, VkAccelerationStructureTypeKHR typ
     ci.offset = 0;
     ci.size = size;
     ci.type = type;
-    VK_CHECK(vkCreateAccelerationStructureKHR(ctx.device(), &ci, nullptr, &as.m_handle));
+    if (const VkResult created = vkCreateAccelerationStructureKHR(ctx.device(), &ci, nullptr, &as.m_handle);
+        out_of_memory(created)) {
+        if (!scene)
+            VX_LOG_ERROR("out of memory for acceleration structure '%s'", name);
+        as.m_handle = VK_NULL_HANDLE;
+        as.m_buffer.reset();
+        return as;
+    } else {
+        VK_CHECK(created);
+    }
     VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
     ai.accelerationStructure = as.m_handle;
     as.m_address = vkGetAccelerationStructureDeviceAddressKHR(ctx.device(), &ai);

@@ -97,6 +97,9 @@ std::string ms(double v) {
 struct Settings {
     render::RenderSettings settings;
     render::Camera camera;
+    // The first frame that failed (Renderer::try_render's line: out of GPU memory, a lost
+    // device); later frames are skipped and the command reports it.
+    mutable std::string failure;
 };
 
 // --pipeline: the ray tracer or the raster baseline (same chunks and camera).
@@ -253,13 +256,18 @@ void print_levels(const engine::LoadedScene& scene, const render::RenderStats& s
     }
 }
 
-// Renders and returns the wall time of the call (it waits for the GPU).
+// Renders and returns the wall time of the call (it waits for the GPU). A failed frame is kept in
+// s.failure (and makes later calls return 0 at once).
 double timed_render(render::Renderer& r, const Settings& s, render::RenderImage* image) {
+    if (!s.failure.empty())
+        return 0.0;
     const auto t0 = Clock::now();
-    render::RenderImage img = r.render(s.settings, s.camera);
+    Result<render::RenderImage> img = r.try_render(s.settings, s.camera);
     const double wall = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    if (image)
-        *image = std::move(img);
+    if (!img)
+        s.failure = img.error();
+    else if (image)
+        *image = std::move(*img);
     return wall;
 }
 
@@ -439,6 +447,8 @@ int run_render(RenderArgs a) {
                     s.settings.haze.base_height);
     render::RenderImage image;
     const double first = timed_render(r, s, &image);
+    if (!s.failure.empty())
+        return failed("cannot render: " + s.failure);
     print_frame("frame 1", r.last_stats(), first);
     if (s.settings.mode == render::ShadingMode::Full)
         std::printf("  exposure: EV100 %.2f (%s)\n", double(r.last_stats().ev100),
@@ -453,6 +463,8 @@ int run_render(RenderArgs a) {
         print_levels(*scene, r.last_stats());
     if (a.edit_burst > 0)
         edit_bursts(r, *scene, s, a.edit_burst, std::max<uint32_t>(a.repeat, 1));
+    if (!s.failure.empty()) // The figures above stop at the failed frame.
+        return failed("a later frame failed: " + s.failure);
     if (Status w = render::write_png(a.out, image); !w)
         return bad_input(w.error());
     std::printf("  wrote %s; total %s\n", a.out.c_str(),

@@ -95,6 +95,19 @@ TEST(CliRender, RawVolumeToPng) {
     EXPECT_GT(other, png.w * png.h / 10);
 }
 
+// A frame the device cannot hold (a 4096² frame's light cache needs 4.8 GB of records, past
+// lavapipe's 4 GiB largest buffer) is one error line and exit 1, no image: the buffer's create
+// call was VK_CHECKed, and `vx render` asserted on the frame's error, so both aborted.
+TEST(CliRender, AFrameTheDeviceCannotHoldIsAnErrorNotAnAbort) {
+    const std::string vol = write_volume(), out = dir() + "/too_large.png";
+    std::filesystem::remove(out);
+    const CliRun r = vx("render --raw " + vol + " --dims 24,12,20 --size 4096x4096 --light-cache on --reflections 8 "
+                        "--validation --out " + out, kEnv);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("vx: cannot render: out of GPU memory for the light cache"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 // --pipeline raster draws the same flat image as the ray tracer (coverage and block colours of
 // this simple view agree except at most a few edge pixels); --denoise and --accumulate run.
 TEST(CliRender, RasterPipelineAndDenoiser) {
