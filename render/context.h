@@ -105,8 +105,9 @@ public:
     bool wait_frame();
     // The device was lost: the renderer must be recreated (its objects may only be destroyed).
     bool lost() const { return m_lost; }
-    // `result` of a submit, wait, acquire or present: VK_ERROR_DEVICE_LOST marks the context lost
-    // (false); any other failure is a bug (VK_CHECK). `what` names the call for the log line.
+    // `result` of a submit, wait, acquire, present, command-buffer end or query read: any failure
+    // (VK_ERROR_DEVICE_LOST, out of memory, a lost surface) marks the context lost and returns
+    // false, logged once. `what` names the call for the log line (and for inject_result).
     bool check_device(VkResult result, const char* what);
 
     // Test hooks (tests and fault-injection only). simulate_device_loss: the next submission is
@@ -114,6 +115,11 @@ public:
     // fail_allocations: Buffer::create and Image::create of resources whose debug name starts
     // with `name_prefix` fail as out of memory (logged) until called again with "" (none).
     void simulate_device_loss() { m_simulate_loss = true; }
+    // inject_result: the next check_device call for `call` (its `what`) sees `result` instead.
+    void inject_result(std::string call, VkResult result) {
+        m_injected_call = std::move(call);
+        m_injected_result = result;
+    }
     void fail_allocations(std::string name_prefix) { m_fail_prefix = std::move(name_prefix); }
     bool allocation_injected(const char* name) const {
         return !m_fail_prefix.empty() && std::string_view(name).starts_with(m_fail_prefix);
@@ -177,6 +183,8 @@ private:
     bool m_in_frame = false;
     bool m_lost = false;
     bool m_simulate_loss = false;
+    std::string m_injected_call; // inject_result.
+    VkResult m_injected_result = VK_SUCCESS;
     std::string m_fail_prefix;
     VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
     VkFence m_one_shot_fence = VK_NULL_HANDLE;

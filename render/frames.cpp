@@ -67,12 +67,20 @@ void Context::flush(RetireList& list) {
 }
 
 bool Context::check_device(VkResult result, const char* what) {
+    if (!m_injected_call.empty() && m_injected_call == what) { // Test hook (inject_result).
+        result = m_injected_result;
+        m_injected_call.clear();
+    }
     if (result == VK_SUCCESS)
         return true;
-    if (result != VK_ERROR_DEVICE_LOST)
-        vk_check_fail(what, result, __FILE__, __LINE__); // A bug: logs and aborts.
-    if (!m_lost)
+    // Out of memory in a submit or a wait leaves the frame's fence unsignalled for good (the
+    // spec: as if not submitted); a lost surface, an unknown error: nothing after it can be
+    // trusted either. The device is given up as lost, and the renderer recreated, never aborted.
+    if (!m_lost && result == VK_ERROR_DEVICE_LOST)
         VX_LOG_ERROR("renderer: the GPU device was lost (%s); frames fail until the renderer is recreated", what);
+    else if (!m_lost)
+        VX_LOG_ERROR("renderer: %s failed (%s): the device is treated as lost; frames fail until the renderer is "
+                     "recreated", what, vk_result_name(result));
     m_lost = true;
     return false;
 }
@@ -115,7 +123,8 @@ bool Context::end_frame(const FrameSubmitSync& sync) {
     VX_ASSERT(m_in_frame);
     m_in_frame = false;
     Frame& f = m_frames[m_frame_slot];
-    VK_CHECK(vkEndCommandBuffer(f.cmd));
+    if (!check_device(vkEndCommandBuffer(f.cmd), "vkEndCommandBuffer"))
+        return false; // Out of memory recording the frame: nothing is submitted.
     VkCommandBufferSubmitInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     cbi.commandBuffer = f.cmd;
     VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};

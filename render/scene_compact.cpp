@@ -17,8 +17,13 @@ void SceneAccel::record_compactions(VkCommandBuffer cmd) {
     const uint32_t n = uint32_t(q.chunks.size());
     std::vector<uint64_t> sizes(n);
     // The queries were written by this slot's previous frame, which begin_frame has waited for.
-    VK_CHECK(vkGetQueryPoolResults(m_ctx->device(), q.pool, 0, n, n * sizeof(uint64_t), sizes.data(),
-                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    // A device lost after begin_frame's wait shows here first: no compaction this frame.
+    if (!m_ctx->check_device(vkGetQueryPoolResults(m_ctx->device(), q.pool, 0, n, n * sizeof(uint64_t), sizes.data(),
+                                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+                             "vkGetQueryPoolResults (compaction)")) {
+        q.chunks.clear();
+        return;
+    }
     for (uint32_t i = 0; i < n; ++i) {
         const auto [c, serial] = q.chunks[i];
         auto it = m_chunks.find(c);

@@ -83,7 +83,9 @@ bool Swapchain::stale(VkExtent2D framebuffer) const {
 
 bool Swapchain::recreate(VkExtent2D framebuffer) {
     VkSurfaceCapabilitiesKHR caps;
-    VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(m_ctx->physical_device(), m_ctx->surface(), &caps));
+    if (!m_ctx->check_device(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(m_ctx->physical_device(), m_ctx->surface(), &caps),
+                             "vkGetPhysicalDeviceSurfaceCapabilitiesKHR"))
+        return false; // A lost surface: the caller reports the lost context.
     const VkExtent2D extent = choose_extent(caps, framebuffer);
     if (extent.width == 0 || extent.height == 0)
         return false;
@@ -114,7 +116,9 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
     ci.clipped = VK_TRUE;
     ci.oldSwapchain = m_swapchain;
     VkSwapchainKHR fresh = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSwapchainKHR(m_ctx->device(), &ci, nullptr, &fresh));
+    // Out of memory, a lost surface, a window another API holds: reported as a lost context.
+    if (!m_ctx->check_device(vkCreateSwapchainKHR(m_ctx->device(), &ci, nullptr, &fresh), "vkCreateSwapchainKHR"))
+        return false;
     if (m_swapchain)
         vkDestroySwapchainKHR(m_ctx->device(), m_swapchain, nullptr);
     m_swapchain = fresh;
@@ -141,8 +145,8 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
     return true;
 }
 
-// Out of date and suboptimal are the swapchain's to handle; a lost device marks the context;
-// anything else is a bug.
+// Out of date and suboptimal are the swapchain's to handle; anything else (a lost device or
+// surface, out of memory) marks the context lost.
 static VkResult swapchain_result(Context& ctx, VkResult r, const char* what) {
     if (r != VK_SUCCESS && r != VK_SUBOPTIMAL_KHR && r != VK_ERROR_OUT_OF_DATE_KHR)
         ctx.check_device(r, what);

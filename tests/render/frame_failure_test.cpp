@@ -150,6 +150,41 @@ TEST(TlasFailure, ManyFailedFramesDoNotGrowTheTlas) {
     EXPECT_EQ(r->validation_errors(), 0u);
 }
 
+// Any failure of a submit, a wait, a command buffer's end or a query read (out of memory, an
+// unknown error) gives the device up as lost: the frame fails with the lost-device line, later
+// ones too, and the renderer is destroyed cleanly. Out of memory there was VK_CHECKed (an abort);
+// so was a compaction query read on a device lost after the frame's fence wait.
+TEST(DeviceErrors, AFailedSubmitWaitEndOrQueryIsALostDeviceNotAnAbort) {
+    const world::World w = test::hills();
+    const world::MeshMap meshes = test::mesh_world(w);
+    const RenderSettings s = small(ShadingMode::Flat, false);
+    const std::pair<const char*, VkResult> cases[] = {
+        {"vkQueueSubmit2", VK_ERROR_OUT_OF_DEVICE_MEMORY},
+        {"vkWaitForFences", VK_ERROR_OUT_OF_HOST_MEMORY},
+        {"vkEndCommandBuffer", VK_ERROR_OUT_OF_DEVICE_MEMORY},
+        {"vkGetQueryPoolResults (compaction)", VK_ERROR_DEVICE_LOST},
+    };
+    for (const auto& [call, result] : cases) {
+        std::unique_ptr<Renderer> r = test::make_renderer();
+        ASSERT_NE(r, nullptr);
+        test::load_meshes(*r, meshes);
+        ASSERT_TRUE(r->try_render(s, kCamera)) << call; // Frame 1 builds; its queries are read in frame 3.
+        r->context().inject_result(call, result);
+        bool failed = false;
+        for (int i = 0; i < 4 && !failed; ++i) {
+            Result<RenderImage> img = r->try_render(s, kCamera);
+            if (!img) {
+                failed = true;
+                EXPECT_NE(img.error().find("device was lost"), std::string::npos) << call << ": " << img.error();
+            }
+        }
+        EXPECT_TRUE(failed) << call << " was never called, or its failure never reached the frame";
+        EXPECT_TRUE(r->device_lost()) << call;
+        EXPECT_FALSE(r->try_render(s, kCamera)) << call;
+        EXPECT_EQ(r->validation_errors(), 0u) << call;
+    }
+}
+
 // A lost device: this frame and every later one fail with the same line, the renderer still
 // takes scene edits and is destroyed cleanly; a new renderer given the meshes renders the image
 // the old one rendered before the loss.
