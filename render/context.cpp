@@ -57,7 +57,8 @@ Result<std::unique_ptr<Context>> Context::create(const ContextCreateInfo& info) 
         return Error{s.error()};
     if (Status s = ctx->pick_device(info); !s)
         return Error{s.error()};
-    ctx->create_device();
+    if (Status s = ctx->create_device(); !s)
+        return Error{s.error()};
     ctx->create_frames();
     return ctx;
 }
@@ -198,7 +199,7 @@ Status Context::pick_device(const ContextCreateInfo& info) {
     return Error{"device " + m_report.name + " has no compute queue"};
 }
 
-void Context::create_device() {
+Status Context::create_device() {
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
     atomics.shaderBufferFloat32AtomicAdd = VK_TRUE; // The light cache (device_probe.h).
     VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &atomics};
@@ -229,12 +230,19 @@ void Context::create_device() {
     ci.pQueueCreateInfos = &qci;
     ci.enabledExtensionCount = uint32_t(exts.size());
     ci.ppEnabledExtensionNames = exts.data();
-    VK_CHECK(vkCreateDevice(m_pd, &ci, nullptr, &m_device));
+    // Out of memory, too many devices, a driver that fails to initialise: the machine's state, an
+    // error for Renderer::create (a missing feature was refused when the device was chosen).
+    if (const VkResult made = vkCreateDevice(m_pd, &ci, nullptr, &m_device); made != VK_SUCCESS) {
+        m_device = VK_NULL_HANDLE;
+        return Error{std::string("cannot create the Vulkan device on ") + m_report.name + ": vkCreateDevice returned " +
+                     vk_result_name(made)};
+    }
     volkLoadDevice(m_device);
     vkGetDeviceQueue(m_device, m_queue_family, 0, &m_queue);
     set_name(m_device, VK_OBJECT_TYPE_DEVICE, "vx device");
     set_name(m_queue, VK_OBJECT_TYPE_QUEUE, "vx queue");
     m_allocator = std::make_unique<GpuAllocator>(m_pd, m_device, 64ull << 20, m_debug_utils);
+    return {};
 }
 
 void Context::set_name(VkObjectType type, uint64_t handle, const char* name) const {

@@ -143,7 +143,7 @@ private:
     Status create_surface(const ContextCreateInfo& info);
     Status pick_device(const ContextCreateInfo& info);
     bool can_present(VkPhysicalDevice pd, uint32_t* family) const;
-    void create_device();
+    Status create_device();
     void create_frames();
     void flush(RetireList& list);
     VkCommandBuffer begin_one_shot();

@@ -186,7 +186,7 @@ struct Renderer::Impl {
         if (queries)
             vkDestroyQueryPool(ctx->device(), queries, nullptr);
     }
-    void create_descriptors();
+    bool create_descriptors(); // False: out of memory for the frame parameters.
     void create_queries();
     void stamp(VkCommandBuffer cmd, uint32_t i) {
         if (queries)
@@ -249,9 +249,15 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
     r->m->ctx->allocator().set_budget(info.gpu_memory_budget_bytes);
+    r->m->ctx->fail_allocations(info.fail_allocations);
     r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames, info.max_refits});
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
-    r->m->create_descriptors();
+    // Out of memory here is the device's state, not our bug: an error, as for a frame (it was
+    // an assertion; a renderer recreated after a device loss meets a full device).
+    if (!r->m->pipeline->valid())
+        return Error{"cannot create the renderer: out of GPU memory for the ray tracing pipeline"};
+    if (!r->m->create_descriptors())
+        return Error{"cannot create the renderer: out of GPU memory for the frame parameters"};
     r->m->create_queries();
     r->set_registry(world::BlockRegistry::default_registry());
     if (info.glfw_window) {
@@ -261,7 +267,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     return r;
 }
 
-void Renderer::Impl::create_descriptors() {
+bool Renderer::Impl::create_descriptors() {
     const VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, kFramesInFlight},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 8 * kFramesInFlight}, // Output + 7 G-buffer images.
@@ -284,8 +290,10 @@ void Renderer::Impl::create_descriptors() {
         ctx->set_name(sets[i], VK_OBJECT_TYPE_DESCRIPTOR_SET, "rt descriptor set");
         params[i] = Buffer::create(*ctx, {sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                           MemoryUse::Upload, 0, "frame params"});
-        VX_ASSERT(params[i].valid());
+        if (!params[i].valid())
+            return false;
     }
+    return true;
 }
 
 void Renderer::Impl::create_queries() {

@@ -354,6 +354,9 @@ struct RendererCreateInfo {
     // many bytes, as on a full device (those chunks are not drawn and are counted in
     // RenderStats::failed_chunks). 0: no limit.
     uint64_t gpu_memory_budget_bytes = 0;
+    // Test knob: Context::fail_allocations from the start, so resources made by create() fail
+    // as out of memory (create returns an error). Empty: none.
+    std::string fail_allocations{};
     // A GLFWwindow* to present() to, or null for a headless renderer. The caller has called
     // glfwInit, created the window with GLFW_CLIENT_API = GLFW_NO_API, polls its events, and
     // keeps GLFW and the window alive until the Renderer is destroyed. The device must present

@@ -7,6 +7,7 @@
 #include "render/gbuffer.h"
 #include "render/graphics_pipeline.h"
 #include "render/shader_code.h"
+#include "world/base/log.h"
 
 namespace vx::render {
 
@@ -14,8 +15,7 @@ enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, 
 
 RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
     create_layouts();
-    m_variants[0] = create_variant(false);
-    VX_ASSERT_MSG(m_variants[0].sbt.valid(), "out of memory for the SBT");
+    m_variants[0] = create_variant(false); // Out of memory: valid() is false.
 }
 
 bool RtPipeline::ensure_faces_variant() {
@@ -123,9 +123,21 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
     ci.maxPipelineRayRecursionDepth = 1; // Every ray is traced from raygen; reflections loop there.
     ci.layout = m_layout;
     Variant v;
-    VK_CHECK(vkCreateRayTracingPipelinesKHR(m_ctx->device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr,
-                                            &v.pipeline));
-    m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, sample_faces ? "rt pipeline, emitter faces" : "rt pipeline");
+    const VkResult made =
+        vkCreateRayTracingPipelinesKHR(m_ctx->device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &v.pipeline);
+    const char* name = sample_faces ? "rt pipeline, emitter faces" : "rt pipeline";
+    if (made == VK_ERROR_OUT_OF_HOST_MEMORY || made == VK_ERROR_OUT_OF_DEVICE_MEMORY ||
+        m_ctx->allocation_injected(name)) { // The test hook too (Context::fail_allocations).
+        // The emitter-faces variant is made mid-session: its caller draws without it.
+        VX_LOG_ERROR("out of memory for %s", sample_faces ? "the emitter-faces ray tracing pipeline" : "the ray tracing pipeline");
+        if (v.pipeline)
+            vkDestroyPipeline(m_ctx->device(), v.pipeline, nullptr);
+        for (VkShaderModule m : modules)
+            vkDestroyShaderModule(m_ctx->device(), m, nullptr);
+        return Variant{};
+    }
+    VK_CHECK(made);
+    m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, name);
     for (VkShaderModule m : modules)
         vkDestroyShaderModule(m_ctx->device(), m, nullptr);
     (void)create_sbt(v, sample_faces ? "shader binding table, emitter faces" : "shader binding table");

@@ -19,6 +19,9 @@ namespace vx::render {
 
 class RtPipeline {
 public:
+    // False when the device had no memory for the pipeline or its shader binding table (the
+    // renderer's create() reports it).
+    bool valid() const { return m_variants[0].pipeline && m_variants[0].sbt.valid(); }
     explicit RtPipeline(Context& ctx);
     ~RtPipeline();
     RtPipeline(const RtPipeline&) = delete;

@@ -109,7 +109,8 @@ INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
                                            Injection{"gbuffer mirror albedo"},
                                            Injection{"gbuffer mirror normal depth"}, Injection{"render readback"},
                                            Injection{"gbuffer readback", false, true}, Injection{"materials"},
-                                           Injection{"emitter chunks"}, Injection{"emitter faces"}, Injection{"emitter bounds"}, Injection{"TLAS"},
+                                           Injection{"emitter chunks"}, Injection{"emitter faces"}, Injection{"emitter bounds"},
+                                           Injection{"TLAS"},
                                            Injection{"TLAS instances"}, Injection{"chunk table"}, Injection{"AS scratch"},
                                            Injection{"frame staging"}, Injection{"slot index pattern"},
                                            Injection{"denoise", true}, Injection{"ui", false, false, true},
@@ -182,6 +183,21 @@ TEST(DeviceErrors, AFailedSubmitWaitEndOrQueryIsALostDeviceNotAnAbort) {
         EXPECT_TRUE(r->device_lost()) << call;
         EXPECT_FALSE(r->try_render(s, kCamera)) << call;
         EXPECT_EQ(r->validation_errors(), 0u) << call;
+    }
+}
+
+// Out of memory while the renderer is made (a renderer recreated after a device loss meets a
+// full device) is an error from create, not an assertion; the emitter-faces pipeline, made at
+// the first frame with an emitter, is a frame error and the next frame draws once it fits.
+TEST(RendererCreateFailure, OutOfMemoryIsAnErrorFromCreate) {
+    for (const char* resource : {"shader binding table", "rt pipeline", "frame params"}) {
+        RendererCreateInfo ci;
+        ci.validation = true;
+        ci.device = test::test_device_choice();
+        ci.fail_allocations = resource;
+        Result<std::unique_ptr<Renderer>> r = Renderer::create(ci);
+        ASSERT_FALSE(r) << resource;
+        EXPECT_NE(r.error().find("cannot create the renderer: out of GPU memory"), std::string::npos) << r.error();
     }
 }
 
