@@ -127,6 +127,7 @@ void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& 
     // Completions get most of the budget, counted from the start of the frame (the request pass
     // above is part of it); what is left schedules new meshes.
     CompletionBudget budget;
+    budget.min_count = 4; // Progress under any budget (the request pass may have used it all).
     budget.time = std::max(std::chrono::nanoseconds(0),
                            std::chrono::duration_cast<std::chrono::nanoseconds>(
                                t0 + m_settings.frame_budget * 7 / 10 - Clock::now()));
@@ -365,10 +366,11 @@ void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
     // One batch: one lock of the job system for the frame's mesh jobs, not one per job. Chunks in
     // the view go first (one missing now is a hole), then those around the lookahead point. The
     // clock is read after each chunk handed on (a chunk copy) and every kCheckEvery candidates
-    // skipped: reading it costs about as much as skipping one.
+    // skipped: reading it costs about as much as skipping one. The first check comes after the
+    // first chunk handed on (or kCheckEvery skipped), so every frame meshes one at least.
     constexpr int kCheckEvery = 16;
     std::vector<std::unique_ptr<Job>> jobs;
-    int unchecked = kCheckEvery;
+    int unchecked = 0;
     auto out_of_time = [&] {
         if (unchecked < kCheckEvery)
             return false;

@@ -88,6 +88,7 @@ struct JobSystemCreateInfo {
 struct CompletionBudget {
     std::chrono::nanoseconds time{std::chrono::milliseconds(2)};
     size_t max_count = SIZE_MAX; // Also stop after this many complete() calls.
+    size_t min_count = 0;        // Apply at least this many (while any wait), whatever the time.
 };
 
 // What one process_completions() call did. Plain value (not thread-safe).

@@ -161,7 +161,7 @@ CompletionStats JobSystem::process_completions(const CompletionBudget& budget) {
     VX_ASSERT_MSG(std::this_thread::get_id() == m_main_thread, "process_completions off the main thread");
     CompletionStats stats;
     const std::chrono::nanoseconds start = now();
-    while (stats.applied < budget.max_count && now() - start < budget.time) {
+    while (stats.applied < budget.max_count && (stats.applied < budget.min_count || now() - start < budget.time)) {
         Outcome outcome = Outcome::Ok;
         std::unique_ptr<Job> job = pop_completion(outcome);
         if (!job)

@@ -153,6 +153,22 @@ TEST(FacadeChecks, SetViewerKeepsTheStreamedBoxInsideTheWorld) {
     EXPECT_TRUE(e.get_block(inside.block).has_value());
 }
 
+// Any accepted update budget makes progress: with 0.0003 ms the request pass used it all, and
+// completions and meshes (which had no minimum per frame, unlike unloads) never ran: nothing
+// ever loaded. A few of each now run in every update().
+TEST(FacadeChecks, ATinyUpdateBudgetStillFillsTheView) {
+    vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+    info.streaming.update_budget_ms = 0.0003;
+    auto engine = vx::Engine::create(info);
+    ASSERT_TRUE(engine) << engine.error();
+    vx::Engine& e = **engine;
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(1, 0, 0) + 4, 0};
+    ASSERT_TRUE(e.set_viewer(v));
+    ASSERT_TRUE(vx::test::settle(e));
+    EXPECT_EQ(e.stats().chunks_meshed, 27u); // Radius 1: 3 x 3 x 3 chunks in view.
+}
+
 // terrain_height is defined for every column: past the world's edge it is the edge's height (near
 // 2^63 the noise lattice overflowed, undefined behaviour and a meaningless height).
 TEST(FacadeChecks, TerrainHeightPastTheWorldsEdgeIsTheEdges) {
