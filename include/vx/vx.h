@@ -149,7 +149,9 @@ struct StreamingDesc {
     double save_delay_s = 1.0;    // Edited chunks reach the store within this (not yet durable;
                                   // >= 0; infinity: only save() and shutdown write them).
     size_t memory_cap_bytes = 0;  // Block data cap (0: none); never evicts inside the view.
-    double update_budget_ms = 2.0; // Main-thread time update() may spend applying results, (0, 1000]; a few are applied in every update whatever it is.
+    // Main-thread time update() may spend applying results, (0, 1000]; a few are applied in
+    // every update whatever it is.
+    double update_budget_ms = 2.0;
     int worker_threads = 0;       // Generation/meshing threads, 0..256 (0: cores - 1, at least 1).
     // Levels of detail: terrain is drawn to `view_distance` blocks (horizontal, 0..65536): full
     // detail within view_radius, then levels with cells of 2, 4, 8, ... blocks, each reaching
