@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <sstream>
 #include <memory>
+#include <optional>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -64,13 +66,21 @@ Result<world::BlockRegistry> read_registry(const openvdb::GridBase& g) {
 }
 
 struct ChunkSet {
-    std::unordered_set<ChunkCoord, world::ChunkCoordHash> chunks;
+    std::unordered_set<ChunkCoord, world::ChunkCoordHash> chunks; // Read voxel by voxel.
+    // Chunks wholly inside one active tile (and the box): all of them the tile's value. Tiles
+    // (128³ and 4096³ regions; the exporter writes one for every region of one block) are
+    // disjoint from leaves and from each other, so such a chunk holds nothing else. Reading them
+    // voxel by voxel cost minutes of CPU for one 3 KB file.
+    std::unordered_map<ChunkCoord, int32_t, world::ChunkCoordHash> uniform;
     bool too_many = false;
     bool out_of_range = false; // Content beyond +-kVdbCoordLimit.
+    size_t size() const { return chunks.size() + uniform.size(); }
 };
 
 // Adds the chunks overlapping the index box [lo, hi] clipped to `box`; refuses more than `cap`.
-void add_chunks(ChunkSet& set, const openvdb::CoordBBox& b, const BlockBox& box, uint64_t cap) {
+// `tile`: the box is an active tile of this value (chunks wholly inside it are uniform).
+void add_chunks(ChunkSet& set, const openvdb::CoordBBox& b, const BlockBox& box, uint64_t cap,
+                std::optional<int32_t> tile = std::nullopt) {
     const BlockPos bmin(b.min().x(), b.min().y(), b.min().z()), bmax(b.max().x(), b.max().y(), b.max().z());
     if (!in_vdb_range(bmin) || !in_vdb_range(bmax)) {
         set.out_of_range = true;
@@ -81,14 +91,20 @@ void add_chunks(ChunkSet& set, const openvdb::CoordBBox& b, const BlockBox& box,
         return;
     const ChunkCoord lo = world::chunk_of(clip.min), hi = world::chunk_of(clip.max);
     const glm::u64vec3 n = glm::u64vec3(glm::i64vec3(hi) - glm::i64vec3(lo) + glm::i64vec3(1));
-    if (n.x * n.y * n.z > cap || set.chunks.size() + n.x * n.y * n.z > cap) {
+    if (n.x * n.y * n.z > cap || set.size() + n.x * n.y * n.z > cap) {
         set.too_many = true;
         return;
     }
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x)
-                set.chunks.insert(ChunkCoord(x, y, z));
+            for (int x = lo.x; x <= hi.x; ++x) {
+                const ChunkCoord c(x, y, z);
+                const BlockPos org = world::chunk_origin(c);
+                if (tile && clip.contains(org) && clip.contains(org + BlockPos(kChunkSize - 1)))
+                    set.uniform.emplace(c, *tile);
+                else
+                    set.chunks.insert(c);
+            }
 }
 
 ChunkSet touched_chunks(const openvdb::Int32Tree& tree, const BlockBox& box, uint64_t cap) {
@@ -100,7 +116,7 @@ ChunkSet touched_chunks(const openvdb::Int32Tree& tree, const BlockBox& box, uin
     for (; tiles && !set.too_many && !set.out_of_range; ++tiles) {
         openvdb::CoordBBox b;
         tiles.getBoundingBox(b);
-        add_chunks(set, b, box, cap);
+        add_chunks(set, b, box, cap, tiles.getValue());
     }
     return set;
 }
@@ -154,6 +170,15 @@ Result<world::World> grid_to_world(const openvdb::Int32Grid& grid, const VdbWorl
     if (set.too_many)
         return Error{"the grid spans more than " + std::to_string(options.max_chunks) +
                      " chunks; import a smaller box or raise max_chunks"};
+    for (const auto& [c, v] : set.uniform) {
+        if (v < 0 || v > 0xFFFF) {
+            const BlockPos p = world::chunk_origin(c);
+            return Error{"voxel (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) +
+                         ") holds " + std::to_string(v) + ", not a block id (0..65535)"};
+        }
+        if (v != 0)
+            w.put_chunk(c, Chunk(BlockId(v)));
+    }
     auto acc = grid.getConstAccessor();
     std::vector<BlockId> ids(kChunkVolume);
     for (const ChunkCoord& c : set.chunks) {
