@@ -185,6 +185,24 @@ Status write_root_tile_openvdb(const std::string& path) {
     return {};
 }
 
+Status rescale_openvdb(const std::string& in, const std::string& out, double voxel_size) {
+    try {
+        openvdb::initialize();
+        openvdb::io::File file(in);
+        file.open(false);
+        openvdb::GridBase::Ptr grid = file.readGrid(kGridName);
+        openvdb::MetaMap::Ptr file_meta = file.getMetadata();
+        file.close();
+        grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
+        openvdb::io::File o(out);
+        o.write(openvdb::GridCPtrVec{grid}, *file_meta);
+        o.close();
+    } catch (const std::exception& e) {
+        return Error{std::string("OpenVDB: ") + e.what()};
+    }
+    return {};
+}
+
 std::map<std::string, std::string> grid_meta_openvdb(const std::string& path) {
     std::map<std::string, std::string> out;
     try {

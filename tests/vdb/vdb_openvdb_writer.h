@@ -20,6 +20,10 @@ Status write_world_openvdb(const world::World& w, const std::string& path, const
 // of id 5 at (-1, -1, -1), as OpenVDB writes it.
 Status write_root_tile_openvdb(const std::string& path);
 
+// The "blocks" grid of `in` written to `out` with a linear transform of `voxel_size` world units
+// per voxel (the blocks stay where their index coordinates say).
+Status rescale_openvdb(const std::string& in, const std::string& out, double voxel_size);
+
 // The "blocks" grid's metadata read by OpenVDB, as key -> Metadata::str(); empty on failure.
 std::map<std::string, std::string> grid_meta_openvdb(const std::string& path);
 

@@ -168,6 +168,39 @@ TEST(VdbWorld, RootTilesImportAsUniformChunks) {
             }
 }
 
+// A box import reads the same blocks as a whole import clipped to the box, whatever the grid's
+// transform (blocks are index coordinates): the box was passed to OpenVDB's partial read as world
+// coordinates of unit voxels, so a grid of voxel size 4 lost most of the blocks in the box.
+TEST(VdbWorld, PartialImportOfAScaledGridEqualsTheClippedWholeImport) {
+    const std::array<ChunkCoord, 2> origins = {ChunkCoord(0), ChunkCoord(-1, 0, 2)};
+    const world::World w = random_world(11, 40, origins);
+    TempDir dir;
+    const std::string unit = dir.file("unit.vdb"), scaled = dir.file("scaled.vdb");
+    ASSERT_TRUE(export_vdb(w, unit).ok());
+    ASSERT_TRUE(test::rescale_openvdb(unit, scaled, 4.0).ok());
+    const BlockBox box{BlockPos(-20, 3, 30), BlockPos(40, 25, 90)};
+    Result<world::World> whole = import_world_vdb(scaled);
+    ASSERT_TRUE(whole.ok()) << whole.error();
+    EXPECT_TRUE(same_blocks(w, *whole));
+    VdbWorldImportOptions part;
+    part.box = box;
+    Result<world::World> got = import_world_vdb(scaled, part);
+    ASSERT_TRUE(got.ok()) << got.error();
+    world::World expect(w.registry());
+    uint64_t inside = 0;
+    w.for_each_chunk([&](ChunkCoord c, const Chunk& chunk) {
+        for (int i = 0; i < kChunkVolume; ++i) {
+            const BlockPos p = world::chunk_origin(c) + BlockPos(i & 31, (i >> 5) & 31, i >> 10);
+            if (box.contains(p) && chunk.get(i) != world::kAir) {
+                expect.set_block(p, chunk.get(i));
+                ++inside;
+            }
+        }
+    });
+    ASSERT_GT(inside, 300u);
+    EXPECT_TRUE(same_blocks(expect, *got));
+}
+
 TEST(VdbWorld, ExportBoxKeepsOnlyBlocksInside) {
     const std::array<ChunkCoord, 1> origins = {ChunkCoord(0)};
     const world::World w = random_world(7, 20, origins);

@@ -200,12 +200,18 @@ Result<openvdb::Int32Grid::Ptr> read_blocks_grid(const std::string& path, const 
     }
     openvdb::GridBase::Ptr base;
     if (options.box && !options.box->empty()) {
-        // Partial read: only leaf buffers overlapping the box are loaded. World space is index
-        // space + 0.5 (see the header); a one-block margin keeps clipping conservative, and
-        // grid_to_world clips exactly.
-        const glm::dvec3 lo = glm::dvec3(glm::max(options.box->min, BlockPos(-kVdbCoordLimit))) - 1.0;
-        const glm::dvec3 hi = glm::dvec3(glm::min(options.box->max, BlockPos(kVdbCoordLimit))) + 2.0;
-        base = file.readGrid(kGridName, openvdb::BBoxd(openvdb::Vec3d(lo.x, lo.y, lo.z), openvdb::Vec3d(hi.x, hi.y, hi.z)));
+        // Partial read: only leaf buffers overlapping the box are loaded. Blocks are index
+        // coordinates whatever the grid's transform (as the whole import reads them), and OpenVDB
+        // clips in world space: the box goes through the grid's own transform (it was taken as
+        // unit voxels, so a grid of voxel size 4 lost most of the box). A one-voxel margin keeps
+        // the clip conservative; grid_to_world clips exactly.
+        const BlockPos lo = glm::max(options.box->min, BlockPos(-kVdbCoordLimit)) - BlockPos(1);
+        const BlockPos hi = glm::min(options.box->max, BlockPos(kVdbCoordLimit)) + BlockPos(1);
+        const openvdb::GridBase::ConstPtr meta = file.readGridMetadata(kGridName);
+        const openvdb::BBoxd world_box = meta->transform().indexToWorld(
+            openvdb::CoordBBox(openvdb::Coord(int32_t(lo.x), int32_t(lo.y), int32_t(lo.z)),
+                               openvdb::Coord(int32_t(hi.x), int32_t(hi.y), int32_t(hi.z))));
+        base = file.readGrid(kGridName, world_box);
     } else {
         base = file.readGrid(kGridName);
     }
