@@ -57,6 +57,7 @@ endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/world DESTINATION ${VX_INTERNAL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h"
         PATTERN reference_meshers.h EXCLUDE PATTERN vdb_accuracy.h EXCLUDE PATTERN vdb_analytic.h EXCLUDE
+        PATTERN pg_wire.h EXCLUDE # libpq's types: the PostgreSQL store's .cpp files only.
         ${vdb_exclude})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine DESTINATION ${VX_INTERNAL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")

@@ -36,6 +36,14 @@ foreach(f IN LISTS installed_text)
     endif()
   endforeach()
 endforeach()
+# Installed headers compile without headers the package does not provide: a consumer has no
+# libpq include path (pg_wire.h, which needs it, was installed once).
+foreach(f IN LISTS installed_text)
+  file(READ "${f}" text)
+  if(text MATCHES "#include <libpq-fe.h>")
+    message(FATAL_ERROR "${f} includes <libpq-fe.h>, which the package's consumers do not have")
+  endif()
+endforeach()
 foreach(f IN ITEMS lib/cmake/vx/vxConfig.cmake lib/cmake/vx/vxConfigVersion.cmake lib/cmake/vx/vxTargets.cmake)
   if(NOT EXISTS "${prefix}/${f}")
     # GNUInstallDirs may choose lib64 or lib/<multiarch>: look for it anywhere under the prefix.
