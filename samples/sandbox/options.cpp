@@ -57,6 +57,13 @@ std::string default_world_path() {
     return (base / "vx" / "worlds" / "default.sqlite").string();
 }
 
+std::string world_folder(const std::string& world) {
+    for (const char* scheme : {"postgresql://", "postgres://"})
+        if (world.rfind(scheme, 0) == 0)
+            return "";
+    return std::filesystem::path(world).parent_path().string();
+}
+
 vx::Result<Options> parse_options(const std::vector<std::string>& args) {
     Options o;
     for (size_t i = 0; i < args.size(); ++i) {

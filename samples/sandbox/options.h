@@ -39,6 +39,9 @@ vx::Result<Options> parse_options(const std::vector<std::string>& args);
 vx::Status check_outputs(const Options& options, const std::vector<ReplayCommand>& replay);
 // The default world path: $XDG_DATA_HOME/vx/worlds/default.sqlite (fallback ~/.local/share).
 std::string default_world_path();
+// The folder to make before a SQLite world at `world` opens (its parent), or "" for a
+// PostgreSQL URI (postgresql://host/db once made a folder "postgresql:/host" in the current one).
+std::string world_folder(const std::string& world);
 // Usage text for --help and errors.
 const char* usage();
 

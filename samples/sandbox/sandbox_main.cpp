@@ -297,8 +297,9 @@ vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwind
         info.world = vx::WorldSource::vdb(o.vdb);
         info.world.read_only = o.read_only; // Else edits go to "<file>.edits.sqlite".
     } else {
-        std::error_code ec;
-        std::filesystem::create_directories(std::filesystem::path(o.world).parent_path(), ec);
+        std::error_code ec; // A folder that cannot be made shows as the world's open error.
+        if (const std::string folder = world_folder(o.world); !folder.empty())
+            std::filesystem::create_directories(folder, ec);
         info.world = vx::WorldSource::sqlite(o.world, o.seed);
     }
     info.streaming.view_radius = o.view_radius;

@@ -96,6 +96,14 @@ TEST(Options, VdbWithOverlayOrReadOnly) {
     EXPECT_TRUE(o->read_only);
 }
 
+// A PostgreSQL world makes no folder (it made "postgresql:/host" in the current folder).
+TEST(Options, OnlyAFileWorldMakesItsFolder) {
+    EXPECT_EQ(sandbox::world_folder("/data/x/vx/worlds/default.sqlite"), "/data/x/vx/worlds");
+    EXPECT_EQ(sandbox::world_folder("w.sqlite"), "");
+    EXPECT_EQ(sandbox::world_folder("postgresql://host/db"), "");
+    EXPECT_EQ(sandbox::world_folder("postgres://user@host:5432/db?sslmode=disable"), "");
+}
+
 TEST(Options, DefaultWorldUnderXdgDataHome) {
     setenv("XDG_DATA_HOME", "/data/x", 1);
     EXPECT_EQ(sandbox::default_world_path(), "/data/x/vx/worlds/default.sqlite");
