@@ -59,6 +59,11 @@ Status BlockRegistry::set(BlockId id, BlockInfo info) {
         return Error{"block id 0 is reserved for air"};
     if (info.name.empty())
         return Error{"block name is empty"};
+    // Stores record the names one per line ("blocks" meta): a newline would let two different
+    // lists read the same.
+    for (const char ch : info.name)
+        if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+            return Error{"block name holds a control character (a newline, a tab...): names are stored one per line"};
     if (auto existing = find(info.name); existing && *existing != id)
         return Error{"duplicate block name '" + info.name + "'"};
     if (id >= m_blocks.size()) {

@@ -170,6 +170,16 @@ TEST(BlockRegistry, RejectsDuplicatesAndGivesFallbacks) {
     EXPECT_FALSE(r.add(b).ok());
     b.name = "";
     EXPECT_FALSE(r.add(b).ok());
+    // Stored worlds record names one per line: "a\nb", "c" and "a", "b\nc" read the same, so a
+    // world reopened with the other list passed the check while its ids changed meaning.
+    for (const char* bad : {"a\nb", "tab\there", "nul\x01", "del\x7f"}) {
+        b.name = bad;
+        auto added = r.add(b);
+        ASSERT_FALSE(added.ok()) << bad;
+        EXPECT_NE(added.error().find("control character"), std::string::npos) << added.error();
+    }
+    b.name = "snow block (white)";
+    EXPECT_TRUE(r.add(b).ok());
     EXPECT_FALSE(r.set(kAir, BlockInfo{"x"}).ok());
     EXPECT_TRUE(r.is_opaque(999)); // Unknown ids mesh as opaque.
     EXPECT_FALSE(r.is_opaque(kAir));
