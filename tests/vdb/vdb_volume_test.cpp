@@ -438,6 +438,16 @@ TEST(VdbIsolated, ErrorsComeBackFromTheChild) {
         Result<world::World> w = import_world_vdb_isolated(test_file(TestFile::FogSphere));
         ASSERT_FALSE(w.ok());
         EXPECT_NE(w.error().find("'blocks'"), std::string::npos) << w.error();
+        // Blocks placed past the +-2^31 a VDB file can index: the result cannot travel back from
+        // the reader process. Said so, naming the offset; the export's own error named the
+        // temporary file.
+        VolumeImportOptions far;
+        far.offset = BlockPos(int64_t(1) << 32, 0, 0);
+        r = import_volume_isolated(test_file(TestFile::FogSphere), far);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().find("an isolated import carries"), std::string::npos) << r.error();
+        EXPECT_NE(r.error().find("--offset"), std::string::npos) << r.error();
+        EXPECT_EQ(r.error().find(".tmp-"), std::string::npos) << r.error();
     }
     VX_REAL_VDB_DATA_OR_RETURN();
     Result<VolumeImport> r = import_volume_isolated(data_path("gaffer_points.vdb"));

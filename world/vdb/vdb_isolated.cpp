@@ -254,6 +254,24 @@ Result<world::World> read_back(const std::string& path, const TempFile& tmp, uin
     return w;
 }
 
+// Why the reader process cannot hand `w` back (the result travels as a VDB file, whose index is
+// 32 bits: |block| <= kVdbCoordLimit), naming the furthest chunk; "" when it can. The export's
+// own error named the temporary file and said nothing of the offset.
+std::string beyond_transport(const world::World& w) {
+    std::string why;
+    w.for_each_chunk([&](world::ChunkCoord c, const world::Chunk&) {
+        const world::BlockPos lo = world::chunk_origin(c), hi = lo + world::BlockPos(world::kChunkSize - 1);
+        const bool inside = glm::all(glm::greaterThanEqual(lo, world::BlockPos(-kVdbCoordLimit))) &&
+                            glm::all(glm::lessThanEqual(hi, world::BlockPos(kVdbCoordLimit)));
+        if (!inside && why.empty())
+            why = "the imported blocks reach (" + std::to_string(lo.x) + ", " + std::to_string(lo.y) + ", " +
+                  std::to_string(lo.z) + "), beyond the +-" + std::to_string(kVdbCoordLimit) +
+                  " blocks an isolated import carries (OpenVDB's 32-bit index); place the volume nearer the "
+                  "origin (--offset)";
+    });
+    return why;
+}
+
 } // namespace
 
 Result<VolumeImport> import_volume_isolated(const std::string& path, const VolumeImportOptions& options,
@@ -265,6 +283,8 @@ Result<VolumeImport> import_volume_isolated(const std::string& path, const Volum
         Result<VolumeImport> r = import_volume(path, options);
         if (!r)
             return Error{r.error()};
+        if (const std::string why = beyond_transport(r->world); !why.empty())
+            return Error{why};
         if (Status s = export_vdb(r->world, tmp.path); !s)
             return Error{s.error()};
         Writer w;
