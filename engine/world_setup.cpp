@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "world/block_registry_text.h"
 #include "world/gen/terrain.h"
 #include "world/store/sqlite_store.h"
 #include "world/store/store_open.h"
@@ -201,6 +202,8 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
     if (!source.generator)
         if (Status s = store.set_meta("seed", std::to_string(source.seed)); !s)
             return s;
+    if (Status s = store.set_meta("registry", world::registry_to_text(registry)); !s)
+        return s; // The materials too, for `vx export-vdb` (block_registry_text.h).
     return store.set_meta("blocks", now);
 }
 

@@ -16,6 +16,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "world/block_registry_text.h"
 #include "world/store/store_open.h"
 #include "world/vdb/vdb_isolated.h"
 #include "world/vdb/vdb_overlay_store.h"
@@ -105,7 +106,15 @@ int run_export(const ExportArgs& a) {
     auto store = open_store({a.world, /*read_only=*/true, /*create=*/false, /*listen=*/false});
     if (!store)
         return bad_input(store.error());
-    if (Status s = export_store_vdb(**store, BlockRegistry::default_registry(), a.out, opt); !s)
+    // The block table the store records (import-vdb and the engine write it), else the default:
+    // an imported world's own names and materials were exported as the default palette.
+    Result<std::optional<std::string>> table = (*store)->get_meta("registry");
+    if (!table)
+        return bad_input(table.error());
+    Result<BlockRegistry> registry = *table ? registry_from_text(**table) : BlockRegistry::default_registry();
+    if (!registry)
+        return bad_input(a.world + ": " + registry.error());
+    if (Status s = export_store_vdb(**store, *registry, a.out, opt); !s)
         return bad_input(s.error());
     auto chunks = (*store)->count();
     std::printf("vx export-vdb: %" PRIu64 " chunks of %s -> %s (Int32 grid 'blocks', %s) in %.2f s\n",

@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "world/base/file_lock.h"
+#include "world/block_registry_text.h"
 #include "world/store/pg_store.h"
 #include "world/store/sqlite_store.h"
 #include "world/store/store_open.h"
@@ -78,6 +79,8 @@ Status replace_pg_world(const World& world, const std::string& uri, const std::s
             failure = (*store)->erase(c);
     if (failure.ok())
         failure = (*store)->set_meta("source", source);
+    if (failure.ok()) // What its ids mean, for a later export (block_registry_text.h).
+        failure = (*store)->set_meta("registry", registry_to_text(world.registry()));
     if (failure.ok())
         failure = (*store)->flush();
     if (failure.ok())
@@ -123,6 +126,8 @@ Status write_sqlite_world(const World& world, const std::string& tmp, const std:
         std::fprintf(stderr, "wrote %zu chunks\n", total);
     if (failure.ok())
         failure = (*store)->set_meta("source", source);
+    if (failure.ok()) // What its ids mean, for a later export (block_registry_text.h).
+        failure = (*store)->set_meta("registry", registry_to_text(world.registry()));
     if (failure.ok())
         failure = (*store)->flush();
     return failure; // Closing the last connection checkpoints the WAL into the file and deletes it.

@@ -17,6 +17,7 @@
 #include "world/store/sqlite_store.h"
 #include "world/vdb/vdb_analytic.h"
 #include "world/vdb/vdb_overlay_store.h"
+#include "world/vdb/vdb_world.h"
 #include <glm/glm.hpp>
 
 #include "cli_run.h"
@@ -517,6 +518,58 @@ TEST(Cli, VdbExportImport) {
 
 // A VDB world played with edits (its overlay beside it) exports merged; the isolated reader's caps
 // are options, and hitting the memory cap names the option.
+// A world's own block table (names and materials, ids past the default palette) survives
+// import-vdb into a store and export-vdb out of it: the store kept no table and the export wrote
+// the default palette's names over the imported ids.
+TEST(Cli, VdbBlockTableSurvivesTheStore) {
+    const auto dir = temp_dir() / "vdb_registry";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    vx::world::BlockRegistry custom;
+    for (int i = 1; i <= 40; ++i) {
+        vx::world::BlockInfo b;
+        b.name = "rock " + std::to_string(i);
+        b.albedo = glm::vec3(float(i) / 41.f, 0.25f, 0.75f);
+        b.reflectivity = i % 4 == 0 ? 0.5f : 0.f;
+        b.emission = i == 7 ? glm::vec3(2.f, 1.f, 0.5f) : glm::vec3(0.f);
+        b.opaque = i % 10 != 0;
+        ASSERT_TRUE(custom.add(b).ok());
+    }
+    vx::world::World w(custom);
+    for (int i = 1; i <= 40; ++i)
+        w.set_block(vx::world::BlockPos(i, 2, 3), vx::world::BlockId(i));
+    const std::string in = (dir / "in.vdb").string(), db = (dir / "w.db").string(), out = (dir / "out.vdb").string();
+    ASSERT_TRUE(vx::vdb::export_vdb(w, in).ok());
+    CliRun r = run_vx("import-vdb " + in + " --out " + db);
+    ASSERT_EQ(r.code, 0) << r.out;
+    r = run_vx("export-vdb " + db + " --out " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    auto back = vx::vdb::import_world_vdb(out);
+    ASSERT_TRUE(back.ok()) << back.error();
+    for (int i = 1; i <= 40; ++i) {
+        const vx::world::BlockInfo want = custom.info(vx::world::BlockId(i)), got = back->registry().info(vx::world::BlockId(i));
+        EXPECT_EQ(got.name, want.name);
+        EXPECT_EQ(got.albedo, want.albedo) << want.name;
+        EXPECT_EQ(got.reflectivity, want.reflectivity) << want.name;
+        EXPECT_EQ(got.emission, want.emission) << want.name;
+        EXPECT_EQ(got.opaque, want.opaque) << want.name;
+        EXPECT_EQ(back->get_block(vx::world::BlockPos(i, 2, 3)), vx::world::BlockId(i));
+    }
+    // A damaged table is one line naming it, and no file.
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "UPDATE meta SET value='rock\t1 1\t0\t0 0 0\t1' WHERE key='registry'", nullptr,
+                           nullptr, nullptr),
+              SQLITE_OK);
+    EXPECT_EQ(sqlite3_changes(raw), 1);
+    sqlite3_close(raw);
+    const std::string refused = (dir / "refused.vdb").string();
+    r = run_vx("export-vdb " + db + " --out " + refused);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("block table line 1"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(refused));
+}
+
 TEST(Cli, VdbWorldExportsWithItsEditsAndReaderCapsAreOptions) {
     const auto dir = temp_dir() / "vdb_overlay";
     std::filesystem::remove_all(dir);
