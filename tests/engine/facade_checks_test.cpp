@@ -34,6 +34,20 @@ vx::EngineCreateInfo tiny_info(vx::WorldSource source) {
     return info;
 }
 
+// An engine of `info` (a world of seed 1) with the viewer 4 blocks above the terrain at the
+// origin, settled; null (with a test failure) when a step fails.
+std::unique_ptr<vx::Engine> settled_above_origin(const vx::EngineCreateInfo& info) {
+    auto engine = vx::Engine::create(info);
+    EXPECT_TRUE(engine) << engine.error();
+    if (!engine)
+        return nullptr;
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(1, 0, 0) + 4, 0};
+    const bool ready = (*engine)->set_viewer(v).ok() && vx::test::settle(**engine);
+    EXPECT_TRUE(ready);
+    return ready ? std::move(*engine) : nullptr;
+}
+
 // The error of `r`, or "" when it succeeded.
 template <typename T>
 std::string error_of(const T& r) {
@@ -159,14 +173,9 @@ TEST(FacadeChecks, SetViewerKeepsTheStreamedBoxInsideTheWorld) {
 TEST(FacadeChecks, ATinyUpdateBudgetStillFillsTheView) {
     vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
     info.streaming.update_budget_ms = 0.0003;
-    auto engine = vx::Engine::create(info);
-    ASSERT_TRUE(engine) << engine.error();
-    vx::Engine& e = **engine;
-    vx::Viewer v;
-    v.block = {0, vx::terrain_height(1, 0, 0) + 4, 0};
-    ASSERT_TRUE(e.set_viewer(v));
-    ASSERT_TRUE(vx::test::settle(e));
-    EXPECT_EQ(e.stats().chunks_meshed, 27u); // Radius 1: 3 x 3 x 3 chunks in view.
+    const std::unique_ptr<vx::Engine> e = settled_above_origin(info);
+    ASSERT_NE(e, nullptr);
+    EXPECT_EQ(e->stats().chunks_meshed, 27u); // Radius 1: 3 x 3 x 3 chunks in view.
 }
 
 // terrain_height is defined for every column: past the world's edge it is the edge's height (near
@@ -301,14 +310,11 @@ TEST(FacadeChecks, CreateRefusesStreamingSettingsOutOfRange) {
     edges.streaming.update_budget_ms = 1000.0;
     edges.streaming.unload_delay_s = inf;
     edges.streaming.save_delay_s = inf;
-    auto engine = vx::Engine::create(edges);
-    ASSERT_TRUE(engine) << engine.error();
-    vx::Engine& e = **engine;
-    vx::Viewer v;
-    v.block = {0, vx::terrain_height(1, 0, 0) + 4, 0};
-    ASSERT_TRUE(e.set_viewer(v));
-    ASSERT_TRUE(vx::test::settle(e));
-    ASSERT_TRUE(e.set_block(v.block, *e.find_block("stone")));
+    const std::unique_ptr<vx::Engine> engine = settled_above_origin(edges);
+    ASSERT_NE(engine, nullptr);
+    vx::Engine& e = *engine;
+    const vx::BlockPos above{0, vx::terrain_height(1, 0, 0) + 4, 0}; // The viewer's block.
+    ASSERT_TRUE(e.set_block(above, *e.find_block("stone")));
     const auto now = std::chrono::steady_clock::now();
     for (int hour = 1; hour <= 3; ++hour)
         e.update(now + std::chrono::hours(hour));
