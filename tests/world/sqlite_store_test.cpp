@@ -1,4 +1,5 @@
 #include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <random>
 
@@ -188,6 +189,10 @@ TEST(SqliteStoreErrors, ASecondWriterIsRefusedReadersAreNot) {
         const std::string refused = open_error({.path = path});
         EXPECT_NE(refused.find("is open for writing elsewhere"), std::string::npos) << refused;
         EXPECT_NE(refused.find(path), std::string::npos) << refused;
+        const std::string link = dir.file("link.db"); // The same file by another name: refused too.
+        std::filesystem::create_symlink(path, link);
+        const std::string by_link = open_error({.path = link});
+        EXPECT_NE(by_link.find("is open for writing elsewhere"), std::string::npos) << by_link;
         auto reader = open_store(path, /*read_only=*/true);
         ASSERT_TRUE(reader);
         EXPECT_EQ(reader->load({0, 0, 0})->state, LoadState::Present);

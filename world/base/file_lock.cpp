@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 #include <fcntl.h>
@@ -10,7 +11,13 @@
 
 namespace vx::world {
 
-std::string lock_file_of(const std::string& path) { return path + "-lock"; }
+std::string lock_file_of(const std::string& path) {
+    // Beside the file itself: a symbolic link to a world (or a path through one) names the same
+    // lock as the world's own path, so a writer through the link is refused too.
+    std::error_code ec;
+    const std::filesystem::path real = std::filesystem::weakly_canonical(path, ec);
+    return (ec ? path : real.string()) + "-lock";
+}
 
 Result<FileLock> FileLock::acquire(const std::string& path) {
     const std::string lock = lock_file_of(path);

@@ -39,7 +39,8 @@ private:
     int m_fd = -1;
 };
 
-// The lock file of `path`: path + "-lock".
+// The lock file of `path`: the file's own path (symbolic links resolved) + "-lock". Hard links
+// are not resolved: two names of one file have two locks.
 std::string lock_file_of(const std::string& path);
 
 } // namespace vx::world

@@ -206,6 +206,12 @@ template <class F> Result<std::string> run_child(const std::string& path, const 
     }
     if (pid == 0) {
         ::close(fds[0]);
+        // Only the result pipe: an inherited descriptor would keep what the parent holds open
+        // past its close for the child's life (a store's writer lock, file_lock.h).
+        const unsigned out = unsigned(fds[1]);
+        if (out > 3)
+            ::close_range(3, out - 1, 0);
+        ::close_range(out + 1, ~0U, 0);
         limit_child(iso);
         Result<std::string> r = body();
         const std::string msg = std::string(1, r.ok() ? '\0' : '\1') + (r.ok() ? r.value() : child_error(r.error(), iso));
