@@ -116,13 +116,6 @@ std::unique_ptr<world::ChunkGenerator> pick_generator(const WorldSource& source,
     return fallback;
 }
 
-// The block names a world file was saved with, one per line for ids 1, 2, ...
-std::string block_names(const world::BlockRegistry& registry) {
-    std::string out;
-    for (size_t id = 1; id < registry.size(); ++id)
-        out += registry.info(world::BlockId(id)).name + "\n";
-    return out;
-}
 
 // Refuses block names `now` that do not start with the `stored` ones (ids would change meaning).
 Status check_blocks(const std::optional<std::string>& stored, const std::string& now, const std::string& path) {
@@ -140,7 +133,7 @@ Status check_block_names(world::ChunkStore& store, const std::string& path, cons
     auto stored = store.get_meta("blocks");
     if (!stored)
         return Error{stored.error()};
-    const std::string now = block_names(registry);
+    const std::string now = world::registry_names_text(registry);
     if (Status s = check_blocks(*stored, now, path); !s)
         return s;
     return store.set_meta("blocks", now);
@@ -194,7 +187,7 @@ Status check_world_meta(world::ChunkStore& store, const WorldSource& source, con
                      ": its unedited chunks would not match; open it with that generator"};
     if (!source.generator && *seed && **seed != std::to_string(source.seed))
         return Error{path + " holds a world of seed " + **seed + ", not " + std::to_string(source.seed)};
-    const std::string now = block_names(registry);
+    const std::string now = world::registry_names_text(registry);
     if (Status s = check_blocks(*stored, now, path); !s)
         return s;
     if (Status s = store.set_meta("generator", identity); !s)

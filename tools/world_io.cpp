@@ -81,6 +81,8 @@ Status replace_pg_world(const World& world, const std::string& uri, const std::s
         failure = (*store)->set_meta("source", source);
     if (failure.ok()) // What its ids mean, for a later export (block_registry_text.h).
         failure = (*store)->set_meta("registry", registry_to_text(world.registry()));
+    if (failure.ok()) // The names the engine holds a game's blocks to: a game with others is refused.
+        failure = (*store)->set_meta("blocks", registry_names_text(world.registry()));
     if (failure.ok())
         failure = (*store)->flush();
     if (failure.ok())
@@ -128,6 +130,8 @@ Status write_sqlite_world(const World& world, const std::string& tmp, const std:
         failure = (*store)->set_meta("source", source);
     if (failure.ok()) // What its ids mean, for a later export (block_registry_text.h).
         failure = (*store)->set_meta("registry", registry_to_text(world.registry()));
+    if (failure.ok()) // The names the engine holds a game's blocks to: a game with others is refused.
+        failure = (*store)->set_meta("blocks", registry_names_text(world.registry()));
     if (failure.ok())
         failure = (*store)->flush();
     return failure; // Closing the last connection checkpoints the WAL into the file and deletes it.

@@ -56,6 +56,13 @@ std::string registry_to_text(const BlockRegistry& registry) {
     return out;
 }
 
+std::string registry_names_text(const BlockRegistry& registry) {
+    std::string out;
+    for (size_t id = 1; id < registry.size(); ++id)
+        out += registry.info(BlockId(id)).name + "\n";
+    return out;
+}
+
 Result<BlockRegistry> registry_from_text(std::string_view text) {
     BlockRegistry registry;
     std::vector<std::string_view> lines = split(text, '\n');

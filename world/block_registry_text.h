@@ -19,6 +19,10 @@ namespace vx::world {
 
 std::string registry_to_text(const BlockRegistry& registry);
 
+// The names alone, one per line for ids 1, 2, ... (a store's "blocks" meta: what the engine
+// compares a game's block list with, so stored ids keep their meaning).
+std::string registry_names_text(const BlockRegistry& registry);
+
 // Errors: one line naming the line that is not five fields of the kinds above, or a name the
 // registry refuses (empty, a duplicate).
 Result<BlockRegistry> registry_from_text(std::string_view text);

@@ -555,9 +555,17 @@ TEST(Cli, VdbBlockTableSurvivesTheStore) {
         EXPECT_EQ(got.opaque, want.opaque) << want.name;
         EXPECT_EQ(back->get_block(vx::world::BlockPos(i, 2, 3)), vx::world::BlockId(i));
     }
-    // A damaged table is one line naming it, and no file.
+    // The names the engine holds a game's blocks to are recorded too: a game opening the imported
+    // world with the default blocks is refused instead of rewriting what ids 1.. mean.
     sqlite3* raw = nullptr;
     ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);
+    sqlite3_stmt* st = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(raw, "SELECT value FROM meta WHERE key='blocks'", -1, &st, nullptr), SQLITE_OK);
+    ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+    const std::string names = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
+    sqlite3_finalize(st);
+    EXPECT_EQ(names.rfind("rock 1\nrock 2\nrock 3\n", 0), 0u) << names;
+    // A damaged table is one line naming it, and no file.
     ASSERT_EQ(sqlite3_exec(raw, "UPDATE meta SET value='rock\t1 1\t0\t0 0 0\t1' WHERE key='registry'", nullptr,
                            nullptr, nullptr),
               SQLITE_OK);

@@ -2,6 +2,7 @@
 // Debian's vdb_print reads what we write.
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -201,6 +202,31 @@ TEST(VdbWorld, PartialImportOfAScaledGridEqualsTheClippedWholeImport) {
     EXPECT_TRUE(same_blocks(expect, *got));
 }
 
+// A file whose block table holds a NaN or infinite material is refused at import, naming the
+// block: it imported, then rendered NaN and made the store's table unexportable.
+TEST(VdbWorld, NonFiniteMaterialsAreRefused) {
+    TempDir dir;
+    for (int which = 0; which < 3; ++which) {
+        world::BlockRegistry r;
+        world::BlockInfo b{"odd"};
+        if (which == 0)
+            b.albedo.y = std::nanf("");
+        else if (which == 1)
+            b.reflectivity = INFINITY;
+        else
+            b.emission.z = -INFINITY;
+        ASSERT_TRUE(r.add(b).ok());
+        world::World w(r);
+        w.set_block(BlockPos(1, 2, 3), 1);
+        const std::string path = dir.file("odd" + std::to_string(which) + ".vdb");
+        ASSERT_TRUE(export_vdb(w, path).ok());
+        Result<world::World> back = import_world_vdb(path);
+        ASSERT_FALSE(back.ok()) << which;
+        EXPECT_NE(back.error().find("block 1 in the file's registry: its material is not finite"), std::string::npos)
+            << back.error();
+    }
+}
+
 TEST(VdbWorld, ExportBoxKeepsOnlyBlocksInside) {
     const std::array<ChunkCoord, 1> origins = {ChunkCoord(0)};
     const world::World w = random_world(7, 20, origins);
@@ -242,6 +268,11 @@ TEST(VdbWorld, PartialImportByBox) {
         EXPECT_TRUE(same_blocks(*expect, *part));
         EXPECT_GT(part->chunk_count(), 0u);
     }
+    // A box past the file's 32-bit range reads nothing (its ends were cast to 32 bits unclamped).
+    const int64_t past = int64_t(1) << 33;
+    Result<world::World> beyond = import_world_vdb(path, {BlockBox{BlockPos(past, 0, 0), BlockPos(past + 100, 10, 10)}});
+    ASSERT_TRUE(beyond.ok()) << beyond.error();
+    EXPECT_EQ(beyond->chunk_count(), 0u);
 }
 
 TEST(VdbWorld, EmptyWorldRoundTrips) {

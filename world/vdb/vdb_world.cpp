@@ -205,8 +205,10 @@ Result<openvdb::Int32Grid::Ptr> read_blocks_grid(const std::string& path, const 
         // clips in world space: the box goes through the grid's own transform (it was taken as
         // unit voxels, so a grid of voxel size 4 lost most of the box). A one-voxel margin keeps
         // the clip conservative; grid_to_world clips exactly.
-        const BlockPos lo = glm::max(options.box->min, BlockPos(-kVdbCoordLimit)) - BlockPos(1);
-        const BlockPos hi = glm::min(options.box->max, BlockPos(kVdbCoordLimit)) + BlockPos(1);
+        // Both ends inside the file's range (a box past it wrapped to another region in 32 bits).
+        const BlockPos limit(kVdbCoordLimit);
+        const BlockPos lo = glm::clamp(options.box->min, -limit, limit) - BlockPos(1);
+        const BlockPos hi = glm::clamp(options.box->max, -limit, limit) + BlockPos(1);
         const openvdb::GridBase::ConstPtr meta = file.readGridMetadata(kGridName);
         const openvdb::BBoxd world_box = meta->transform().indexToWorld(
             openvdb::CoordBBox(openvdb::Coord(int32_t(lo.x), int32_t(lo.y), int32_t(lo.z)),
