@@ -173,7 +173,7 @@ bool Swapchain::present(uint32_t index) {
     const VkResult r = swapchain_result(*m_ctx, vkQueuePresentKHR(m_ctx->queue(), &pi), "vkQueuePresentKHR");
     if (r == VK_SUBOPTIMAL_KHR || r == VK_ERROR_OUT_OF_DATE_KHR)
         m_out_of_date = true;
-    return r != VK_ERROR_DEVICE_LOST;
+    return r == VK_SUCCESS || r == VK_SUBOPTIMAL_KHR || r == VK_ERROR_OUT_OF_DATE_KHR; // Else: context lost.
 }
 
 } // namespace vx::render

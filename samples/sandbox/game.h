@@ -35,6 +35,20 @@ struct FrameFigures {
     int edit_to_screen = -1; // Frames from an edit call to the frame that uploaded it; -1: none ended here.
 };
 
+// When to give a lost GPU device another renderer: after each loss, unless this many renderers
+// in a row were lost again before drawing a frame (a failure that persists, such as a swapchain
+// the window cannot have: recreating every frame would never end). Main thread.
+class DeviceLossPolicy {
+public:
+    static constexpr int kMaxInARow = 3;
+    // A frame failed on a lost device: true to recreate the renderer, false to give up.
+    bool recreate() { return ++m_in_a_row <= kMaxInARow; }
+    void frame_drawn() { m_in_a_row = 0; }
+
+private:
+    int m_in_a_row = 0;
+};
+
 class Game {
 public:
     static constexpr double kReach = 8.0; // Blocks: how far the crosshair edits.

@@ -59,6 +59,7 @@ struct App {
     bool screenshot_failed = false; // A scripted screenshot (--screenshot, a replay's) not written.
     bool screenshot_scripted = false; // The pending one is scripted (F2's: no exit code).
     bool last_frame_shot = false;     // --screenshot was taken in the last frame of --frames.
+    DeviceLossPolicy loss_policy;     // Renderers recreated since the last frame drawn.
     std::string screenshot_path;
     std::string message;
     double last_x = 0, last_y = 0;
@@ -392,8 +393,9 @@ int run(App& app) {
                                       : app.engine->render_to_image(shot);
         if (vx::Status s = drawn; !s) {
             std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
-            // A lost GPU device: a new renderer, the world and every edit kept; else give up.
-            if (!app.engine->stats().device_lost)
+            // A lost GPU device: a new renderer, the world and every edit kept; else (or when
+            // renderers keep being lost before a frame: DeviceLossPolicy) give up.
+            if (!app.engine->stats().device_lost || !app.loss_policy.recreate())
                 return 1;
             if (vx::Status r = app.engine->recreate_renderer(); !r) {
                 std::fprintf(stderr, "vx_sandbox: %s\n", r.error().c_str());
@@ -402,6 +404,7 @@ int run(App& app) {
             say(app, "the GPU device was lost: renderer recreated");
             continue;
         }
+        app.loss_policy.frame_drawn();
         if (capture)
             write_screenshot(app, shot);
         const double frame_ms = real_dt * 1000.0;

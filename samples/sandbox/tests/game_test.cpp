@@ -130,3 +130,21 @@ TEST(Game, EditsOfAPersistentWorldBecomeDurable) {
     }
     std::filesystem::remove_all(dir);
 }
+
+// A device lost again before any frame is drawn, time after time, ends the game (exit 1) after
+// DeviceLossPolicy::kMaxInARow renderers; one frame drawn between losses starts the count again.
+// Every failed Vulkan call now reads as a lost device, and a failure that persists made the
+// sandbox recreate its renderer in every frame forever.
+TEST(DeviceLossPolicy, GivesUpOnlyOnLossesInARow) {
+    using sandbox::DeviceLossPolicy;
+    DeviceLossPolicy p;
+    for (int round = 0; round < 3; ++round) {
+        for (int i = 0; i < DeviceLossPolicy::kMaxInARow; ++i)
+            EXPECT_TRUE(p.recreate()) << round << " " << i;
+        p.frame_drawn();
+    }
+    for (int i = 0; i < DeviceLossPolicy::kMaxInARow; ++i)
+        EXPECT_TRUE(p.recreate());
+    EXPECT_FALSE(p.recreate());
+    EXPECT_FALSE(p.recreate());
+}
