@@ -62,8 +62,9 @@ void LodDeriveJob::run(JobContext& ctx) {
         return;
     }
     m_chunk = std::move(*r);
-    for (const auto& [c, chunk] : derived) // Clears their marks; a failure only means deriving again.
-        (void)m_store.save_lod(c, chunk);
+    if (m_save)
+        for (const auto& [c, chunk] : derived) // Clears their marks; a failure only means deriving again.
+            (void)m_store.save_lod(c, chunk);
 }
 
 void LodDeriveJob::complete() { m_owner.on_lod_data(lod_of(key()), std::move(m_chunk), m_error); }

@@ -82,13 +82,16 @@ private:
 };
 
 // I/O lane: a coarse chunk the store marks stale (a level-0 edit under it was saved after it):
-// re-derived from the levels below (world::load_or_derive_lod); what was rebuilt is saved,
-// which clears its marks. A store failure reports an error.
+// re-derived from the levels below (world::load_or_derive_lod); with `save`, what was rebuilt
+// is saved, which clears its marks. Without (chunks marked stale in this session, whose level-0
+// edits may not all be saved yet): the marks stay for the next session to derive from. A store
+// failure reports an error.
 class LodDeriveJob final : public Job {
 public:
     LodDeriveJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
-                 std::shared_ptr<const world::LodDirtySet> dirty)
-        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_dirty(std::move(dirty)) {}
+                 std::shared_ptr<const world::LodDirtySet> dirty, bool save)
+        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_dirty(std::move(dirty)),
+          m_save(save) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
@@ -97,6 +100,7 @@ private:
     world::ChunkStore& m_store;
     const world::ChunkGenerator& m_gen;
     std::shared_ptr<const world::LodDirtySet> m_dirty;
+    bool m_save;
     std::optional<world::Chunk> m_chunk;
     std::string m_error;
 };

@@ -141,7 +141,8 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
     n.submitted = true;
     ++m_metrics.pending_data;
     if (m_stale && m_stale->contains(c)) {
-        m_batch.push_back(std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale));
+        m_batch.push_back(std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale,
+                                                         !m_marked_here.contains(c)));
         return;
     }
     auto generate = std::make_unique<LodGenerateJob>(events(), c, m_generator, m_viewer);
@@ -188,6 +189,8 @@ void LodStreamer::on_lod_data(LodCoord c, std::optional<Chunk> chunk, const std:
     n.data = Data::Present;
     n.failures = 0;
     n.chunk = std::move(*chunk);
+    if (std::exchange(n.merge_children, false))
+        merge_children(c, n);
     m_metrics.block_bytes[size_t(c.level)] += n.chunk.memory_bytes();
     if (n.chunk.is_empty()) { // Air: nothing to mesh, nothing to draw.
         const bool was_ready = n.meshed; // Reloaded (reload()): drawn, maybe.
@@ -335,6 +338,7 @@ void LodStreamer::mark_stale(ChunkCoord edited, int from) {
     for (int k = from; k <= kMaxLodLevel; ++k) {
         above.push_back(lod_ancestor({0, edited}, k));
         stale->insert(above.back());
+        m_marked_here.insert(above.back());
     }
     m_stale = std::move(stale);
     m_batch.push_back(std::make_unique<LodMarkDirtyJob>(edited, *m_store, above));
@@ -344,7 +348,7 @@ void LodStreamer::mark_stale(ChunkCoord edited, int from) {
             continue;
         Node& n = nit->second;
         if (n.data == Data::Requested && n.submitted)
-            n.reload_on_arrival = true; // Its load may have read the store before the edit's save.
+            n.reload_on_arrival = n.merge_children = true; // Its load may predate the edit's save.
         else if (n.data == Data::Present)
             reload(c, n);
     }
@@ -360,7 +364,24 @@ void LodStreamer::reload(LodCoord c, Node& n) {
     }
     m_metrics.block_bytes[size_t(c.level)] -= n.chunk.memory_bytes();
     n.chunk = Chunk();
+    n.merge_children = true;
     request_data(c, n);
+}
+
+// A reloaded chunk is derived from the store, which lacks level-0 edits not saved yet: the
+// children held here (level-0 chunks, or present coarse ones) are its freshest cells.
+void LodStreamer::merge_children(LodCoord c, Node& n) {
+    for (int i = 0; i < kLodChildren; ++i) {
+        const LodCoord child = lod_child(c, i);
+        const Chunk* cells = nullptr;
+        if (child.level == 0) {
+            cells = m_blocks->find_chunk(child.chunk);
+        } else if (auto it = m_coarse.find(child); it != m_coarse.end() && it->second.data == Data::Present) {
+            cells = &it->second.chunk;
+        }
+        if (cells)
+            (void)refresh_octant(n.chunk, *cells, lod_octant(child));
+    }
 }
 
 // ---- The drawn cut ---------------------------------------------------------------------------

@@ -138,6 +138,7 @@ private:
         bool mesh_stale = false;    // Its snapshot predates an edit: mesh again when it returns.
         bool submitted = false;     // Requested: its load/generate job was submitted.
         bool reload_on_arrival = false; // Requested: made stale meanwhile; load again when it lands.
+        bool merge_children = false;    // Reloaded: its children held here refresh it on arrival.
         uint8_t failures = 0;       // Data failures in a row (retry back-off).
         std::chrono::steady_clock::time_point retry_at{};
         world::Chunk chunk;         // Present: the cells.
@@ -156,6 +157,7 @@ private:
     void request_data(world::LodCoord c, Node& n);
     void mark_stale(world::ChunkCoord edited, int from);
     void reload(world::LodCoord c, Node& n);
+    void merge_children(world::LodCoord c, Node& n);
     void request_mesh(world::LodCoord c, Node& n);
     void retry_failed(std::chrono::steady_clock::time_point now);
 
@@ -200,6 +202,9 @@ private:
     // Coarse chunks the store marked stale when this object was made, and those marked since
     // (mark_stale): derived on load. Copied on change: jobs in flight hold the set they began with.
     std::shared_ptr<const world::LodDirtySet> m_stale;
+    // Marked stale in this session (mark_stale): derived without saving, as level-0 edits under
+    // them may not be saved yet; the marks stay for the next session.
+    world::LodDirtySet m_marked_here;
     int m_draws = 0; // Chunks drawn in this update (the queue's budget).
     bool m_holes_dirty = true;
     LodMetrics m_metrics;
