@@ -30,17 +30,6 @@ void Buffer::reset() {
     m_address = 0;
 }
 
-namespace {
-
-// Out of host or device memory: a runtime failure the caller reports (an empty resource), where
-// any other result is a bug (VK_CHECK). Drivers return these from object creation and memory
-// binding too, not only from vkAllocateMemory (lavapipe for any buffer past 4 GiB).
-bool out_of_memory(VkResult r) {
-    return r == VK_ERROR_OUT_OF_HOST_MEMORY || r == VK_ERROR_OUT_OF_DEVICE_MEMORY;
-}
-
-} // namespace
-
 Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     ci.size = info.size;
@@ -49,15 +38,12 @@ Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
     Buffer b;
     // Past the device's largest buffer the create call is invalid usage, not an error result.
     const bool too_large = ctx.max_buffer_size() && info.size > ctx.max_buffer_size();
-    const VkResult created = too_large ? VK_ERROR_OUT_OF_DEVICE_MEMORY
-                                       : vkCreateBuffer(ctx.device(), &ci, nullptr, &b.m_buffer);
-    if (out_of_memory(created)) {
+    if (too_large || VK_OUT_OF_MEMORY(vkCreateBuffer(ctx.device(), &ci, nullptr, &b.m_buffer))) {
         if (!info.scene)
             VX_LOG_ERROR("out of GPU memory for buffer '%s' (%llu bytes%s)", info.name, (unsigned long long)info.size,
                          too_large ? ": past the device's largest buffer" : "");
         return Buffer();
     }
-    VK_CHECK(created);
     b.m_ctx = &ctx;
     b.m_size = info.size;
     VkMemoryRequirements req;
@@ -72,14 +58,11 @@ Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
         b.reset();
         return b;
     }
-    if (const VkResult bound = vkBindBufferMemory(ctx.device(), b.m_buffer, b.m_alloc.memory, b.m_alloc.offset);
-        out_of_memory(bound)) {
+    if (VK_OUT_OF_MEMORY(vkBindBufferMemory(ctx.device(), b.m_buffer, b.m_alloc.memory, b.m_alloc.offset))) {
         if (!info.scene)
             VX_LOG_ERROR("out of GPU memory binding buffer '%s' (%llu bytes)", info.name, (unsigned long long)info.size);
         b.reset(); // The buffer and its allocation retire with this frame.
         return b;
-    } else {
-        VK_CHECK(bound);
     }
     VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
     ai.buffer = b.m_buffer;
@@ -129,11 +112,9 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
     if (other_view)
         ci.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT;
     Image img;
-    if (const VkResult created = vkCreateImage(ctx.device(), &ci, nullptr, &img.m_image); out_of_memory(created)) {
+    if (VK_OUT_OF_MEMORY(vkCreateImage(ctx.device(), &ci, nullptr, &img.m_image))) {
         VX_LOG_ERROR("out of GPU memory for image '%s'", info.name);
         return Image();
-    } else {
-        VK_CHECK(created);
     }
     img.m_ctx = &ctx;
     img.m_width = info.width;
@@ -147,26 +128,21 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
         img.reset();
         return img;
     }
-    if (const VkResult bound = vkBindImageMemory(ctx.device(), img.m_image, img.m_alloc.memory, img.m_alloc.offset);
-        out_of_memory(bound)) {
+    if (VK_OUT_OF_MEMORY(vkBindImageMemory(ctx.device(), img.m_image, img.m_alloc.memory, img.m_alloc.offset))) {
         VX_LOG_ERROR("out of GPU memory binding image '%s'", info.name);
         img.reset();
         return img;
-    } else {
-        VK_CHECK(bound);
     }
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.m_image;
     vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vi.format = other_view ? info.view_format : info.format;
     vi.subresourceRange = {info.aspect, 0, 1, 0, 1};
-    if (const VkResult viewed = vkCreateImageView(ctx.device(), &vi, nullptr, &img.m_view); out_of_memory(viewed)) {
+    if (VK_OUT_OF_MEMORY(vkCreateImageView(ctx.device(), &vi, nullptr, &img.m_view))) {
         VX_LOG_ERROR("out of memory for the view of image '%s'", info.name);
         img.m_view = VK_NULL_HANDLE;
         img.reset();
         return img;
-    } else {
-        VK_CHECK(viewed);
     }
     ctx.set_name(img.m_image, VK_OBJECT_TYPE_IMAGE, info.name);
     ctx.set_name(img.m_view, VK_OBJECT_TYPE_IMAGE_VIEW, info.name);
@@ -210,15 +186,12 @@ AccelStruct AccelStruct::create(Context& ctx, VkAccelerationStructureTypeKHR typ
     ci.offset = 0;
     ci.size = size;
     ci.type = type;
-    if (const VkResult created = vkCreateAccelerationStructureKHR(ctx.device(), &ci, nullptr, &as.m_handle);
-        out_of_memory(created)) {
+    if (VK_OUT_OF_MEMORY(vkCreateAccelerationStructureKHR(ctx.device(), &ci, nullptr, &as.m_handle))) {
         if (!scene)
             VX_LOG_ERROR("out of memory for acceleration structure '%s'", name);
         as.m_handle = VK_NULL_HANDLE;
         as.m_buffer.reset();
         return as;
-    } else {
-        VK_CHECK(created);
     }
     VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
     ai.accelerationStructure = as.m_handle;

@@ -22,6 +22,20 @@ const char* vk_result_name(VkResult result);
             ::vx::render::vk_check_fail(#call, vx_vk_result_, __FILE__, __LINE__);                           \
     } while (0)
 
+// For creation and memory-binding calls the device may refuse for want of memory: evaluates to
+// true on VK_ERROR_OUT_OF_HOST_MEMORY or VK_ERROR_OUT_OF_DEVICE_MEMORY (a runtime failure the
+// caller reports: lavapipe refuses any buffer past 4 GiB so), false on success; any other
+// failure aborts (a bug).
+#define VK_OUT_OF_MEMORY(call)                                                                               \
+    ([&]() {                                                                                                 \
+        const VkResult vx_vk_result_ = (call);                                                               \
+        if (vx_vk_result_ == VK_ERROR_OUT_OF_HOST_MEMORY || vx_vk_result_ == VK_ERROR_OUT_OF_DEVICE_MEMORY)   \
+            return true;                                                                                     \
+        if (vx_vk_result_ != VK_SUCCESS) [[unlikely]]                                                        \
+            ::vx::render::vk_check_fail(#call, vx_vk_result_, __FILE__, __LINE__);                           \
+        return false;                                                                                        \
+    }())
+
 // For vkAcquireNextImageKHR / vkQueuePresentKHR: VK_SUBOPTIMAL_KHR and VK_ERROR_OUT_OF_DATE_KHR
 // are allowed (the swapchain is recreated); any other failure aborts. Evaluates to the result.
 #define VK_CHECK_SWAPCHAIN(call)                                                                             \
