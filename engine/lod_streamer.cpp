@@ -333,14 +333,17 @@ void LodStreamer::apply_edits() {
 void LodStreamer::mark_stale(ChunkCoord edited, int from) {
     if (from > kMaxLodLevel)
         return;
-    auto stale = std::make_shared<LodDirtySet>(m_stale ? *m_stale : LodDirtySet{}); // Jobs hold the old set.
     std::vector<LodCoord> above;
-    for (int k = from; k <= kMaxLodLevel; ++k) {
+    for (int k = from; k <= kMaxLodLevel; ++k)
         above.push_back(lod_ancestor({0, edited}, k));
-        stale->insert(above.back());
-        m_marked_here.insert(above.back());
+    // Copied only when it gains a chunk (jobs hold the old set): every applied edit comes here,
+    // and edits in one place name the same ancestors again.
+    if (!m_stale || !std::all_of(above.begin(), above.end(), [&](LodCoord c) { return m_stale->contains(c); })) {
+        auto stale = std::make_shared<LodDirtySet>(m_stale ? *m_stale : LodDirtySet{});
+        stale->insert(above.begin(), above.end());
+        m_stale = std::move(stale);
     }
-    m_stale = std::move(stale);
+    m_marked_here.insert(above.begin(), above.end());
     m_batch.push_back(std::make_unique<LodMarkDirtyJob>(edited, *m_store, above));
     for (LodCoord c : above) {
         auto nit = m_coarse.find(c);
