@@ -54,6 +54,17 @@ Result<World> load_store_world(const std::string& path, std::optional<ChunkCoord
 
 namespace {
 
+// The meta an imported world's store carries: where it came from, what its ids mean (the table,
+// for a later export: block_registry_text.h) and the names the engine holds a game's blocks to
+// (a game with other blocks is refused).
+Status write_world_meta(ChunkStore& store, const World& world, const std::string& source) {
+    if (Status s = store.set_meta("source", source); !s)
+        return s;
+    if (Status s = store.set_meta("registry", registry_to_text(world.registry())); !s)
+        return s;
+    return store.set_meta("blocks", registry_names_text(world.registry()));
+}
+
 // A PostgreSQL world is replaced in one transaction: every chunk of `world` saved, every other
 // stored chunk erased, the queue never committed early (no size bound), then one flush. A failure
 // rolls it all back, so the database keeps the world it had.
@@ -78,11 +89,7 @@ Status replace_pg_world(const World& world, const std::string& uri, const std::s
         if (failure.ok() && !world.find_chunk(c))
             failure = (*store)->erase(c);
     if (failure.ok())
-        failure = (*store)->set_meta("source", source);
-    if (failure.ok()) // What its ids mean, for a later export (block_registry_text.h).
-        failure = (*store)->set_meta("registry", registry_to_text(world.registry()));
-    if (failure.ok()) // The names the engine holds a game's blocks to: a game with others is refused.
-        failure = (*store)->set_meta("blocks", registry_names_text(world.registry()));
+        failure = write_world_meta(**store, world, source);
     if (failure.ok())
         failure = (*store)->flush();
     if (failure.ok())
@@ -127,11 +134,7 @@ Status write_sqlite_world(const World& world, const std::string& tmp, const std:
     else
         std::fprintf(stderr, "wrote %zu chunks\n", total);
     if (failure.ok())
-        failure = (*store)->set_meta("source", source);
-    if (failure.ok()) // What its ids mean, for a later export (block_registry_text.h).
-        failure = (*store)->set_meta("registry", registry_to_text(world.registry()));
-    if (failure.ok()) // The names the engine holds a game's blocks to: a game with others is refused.
-        failure = (*store)->set_meta("blocks", registry_names_text(world.registry()));
+        failure = write_world_meta(**store, world, source);
     if (failure.ok())
         failure = (*store)->flush();
     return failure; // Closing the last connection checkpoints the WAL into the file and deletes it.
@@ -171,7 +174,7 @@ Status save_store_world(const World& world, const std::string& path, const std::
     const std::string tmp = path + ".tmp-" + std::to_string(getpid());
     auto remove_tmp = [&tmp] {
         std::error_code ec;
-        for (const char* suffix : {"", "-wal", "-shm", "-lock"})
+        for (const char* suffix : {"", "-wal", "-shm"})
             fs::remove(tmp + suffix, ec);
     };
     remove_tmp();
