@@ -56,7 +56,7 @@ void LodDeriveJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
         return;
     world::LodDerived derived;
-    Result<world::Chunk> r = world::load_or_derive_lod(m_store, m_gen, lod_of(key()), *m_dirty, &derived);
+    Result<world::Chunk> r = world::load_or_derive_lod(m_store, m_gen, lod_of(key()), *m_dirty, &derived, m_overlay.get());
     if (!r) {
         m_error = r.error();
         return;

@@ -84,14 +84,16 @@ private:
 // I/O lane: a coarse chunk the store marks stale (a level-0 edit under it was saved after it):
 // re-derived from the levels below (world::load_or_derive_lod); with `save`, what was rebuilt
 // is saved, which clears its marks. Without (chunks marked stale in this session, whose level-0
-// edits may not all be saved yet): the marks stay for the next session to derive from. A store
+// edits may not all be saved yet): the marks stay for the next session to derive from. `overlay`
+// (may be null): copies of level-0 chunks edited in memory, read before the store's. A store
 // failure reports an error.
 class LodDeriveJob final : public Job {
 public:
     LodDeriveJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
-                 std::shared_ptr<const world::LodDirtySet> dirty, bool save)
+                 std::shared_ptr<const world::LodDirtySet> dirty, bool save,
+                 std::unique_ptr<const world::LodOverlay> overlay = nullptr)
         : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_dirty(std::move(dirty)),
-          m_save(save) {}
+          m_save(save), m_overlay(std::move(overlay)) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
@@ -101,6 +103,7 @@ private:
     const world::ChunkGenerator& m_gen;
     std::shared_ptr<const world::LodDirtySet> m_dirty;
     bool m_save;
+    std::unique_ptr<const world::LodOverlay> m_overlay;
     std::optional<world::Chunk> m_chunk;
     std::string m_error;
 };

@@ -141,8 +141,10 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
     n.submitted = true;
     ++m_metrics.pending_data;
     if (m_stale && m_stale->contains(c)) {
-        m_batch.push_back(std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale,
-                                                         !m_marked_here.contains(c)));
+        std::unique_ptr<const LodOverlay> overlay = edited_under(c);
+        const bool save = !overlay && !m_marked_here.contains(c); // Nothing unsaved in it.
+        m_batch.push_back(
+            std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale, save, std::move(overlay)));
         return;
     }
     auto generate = std::make_unique<LodGenerateJob>(events(), c, m_generator, m_viewer);
@@ -150,6 +152,26 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
         m_batch.push_back(std::make_unique<LodLoadJob>(events(), c, *m_store, std::move(generate)));
     else
         m_batch.push_back(std::move(generate));
+}
+
+// Copies of the level-0 chunks under `c` edited in this session and still in memory (null if
+// none): a derivation from the store alone would miss their edits until they are saved.
+std::unique_ptr<const LodOverlay> LodStreamer::edited_under(LodCoord c) {
+    std::unique_ptr<LodOverlay> out;
+    for (auto it = m_edited_here.begin(); it != m_edited_here.end();) {
+        const Chunk* chunk = m_blocks->find_chunk(*it);
+        if (!chunk) { // Dropped, so saved: the store has it.
+            it = m_edited_here.erase(it);
+            continue;
+        }
+        if (lod_ancestor({0, *it}, c.level) == c) {
+            if (!out)
+                out = std::make_unique<LodOverlay>();
+            out->emplace(*it, *chunk);
+        }
+        ++it;
+    }
+    return out;
 }
 
 void LodStreamer::request_mesh(LodCoord c, Node& n) {
@@ -276,8 +298,10 @@ void LodStreamer::on_unload(ChunkCoord c) {
 }
 
 void LodStreamer::note_edit(ChunkCoord c) {
-    if (top_level() > 0)
+    if (top_level() > 0) {
         m_edited.insert(c);
+        m_edited_here.insert(c);
+    }
 }
 
 void LodStreamer::flush_edits() {

@@ -155,6 +155,7 @@ private:
     void keep(world::LodCoord c);
     void release(world::LodCoord c);
     void request_data(world::LodCoord c, Node& n);
+    std::unique_ptr<const world::LodOverlay> edited_under(world::LodCoord c);
     void mark_stale(world::ChunkCoord edited, int from);
     void reload(world::LodCoord c, Node& n);
     void merge_children(world::LodCoord c, Node& n);
@@ -205,6 +206,9 @@ private:
     // Marked stale in this session (mark_stale): derived without saving, as level-0 edits under
     // them may not be saved yet; the marks stay for the next session.
     world::LodDirtySet m_marked_here;
+    // Level-0 chunks edited in this session, while in memory (the overlay of derivations: the
+    // store may not have their edits yet). Those dropped since, and so saved, are pruned.
+    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_edited_here;
     int m_draws = 0; // Chunks drawn in this update (the queue's budget).
     bool m_holes_dirty = true;
     LodMetrics m_metrics;

@@ -166,8 +166,9 @@ Flight fly(ChunkStreamer& streamer, LodStreamer& lod, const DrawnRecorder& rec, 
 // A LodStreamer fed by a ChunkStreamer as its mesh sink, the way the engine wires them; tests
 // take its parts by structured binding: auto& [rec, lod, streamer] = rig.
 struct Rig {
-    Rig(const ChunkGenerator& gen, ChunkStore* store, const LodViewSettings& s)
-        : lod(gen, store, rec, s, BlockRegistry::default_registry()), streamer(gen, store, lod, streaming_for(s)) {
+    Rig(const ChunkGenerator& gen, ChunkStore* store, const LodViewSettings& s) : Rig(gen, store, s, streaming_for(s)) {}
+    Rig(const ChunkGenerator& gen, ChunkStore* store, const LodViewSettings& s, const StreamingSettings& ss)
+        : lod(gen, store, rec, s, BlockRegistry::default_registry()), streamer(gen, store, lod, ss) {
         lod.attach(streamer.jobs(), streamer.world());
     }
     DrawnRecorder rec; // Declared first: lod draws into it.
@@ -461,6 +462,63 @@ TEST(LodStreamer, KeptCoarseChunksOverADroppedEditedChunkShowTheEdit) {
         EXPECT_GE(kept, 2) << "of " << top << " levels over the edit, kept in memory";
         ASSERT_TRUE(streamer.flush());
     }
+    std::filesystem::remove(path);
+}
+
+// An edit to a level-0 chunk in memory but under a drawn coarse chunk (its level-1 parent is not
+// kept) cannot climb the levels: the kept ones over it are derived again (mark_stale). The store
+// lacks the edit until it is saved, so the derivation reads the chunk in memory (LodOverlay), or the
+// edit would be missing from those coarse chunks until they were next loaded. A dropped chunk's
+// edit, saved, is derived beside it.
+TEST(LodStreamer, CoarseChunksDerivedOverAnUnsavedEditShowIt) {
+    const TerrainGenerator terrain(5);
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_rederived.sqlite");
+    const BlockPos dropped(84, 45, 20); // Level-0 chunk x 2; high in the air: every level's cell changes.
+    const BlockPos unsaved(100, 45, 20); // Chunk x 3: one level-1 chunk over both.
+    ASSERT_EQ(lod_parent({0, chunk_of(dropped)}), lod_parent({0, chunk_of(unsaved)}));
+    auto store = open_sqlite(path);
+    ASSERT_TRUE(store);
+    StreamingSettings ss = streaming_for(edit_view());
+    ss.save_delay_s = 1e6; // The second edit stays unsaved until the flush at the end.
+    {
+        Rig rig(terrain, store.get(), edit_view(), ss);
+        auto& [rec, lod, streamer] = rig;
+        Clock::time_point now{};
+        const glm::dvec3 start(112.5, 20.0, 16.5); // Chunk x 3.
+        const glm::dvec3 moved(272.5, 20.0, 16.5); // Chunk x 8: chunk 2 leaves (6 > 5), chunk 3 stays.
+        ASSERT_TRUE(settle(streamer, lod, start, now));
+        ASSERT_TRUE(streamer.set_block(dropped, 1)); // Saved when its chunk is dropped.
+        now += std::chrono::minutes(1);
+        const auto limit = Clock::now() + std::chrono::minutes(1);
+        do {
+            now += std::chrono::milliseconds(16);
+            streamer.update(moved, glm::dvec3(1, 0, 0), now);
+        } while (streamer.world().find_chunk(chunk_of(dropped)) && Clock::now() < limit);
+        ASSERT_EQ(streamer.world().find_chunk(chunk_of(dropped)), nullptr) << "the edited chunk was dropped";
+        ASSERT_TRUE(settle(streamer, lod, moved, now));
+        ASSERT_NE(streamer.world().find_chunk(chunk_of(unsaved)), nullptr) << "its neighbour stayed";
+        ASSERT_EQ(lod.coarse_chunk(lod_parent({0, chunk_of(unsaved)})), nullptr) << "its level-1 parent is kept";
+        ASSERT_TRUE(streamer.set_block(unsaved, 2));
+        lod.note_edit(chunk_of(unsaved));
+        now += std::chrono::milliseconds(16);
+        streamer.update(moved, glm::dvec3(1, 0, 0), now);
+        lod.update(moved, now, Clock::now() + std::chrono::milliseconds(2));
+        EXPECT_EQ(streamer.metrics().dirty, 1u);
+        lod.note_edit(chunk_of(dropped));
+        ASSERT_TRUE(settle(streamer, lod, moved, now));
+        EXPECT_EQ(streamer.metrics().dirty, 1u) << "the neighbour's edit was saved: the test did not test the overlay";
+        int kept = 0;
+        for (int k = 1; k <= lod.top_level(); ++k) {
+            if (const Chunk* coarse = lod.coarse_chunk(lod_chunk_of(unsaved, k))) {
+                ++kept;
+                EXPECT_NE(coarse->get(local_index(lod_local_of(unsaved, k))), kAir) << "level " << k;
+                EXPECT_NE(coarse->get(local_index(lod_local_of(dropped, k))), kAir) << "level " << k;
+            }
+        }
+        EXPECT_GE(kept, 2) << "of " << lod.top_level() << " levels over the edits, kept in memory";
+        ASSERT_TRUE(streamer.flush());
+    }
+    store.reset();
     std::filesystem::remove(path);
 }
 

@@ -143,6 +143,16 @@ TEST_P(StoreSuite, EditedBlocksReachCoarseLevelsOnLoad) {
         rebuilt.insert(c);
     }
     EXPECT_EQ(rebuilt, ancestors);
+    // A level-0 chunk in the caller's overlay (edited in memory, not saved yet) is read in place of
+    // the store's.
+    const LodCoord edited = edits.begin()->first;
+    LodOverlay overlay;
+    overlay.emplace(edited.chunk, Chunk(7));
+    vx::Result<Chunk> o = load_or_derive_lod(*store, gen, lod_parent(edited), dirty, nullptr, &overlay);
+    ASSERT_TRUE(o.ok()) << o.error();
+    Chunk expected = after.chunk(lod_parent(edited));
+    ASSERT_TRUE(refresh_octant(expected, overlay.at(edited.chunk), lod_octant(edited)));
+    EXPECT_TRUE(*o == expected);
     vx::Result<Chunk> s = load_or_derive_lod(*store, gen, elsewhere, dirty);
     ASSERT_TRUE(s.ok()) << s.error();
     EXPECT_TRUE(*s == sentinel);

@@ -29,10 +29,14 @@ Result<Chunk> level0(ChunkStore& store, const ChunkGenerator& gen, ChunkCoord c)
 } // namespace
 
 Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c,
-                                 const LodDirtySet& dirty, LodDerived* derived) {
+                                 const LodDirtySet& dirty, LodDerived* derived, const LodOverlay* overlay) {
     VX_ASSERT_RETURN(valid_lod_level(c.level), failed(c, "level out of range"));
-    if (c.level == 0)
+    if (c.level == 0) {
+        if (overlay)
+            if (auto it = overlay->find(c.chunk); it != overlay->end())
+                return it->second;
         return level0(store, gen, c.chunk);
+    }
     const bool stale = dirty.contains(c);
     bool corrupt = false;
     if (!stale) {
@@ -53,7 +57,7 @@ Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, L
     std::array<Chunk, kLodChildren> kids;
     std::array<const Chunk*, kLodChildren> ptrs;
     for (int i = 0; i < kLodChildren; ++i) {
-        Result<Chunk> k = load_or_derive_lod(store, gen, lod_child(c, i), dirty, derived);
+        Result<Chunk> k = load_or_derive_lod(store, gen, lod_child(c, i), dirty, derived, overlay);
         if (!k)
             return Error{k.error()}; // Already names the child.
         kids[size_t(i)] = std::move(*k);

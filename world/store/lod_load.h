@@ -8,7 +8,8 @@
 //   - in `dirty` (a level-0 edit under it was saved, ChunkStore::mark_lod_dirty), or its record is
 //     corrupt (the store moved it aside): rebuilt by downsample() from its 8 children, each made
 //     by this same rule; a level-0 child is the store's chunk, or the generator's (try_generate)
-//     where none is stored or its record was corrupt (as the streamer does). A corrupt coarse
+//     where none is stored or its record was corrupt (as the streamer does), unless the caller's
+//     `overlay` holds a newer one (edited in memory, not saved yet). A corrupt coarse
 //     record is re-derived, not regenerated: coarse chunks are stored over edited blocks, which
 //     generation would hide;
 //   - neither stored nor dirty: generate_lod() (nothing edited under it, as long as every level-0
@@ -21,6 +22,7 @@
 // Thread affinity: calls the store, so the store's thread only (the I/O lane); the generator runs
 // on the same thread (ChunkGenerator is thread-safe, so any thread would do).
 
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -41,9 +43,14 @@ using LodDirtySet = std::unordered_set<LodCoord, LodCoordHash>;
 // which clears their dirty marks, and drops them from its dirty set.
 using LodDerived = std::vector<std::pair<LodCoord, Chunk>>;
 
-// The chunk at `c` by the rule above (level 0: the store's chunk, else the generator's).
-// `derived` may be null.
+// Level-0 chunks newer than the store's (edited in memory, maybe not saved yet): a derivation
+// that reaches one of them reads it here instead of the store.
+using LodOverlay = std::unordered_map<ChunkCoord, Chunk, ChunkCoordHash>;
+
+// The chunk at `c` by the rule above (level 0: `overlay`'s chunk, else the store's, else the
+// generator's). `derived` and `overlay` may be null.
 Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c,
-                                 const LodDirtySet& dirty, LodDerived* derived = nullptr);
+                                 const LodDirtySet& dirty, LodDerived* derived = nullptr,
+                                 const LodOverlay* overlay = nullptr);
 
 } // namespace vx::world
