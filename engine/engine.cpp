@@ -162,7 +162,13 @@ Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 
     const glm::dvec3 fwd = world::unit_direction(viewer.forward);
     const glm::dvec3 right = glm::normalize(glm::cross(fwd, world::unit_direction(viewer.up)));
     const glm::dvec3 up = glm::cross(right, fwd);
-    const glm::dvec2 ndc = pixel / glm::dvec2(frame_size) * 2.0 - 1.0;
+    // Far outside the frame only the pixel's bearing matters: scaled down before anything can
+    // overflow (2 * 1e308 is infinite), the direction changes by rounding only (the forward axis
+    // is 1e-15 of the rest).
+    glm::dvec2 half = pixel / glm::dvec2(frame_size) - 0.5;
+    if (const double m = glm::max(std::abs(half.x), std::abs(half.y)); m > 1e15)
+        half *= 1e15 / m;
+    const glm::dvec2 ndc = half * 2.0;
     const double th = std::tan(glm::radians(double(viewer.fov_y_degrees)) * 0.5);
     const double aspect = double(frame_size.x) / double(frame_size.y);
     ScreenRay ray;
@@ -172,7 +178,7 @@ Result<ScreenRay> screen_ray(const Viewer& viewer, glm::dvec2 pixel, glm::uvec2 
         return Error{block.error()};
     ray.origin_block = *block;
     ray.origin_offset = viewer.offset - whole;
-    ray.direction = glm::normalize(fwd + ndc.x * th * aspect * right - ndc.y * th * up);
+    ray.direction = world::unit_direction(fwd + ndc.x * th * aspect * right - ndc.y * th * up);
     return ray;
 }
 

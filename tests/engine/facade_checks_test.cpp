@@ -131,6 +131,29 @@ TEST(FacadeChecks, ViewerDirectionsOfAnyLengthAreDirections) {
     EXPECT_NE(ray.error().find("keep the offset small"), std::string::npos) << ray.error();
 }
 
+// Pixels far outside the frame are rays too: toward the pixel's bearing, a unit vector. Past 1e154
+// the direction's squared length overflowed (a zero direction), and at 1e308 the doubled pixel
+// did (NaN), both returned as success.
+TEST(FacadeChecks, ScreenRaysOfFarPixelsAreUnitDirections) {
+    vx::Viewer v;
+    v.forward = {0, 0, -1};
+    v.up = {0, 1, 0};
+    v.fov_y_degrees = 179.99f;
+    for (const glm::dvec2 pixel : {glm::dvec2(1e160, 0.5), glm::dvec2(1e150, 0.5), glm::dvec2(1e308, 0.5),
+                                   glm::dvec2(0.5, -1e308), glm::dvec2(-1e300, 1e300), glm::dvec2(1e9, 0.5)}) {
+        auto ray = vx::screen_ray(v, pixel, {1, 1});
+        ASSERT_TRUE(ray) << pixel.x << "," << pixel.y << ": " << ray.error();
+        EXPECT_NEAR(glm::length(ray->direction), 1.0, 1e-12) << pixel.x << "," << pixel.y;
+        // Right (+x) for pixels right of the frame, up (+y) for those above it.
+        const glm::dvec2 bearing = glm::sign(pixel - 0.5) * glm::dvec2(1, -1);
+        EXPECT_EQ(glm::sign(ray->direction.x), bearing.x) << pixel.x << "," << pixel.y;
+        EXPECT_EQ(glm::sign(ray->direction.y), bearing.y) << pixel.x << "," << pixel.y;
+        if (std::abs(pixel.x) == std::abs(pixel.y)) { // The diagonal's bearing, not an axis's.
+            EXPECT_NEAR(std::abs(ray->direction.x), std::abs(ray->direction.y), 1e-9);
+        }
+    }
+}
+
 // The streamed world ends 2^17 blocks inside the world's edge (2^36), on every axis and side: a
 // viewer past it is refused (its box of chunks once ended at INT32_MAX, and the loop over it
 // never did). A viewer just inside it streams and meshes as anywhere else.
