@@ -8,6 +8,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <functional>
 
 #include <glm/glm.hpp>
@@ -93,7 +94,13 @@ inline glm::dvec3 scaled_direction(const glm::dvec3& d) {
         return d;
     int e = 0;
     std::frexp(m, &e);
-    return {std::ldexp(d.x, -e), std::ldexp(d.y, -e), std::ldexp(d.z, -e)};
+    // A component that would round to zero keeps its sign (the smallest subnormal): the sign
+    // decides which block a ray on a plane starts in (raycast.h's δ·d rule).
+    auto scale = [e](double c) {
+        const double s = std::ldexp(c, -e);
+        return s == 0.0 && c != 0.0 ? std::copysign(std::numeric_limits<double>::denorm_min(), c) : s;
+    };
+    return {scale(d.x), scale(d.y), scale(d.z)};
 }
 
 // The same direction as a unit vector (zero for zero). Any thread.

@@ -1,5 +1,6 @@
 #include "world/raycast.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -108,7 +109,6 @@ RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query) {
     const BlockPos anchor = ray.anchor + BlockPos(fl);
     Walk w = start_walk(ray.offset - fl, d);
     const double len = glm::length(d);
-    const double t_limit = max_distance / len;
 
     auto block_at = [&] { return anchor + BlockPos(w.cell[0], w.cell[1], w.cell[2]); };
     BlockId id = query(block_at());
@@ -121,7 +121,7 @@ RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query) {
     for (;;) {
         const int a = next_axis(w);
         const double t = w.t_next[a];
-        if (!(t <= t_limit) || t == kInf)
+        if (t == kInf || !(t * len <= max_distance)) // In the distance reported: inclusive exactly.
             return {};
         w.cell[a] += w.step[a];
         w.t_next[a] = crossing(w, a, w.cell[a] + (w.step[a] > 0 ? 1 : 0));
@@ -129,6 +129,29 @@ RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query) {
         if (id != kAir)
             return make_hit(block_at(), id, a, w.step[a], t * len);
     }
+}
+
+double clip_to_world(const Ray& ray, double max_distance) {
+    if (!std::isfinite(max_distance))
+        return max_distance; // raycast() refuses it, as documented.
+    const glm::dvec3 u = unit_direction(ray.direction);
+    double enter = 0.0, leave = max_distance;
+    for (int a = 0; a < 3; ++a) {
+        // The world's faces relative to the origin, widened by their rounding (anchors past 2^53).
+        const double anchor = double(ray.anchor[a]);
+        const double margin = 4.0 + std::abs(anchor) * 0x1p-50;
+        const double lo = double(kWorldMinBlock) - anchor - ray.offset[a] - margin;
+        const double hi = double(kWorldMaxBlock) + 1.0 - anchor - ray.offset[a] + margin;
+        if (u[a] == 0.0) {
+            if (lo > 0.0 || hi < 0.0)
+                return -1.0; // Beside the world, parallel to it.
+            continue;
+        }
+        const double t0 = lo / u[a], t1 = hi / u[a];
+        enter = std::max(enter, std::min(t0, t1));
+        leave = std::min(leave, std::max(t0, t1));
+    }
+    return leave < enter ? -1.0 : leave;
 }
 
 RaycastHit raycast(const World& world, const Ray& ray, double max_distance) {
@@ -147,7 +170,7 @@ RaycastHit raycast(const World& world, const Ray& ray, double max_distance) {
         }
         return cached ? cached->get(local_of(p)) : kAir;
     };
-    return raycast(ray, max_distance, query);
+    return raycast(ray, clip_to_world(ray, max_distance), query);
 }
 
 } // namespace vx::world

@@ -65,8 +65,10 @@ class BlockQueryRef {
 public:
     using Fn = BlockId (*)(BlockPos);
 
+    // Any callable object, capture-less lambdas included (they convert to Fn too, but that
+    // would take two conversions at the call); plain functions take the Fn overload.
     template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, BlockQueryRef> &&
-                                                !std::is_convertible_v<F, Fn>>>
+                                                !std::is_function_v<std::remove_pointer_t<std::decay_t<F>>>>>
     BlockQueryRef(F&& f) // NOLINT: implicit on purpose, lambdas convert at the call.
         : m_ctx{const_cast<void*>(static_cast<const void*>(&f))},
           m_call([](Ctx ctx, BlockPos p) -> BlockId { return (*static_cast<std::remove_reference_t<F>*>(ctx.obj))(p); }) {}
@@ -93,7 +95,14 @@ private:
 // distance. Thread-safe if the query is.
 RaycastHit raycast(const Ray& ray, double max_distance, BlockQueryRef query);
 
-// The same on a World (chunks not present are air). Thread-safe for concurrent reads.
+// The same on a World (chunks not present are air). The walk ends where the ray leaves the world
+// (clip_to_world); a ray from outside walks the air up to the world's edge. Thread-safe for
+// concurrent reads.
 RaycastHit raycast(const World& world, const Ray& ray, double max_distance);
+
+// `max_distance` cut to where the ray leaves the world's box (a few blocks past it, for rounding),
+// or -1 if the ray meets no part of the box within it: past the edge everything is air, and a
+// walk there could take hours (a max distance of 1e12 blocks). Any thread.
+double clip_to_world(const Ray& ray, double max_distance);
 
 } // namespace vx::world

@@ -401,6 +401,10 @@ TEST(LodRaycast, BeyondTheWorldsEdgeIsAir) {
     ASSERT_TRUE(h.hit.hit);
     EXPECT_EQ(h.hit.block, BlockPos(kWorldMinBlock + 31, 5, 5));
     EXPECT_EQ(h.hit.distance, 8.5);
+    // The walk ends at the edge: a limit of 1e12 blocks walked hours of air past it.
+    ray.anchor = BlockPos(kWorldMaxBlock - 3, 5, 5);
+    ray.direction = {1, 0, 0};
+    EXPECT_FALSE(raycast_lod(scene, ray, 1e12).hit.hit);
 }
 
 TEST(LodRaycast, DirectCoarseTerrainLetsNoRayThrough) {

@@ -55,7 +55,7 @@ LodRaycastHit raycast_lod(const LodScene& scene, const Ray& ray, double max_dist
         return cov.chunk ? cov.chunk->get(lod_local_of(p, cov.coord.level)) : kAir;
     };
     LodRaycastHit out;
-    out.hit = raycast(ray, max_distance, query);
+    out.hit = raycast(ray, clip_to_world(ray, max_distance), query);
     if (out.hit.hit) {
         // The walk stops at the first non-air answer, so the last lookup is the hit's chunk.
         out.level = cov.coord.level;
