@@ -4,11 +4,13 @@
 #include <chrono>
 #include <climits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/job_batch.h"
 #include "world/lod/downsample.h"
+#include "world/store/lod_load.h"
 #include "world/mesh/mesher.h"
 
 namespace vx::engine {
@@ -23,28 +25,57 @@ struct Progress {
     ChunkStore& store;
     PregenStats stats;
     std::string failure; // The store's or the generator's first error.
-    size_t lod_done = 0; // Coarse chunks saved, all levels.
+    size_t lod_done = 0; // Coarse chunks saved or kept, all levels.
+    // The store's stale coarse chunks, read by the first coarse save (I/O lane only).
+    std::optional<LodDirtySet> lod_dirty;
 };
 
-// I/O lane: saves one chunk and lets the store commit when its batch is old enough.
+// I/O lane: saves one chunk unless the store has it (a player's edits, say: kept), and lets the
+// store commit when its batch is old enough.
 class SaveChunkJob final : public Job {
 public:
     SaveChunkJob(ChunkCoord c, Chunk chunk, Progress& p) : Job({c, JobKind::Save}), m_chunk(std::move(chunk)), m_p(p) {}
     void run(JobContext&) override {
-        m_status = m_p.store.save(key().chunk, m_chunk);
+        Result<bool> stored = m_p.store.contains(key().chunk);
+        if (!stored) {
+            m_status = Error{stored.error()};
+            return;
+        }
+        m_kept = *stored;
+        if (!m_kept)
+            m_status = m_p.store.save(key().chunk, m_chunk);
         (void)m_p.store.tick(Clock::now()); // A failed commit shows again at flush().
     }
     void complete() override {
         if (!m_status && m_p.failure.empty())
             m_p.failure = m_status.error();
-        ++m_p.stats.chunks;
+        ++(m_kept ? m_p.stats.kept : m_p.stats.chunks);
     }
 
 private:
     Chunk m_chunk;
     Progress& m_p;
     Status m_status;
+    bool m_kept = false;
 };
+
+// A coarse chunk the store has, or marks stale (edits under it: derived on load), is kept: a
+// terrain chunk over it would hide those edits. Unmarked and absent, nothing under it was edited
+// (every edit's save marks its coarse ancestors, lod_load.h), so the terrain's chunk is right.
+Result<bool> keep_coarse(Progress& p, LodCoord c) {
+    if (!p.lod_dirty) {
+        Result<std::vector<LodCoord>> dirty = p.store.list_lod_dirty();
+        if (!dirty)
+            return Error{dirty.error()};
+        p.lod_dirty.emplace(dirty->begin(), dirty->end());
+    }
+    if (p.lod_dirty->contains(c))
+        return true;
+    Result<ChunkLoad> stored = p.store.load_lod(c);
+    if (!stored)
+        return Error{stored.error()};
+    return stored->state != LoadState::Absent;
+}
 
 // Pool: generates one chunk and meshes it in isolation; complete() queues its save.
 class GenerateChunkJob final : public Job {
@@ -78,13 +109,20 @@ public:
     SaveLodJob(LodCoord c, Chunk chunk, Progress& p)
         : Job({c.chunk, JobKind::Save}), m_level(c.level), m_chunk(std::move(chunk)), m_p(p) {}
     void run(JobContext&) override {
-        m_status = m_p.store.save_lod({m_level, key().chunk}, m_chunk);
+        Result<bool> keep = keep_coarse(m_p, {m_level, key().chunk});
+        if (!keep) {
+            m_status = Error{keep.error()};
+            return;
+        }
+        m_kept = *keep;
+        if (!m_kept)
+            m_status = m_p.store.save_lod({m_level, key().chunk}, m_chunk);
         (void)m_p.store.tick(Clock::now());
     }
     void complete() override {
         if (!m_status && m_p.failure.empty())
             m_p.failure = m_status.error();
-        ++m_p.stats.lod_chunks[size_t(m_level - 1)];
+        ++(m_kept ? m_p.stats.lod_kept : m_p.stats.lod_chunks[size_t(m_level - 1)]);
         ++m_p.lod_done;
     }
 
@@ -93,6 +131,7 @@ private:
     Chunk m_chunk;
     Progress& m_p;
     Status m_status;
+    bool m_kept = false;
 };
 
 // Pool: makes one coarse chunk (generate_lod: the terrain's direct coarse chunk); complete()
@@ -149,7 +188,7 @@ Result<PregenStats> pregenerate(JobSystem& jobs, const TerrainGenerator& gen, Ch
     if (Status s = check_box(info.lo, info.hi); !s)
         return Error{s.error()};
     const auto t0 = Clock::now();
-    Progress p{jobs, store, {}, {}, 0};
+    Progress p{jobs, store, {}, {}, 0, std::nullopt};
     p.stats.lod_chunks.assign(size_t(info.lod_levels), 0);
     std::vector<std::unique_ptr<Job>> batch;
     batch.reserve(size_t(box_volume(info.lo, info.hi)));

@@ -4,7 +4,11 @@
 // asked) every coarse chunk of levels 1..N over the box made by world::generate_lod (the terrain
 // makes them directly, without their blocks) and saved with save_lod, then flushed. Meshing here
 // checks that each chunk meshes and measures the world (quads in isolation); the streamer meshes
-// again with real neighbours when it streams the world in.
+// again with real neighbours when it streams the world in. Chunks the store already has (edited by
+// players, made by an earlier run) are kept, and so are coarse chunks it has or marks stale: a run
+// over an existing world only fills in what is missing. The check and the save are not one step:
+// on a shared PostgreSQL world, a chunk another process saves first in between (under a second,
+// before the commit) is written over.
 
 #include <cstddef>
 #include <cstdint>
@@ -40,9 +44,11 @@ struct PregenInfo {
 // What was made. Plain value (not thread-safe).
 struct PregenStats {
     size_t chunks = 0;        // Chunks generated and saved (level 0).
+    size_t kept = 0;          // Chunks the store had already: left as they were.
     std::vector<size_t> lod_chunks; // Coarse chunks saved per level: [k - 1] for level k.
-    uint64_t non_uniform = 0; // Of those, not all one block.
-    uint64_t quads = 0;       // Greedy quads, each chunk meshed in isolation (air around).
+    size_t lod_kept = 0;      // Coarse chunks stored or marked stale already: left as they were.
+    uint64_t non_uniform = 0; // Of the chunks generated (saved or kept), not all one block.
+    uint64_t quads = 0;       // Their greedy quads, each chunk meshed in isolation (air around).
     double seconds = 0;       // Wall time, the final flush included.
 };
 

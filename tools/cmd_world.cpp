@@ -89,14 +89,21 @@ int run_gen(const GenArgs& a) {
     if (made_by && *made_by && **made_by != "terrain")
         return bad_input("'" + store_display_name(a.path) + "' was made by a game's generator (" + **made_by +
                          "), not the built-in terrain");
+    // An imported world (meta "source", tools/world_io.cpp) is a volume, not terrain: terrain
+    // chunks around it would be made up.
+    auto source = (*store)->get_meta("source");
+    if (source && *source && !(made_by && *made_by))
+        return bad_input("'" + store_display_name(a.path) + "' was imported (" + **source +
+                         "), not made by the built-in terrain");
     if (a.lod_levels > 0 && !(*store)->supports_lod())
         return bad_input("'" + store_display_name(a.path) + "' keeps no coarse levels (--lod-levels)");
-    if (Status s = (*store)->set_meta("generator", "terrain"); !s)
-        return bad_input(s.error());
     auto old_seed = (*store)->get_meta("seed");
     if (old_seed && *old_seed && **old_seed != std::to_string(a.seed))
         return bad_input("'" + store_display_name(a.path) + "' holds a world of seed " + **old_seed + ", not " +
                          std::to_string(a.seed));
+    // Written once every check has passed: a refused command changes nothing.
+    if (Status s = (*store)->set_meta("generator", "terrain"); !s)
+        return bad_input(s.error());
     if (Status s = (*store)->set_meta("seed", std::to_string(a.seed)); !s)
         return bad_input(s.error());
 
@@ -120,6 +127,8 @@ int run_gen(const GenArgs& a) {
     std::printf("vx world gen: %zu chunks (%" PRIu64 " non-uniform, %" PRIu64 " quads isolated) in %.2f s "
                 "(%.0f chunks/s), seed %" PRIu64 ", saved to %s\n",
                 total, non_uniform, quads, secs, double(total) / secs, a.seed, store_display_name(a.path).c_str());
+    if (made->kept || made->lod_kept)
+        std::printf("  kept as stored: %zu chunks, %zu coarse chunks\n", made->kept, made->lod_kept);
     for (size_t level = 1; level <= made->lod_chunks.size(); ++level)
         std::printf("  level %zu: %zu coarse chunks\n", level, made->lod_chunks[level - 1]);
     return kExitOk;

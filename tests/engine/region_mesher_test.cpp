@@ -266,6 +266,55 @@ TEST(WorldPregen, StoresCoarseLevelsOverTheBox) {
     std::filesystem::remove(path);
 }
 
+// Over a world that has chunks (a player's edits, an earlier run), pregeneration keeps them, and
+// keeps the coarse chunks the store has or marks stale (derived from those edits on load): it
+// saved terrain over them all.
+TEST(WorldPregen, KeepsWhatTheStoreHas) {
+    const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_keep_" + std::to_string(::getpid()) + ".db");
+    std::filesystem::remove(path);
+    const TerrainGenerator gen(11);
+    const ChunkCoord lo(-2, -1, 0), hi(1, 0, 2); // Levels 1 and 2 as in StoresCoarseLevelsOverTheBox.
+    const ChunkCoord edited(0, 0, 1);
+    const LodCoord stored{1, ChunkCoord(0, 0, 0)}, stale{2, ChunkCoord(-1, -1, 0)};
+    PregenStats made;
+    {
+        auto store = SqliteStore::open({path.string()});
+        ASSERT_TRUE(store) << store.error();
+        ASSERT_TRUE((*store)->save(edited, Chunk(5)));
+        ASSERT_TRUE((*store)->save_lod(stored, Chunk(6)));
+        ASSERT_TRUE((*store)->mark_lod_dirty(std::span<const LodCoord>(&stale, 1)));
+        ASSERT_TRUE((*store)->flush());
+        JobSystem jobs(batch_job_system_info(2));
+        PregenInfo info{lo, hi, {}};
+        info.lod_levels = 2;
+        auto r = pregenerate(jobs, gen, **store, info);
+        ASSERT_TRUE(r) << r.error();
+        made = *r;
+    }
+    EXPECT_EQ(made.chunks, 23u);
+    EXPECT_EQ(made.kept, 1u);
+    ASSERT_EQ(made.lod_chunks.size(), 2u);
+    EXPECT_EQ(made.lod_chunks[0], 7u);
+    EXPECT_EQ(made.lod_chunks[1], 3u);
+    EXPECT_EQ(made.lod_kept, 2u);
+    auto store = SqliteStore::open({path.string(), /*read_only=*/true, /*create=*/false});
+    ASSERT_TRUE(store) << store.error();
+    auto chunk = (*store)->load(edited);
+    ASSERT_TRUE(chunk && chunk->state == LoadState::Present);
+    EXPECT_TRUE(*chunk->chunk == Chunk(5));
+    auto coarse = (*store)->load_lod(stored);
+    ASSERT_TRUE(coarse && coarse->state == LoadState::Present);
+    EXPECT_TRUE(*coarse->chunk == Chunk(6));
+    auto marked = (*store)->load_lod(stale);
+    ASSERT_TRUE(marked);
+    EXPECT_EQ(marked->state, LoadState::Absent);
+    auto dirty = (*store)->list_lod_dirty();
+    ASSERT_TRUE(dirty);
+    EXPECT_EQ(*dirty, std::vector<LodCoord>{stale});
+    store->reset();
+    std::filesystem::remove(path);
+}
+
 namespace {
 
 // A SQLite store seen through the ChunkStore defaults for coarse levels (a game's store that

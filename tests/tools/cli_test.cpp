@@ -246,6 +246,24 @@ TEST(Cli, WorldGenInfoAndCheck) {
     r = run_vx("world gen " + game_db + " --seed 9 --radius 0");
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("made by a game's generator (game:waves/1)"), std::string::npos) << r.out;
+    // So is an imported world (terrain went into its box, stamped "terrain"), and a refused
+    // command writes no meta.
+    const std::string imported = (dir / "imported.db").string();
+    {
+        auto world = vx::world::SqliteStore::open({imported});
+        ASSERT_TRUE(world) << world.error();
+        ASSERT_TRUE((*world)->set_meta("source", "volume.vdb"));
+        ASSERT_TRUE((*world)->flush());
+    }
+    r = run_vx("world gen " + imported + " --seed 9 --radius 0");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("was imported (volume.vdb)"), std::string::npos) << r.out;
+    {
+        auto world = vx::world::SqliteStore::open({imported, /*read_only=*/true, /*create=*/false});
+        ASSERT_TRUE(world) << world.error();
+        EXPECT_FALSE((*world)->get_meta("generator")->has_value());
+        EXPECT_FALSE((*world)->get_meta("seed")->has_value());
+    }
 
     // Flip a byte inside one record's payload.
     sqlite3* h = nullptr;
@@ -266,6 +284,24 @@ TEST(Cli, WorldGenInfoAndCheck) {
     std::ofstream(garbage) << "this is not a database, but it is long enough to look like one to a careless reader";
     r = run_vx("world info " + garbage);
     EXPECT_EQ(r.code, 2) << r.out;
+
+    // Run again over a world it made (one record damaged above), a larger box keeps every chunk it
+    // has: a player's edits, and the damaged record for --check to find.
+    {
+        auto world = vx::world::SqliteStore::open({db});
+        ASSERT_TRUE(world) << world.error();
+        ASSERT_TRUE((*world)->save(vx::world::ChunkCoord(1, 0, 1), vx::world::Chunk(5)));
+        ASSERT_TRUE((*world)->flush());
+    }
+    r = run_vx("world gen " + db + " --seed 9 --radius 2 --bottom -1 --top 1");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("vx world gen: 48 chunks"), std::string::npos) << r.out; // 5 x 5 x 3, less 27.
+    EXPECT_NE(r.out.find("kept as stored: 27 chunks"), std::string::npos) << r.out;
+    auto world = vx::world::SqliteStore::open({db, /*read_only=*/true, /*create=*/false});
+    ASSERT_TRUE(world) << world.error();
+    auto edited = (*world)->load(vx::world::ChunkCoord(1, 0, 1));
+    ASSERT_TRUE(edited && edited->state == vx::world::LoadState::Present);
+    EXPECT_TRUE(*edited->chunk == vx::world::Chunk(5));
 }
 
 // --lod-levels N also stores coarse levels 1..N over the box; `world info` counts them per level
