@@ -106,6 +106,19 @@ std::string output_file_problem(const std::string& path) {
     return {};
 }
 
+std::string output_overwrites(const std::string& out, const std::vector<std::string>& inputs) {
+    for (const std::string& in : inputs) {
+        if (in.empty())
+            continue;
+        for (const char* suffix : {"", "-wal", "-shm"}) {
+            std::error_code ec;
+            if (std::filesystem::equivalent(out, in + suffix, ec))
+                return in + suffix;
+        }
+    }
+    return {};
+}
+
 namespace {
 std::vector<std::string>& output_failures() {
     static std::vector<std::string> failures; // The CLI's thread only (see ReportFile).

@@ -51,6 +51,11 @@ CLI::Validator finite_range(double lo, double hi, const std::string& what);
 // replaces, in a folder that exists), else why not: checked before the work, not after it.
 std::string output_file_problem(const std::string& path);
 
+// The one of `inputs` (or SQLite's -wal and -shm beside it) that `out` names, directly or by a
+// link, else "": a command that wrote `out` would replace the file it reads. Empty inputs are
+// skipped.
+std::string output_overwrites(const std::string& out, const std::vector<std::string>& inputs);
+
 // A file of a bench's report (CSV, Markdown): an std::ofstream that, on closing, records a failed
 // open or write (report_outputs): a long bench's figures must not vanish silently on a full disk.
 // CLI thread only.

@@ -389,6 +389,8 @@ int run_render(RenderArgs a) {
     const auto t_start = Clock::now();
     if (const std::string why = output_file_problem(a.out); !why.empty())
         return bad_input("--out: " + why); // Before the scene loads and renders, not after.
+    if (const std::string in = output_overwrites(a.out, {a.scene.world_path, a.scene.raw}); !in.empty())
+        return bad_input("--out '" + a.out + "' is '" + in + "', which the render reads: the image would replace it");
     if (!a.eye.empty()) {
         a.scene.eye = parse_world_pos(a.eye);
         if (!a.scene.eye)

@@ -60,19 +60,10 @@ bool names_vdb_file(const std::string& world) {
 // SQLite's -wal and -shm beside them): the export replaces `out` whole, so the world it read from
 // would be gone. Empty when it is none of them.
 std::string export_reads(const ExportArgs& a) {
-    namespace fs = std::filesystem;
     std::vector<std::string> inputs = {a.world};
     if (names_vdb_file(a.world))
         inputs.push_back(a.overlay.empty() ? default_overlay_name(a.world) : a.overlay);
-    for (size_t i = 0, n = inputs.size(); i < n; ++i)
-        for (const char* suffix : {"-wal", "-shm"})
-            inputs.push_back(inputs[i] + suffix);
-    for (const std::string& in : inputs) {
-        std::error_code ec;
-        if (fs::equivalent(a.out, in, ec))
-            return in;
-    }
-    return {};
+    return output_overwrites(a.out, inputs);
 }
 
 int run_export(const ExportArgs& a) {

@@ -148,6 +148,30 @@ TEST(Cli, RenderBadArgumentsExitTwoBeforeTouchingVulkan) {
     // The same for vx mesh --obj (checked before loading, the OBJ and its .mtl after meshing).
     expect_bad("mesh --raw " + vol + " --dims 40,20,36 --obj " + folder.string(), "--obj");
     expect_bad("mesh --raw " + vol + " --dims 40,20,36 --obj /nonexistent/dir/x.obj", "folder");
+    // An output that is an input (directly, by a link, or a SQLite world's -wal) is refused: the
+    // image or the OBJ replaced the world, the volume or the edits, and the command exited 0.
+    const std::string size_before = std::to_string(std::filesystem::file_size(vol));
+    const auto link = temp_dir() / "volume_link.raw";
+    std::filesystem::remove(link);
+    std::filesystem::create_symlink(vol, link);
+    expect_bad(base + "--out " + vol, "which the render reads");
+    expect_bad(base + "--out " + link.string(), "which the render reads");
+    const auto world = temp_dir() / "render_reads.db";
+    std::ofstream(world.string() + "-wal") << "";
+    expect_bad("render --world " + world.string() + " --out " + world.string() + "-wal", "which the render reads");
+    const auto edits = temp_dir() / "mesh_edits.txt";
+    std::ofstream(edits) << "0 0 0 1\n";
+    const std::string mesh = "mesh --raw " + vol + " --dims 40,20,36 --edits " + edits.string();
+    expect_bad(mesh + " --obj " + vol, "an input");
+    expect_bad(mesh + " --obj " + edits.string(), "an input");
+    const auto volume_mtl = temp_dir() / "volume.mtl"; // An input the .mtl beside volume.obj would replace.
+    std::filesystem::copy_file(vol, volume_mtl, std::filesystem::copy_options::overwrite_existing);
+    expect_bad("mesh --raw " + volume_mtl.string() + " --dims 40,20,36 --obj " + (temp_dir() / "volume.obj").string(),
+               "an input");
+    EXPECT_EQ(std::to_string(std::filesystem::file_size(vol)), size_before);
+    std::ifstream kept(edits);
+    std::string line;
+    EXPECT_TRUE(std::getline(kept, line) && line == "0 0 0 1");
 }
 
 // The OBJ has 4 vertices per quad, every face is CCW seen from outside (its normal points to

@@ -11,7 +11,6 @@
 #include <vector>
 
 namespace vx::world {
-namespace {
 
 std::string mtl_path_for(const std::string& path) {
     const size_t slash = path.find_last_of('/');
@@ -20,6 +19,8 @@ std::string mtl_path_for(const std::string& path) {
         return path.substr(0, dot) + ".mtl";
     return path + ".mtl";
 }
+
+namespace {
 
 std::string base_name(const std::string& path) {
     const size_t slash = path.find_last_of('/');

@@ -15,7 +15,10 @@ struct ObjStats {
     uint64_t vertices = 0;
 };
 
-// Writes every mesh of `meshes` to `path` (and `path` with .mtl for materials).
+// Writes every mesh of `meshes` to `path` (and mtl_path_for(path) for materials).
 Result<ObjStats> write_obj(const std::string& path, const MeshMap& meshes, const BlockRegistry& registry);
+
+// The materials file beside an OBJ: `path` with its extension replaced by .mtl (added if none).
+std::string mtl_path_for(const std::string& path);
 
 } // namespace vx::world
