@@ -58,6 +58,10 @@ TEST(RawVolume, ClearErrorsForBadInput) {
     auto huge = load_raw_volume(path, {glm::i64vec3(1 << 20, 1 << 20, 1 << 20), RawType::U8, BlockPos(0)}, w);
     ASSERT_FALSE(huge.ok());
     EXPECT_NE(huge.error().find("too large"), std::string::npos);
+    // Within 2^34 blocks but one plane of 2^34: the plane's buffer alone was 32 GiB (bad_alloc).
+    auto wide = load_raw_volume(path, {glm::i64vec3(1 << 17, 1 << 17, 1), RawType::U16, BlockPos(0)}, w);
+    ASSERT_FALSE(wide.ok());
+    EXPECT_NE(wide.error().find("too wide"), std::string::npos) << wide.error();
     auto outside = load_raw_volume(path, {glm::i64vec3(1, 1, 3), RawType::U8, BlockPos(0, 0, kWorldMaxBlock - 1)}, w);
     ASSERT_FALSE(outside.ok());
     EXPECT_NE(outside.error().find("outside the world"), std::string::npos);
