@@ -261,6 +261,26 @@ TEST(VdbVolume, OffsetShiftsEveryBlock) {
     });
 }
 
+// A volume that ends on the world's last block imports there: its chunk is INT32_MAX, where the
+// chunk loops' int counters wrapped and never ended.
+TEST(VdbVolume, AVolumeEndingOnTheWorldsLastBlockImports) {
+    const std::string path = test_file(TestFile::FogSphere);
+    Result<VolumeImport> a = import_volume(path);
+    ASSERT_TRUE(a.ok()) << a.error();
+    VolumeImportOptions o;
+    o.offset = BlockPos(world::kWorldMaxBlock - a->summary.blocks.max.x, 0, world::kWorldMaxBlock - a->summary.blocks.max.z);
+    Result<VolumeImport> b = import_volume(path, o);
+    ASSERT_TRUE(b.ok()) << b.error();
+    EXPECT_EQ(b->summary.blocks.max.x, world::kWorldMaxBlock);
+    EXPECT_EQ(a->summary.solid_blocks, b->summary.solid_blocks);
+    uint64_t solid = 0;
+    b->world.for_each_chunk([&](world::ChunkCoord, const world::Chunk& chunk) {
+        for (int i = 0; i < world::kChunkVolume; ++i)
+            solid += chunk.get(i) != world::kAir;
+    });
+    EXPECT_EQ(solid, a->summary.solid_blocks);
+}
+
 TEST(VdbVolume, DensityMapsToBlocks) {
     // Density 0..1 rising towards the centre.
     VolumeImportOptions o;

@@ -414,10 +414,11 @@ template <class GridT> void VolumeImporter<GridT>::add_chunks(openvdb::CoordBBox
             return;
     }
     const ChunkCoord clo = world::chunk_of(lo), chi = world::chunk_of(hi);
-    for (int z = clo.z; z <= chi.z; ++z)
-        for (int y = clo.y; y <= chi.y; ++y)
-            for (int x = clo.x; x <= chi.x; ++x)
-                m_active.insert(ChunkCoord(x, y, z));
+    // 64-bit counters: the world's last chunk is INT32_MAX, where ++ on an int never passes it.
+    for (int64_t z = clo.z; z <= chi.z; ++z)
+        for (int64_t y = clo.y; y <= chi.y; ++y)
+            for (int64_t x = clo.x; x <= chi.x; ++x)
+                m_active.insert(ChunkCoord(int32_t(x), int32_t(y), int32_t(z)));
 }
 
 template <class GridT> void VolumeImporter<GridT>::mark_active_chunks() {
@@ -484,10 +485,10 @@ template <class GridT> Result<VolumeImport> VolumeImporter<GridT>::run() {
     VolumeImport out;
     const ChunkCoord clo = world::chunk_of(m_src_lo + m_o.offset), chi = world::chunk_of(m_src_hi + m_o.offset);
     std::vector<BlockId> ids(kChunkVolume);
-    for (int z = clo.z; z <= chi.z; ++z)
-        for (int y = clo.y; y <= chi.y; ++y)
-            for (int x = clo.x; x <= chi.x; ++x) {
-                const ChunkCoord c(x, y, z);
+    for (int64_t z = clo.z; z <= chi.z; ++z) // 64-bit: see add_chunks.
+        for (int64_t y = clo.y; y <= chi.y; ++y)
+            for (int64_t x = clo.x; x <= chi.x; ++x) {
+                const ChunkCoord c{int32_t(x), int32_t(y), int32_t(z)};
                 if (fill_chunk(c, m_active.count(c) != 0, ids))
                     out.world.put_chunk(c, world::Chunk::from_dense(ids));
             }

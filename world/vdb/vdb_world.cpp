@@ -95,10 +95,11 @@ void add_chunks(ChunkSet& set, const openvdb::CoordBBox& b, const BlockBox& box,
         set.too_many = true;
         return;
     }
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) {
-                const ChunkCoord c(x, y, z);
+    // 64-bit counters: the world's last chunk is INT32_MAX, where ++ on an int never passes it.
+    for (int64_t z = lo.z; z <= hi.z; ++z)
+        for (int64_t y = lo.y; y <= hi.y; ++y)
+            for (int64_t x = lo.x; x <= hi.x; ++x) {
+                const ChunkCoord c{int32_t(x), int32_t(y), int32_t(z)};
                 const BlockPos org = world::chunk_origin(c);
                 if (tile && clip.contains(org) && clip.contains(org + BlockPos(kChunkSize - 1)))
                     set.uniform.emplace(c, *tile);
