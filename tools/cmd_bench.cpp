@@ -1,6 +1,8 @@
 // `vx bench SUITE [flags]`: runs the Google Benchmark registrations named SUITE/..., with any
 // --benchmark_* flags passed through (e.g. --benchmark_repetitions=9).
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,7 @@ public:
     explicit ErrorNotingReporter(benchmark::BenchmarkReporter* inner) : m_inner(inner) {}
     bool ReportContext(const Context& context) override { return m_inner->ReportContext(context); }
     void ReportRuns(const std::vector<Run>& runs) override {
+        m_runs += runs.size();
         for (const Run& run : runs)
             if (run.error_occurred)
                 m_failed.push_back(run.benchmark_name() + ": " + run.error_message);
@@ -31,11 +34,33 @@ public:
     }
     void Finalize() override { m_inner->Finalize(); }
     const std::vector<std::string>& failed() const { return m_failed; }
+    size_t runs() const { return m_runs; }
 
 private:
     benchmark::BenchmarkReporter* m_inner; // Google Benchmark's own, not ours to delete.
     std::vector<std::string> m_failed;
+    size_t m_runs = 0;
 };
+
+// Why a --benchmark_* flag that Google Benchmark would take badly is refused, or "": a negative
+// repetition count aborted (std::length_error), zero measured nothing and exited 0, and an
+// unknown format printed the usage and exited 0.
+std::string flag_problem(const std::string& arg) {
+    auto value_of = [&](const char* name) -> std::optional<std::string> {
+        const std::string prefix = std::string(name) + "=";
+        return arg.rfind(prefix, 0) == 0 ? std::optional(arg.substr(prefix.size())) : std::nullopt;
+    };
+    if (auto v = value_of("--benchmark_repetitions")) {
+        char* end = nullptr;
+        const long n = std::strtol(v->c_str(), &end, 10);
+        if (v->empty() || *end != '\0' || n < 1 || n > 100000)
+            return "--benchmark_repetitions must be 1..100000, got '" + *v + "'";
+    }
+    for (const char* name : {"--benchmark_format", "--benchmark_out_format"})
+        if (auto v = value_of(name); v && *v != "console" && *v != "json" && *v != "csv")
+            return std::string(name) + " must be console, json or csv, got '" + *v + "'";
+    return {};
+}
 
 } // namespace
 #endif
@@ -59,6 +84,8 @@ int run_bench(int argc, char** argv) {
     bool has_filter = false;
     for (int i = 2; i < argc; ++i) {
         storage.emplace_back(argv[i]);
+        if (const std::string why = flag_problem(storage.back()); !why.empty())
+            return bad_input(why);
         has_filter |= storage.back().rfind("--benchmark_filter", 0) == 0;
     }
     if (!has_filter)
@@ -78,6 +105,10 @@ int run_bench(int argc, char** argv) {
     benchmark::Shutdown();
     for (const std::string& failed : reporter.failed())
         std::fprintf(stderr, "vx: benchmark failed, no figure: %s\n", failed.c_str());
+    if (reporter.runs() == 0) {
+        std::fprintf(stderr, "vx: the benchmarks of suite '%s' reported no run\n", suite.c_str());
+        return kExitFailure;
+    }
     return reporter.failed().empty() ? kExitOk : kExitFailure;
 #endif
 }

@@ -512,7 +512,8 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--size", a->size, "Image size WxH");
     cmd->add_option("--spp", a->spp,
                     "Shadow samples per pixel at the first hit, per light, and as many sky rays (one primary ray "
-                    "per pixel)");
+                    "per pixel)")
+        ->check(CLI::Range(uint32_t(0), uint32_t(65536))); // As --bounce-spp: 2^32 ran for hours.
     cmd->add_option("--sample-seed", a->sample_seed,
                     "Seed of the samples' random numbers (same seed, same image; accumulated frames add "
                     "their frame number)");

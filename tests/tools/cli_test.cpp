@@ -102,6 +102,17 @@ TEST(Cli, BadArgumentsExitTwo) {
         EXPECT_NE(r.out.find(option), std::string::npos) << args << "\n" << r.out;
     }
     EXPECT_EQ(run_vx("bench vdb --help").code, 0);
+    // Google Benchmark flags it takes badly: -1 repetitions aborted, 0 measured nothing and an
+    // unknown format printed the usage, both exiting 0.
+    for (const char* flag : {"--benchmark_repetitions=-1", "--benchmark_repetitions=0", "--benchmark_repetitions=x",
+                             "--benchmark_format=xx", "--benchmark_out_format=yaml"}) {
+        r = run_vx(std::string("bench mesh --benchmark_filter=nothing ") + flag);
+        EXPECT_EQ(r.code, 2) << flag << "\n" << r.out;
+        if (r.out.find("has no benchmarks") == std::string::npos) {
+            EXPECT_NE(r.out.find(std::string(flag).substr(0, std::string(flag).find('='))), std::string::npos)
+                << flag << "\n" << r.out;
+        }
+    }
     r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;
@@ -138,6 +149,9 @@ TEST(Cli, RenderBadArgumentsExitTwoBeforeTouchingVulkan) {
                "levels of detail reach at most 65536 blocks");
     expect_bad(base + "--device fastest", "fastest");
     expect_bad(base + "--fov 0", "--fov");
+    const CliRun spp = run_vx(base + "--spp 4294967295"); // Ran for hours.
+    EXPECT_EQ(spp.code, 2) << spp.out;
+    EXPECT_NE(spp.out.find("--spp"), std::string::npos) << spp.out;
     EXPECT_EQ(run_vx(base + "--shading glossy").code, 2);
     EXPECT_EQ(run_vx(base + "--shadows maybe").code, 2);
     // An --out that cannot be written is refused before the render (it failed after it).
