@@ -255,6 +255,7 @@ Status Engine::set_viewer(const Viewer& viewer) {
 void Engine::update(std::chrono::steady_clock::time_point now) {
     if (m->shut_down)
         return;
+    m->follow_thread();
     const glm::dvec3 forward = m->viewer.forward;
     const auto t0 = std::chrono::steady_clock::now();
     const std::chrono::nanoseconds cpu0 = engine::thread_cpu_time();
@@ -431,6 +432,7 @@ Status Engine::shutdown() { return m->shutdown(); }
 Status Engine::Impl::shutdown() {
     if (shut_down)
         return {};
+    follow_thread(); // Destroyed by a game object on another thread, say.
     shut_down = true;
     Status result;
     if (streamer && world.store && !world.store->read_only()) {

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include <vx/vx.h>
 
@@ -30,6 +31,8 @@ struct Engine::Impl {
     glm::uvec2 window_frame_size{0};                 // Of the last presented frame (0: none yet).
     engine::SkyAccessCache sky;                      // render settings' sky_access (engine_render.cpp).
     bool shut_down = false;
+    // The thread using the engine now: its creator, or the one a game moved it to (follow_thread).
+    std::thread::id thread = std::this_thread::get_id();
     // Device loss (engine_render.cpp): the renderer's validation errors before recreations, and
     // whether the current renderer's loss was counted in frame.device_losses.
     uint32_t validation_errors_before = 0;
@@ -53,6 +56,15 @@ struct Engine::Impl {
         return {};
     }
     Status shutdown();
+    // A call on another thread than the last: the game moved the engine (vx.h, Threads); the job
+    // system's completions follow it.
+    void follow_thread() {
+        if (std::this_thread::get_id() == thread)
+            return;
+        thread = std::this_thread::get_id();
+        if (streamer)
+            streamer->jobs().adopt_main_thread();
+    }
     // The renderer's settings for this frame (engine_render.cpp): the game's, with sky_access
     // from the world around the viewer (kept while neither the eye's block nor the world moves).
     render::RenderSettings frame_settings(uint32_t width, uint32_t height);

@@ -157,6 +157,10 @@ public:
 
     // Main thread only. Completes finished jobs within the budget (see the file comment).
     CompletionStats process_completions(const CompletionBudget& budget = {});
+    // The new main thread: the calling one. Its owner moves it between threads (a game created its
+    // engine on a loading thread); the old thread no longer uses it, and the owner's own
+    // synchronisation (a join, a mutex) orders the two.
+    void adopt_main_thread() { m_main_thread = std::this_thread::get_id(); }
 
     // Thread-safe. While paused no job starts (running ones continue); submits still queue.
     void pause();

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <thread>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -52,6 +53,42 @@ std::unique_ptr<vx::Engine> settled_above_origin(const vx::EngineCreateInfo& inf
 template <typename T>
 std::string error_of(const T& r) {
     return r ? std::string() : r.error();
+}
+
+// A game may create its engine on a loading thread and use it from the game loop's, then destroy
+// it on a third: one thread at a time (vx.h, Threads). update() on the second aborted the process
+// (the job system's completions asserted their creator's thread), and so did the destruction.
+TEST(FacadeChecks, TheEngineMovesBetweenThreadsOneAtATime) {
+    const std::string path = checks_world("moves.db");
+    std::unique_ptr<vx::Engine> engine;
+    std::thread loader([&] {
+        auto made = vx::Engine::create(tiny_info(vx::WorldSource::sqlite(path, 1)));
+        ASSERT_TRUE(made) << made.error();
+        engine = std::move(*made);
+    });
+    loader.join();
+    ASSERT_TRUE(engine);
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(1, 0, 0) + 4, 0};
+    ASSERT_TRUE(engine->set_viewer(v));
+    ASSERT_TRUE(vx::test::settle(*engine));
+    const vx::BlockPos p{1, vx::terrain_height(1, 1, 1) + 2, 1};
+    ASSERT_TRUE(engine->set_block(p, 1));
+    std::thread other([&] { // And on again, with an edit saved there.
+        engine->update();
+        auto ticket = engine->save();
+        ASSERT_TRUE(ticket) << ticket.error();
+        EXPECT_TRUE(engine->wait(*ticket)) << "saved";
+    });
+    other.join();
+    EXPECT_EQ(engine->get_block(p), std::optional<vx::BlockId>(1));
+    std::thread closer([&] { engine.reset(); });
+    closer.join();
+    auto reopened = vx::Engine::create(tiny_info(vx::WorldSource::sqlite(path, 1)));
+    ASSERT_TRUE(reopened) << reopened.error();
+    ASSERT_TRUE((*reopened)->set_viewer(v));
+    ASSERT_TRUE(vx::test::settle(**reopened));
+    EXPECT_EQ((*reopened)->get_block(p), std::optional<vx::BlockId>(1));
 }
 
 TEST(FacadeChecks, SetViewerRefusesACameraTheRendererCannotMake) {
