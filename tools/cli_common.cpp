@@ -67,6 +67,16 @@ std::optional<glm::dvec3> parse_dvec3(const std::string& s) {
     return v;
 }
 
+std::optional<glm::uvec2> parse_image_size(const std::string& s) {
+    const size_t x = s.find('x');
+    if (x == std::string::npos || s.find_first_not_of("0123456789x") != std::string::npos)
+        return std::nullopt;
+    const std::optional<int64_t> w = parse_i64(s.substr(0, x)), h = parse_i64(s.substr(x + 1));
+    if (!w || !h || *w < 1 || *w > 16384 || *h < 1 || *h > 16384)
+        return std::nullopt;
+    return glm::uvec2(uint32_t(*w), uint32_t(*h));
+}
+
 uint32_t split_hits_arg(const std::string& first_hit_pass, uint32_t split_hits) {
     return first_hit_pass == "on" && split_hits < 1 ? 1u : split_hits;
 }
@@ -91,6 +101,19 @@ CLI::Validator finite_range(double lo, double hi, const std::string& what) {
             return ok ? std::string() : what + ", got '" + v + "'";
         },
         name);
+}
+
+CLI::Validator decimal_range(uint64_t lo, uint64_t hi, const std::string& what) {
+    return CLI::Validator(
+        [lo, hi, what](std::string& v) {
+            char* end = nullptr;
+            errno = 0;
+            const unsigned long long x = std::strtoull(v.c_str(), &end, 10);
+            const bool ok = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos && errno == 0 &&
+                            *end == '\0' && x >= lo && x <= hi;
+            return ok ? std::string() : what + ", got '" + v + "'";
+        },
+        "UINT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
 std::string output_file_problem(const std::string& path) {

@@ -33,6 +33,9 @@ std::optional<int64_t> parse_i64(const std::string& s);
 std::optional<glm::i64vec3> parse_i64vec3(const std::string& s);
 // Parses "X,Y,Z" of finite doubles.
 std::optional<glm::dvec3> parse_dvec3(const std::string& s);
+// Parses an image size "WxH", each 1..16384, nothing else ("64x48x1" and sizes that wrapped a
+// 32-bit integer, 4294967360x48 read as 64x48, are refused).
+std::optional<glm::uvec2> parse_image_size(const std::string& s);
 
 // render::RenderSettings::split_hits of `vx render` and `vx bench render`: --split-hits, where
 // --first-hit-pass on (stop 28's option, kept so its commands still run) asks for at least 1.
@@ -46,6 +49,10 @@ std::string weight_exponent_text(float exponent);
 // (every comparison with it is false), and "nan" would reach the renderer or a size cast.
 // `what` names the accepted values in the message, e.g. "an exponent from 0.05 to 1".
 CLI::Validator finite_range(double lo, double hi, const std::string& what);
+// A CLI11 check that the option is a plain decimal within [lo, hi] (at most 2^64 - 1): CLI11
+// reads "-1" into an unsigned as 2^64 - 1, and an out-of-range value into its largest; an int
+// option of -5 took the "not given" meaning of -1.
+CLI::Validator decimal_range(uint64_t lo, uint64_t hi, const std::string& what);
 
 // "" when a command may write its output file at `path` (nothing there yet, or a file it
 // replaces, in a folder that exists), else why not: checked before the work, not after it.

@@ -148,9 +148,11 @@ std::string level_cell(const SceneRun& s, bool memory) {
 
 int run_bench_lod(const BenchLodArgs& a) {
     render::RenderSettings base;
-    if (std::sscanf(a.size.c_str(), "%ux%u", &base.width, &base.height) != 2 || base.width == 0 || base.height == 0 ||
-        base.width > 16384 || base.height > 16384 || a.size.find_first_not_of("0123456789x") != std::string::npos)
+    const std::optional<glm::uvec2> size = parse_image_size(a.size);
+    if (!size)
         return bad_input("--size must be WxH (1..16384), got '" + a.size + "'");
+    base.width = size->x;
+    base.height = size->y;
     std::vector<int> radii;
     for (const std::string& t : split_commas(a.radii)) {
         char* end = nullptr;
@@ -285,12 +287,15 @@ int run_bench_lod(const BenchLodArgs& a) {
 } // namespace
 
 int run_bench_lod_command(int argc, char** argv) {
-    CLI::App app{"vx bench lod: levels of detail against full detail to the same view distance"};
+    CLI::App app{"vx bench lod: levels of detail against full detail to the same view distance", "vx bench lod"};
     BenchLodArgs a;
-    app.add_option("--seed", a.seed, "Terrain seed (default 1)");
-    app.add_option("--view-distance", a.view_distance, "Blocks drawn from the camera, both scenes (default 512)");
+    app.add_option("--seed", a.seed, "Terrain seed (default 1)")
+        ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
+    app.add_option("--view-distance", a.view_distance, "Blocks drawn from the camera, both scenes (default 512)")
+        ->check(decimal_range(1, 16384, "must be 1..16384 blocks"));
     app.add_option("--radii", a.radii, "Level-0 radii of the LOD scenes, chunks, comma separated (default 4,8,12,16)");
-    app.add_option("--vradius", a.vradius, "Level-0 vertical radius of the LOD scenes, chunks (default 4)");
+    app.add_option("--vradius", a.vradius, "Level-0 vertical radius of the LOD scenes, chunks (default 4)")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
     app.add_option("--lod-ring", a.ring, "Coarse levels' box half-width in their own chunks (default 12)");
     app.add_option("--size", a.size, "Image size WxH (lavapipe: keep it small, e.g. 160x90)");
     app.add_option("--eye", a.eye, "Camera X,Y,Z in blocks (default: the terrain's default view)");

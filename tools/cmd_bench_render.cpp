@@ -214,9 +214,11 @@ std::string feature_table(render::Renderer& r, const render::RenderSettings& bas
 
 int run_bench_render(const BenchRenderArgs& a) {
     render::RenderSettings base;
-    if (std::sscanf(a.size.c_str(), "%ux%u", &base.width, &base.height) != 2 || base.width == 0 || base.height == 0 ||
-        base.width > 16384 || base.height > 16384)
-        return bad_input("--size must be WxH, got '" + a.size + "'");
+    const std::optional<glm::uvec2> size = parse_image_size(a.size);
+    if (!size)
+        return bad_input("--size must be WxH (1..16384), got '" + a.size + "'");
+    base.width = size->x;
+    base.height = size->y;
     const auto choice = render::parse_device_choice(a.device);
     if (!choice)
         return bad_input(choice.error());
@@ -385,17 +387,20 @@ int run_bench_render(const BenchRenderArgs& a) {
 } // namespace
 
 int run_bench_render_command(int argc, char** argv) {
-    CLI::App app{"vx bench render: pipelines, features, and speed against error"};
+    CLI::App app{"vx bench render: pipelines, features, and speed against error", "vx bench render"};
     BenchRenderArgs a;
     uint64_t seed = 0;
-    CLI::Option* seed_opt = app.add_option("--seed", seed, "Terrain of this seed (default 1, radius 2)");
+    CLI::Option* seed_opt = app.add_option("--seed", seed, "Terrain of this seed (default 1, radius 2)")
+                                ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
     app.add_option("--scene", a.scene.scene, "Built-in scene: 'seed' (thesis)");
     app.add_option("--scene-block", a.scene.scene_block, "Block of the seed scene (e.g. mirror: reflections)");
     app.add_option("--world", a.scene.world_path, "A stored world (SQLite)");
     app.add_option("--raw", a.scene.raw, "A raw volume of block ids (with --dims; as `vx render`)");
     app.add_option("--dims", a.scene.dims, "Size of the --raw volume, X,Y,Z blocks");
-    app.add_option("--radius", a.scene.radius, "Chunks around the camera, horizontal");
-    app.add_option("--vradius", a.scene.vradius, "Chunks around the camera, vertical");
+    app.add_option("--radius", a.scene.radius, "Chunks around the camera, horizontal")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
+    app.add_option("--vradius", a.scene.vradius, "Chunks around the camera, vertical")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
     app.add_option("--size", a.size, "Image size WxH (lavapipe: keep it small, e.g. 160x90)");
     app.add_option("--reference-spp", a.reference_spp, "Samples per pixel of the converged reference")
         ->check(CLI::Range(8u, 1u << 20));

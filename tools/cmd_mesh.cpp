@@ -54,6 +54,8 @@ Result<std::vector<Edit>> read_edits(const std::string& path) {
             return Error{path + ":" + std::to_string(n) + ": position outside the world (|coordinate| < 2^36)"};
         edits.push_back({BlockPos(x, y, z), BlockId(id)});
     }
+    if (in.bad() || !in.eof()) // A folder opens, then every read fails: it read as no edits.
+        return Error{"cannot read edits file '" + path + "'"};
     return edits;
 }
 

@@ -117,9 +117,11 @@ void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
 // Camera and light from the arguments or the scene's defaults: a view over the whole scene.
 std::optional<std::string> make_settings(const RenderArgs& a, const engine::LoadedScene& scene, Settings& out) {
     render::RenderSettings& s = out.settings;
-    if (std::sscanf(a.size.c_str(), "%ux%u", &s.width, &s.height) != 2 || s.width == 0 || s.height == 0 ||
-        s.width > 16384 || s.height > 16384 || a.size.find_first_not_of("0123456789x") != std::string::npos)
+    const std::optional<glm::uvec2> size = parse_image_size(a.size);
+    if (!size)
         return "--size must be WxH (1..16384), got '" + a.size + "'";
+    s.width = size->x;
+    s.height = size->y;
     s.mode = a.shading == "flat" ? render::ShadingMode::Flat : render::ShadingMode::Full;
     s.shadow_samples = a.shadows == "off" ? 0 : a.spp;
     if (a.bounce_spp >= 0)
@@ -133,9 +135,10 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
         s.sun.irradiance = glm::vec3(0.f);
     } else {
         const auto sun = parse_dvec3(a.sun);
-        if (!sun || glm::length(*sun) == 0.0)
+        const glm::dvec3 towards = sun ? world::unit_direction(*sun) : glm::dvec3(0.0);
+        if (towards == glm::dvec3(0.0))
             return "--sun must be a non-zero direction X,Y,Z towards the sun, or off; got '" + a.sun + "'";
-        s.sun.direction = glm::vec3(*sun);
+        s.sun.direction = glm::vec3(towards); // Unit in double first: 1e308 is infinite as a float.
     }
     if (!(a.sun_radius >= 0.f && a.sun_radius <= 45.f))
         return "--sun-radius must be within 0..45 degrees";
@@ -343,6 +346,10 @@ void edit_bursts(render::Renderer& r, engine::LoadedScene& scene, const Settings
         return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
     });
     coords.resize(std::min<size_t>(coords.size(), k));
+    if (coords.empty()) { // Figures per chunk of no chunk were NaN.
+        std::printf("  edit burst: no chunk of the scene has a face to edit\n");
+        return;
+    }
     const BlockId stone = scene.world->registry().find("stone").value_or(BlockId(1));
     EditMesher em;
     enum Mode { Slices, Whole, Rebuild };
@@ -486,18 +493,22 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     auto seed = std::make_shared<uint64_t>(0);
     CLI::App* cmd = app.add_subcommand("render", "Ray trace a scene to PNG and print timings");
     cmd->add_option("--world", a->scene.world_path, "A stored world (SQLite); every chunk, or --radius around the camera if large");
-    CLI::Option* seed_opt = cmd->add_option("--seed", *seed, "Generate terrain of this seed around the camera");
+    CLI::Option* seed_opt = cmd->add_option("--seed", *seed, "Generate terrain of this seed around the camera")
+                                ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
     cmd->add_option("--scene", a->scene.scene, "Built-in scene: 'seed' (thesis: 1024 chunks, 10% random, isolated)");
     cmd->add_option("--scene-block", a->scene.scene_block, "Block of the seed scene (e.g. stone, mirror)");
     cmd->add_option("--raw", a->scene.raw, "Raw volume of block ids (as vx mesh)");
     cmd->add_option("--dims", a->scene.dims, "Raw volume size X,Y,Z");
     cmd->add_option("--type", a->scene.type, "Raw block id type")->check(CLI::IsMember({"u8", "u16"}));
     cmd->add_option("--origin", a->scene.origin, "World position X,Y,Z of the raw volume's first block");
-    cmd->add_option("--radius", a->scene.radius, "Chunks around the camera, horizontal (--seed: default 8)");
-    cmd->add_option("--vradius", a->scene.vradius, "Chunks around the camera, vertical (default 4)");
+    cmd->add_option("--radius", a->scene.radius, "Chunks around the camera, horizontal (--seed: default 8)")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
+    cmd->add_option("--vradius", a->scene.vradius, "Chunks around the camera, vertical (default 4)")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
     cmd->add_option("--view-distance", a->scene.view_distance,
                     "Terrain (--seed) to this many blocks: --radius/--vradius stay the full-detail box, levels "
-                    "of detail beyond it (--lod on), or full detail all the way (--lod off)");
+                    "of detail beyond it (--lod on), or full detail all the way (--lod off)")
+        ->check(decimal_range(1, 16384, "must be 1..16384 blocks"));
     cmd->add_option("--lod", a->scene.lod, "With --view-distance: levels of detail (on, default) or full detail (off)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--lod-ring", a->scene.lod_ring,

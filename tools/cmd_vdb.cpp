@@ -157,14 +157,13 @@ int list(const std::string& file, const IsolationOptions& iso) {
 // "0.2:3,0.6:1": mean relative density -> block id.
 std::optional<std::vector<DensityBlock>> parse_density(const std::string& s) {
     std::vector<DensityBlock> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
+    for (const std::string& item : split_commas(s)) { // A trailing comma is an empty, bad item.
         float d;
         int id;
         char colon;
         std::istringstream is(item);
-        if (!(is >> d >> colon >> id) || colon != ':' || !(d >= 0 && d <= 1) || id < 1 || id > 0xFFFF)
+        if (!(is >> d >> colon >> id) || colon != ':' || !(d >= 0 && d <= 1) || id < 1 || id > 0xFFFF ||
+            is.peek() != std::char_traits<char>::eof()) // "0.5:3x" was 0.5:3.
             return std::nullopt;
         out.push_back({d, BlockId(id)});
     }

@@ -291,6 +291,17 @@ TEST(CliRender, HazeAndVisibility) {
     EXPECT_NE(read_png(off).rgba, read_png(thick).rgba);
 }
 
+// A sun direction is a direction at any length: 1e308 long was infinite in float, the sun NaN, and
+// the image differed from the unit direction's.
+TEST(CliRender, ASunDirectionOfAnyLengthIsTheSameSun) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
+    const std::string unit = dir() + "/sun_unit.png", huge = dir() + "/sun_huge.png";
+    render(view + "--sun 1,1,0 --out " + unit);
+    render(view + "--sun 1e308,1e308,0 --out " + huge);
+    EXPECT_FALSE(read_png(unit).rgba.empty());
+    EXPECT_EQ(read_png(unit).rgba, read_png(huge).rgba);
+}
+
 // --lighting thesis: 25 shadow samples at every hit, 5 reflections, no sun and no sky light;
 // options given explicitly win. With the area light off too nothing lights the blocks: only
 // the sky colour of missed primary rays is left (the centre pixel, a block, is black), where the

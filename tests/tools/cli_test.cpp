@@ -113,6 +113,30 @@ TEST(Cli, BadArgumentsExitTwo) {
                 << flag << "\n" << r.out;
         }
     }
+    // Numbers CLI11 read as something else: -1 and 2^64 as seeds 2^64 - 1, a negative radius or
+    // view distance as "not given", a size past 2^32 wrapped (4294967360x48 rendered 64x48), and
+    // a trailing "x1" or comma was ignored. Each is refused, naming its option.
+    const std::string edits_dir = temp_dir().string();
+    const std::pair<std::string, const char*> numbers[] = {
+        {"render --seed 1 --size 4294967360x48", "--size"},
+        {"render --seed 1 --size 64x48x1", "--size"},
+        {"bench render --size 64x48x1", "--size"},
+        {"bench lod --size 64x48x1", "--size"},
+        {"render --seed -1", "--seed"},
+        {"render --seed 18446744073709551616", "--seed"},
+        {"world gen " + (temp_dir() / "never.db").string() + " --seed -1", "--seed"},
+        {"render --seed 1 --radius -5", "--radius"},
+        {"render --seed 1 --view-distance -5", "--view-distance"},
+        {"bench lod --view-distance -5", "--view-distance"},
+        {"bench render --radius -5", "--radius"},
+        {"mesh --raw " + vol + " --dims 40,20,36 --edits " + edits_dir, "cannot read edits file"}};
+    for (const auto& [args, option] : numbers) {
+        r = run_vx(args);
+        EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+        EXPECT_NE(r.out.find(option), std::string::npos) << args << "\n" << r.out;
+        EXPECT_EQ(r.out.find("Run 'lod --help'"), std::string::npos) << r.out; // Names the command.
+    }
+    EXPECT_FALSE(std::filesystem::exists(temp_dir() / "never.db"));
     r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;
@@ -493,6 +517,8 @@ TEST(Cli, VdbExportImport) {
     refuses("import-vdb /nonexistent.vdb --out " + back + " --block 0", "--block");
     refuses("import-vdb /nonexistent.vdb --out " + back + " --index -1", "--index");
     refuses("import-vdb /nonexistent.vdb --out " + back + " --offset 1,2", "--offset");
+    for (const char* density : {"0.2:3,", "0.5:3x"}) // Read as 0.2:3 and 0.5:3.
+        refuses("import-vdb /nonexistent.vdb --out " + back + " --density " + density, "--density");
     for (const std::string option : {"--offset 32,0,0", "--block 3", "--voxels-per-block 2", "--mode fog"})
         refuses("import-vdb " + vdb + " --out " + back + " " + option, "vx world");
     // Outputs that are folders are refused before any work; no temporary is left beside them.
