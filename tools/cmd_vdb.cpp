@@ -105,11 +105,11 @@ int run_export(const ExportArgs& a) {
     Result<BlockRegistry> registry = *table ? registry_from_text(**table) : BlockRegistry::default_registry();
     if (!registry)
         return bad_input(a.world + ": " + registry.error());
-    if (Status s = export_store_vdb(**store, *registry, a.out, opt); !s)
-        return bad_input(s.error());
-    auto chunks = (*store)->count();
+    Result<uint64_t> chunks = export_store_vdb(**store, *registry, a.out, opt);
+    if (!chunks)
+        return bad_input(chunks.error());
     std::printf("vx export-vdb: %" PRIu64 " chunks of %s -> %s (Int32 grid 'blocks', %s) in %.2f s\n",
-                chunks ? *chunks : 0, a.world.c_str(), a.out.c_str(), a.compression.c_str(),
+                *chunks, a.world.c_str(), a.out.c_str(), a.compression.c_str(),
                 std::chrono::duration<double>(Clock::now() - t0).count());
     return kExitOk;
 }

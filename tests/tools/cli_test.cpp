@@ -490,6 +490,11 @@ TEST(Cli, VdbExportImport) {
         EXPECT_TRUE(it->second == chunk);
     }
     EXPECT_EQ(run_vx("export-vdb " + db + " --out " + vdb + " --box 1,2,3").code, 2);
+    // The count printed is what the box took, not the store's (it said 27 of an empty box).
+    const std::string empty_box = (dir / "empty_box.vdb").string();
+    r = run_vx("export-vdb " + db + " --out " + empty_box + " --box 1000,1000,1000,1001,1001,1001");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("vx export-vdb: 0 chunks"), std::string::npos) << r.out;
     // An export over the store it reads (itself, or by a link) is refused: it replaced the store
     // with the VDB file and exited 0.
     const std::string link = (dir / "link.db").string();

@@ -37,7 +37,7 @@ Status export_vdb(const world::World& w, const std::string& path, const VdbExpor
     return (*writer)->finish();
 }
 
-Status export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
+Result<uint64_t> export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
                         const VdbExportOptions& options) {
     // The coordinates first (12 bytes each): for_each_coord's callback may not call the store.
     Result<std::vector<world::ChunkCoord>> coords = store.list_coords();
@@ -59,9 +59,11 @@ Status export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& re
         }
         if (load->state == world::LoadState::Present)
             if (Status s = (*writer)->add(c, *load->chunk); !s)
-                return s;
+                return Error{s.error()};
     }
-    return (*writer)->finish();
+    if (Status s = (*writer)->finish(); !s)
+        return Error{s.error()};
+    return (*writer)->chunks_written();
 }
 
 } // namespace vx::vdb

@@ -218,10 +218,10 @@ Result<VdbOverlayExport> export_overlay_vdb(const VdbOverlayOpenInfo& info_in, c
     auto merged = VdbOverlayStore::open(info);
     if (!merged)
         return Error{merged.error()};
-    if (Status s = export_store_vdb(**merged, (*merged)->registry(), out, options); !s)
-        return Error{s.error()};
-    Result<uint64_t> n = (*merged)->count();
-    result.chunks = n ? *n : 0;
+    Result<uint64_t> written = export_store_vdb(**merged, (*merged)->registry(), out, options);
+    if (!written)
+        return Error{written.error()};
+    result.chunks = *written; // Those in the box: the store's count was all of them.
     return result;
 }
 

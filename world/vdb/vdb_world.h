@@ -72,8 +72,8 @@ Status export_vdb(const world::World& world, const std::string& path, const VdbE
 // the store's chunk coordinates (12 bytes each), flat in world size (but the store's own: a
 // VdbOverlayStore holds its file's chunks; export_overlay_vdb streams that file instead).
 // `registry` becomes the file's block metadata. Uses `store` from the calling thread (ChunkStore's
-// rules); a damaged chunk fails the export.
-Status export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
+// rules); a damaged chunk fails the export. Returns the chunks written (those in options.box).
+Result<uint64_t> export_store_vdb(world::ChunkStore& store, const world::BlockRegistry& registry, const std::string& path,
                         const VdbExportOptions& options = {});
 
 struct VdbWorldImportOptions {
