@@ -153,6 +153,11 @@ int run_bench_vdb(int argc, char** argv) {
     std::error_code ec;
     int rc = kExitOk;
     const Run base = run_exe(exe, {"export-vdb", dir + "/missing.vdb", "--out", dir + "/none.vdb"});
+    // A vx refuses the missing file with exit 2; anything else (no such program, /bin/true) would
+    // make every figure below a wrong one (a baseline of 0 MB, a merged file of 2^64 bytes).
+    if (base.status != kExitBadInput)
+        return bad_input("--exe '" + exe + "' is not a vx: its export-vdb of a missing file exited " +
+                         std::to_string(base.status) + ", not 2");
     std::printf("vx bench vdb: baseline (export-vdb of a missing file: process and libraries): peak RSS %.1f MB\n",
                 double(base.peak_rss_kb) / 1024.0);
     for (const int scale : {1, 8}) {
@@ -166,6 +171,10 @@ int run_bench_vdb(int argc, char** argv) {
         const Run r = run_exe(exe, {"export-vdb", vdb, "--out", out});
         if (r.status != 0) {
             rc = bad_input("vx export-vdb " + vdb + " failed (exit " + std::to_string(r.status) + ")");
+            break;
+        }
+        if (!std::filesystem::is_regular_file(out, ec)) {
+            rc = bad_input("vx export-vdb " + vdb + " exited 0 but wrote no '" + out + "'");
             break;
         }
         std::printf("vx bench vdb: %dx: %zu chunks (%d x 4 x %d), file %.1f MB -> merged %.1f MB: peak RSS %.1f MB, "

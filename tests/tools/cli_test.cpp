@@ -772,6 +772,21 @@ TEST(Cli, BenchVdbRemovesOnlyTheFolderItMade) {
     EXPECT_EQ(read_file(dir / "notes.txt"), "kept\n");
     r = run_vx("bench vdb --help", "TMPDIR=" + (dir / "notes.txt").string());
     EXPECT_EQ(r.code, 0) << r.out;
+    // An --exe that is no vx (missing, or /bin/true: exit 0, no file) is an error, not figures of
+    // 0 MB and 18446744073709.6 MB.
+    for (const std::string exe : {"/nonexistent/vx", "/bin/true"}) {
+        r = run_vx("bench vdb --side 1 --dir " + dir.string() + " --exe " + exe);
+        EXPECT_EQ(r.code, 2) << exe << ": " << r.out;
+        EXPECT_NE(r.out.find("is not a vx"), std::string::npos) << r.out;
+        EXPECT_EQ(r.out.find("peak RSS"), std::string::npos) << r.out;
+    }
+    // One that refuses a missing file as vx does, then "exports" without writing anything.
+    const auto fake = dir / "fake_vx.sh";
+    std::ofstream(fake) << "#!/bin/sh\n[ -e \"$2\" ] || exit 2\nexit 0\n";
+    std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
+    r = run_vx("bench vdb --side 1 --dir " + dir.string() + " --exe " + fake.string());
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("wrote no"), std::string::npos) << r.out;
 }
 #endif
 
