@@ -237,6 +237,8 @@ int run_bench_render(const BenchRenderArgs& a) {
     auto scene = engine::load_scene(jobs, *info);
     if (!scene)
         return bad_input(scene.error());
+    if (scene->box_min == scene->box_max) // The default view of nothing looked from the centre at itself.
+        return bad_input("the scene holds no chunk to measure (" + scene->description + ")");
     auto renderer = render::Renderer::create({.device = *choice});
     if (!renderer)
         return bad_input("cannot render: " + renderer.error());

@@ -171,6 +171,8 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
     const double half_fov = glm::radians(double(a.fov)) * 0.5;
     std::optional<WorldPos> eye = scene.default_eye, target = scene.default_target;
+    if (ext == glm::dvec3(0.0) && !(eye || !a.eye.empty()) && a.target.empty()) // It said "--target must differ".
+        return "the scene holds no chunk to frame (" + scene.description + "): give --eye and --target";
     if (!target)
         target = world_pos_at(centre);
     if (!eye) {

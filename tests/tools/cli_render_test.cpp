@@ -222,6 +222,21 @@ TEST(CliRender, StoredWorldRendersEveryChunk) {
     const Png png = read_png(out);
     ASSERT_EQ(png.w, 32);
     EXPECT_NE(png.at(16, 12), png.at(0, 0)); // Blocks in the middle, sky in the corner.
+    // A world of no chunks has nothing to frame: said so (render said "--target must differ from
+    // --eye", neither given; bench render measured a degenerate camera and exited 0).
+    const std::string empty = dir() + "/empty_world.db";
+    std::filesystem::remove(empty);
+    {
+        auto store = vx::world::SqliteStore::open({.path = empty});
+        ASSERT_TRUE(store.ok()) << store.error();
+        ASSERT_TRUE((*store)->flush().ok());
+    }
+    for (const std::string& cmd : {"render --world " + empty + " --size 8x8 --out " + dir() + "/empty.png",
+                                  "bench render --world " + empty + " --size 8x8 --out " + dir() + "/empty_bench"}) {
+        const CliRun e = vx(cmd, kEnv);
+        EXPECT_EQ(e.code, 2) << cmd << "\n" << e.out;
+        EXPECT_NE(e.out.find("holds no chunk to"), std::string::npos) << e.out;
+    }
 }
 
 TEST(CliRender, DeviceOutOfRangeIsAClearError) {

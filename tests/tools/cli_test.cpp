@@ -137,6 +137,14 @@ TEST(Cli, BadArgumentsExitTwo) {
         EXPECT_EQ(r.out.find("Run 'lod --help'"), std::string::npos) << r.out; // Names the command.
     }
     EXPECT_FALSE(std::filesystem::exists(temp_dir() / "never.db"));
+    // A folder where a file belongs says so (SQLite said "disk I/O error", the raw reader that the
+    // folder had 2^63 - 1 bytes).
+    r = run_vx("world info " + edits_dir);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("is a folder, not a world file"), std::string::npos) << r.out;
+    r = run_vx("mesh --raw " + edits_dir + " --dims 2,2,2");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("is not a file"), std::string::npos) << r.out;
     r = run_vx("mesh --raw " + vol + " --dims 40,20,36 --origin 68719476736,0,0");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.out.find("outside the world"), std::string::npos) << r.out;

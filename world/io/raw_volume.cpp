@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <unordered_map>
 #include <vector>
 
@@ -32,6 +33,9 @@ Status check_desc(const RawVolumeDesc& d) {
 Result<RawVolumeStats> load_raw_volume(const std::string& path, const RawVolumeDesc& desc, World& world) {
     if (Status s = check_desc(desc); !s)
         return Error{s.error()};
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+        return Error{"'" + path + "' is not a file"}; // A folder opened, and its size read as 2^63 - 1.
     StdioFile f(std::fopen(path.c_str(), "rb"));
     if (!f)
         return Error{"cannot open '" + path + "': " + std::strerror(errno)};

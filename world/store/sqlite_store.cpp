@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <filesystem>
+
 #include "world/base/file_lock.h"
 #include "world/base/log.h"
 
@@ -143,6 +145,8 @@ Result<std::unique_ptr<SqliteStore>> SqliteStore::open(const SqliteStoreCreateIn
 }
 
 Status SqliteStore::init() {
+    if (std::error_code ec; std::filesystem::is_directory(m_info.path, ec)) // SQLite said "disk I/O error".
+        return Error{"store '" + m_info.path + "': is a folder, not a world file"};
     int flags = SQLITE_OPEN_NOMUTEX | SQLITE_OPEN_EXRESCODE;
     flags |= m_info.read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE;
     if (!m_info.read_only && m_info.create)

@@ -1,5 +1,7 @@
 #include "world/vdb/vdb_common.h"
 
+#include <filesystem>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +9,13 @@
 #include <tbb/task_arena.h>
 
 namespace vx::vdb::detail {
+
+std::string unreadable_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(path, ec))
+        return {};
+    return "cannot read '" + path + "': " + (std::filesystem::exists(path, ec) ? "not a file" : "no such file");
+}
 
 Error make_error(std::string_view context, std::string_view what) {
     // A damaged file can put garbage in OpenVDB's messages (a "KeyError" naming a type of

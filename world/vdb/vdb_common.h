@@ -28,6 +28,10 @@ Status check_volume_options(const VolumeImportOptions& o);
 // `what` is cut at 240 characters ("..." marks the cut). Thread-safe.
 Error make_error(std::string_view context, std::string_view what);
 
+// "" when `path` is a regular file (through links), else "cannot read 'PATH': no such file" or
+// "...: not a file" (a folder, a device). Thread-safe.
+std::string unreadable_file(const std::string& path);
+
 // Temporaries beside a path and their rename over it: world/base/file_replace.h.
 using world::create_temp_beside;
 using world::replace_file;

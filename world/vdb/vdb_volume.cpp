@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <unordered_set>
 
@@ -27,9 +26,8 @@ std::string quoted_name(const openvdb::GridBase& g, int index) {
 
 // Reads every grid of `path`: with trees when `trees`, else metadata only.
 Result<openvdb::GridPtrVecPtr> read_grids(const std::string& path, bool trees) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        return Error{"cannot read '" + path + "': no such file"};
+    if (std::string why = detail::unreadable_file(path); !why.empty())
+        return Error{why};
     openvdb::initialize();
     openvdb::io::File file(path);
     file.open(false); // No delayed loading: every read error surfaces inside the caller's try.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <sstream>
 #include <memory>
 #include <optional>
@@ -231,9 +230,8 @@ Result<openvdb::Int32Grid::Ptr> read_blocks_grid(const std::string& path, const 
 } // namespace
 
 static Result<world::World> import_world_vdb_impl(const std::string& path, const VdbWorldImportOptions& options) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        return Error{"cannot read '" + path + "': no such file"};
+    if (std::string why = detail::unreadable_file(path); !why.empty())
+        return Error{why};
     try {
         openvdb::initialize();
         Result<openvdb::Int32Grid::Ptr> grid = read_blocks_grid(path, options);
