@@ -14,9 +14,14 @@ void SaveTracker::finished(uint64_t sequence, const Status& status) {
         std::lock_guard lock(m_mutex);
         if (status) {
             m_durable = std::max(m_durable, sequence);
-        } else if (sequence >= m_failed) {
-            m_failed = sequence;
-            m_error = status.error();
+            m_failures.erase(m_failures.begin(), m_failures.upper_bound(m_durable)); // Durable now.
+        } else {
+            if (sequence > m_durable)
+                m_failures[sequence] = status.error();
+            if (sequence >= m_failed) {
+                m_failed = sequence;
+                m_error = status.error();
+            }
         }
     }
     m_changed.notify_all();
@@ -49,7 +54,8 @@ Status SaveTracker::wait(uint64_t sequence) const {
     m_changed.wait(lock, [&] { return state_nolock(sequence) != SaveState::Pending; });
     if (state_nolock(sequence) == SaveState::Durable)
         return {};
-    return Error{m_error};
+    const auto first = m_failures.lower_bound(sequence); // Failed: one at or after it exists.
+    return Error{first != m_failures.end() ? first->second : m_error};
 }
 
 uint64_t SaveTracker::durable() const {

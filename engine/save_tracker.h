@@ -9,6 +9,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <map>
 #include <mutex>
 #include <string>
 
@@ -35,7 +36,8 @@ public:
     // Thread-safe. The message of the latest failed flush ("" if none failed).
     std::string last_error() const;
     // Thread-safe, never from the I/O lane itself. Blocks until `sequence` is durable (success)
-    // or its flush failed (the error). Sequences never handed out by next() fail at once.
+    // or a flush covering it failed (the error of the first such flush: its own, not a later
+    // one's). Sequences never handed out by next() fail at once.
     Status wait(uint64_t sequence) const;
     // Thread-safe. The highest sequence known durable (0: none yet).
     uint64_t durable() const;
@@ -49,6 +51,8 @@ private:
     uint64_t m_durable = 0; // Highest sequence whose flush succeeded.
     uint64_t m_failed = 0;  // Highest sequence whose flush failed.
     std::string m_error;    // Message of that failure.
+    // Failed flushes not superseded by a success since (so few: a flush fails on a bad day).
+    std::map<uint64_t, std::string> m_failures;
 };
 
 } // namespace vx::engine

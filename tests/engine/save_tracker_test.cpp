@@ -40,6 +40,23 @@ TEST(SaveTracker, LaterSuccessSupersedesFailure) {
     EXPECT_TRUE(t.wait(a));
 }
 
+// Each ticket's wait() gives the failure that covered it first: a disk-full flush, then a flush
+// cancelled at shutdown, left the first ticket reporting "cancelled".
+TEST(SaveTracker, EachTicketKeepsItsOwnFailure) {
+    SaveTracker t;
+    const uint64_t a = t.next(), b = t.next(), c = t.next();
+    t.finished(a, Error{"disk full"});
+    t.finished(c, Error{"flush cancelled: shutting down"});
+    EXPECT_EQ(t.wait(a).error(), "disk full");
+    EXPECT_EQ(t.wait(b).error(), "flush cancelled: shutting down"); // Covered by c's flush only.
+    EXPECT_EQ(t.wait(c).error(), "flush cancelled: shutting down");
+    EXPECT_EQ(t.last_error(), "flush cancelled: shutting down");
+    const uint64_t d = t.next();
+    t.finished(d, {});
+    EXPECT_TRUE(t.wait(a));
+    EXPECT_TRUE(t.wait(c));
+}
+
 TEST(SaveTracker, UnknownTicketsFail) {
     SaveTracker t;
     EXPECT_EQ(t.state(0), SaveState::Unknown);
