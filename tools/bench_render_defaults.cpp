@@ -78,10 +78,10 @@ Measured measure(render::Renderer& r, const render::RenderSettings& s, const std
     Measured m;
     for (size_t p = 0; p < paths.size(); ++p) {
         for (uint32_t i = 0; i < kWarmup; ++i)
-            r.render(s, paths[p].poses[0]);
+            bench_frame(r, s, paths[p].poses[0]);
         std::vector<double> error;
         for (size_t i = 0; i < paths[p].poses.size(); ++i)
-            error.push_back(render::rmse(render::to_float(r.render(s, paths[p].poses[i])), refs[p][i]));
+            error.push_back(render::rmse(render::to_float(bench_frame(r, s, paths[p].poses[i])), refs[p][i]));
         m.median[p] = median(error);
         m.p95[p] = percentile(error, 0.95);
         m.error = std::max(m.error, m.p95[p]);
@@ -101,9 +101,9 @@ void time_candidates(render::Renderer& r, const std::vector<render::RenderSettin
     for (uint32_t round = 0; round < kTimingRounds; ++round)
         for (size_t c = 0; c < settings.size(); ++c)
             for (const CameraPath& path : paths) {
-                r.render(settings[c], path.poses[0]); // Not counted: the settings' first frame.
+                bench_frame(r, settings[c], path.poses[0]); // Not counted: the settings' first frame.
                 for (const render::Camera& pose : path.poses) {
-                    r.render(settings[c], pose);
+                    bench_frame(r, settings[c], pose);
                     cost[c].push_back(frame_cost(r.last_stats()));
                 }
                 *frames += 1 + path.poses.size();

@@ -79,7 +79,7 @@ void measure(Search& ctx, const Reference& reference, uint32_t bounces, EqualErr
     for (uint32_t k = 0; k < ctx.info.seeds; ++k) {
         s.seed = ctx.info.base.seed + k;
         render::GBufferImage g;
-        const render::RenderImage img = ctx.r.render(s, ctx.info.camera, &g);
+        const render::RenderImage img = bench_frame(ctx.r, s, ctx.info.camera, &g);
         ++ctx.frames;
         const double e8 = render::rmse(render::to_float(img), reference.rgba8);
         const double ed = render::rmse(render::display_float(g), reference.display);
@@ -205,7 +205,7 @@ std::string run_equal_error_bench(render::Renderer& r, const EqualErrorBenchInfo
     // Those warm-up frames are counted apart: equal_error_frames_at_most() bounds the others.
     const auto warm_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
     while (std::chrono::steady_clock::now() < warm_until) {
-        r.render(flat, info.camera);
+        bench_frame(r, flat, info.camera);
         ++ctx.warmup;
     }
     render::RenderImage img;

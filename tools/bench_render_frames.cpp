@@ -2,25 +2,39 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include <vx/vx.h>
 
+#include "cli_common.h"
 #include "world/base/median.h"
 
 namespace vx::tools {
+
+render::RenderImage bench_frame(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam,
+                                render::GBufferImage* gbuffer) {
+    Result<render::RenderImage> img = r.try_render(s, cam, gbuffer);
+    if (!img) {
+        std::fprintf(stderr, "vx bench: a frame failed, no report: %s\n", img.error().c_str());
+        std::fflush(stdout);
+        std::exit(kExitFailure);
+    }
+    return std::move(*img);
+}
 
 Timing time_frames(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, uint32_t repeat,
                    render::RenderImage* image, double warmup_s) {
     Timing t;
     const auto start = std::chrono::steady_clock::now();
     do {
-        r.render(s, cam);
+        bench_frame(r, s, cam);
         ++t.warmup_frames;
     } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < warmup_s);
     std::vector<double> frame, trace, denoise;
     for (uint32_t i = 0; i < repeat; ++i) {
-        *image = r.render(s, cam);
+        *image = bench_frame(r, s, cam);
         const render::RenderStats& st = r.last_stats();
         frame.push_back(st.gpu_frame_ms);
         trace.push_back(st.gpu_trace_ms);
@@ -42,7 +56,7 @@ render::RenderImage render_reference(render::Renderer& r, render::RenderSettings
     s.history_clamp = false; // The plain mean (bench_render_frames.h).
     render::RenderImage img;
     for (uint32_t i = 0; i < s.accumulate; ++i)
-        img = r.render(s, cam, i + 1 == s.accumulate ? gbuffer : nullptr);
+        img = bench_frame(r, s, cam, i + 1 == s.accumulate ? gbuffer : nullptr);
     return img;
 }
 

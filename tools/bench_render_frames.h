@@ -13,6 +13,12 @@ struct Timing {
     uint32_t warmup_frames = 0;                  // Rendered before the timed ones (not timed).
 };
 
+// One frame (Renderer::try_render) for the benches: on a failure (out of GPU memory, a lost
+// device) prints the renderer's line and exits 1: a report with figures missing is no report, and
+// Renderer::render would abort with a core dump.
+render::RenderImage bench_frame(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam,
+                                render::GBufferImage* gbuffer = nullptr);
+
 // Renders one frame, then more until `warmup_s` seconds (wall clock) have passed since it began,
 // then `repeat` timed frames; returns their medians and the last image. Why the warm-up: in
 // device call 56 (H200) the short rows of the equal-error bench, each timed after one frame,

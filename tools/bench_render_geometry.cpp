@@ -120,11 +120,11 @@ MesherRow measure_mesher(render::Renderer& r, const engine::LoadedScene& scene, 
     const TraceRows t = trace_rows(info);
     // Frame 1 uploads and builds every BLAS (cold: exact size, FAST_TRACE); frame 3 compacts.
     const auto t0 = Clock::now();
-    r.render(t.flat, info.camera);
+    bench_frame(r, t.flat, info.camera);
     row.build_wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     row.build_ms = r.last_stats().gpu_blas_ms;
-    r.render(t.flat, info.camera);
-    r.render(t.flat, info.camera);
+    bench_frame(r, t.flat, info.camera);
+    bench_frame(r, t.flat, info.camera);
     const render::GpuMemoryStats& m = r.last_stats().memory;
     row.blas_bytes = m.blas;
     row.chunk_bytes = m.blas + m.vertices + m.quads;
@@ -162,7 +162,7 @@ EditRun run_edits(engine::LoadedScene& scene, const std::vector<ChunkCoord>& coo
         r.set_chunk(c, scene.meshes[c].mesh);
     const TraceRows t = trace_rows(info);
     for (int i = 0; i < 3; ++i)
-        r.render(t.flat, info.camera); // Built, then compacted in frame 3.
+        bench_frame(r, t.flat, info.camera); // Built, then compacted in frame 3.
     run.cold_flat = trace_ms(r, t.flat, info.camera, info.repeat);
     run.cold_full = trace_ms(r, t.full, info.camera, info.repeat);
 
@@ -187,7 +187,7 @@ EditRun run_edits(engine::LoadedScene& scene, const std::vector<ChunkCoord>& coo
                 previous[i] = chunk_origin(coords[i]) + BlockPos(inner(rng), inner(rng), inner(rng));
                 toggle(*previous[i]);
             }
-            r.render(t.flat, info.camera);
+            bench_frame(r, t.flat, info.camera);
             const render::RenderStats& st = r.last_stats();
             if (step > 0) { // Step 0 rebuilds every chunk hot in both runs.
                 run.burst_ms.push_back(st.gpu_blas_ms);

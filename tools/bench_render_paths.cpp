@@ -199,11 +199,11 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
             std::vector<double> error, edited; // Whole image; the edit's pixels.
             if (path.edit_frame == 0) // A moving path; the still edit path starts cold (its 8th frame).
                 for (uint32_t i = 0; i < kMovingWarmup; ++i)
-                    r.render(row.s, path.poses[0]);
+                    bench_frame(r, row.s, path.poses[0]);
             for (uint32_t i = 0; i < n; ++i) {
                 if (path.edit_frame > 0 && i == path.edit_frame)
                     held = set_cube(r, scene, *top, {stone});
-                frames.push_back(render::to_float(r.render(row.s, path.poses[i])));
+                frames.push_back(render::to_float(bench_frame(r, row.s, path.poses[i])));
                 error.push_back(render::rmse(frames.back(), refs[i]));
                 if (!mask.empty())
                     edited.push_back(render::masked_rmse(frames.back(), refs[i], mask));
@@ -215,7 +215,7 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
                 // The steady error of the edited view: n / 2 more frames, still, after the path.
                 std::vector<double> steady;
                 for (uint32_t i = 0; i < n / 2; ++i)
-                    steady.push_back(render::masked_rmse(render::to_float(r.render(row.s, path.poses[0])), refs[n - 1], mask));
+                    steady.push_back(render::masked_rmse(render::to_float(bench_frame(r, row.s, path.poses[0])), refs[n - 1], mask));
                 set_cube(r, scene, *top, held);
                 const double normal = kRecovered * median(steady);
                 uint32_t k = path.edit_frame;

@@ -25,6 +25,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_render_frames.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "engine/job_batch.h"
@@ -99,25 +100,25 @@ void run_scene(render::Renderer& r, engine::LoadedScene&& loaded, const render::
     flat.mode = render::ShadingMode::Flat;
     full.mode = render::ShadingMode::Full;
     for (int i = 0; i < 3; ++i) // Builds, then cold BLASes compacted in frame 3: nothing of it is timed.
-        r.render(flat, cam);
+        bench_frame(r, flat, cam);
     const render::RenderStats& st = r.last_stats();
     out.gpu_bytes = st.memory.total();
     out.level_instances = st.level_instances;
     out.level_bytes = st.level_gpu_bytes;
     render::GBufferImage g;
-    out.flat = r.render(flat, cam, &g);
+    out.flat = bench_frame(r, flat, cam, &g);
     out.hit.resize(g.albedo.size());
     for (size_t i = 0; i < g.albedo.size(); ++i)
         out.hit[i] = g.albedo[i].a > 0.5f;
     std::vector<double> flat_ms, full_ms, wall, cpu;
     for (uint32_t i = 0; i < repeat; ++i) {
-        r.render(flat, cam);
+        bench_frame(r, flat, cam);
         flat_ms.push_back(r.last_stats().gpu_frame_ms);
     }
-    out.full = r.render(full, cam); // Warm-up of the full-shading pipeline.
+    out.full = bench_frame(r, full, cam); // Warm-up of the full-shading pipeline.
     for (uint32_t i = 0; i < repeat; ++i) {
         const auto t0 = std::chrono::steady_clock::now();
-        out.full = r.render(full, cam);
+        out.full = bench_frame(r, full, cam);
         wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         full_ms.push_back(r.last_stats().gpu_frame_ms);
         cpu.push_back(r.last_stats().cpu_ms);
@@ -196,6 +197,8 @@ int run_bench_lod(const BenchLodArgs& a) {
     if (!renderer)
         return bad_input("cannot render: " + renderer.error());
     render::Renderer& r = **renderer;
+    if (Status fits = r.check_frame_size(base.width, base.height); !fits) // As vx render.
+        return bad_input("cannot render: " + fits.error());
     r.set_registry(full_scene->world->registry());
     std::printf("vx bench lod: %s; %ux%u on %s\n", full_scene->description.c_str(), base.width, base.height,
                 r.device().name.c_str());
@@ -207,7 +210,7 @@ int run_bench_lod(const BenchLodArgs& a) {
     other_seed.mode = render::ShadingMode::Full;
     other_seed.seed = base.seed + 1;
     const render::ImageF ref_flat = render::to_float(runs[0].flat), ref_full = render::to_float(runs[0].full);
-    const render::ImageError noise = render::compare(render::to_float(r.render(other_seed, *cam)), ref_full);
+    const render::ImageError noise = render::compare(render::to_float(bench_frame(r, other_seed, *cam)), ref_full);
     for (int radius : radii) {
         sa.lod = "on";
         sa.radius = radius;

@@ -243,6 +243,8 @@ int run_bench_render(const BenchRenderArgs& a) {
     if (!renderer)
         return bad_input("cannot render: " + renderer.error());
     render::Renderer& r = **renderer;
+    if (Status fits = r.check_frame_size(base.width, base.height); !fits) // As vx render.
+        return bad_input("cannot render: " + fits.error());
     r.set_registry(scene->world->registry());
     for (const auto& [c, mc] : scene->meshes)
         if (mc.mesh.quad_count() > 0)
@@ -356,7 +358,7 @@ int run_bench_render(const BenchRenderArgs& a) {
                 s.accumulate = 8;
                 std::vector<double> frame;
                 for (uint32_t i = 0; i < 8; ++i) {
-                    img = r.render(s, cam);
+                    img = bench_frame(r, s, cam);
                     frame.push_back(r.last_stats().gpu_frame_ms);
                 }
                 const render::ImageError e = render::compare(render::to_float(img), reference);

@@ -428,6 +428,9 @@ int run_render(RenderArgs a) {
     if (!renderer)
         return bad_input("cannot render: " + renderer.error());
     render::Renderer& r = **renderer;
+    // Before the first frame: on lavapipe a 16384² one took all host memory (the kernel killed it).
+    if (Status fits = r.check_frame_size(s.settings.width, s.settings.height); !fits)
+        return bad_input("cannot render: " + fits.error());
     r.set_registry(scene->world->registry());
     const uint32_t non_empty = engine::send_scene(*scene, r);
     std::printf("vx render: %s\n", scene->description.c_str());

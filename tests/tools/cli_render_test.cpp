@@ -108,6 +108,27 @@ TEST(CliRender, AFrameTheDeviceCannotHoldIsAnErrorNotAnAbort) {
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A frame larger than the device (lavapipe: host memory) is refused before it is made: a 16384²
+// one took all of this machine's memory and the kernel killed the process (vx render, bench
+// render and bench lod alike).
+TEST(CliRender, AFrameLargerThanTheDeviceIsRefusedFirst) {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    uint64_t kib = 0;
+    meminfo >> key >> kib; // "MemTotal: N kB"
+    if (key != "MemTotal:" || kib > (uint64_t(48) << 20))
+        GTEST_SKIP() << "this machine's memory could hold a 16384x16384 frame (60 GiB); the refusal needs less";
+    const std::string vol = write_volume();
+    const std::string scene = "--raw " + vol + " --dims 24,12,20 --size 16384x16384 ";
+    for (const std::string& cmd : {"render " + scene + "--out " + dir() + "/huge.png",
+                                   "bench render " + scene + "--out " + dir() + "/huge_bench",
+                                   "bench lod --size 16384x16384 --view-distance 64 --out " + dir() + "/huge_lod"}) {
+        const CliRun r = vx(cmd, kEnv);
+        EXPECT_EQ(r.code, 2) << cmd << "\n" << r.out;
+        EXPECT_NE(r.out.find("choose a smaller size"), std::string::npos) << cmd << "\n" << r.out;
+    }
+}
+
 // --pipeline raster draws the same flat image as the ray tracer (coverage and block colours of
 // this simple view agree except at most a few edge pixels); --denoise and --accumulate run.
 TEST(CliRender, RasterPipelineAndDenoiser) {
