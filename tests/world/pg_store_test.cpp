@@ -429,6 +429,34 @@ TEST(PgStore, OverlappingWritersNeverDeadlock) {
     }
 }
 
+// A metadata row the server refuses for good (here a trigger's exception; in the field a key a
+// later schema constraint rejects) is dropped and reported, not kept in the queue where it failed
+// every later commit and so held the chunk edits queued beside it hostage until they were lost.
+TEST(PgStore, ARefusedMetadataRowDoesNotHoldChunkEditsHostage) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    auto store = open_pg(uri);
+    ASSERT_TRUE(store);
+    sql(uri, "CREATE FUNCTION vx_test_refuse() RETURNS trigger LANGUAGE plpgsql AS $$ BEGIN "
+             "IF NEW.key = 'poison' THEN RAISE EXCEPTION 'poison refused'; END IF; RETURN NEW; END $$");
+    sql(uri, "CREATE TRIGGER vx_test_refuse BEFORE INSERT ON vx_meta FOR EACH ROW EXECUTE FUNCTION vx_test_refuse()");
+    ASSERT_TRUE(store->save({1, 1, 1}, Chunk(3)).ok());
+    ASSERT_TRUE(store->set_meta("poison", "x").ok());
+    ASSERT_TRUE(store->set_meta("seed", "7").ok());
+    vx::Status first = store->flush();
+    ASSERT_FALSE(first.ok()) << "the dropped row must be reported";
+    EXPECT_NE(first.error().find("metadata 'poison' refused by the server and dropped"), std::string::npos)
+        << first.error();
+    EXPECT_NE(first.error().find("poison refused"), std::string::npos) << first.error();
+    EXPECT_EQ(first.error().find("unknown error"), std::string::npos) << first.error();
+    EXPECT_EQ(store->pending_edits(), 0u);
+    EXPECT_TRUE(store->flush().ok());
+    auto check = open_pg(uri);
+    EXPECT_EQ(check->load({1, 1, 1})->state, LoadState::Present);
+    EXPECT_EQ(check->get_meta("seed")->value_or(""), "7");
+    EXPECT_FALSE(check->get_meta("poison")->has_value());
+}
+
 // Coarse chunks committed by another process are notified with their level ("lod;level,x,y,z;"
 // payloads), apart from the level-0 changes of the same commit: a listener reading only level-0
 // payloads (a build before coarse levels) finds no number at "lod;" and ignores the payload.

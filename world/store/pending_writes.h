@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -152,6 +153,33 @@ private:
     size_t m_bytes = 0;
 };
 
+// Why `key` cannot name metadata ("" if it can): keys are text in every store (PostgreSQL's
+// vx_meta.key is UTF-8 text, which refuses NUL and invalid UTF-8 only when a commit sends it, and
+// then refuses the whole commit), so both stores refuse such keys when they are set.
+inline std::string meta_key_problem(std::string_view key) {
+    if (key.empty())
+        return "empty";
+    // UTF-8 as PostgreSQL checks it (RFC 3629): no overlong forms, no surrogates, at most U+10FFFF.
+    for (size_t i = 0; i < key.size();) {
+        const auto b = uint8_t(key[i]);
+        if (b == 0)
+            return "it holds a NUL byte";
+        const size_t n = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xE ? 3 : (b >> 3) == 0x1E ? 4 : 0;
+        bool valid = n != 0 && i + n <= key.size() && !(n == 2 && b < 0xC2);
+        for (size_t k = 1; valid && k < n; ++k)
+            valid = (uint8_t(key[i + k]) & 0xC0) == 0x80;
+        if (valid && n >= 3) {
+            const auto b1 = uint8_t(key[i + 1]);
+            valid = n == 3 ? !(b == 0xE0 && b1 < 0xA0) && !(b == 0xED && b1 >= 0xA0)
+                           : !(b == 0xF0 && b1 < 0x90) && !(b == 0xF4 && b1 >= 0x90) && b <= 0xF4;
+        }
+        if (!valid)
+            return "not valid UTF-8 at byte " + std::to_string(i);
+        i += n;
+    }
+    return {};
+}
+
 // Everything one store queues between commits. ChunkEntry: as PendingWrites' Entry.
 template <class ChunkEntry = PendingRecord>
 struct StoreQueue {
@@ -190,6 +218,14 @@ struct StoreQueue {
         start(coords.size());
         for (LodCoord c : coords)
             dirty.insert_or_assign(c, true);
+        return {};
+    }
+    // set_meta(): queues the value (opaque bytes), or nothing when the key is not valid text.
+    Status set_meta(std::string_view key, std::string_view value) {
+        if (const std::string why = meta_key_problem(key); !why.empty())
+            return Error{"metadata key refused: " + why};
+        start(1);
+        meta.insert_or_assign(std::string(key), std::string(value));
         return {};
     }
     void clear() {

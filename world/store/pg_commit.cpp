@@ -1,6 +1,7 @@
 // PgStore's transactions: the pipelined, versioned commit and its conflict resolution, and the
 // queries that read the whole world (count, list, metadata).
 #include <algorithm>
+#include <cstring>
 #include <tuple>
 
 #include "world/base/log.h"
@@ -51,10 +52,27 @@ std::vector<std::string> lod_notify_payloads(const std::vector<LodCoord>& coords
     return out;
 }
 
+// Whether the server refuses a statement for what it holds (bad data, a constraint, a trigger's
+// exception), so sending it again fails again. Transient classes (connection 08, rollback 40
+// (deadlock, serialization), resources 53, lock not available 55, operator intervention 57,
+// system 58, internal XX) are not: the queue waits for a later commit.
+bool refused_for_good(const char* state) {
+    if (!state || std::strlen(state) != 5)
+        return false;
+    const std::string_view cls(state, 2);
+    for (const char* transient : {"08", "25", "40", "53", "55", "57", "58", "XX"})
+        if (cls == transient)
+            return false;
+    return true;
+}
+
 // Reads the results of one pipelined command (results up to the NULL that ends it).
 struct PipelineReader {
-    PGconn* conn;
-    std::string first_error;
+    PGconn* conn = nullptr;
+    std::string first_error{};
+    size_t commands = 0;             // Commands read so far.
+    size_t first_error_at = 0;       // The command that failed first (when first_error is set).
+    std::string first_error_state{}; // Its SQLSTATE ("" when the connection failed).
 
     // The command's last result (null if the connection failed); records the first error.
     pg::ResultPtr next() {
@@ -62,11 +80,18 @@ struct PipelineReader {
         while (PGresult* r = PQgetResult(conn)) {
             last.reset(r);
             const ExecStatusType s = PQresultStatus(r);
-            if (s != PGRES_COMMAND_OK && s != PGRES_TUPLES_OK && first_error.empty())
+            if (s != PGRES_COMMAND_OK && s != PGRES_TUPLES_OK && first_error.empty()) {
                 first_error = s == PGRES_PIPELINE_ABORTED ? "pipeline aborted" : pg::message(conn, r);
+                first_error_at = commands;
+                const char* state = PQresultErrorField(r, PG_DIAG_SQLSTATE);
+                first_error_state = state ? state : "";
+            }
         }
-        if (!last && first_error.empty())
+        if (!last && first_error.empty()) {
             first_error = pg::message(conn);
+            first_error_at = commands;
+        }
+        ++commands;
         return last;
     }
     // Consumes the sync point.
@@ -151,7 +176,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
             PQexitPipelineMode(m_conn);
         return e;
     }
-    PipelineReader reader{m_conn, {}};
+    PipelineReader reader{m_conn};
     std::vector<uint64_t> versions(order.size(), 0);
     bool conflicted = false;
     for (size_t i = 0; i < order.size(); ++i) {
@@ -166,16 +191,31 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     for (size_t i = 0; i < lod_order.size() + dirty_order.size() + m_queue.meta.size() + payloads.size(); ++i)
         reader.next();
     const bool synced = reader.sync(); // The commit (or the rollback) is done when it arrives.
-    if (!synced || PQexitPipelineMode(m_conn) != 1 || (!conflicted && !reader.first_error.empty())) {
+    if (!synced || PQexitPipelineMode(m_conn) != 1) {
         const std::string why = reader.first_error.empty() ? "pipeline out of step" : reader.first_error;
-        return error("cannot write " + std::to_string(order.size()) + " chunks (" + why + ")");
+        return error("cannot write " + std::to_string(order.size()) + " chunks", why);
+    }
+    if (!conflicted && !reader.first_error.empty()) {
+        // Metadata the server refuses for good is dropped (and reported by commit_attempts), so
+        // one bad key cannot keep every queued chunk edit from ever committing.
+        const size_t meta_begin = order.size() + lod_order.size() + dirty_order.size();
+        if (reader.first_error_at >= meta_begin && reader.first_error_at < meta_begin + m_queue.meta.size() &&
+            refused_for_good(reader.first_error_state.c_str())) {
+            auto it = std::next(m_queue.meta.begin(), std::ptrdiff_t(reader.first_error_at - meta_begin));
+            m_refused_meta.push_back("metadata '" + it->first + "' refused by the server and dropped (" +
+                                     reader.first_error + ")");
+            VX_LOG_ERROR("PostgreSQL world '%s': %s", m_name.c_str(), m_refused_meta.back().c_str());
+            m_queue.meta.erase(it);
+            return false; // No conflicts: the caller tries again without it.
+        }
+        return error("cannot write " + std::to_string(order.size()) + " chunks", reader.first_error);
     }
     if (conflicted) {
         const auto base = [this](ChunkCoord c) { return m_queue.chunks[c].base; };
         if (Status s = changed_since(order, base, conflicts); !s)
             return Error{s.error()};
         if (conflicts.empty())
-            return error("a write conflicted, but every stored version is the one it replaces");
+            return error("a write conflicted", "yet every stored version is the one it replaces");
         return false;
     }
     for (size_t i = 0; i < order.size(); ++i) {
@@ -284,8 +324,8 @@ Result<std::optional<std::string>> PgStore::get_meta(std::string_view key) {
 Status PgStore::set_meta(std::string_view key, std::string_view value) {
     if (m_info.read_only)
         return Error{"PostgreSQL world '" + m_name + "' is open read-only"};
-    m_queue.start(1);
-    m_queue.meta[std::string(key)] = std::string(value);
+    if (Status s = m_queue.set_meta(key, value); !s)
+        return Error{"PostgreSQL world '" + m_name + "': " + s.error()};
     return {};
 }
 

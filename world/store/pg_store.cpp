@@ -142,8 +142,8 @@ Status PgStore::prepare() {
     return {};
 }
 
-Error PgStore::error(const std::string& what) {
-    Error e{"PostgreSQL world '" + m_name + "': " + what + ": " + pg::message(m_conn)};
+Error PgStore::error(const std::string& what, const std::string& why) {
+    Error e{"PostgreSQL world '" + m_name + "': " + what + ": " + (why.empty() ? pg::message(m_conn) : why)};
     if (!m_conn || PQstatus(m_conn) != CONNECTION_OK)
         lost(e.message);
     std::lock_guard lock(m_health_mutex);
@@ -414,9 +414,11 @@ Status PgStore::commit_attempts() {
         if (*done) {
             m_queue.clear();
             trim_versions();
-            std::lock_guard lock(m_health_mutex);
-            m_health.pending_edits = 0;
-            return {};
+            {
+                std::lock_guard lock(m_health_mutex);
+                m_health.pending_edits = 0;
+            }
+            return refused_meta();
         }
         for (ChunkCoord c : conflicts)
             if (Status s = resolve_conflict(c); !s)
@@ -426,6 +428,19 @@ Status PgStore::commit_attempts() {
     }
     return Error{"PostgreSQL world '" + m_name + "': gave up after " + std::to_string(kMaxCommitAttempts) +
                  " conflicting attempts; edits kept in memory"};
+}
+
+Status PgStore::refused_meta() {
+    if (m_refused_meta.empty())
+        return {};
+    std::string why;
+    for (const std::string& r : m_refused_meta)
+        why += (why.empty() ? "" : "; ") + r;
+    m_refused_meta.clear();
+    Error e{"PostgreSQL world '" + m_name + "': " + why + "; every other queued edit was committed"};
+    std::lock_guard lock(m_health_mutex);
+    m_health.last_error = e.message;
+    return e;
 }
 
 Status PgStore::changed_since(const std::vector<ChunkCoord>& coords,

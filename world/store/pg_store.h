@@ -170,7 +170,11 @@ private:
     // write of that copy (Lineage); without one, the known version.
     uint64_t base_of(const ChunkWrite& w) const;
     Status resolve_conflict(ChunkCoord c);
-    Error error(const std::string& what);
+    // An error naming the world; `why`: the cause ("": the connection's last message).
+    Error error(const std::string& what, const std::string& why = {});
+    // After a commit: the metadata the server refused for good and try_commit dropped, as one
+    // error (none: success).
+    Status refused_meta();
     void note_version(ChunkCoord c, uint64_t version); // Remembers, then trim_versions().
     void trim_versions();
 
@@ -188,6 +192,7 @@ private:
     std::chrono::milliseconds m_backoff{250};
     std::unique_ptr<pg::ChangeListener> m_listener;
     uint64_t m_caught_up_epoch = 0; // The listener's listen_epoch() the last catch_up() served.
+    std::vector<std::string> m_refused_meta; // Dropped by try_commit; reported by refused_meta().
     std::vector<ChunkCoord> m_local_changes; // Merged chunks (poll_changes); m_health_mutex.
 
     mutable std::mutex m_health_mutex; // Guards m_health and m_local_changes.

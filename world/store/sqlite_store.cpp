@@ -479,8 +479,8 @@ Result<std::optional<std::string>> SqliteStore::get_meta(std::string_view key) {
 Status SqliteStore::set_meta(std::string_view key, std::string_view value) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    m_queue.start(1);
-    m_queue.meta.insert_or_assign(std::string(key), std::string(value));
+    if (Status s = m_queue.set_meta(key, value); !s)
+        return Error{"store '" + m_info.path + "': " + s.error()};
     return {};
 }
 
