@@ -479,7 +479,12 @@ void ChunkStreamer::poll_store_changes() {
     }
     // Chunks other processes changed (a shared store's feed; thread-safe and cheap to ask).
     m_changed.clear();
-    m_store->poll_changes(m_changed);
+    if (m_store->poll_changes(m_changed)) { // Changes may have been missed: re-check every chunk held.
+        VX_LOG_WARN("the store may have missed other processes' changes: re-checking %zu chunks", m_chunks.size());
+        m_changed.clear();
+        for (const auto& [c, state] : m_chunks)
+            m_changed.push_back(c);
+    }
     for (ChunkCoord c : m_changed) {
         auto it = m_chunks.find(c);
         if (it != m_chunks.end() && it->second.data == Data::Present)

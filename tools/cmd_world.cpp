@@ -80,7 +80,9 @@ int run_gen(const GenArgs& a) {
     if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
         return failed(why);
     // Only now the store: a refused command creates no file.
-    auto store = open_store({a.path}); // A SQLite file or a postgresql:// URI.
+    // A SQLite file or a postgresql:// URI; nothing here polls other processes' changes, so no
+    // listener collects them.
+    auto store = open_store({.name = a.path, .listen = false});
     if (!store)
         return bad_input(store.error());
     // A world made by a game's generator (meta "generator", engine/world_setup.cpp) would get

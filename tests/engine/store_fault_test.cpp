@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -243,10 +244,18 @@ public:
         m_current = std::move(next);
         m_changed.push_back(m_c);
     }
-    void poll_changes(std::vector<ChunkCoord>& out) override {
+    // Test thread: another process's commit of `c` that the store could not name (its pending
+    // changes overflowed, or it missed notifications): it asks for a resync.
+    void announce_resync(Chunk next) {
+        std::lock_guard lock(m_mutex);
+        m_current = std::move(next);
+        m_resync = true;
+    }
+    bool poll_changes(std::vector<ChunkCoord>& out) override {
         std::lock_guard lock(m_mutex);
         out.insert(out.end(), m_changed.begin(), m_changed.end());
         m_changed.clear();
+        return std::exchange(m_resync, false);
     }
     Status save(std::span<const ChunkWrite>) override { return {}; }
     Status tick(Clock::time_point) override { return {}; }
@@ -266,6 +275,7 @@ private:
     std::mutex m_mutex;
     Chunk m_current;
     std::vector<ChunkCoord> m_changed;
+    bool m_resync = false;
 };
 
 } // namespace
@@ -299,6 +309,30 @@ TEST(StoreFaults, AChangeDuringALoadIsReadOnceTheChunkIsPresent) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     EXPECT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(2)) << "the version committed during the load";
+}
+
+// The store cannot name what changed (its pending changes overflowed, or it missed notifications
+// and forgot versions): poll_changes() asks for a resync, and every chunk held is read again, so
+// the other process's commit shows although no coordinate was reported.
+TEST(StoreFaults, AResyncReadsEveryHeldChunkAgain) {
+    const TerrainGenerator gen(5);
+    const glm::dvec3 eye(8.5, 60.5, 8.5);
+    const ChunkCoord c = chunk_of(BlockPos(8, 60, 8));
+    SharedFake store(c, Chunk(1));
+    store.released.open();
+    NullSink sink;
+    ChunkStreamer s(gen, &store, sink, settings());
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, eye, now));
+    ASSERT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(1));
+    store.announce_resync(Chunk(2));
+    const auto limit = Clock::now() + std::chrono::minutes(1);
+    while (s.get_block(BlockPos(8, 60, 8)) != BlockId(2) && Clock::now() < limit) {
+        now += std::chrono::milliseconds(16);
+        s.update(eye, glm::dvec3(0, 0, -1), now);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(2)) << "reloaded on the resync";
 }
 
 // The OS refuses every thread (thread_refusal.h): the streamer's job system cannot run, so a

@@ -457,6 +457,93 @@ TEST(PgStore, ARefusedMetadataRowDoesNotHoldChunkEditsHostage) {
     EXPECT_FALSE(check->get_meta("poison")->has_value());
 }
 
+namespace {
+
+// Commits chunk `probe` from `writer` until `reader` hears of it: its listener is up (bounded).
+bool wait_listening(PgStore& writer, PgStore& reader, ChunkCoord probe) {
+    for (int i = 0; i < 60; ++i) {
+        if (!writer.save(probe, Chunk(BlockId(3 + i % 2))).ok() || !writer.flush().ok())
+            return false;
+        if (wait_change(reader, probe, 1.0))
+            return true;
+    }
+    return false;
+}
+
+} // namespace
+
+// A process that never polls (`vx world gen`, or coarse changes the engine never asks for) must
+// not pile up every coordinate other processes commit: the same chunk committed again is pending
+// once, and coarse changes are kept only once someone asked for them. Before, every notified
+// coordinate was appended for ever (the review's 200k + 200k).
+TEST(PgStore, PendingChangesAreDeduplicatedAndCoarseOnesKeptOnlyWhenAskedFor) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    auto reader = open_pg(uri), writer = open_pg(uri);
+    ASSERT_TRUE(reader && writer);
+    ASSERT_TRUE(wait_listening(*writer, *reader, {99, 0, 0}));
+    const LodCoord coarse{2, {1, 1, 1}};
+    for (uint32_t round = 1; round <= 5; ++round) { // One chunk (and one coarse chunk), 5 commits.
+        ASSERT_TRUE(writer->save({7, 7, 7}, versioned_chunk({7, 7, 7}, round)).ok());
+        ASSERT_TRUE(writer->save_lod(coarse, versioned_chunk(coarse.chunk, round)).ok());
+        ASSERT_TRUE(writer->flush().ok());
+    }
+    ASSERT_TRUE(writer->save({8, 8, 8}, Chunk(BlockId(2))).ok()); // The last commit: heard after the others.
+    ASSERT_TRUE(writer->flush().ok());
+    std::vector<ChunkCoord> got;
+    const auto limit = Clock::now() + std::chrono::seconds(10);
+    while (std::find(got.begin(), got.end(), ChunkCoord(8, 8, 8)) == got.end() && Clock::now() < limit) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20)); // Polled rarely: pending piles up.
+        reader->poll_changes(got);
+    }
+    EXPECT_EQ(std::count(got.begin(), got.end(), ChunkCoord(7, 7, 7)), 1) << "pending once, not once per commit";
+    std::vector<LodCoord> lods;
+    reader->poll_lod_changes(lods);
+    EXPECT_TRUE(lods.empty()) << lods.size() << " coarse changes kept though nobody asked for them";
+    // Asked for once, they are kept from then on.
+    ASSERT_TRUE(writer->save_lod(coarse, versioned_chunk(coarse.chunk, 9)).ok());
+    ASSERT_TRUE(writer->flush().ok());
+    for (int i = 0; i < 500 && lods.empty(); ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        reader->poll_lod_changes(lods);
+    }
+    ASSERT_EQ(lods.size(), 1u);
+    EXPECT_EQ(lods[0], coarse);
+}
+
+// More pending changes than the store keeps: they are forgotten and poll_changes() says so, which
+// makes the engine re-check every chunk it holds (chunk_streamer.cpp) instead of missing some.
+TEST(PgStore, TooManyPendingChangesAskForAResync) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    PgStoreCreateInfo info;
+    info.uri = uri;
+    info.max_pending_changes = 8;
+    auto opened = PgStore::open(info);
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    PgStore& reader = **opened;
+    auto writer = open_pg(uri);
+    ASSERT_TRUE(wait_listening(*writer, reader, {99, 0, 0}));
+    std::vector<ChunkCoord> got;
+    EXPECT_FALSE(reader.poll_changes(got));
+    std::vector<ChunkWrite> batch;
+    const Chunk stone(3);
+    for (int i = 0; i < 20; ++i) // 20 > 8 chunks in one commit.
+        batch.push_back({ChunkCoord(i, 0, 0), &stone});
+    ASSERT_TRUE(writer->save(batch).ok());
+    ASSERT_TRUE(writer->flush().ok());
+    bool resync = false;
+    for (int i = 0; i < 500 && !resync; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        got.clear();
+        resync = reader.poll_changes(got);
+    }
+    EXPECT_TRUE(resync);
+    EXPECT_LE(got.size(), 8u);
+    got.clear();
+    EXPECT_FALSE(reader.poll_changes(got)) << "said once";
+}
+
 // Coarse chunks committed by another process are notified with their level ("lod;level,x,y,z;"
 // payloads), apart from the level-0 changes of the same commit: a listener reading only level-0
 // payloads (a build before coarse levels) finds no number at "lod;" and ignores the payload.

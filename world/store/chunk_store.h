@@ -187,8 +187,14 @@ public:
     virtual size_t pending_edits() const { return 0; }
 
     // Chunks that other processes changed since the last call (shared stores: the engine reloads
-    // and remeshes those it holds). Thread-safe, cheap, never blocks: callable from any thread.
-    virtual void poll_changes(std::vector<ChunkCoord>& out) { (void)out; }
+    // and remeshes those it holds), appended to `out`. True when changes may have been missed
+    // beyond `out` (more piled up than the store keeps, or notifications were lost and the store
+    // cannot tell which chunks moved on): the caller re-checks every chunk it holds. Thread-safe,
+    // cheap, never blocks: callable from any thread.
+    virtual bool poll_changes(std::vector<ChunkCoord>& out) {
+        (void)out;
+        return false;
+    }
     // The same for coarse chunks other processes saved (PgStore; a hint only: coarse chunks are
     // derived, and the level-0 changes above are what a process re-derives them from). Thread-safe.
     virtual void poll_lod_changes(std::vector<LodCoord>& out) { (void)out; }

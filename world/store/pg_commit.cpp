@@ -264,7 +264,7 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
         theirs->set(e.pos, e.id);
     m_queue.chunks.reencode(c, p, *theirs, m_codec);
     std::lock_guard lock(m_health_mutex);
-    m_local_changes.push_back(c); // This process's copy lacks their edits: it should reload.
+    m_local_changes.add(std::span(&c, 1)); // This process's copy lacks their edits: it should reload.
     return {};
 }
 

@@ -12,30 +12,31 @@
 
 namespace vx::world::pg {
 
-ChangeListener::ChangeListener(std::string conninfo, int connect_timeout_s)
-    : m_conninfo(std::move(conninfo)), m_timeout_s(connect_timeout_s), m_thread([this] { run(); }) {}
+ChangeListener::ChangeListener(std::string conninfo, int connect_timeout_s, size_t max_changes)
+    : m_conninfo(std::move(conninfo)), m_timeout_s(connect_timeout_s), m_changes(max_changes),
+      m_lod_changes(max_changes), m_thread([this] { run(); }) {}
 
 ChangeListener::~ChangeListener() {
     m_stop.store(true);
     m_thread.join();
 }
 
-void ChangeListener::take(std::vector<ChunkCoord>& out) {
+bool ChangeListener::take(std::vector<ChunkCoord>& out) {
     std::lock_guard lock(m_mutex);
-    out.insert(out.end(), m_changes.begin(), m_changes.end());
-    m_changes.clear();
+    return m_changes.take(out);
 }
 
 void ChangeListener::take_lod(std::vector<LodCoord>& out) {
+    m_lod_wanted.store(true);
     std::lock_guard lock(m_mutex);
-    out.insert(out.end(), m_lod_changes.begin(), m_lod_changes.end());
-    m_lod_changes.clear();
+    (void)m_lod_changes.take(out);
 }
 
 void ChangeListener::parse(const char* payload) {
     const size_t prefix = std::strlen(kLodNotifyPrefix);
     if (std::strncmp(payload, kLodNotifyPrefix, prefix) == 0) {
-        parse_lod(payload + prefix);
+        if (m_lod_wanted.load())
+            parse_lod(payload + prefix);
         return;
     }
     std::vector<ChunkCoord> got;
@@ -52,7 +53,7 @@ void ChangeListener::parse(const char* payload) {
         got.push_back(ChunkCoord(v[0], v[1], v[2]));
     }
     std::lock_guard lock(m_mutex);
-    m_changes.insert(m_changes.end(), got.begin(), got.end());
+    m_changes.add(got);
 }
 
 // "level,x,y,z;..." (after the prefix).
@@ -72,7 +73,7 @@ void ChangeListener::parse_lod(const char* p) {
         got.push_back({int(v[0]), ChunkCoord(int(v[1]), int(v[2]), int(v[3]))});
     }
     std::lock_guard lock(m_mutex);
-    m_lod_changes.insert(m_lod_changes.end(), got.begin(), got.end());
+    m_lod_changes.add(got);
 }
 
 // Connects in 50 ms slices that check m_stop, so destruction never waits out a connect timeout

@@ -38,7 +38,7 @@ std::string redact_pg_uri(std::string_view uri) {
 
 PgStore::PgStore(PgStoreCreateInfo info)
     : m_info(std::move(info)), m_name(redact_pg_uri(m_info.uri)), m_codec(m_info.zstd_level),
-      m_encoder(m_info.zstd_level, m_info.encode_threads) {}
+      m_encoder(m_info.zstd_level, m_info.encode_threads), m_local_changes(m_info.max_pending_changes) {}
 
 PgStore::~PgStore() {
     if (m_conn && pending_edits() > 0) {
@@ -60,7 +60,8 @@ Result<std::unique_ptr<PgStore>> PgStore::open(const PgStoreCreateInfo& info) {
     if (Status s = store->init_schema(); !s)
         return Error{s.error()};
     if (info.listen) {
-        store->m_listener = std::make_unique<pg::ChangeListener>(info.uri, info.connect_timeout_s);
+        store->m_listener = std::make_unique<pg::ChangeListener>(info.uri, info.connect_timeout_s,
+                                                                info.max_pending_changes);
         store->m_listener->set_own_pid(PQbackendPID(store->m_conn));
     }
     return store;
@@ -495,7 +496,7 @@ Status PgStore::catch_up() {
     m_caught_up_epoch = epoch;
     std::lock_guard lock(m_health_mutex);
     m_health.caught_up += changed.size();
-    m_local_changes.insert(m_local_changes.end(), changed.begin(), changed.end());
+    m_local_changes.add(changed);
     return {};
 }
 
@@ -538,12 +539,10 @@ void PgStore::poll_lod_changes(std::vector<LodCoord>& out) {
         m_listener->take_lod(out);
 }
 
-void PgStore::poll_changes(std::vector<ChunkCoord>& out) {
-    if (m_listener)
-        m_listener->take(out);
+bool PgStore::poll_changes(std::vector<ChunkCoord>& out) {
+    const bool missed = m_listener && m_listener->take(out);
     std::lock_guard lock(m_health_mutex);
-    out.insert(out.end(), m_local_changes.begin(), m_local_changes.end());
-    m_local_changes.clear();
+    return m_local_changes.take(out) || missed;
 }
 
 StoreHealth PgStore::health() const {

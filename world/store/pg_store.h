@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "world/store/chunk_record.h"
+#include "world/store/pg_listener.h"
 #include "world/store/chunk_store.h"
 #include "world/store/pending_writes.h"
 #include "world/store/record_batch_encoder.h"
@@ -59,15 +60,15 @@
 struct pg_conn;
 
 namespace vx::world {
-namespace pg {
-class ChangeListener;
-}
 
 struct PgStoreCreateInfo {
     std::string uri;                                 // libpq connection URI or key=value string.
     bool read_only = false;                          // Refuse writes (readers still get notified).
     bool create = true;                              // Create the tables in an empty database.
     bool listen = true;                              // Run the change listener (poll_changes).
+    // Changed coordinates kept until poll_changes() takes them (about 40 B each); past this they
+    // are forgotten and poll_changes() asks the caller to re-check everything it holds.
+    size_t max_pending_changes = size_t(1) << 16;
     std::chrono::milliseconds max_pending_age{1000}; // tick() commits edits older than this.
     size_t max_pending_bytes = size_t(32) << 20;     // save() commits when the queue holds more.
     int zstd_level = 1;                              // 1..3.
@@ -109,7 +110,7 @@ public:
     Result<std::optional<std::string>> get_meta(std::string_view key) override;
     Status set_meta(std::string_view key, std::string_view value) override;
     bool read_only() const override { return m_info.read_only; }
-    void poll_changes(std::vector<ChunkCoord>& out) override;
+    bool poll_changes(std::vector<ChunkCoord>& out) override;
     void poll_lod_changes(std::vector<LodCoord>& out) override;
     using ChunkStore::save_lod;
     bool supports_lod() const override { return true; }
@@ -193,7 +194,7 @@ private:
     std::unique_ptr<pg::ChangeListener> m_listener;
     uint64_t m_caught_up_epoch = 0; // The listener's listen_epoch() the last catch_up() served.
     std::vector<std::string> m_refused_meta; // Dropped by try_commit; reported by refused_meta().
-    std::vector<ChunkCoord> m_local_changes; // Merged chunks (poll_changes); m_health_mutex.
+    pg::ChangeSet<ChunkCoord, ChunkCoordHash> m_local_changes; // Merged, caught up; m_health_mutex.
 
     mutable std::mutex m_health_mutex; // Guards m_health and m_local_changes.
     StoreHealth m_health;

@@ -93,7 +93,7 @@ public:
     Result<std::vector<world::LodCoord>> list_lod_coords() override { return m_overlay->list_lod_coords(); }
     void poll_lod_changes(std::vector<world::LodCoord>& out) override { m_overlay->poll_lod_changes(out); }
     size_t pending_edits() const override { return m_overlay->pending_edits(); }
-    void poll_changes(std::vector<world::ChunkCoord>& out) override { m_overlay->poll_changes(out); }
+    bool poll_changes(std::vector<world::ChunkCoord>& out) override { return m_overlay->poll_changes(out); }
     world::StoreHealth health() const override { return m_overlay->health(); }
 
     // The VDB world's block registry (from the file's metadata).
