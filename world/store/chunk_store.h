@@ -95,6 +95,7 @@ struct StoreHealth {
     uint64_t conflicts = 0;        // Writes that found a newer version and re-applied their edits.
     uint64_t connect_attempts = 0; // Connections tried (the first included), failed or not.
     uint64_t caught_up = 0;        // Changes found by a catch-up after missed notifications.
+    uint64_t resyncs = 0;          // Catch-ups that could not name the changes: re-check everything.
     size_t pending_edits = 0;      // Edits queued in memory, not yet committed.
     std::string last_error;        // The last connection or write error, one line ("" if none).
 };

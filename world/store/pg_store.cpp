@@ -485,6 +485,15 @@ Status PgStore::catch_up() {
     const uint64_t epoch = m_listener->listen_epoch();
     if (epoch == m_caught_up_epoch)
         return {};
+    if (m_forgot_versions) {
+        // The caller may still hold chunks whose versions were forgotten (trim_versions), and
+        // no scan of what is remembered can tell whether those moved on: everything is re-checked.
+        m_caught_up_epoch = epoch;
+        std::lock_guard lock(m_health_mutex);
+        ++m_health.resyncs;
+        m_local_changes.overflow();
+        return {};
+    }
     // The listener listens before the scan reads: a commit is either notified or seen here.
     std::vector<ChunkCoord> coords;
     coords.reserve(m_versions.size());
@@ -519,6 +528,7 @@ void PgStore::trim_versions() {
         }
         m_lineage.erase(it->first);
         it = m_versions.erase(it);
+        m_forgot_versions = true;
     }
 }
 

@@ -30,7 +30,9 @@
 // Notifications sent while the listener was not connected (a server restart, a dropped link) are
 // lost, so each time it starts listening the next tick() compares every version this store knows
 // (chunks it loaded, absent ones included, or wrote) with the table and reports the chunks that
-// moved on through poll_changes() as well.
+// moved on through poll_changes() as well. Once versions were forgotten (max_known_versions), a
+// chunk the caller still holds may have no version to compare: then the catch-up makes
+// poll_changes() ask for a resync (the caller re-checks every chunk it holds) instead.
 //
 // Connection loss: queued edits stay in memory; tick() reconnects with exponential back-off
 // (0.25 s doubling to 8 s), flush() and load() report the error; health() says so. A commit on
@@ -193,6 +195,9 @@ private:
     std::chrono::milliseconds m_backoff{250};
     std::unique_ptr<pg::ChangeListener> m_listener;
     uint64_t m_caught_up_epoch = 0; // The listener's listen_epoch() the last catch_up() served.
+    // trim_versions() forgot a version: the caller may hold chunks catch_up() cannot check, so a
+    // catch-up asks for a resync instead. Stays set (such a chunk may be held for ever).
+    bool m_forgot_versions = false;
     std::vector<std::string> m_refused_meta; // Dropped by try_commit; reported by refused_meta().
     pg::ChangeSet<ChunkCoord, ChunkCoordHash> m_local_changes; // Merged, caught up; m_health_mutex.
 
