@@ -8,6 +8,7 @@
 #include <atomic>
 #include <barrier>
 #include <chrono>
+#include <map>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -16,9 +17,11 @@
 #include "pg_cluster.h"
 #include "store_test_util.h"
 #include "world/store/pg_store.h"
+#include "world/store/pg_wire.h"
 #include "world/store/store_open.h"
 
 using namespace vx::world;
+namespace pg = vx::world::pg;
 using vx::world::test::PgCluster;
 using vx::world::test::versioned_chunk;
 using Clock = std::chrono::steady_clock;
@@ -88,6 +91,82 @@ TEST(PgStore, UriHelpers) {
     EXPECT_EQ(redact_pg_uri("postgresql:///db?user=a&password=pw&host=/tmp"),
               "postgresql:///db?user=a&password=***&host=/tmp");
     EXPECT_EQ(redact_pg_uri("postgresql://ann@host/db"), "postgresql://ann@host/db");
+    // A password holding '/' or '@' (libpq reads them unencoded), a percent-encoded parameter name
+    // (libpq decodes names too), key=value strings with spaces and quotes: all once leaked.
+    EXPECT_EQ(redact_pg_uri("postgresql://ann:se/cr@t@host:5/db"), "postgresql://ann:***@host:5/db");
+    EXPECT_EQ(redact_pg_uri("postgresql:///db?user=a&pass%77ord=pw&host=/tmp"),
+              "postgresql:///db?user=a&pass%77ord=***&host=/tmp");
+    EXPECT_EQ(redact_pg_uri("postgres:///db?%70assword=pw"), "postgres:///db?%70assword=***");
+    EXPECT_EQ(redact_pg_uri("host=/tmp password = 'se cr\\'et' user=a"), "host=/tmp password = *** user=a");
+    EXPECT_EQ(redact_pg_uri("dbname=w password=pw"), "dbname=w password=***");
+}
+
+// Both connections get TCP keepalives and a user timeout (a dead peer is noticed), and a URI's
+// own connect_timeout wins over the store's default (it used to be overridden).
+TEST(PgStore, ConnectionsKeepAliveAndTheUriWins) {
+    VX_NEED_PG();
+    const std::string uri = cluster->uri("postgres") + "&connect_timeout=7&keepalives_idle=42";
+    for (bool polling : {false, true}) {
+        PGconn* conn = polling ? pg::connect_start(uri, 3) : pg::connect(uri, 3);
+        ASSERT_NE(conn, nullptr);
+        std::map<std::string, std::string> options;
+        PQconninfoOption* info = PQconninfo(conn);
+        for (PQconninfoOption* o = info; o && o->keyword; ++o)
+            options[o->keyword] = o->val ? o->val : "";
+        PQconninfoFree(info);
+        PQfinish(conn);
+        EXPECT_EQ(options["connect_timeout"], "7");
+        EXPECT_EQ(options["keepalives_idle"], "42");
+        EXPECT_EQ(options["keepalives"], "1");
+        EXPECT_EQ(options["keepalives_interval"], "5");
+        EXPECT_EQ(options["keepalives_count"], "3");
+        EXPECT_EQ(options["tcp_user_timeout"], "30000");
+        EXPECT_EQ(options["application_name"], "vx");
+    }
+}
+
+// Another session holds a row lock (idle in transaction): the commit fails after lock_timeout,
+// keeps its edits and commits once the lock is gone. It used to block the I/O lane for as long as
+// the lock was held (here 4 s; in the field for ever).
+TEST(PgStore, ALockedRowFailsACommitInsteadOfBlockingIt) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    PgStoreCreateInfo info;
+    info.uri = uri;
+    info.listen = false;
+    info.lock_timeout = std::chrono::milliseconds(200);
+    auto opened = PgStore::open(info);
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    PgStore& store = **opened;
+    ASSERT_TRUE(store.save({0, 0, 0}, Chunk(5)).ok());
+    ASSERT_TRUE(store.flush().ok());
+    PGconn* other = PQconnectdb(uri.c_str());
+    pg::ResultPtr(PQexec(other, "BEGIN"));
+    pg::ResultPtr locked(PQexec(other, "SELECT * FROM vx_chunks FOR UPDATE"));
+    ASSERT_EQ(PQresultStatus(locked.get()), PGRES_TUPLES_OK) << PQerrorMessage(other);
+    std::atomic<bool> returned{false};
+    std::thread release([&] { // After the flush returned, or after 4 s on a build that blocks.
+        for (int i = 0; i < 400 && !returned.load(); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        pg::ResultPtr(PQexec(other, "ROLLBACK"));
+    });
+    ASSERT_TRUE(store.save({0, 0, 0}, Chunk(6)).ok());
+    const auto t0 = Clock::now();
+    vx::Status s = store.flush();
+    const double waited = std::chrono::duration<double>(Clock::now() - t0).count();
+    returned.store(true);
+    release.join();
+    PQfinish(other);
+    EXPECT_LT(waited, 2.0) << "the commit waited for the lock";
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().find("lock timeout"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("edits kept in memory"), std::string::npos) << s.error();
+    EXPECT_EQ(store.pending_edits(), 1u);
+    EXPECT_TRUE(store.health().connected);
+    vx::Status again = store.flush();
+    ASSERT_TRUE(again.ok()) << again.error();
+    auto check = open_pg(uri);
+    EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
 }
 
 TEST(PgStore, ClearErrorsForMissingAndForeignDatabases) {

@@ -1,6 +1,7 @@
 #include "world/store/pg_store.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "world/base/log.h"
 #include "world/store/pg_listener.h"
@@ -19,22 +20,76 @@ constexpr std::chrono::milliseconds kMaxBackoff{8000};
 
 bool is_pg_uri(std::string_view s) { return s.starts_with("postgresql://") || s.starts_with("postgres://"); }
 
-std::string redact_pg_uri(std::string_view uri) {
-    std::string s(uri);
-    // scheme://user:password@host/...
-    if (const size_t scheme = s.find("://"); scheme != std::string::npos) {
-        const size_t start = scheme + 3;
-        const size_t at = s.find('@', start), slash = s.find('/', start), colon = s.find(':', start);
-        if (at != std::string::npos && (slash == std::string::npos || at < slash) && colon < at)
-            s.replace(colon + 1, at - colon - 1, "***");
+namespace {
+
+// libpq percent-decodes URI parameter names too: "pass%77ord=" sets the password.
+std::string percent_decode(std::string_view s) {
+    std::string out;
+    const auto hex = [](char c) { return std::isxdigit(uint8_t(c)) != 0; };
+    const auto digit = [](char c) { return std::isdigit(uint8_t(c)) ? c - '0' : (std::tolower(uint8_t(c)) - 'a') + 10; };
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && hex(s[i + 1]) && hex(s[i + 2])) {
+            out += char(digit(s[i + 1]) * 16 + digit(s[i + 2]));
+            i += 2;
+        } else {
+            out += s[i];
+        }
     }
-    // password=... as a URI parameter or a key=value pair.
-    for (size_t p = s.find("password="); p != std::string::npos; p = s.find("password=", p + 12)) {
-        const size_t end = s.find_first_of("& ", p);
-        s.replace(p + 9, (end == std::string::npos ? s.size() : end) - (p + 9), "***");
-    }
-    return s;
+    return out;
 }
+
+// scheme://user:password@host/db?key=value&...
+std::string redact_uri(std::string_view uri) {
+    const size_t start = uri.find("://") + 3;
+    const size_t query = std::min(uri.find('?', start), uri.size());
+    std::string out(uri.substr(0, query));
+    // The credentials end at the last '@' before the query: a password may hold '/', ':' or '@'.
+    if (const size_t at = out.rfind('@'); at != std::string::npos && at >= start)
+        if (const size_t colon = out.find(':', start); colon < at)
+            out.replace(colon + 1, at - colon - 1, "***");
+    for (size_t p = query; p < uri.size();) {
+        const size_t end = std::min(uri.find('&', p + 1), uri.size());
+        const std::string_view param = uri.substr(p + 1, end - p - 1);
+        const size_t eq = param.find('=');
+        out += uri[p];
+        out += eq != std::string_view::npos && percent_decode(param.substr(0, eq)) == "password"
+                   ? std::string(param.substr(0, eq)) + "=***"
+                   : std::string(param);
+        p = end;
+    }
+    return out;
+}
+
+// key = value ... (a value may be quoted, with backslash escapes).
+std::string redact_key_values(std::string_view s) {
+    std::string out;
+    const auto space = [&](size_t i) { return i < s.size() && std::isspace(uint8_t(s[i])) != 0; };
+    for (size_t i = 0; i < s.size();) {
+        if (space(i)) {
+            out += s[i++];
+            continue;
+        }
+        const size_t key = i;
+        while (i < s.size() && s[i] != '=' && !space(i))
+            ++i;
+        const bool password = s.substr(key, i - key) == "password";
+        out += s.substr(key, i - key);
+        while (space(i) || (i < s.size() && s[i] == '='))
+            out += s[i++];
+        const size_t value = i;
+        const bool quoted = i < s.size() && s[i] == '\'';
+        for (i += quoted ? 1 : 0; i < s.size() && (quoted ? s[i] != '\'' : !space(i)); ++i)
+            if (s[i] == '\\')
+                ++i;
+        i = std::min(i + (quoted ? 1 : 0), s.size());
+        out += password ? std::string("***") : std::string(s.substr(value, i - value));
+    }
+    return out;
+}
+
+} // namespace
+
+std::string redact_pg_uri(std::string_view uri) { return is_pg_uri(uri) ? redact_uri(uri) : redact_key_values(uri); }
 
 PgStore::PgStore(PgStoreCreateInfo info)
     : m_info(std::move(info)), m_name(redact_pg_uri(m_info.uri)), m_codec(m_info.zstd_level),
@@ -86,6 +141,12 @@ Status PgStore::connect() {
     }
     if (m_listener)
         m_listener->set_own_pid(PQbackendPID(m_conn));
+    if (m_info.lock_timeout.count() > 0) { // Only where the URI (options=-c ...) set none.
+        const std::string sql = "SELECT set_config('lock_timeout', '" + std::to_string(m_info.lock_timeout.count()) +
+                                "ms', false) WHERE current_setting('lock_timeout') = '0'";
+        if (pg::ResultPtr r(PQexec(m_conn, sql.c_str())); !pg::ok(r.get()))
+            return error("cannot set lock_timeout");
+    }
     if (!m_schema_ready)
         return {};
     if (Status s = prepare(); !s)

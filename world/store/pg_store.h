@@ -77,7 +77,11 @@ struct PgStoreCreateInfo {
     // Threads encoding the chunks of a save() batch that come without records (the caller
     // included; 0: the machine's hardware threads, at most 8; 1: the caller alone).
     unsigned encode_threads = 0;
-    int connect_timeout_s = 3;                       // Per connection attempt.
+    int connect_timeout_s = 3;                       // Per connection attempt (the URI's own wins).
+    // lock_timeout of the store's session, unless the URI sets one: a row or table lock another
+    // session holds fails a commit (edits kept, retried later) or a load after this long instead
+    // of blocking the I/O lane for ever. 0: wait for ever.
+    std::chrono::milliseconds lock_timeout{5000};
     // Chunk versions remembered (about 60 B each). Past this, versions of chunks with no queued
     // edit are forgotten down to half: a later commit of such a chunk costs one conflict round
     // trip (reload, re-apply edits) but stays correct, so a long session's memory stays bounded.

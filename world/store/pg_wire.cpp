@@ -4,14 +4,18 @@ namespace vx::world::pg {
 
 namespace {
 
-// expand_dbname = 1: `conninfo` is parsed as a URI or key=value string; later keywords override
-// what it sets. Server notices ("relation already exists, skipping", shutdown notes) are not ours
-// to print: errors reach the caller through results.
+// expand_dbname = 1: `conninfo` is parsed as a URI or key=value string at dbname's place, and a
+// later keyword overrides an earlier one, so our defaults come first and whatever the URI sets
+// wins. Keepalives and tcp_user_timeout find a dead peer on TCP (a crashed host, a dropped link)
+// in about half a minute instead of the kernel's hours; Unix sockets ignore them. Server notices
+// ("relation already exists, skipping", shutdown notes) are not ours to print: errors reach the
+// caller through results.
 template <class Start>
 PGconn* connect_with(const std::string& conninfo, int connect_timeout_s, Start start) {
     const std::string timeout = std::to_string(connect_timeout_s);
-    const char* keys[] = {"dbname", "connect_timeout", "application_name", nullptr};
-    const char* values[] = {conninfo.c_str(), timeout.c_str(), "vx", nullptr};
+    const char* keys[] = {"connect_timeout", "application_name", "keepalives", "keepalives_idle",
+                          "keepalives_interval", "keepalives_count", "tcp_user_timeout", "dbname", nullptr};
+    const char* values[] = {timeout.c_str(), "vx", "1", "10", "5", "3", "30000", conninfo.c_str(), nullptr};
     PGconn* conn = start(keys, values);
     if (conn)
         PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
