@@ -473,7 +473,7 @@ int run_render(RenderArgs a) {
     for (uint32_t i = std::max<uint32_t>(a.repeat, 1); i < 3; ++i)
         timed_render(r, s, nullptr); // Cold chunks are compacted in frame 3.
     print_memory(r.last_stats());
-    if (a.scene.view_distance > 0)
+    if (a.scene.view_distance)
         print_levels(*scene, r.last_stats());
     if (a.edit_burst > 0)
         edit_bursts(r, *scene, s, a.edit_burst, std::max<uint32_t>(a.repeat, 1));
@@ -512,8 +512,7 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
         ->check(decimal_range(0, 64, "must be 0..64 chunks"));
     cmd->add_option("--view-distance", a->scene.view_distance,
                     "Terrain (--seed) to this many blocks: --radius/--vradius stay the full-detail box, levels "
-                    "of detail beyond it (--lod on), or full detail all the way (--lod off)")
-        ->check(decimal_range(1, 16384, "must be 1..16384 blocks"));
+                    "of detail beyond it (--lod on), or full detail all the way (--lod off)");
     cmd->add_option("--lod", a->scene.lod, "With --view-distance: levels of detail (on, default) or full detail (off)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--lod-ring", a->scene.lod_ring,

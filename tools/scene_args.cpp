@@ -61,12 +61,13 @@ Result<engine::SceneLoadInfo> scene_load_info(const SceneArgs& a) {
         return Error{"unknown scene '" + a.scene + "' (known: seed)"};
     if (!a.raw.empty() && a.dims.empty())
         return Error{"--raw needs --dims X,Y,Z"};
-    if (!a.lod.empty() && a.view_distance < 0)
+    if (!a.lod.empty() && !a.view_distance)
         return Error{"--lod needs --view-distance BLOCKS"};
-    if (a.view_distance == 0) // 0 would mean "none" to the engine.
-        return Error{"--view-distance must be 1..16384 blocks, got 0"};
+    // 0 would mean "none" to the engine, and a negative one was taken for "not given".
+    if (a.view_distance && *a.view_distance < 1)
+        return Error{"--view-distance must be 1..16384 blocks, got " + std::to_string(*a.view_distance)};
     engine::SceneLoadInfo info;
-    info.view_distance = std::max<int64_t>(a.view_distance, 0);
+    info.view_distance = a.view_distance.value_or(0);
     info.lod = a.lod != "off";
     info.lod_ring = a.lod_ring;
     info.radius = a.radius;

@@ -36,7 +36,7 @@ struct SceneArgs {
     int vradius = 4;                   // Chunks around the camera (vertical).
     std::optional<WorldPos> eye;       // The camera if given (chooses the chunks of --seed/--world).
     unsigned threads = 0;              // 0: all cores.
-    int64_t view_distance = -1;        // --view-distance, blocks (terrain); -1: not given (the radius box).
+    std::optional<int64_t> view_distance; // --view-distance, blocks (terrain); none: the radius box.
     std::string lod;                   // --lod on|off (needs --view-distance); empty: on.
     int lod_ring = 12;                 // --lod-ring: coarse levels' box half-width, chunks.
 };
