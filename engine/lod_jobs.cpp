@@ -4,6 +4,7 @@
 #include "world/lod/downsample.h"
 #include "world/mesh/apron.h"
 #include "world/mesh/mesher.h"
+#include "world/store/lod_load.h"
 
 namespace vx::engine {
 
@@ -42,7 +43,24 @@ void LodLoadJob::run(JobContext& ctx) {
     if (r->state == world::LoadState::Present) {
         m_chunk = std::move(r->chunk);
         m_done = true;
+    } else if (r->state == world::LoadState::Corrupt) {
+        derive_corrupt();
     }
+}
+
+void LodLoadJob::derive_corrupt() {
+    m_done = true;
+    const world::LodCoord c = lod_of(key());
+    world::LodDerived derived;
+    Result<world::Chunk> d = world::load_or_derive_lod(m_store, m_gen, c, world::LodDirtySet{c}, &derived);
+    if (!d) {
+        m_error = d.error();
+        return;
+    }
+    m_chunk = std::move(*d);
+    if (!m_store.read_only()) // A failure only means deriving again next time.
+        for (const auto& [dc, chunk] : derived)
+            (void)m_store.save_lod(dc, chunk);
 }
 
 std::unique_ptr<Job> LodLoadJob::take_continuation() { return m_done ? nullptr : std::move(m_fallback); }

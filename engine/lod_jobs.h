@@ -61,20 +61,27 @@ private:
     std::string m_error;
 };
 
-// I/O lane: the stored coarse chunk; a miss (or a corrupt record) hands over to `fallback` (the
-// chunk's LodGenerateJob) from the I/O thread. A store failure reports an error: nothing is
-// generated in place of what may be stored.
+// I/O lane: the stored coarse chunk; a miss hands over to `fallback` (the chunk's LodGenerateJob)
+// from the I/O thread. A corrupt record (the store moved it aside) is derived from the levels
+// below and saved, never generated: coarse records lie over edited blocks (world/store/lod_load.h),
+// and the moved record would have read as a miss from then on. A store failure reports an error:
+// nothing is generated in place of what may be stored.
 class LodLoadJob final : public Job {
 public:
-    LodLoadJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, std::unique_ptr<Job> fallback)
-        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_fallback(std::move(fallback)) {}
+    LodLoadJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
+               std::unique_ptr<Job> fallback)
+        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen),
+          m_fallback(std::move(fallback)) {}
     void run(JobContext& ctx) override;
     void complete() override;
     std::unique_ptr<Job> take_continuation() override;
 
 private:
+    void derive_corrupt();
+
     LodJobEvents& m_owner;
     world::ChunkStore& m_store;
+    const world::ChunkGenerator& m_gen;
     std::unique_ptr<Job> m_fallback;
     std::optional<world::Chunk> m_chunk;
     std::string m_error;

@@ -465,6 +465,53 @@ TEST(LodStreamer, KeptCoarseChunksOverADroppedEditedChunkShowTheEdit) {
     std::filesystem::remove(path);
 }
 
+// A damaged coarse record over an edit is derived from the levels below (and saved), never
+// generated: generated terrain hid the edit at that level, and for good, since the record the
+// store moved aside read as a miss from then on.
+TEST(LodStreamer, ADamagedCoarseRecordIsDerivedNotGenerated) {
+    const TerrainGenerator terrain(5);
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_damaged.sqlite");
+    const BlockPos p(20, 45, 20); // High in the air: every level's cell changes.
+    const glm::dvec3 eye(16.5, 20.0, 16.5);
+    int top = 0;
+    {
+        FlushedWorld w(terrain, path, eye);
+        ASSERT_TRUE(w.ok);
+        auto& [rec, lod, streamer] = w.rig;
+        top = lod.top_level();
+        ASSERT_GE(top, 2);
+        ASSERT_TRUE(streamer.set_block(p, 1));
+        lod.note_edit(chunk_of(p));
+        ASSERT_TRUE(settle(streamer, lod, eye, w.now));
+        ASSERT_TRUE(streamer.flush());
+    }
+    {
+        auto store = open_sqlite(path);
+        ASSERT_TRUE(store);
+        const uint8_t junk[4] = {0xDE, 0xAD, 0xBE, 0xEF};
+        const Chunk unused; // The record is written as given.
+        const LodWrite damaged{lod_chunk_of(p, 2), &unused, junk};
+        ASSERT_TRUE(store->save_lod(std::span<const LodWrite>(&damaged, 1)));
+        ASSERT_TRUE(store->flush());
+    }
+    for (int session = 2; session <= 3; ++session) { // The third reads the derived record saved.
+        FlushedWorld w(terrain, path, eye);
+        ASSERT_TRUE(w.ok);
+        for (int k = 1; k <= top; ++k) {
+            const Chunk* coarse = w.rig.lod.coarse_chunk(lod_chunk_of(p, k));
+            ASSERT_NE(coarse, nullptr) << "session " << session << ", level " << k;
+            EXPECT_NE(coarse->get(local_index(lod_local_of(p, k))), kAir) << "session " << session << ", level " << k;
+        }
+    }
+    auto store = open_sqlite(path);
+    ASSERT_TRUE(store);
+    auto saved = store->load_lod(lod_chunk_of(p, 2));
+    ASSERT_TRUE(saved);
+    EXPECT_EQ(saved->state, LoadState::Present);
+    store.reset();
+    std::filesystem::remove(path);
+}
+
 // An edit to a level-0 chunk in memory but under a drawn coarse chunk (its level-1 parent is not
 // kept) cannot climb the levels: the kept ones over it are derived again (mark_stale). The store
 // lacks the edit until it is saved, so the derivation reads the chunk in memory (LodOverlay), or the
