@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "engine/box_difference.h"
 #include "world/base/assert.h"
@@ -299,13 +300,22 @@ void LodStreamer::on_unload(ChunkCoord c) {
 
 void LodStreamer::note_edit(ChunkCoord c) {
     if (top_level() > 0) {
-        m_edited.insert(c);
+        m_edited.try_emplace(c, 0); // A chunk already waiting keeps its level.
         m_edited_here.insert(c);
     }
 }
 
 void LodStreamer::flush_edits() {
     apply_edits();
+    // Edits still waiting for a level to load reach it only on arrival: their levels from that one
+    // up are marked stale, so a session that ends first derives them next time. Once per wait
+    // (negative: marked): each mark loads the waited level again, and saves may come often.
+    if (m_store && m_store->supports_lod() && !m_store->read_only())
+        for (auto& [c, waiting] : m_edited)
+            if (waiting > 0) {
+                mark_stale(c, waiting);
+                waiting = -waiting;
+            }
     if (!m_batch.empty())
         m_jobs->submit_batch(std::exchange(m_batch, {}));
 }
@@ -313,11 +323,11 @@ void LodStreamer::flush_edits() {
 void LodStreamer::apply_edits() {
     const int top = top_level();
     for (auto it = m_edited.begin(); it != m_edited.end();) {
-        const Chunk* const edited = m_blocks->find_chunk(*it); // Null: dropped before this.
+        const Chunk* const edited = m_blocks->find_chunk(it->first); // Null: dropped before this.
         const Chunk* child = edited;
         bool retry = false, unchanged = false;
         int k = 1; // The first level not refreshed from the edited chunk.
-        LodCoord x{0, *it};
+        LodCoord x{0, it->first};
         for (; child && k <= top; ++k) {
             const LodCoord p = lod_parent(x);
             auto nit = m_coarse.find(p);
@@ -326,12 +336,22 @@ void LodStreamer::apply_edits() {
             Node& n = nit->second;
             if (n.data != Data::Present) {
                 retry = n.data == Data::Requested; // Applied once it arrives.
+                if (retry && std::abs(it->second) != k)
+                    it->second = k;
                 break;
             }
             const size_t bytes = n.chunk.memory_bytes();
             if (!refresh_octant(n.chunk, *child, lod_octant(x))) {
-                unchanged = true; // Nothing changed at this level: none above changes either.
-                break;
+                // Nothing changed at this level: none above changes either, unless the edit waited
+                // for a level to load (those above it were never refreshed, and the one that
+                // arrived may hold the edit already: derived over it).
+                if (it->second == 0) {
+                    unchanged = true;
+                    break;
+                }
+                x = p;
+                child = &n.chunk;
+                continue;
             }
             m_metrics.block_bytes[size_t(k)] += n.chunk.memory_bytes() - bytes;
             ++m_metrics.edits_applied;
@@ -346,7 +366,7 @@ void LodStreamer::apply_edits() {
             child = &n.chunk;
         }
         if (!retry && m_store && m_store->supports_lod() && !m_store->read_only())
-            mark_stale(*it, unchanged ? top + 1 : k);
+            mark_stale(it->first, unchanged ? top + 1 : k);
         it = retry ? std::next(it) : m_edited.erase(it);
     }
 }

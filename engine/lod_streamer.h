@@ -196,7 +196,10 @@ private:
     std::deque<world::LodCoord> m_to_request; // Kept chunks whose data is not requested yet.
     std::deque<world::LodCoord> m_to_release; // Chunks that left their box, to drop.
     std::unordered_set<world::LodCoord, world::LodCoordHash> m_queued;
-    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_edited;
+    // Edited level-0 chunks not yet applied to the kept levels, each with the level it waits for
+    // to load (0: none; applied on arrival, climbing every kept level above; negative: that level,
+    // marked stale by flush_edits).
+    std::unordered_map<world::ChunkCoord, int, world::ChunkCoordHash> m_edited;
     std::vector<std::pair<world::LodCoord, std::chrono::steady_clock::time_point>> m_retry;
     std::vector<std::unique_ptr<Job>> m_batch; // Jobs made this update, submitted at its end.
     std::chrono::steady_clock::time_point m_last_now{};

@@ -465,6 +465,75 @@ TEST(LodStreamer, KeptCoarseChunksOverADroppedEditedChunkShowTheEdit) {
     std::filesystem::remove(path);
 }
 
+// Terrain whose coarse chunk `held` is not made until release() (a slow load).
+class HeldCoarseTerrain final : public ChunkGenerator {
+public:
+    HeldCoarseTerrain(const TerrainGenerator& inner, LodCoord held) : m_inner(inner), m_held(held) {}
+    Chunk generate(ChunkCoord c) const override { return m_inner.generate(c); }
+    bool generate_coarse(LodCoord c, Chunk& out) const override {
+        while (c == m_held && !m_released.load())
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        return m_inner.generate_coarse(c, out);
+    }
+    int coarse_levels() const override { return m_inner.coarse_levels(); }
+    void release() const { m_released.store(true); }
+
+private:
+    const TerrainGenerator& m_inner;
+    LodCoord m_held;
+    mutable std::atomic<bool> m_released{false};
+};
+
+// An edit reaches level 1 while level 2 over it is still loading: it waits, and on arrival climbs
+// every level (level 1, already refreshed, unchanged, stopped the climb, and the edit was dropped:
+// levels 2 and up never showed it, in memory or in the store). A save while it waits marks those
+// levels stale, so a session that ended then would derive them.
+TEST(LodStreamer, AnEditWaitingForALevelToLoadReachesItAndThoseAbove) {
+    const TerrainGenerator terrain(5);
+    const BlockPos p(20, 45, 20); // High in the air: every level's cell changes.
+    const HeldCoarseTerrain gen(terrain, lod_chunk_of(p, 2));
+    const std::filesystem::path path = fresh_file("vx_lod_streamer_waiting.sqlite");
+    const glm::dvec3 eye(16.5, 20.0, 16.5);
+    auto store = open_sqlite(path);
+    ASSERT_TRUE(store);
+    int top = 0;
+    {
+        Rig rig(gen, store.get(), edit_view());
+        auto& [rec, lod, streamer] = rig;
+        Clock::time_point now{};
+        const auto limit = Clock::now() + std::chrono::minutes(1);
+        while (!(streamer.world().find_chunk(chunk_of(p)) && lod.coarse_chunk(lod_chunk_of(p, 1))) &&
+               Clock::now() < limit) {
+            now += std::chrono::milliseconds(16);
+            streamer.update(eye, glm::dvec3(1, 0, 0), now);
+            lod.update(eye, now, Clock::now() + std::chrono::milliseconds(2));
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        ASSERT_NE(lod.coarse_chunk(lod_chunk_of(p, 1)), nullptr);
+        ASSERT_EQ(lod.coarse_chunk(lod_chunk_of(p, 2)), nullptr) << "level 2 is held";
+        top = lod.top_level();
+        ASSERT_GE(top, 3);
+        ASSERT_TRUE(streamer.set_block(p, 1));
+        lod.note_edit(chunk_of(p));
+        lod.flush_edits(); // Engine::save(): level 1 refreshed, level 2 waited for.
+        ASSERT_TRUE(streamer.flush());
+        auto dirty = store->list_lod_dirty();
+        ASSERT_TRUE(dirty);
+        for (int k = 2; k <= top; ++k)
+            EXPECT_NE(std::find(dirty->begin(), dirty->end(), lod_chunk_of(p, k)), dirty->end()) << "level " << k;
+        gen.release();
+        ASSERT_TRUE(settle(streamer, lod, eye, now));
+        for (int k = 1; k <= top; ++k) {
+            const Chunk* coarse = lod.coarse_chunk(lod_chunk_of(p, k));
+            ASSERT_NE(coarse, nullptr) << "level " << k;
+            EXPECT_NE(coarse->get(local_index(lod_local_of(p, k))), kAir) << "level " << k;
+        }
+        ASSERT_TRUE(streamer.flush());
+    }
+    store.reset();
+    std::filesystem::remove(path);
+}
+
 // A damaged coarse record over an edit is derived from the levels below (and saved), never
 // generated: generated terrain hid the edit at that level, and for good, since the record the
 // store moved aside read as a miss from then on.
