@@ -168,6 +168,8 @@ struct StreamingDesc {
     int lod_ring = 12;                 // 1..64; larger: finer far away, more chunks (R = 12:
                                        // a cell spans about 2.3 pixels at each level's edge, 1080p).
     int64_t lod_vertical_reach = 256;  // Blocks above and below the viewer coarse levels cover.
+    // Together the level boxes may hold at most 2^20 coarse chunks (create() says how many);
+    // the defaults hold about 12,500, lod_ring 64 to 65536 blocks about 380,000.
 };
 
 // What the engine draws into.
@@ -472,7 +474,8 @@ public:
     // render target), a window target without a GLFWwindow*, a headless target whose frame
     // resources (about 240 bytes a pixel, the denoiser's included) cannot fit the device's
     // largest memory heap (the line names both), a block whose material is out of range (see
-    // BlockType), a stored world made by another generator (see Generator::name).
+    // BlockType), a stored world made by another generator (see Generator::name), levels of detail
+    // whose boxes would hold more than 2^20 coarse chunks (lod_ring, lod_vertical_reach).
     static Result<std::unique_ptr<Engine>> create(const EngineCreateInfo& info);
     // Main thread. shutdown() if not done (errors are logged).
     ~Engine();

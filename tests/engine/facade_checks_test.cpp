@@ -91,6 +91,21 @@ TEST(FacadeChecks, TheEngineMovesBetweenThreadsOneAtATime) {
     EXPECT_EQ((*reopened)->get_block(p), std::optional<vx::BlockId>(1));
 }
 
+// Levels of detail whose boxes would hold millions of coarse chunks are refused at create: each
+// setting was in range, but together (vertical reach 65536) the first update kept 2.4 million
+// nodes in a second, and ring 64 with view distance 65536 took 95 s and 7.5 GB.
+TEST(FacadeChecks, LevelsOfDetailTooLargeTogetherAreRefused) {
+    vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+    info.streaming.view_distance = 4096;
+    info.streaming.lod_vertical_reach = 65536;
+    auto refused = vx::Engine::create(info);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().find("coarse chunks around the viewer"), std::string::npos) << refused.error();
+    info.streaming.lod_vertical_reach = 256; // The default.
+    auto fine = vx::Engine::create(info);
+    EXPECT_TRUE(fine) << fine.error();
+}
+
 TEST(FacadeChecks, SetViewerRefusesACameraTheRendererCannotMake) {
     auto engine = vx::Engine::create(tiny_info(vx::WorldSource::terrain(1)));
     ASSERT_TRUE(engine) << engine.error();
