@@ -175,6 +175,42 @@ TEST(SqliteStoreErrors, DamagedDatabaseFileNeverCrashes) {
     }
 }
 
+// Rows whose keys name no chunk (written by something else) are counted by --check as damaged and
+// listed nowhere: cast to 32 bits, x + 2^32 named chunk x, and text keys read as numbers,
+// so the check loaded the real chunks and passed.
+TEST(SqliteStoreErrors, RowsWhoseKeysNameNoChunkAreStrayNotAliases) {
+    TempDir dir;
+    const std::string path = dir.file("w.db");
+    {
+        auto store = open_store(path);
+        ASSERT_TRUE(store->save({7, 0, 0}, versioned_chunk({7, 0, 0}, 1)).ok());
+        ASSERT_TRUE(store->save_lod({1, {3, 0, 0}}, versioned_chunk({3, 0, 0}, 2)).ok());
+        ASSERT_TRUE(store->flush().ok());
+    }
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    for (const char* sql : {"INSERT INTO chunks(x, y, z, data) VALUES(7 + 4294967296, 0, 0, x'00')",
+                            "INSERT INTO chunks(x, y, z, data) VALUES('seven', 1, 0, x'00')",
+                            "INSERT INTO lod_chunks(level, x, y, z, data) VALUES(1 + 4294967296, 3, 0, 0, x'00')",
+                            "INSERT INTO lod_chunks(level, x, y, z, data) VALUES(11, 3, 0, 0, x'00')"})
+        ASSERT_EQ(sqlite3_exec(db, sql, nullptr, nullptr, nullptr), SQLITE_OK) << sql << ": " << sqlite3_errmsg(db);
+    sqlite3_close(db);
+    vx::Result<StoreCheck> check = check_store(path);
+    ASSERT_TRUE(check.ok()) << check.error();
+    EXPECT_EQ(check->records, 6u);
+    EXPECT_EQ(check->corrupt, 4u);
+    auto store = open_store(path);
+    vx::Result<uint64_t> stray = store->stray_rows();
+    ASSERT_TRUE(stray.ok()) << stray.error();
+    EXPECT_EQ(*stray, 4u);
+    vx::Result<std::vector<ChunkCoord>> coords = store->list_coords();
+    ASSERT_TRUE(coords.ok());
+    EXPECT_EQ(*coords, std::vector<ChunkCoord>{ChunkCoord(7, 0, 0)});
+    vx::Result<std::vector<LodCoord>> lods = store->list_lod_coords();
+    ASSERT_TRUE(lods.ok());
+    EXPECT_EQ(lods->size(), 1u);
+}
+
 // One writer per file. Two writers each saved their own copy of the same chunk, and the last
 // save won: the other's edit, reported saved, was gone. A second writer (in this process or
 // another) is refused at once; readers are not; a writer killed with SIGKILL leaves no lock.

@@ -66,6 +66,15 @@ Result<StoreCheck> check_store(const std::string& path) {
             note("coarse chunk row with level or coordinates out of range near " + lod_str(c));
         }
     }
+    Result<uint64_t> stray = store.stray_rows();
+    if (!stray)
+        return Error{stray.error()};
+    if (*stray > 0) {
+        out.records += *stray;
+        out.corrupt += *stray;
+        note(std::to_string(*stray) + " rows whose keys name no chunk (coordinates outside 32 bits or not integers, " +
+             "or a level outside 1.." + std::to_string(kMaxLodLevel) + "), left in place");
+    }
     Result<uint64_t> q = store.quarantine_count();
     if (!q)
         return Error{q.error()};

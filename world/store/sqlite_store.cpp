@@ -78,6 +78,20 @@ LodCoord lod_row(sqlite3_stmt* s) {
                                                         int32_t(sqlite3_column_int64(s, 3)))};
 }
 
+// Column `col` of the current row holds a 32-bit integer (a chunk coordinate).
+bool column_is_i32(sqlite3_stmt* s, int col) {
+    if (sqlite3_column_type(s, col) != SQLITE_INTEGER)
+        return false;
+    const int64_t v = sqlite3_column_int64(s, col);
+    return v >= INT32_MIN && v <= INT32_MAX;
+}
+
+// The same test in SQL, for counting (stray_rows).
+const char* const kNotChunkKey =
+    "NOT (typeof(x) = 'integer' AND typeof(y) = 'integer' AND typeof(z) = 'integer' AND "
+    "x BETWEEN -2147483648 AND 2147483647 AND y BETWEEN -2147483648 AND 2147483647 AND "
+    "z BETWEEN -2147483648 AND 2147483647)";
+
 // Binds the key of `c` (level 0: x, y, z; coarse: level, x, y, z); returns the next parameter.
 int bind_key(sqlite3_stmt* s, LodCoord c) {
     if (c.level > 0) {
@@ -409,6 +423,22 @@ Result<uint64_t> SqliteStore::count() {
     return uint64_t(sqlite3_column_int64(st, 0));
 }
 
+Result<uint64_t> SqliteStore::stray_rows() {
+    if (Status s = commit(); !s)
+        return Error{s.error()};
+    Result<bool> lod = lod_tables(false);
+    if (!lod)
+        return Error{lod.error()};
+    std::string sql = std::string("SELECT (SELECT count(*) FROM chunks WHERE ") + kNotChunkKey + ")";
+    if (*lod)
+        sql += std::string(" + (SELECT count(*) FROM lod_chunks WHERE ") + kNotChunkKey +
+               " OR typeof(level) != 'integer' OR level NOT BETWEEN 1 AND " + std::to_string(kMaxLodLevel) + ")";
+    Stmt st;
+    if (sqlite3_prepare_v2(m_db, sql.c_str(), -1, &st.s, nullptr) != SQLITE_OK || sqlite3_step(st.s) != SQLITE_ROW)
+        return db_error("cannot count stray rows");
+    return uint64_t(sqlite3_column_int64(st.s, 0));
+}
+
 Result<uint64_t> SqliteStore::quarantine_count() {
     uint64_t n = 0;
     {
@@ -451,6 +481,8 @@ Status SqliteStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
     ResetGuard guard{st};
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (!column_is_i32(st, 0) || !column_is_i32(st, 1) || !column_is_i32(st, 2))
+            continue; // Not a chunk's row (stray_rows).
         const ChunkCoord c(int32_t(sqlite3_column_int64(st, 0)), int32_t(sqlite3_column_int64(st, 1)),
                            int32_t(sqlite3_column_int64(st, 2)));
         if (!fn(c))
@@ -579,7 +611,10 @@ Result<std::vector<LodCoord>> SqliteStore::list_lod(bool dirty) {
     ResetGuard guard{st};
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW)
-        out.push_back(lod_row(st));
+        if (column_is_i32(st, 1) && column_is_i32(st, 2) && column_is_i32(st, 3) &&
+            sqlite3_column_type(st, 0) == SQLITE_INTEGER && sqlite3_column_int64(st, 0) >= 1 &&
+            sqlite3_column_int64(st, 0) <= kMaxLodLevel) // Else not a coarse chunk's row (stray_rows).
+            out.push_back(lod_row(st));
     if (rc != SQLITE_DONE)
         return db_error(dirty ? "cannot list dirty coarse chunks" : "cannot list coarse chunks");
     return out;

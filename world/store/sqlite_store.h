@@ -78,6 +78,10 @@ public:
     size_t pending_edits() const override { return m_queue.edits(); }
     // Records in the quarantine tables (level 0 and coarse).
     Result<uint64_t> quarantine_count();
+    // Rows whose keys name no chunk (a coordinate that is not a 32-bit integer, a level outside
+    // 1..kMaxLodLevel): written by something else, they are left out of every listing (cast to
+    // 32 bits they named real chunks: x + 2^32 listed as x) and left in place.
+    Result<uint64_t> stray_rows();
     // Runs SQLite's PRAGMA quick_check over the whole file (O(size)); the error names the first
     // problem found.
     Status verify_database();
