@@ -211,6 +211,41 @@ TEST(SqliteStoreErrors, RowsWhoseKeysNameNoChunkAreStrayNotAliases) {
     EXPECT_EQ(lods->size(), 1u);
 }
 
+// A row far longer than any record is damaged by its length alone, read without its bytes: a
+// 300 MB row was read whole (and held) before the length check failed it.
+TEST(SqliteStoreErrors, AnOversizedRowIsDamagedWithoutBeingRead) {
+    TempDir dir;
+    const std::string path = dir.file("w.db");
+    {
+        auto store = open_store(path);
+        ASSERT_TRUE(store->save({1, 0, 0}, versioned_chunk({1, 0, 0}, 1)).ok());
+        ASSERT_TRUE(store->flush().ok());
+    }
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "INSERT INTO chunks(x, y, z, data) VALUES(2, 0, 0, zeroblob(64 * 1024 * 1024))", nullptr,
+                           nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+    SqliteStoreCreateInfo info;
+    info.path = path;
+    info.read_only = true; // Nothing moved: only the read is measured.
+    info.create = false;
+    auto store = SqliteStore::open(info);
+    ASSERT_TRUE(store.ok()) << store.error();
+    sqlite3_int64 now = 0, peak = 0;
+    sqlite3_status64(SQLITE_STATUS_MEMORY_USED, &now, &peak, 1);
+    vx::Result<ChunkLoad> r = (*store)->load({2, 0, 0});
+    sqlite3_status64(SQLITE_STATUS_MEMORY_USED, &now, &peak, 0);
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r->state, LoadState::Corrupt);
+    EXPECT_NE(r->problem.find("too long (67108864 bytes)"), std::string::npos) << r->problem;
+    EXPECT_LT(peak, sqlite3_int64(16) << 20) << "bytes SQLite held while loading";
+    vx::Result<ChunkLoad> good = (*store)->load({1, 0, 0});
+    ASSERT_TRUE(good.ok());
+    EXPECT_EQ(good->state, LoadState::Present);
+}
+
 // One writer per file. Two writers each saved their own copy of the same chunk, and the last
 // save won: the other's edit, reported saved, was gone. A second writer (in this process or
 // another) is refused at once; readers are not; a writer killed with SIGKILL leaves no lock.

@@ -78,6 +78,13 @@ LodCoord lod_row(sqlite3_stmt* s) {
                                                         int32_t(sqlite3_column_int64(s, 3)))};
 }
 
+// A load's columns: the record's length, and its bytes only when a record can be that long. A
+// damaged row of 300 MB was read whole (and its memory held) before the length check failed it.
+std::string load_columns() {
+    const std::string max = std::to_string(max_record_bytes());
+    return "SELECT length(data), CASE WHEN length(data) <= " + max + " THEN data END ";
+}
+
 // Column `col` of the current row holds a 32-bit integer (a chunk coordinate).
 bool column_is_i32(sqlite3_stmt* s, int col) {
     if (sqlite3_column_type(s, col) != SQLITE_INTEGER)
@@ -184,7 +191,7 @@ Status SqliteStore::init() {
         return sqlite3_prepare_v3(m_db, sql, -1, SQLITE_PREPARE_PERSISTENT, &st.s, nullptr) == SQLITE_OK;
     };
     Stmts& s = *m_stmts;
-    const bool ok = prep(s.load, "SELECT data FROM chunks WHERE x=?1 AND y=?2 AND z=?3") &&
+    const bool ok = prep(s.load, (load_columns() + "FROM chunks WHERE x=?1 AND y=?2 AND z=?3").c_str()) &&
                     prep(s.put, "INSERT OR REPLACE INTO chunks(x, y, z, data) VALUES(?1, ?2, ?3, ?4)") &&
                     prep(s.del, "DELETE FROM chunks WHERE x=?1 AND y=?2 AND z=?3") &&
                     prep(s.has, "SELECT 1 FROM chunks WHERE x=?1 AND y=?2 AND z=?3") &&
@@ -278,10 +285,16 @@ Result<ChunkLoad> SqliteStore::load_level(LodCoord c) {
         return ChunkLoad{};
     if (rc != SQLITE_ROW)
         return db_error("cannot load " + record_name(c));
-    // Decoded straight from SQLite's buffer, which stays valid until the statement is reset.
-    const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 0));
-    const size_t n = size_t(sqlite3_column_bytes(st, 0));
-    ChunkLoad out = load_stored(std::span<const uint8_t>(p, p ? n : 0), c, m_codec);
+    ChunkLoad out;
+    if (const int64_t length = sqlite3_column_int64(st, 0); length > int64_t(max_record_bytes())) {
+        out.state = LoadState::Corrupt; // As read_record_header says it, without reading it.
+        out.problem = "corrupt chunk record: too long (" + std::to_string(length) + " bytes)";
+    } else {
+        // Decoded straight from SQLite's buffer, which stays valid until the statement is reset.
+        const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(st, 1));
+        const size_t n = size_t(sqlite3_column_bytes(st, 1));
+        out = load_stored(std::span<const uint8_t>(p, p ? n : 0), c, m_codec);
+    }
     if (out.state != LoadState::Corrupt)
         return out;
     sqlite3_reset(st);
@@ -540,7 +553,7 @@ Result<bool> SqliteStore::lod_tables(bool create) {
     };
     const char* const where = " WHERE level=?1 AND x=?2 AND y=?3 AND z=?4";
     const bool ok =
-        prep(lod->load, (std::string("SELECT data FROM lod_chunks") + where).c_str()) &&
+        prep(lod->load, (load_columns() + "FROM lod_chunks" + where).c_str()) &&
         prep(lod->put, "INSERT OR REPLACE INTO lod_chunks(level, x, y, z, data) VALUES(?1, ?2, ?3, ?4, ?5)") &&
         prep(lod->del, (std::string("DELETE FROM lod_chunks") + where).c_str()) &&
         prep(lod->list, "SELECT level, x, y, z FROM lod_chunks") &&
