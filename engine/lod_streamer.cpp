@@ -302,6 +302,10 @@ void LodStreamer::note_edit(ChunkCoord c) {
     if (top_level() > 0) {
         m_edited.try_emplace(c, 0); // A chunk already waiting keeps its level.
         m_edited_here.insert(c);
+        if (m_edited_here.size() >= m_prune_edited_at) { // Those dropped since are saved: kept small.
+            std::erase_if(m_edited_here, [&](ChunkCoord e) { return !m_blocks->find_chunk(e); });
+            m_prune_edited_at = std::max<size_t>(1024, 2 * m_edited_here.size());
+        }
     }
 }
 

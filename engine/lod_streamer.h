@@ -210,8 +210,10 @@ private:
     // them may not be saved yet; the marks stay for the next session.
     world::LodDirtySet m_marked_here;
     // Level-0 chunks edited in this session, while in memory (the overlay of derivations: the
-    // store may not have their edits yet). Those dropped since, and so saved, are pruned.
+    // store may not have their edits yet). Those dropped since, and so saved, are pruned (by
+    // edited_under, and by note_edit as the set doubles).
     std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_edited_here;
+    size_t m_prune_edited_at = 1024; // Its size at which note_edit() prunes it next (amortised).
     int m_draws = 0; // Chunks drawn in this update (the queue's budget).
     bool m_holes_dirty = true;
     LodMetrics m_metrics;
