@@ -330,8 +330,24 @@ Status Engine::set_blocks(std::span<const BlockEdit> edits) {
             return s; // Unreachable after the checks; kept so a future check cannot be silently lost.
         if (m->lod)
             m->lod->note_edit(world::chunk_of(e.pos));
+        else
+            m->mark_coarse_stale(world::chunk_of(e.pos));
     }
     return {};
+}
+
+// Without levels of detail the edit reaches no coarse level here, yet the store may keep them (`vx
+// world gen --lod-levels`, a session with them on): its ancestors are marked stale, once per chunk
+// and session, so a later view derives them from the blocks. Unmarked, they read as current (or,
+// absent, as plain terrain), and the far view hid the edit.
+void Engine::Impl::mark_coarse_stale(ChunkCoord c) {
+    world::ChunkStore* store = world.store.get();
+    if (!store || !store->supports_lod() || store->read_only() || !coarse_marked.insert(c).second)
+        return;
+    std::vector<world::LodCoord> above;
+    for (int k = 1; k <= world::kMaxLodLevel; ++k)
+        above.push_back(world::lod_ancestor({0, c}, k));
+    streamer->jobs().submit(std::make_unique<engine::LodMarkDirtyJob>(c, *store, std::move(above)));
 }
 
 std::optional<BlockId> Engine::get_block(BlockPos pos) const {

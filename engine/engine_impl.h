@@ -6,11 +6,13 @@
 #include <memory>
 #include <optional>
 #include <thread>
+#include <unordered_set>
 
 #include <vx/vx.h>
 
 #include "engine/chunk_streamer.h"
 #include "engine/engine_sink.h"
+#include "engine/lod_jobs.h"
 #include "engine/lod_streamer.h"
 #include "engine/save_tracker.h"
 #include "engine/sky_access.h"
@@ -56,6 +58,10 @@ struct Engine::Impl {
         return {};
     }
     Status shutdown();
+    // Edits without levels of detail: the coarse levels a store may keep are marked stale
+    // (engine.cpp); the chunks marked this session.
+    void mark_coarse_stale(world::ChunkCoord c);
+    std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> coarse_marked;
     // A call on another thread than the last: the game moved the engine (vx.h, Threads); the job
     // system's completions follow it.
     void follow_thread() {

@@ -3,6 +3,7 @@
 // generator that made it, and the small queries a game's UI needs: the ray through a screen pixel
 // and the block registry read back.
 // No GPU (RenderTarget::none).
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -89,6 +90,32 @@ TEST(FacadeChecks, TheEngineMovesBetweenThreadsOneAtATime) {
     ASSERT_TRUE((*reopened)->set_viewer(v));
     ASSERT_TRUE(vx::test::settle(**reopened));
     EXPECT_EQ((*reopened)->get_block(p), std::optional<vx::BlockId>(1));
+}
+
+// An edit made without levels of detail marks the coarse levels above it stale in the store, so a
+// later session with them on derives them from the blocks: unmarked, they read as current, or,
+// absent, as plain terrain, and the far view hid what the player built.
+TEST(FacadeChecks, EditsWithoutLevelsOfDetailMarkTheCoarseLevelsStale) {
+    const std::string path = checks_world("no_lod_marks.db");
+    const vx::BlockPos p{3, vx::terrain_height(1, 3, 3) + 3, 3};
+    {
+        auto engine = settled_above_origin(tiny_info(vx::WorldSource::sqlite(path, 1)));
+        ASSERT_TRUE(engine);
+        ASSERT_TRUE(engine->set_block(p, 1));
+        ASSERT_TRUE(engine->set_block(p + vx::BlockPos{1, 0, 0}, 1)); // The same chunk: marked once.
+        auto ticket = engine->save();
+        ASSERT_TRUE(ticket) << ticket.error();
+        ASSERT_TRUE(engine->wait(*ticket));
+    }
+    auto store = vx::world::open_store({path, /*read_only=*/true, /*create=*/false, /*listen=*/false});
+    ASSERT_TRUE(store) << store.error();
+    auto dirty = (*store)->list_lod_dirty();
+    ASSERT_TRUE(dirty) << dirty.error();
+    const vx::world::ChunkCoord c = vx::world::chunk_of(vx::world::BlockPos(p.x, p.y, p.z));
+    for (int k = 1; k <= vx::world::kMaxLodLevel; ++k)
+        EXPECT_NE(std::find(dirty->begin(), dirty->end(), vx::world::lod_ancestor({0, c}, k)), dirty->end())
+            << "level " << k;
+    EXPECT_EQ(dirty->size(), size_t(vx::world::kMaxLodLevel));
 }
 
 // Levels of detail whose boxes would hold millions of coarse chunks are refused at create: each

@@ -62,6 +62,9 @@ TEST(RawVolume, ClearErrorsForBadInput) {
     auto wide = load_raw_volume(path, {glm::i64vec3(1 << 17, 1 << 17, 1), RawType::U16, BlockPos(0)}, w);
     ASSERT_FALSE(wide.ok());
     EXPECT_NE(wide.error().find("too wide"), std::string::npos) << wide.error();
+    auto wide_enough = load_raw_volume(path, {glm::i64vec3(8200, 8200, 1), RawType::U8, BlockPos(0)}, w);
+    ASSERT_FALSE(wide_enough.ok()); // Past 8192 x 8192 a plane is still read (here: the size is wrong).
+    EXPECT_NE(wide_enough.error().find("has 3 bytes"), std::string::npos) << wide_enough.error();
     auto outside = load_raw_volume(path, {glm::i64vec3(1, 1, 3), RawType::U8, BlockPos(0, 0, kWorldMaxBlock - 1)}, w);
     ASSERT_FALSE(outside.ok());
     EXPECT_NE(outside.error().find("outside the world"), std::string::npos);

@@ -21,7 +21,7 @@ Status check_desc(const RawVolumeDesc& d) {
         uint64_t(d.dims.x) * uint64_t(d.dims.y) > kMaxRawBlocks / uint64_t(d.dims.z))
         return Error{"volume too large (more than 2^34 blocks)"};
     if (uint64_t(d.dims.x) * uint64_t(d.dims.y) > kMaxRawPlaneBlocks)
-        return Error{"volume too wide: a z-plane (X x Y) of more than 2^26 blocks (8192 x 8192); lay the long axis "
+        return Error{"volume too wide: a z-plane (X x Y) of more than 2^28 blocks (16384 x 16384); lay the long axis "
                      "along z"};
     if (!in_world(d.origin) || !in_world(d.origin + d.dims - glm::i64vec3(1)))
         return Error{"volume lies outside the world (block coordinates must stay within [-2^36, 2^36))"};

@@ -28,9 +28,10 @@ struct RawVolumeStats {
 
 // Largest volume accepted (blocks): 2^34, so a bad --dims cannot ask for terabytes.
 inline constexpr uint64_t kMaxRawBlocks = uint64_t(1) << 34;
-// Largest z-plane (x × y blocks): 2^26 (8192 × 8192). A plane is read whole and a layer of 32
-// planes staged chunk by chunk (64 KiB each): a 131072 × 131072 plane asked for 32 GiB and 1 TiB.
-inline constexpr uint64_t kMaxRawPlaneBlocks = uint64_t(1) << 26;
+// Largest z-plane (x × y blocks): 2^28 (16384 × 16384). A plane is read whole (512 MiB of u16 at
+// most) and the chunks of a layer of 32 planes it touches are staged dense (64 KiB each): a
+// 131072 × 131072 plane asked for 32 GiB at once, and aborted.
+inline constexpr uint64_t kMaxRawPlaneBlocks = uint64_t(1) << 28;
 
 // Reads `path` into `world`, streaming one chunk layer (32 z-planes) at a time. Checks the file
 // size against dims × type size and reports a clear error on any mismatch or I/O failure; on
