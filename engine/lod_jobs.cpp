@@ -52,12 +52,15 @@ void LodLoadJob::derive_corrupt() {
     m_done = true;
     const world::LodCoord c = lod_of(key());
     world::LodDerived derived;
-    Result<world::Chunk> d = world::load_or_derive_lod(m_store, m_gen, c, world::LodDirtySet{c}, &derived);
+    Result<world::Chunk> d =
+        world::load_or_derive_lod(m_store, m_gen, c, world::LodDirtySet{c}, &derived, m_overlay.get());
     if (!d) {
         m_error = d.error();
         return;
     }
     m_chunk = std::move(*d);
+    // Saved even over edits not saved yet (as LodSaveJob saves refreshed levels): unsaved, the
+    // moved record would read as a miss, terrain, from then on.
     if (!m_store.read_only()) // A failure only means deriving again next time.
         for (const auto& [dc, chunk] : derived)
             (void)m_store.save_lod(dc, chunk);

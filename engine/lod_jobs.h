@@ -64,14 +64,15 @@ private:
 // I/O lane: the stored coarse chunk; a miss hands over to `fallback` (the chunk's LodGenerateJob)
 // from the I/O thread. A corrupt record (the store moved it aside) is derived from the levels
 // below and saved, never generated: coarse records lie over edited blocks (world/store/lod_load.h),
-// and the moved record would have read as a miss from then on. A store failure reports an error:
-// nothing is generated in place of what may be stored.
+// and the moved record would have read as a miss from then on; `overlay` (may be null): level-0
+// chunks edited in memory, maybe unsaved (see LodDeriveJob), read before the store's. A store
+// failure reports an error: nothing is generated in place of what may be stored.
 class LodLoadJob final : public Job {
 public:
     LodLoadJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
-               std::unique_ptr<Job> fallback)
+               std::unique_ptr<Job> fallback, std::unique_ptr<const world::LodOverlay> overlay = nullptr)
         : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen),
-          m_fallback(std::move(fallback)) {}
+          m_fallback(std::move(fallback)), m_overlay(std::move(overlay)) {}
     void run(JobContext& ctx) override;
     void complete() override;
     std::unique_ptr<Job> take_continuation() override;
@@ -83,6 +84,7 @@ private:
     world::ChunkStore& m_store;
     const world::ChunkGenerator& m_gen;
     std::unique_ptr<Job> m_fallback;
+    std::unique_ptr<const world::LodOverlay> m_overlay;
     std::optional<world::Chunk> m_chunk;
     std::string m_error;
     bool m_done = false; // Found, or the store failed: no fallback.

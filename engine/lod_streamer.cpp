@@ -150,7 +150,8 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
     }
     auto generate = std::make_unique<LodGenerateJob>(events(), c, m_generator, m_viewer);
     if (m_store && m_store->supports_lod())
-        m_batch.push_back(std::make_unique<LodLoadJob>(events(), c, *m_store, m_generator, std::move(generate)));
+        m_batch.push_back(std::make_unique<LodLoadJob>(events(), c, *m_store, m_generator, std::move(generate),
+                                                       edited_under(c))); // Read only if its record is damaged.
     else
         m_batch.push_back(std::move(generate));
 }

@@ -23,6 +23,7 @@ using Clock = std::chrono::steady_clock;
 struct Progress {
     JobSystem& jobs;
     ChunkStore& store;
+    const TerrainGenerator& gen;
     PregenStats stats;
     std::string failure; // The store's or the generator's first error.
     size_t lod_done = 0; // Coarse chunks saved or kept, all levels.
@@ -61,7 +62,9 @@ private:
 
 // A coarse chunk the store has, or marks stale (edits under it: derived on load), is kept: a
 // terrain chunk over it would hide those edits. Unmarked and absent, nothing under it was edited
-// (every edit's save marks its coarse ancestors, lod_load.h), so the terrain's chunk is right.
+// (the engine marks the coarse ancestors of every edit, with levels of detail on or off), so the
+// terrain's chunk is right. A damaged record (moved aside by the load) is derived from the levels
+// below and saved, as the engine does (LodLoadJob): kept as missing, it would read as terrain.
 Result<bool> keep_coarse(Progress& p, LodCoord c) {
     if (!p.lod_dirty) {
         Result<std::vector<LodCoord>> dirty = p.store.list_lod_dirty();
@@ -74,6 +77,15 @@ Result<bool> keep_coarse(Progress& p, LodCoord c) {
     Result<ChunkLoad> stored = p.store.load_lod(c);
     if (!stored)
         return Error{stored.error()};
+    if (stored->state == LoadState::Corrupt) {
+        LodDerived derived;
+        Result<Chunk> d = load_or_derive_lod(p.store, p.gen, c, LodDirtySet{c}, &derived);
+        if (!d)
+            return Error{d.error()};
+        for (const auto& [dc, chunk] : derived)
+            if (Status s = p.store.save_lod(dc, chunk); !s)
+                return Error{s.error()};
+    }
     return stored->state != LoadState::Absent;
 }
 
@@ -188,7 +200,7 @@ Result<PregenStats> pregenerate(JobSystem& jobs, const TerrainGenerator& gen, Ch
     if (Status s = check_box(info.lo, info.hi); !s)
         return Error{s.error()};
     const auto t0 = Clock::now();
-    Progress p{jobs, store, {}, {}, 0, std::nullopt};
+    Progress p{jobs, store, gen, {}, {}, 0, std::nullopt};
     p.stats.lod_chunks.assign(size_t(info.lod_levels), 0);
     std::vector<std::unique_ptr<Job>> batch;
     batch.reserve(size_t(box_volume(info.lo, info.hi)));

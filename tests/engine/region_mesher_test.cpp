@@ -3,6 +3,7 @@
 // from neighbours (or air), duplicates and absent chunks are handled, and a caller's mesh
 // function is the one used; pregeneration saves what the generator makes.
 
+#include <array>
 #include <atomic>
 #include <climits>
 #include <cstring>
@@ -268,20 +269,25 @@ TEST(WorldPregen, StoresCoarseLevelsOverTheBox) {
 
 // Over a world that has chunks (a player's edits, an earlier run), pregeneration keeps them, and
 // keeps the coarse chunks the store has or marks stale (derived from those edits on load): it
-// saved terrain over them all.
+// saved terrain over them all. A damaged coarse record is derived from the blocks below and saved
+// (its check moved it aside, and it was then counted as kept: missing, it read as terrain).
 TEST(WorldPregen, KeepsWhatTheStoreHas) {
     const auto path = std::filesystem::temp_directory_path() / ("vx_pregen_keep_" + std::to_string(::getpid()) + ".db");
     std::filesystem::remove(path);
     const TerrainGenerator gen(11);
     const ChunkCoord lo(-2, -1, 0), hi(1, 0, 2); // Levels 1 and 2 as in StoresCoarseLevelsOverTheBox.
     const ChunkCoord edited(0, 0, 1);
-    const LodCoord stored{1, ChunkCoord(0, 0, 0)}, stale{2, ChunkCoord(-1, -1, 0)};
+    const LodCoord stored{1, ChunkCoord(0, 0, 0)}, stale{2, ChunkCoord(-1, -1, 0)}, damaged{1, ChunkCoord(-1, 0, 1)};
     PregenStats made;
     {
         auto store = SqliteStore::open({path.string()});
         ASSERT_TRUE(store) << store.error();
         ASSERT_TRUE((*store)->save(edited, Chunk(5)));
         ASSERT_TRUE((*store)->save_lod(stored, Chunk(6)));
+        const uint8_t junk[4] = {0xDE, 0xAD, 0xBE, 0xEF};
+        const Chunk unused; // The record is written as given.
+        const LodWrite bad{damaged, &unused, junk};
+        ASSERT_TRUE((*store)->save_lod(std::span<const LodWrite>(&bad, 1)));
         ASSERT_TRUE((*store)->mark_lod_dirty(std::span<const LodCoord>(&stale, 1)));
         ASSERT_TRUE((*store)->flush());
         JobSystem jobs(batch_job_system_info(2));
@@ -294,9 +300,9 @@ TEST(WorldPregen, KeepsWhatTheStoreHas) {
     EXPECT_EQ(made.chunks, 23u);
     EXPECT_EQ(made.kept, 1u);
     ASSERT_EQ(made.lod_chunks.size(), 2u);
-    EXPECT_EQ(made.lod_chunks[0], 7u);
+    EXPECT_EQ(made.lod_chunks[0], 6u);
     EXPECT_EQ(made.lod_chunks[1], 3u);
-    EXPECT_EQ(made.lod_kept, 2u);
+    EXPECT_EQ(made.lod_kept, 3u);
     auto store = SqliteStore::open({path.string(), /*read_only=*/true, /*create=*/false});
     ASSERT_TRUE(store) << store.error();
     auto chunk = (*store)->load(edited);
@@ -305,6 +311,19 @@ TEST(WorldPregen, KeepsWhatTheStoreHas) {
     auto coarse = (*store)->load_lod(stored);
     ASSERT_TRUE(coarse && coarse->state == LoadState::Present);
     EXPECT_TRUE(*coarse->chunk == Chunk(6));
+    auto derived = (*store)->load_lod(damaged);
+    ASSERT_TRUE(derived);
+    ASSERT_EQ(derived->state, LoadState::Present);
+    std::array<Chunk, kLodChildren> kids;
+    std::array<const Chunk*, kLodChildren> ptrs;
+    for (int i = 0; i < kLodChildren; ++i) { // Stored (the box's), else the terrain's (outside it).
+        const ChunkCoord kc = lod_child(damaged, i).chunk;
+        auto kid = (*store)->load(kc);
+        ASSERT_TRUE(kid);
+        kids[size_t(i)] = kid->state == LoadState::Present ? std::move(*kid->chunk) : gen.generate(kc);
+        ptrs[size_t(i)] = &kids[size_t(i)];
+    }
+    EXPECT_TRUE(*derived->chunk == downsample(ptrs)) << "derived from the blocks below";
     auto marked = (*store)->load_lod(stale);
     ASSERT_TRUE(marked);
     EXPECT_EQ(marked->state, LoadState::Absent);
