@@ -318,7 +318,8 @@ void LodStreamer::flush_edits() {
     if (m_store && m_store->supports_lod() && !m_store->read_only())
         for (auto& [c, waiting] : m_edited)
             if (waiting > 0) {
-                mark_stale(c, waiting);
+                if (!m_stale || !m_stale->contains(lod_ancestor({0, c}, waiting))) // Not marked already.
+                    mark_stale(c, waiting);
                 waiting = -waiting;
             }
     if (!m_batch.empty())
