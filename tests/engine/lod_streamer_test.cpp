@@ -285,6 +285,18 @@ void expect_stored_levels_hold(const std::filesystem::path& path, BlockPos p, in
     }
 }
 
+// Moves the viewer to `to` (a minute later on the synthetic clock: past every unload delay) and
+// updates level 0 until chunk `c` is dropped; false if it never is (a minute of real time).
+bool move_until_dropped(ChunkStreamer& streamer, const glm::dvec3& to, ChunkCoord c, Clock::time_point& now) {
+    now += std::chrono::minutes(1);
+    const auto limit = Clock::now() + std::chrono::minutes(1);
+    do {
+        now += std::chrono::milliseconds(16);
+        streamer.update(to, glm::dvec3(1, 0, 0), now);
+    } while (streamer.world().find_chunk(c) && Clock::now() < limit);
+    return streamer.world().find_chunk(c) == nullptr;
+}
+
 // The flush tests' world: a store at `path`, the streamers over it, settled around `eye` and
 // flushed (settled() says whether that worked), and the clock they ran on.
 struct FlushedWorld {
@@ -444,13 +456,7 @@ TEST(LodStreamer, KeptCoarseChunksOverADroppedEditedChunkShowTheEdit) {
         const glm::dvec3 moved(-100.5, 20.0, 16.5); // Level-0 chunk -4: chunk 2 leaves the view.
         ASSERT_TRUE(streamer.set_block(late, 1));
         lod.note_edit(chunk_of(late)); // Not applied before its chunk goes.
-        now += std::chrono::minutes(1);
-        const auto limit = Clock::now() + std::chrono::minutes(1);
-        do {
-            now += std::chrono::milliseconds(16);
-            streamer.update(moved, glm::dvec3(1, 0, 0), now);
-        } while (streamer.world().find_chunk(chunk_of(late)) && Clock::now() < limit);
-        ASSERT_EQ(streamer.world().find_chunk(chunk_of(late)), nullptr) << "the edited chunk was dropped";
+        ASSERT_TRUE(move_until_dropped(streamer, moved, chunk_of(late), now)) << "the edited chunk was dropped";
         ASSERT_TRUE(settle(streamer, lod, moved, now));
         int kept = 0;
         for (int k = 1; k <= top; ++k) {
@@ -604,13 +610,7 @@ TEST(LodStreamer, CoarseChunksDerivedOverAnUnsavedEditShowIt) {
         const glm::dvec3 moved(272.5, 20.0, 16.5); // Chunk x 8: chunk 2 leaves (6 > 5), chunk 3 stays.
         ASSERT_TRUE(settle(streamer, lod, start, now));
         ASSERT_TRUE(streamer.set_block(dropped, 1)); // Saved when its chunk is dropped.
-        now += std::chrono::minutes(1);
-        const auto limit = Clock::now() + std::chrono::minutes(1);
-        do {
-            now += std::chrono::milliseconds(16);
-            streamer.update(moved, glm::dvec3(1, 0, 0), now);
-        } while (streamer.world().find_chunk(chunk_of(dropped)) && Clock::now() < limit);
-        ASSERT_EQ(streamer.world().find_chunk(chunk_of(dropped)), nullptr) << "the edited chunk was dropped";
+        ASSERT_TRUE(move_until_dropped(streamer, moved, chunk_of(dropped), now)) << "the edited chunk was dropped";
         ASSERT_TRUE(settle(streamer, lod, moved, now));
         ASSERT_NE(streamer.world().find_chunk(chunk_of(unsaved)), nullptr) << "its neighbour stayed";
         ASSERT_EQ(lod.coarse_chunk(lod_parent({0, chunk_of(unsaved)})), nullptr) << "its level-1 parent is kept";

@@ -278,6 +278,17 @@ private:
     bool m_resync = false;
 };
 
+// Updates `s` around `eye` until block `p` is `id` (true), or a minute of real time passes.
+bool update_until_block(ChunkStreamer& s, const glm::dvec3& eye, Clock::time_point& now, BlockPos p, BlockId id) {
+    const auto limit = Clock::now() + std::chrono::minutes(1);
+    while (s.get_block(p) != id && Clock::now() < limit) {
+        now += std::chrono::milliseconds(16);
+        s.update(eye, glm::dvec3(0, 0, -1), now);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return s.get_block(p) == id;
+}
+
 } // namespace
 
 // Another process changes a chunk while this one's load of it is in flight: the load read the
@@ -302,13 +313,7 @@ TEST(StoreFaults, AChangeDuringALoadIsReadOnceTheChunkIsPresent) {
     ASSERT_EQ(s.world().find_chunk(c), nullptr);
     store.released.open();
     ASSERT_TRUE(settle(s, eye, now));
-    const auto limit = Clock::now() + std::chrono::minutes(1);
-    while (s.get_block(BlockPos(8, 60, 8)) != BlockId(2) && Clock::now() < limit) {
-        now += std::chrono::milliseconds(16);
-        s.update(eye, glm::dvec3(0, 0, -1), now);
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    EXPECT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(2)) << "the version committed during the load";
+    EXPECT_TRUE(update_until_block(s, eye, now, BlockPos(8, 60, 8), 2)) << "the version committed during the load";
 }
 
 // The store cannot name what changed (its pending changes overflowed, or it missed notifications
@@ -326,13 +331,7 @@ TEST(StoreFaults, AResyncReadsEveryHeldChunkAgain) {
     ASSERT_TRUE(settle(s, eye, now));
     ASSERT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(1));
     store.announce_resync(Chunk(2));
-    const auto limit = Clock::now() + std::chrono::minutes(1);
-    while (s.get_block(BlockPos(8, 60, 8)) != BlockId(2) && Clock::now() < limit) {
-        now += std::chrono::milliseconds(16);
-        s.update(eye, glm::dvec3(0, 0, -1), now);
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    EXPECT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(2)) << "reloaded on the resync";
+    EXPECT_TRUE(update_until_block(s, eye, now, BlockPos(8, 60, 8), 2)) << "reloaded on the resync";
 }
 
 // The OS refuses every thread (thread_refusal.h): the streamer's job system cannot run, so a

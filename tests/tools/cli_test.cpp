@@ -275,6 +275,16 @@ TEST(Cli, MeshWritesObjAndEditsMatchFullRemesh) {
     EXPECT_NE(far_obj.find("v 68719476000 -4294967296 7"), std::string::npos);
 }
 
+namespace {
+// An empty SQLite world at `path` holding meta `key` = `value`.
+void world_with_meta(const std::string& path, const char* key, const char* value) {
+    auto world = vx::world::SqliteStore::open({path});
+    ASSERT_TRUE(world) << world.error();
+    ASSERT_TRUE((*world)->set_meta(key, value));
+    ASSERT_TRUE((*world)->flush());
+}
+} // namespace
+
 // `vx world gen` writes a store that `vx world info --check` verifies; a damaged record turns
 // the check's exit code to 1, an unopenable store to 2.
 TEST(Cli, WorldGenInfoAndCheck) {
@@ -307,24 +317,14 @@ TEST(Cli, WorldGenInfoAndCheck) {
         EXPECT_NE(r.out.find("outermost chunk layer"), std::string::npos) << r.out;
     }
     const std::string game_db = (dir / "game.db").string();
-    {
-        auto game = vx::world::SqliteStore::open({game_db});
-        ASSERT_TRUE(game) << game.error();
-        ASSERT_TRUE((*game)->set_meta("generator", "game:waves/1"));
-        ASSERT_TRUE((*game)->flush());
-    }
+    ASSERT_NO_FATAL_FAILURE(world_with_meta(game_db, "generator", "game:waves/1"));
     r = run_vx("world gen " + game_db + " --seed 9 --radius 0");
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("made by a game's generator (game:waves/1)"), std::string::npos) << r.out;
     // So is an imported world (terrain went into its box, stamped "terrain"), and a refused
     // command writes no meta.
     const std::string imported = (dir / "imported.db").string();
-    {
-        auto world = vx::world::SqliteStore::open({imported});
-        ASSERT_TRUE(world) << world.error();
-        ASSERT_TRUE((*world)->set_meta("source", "volume.vdb"));
-        ASSERT_TRUE((*world)->flush());
-    }
+    ASSERT_NO_FATAL_FAILURE(world_with_meta(imported, "source", "volume.vdb"));
     r = run_vx("world gen " + imported + " --seed 9 --radius 0");
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("was imported (volume.vdb)"), std::string::npos) << r.out;
