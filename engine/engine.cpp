@@ -344,10 +344,7 @@ void Engine::Impl::mark_coarse_stale(ChunkCoord c) {
     world::ChunkStore* store = world.store.get();
     if (!store || !store->supports_lod() || store->read_only() || !coarse_marked.insert(c).second)
         return;
-    std::vector<world::LodCoord> above;
-    for (int k = 1; k <= world::kMaxLodLevel; ++k)
-        above.push_back(world::lod_ancestor({0, c}, k));
-    streamer->jobs().submit(std::make_unique<engine::LodMarkDirtyJob>(c, *store, std::move(above)));
+    streamer->jobs().submit(std::make_unique<engine::LodMarkDirtyJob>(c, *store, world::lod_ancestors(c, 1)));
 }
 
 std::optional<BlockId> Engine::get_block(BlockPos pos) const {

@@ -383,9 +383,7 @@ void LodStreamer::apply_edits() {
 void LodStreamer::mark_stale(ChunkCoord edited, int from) {
     if (from > kMaxLodLevel)
         return;
-    std::vector<LodCoord> above;
-    for (int k = from; k <= kMaxLodLevel; ++k)
-        above.push_back(lod_ancestor({0, edited}, k));
+    const std::vector<LodCoord> above = lod_ancestors(edited, from);
     // Copied only when it gains a chunk (jobs hold the old set): every applied edit comes here,
     // and edits in one place name the same ancestors again.
     if (!m_stale || !std::all_of(above.begin(), above.end(), [&](LodCoord c) { return m_stale->contains(c); })) {

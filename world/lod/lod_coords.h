@@ -14,6 +14,7 @@
 // All helpers are pure functions. Thread-safe.
 
 #include <cstdint>
+#include <vector>
 
 #include "world/coords.h"
 
@@ -87,6 +88,14 @@ inline int lod_octant(LodCoord c) {
 // The level-`level` chunk (level >= c.level) that contains chunk c.
 inline LodCoord lod_ancestor(LodCoord c, int level) {
     return {level, c.chunk >> (level - c.level)};
+}
+// The ancestors of level-0 chunk c at levels from..kMaxLodLevel, finest first (the coarse chunks
+// an edit of it changes).
+inline std::vector<LodCoord> lod_ancestors(ChunkCoord c, int from) {
+    std::vector<LodCoord> out;
+    for (int k = from; k <= kMaxLodLevel; ++k)
+        out.push_back(lod_ancestor({0, c}, k));
+    return out;
 }
 
 } // namespace vx::world
