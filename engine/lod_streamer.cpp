@@ -157,21 +157,18 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
 }
 
 // Copies of the level-0 chunks under `c` edited in this session and still in memory (null if
-// none): a derivation from the store alone would miss their edits until they are saved.
-std::unique_ptr<const LodOverlay> LodStreamer::edited_under(LodCoord c) {
+// none): a derivation from the store alone would miss their edits until they are saved. Called
+// for every coarse request, so the ancestor test (shifts) comes before the chunk lookup.
+std::unique_ptr<const LodOverlay> LodStreamer::edited_under(LodCoord c) const {
     std::unique_ptr<LodOverlay> out;
-    for (auto it = m_edited_here.begin(); it != m_edited_here.end();) {
-        const Chunk* chunk = m_blocks->find_chunk(*it);
-        if (!chunk) { // Dropped, so saved: the store has it.
-            it = m_edited_here.erase(it);
+    for (ChunkCoord e : m_edited_here) {
+        if (lod_ancestor({0, e}, c.level) != c)
             continue;
-        }
-        if (lod_ancestor({0, *it}, c.level) == c) {
+        if (const Chunk* chunk = m_blocks->find_chunk(e)) { // Else dropped, so saved: the store has it.
             if (!out)
                 out = std::make_unique<LodOverlay>();
-            out->emplace(*it, *chunk);
+            out->emplace(e, *chunk);
         }
-        ++it;
     }
     return out;
 }

@@ -155,7 +155,7 @@ private:
     void keep(world::LodCoord c);
     void release(world::LodCoord c);
     void request_data(world::LodCoord c, Node& n);
-    std::unique_ptr<const world::LodOverlay> edited_under(world::LodCoord c);
+    std::unique_ptr<const world::LodOverlay> edited_under(world::LodCoord c) const;
     void mark_stale(world::ChunkCoord edited, int from);
     void reload(world::LodCoord c, Node& n);
     void merge_children(world::LodCoord c, Node& n);
@@ -210,8 +210,8 @@ private:
     // them may not be saved yet; the marks stay for the next session.
     world::LodDirtySet m_marked_here;
     // Level-0 chunks edited in this session, while in memory (the overlay of derivations: the
-    // store may not have their edits yet). Those dropped since, and so saved, are pruned (by
-    // edited_under, and by note_edit as the set doubles).
+    // store may not have their edits yet). Those dropped since, and so saved, are pruned by
+    // note_edit as the set doubles.
     std::unordered_set<world::ChunkCoord, world::ChunkCoordHash> m_edited_here;
     size_t m_prune_edited_at = 1024; // Its size at which note_edit() prunes it next (amortised).
     int m_draws = 0; // Chunks drawn in this update (the queue's budget).
