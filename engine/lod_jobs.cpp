@@ -62,8 +62,7 @@ void LodLoadJob::derive_corrupt() {
     // Saved even over edits not saved yet (as LodSaveJob saves refreshed levels): unsaved, the
     // moved record would read as a miss, terrain, from then on.
     if (!m_store.read_only()) // A failure only means deriving again next time.
-        for (const auto& [dc, chunk] : derived)
-            (void)m_store.save_lod(dc, chunk);
+        (void)world::save_derived(m_store, derived);
 }
 
 std::unique_ptr<Job> LodLoadJob::take_continuation() { return m_done ? nullptr : std::move(m_fallback); }
@@ -83,9 +82,8 @@ void LodDeriveJob::run(JobContext& ctx) {
         return;
     }
     m_chunk = std::move(*r);
-    if (m_save)
-        for (const auto& [c, chunk] : derived) // Clears their marks; a failure only means deriving again.
-            (void)m_store.save_lod(c, chunk);
+    if (m_save) // Clears their marks; a failure only means deriving again.
+        (void)world::save_derived(m_store, derived);
 }
 
 void LodDeriveJob::complete() { m_owner.on_lod_data(lod_of(key()), std::move(m_chunk), m_error); }

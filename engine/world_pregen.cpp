@@ -82,9 +82,8 @@ Result<bool> keep_coarse(Progress& p, LodCoord c) {
         Result<Chunk> d = load_or_derive_lod(p.store, p.gen, c, LodDirtySet{c}, &derived);
         if (!d)
             return Error{d.error()};
-        for (const auto& [dc, chunk] : derived)
-            if (Status s = p.store.save_lod(dc, chunk); !s)
-                return Error{s.error()};
+        if (Status s = save_derived(p.store, derived); !s)
+            return Error{s.error()};
     }
     return stored->state != LoadState::Absent;
 }

@@ -163,10 +163,7 @@ TEST_P(StoreSuite, EditedBlocksReachCoarseLevelsOnLoad) {
     EXPECT_TRUE(*g == *generate_lod(gen, absent));
 
     // The engine saves what was rebuilt: the marks clear, and a reopened world loads them stored.
-    std::vector<LodWrite> batch;
-    for (const auto& [c, chunk] : derived)
-        batch.push_back({c, &chunk});
-    ASSERT_TRUE(store->save_lod(batch).ok());
+    ASSERT_TRUE(save_derived(*store, derived).ok());
     ASSERT_TRUE(store->flush().ok());
     store.reset(); // One writer per file: the first closes before the second opens.
     store = backend().open(world);

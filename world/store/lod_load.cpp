@@ -2,6 +2,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "world/lod/downsample.h"
 
@@ -67,6 +68,14 @@ Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, L
     if (derived)
         derived->emplace_back(c, out);
     return out;
+}
+
+Status save_derived(ChunkStore& store, const LodDerived& derived) {
+    std::vector<LodWrite> batch;
+    batch.reserve(derived.size());
+    for (const auto& [c, chunk] : derived)
+        batch.push_back({c, &chunk});
+    return store.save_lod(batch);
 }
 
 } // namespace vx::world

@@ -43,6 +43,9 @@ using LodDirtySet = std::unordered_set<LodCoord, LodCoordHash>;
 // which clears their dirty marks, and drops them from its dirty set.
 using LodDerived = std::vector<std::pair<LodCoord, Chunk>>;
 
+// Saves every chunk of `derived` in one batch (clearing their dirty marks). Store's thread only.
+Status save_derived(ChunkStore& store, const LodDerived& derived);
+
 // Level-0 chunks newer than the store's (edited in memory, maybe not saved yet): a derivation
 // that reaches one of them reads it here instead of the store.
 using LodOverlay = std::unordered_map<ChunkCoord, Chunk, ChunkCoordHash>;
