@@ -46,8 +46,8 @@ Result<StoreCheck> check_store(const std::string& path) {
             ++out.corrupt;
             note("chunk " + coord_str(c) + ": " + r->problem);
         } else if (r->state == LoadState::Absent) {
-            ++out.corrupt; // Listed but not found by its key: coordinates outside the i32 range.
-            note("chunk row with coordinates out of range near " + coord_str(c));
+            ++out.corrupt; // Listed, then gone: a writer erased it meanwhile (rows of no chunk: below).
+            note("chunk " + coord_str(c) + ": listed, then not found");
         }
     }
     Result<std::vector<LodCoord>> lods = store.list_lod_coords();
@@ -55,15 +55,15 @@ Result<StoreCheck> check_store(const std::string& path) {
         return Error{lods.error()};
     for (LodCoord c : *lods) {
         ++out.records;
-        Result<ChunkLoad> r = valid_lod_level(c.level) && c.level > 0 ? store.load_lod(c) : Result<ChunkLoad>(ChunkLoad{});
+        Result<ChunkLoad> r = store.load_lod(c); // Listed levels are 1..kMaxLodLevel (stray_rows: the rest).
         if (!r)
             return Error{r.error()};
         if (r->state == LoadState::Corrupt) {
             ++out.corrupt;
             note(lod_str(c) + ": " + r->problem);
         } else if (r->state == LoadState::Absent) {
-            ++out.corrupt;
-            note("coarse chunk row with level or coordinates out of range near " + lod_str(c));
+            ++out.corrupt; // As above.
+            note(lod_str(c) + ": listed, then not found");
         }
     }
     Result<uint64_t> stray = store.stray_rows();
