@@ -116,6 +116,8 @@ CLI::Validator decimal_range(uint64_t lo, uint64_t hi, const std::string& what) 
         "UINT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
+CLI::Validator seed_range() { return decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"); }
+
 std::string output_file_problem(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;

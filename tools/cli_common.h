@@ -53,6 +53,8 @@ CLI::Validator finite_range(double lo, double hi, const std::string& what);
 // reads "-1" into an unsigned as 2^64 - 1, and an out-of-range value into its largest; an int
 // option of -5 took the "not given" meaning of -1.
 CLI::Validator decimal_range(uint64_t lo, uint64_t hi, const std::string& what);
+// decimal_range over every seed, 0..2^64 - 1 (--seed of each command).
+CLI::Validator seed_range();
 
 // "" when a command may write its output file at `path` (nothing there yet, or a file it
 // replaces, in a folder that exists), else why not: checked before the work, not after it.

@@ -1,7 +1,6 @@
 // `vx bench SUITE [flags]`: runs the Google Benchmark registrations named SUITE/..., with any
 // --benchmark_* flags passed through (e.g. --benchmark_repetitions=9).
 #include <cstdio>
-#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,9 +50,8 @@ std::string flag_problem(const std::string& arg) {
         return arg.rfind(prefix, 0) == 0 ? std::optional(arg.substr(prefix.size())) : std::nullopt;
     };
     if (auto v = value_of("--benchmark_repetitions")) {
-        char* end = nullptr;
-        const long n = std::strtol(v->c_str(), &end, 10);
-        if (v->empty() || *end != '\0' || n < 1 || n > 100000)
+        const std::optional<int64_t> n = parse_i64(*v);
+        if (!n || *n < 1 || *n > 100000)
             return "--benchmark_repetitions must be 1..100000, got '" + *v + "'";
     }
     for (const char* name : {"--benchmark_format", "--benchmark_out_format"})

@@ -293,7 +293,7 @@ int run_bench_lod_command(int argc, char** argv) {
     CLI::App app{"vx bench lod: levels of detail against full detail to the same view distance", "vx bench lod"};
     BenchLodArgs a;
     app.add_option("--seed", a.seed, "Terrain seed (default 1)")
-        ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
+        ->check(seed_range());
     app.add_option("--view-distance", a.view_distance, "Blocks drawn from the camera, both scenes (default 512)")
         ->check(decimal_range(1, 16384, "must be 1..16384 blocks"));
     app.add_option("--radii", a.radii, "Level-0 radii of the LOD scenes, chunks, comma separated (default 4,8,12,16)");

@@ -395,7 +395,7 @@ int run_bench_render_command(int argc, char** argv) {
     BenchRenderArgs a;
     uint64_t seed = 0;
     CLI::Option* seed_opt = app.add_option("--seed", seed, "Terrain of this seed (default 1, radius 2)")
-                                ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
+                                ->check(seed_range());
     app.add_option("--scene", a.scene.scene, "Built-in scene: 'seed' (thesis)");
     app.add_option("--scene-block", a.scene.scene_block, "Block of the seed scene (e.g. mirror: reflections)");
     app.add_option("--world", a.scene.world_path, "A stored world (SQLite)");

@@ -139,11 +139,13 @@ uint64_t apply_edits(engine::LoadedScene& scene, const std::vector<Edit>& edits,
 
 int run_mesh(const MeshArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (const std::string why = a.obj.empty() ? std::string() : output_file_problem(a.obj); !why.empty())
-        return bad_input("--obj: " + why);
-    for (const std::string& out : {a.obj, a.obj.empty() ? std::string() : mtl_path_for(a.obj)})
-        if (const std::string in = out.empty() ? std::string() : output_overwrites(out, {a.raw, a.edits}); !in.empty())
-            return bad_input("--obj writes '" + out + "', which is '" + in + "', an input: it would be replaced");
+    if (!a.obj.empty()) {
+        if (const std::string why = output_file_problem(a.obj); !why.empty())
+            return bad_input("--obj: " + why);
+        for (const std::string& out : {a.obj, mtl_path_for(a.obj)})
+            if (const std::string in = output_overwrites(out, {a.raw, a.edits}); !in.empty())
+                return bad_input("--obj writes '" + out + "', which is '" + in + "', an input: it would be replaced");
+    }
     const auto info = load_info_of(a);
     if (!info)
         return bad_input(info.error());

@@ -171,7 +171,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
     const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
     const double half_fov = glm::radians(double(a.fov)) * 0.5;
     std::optional<WorldPos> eye = scene.default_eye, target = scene.default_target;
-    if (ext == glm::dvec3(0.0) && !(eye || !a.eye.empty()) && a.target.empty()) // It said "--target must differ".
+    if (ext == glm::dvec3(0.0) && !eye && a.eye.empty() && a.target.empty()) // It said "--target must differ".
         return "the scene holds no chunk to frame (" + scene.description + "): give --eye and --target";
     if (!target)
         target = world_pos_at(centre);
@@ -499,7 +499,7 @@ void add_render_command(CLI::App& app, std::function<int()>& action) {
     CLI::App* cmd = app.add_subcommand("render", "Ray trace a scene to PNG and print timings");
     cmd->add_option("--world", a->scene.world_path, "A stored world (SQLite); every chunk, or --radius around the camera if large");
     CLI::Option* seed_opt = cmd->add_option("--seed", *seed, "Generate terrain of this seed around the camera")
-                                ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
+                                ->check(seed_range());
     cmd->add_option("--scene", a->scene.scene, "Built-in scene: 'seed' (thesis: 1024 chunks, 10% random, isolated)");
     cmd->add_option("--scene-block", a->scene.scene_block, "Block of the seed scene (e.g. stone, mirror)");
     cmd->add_option("--raw", a->scene.raw, "Raw volume of block ids (as vx mesh)");

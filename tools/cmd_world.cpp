@@ -200,7 +200,7 @@ void add_world_command(CLI::App& app, std::function<int()>& action) {
     g->add_option("path", gen->path, "World store: a SQLite file (its folder must exist) or a postgresql:// URI")
         ->required();
     g->add_option("--seed", gen->seed, "Terrain seed")
-        ->check(decimal_range(0, UINT64_MAX, "must be 0..18446744073709551615"));
+        ->check(seed_range());
     g->add_option("--radius", gen->radius, "Horizontal radius in chunks around the origin");
     g->add_option("--bottom", gen->bottom, "Lowest chunk y (default -6: below the caves)");
     g->add_option("--top", gen->top, "Highest chunk y (default 5: above the peaks)");
