@@ -1,6 +1,7 @@
 #include "world/block_registry.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace vx::world {
 
@@ -11,6 +12,7 @@ BlockRegistry::BlockRegistry() {
     air.opaque = false;
     m_blocks.push_back(air);
     m_opaque.push_back(0);
+    m_by_name.emplace(m_blocks[0].name, kAir);
 }
 
 const BlockRegistry& BlockRegistry::default_registry() {
@@ -66,11 +68,16 @@ Status BlockRegistry::set(BlockId id, BlockInfo info) {
             return Error{"block name holds a control character (a newline, a tab...): names are stored one per line"};
     if (auto existing = find(info.name); existing && *existing != id)
         return Error{"duplicate block name '" + info.name + "'"};
+    if (Status s = material_problem(info); !s)
+        return s;
     if (id >= m_blocks.size()) {
         m_blocks.resize(size_t(id) + 1);
         m_opaque.resize(size_t(id) + 1, 1);
     }
     m_opaque[id] = info.opaque ? 1 : 0;
+    if (!m_blocks[id].name.empty())
+        m_by_name.erase(m_blocks[id].name); // Renamed in place.
+    m_by_name[info.name] = id;
     m_blocks[id] = std::move(info);
     return {};
 }
@@ -85,10 +92,35 @@ BlockInfo BlockRegistry::info(BlockId id) const {
 }
 
 std::optional<BlockId> BlockRegistry::find(std::string_view name) const {
-    for (size_t i = 0; i < m_blocks.size(); ++i)
-        if (m_blocks[i].name == name)
-            return BlockId(i);
-    return std::nullopt;
+    const auto it = m_by_name.find(std::string(name));
+    if (it == m_by_name.end())
+        return std::nullopt;
+    return it->second;
+}
+
+namespace {
+
+std::string number(float v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", double(v));
+    return text;
+}
+
+std::string triple(glm::vec3 v) { return number(v.x) + ", " + number(v.y) + ", " + number(v.z); }
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+} // namespace
+
+Status material_problem(const BlockInfo& b) {
+    if (!finite(b.albedo) || glm::any(glm::lessThan(b.albedo, glm::vec3(0.f))) ||
+        glm::any(glm::greaterThan(b.albedo, glm::vec3(1.f))))
+        return Error{"albedo must be 0..1 per channel, got " + triple(b.albedo)};
+    if (!std::isfinite(b.reflectivity) || b.reflectivity < 0.f || b.reflectivity > 1.f)
+        return Error{"reflectivity must be 0..1, got " + number(b.reflectivity)};
+    if (!finite(b.emission) || glm::any(glm::lessThan(b.emission, glm::vec3(0.f))))
+        return Error{"emission must be finite and >= 0 per channel, got " + triple(b.emission)};
+    return {};
 }
 
 glm::vec3 fallback_albedo(BlockId id) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,15 +37,18 @@ public:
     // reflective, as the thesis's blocks).
     static const BlockRegistry& default_registry();
 
-    // Adds a block with the next free id. Fails on an empty or duplicate name or when full.
+    // Adds a block with the next free id. Fails on an empty or duplicate name, a material out
+    // of the ranges BlockInfo documents (material_problem) or when full.
     Result<BlockId> add(BlockInfo info);
     // Sets the info of a given id (extending the table), for loading registries from files.
+    // Fails as add() does.
     Status set(BlockId id, BlockInfo info);
 
     size_t size() const { return m_blocks.size(); }
     bool contains(BlockId id) const { return id < m_blocks.size() && !m_blocks[id].name.empty(); }
     // The info of `id`; an unregistered id gets a generated opaque material.
     BlockInfo info(BlockId id) const;
+    // Constant time on average (a name index), so a table of 65535 types loads in linear time.
     std::optional<BlockId> find(std::string_view name) const;
 
     // Opacity for meshing; air is not opaque, unknown ids are.
@@ -53,7 +57,13 @@ public:
 private:
     std::vector<BlockInfo> m_blocks;
     std::vector<uint8_t> m_opaque;
+    std::unordered_map<std::string, BlockId> m_by_name;
 };
+
+// Why `b`'s material is outside the ranges BlockInfo documents (albedo and reflectivity 0..1,
+// emission finite and >= 0, nothing NaN), or ok: every way a table is filled (a game's types,
+// a store's text, a VDB file's metadata) is checked here, where the value is received.
+Status material_problem(const BlockInfo& b);
 
 // A stable, distinct colour for ids without a registered material (golden-ratio hue walk).
 glm::vec3 fallback_albedo(BlockId id);

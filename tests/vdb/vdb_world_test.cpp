@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <string_view>
 
 #include <gtest/gtest.h>
 
@@ -202,27 +203,39 @@ TEST(VdbWorld, PartialImportOfAScaledGridEqualsTheClippedWholeImport) {
     EXPECT_TRUE(same_blocks(expect, *got));
 }
 
-// A file whose block table holds a NaN or infinite material is refused at import, naming the
-// block: it imported, then rendered NaN and made the store's table unexportable.
-TEST(VdbWorld, NonFiniteMaterialsAreRefused) {
+// A file whose block table holds a NaN, infinite or out-of-range material is refused at import,
+// naming the block: it imported, then rendered NaN (or light from nothing) and made the store's
+// table unexportable. The registry refuses such materials, so the file is written with a good one
+// and the float's bytes are then replaced (VDB metadata is stored uncompressed).
+TEST(VdbWorld, MaterialsOutOfRangeAreRefused) {
     TempDir dir;
-    for (int which = 0; which < 3; ++which) {
+    const float kSentinel = 0.4453125f; // Exact in binary; appears once, as block 1's reflectivity.
+    const std::pair<float, const char*> cases[] = {
+        {std::nanf(""), "reflectivity must be 0..1"},
+        {INFINITY, "reflectivity must be 0..1"},
+        {2.f, "reflectivity must be 0..1, got 2"},
+    };
+    for (const auto& [bad, says] : cases) {
         world::BlockRegistry r;
-        world::BlockInfo b{"odd"};
-        if (which == 0)
-            b.albedo.y = std::nanf("");
-        else if (which == 1)
-            b.reflectivity = INFINITY;
-        else
-            b.emission.z = -INFINITY;
-        ASSERT_TRUE(r.add(b).ok());
+        ASSERT_TRUE(r.add(world::BlockInfo{"odd", glm::vec3(0.5f), kSentinel}).ok());
         world::World w(r);
         w.set_block(BlockPos(1, 2, 3), 1);
-        const std::string path = dir.file("odd" + std::to_string(which) + ".vdb");
+        const std::string path = dir.file("odd.vdb");
         ASSERT_TRUE(export_vdb(w, path).ok());
+        std::string bytes;
+        {
+            std::ifstream in(path, std::ios::binary);
+            bytes.assign(std::istreambuf_iterator<char>(in), {});
+        }
+        const std::string_view from(reinterpret_cast<const char*>(&kSentinel), sizeof(float));
+        const size_t at = bytes.find(from);
+        ASSERT_NE(at, std::string::npos);
+        ASSERT_EQ(bytes.find(from, at + 1), std::string::npos);
+        bytes.replace(at, sizeof(float), reinterpret_cast<const char*>(&bad), sizeof(float));
+        std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
         Result<world::World> back = import_world_vdb(path);
-        ASSERT_FALSE(back.ok()) << which;
-        EXPECT_NE(back.error().find("block 1 in the file's registry: its material is not finite"), std::string::npos)
+        ASSERT_FALSE(back.ok()) << says;
+        EXPECT_NE(back.error().find(std::string("block 1 in the file's registry: ") + says), std::string::npos)
             << back.error();
     }
 }

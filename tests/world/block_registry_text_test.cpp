@@ -41,6 +41,24 @@ TEST(BlockRegistryText, RoundTripsExactlyWithGaps) {
     EXPECT_FALSE(back->contains(BlockId(500)));
 }
 
+// The largest table a store can hold: 65535 ids (names are looked up by an index, so loading it
+// is linear; a linear find made it 2 billion name comparisons).
+TEST(BlockRegistryText, RoundTripsTheLargestTable) {
+    BlockRegistry r;
+    for (int i = 1; i <= 0xFFFF; ++i) {
+        BlockInfo b;
+        b.name = "b";
+        b.name += std::to_string(i);
+        b.albedo = glm::vec3(float(i & 255) / 255.f);
+        ASSERT_TRUE(r.add(b).ok()) << i;
+    }
+    EXPECT_FALSE(r.add(BlockInfo{"one too many"}).ok());
+    Result<BlockRegistry> back = registry_from_text(registry_to_text(r));
+    ASSERT_TRUE(back.ok()) << back.error();
+    expect_same(r, *back);
+    EXPECT_EQ(back->find("b65535"), std::optional<BlockId>(0xFFFF));
+}
+
 TEST(BlockRegistryText, DamagedTextNamesItsLine) {
     const std::pair<const char*, const char*> cases[] = {
         {"stone\t0.5 0.5 0.5\t0\t0 0 0\t1\nsand\t0.5 0.5\t0\t0 0 0\t1\n", "line 2"},
@@ -50,6 +68,10 @@ TEST(BlockRegistryText, DamagedTextNamesItsLine) {
         {"stone\t0.5 0.5 0.5\t0\t0 0 0\n", "line 1"},
         {"\t0.5 0.5 0.5\t0\t0 0 0\t1\n", "empty"},
         {"a\t1 1 1\t0\t0 0 0\t1\na\t1 1 1\t0\t0 0 0\t1\n", "line 2"},
+        // Numbers, but outside the materials' ranges: refused, not rendered.
+        {"a\t1 1 1\t0\t0 0 0\t1\nb\t1.5 1 1\t0\t0 0 0\t1\n", "line 2: albedo must be 0..1"},
+        {"a\t1 1 1\t2\t0 0 0\t1\n", "line 1: reflectivity must be 0..1"},
+        {"a\t1 1 1\t0\t0 -1 0\t1\n", "line 1: emission must be finite and >= 0"},
     };
     for (const auto& [text, says] : cases) {
         Result<BlockRegistry> r = registry_from_text(text);

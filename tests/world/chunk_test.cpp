@@ -3,6 +3,8 @@
 #include <random>
 #include <tuple>
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "world/chunk.h"
@@ -192,4 +194,43 @@ TEST(BlockRegistry, RejectsDuplicatesAndGivesFallbacks) {
     ASSERT_TRUE(d.find("glazed").has_value()); // The thesis's material: 3 parts own light, 1 reflected.
     EXPECT_FLOAT_EQ(d.info(*d.find("glazed")).reflectivity, 0.25f);
     EXPECT_TRUE(d.is_opaque(*d.find("glazed")));
+}
+
+// A name set again at its own id frees the old name; the index and the table agree.
+TEST(BlockRegistry, RenamingInPlaceFreesTheOldName) {
+    BlockRegistry r;
+    ASSERT_TRUE(r.set(5, BlockInfo{"old"}).ok());
+    ASSERT_TRUE(r.set(5, BlockInfo{"new"}).ok());
+    EXPECT_FALSE(r.find("old").has_value());
+    EXPECT_EQ(r.find("new"), std::optional<BlockId>(5));
+    EXPECT_FALSE(r.find("").has_value()); // Ids 1..4 are gaps, not blocks named "".
+    auto again = r.add(BlockInfo{"old"});
+    ASSERT_TRUE(again.ok()) << again.error();
+    EXPECT_EQ(*again, BlockId(6));
+    EXPECT_FALSE(r.set(7, BlockInfo{"new"}).ok()); // Still a duplicate at another id.
+}
+
+// Every way a table is filled goes through set(): a material out of BlockInfo's ranges is refused
+// there (a store's text table or a VDB file's metadata once carried albedo 2 or emission -1 in).
+TEST(BlockRegistry, RefusesMaterialsOutOfRange) {
+    const float nan = std::nanf("");
+    const std::pair<BlockInfo, const char*> cases[] = {
+        {{"a", glm::vec3(1.5f, 0.5f, 0.5f)}, "albedo must be 0..1"},
+        {{"a", glm::vec3(0.5f, -0.1f, 0.5f)}, "albedo must be 0..1"},
+        {{"a", glm::vec3(0.5f, nan, 0.5f)}, "albedo must be 0..1"},
+        {{"a", glm::vec3(0.5f), 1.01f}, "reflectivity must be 0..1"},
+        {{"a", glm::vec3(0.5f), nan}, "reflectivity must be 0..1"},
+        {{"a", glm::vec3(0.5f), 0.f, glm::vec3(0.f, -1.f, 0.f)}, "emission must be finite and >= 0"},
+        {{"a", glm::vec3(0.5f), 0.f, glm::vec3(INFINITY, 0.f, 0.f)}, "emission must be finite and >= 0"},
+    };
+    for (const auto& [info, says] : cases) {
+        BlockRegistry r;
+        vx::Status s = r.set(3, info);
+        ASSERT_FALSE(s.ok()) << says;
+        EXPECT_NE(s.error().find(says), std::string::npos) << s.error();
+        EXPECT_FALSE(r.contains(3));
+        EXPECT_FALSE(r.find("a").has_value());
+    }
+    BlockRegistry r; // The ranges' ends are in range.
+    EXPECT_TRUE(r.add({"edge", glm::vec3(0.f, 1.f, 0.f), 1.f, glm::vec3(1e30f)}).ok());
 }

@@ -1,6 +1,5 @@
 #include "world/vdb/vdb_meta.h"
 
-#include <cmath>
 #include <cstring>
 #include <optional>
 
@@ -88,12 +87,7 @@ Result<world::BlockRegistry> registry_from_meta(const VdbMetaMap& meta) {
             b.emission = glm::vec3((*emission)->v[0], (*emission)->v[1], (*emission)->v[2]);
         if (*opaque)
             b.opaque = **opaque != 0;
-        // A NaN or infinite material would render as NaN, and a store cannot record it
-        // (block_registry_text.h): refused here, where the file is named.
-        auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-        const bool finite = finite3(b.albedo) && std::isfinite(b.reflectivity) && finite3(b.emission);
-        if (!finite)
-            return Error{"block " + std::to_string(i) + " in the file's registry: its material is not finite"};
+        // set() refuses a NaN, infinite or out-of-range material (world::material_problem).
         if (Status s = r.set(world::BlockId(i), std::move(b)); !s)
             return Error{"block " + std::to_string(i) + " in the file's registry: " + s.error()};
     }
