@@ -46,8 +46,14 @@ ChunkStreamer::~ChunkStreamer() {
     // another connect timeout for the same error.
     // Without threads (the OS refused them: JobSystem::start_error) nothing was loaded, so
     // nothing can be edited or unsaved, and no thread would run the flush.
-    if (m_store && m_jobs->start_error().empty() && (m_dirty_count > 0 || m_saves != m_saves_at_request)) {
-        Status s = flush();
+    // A request whose flush is still queued is waited for: resetting the jobs would drop its
+    // saves unrun, and the edits with them.
+    if (m_store && m_jobs->start_error().empty()) {
+        Status s;
+        if (m_dirty_count > 0 || m_saves != m_saves_at_request)
+            s = flush();
+        else if (m_last_request != 0 && m_saves_done->state(m_last_request) == SaveState::Pending)
+            s = wait_saved(m_last_request);
         if (!s)
             VX_LOG_ERROR("saving the world on shutdown failed: %s", s.error().c_str());
     }
@@ -79,8 +85,15 @@ void ChunkStreamer::update(const glm::dvec3& position, const glm::dvec3& forward
     update_viewer(position, forward, &velocity, now);
 }
 
-void ChunkStreamer::update_viewer(const glm::dvec3& position, const glm::dvec3& forward, const glm::dvec3* velocity,
+void ChunkStreamer::update_viewer(const glm::dvec3& given, const glm::dvec3& forward, const glm::dvec3* velocity,
                                   Clock::time_point now) {
+    // Kept 2^17 blocks inside the world's edge (the facade refuses viewers beyond it): a box
+    // reaching INT32_MAX chunks made the region walk's `x <= hi.x` always true, looping forever.
+    // fmax first, so NaN becomes the low end rather than undefined in the int64 conversion.
+    constexpr double kLo = double(world::kWorldMinBlock + world::kEdgeMarginBlocks);
+    constexpr double kHi = double(world::kWorldMaxBlock - world::kEdgeMarginBlocks);
+    const glm::dvec3 position(std::fmin(std::fmax(given.x, kLo), kHi), std::fmin(std::fmax(given.y, kLo), kHi),
+                              std::fmin(std::fmax(given.z, kLo), kHi));
     const Clock::time_point t0 = Clock::now();
     const std::chrono::nanoseconds cpu0 = thread_cpu_time();
     // Work stops 5% short of the budget: the checks themselves and the bookkeeping after the
@@ -205,6 +218,16 @@ void ChunkStreamer::note_left(ChunkCoord c, Clock::time_point now) {
     auto it = m_chunks.find(c);
     if (it == m_chunks.end())
         return;
+    // A chunk not loaded (its load or generation still queued, or failed) holds nothing to keep:
+    // once it is a chunk past the unload radius it goes at once. Kept for the delay, its load
+    // stayed ahead of the new view's in the FIFO I/O lane (4 teleports: 3277 loads of places
+    // left). The chunk of slack keeps a viewer jittering on a border from cancelling its loads.
+    const int slack = m_settings.unload_margin + 2;
+    if (it->second.data != Data::Present && !near(c, m_center, slack) && !near(c, m_lead, slack)) {
+        drop(c, it->second);
+        ++m_unloaded;
+        return;
+    }
     // (Re)starts its unload delay; an older queue entry of the chunk goes stale.
     it->second.outside = true;
     it->second.outside_since = now;
@@ -712,6 +735,7 @@ uint64_t ChunkStreamer::request_save() {
     }
     save_dirty(m_last_now, true);
     m_saves_at_request = m_saves;
+    m_last_request = sequence;
     // Reported on the I/O thread (or by the job's destructor if it never runs).
     auto report = [tracker = m_saves_done, sequence](const Status& s) { tracker->finished(sequence, s); };
     m_jobs->submit(std::make_unique<StoreSyncJob>(events(), *m_store, sequence, std::move(report)));

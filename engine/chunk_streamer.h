@@ -101,13 +101,14 @@ public:
                   const StreamingSettings& settings = {},
                   const world::BlockRegistry& registry = world::BlockRegistry::default_registry());
     // Main thread. Saves dirty chunks and flushes the store (skipped when request_save() or
-    // flush() ran and nothing was handed to the store since: one flush, not two), then stops
-    // the jobs.
+    // flush() ran and nothing was handed to the store since: one flush, not two; a request whose
+    // flush has not run yet is waited for), then stops the jobs.
     ~ChunkStreamer();
     ChunkStreamer(const ChunkStreamer&) = delete;
     ChunkStreamer& operator=(const ChunkStreamer&) = delete;
 
-    // Main thread, once per frame. `position` and `forward` in world block units.
+    // Main thread, once per frame. `position` and `forward` in world block units; a position
+    // closer than 2^17 blocks to the world's edge (world::inside_edge_margin) is clamped to it.
     void update(const glm::dvec3& position, const glm::dvec3& forward, std::chrono::steady_clock::time_point now);
     // The same with the viewer's velocity (blocks per second) given instead of estimated from
     // the positions of past frames.
@@ -264,6 +265,7 @@ private:
     // are stale: their state's retry_at differs).
     std::vector<std::pair<world::ChunkCoord, std::chrono::steady_clock::time_point>> m_failed_retry;
     uint64_t m_saves_at_request = UINT64_MAX; // m_saves at the last request_save() (never: max).
+    uint64_t m_last_request = 0;              // Its sequence, with a flush queued (0: none).
     bool m_store_failing = false; // Loads are failing (logged once until one succeeds).
     bool m_commits_failing = false; // Periodic commits are failing (logged once until one succeeds).
     // Loads the store could not answer, asked again from this time on (oldest first).

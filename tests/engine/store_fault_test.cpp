@@ -2,6 +2,7 @@
 // game running, a save made while it is away reports Failed, a chunk whose load fails is neither
 // generated over nor lost, and once the store is back every edit is saved; nothing acknowledged as
 // saved is lost. The failure is injected by a ChunkStore wrapper around a real SqliteStore.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -39,8 +40,14 @@ public:
     explicit FlakyStore(std::unique_ptr<ChunkStore> inner) : m_inner(std::move(inner)) {}
     std::atomic<bool> away{false};
     std::atomic<int> failed_calls{0};
+    std::atomic<int> load_delay_ms{0}; // A slow disk: each load keeps the I/O lane this long.
 
     Result<ChunkLoad> load(ChunkCoord c) override {
+        std::this_thread::sleep_for(std::chrono::milliseconds(load_delay_ms.load()));
+        {
+            std::lock_guard lock(m_loaded_mutex);
+            m_loaded.push_back(c);
+        }
         if (fail())
             return Error{"the disk is away (injected)"};
         return m_inner->load(c);
@@ -55,8 +62,20 @@ public:
     Status set_meta(std::string_view key, std::string_view value) override { return m_inner->set_meta(key, value); }
     bool read_only() const override { return false; }
     size_t pending_edits() const override { return m_inner->pending_edits(); }
+    // Thread-safe. How many loads asked for chunks within `r` (Chebyshev) of `c`.
+    int loads_near(ChunkCoord c, int r) {
+        std::lock_guard lock(m_loaded_mutex);
+        int n = 0;
+        for (ChunkCoord l : m_loaded) {
+            const glm::ivec3 d = glm::abs(l - c);
+            n += std::max({d.x, d.y, d.z}) <= r;
+        }
+        return n;
+    }
 
 private:
+    std::mutex m_loaded_mutex;
+    std::vector<ChunkCoord> m_loaded;
     bool fail() {
         if (!away.load())
             return false;
@@ -332,6 +351,66 @@ TEST(StoreFaults, AResyncReadsEveryHeldChunkAgain) {
     ASSERT_EQ(s.get_block(BlockPos(8, 60, 8)), BlockId(1));
     store.announce_resync(Chunk(2));
     EXPECT_TRUE(update_until_block(s, eye, now, BlockPos(8, 60, 8), 2)) << "reloaded on the resync";
+}
+
+// A save requested but not waited for, then the streamer destroyed while the I/O lane is still
+// busy with loads: the queued saves and their flush run before the jobs stop. They were dropped
+// unrun (the ticket Failed "flush cancelled", the edit gone from the store) because the
+// destructor took "handed to the I/O lane" for "handed to the store".
+TEST(StoreFaults, DestroyingTheStreamerRunsASaveStillQueued) {
+    const std::string path = temp_world("queued_save");
+    const TerrainGenerator gen(5);
+    auto opened = SqliteStore::open({path});
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    FlakyStore store(std::move(*opened));
+    NullSink sink;
+    const BlockPos edit{8, 60, 8};
+    uint64_t ticket = 0;
+    std::shared_ptr<const SaveTracker> tracker;
+    {
+        ChunkStreamer s(gen, &store, sink, settings());
+        Clock::time_point now = Clock::now();
+        ASSERT_TRUE(settle(s, glm::dvec3(8.5, 60.5, 8.5), now));
+        ASSERT_TRUE(s.set_block(edit, 7).ok());
+        // A teleport queues 125 loads (the loaded ring, 5³) of 5 ms each ahead of the save.
+        store.load_delay_ms = 5;
+        s.update(glm::dvec3(8.5 + 32 * 100, 60.5, 8.5), glm::dvec3(0, 0, -1), now + std::chrono::milliseconds(16));
+        ticket = s.request_save();
+        tracker = s.save_tracker();
+    }
+    EXPECT_EQ(tracker->state(ticket), SaveState::Durable) << tracker->last_error();
+    auto reopened = SqliteStore::open({.path = path, .read_only = true});
+    ASSERT_TRUE(reopened.ok()) << reopened.error();
+    auto load = (*reopened)->load(chunk_of(edit));
+    ASSERT_TRUE(load.ok()) << load.error();
+    ASSERT_EQ(load->state, LoadState::Present);
+    EXPECT_EQ(load->chunk->get(local_of(edit)), BlockId(7));
+}
+
+// Teleports through places not loaded yet: their queued loads are cancelled once the viewer is
+// gone, not read in the FIFO I/O lane ahead of the loads of where it stays. With the unload
+// delay they stayed: every one of the 125 loads of the place passed through was read.
+TEST(StoreFaults, TeleportingAwayCancelsLoadsNotStarted) {
+    const std::string path = temp_world("teleport");
+    const TerrainGenerator gen(5);
+    auto opened = SqliteStore::open({path});
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    FlakyStore store(std::move(*opened));
+    NullSink sink;
+    StreamingSettings st = settings();
+    st.unload_delay_s = 30.0; // Far longer than the test: a drop is never the delay's doing.
+    ChunkStreamer s(gen, &store, sink, st);
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, glm::dvec3(8.5, 60.5, 8.5), now));
+    store.load_delay_ms = 5;
+    const glm::dvec3 passed(8.5 + 32 * 100, 60.5, 8.5), stay(8.5 - 32 * 100, 60.5, 8.5);
+    s.update(passed, glm::dvec3(0, 0, -1), now += std::chrono::milliseconds(16)); // 5³ loads queued.
+    s.update(stay, glm::dvec3(0, 0, -1), now += std::chrono::milliseconds(16));
+    store.load_delay_ms = 0;
+    ASSERT_TRUE(settle(s, stay, now));
+    // The loads already running when the viewer left (one, or a few on a slow machine) are read.
+    EXPECT_LT(store.loads_near(ChunkCoord(100, 1, 0), 2), 60); // The chunk of `passed`, and its ring.
+    EXPECT_EQ(s.metrics().pending_data, 0u);
 }
 
 // The OS refuses every thread (thread_refusal.h): the streamer's job system cannot run, so a

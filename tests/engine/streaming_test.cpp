@@ -475,3 +475,18 @@ TEST(Streaming, AnyFiniteVelocityLooksAheadTheViewRadius) {
         EXPECT_EQ(sink.meshes.size(), size_t(5 * 7 * 3)) << speed; // The two rings overlap.
     }
 }
+
+// A viewer at the world's last chunk (a direct user of the streamer; the facade refuses it) is
+// kept 2^17 blocks inside: the box then ended on INT32_MAX chunks and its walk never returned.
+TEST(Streaming, AViewerAtTheWorldsEdgeIsKeptInside) {
+    const TerrainGenerator gen(5);
+    Recorder sink;
+    ChunkStreamer s(gen, nullptr, sink, small_settings());
+    Clock::time_point now = Clock::now();
+    const double edge = double(kWorldMaxBlock) - 40.0;
+    ASSERT_TRUE(settle(s, glm::dvec3(edge, 60.5, 0.5), now));
+    const ChunkCoord inside = chunk_of(BlockPos(kWorldMaxBlock - kEdgeMarginBlocks, 60, 0));
+    EXPECT_EQ(s.metrics().loaded, size_t(7 * 7 * 5)); // The loaded ring, around `inside`.
+    EXPECT_NE(s.world().find_chunk(inside + ChunkCoord(3, 0, 0)), nullptr);
+    EXPECT_EQ(s.world().find_chunk(inside + ChunkCoord(4, 0, 0)), nullptr);
+}
