@@ -99,6 +99,7 @@ Status Context::create_instance(const ContextCreateInfo& info) {
     VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ci.pNext = m_debug_utils ? &mci : nullptr; // Also reports problems of vkCreate/DestroyInstance.
     if (m_validation && info.sync_validation) {
+        m_sync_validation = true;
         features.pNext = ci.pNext;
         ci.pNext = &features;
     }

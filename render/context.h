@@ -80,6 +80,7 @@ public:
     uint32_t validation_errors() const { return m_validation_errors.load(); }
     uint32_t validation_warnings() const { return m_validation_warnings.load(); }
     bool validation_enabled() const { return m_validation; }
+    bool sync_validation_enabled() const { return m_sync_validation; }
 
     // Names an object for validation messages and debuggers (no-op without debug utils).
     void set_name(VkObjectType type, uint64_t handle, const char* name) const;
@@ -170,6 +171,7 @@ private:
     VkQueue m_queue = VK_NULL_HANDLE;
     uint32_t m_queue_family = 0;
     bool m_validation = false;
+    bool m_sync_validation = false; // Its synchronization checks too (ContextCreateInfo).
     bool m_debug_utils = false;
     DeviceReport m_report;
     VkPhysicalDeviceRayTracingPipelinePropertiesKHR m_rt_props{};

@@ -241,6 +241,7 @@ Renderer::~Renderer() = default;
 Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& info) {
     ContextCreateInfo ci;
     ci.validation = info.validation;
+    ci.sync_validation = info.sync_validation;
     ci.device = info.device;
     ci.window = info.glfw_window;
     Result<std::unique_ptr<Context>> ctx = Context::create(ci);

@@ -70,6 +70,44 @@ TEST_F(RendererTest, IncrementalEditsRenderLikeScratch) {
     EXPECT_GT(rebuilds, 2u);
 }
 
+// The same path (edits refitted and rebuilt, then denoised frames reprojecting their history)
+// under the validation layer's synchronization checks: no hazard between the uploads, the
+// builds, the trace and the denoiser's passes. The renderer once dropped the request, so
+// VX_SYNC_VALIDATION checked nothing; sync_validation_enabled() says the layer got it.
+TEST(RendererSync, EditsAndDenoisedFramesHaveNoHazards) {
+    RendererCreateInfo ci;
+    ci.sync_validation = true;
+    std::unique_ptr<Renderer> r = test::make_renderer(ci);
+    ASSERT_NE(r, nullptr);
+    ASSERT_TRUE(r->context().sync_validation_enabled());
+    world::World w = hills();
+    world::EditMesher em;
+    world::MeshMap meshes = test::mesh_world(w);
+    test::load_meshes(*r, meshes);
+    RenderSettings s = settings();
+    s.denoise = true;
+    s.accumulate = 4;
+    std::mt19937 rng(3);
+    uint32_t refits = 0, rebuilds = 0;
+    for (int frame = 0; frame < 4; ++frame) {
+        const int size = frame == 2 ? 9 : 1; // A box that overflows its slots: a rebuild.
+        const world::BlockPos p(int64_t(rng() % 64) - 32, int64_t(rng() % 16), int64_t(rng() % 64) - 32);
+        for (int64_t dz = 0; dz < size; ++dz)
+            for (int64_t dy = 0; dy < size; ++dy)
+                for (int64_t dx = 0; dx < size; ++dx)
+                    for (const world::SliceUpdate& u :
+                         em.apply(w, p + world::BlockPos(dx, dy, dz), test::block_id("stone"), meshes).updates)
+                        r->set_chunk(u.chunk, meshes[u.chunk].mesh, test::changed_slices(u));
+        // Moving: the history is reprojected.
+        r->render(s, Camera::look_at({30.3 + 0.25 * frame, 24.6, 29.1}, {-4.0, 4.0, -6.0}));
+        refits += r->last_stats().blas_refits;
+        rebuilds += r->last_stats().blas_builds;
+    }
+    EXPECT_GT(refits, 0u);
+    EXPECT_GT(rebuilds, 0u);
+    EXPECT_EQ(r->validation_errors(), 0u);
+}
+
 // A chunk edited over and over: its first edit rebuilds it hot (it was loaded cold: exact size,
 // no ALLOW_UPDATE), then it is refitted 16 times, then rebuilt (its boxes would loosen), and the
 // count starts again.

@@ -101,7 +101,7 @@ inline RenderImage accumulated(Renderer& r, RenderSettings s, const Camera& cam,
 // A renderer on the test device with the validation layer on; `ci`'s other fields as given.
 inline std::unique_ptr<Renderer> make_renderer(RendererCreateInfo ci = {}) {
     ci.validation = true;
-    ci.sync_validation = std::getenv("VX_SYNC_VALIDATION") != nullptr;
+    ci.sync_validation = ci.sync_validation || std::getenv("VX_SYNC_VALIDATION") != nullptr;
     ci.device = test_device_choice();
     auto r = Renderer::create(ci);
     EXPECT_TRUE(r.ok()) << r.error();
