@@ -575,10 +575,16 @@ void LodStreamer::process(LodCoord c) {
 }
 
 void LodStreamer::count_holes() {
-    uint32_t holes = 0;
-    for (LodCoord r : m_roots)
-        holes += uint32_t(!drawn(r) && below(r) == 0);
+    uint32_t holes = 0, failed = 0;
+    for (LodCoord r : m_roots) {
+        if (drawn(r) || below(r) != 0)
+            continue;
+        ++holes;
+        auto it = m_coarse.find(r);
+        failed += uint32_t(it != m_coarse.end() && it->second.data == Data::Failed);
+    }
     m_metrics.holes = holes;
+    m_metrics.failed_holes = failed;
     m_metrics.root_chunks = uint32_t(m_roots.size());
     m_holes_dirty = false;
 }
@@ -629,7 +635,8 @@ void LodStreamer::update(const glm::dvec3& viewer, Clock::time_point now, Clock:
 
 bool LodStreamer::settled() const {
     return m_view && m_queue.empty() && m_batch.empty() && m_to_request.empty() && m_to_release.empty() &&
-           m_edited.empty() && m_metrics.holes == 0 && m_metrics.pending_data == 0 && m_metrics.pending_meshes == 0;
+           m_edited.empty() && m_metrics.holes == m_metrics.failed_holes && m_metrics.pending_data == 0 &&
+           m_metrics.pending_meshes == 0;
 }
 
 LodMetrics LodStreamer::metrics() const { return m_metrics; }

@@ -64,6 +64,9 @@ struct LodMetrics {
     std::array<uint32_t, world::kMaxLodLevel + 1> drawn{}, kept{};
     std::array<uint64_t, world::kMaxLodLevel + 1> block_bytes{};
     uint32_t holes = 0;          // Roots within the view distance with nothing drawn (last update).
+    // Of those, roots whose data failed (a generator threw) and waits for its retry: settled()
+    // does not wait for them, as ChunkStreamer's does not for failed generations.
+    uint32_t failed_holes = 0;
     uint32_t root_chunks = 0;    // Roots within the view distance.
     uint64_t swaps = 0;          // Refines and coarsenings since construction.
     uint64_t forced_drops = 0;   // Level-0 chunks the streamer unloaded while drawn with no ready
@@ -112,8 +115,8 @@ public:
     void update(const glm::dvec3& viewer, std::chrono::steady_clock::time_point now,
                 std::chrono::steady_clock::time_point deadline);
 
-    // Main thread. Nothing left to do until the viewer moves: every root drawn and the drawn cut
-    // equal to the target cut.
+    // Main thread. Nothing left to do until the viewer moves: every root drawn (but those whose
+    // data failed, until their retry) and the drawn cut equal to the target cut.
     bool settled() const;
     LodMetrics metrics() const;
     int top_level() const { return m_view ? m_view->top_level() : 0; }

@@ -52,11 +52,9 @@ namespace vx {
 // One log line names the chunk and what() (LogLevel::Error); Stats::chunks_generate_failed and
 // generate_failures count it. The chunk is generated again after 1 s, then 2, 4, ... up to 60 s
 // of update() time while it stays within the loaded radius; settled() does not wait for it.
-// Levels of detail (issue 16, in progress): the world layer can build coarse chunks (cells of
-// 2^k blocks) from generated blocks, 8^k generate() calls per level-k chunk; the built-in
-// terrain makes them directly. An optional coarse hook here (world::ChunkGenerator::
-// generate_coarse() is the model) is planned with the engine's LOD streaming; without it,
-// coarse levels will cost those generate() calls.
+// Levels of detail: a coarse chunk (cells of 2^k blocks) comes from generate_coarse() below, or
+// else from generated blocks, 8^k generate() calls per level-k chunk; one whose blocks fail is a
+// hole (Stats::holes, a top-level chunk) or leaves the coarser chunk above drawn, retried alike.
 class Generator {
 public:
     virtual ~Generator() = default;
@@ -425,8 +423,9 @@ struct Stats {
     std::array<uint64_t, kLodLevels> level_block_bytes{};  // Their block data.
     std::array<uint64_t, kLodLevels> level_gpu_bytes{};    // GPU memory of the chunks drawn (BLAS + quads).
     // Holes: top-level chunks within the view distance that nothing drawn covers (a coarse chunk
-    // not generated yet as it comes into view). Without LOD: chunks in the view radius not
-    // meshed yet. 0 once the view is filled: level swaps never open one.
+    // not generated yet as it comes into view, or one whose generation failed, until its
+    // retry works). Without LOD: chunks in the view radius not meshed yet. 0 once the view is
+    // filled: level swaps never open one.
     uint32_t holes = 0;
     uint64_t lod_swaps = 0;         // Refinements and coarsenings since creation.
 };
@@ -497,7 +496,8 @@ public:
     // generate, a background save that fails) are logged and counted in Stats; the game goes on.
     void update(std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
     // Main thread. True when every chunk the view needs is loaded and meshed and nothing is due
-    // to unload: the view is complete until the viewer moves.
+    // to unload: the view is complete until the viewer moves. Chunks and coarse chunks whose
+    // generation failed are not waited for (they are retried; Stats counts them).
     bool settled() const;
 
     // Main thread. Sets one block; its chunk and neighbours remesh at once (six slices). Fails,
