@@ -246,6 +246,29 @@ TEST(SqliteStoreErrors, AnOversizedRowIsDamagedWithoutBeingRead) {
     EXPECT_EQ(good->state, LoadState::Present);
 }
 
+// The world file deleted, or replaced by another file, while the store has it open: SQLite keeps
+// writing to the old inode, so every later commit succeeded into a file no one can open again
+// and a save reported durable was lost. Now the flush fails, and the queue is kept.
+TEST(SqliteStoreErrors, AFileDeletedOrReplacedWhileOpenFailsItsFlushes) {
+    for (const bool replace : {false, true}) {
+        TempDir dir;
+        const std::string path = dir.file("w.db");
+        auto store = open_store(path);
+        ASSERT_NE(store, nullptr);
+        ASSERT_TRUE(store->save({1, 0, 0}, versioned_chunk({1, 0, 0}, 1)).ok());
+        ASSERT_TRUE(store->flush().ok());
+        for (const char* suffix : {"", "-wal", "-shm"})
+            std::filesystem::remove(path + suffix);
+        if (replace)
+            std::ofstream(path) << "another file";
+        ASSERT_TRUE(store->save({2, 0, 0}, versioned_chunk({2, 0, 0}, 2)).ok());
+        const vx::Status s = store->flush();
+        ASSERT_FALSE(s.ok()) << replace;
+        EXPECT_NE(s.error().find("deleted or replaced while open"), std::string::npos) << s.error();
+        EXPECT_GT(store->pending_edits(), 0u) << "the queue is kept";
+    }
+}
+
 // One writer per file. Two writers each saved their own copy of the same chunk, and the last
 // save won: the other's edit, reported saved, was gone. A second writer (in this process or
 // another) is refused at once; readers are not; a writer killed with SIGKILL leaves no lock.

@@ -370,6 +370,13 @@ Status SqliteStore::commit() {
         if (!ready)
             return Error{ready.error()};
     }
+    // A file deleted (or replaced) under the open connection takes every later commit with it,
+    // each reported durable; the queue is kept instead, and every flush says why it failed.
+    int moved = 0;
+    if (sqlite3_file_control(m_db, "main", SQLITE_FCNTL_HAS_MOVED, &moved) == SQLITE_OK && moved)
+        return Error{"store '" + m_info.path +
+                     "': the file was deleted or replaced while open; nothing more is saved to it (edits are kept "
+                     "in memory)"};
     if (Status s = exec("BEGIN IMMEDIATE"); !s)
         return s;
     if (Status s = commit_lod(); !s) {
