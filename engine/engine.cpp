@@ -253,6 +253,9 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
 }
 
 Status Engine::set_viewer(const Viewer& viewer) {
+    const engine::CallGuard call(m->calls, "set_viewer");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (Status s = check_viewer(viewer); !s)
@@ -271,6 +274,9 @@ Status Engine::set_viewer(const Viewer& viewer) {
 }
 
 void Engine::update(std::chrono::steady_clock::time_point now) {
+    const engine::CallGuard call(m->calls, "update");
+    if (!call)
+        return;
     if (m->shut_down)
         return;
     m->follow_thread();
@@ -293,7 +299,8 @@ void Engine::update(std::chrono::steady_clock::time_point now) {
 }
 
 bool Engine::settled() const {
-    return !m->shut_down && m->streamer->settled() && (!m->lod || m->lod->settled());
+    const engine::CallGuard call(m->calls, "settled");
+    return call && !m->shut_down && m->streamer->settled() && (!m->lod || m->lod->settled());
 }
 
 namespace {
@@ -320,6 +327,9 @@ Status Engine::set_block(BlockPos pos, BlockId id) {
 }
 
 Status Engine::set_blocks(std::span<const BlockEdit> edits) {
+    const engine::CallGuard call(m->calls, "set_blocks");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     for (const BlockEdit& e : edits)
@@ -348,6 +358,9 @@ void Engine::Impl::mark_coarse_stale(ChunkCoord c) {
 }
 
 std::optional<BlockId> Engine::get_block(BlockPos pos) const {
+    const engine::CallGuard call(m->calls, "get_block");
+    if (!call)
+        return std::nullopt;
     if (m->shut_down || !world::in_world(pos))
         return std::nullopt;
     const world::Chunk* chunk = m->streamer->world().find_chunk(chunk_of(pos));
@@ -358,6 +371,9 @@ std::optional<BlockId> Engine::get_block(BlockPos pos) const {
 
 Result<RayHit> Engine::raycast(BlockPos origin_block, glm::dvec3 origin_offset, glm::dvec3 direction,
                                double max_distance) const {
+    const engine::CallGuard call(m->calls, "raycast");
+    if (!call)
+        return Error{call.error().error()};
     if (Status s = m->alive(); !s)
         return Error{s.error()};
     if (!finite(direction) || direction == glm::dvec3(0.0) || !finite(origin_offset))
@@ -401,9 +417,17 @@ std::optional<BlockType> Engine::block_type(BlockId id) const {
 
 size_t Engine::block_count() const { return m->world.registry.size() - 1; }
 
-std::vector<ChunkEvent> Engine::poll_events() { return m->sink ? m->sink->take_events() : std::vector<ChunkEvent>{}; }
+std::vector<ChunkEvent> Engine::poll_events() {
+    const engine::CallGuard call(m->calls, "poll_events");
+    if (!call || !m->sink)
+        return {};
+    return m->sink->take_events();
+}
 
 Result<SaveTicket> Engine::save() {
+    const engine::CallGuard call(m->calls, "save");
+    if (!call)
+        return Error{call.error().error()};
     if (Status s = m->alive(); !s)
         return Error{s.error()};
     if (!m->world.store)
@@ -430,6 +454,9 @@ SaveState Engine::save_state(SaveTicket ticket) const {
 }
 
 Status Engine::recreate_renderer() {
+    const engine::CallGuard call(m->calls, "recreate_renderer");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (m->info.render.target.kind == RenderTarget::Kind::None)
@@ -458,7 +485,12 @@ Status Engine::recreate_renderer() {
 
 Status Engine::wait(SaveTicket ticket) const { return m->saves->wait(ticket.sequence); }
 
-Status Engine::shutdown() { return m->shutdown(); }
+Status Engine::shutdown() {
+    const engine::CallGuard call(m->calls, "shutdown");
+    if (!call)
+        return call.error();
+    return m->shutdown();
+}
 
 Status Engine::Impl::shutdown() {
     if (shut_down)

@@ -10,6 +10,7 @@
 
 #include <vx/vx.h>
 
+#include "engine/call_guard.h"
 #include "engine/chunk_streamer.h"
 #include "engine/engine_sink.h"
 #include "engine/lod_jobs.h"
@@ -33,6 +34,8 @@ struct Engine::Impl {
     glm::uvec2 window_frame_size{0};                 // Of the last presented frame (0: none yet).
     engine::SkyAccessCache sky;                      // render settings' sky_access (engine_render.cpp).
     bool shut_down = false;
+    // Which thread is inside a call now (call_guard.h): a call from another meanwhile is refused.
+    mutable engine::CallOwner calls;
     // The thread using the engine now: its creator, or the one a game moved it to (follow_thread).
     std::thread::id thread = std::this_thread::get_id();
     // Device loss (engine_render.cpp): the renderer's validation errors before recreations, and

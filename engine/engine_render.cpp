@@ -140,6 +140,9 @@ Status check_render_settings(const RenderSettings& s) {
 } // namespace
 
 Status Engine::set_render_settings(const RenderSettings& settings) {
+    const engine::CallGuard call(m->calls, "set_render_settings");
+    if (!call)
+        return call.error();
     if (Status s = check_render_settings(settings); !s)
         return s;
     m->render_settings = settings;
@@ -147,6 +150,9 @@ Status Engine::set_render_settings(const RenderSettings& settings) {
 }
 
 Status Engine::render_to_image(Image& out) {
+    const engine::CallGuard call(m->calls, "render_to_image");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Headless)
@@ -167,6 +173,9 @@ Status Engine::render_to_image(Image& out) {
 }
 
 Status Engine::render_to_window(Image* capture) {
+    const engine::CallGuard call(m->calls, "render_to_window");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Window)
@@ -193,6 +202,9 @@ Status Engine::render_to_window(Image* capture) {
 }
 
 Result<ScreenRay> Engine::screen_ray(glm::dvec2 pixel) const {
+    const engine::CallGuard call(m->calls, "screen_ray");
+    if (!call)
+        return Error{call.error().error()};
     if (Status s = m->alive(); !s)
         return Error{s.error()};
     const RenderTarget& t = m->info.render.target;
@@ -210,6 +222,9 @@ Result<ScreenRay> Engine::screen_ray(glm::dvec2 pixel) const {
 }
 
 Status Engine::set_ui(const UiDrawList& ui) {
+    const engine::CallGuard call(m->calls, "set_ui");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (m->info.render.target.kind == RenderTarget::Kind::None)
@@ -225,6 +240,9 @@ Status Engine::set_ui(const UiDrawList& ui) {
 }
 
 Status Engine::set_ui_texture(uint32_t width, uint32_t height, std::span<const uint8_t> rgba) {
+    const engine::CallGuard call(m->calls, "set_ui_texture");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (m->info.render.target.kind == RenderTarget::Kind::None)
@@ -243,6 +261,9 @@ Status Engine::set_ui_texture(uint32_t width, uint32_t height, std::span<const u
 }
 
 Status Engine::set_vsync(bool vsync) {
+    const engine::CallGuard call(m->calls, "set_vsync");
+    if (!call)
+        return call.error();
     if (Status s = m->alive(); !s)
         return s;
     if (m->info.render.target.kind != RenderTarget::Kind::Window)
@@ -280,6 +301,9 @@ Status Engine::Impl::frame_failed(const std::string& why) {
 }
 
 Stats Engine::stats() const {
+    const engine::CallGuard call(m->calls, "stats");
+    if (!call)
+        return Stats{};
     Stats s = m->frame;
     if (m->streamer) {
         const engine::StreamingMetrics sm = m->streamer->metrics();

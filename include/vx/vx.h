@@ -8,9 +8,10 @@
 // Threads. An Engine is used by one thread at a time, the "main thread": the one that created it,
 // or any other the game moves it to between calls (created on a loading thread, then updated by
 // the game loop), ordering the two with its own synchronisation (a join, a mutex). Every member
-// function is "main thread only" unless its comment says "thread-safe"; calls from two threads at
-// once are a data race. (A window target's GLFW calls keep GLFW's own rule: the process's main
-// thread.) Inside, the engine runs
+// function is "main thread only" unless its comment says "thread-safe". A call made while another
+// thread is inside the engine is refused, touching nothing: it returns an error (nullopt, false,
+// empty or zero stats where there is no Status) and the first such refusal is logged. (A window
+// target's GLFW calls keep GLFW's own rule: the process's main thread.) Inside, the engine runs
 // worker threads (generation, meshing; StreamingDesc::worker_threads) and one I/O thread (the
 // store); a game's Generator is called on the workers. update() applies their results within a
 // time budget; nothing else calls back into the game from another thread, except a log handler

@@ -4,6 +4,7 @@
 // and the block registry read back.
 // No GPU (RenderTarget::none).
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -90,6 +91,51 @@ TEST(FacadeChecks, TheEngineMovesBetweenThreadsOneAtATime) {
     ASSERT_TRUE((*reopened)->set_viewer(v));
     ASSERT_TRUE(vx::test::settle(**reopened));
     EXPECT_EQ((*reopened)->get_block(p), std::optional<vx::BlockId>(1));
+}
+
+// Two threads calling at once, which the rule above forbids: the call that finds another thread
+// inside is refused and touches nothing. Unguarded, edits and queries from a second thread during
+// update() crashed the process within seconds (SIGSEGV, "corrupted size vs. prev_size").
+TEST(FacadeChecks, ACallWhileAnotherThreadIsInsideIsRefused) {
+    vx::EngineCreateInfo info = tiny_info(vx::WorldSource::terrain(1));
+    info.streaming.view_radius = 3;
+    auto engine = settled_above_origin(info);
+    ASSERT_TRUE(engine);
+    const vx::BlockPos p{1, vx::terrain_height(1, 1, 1) + 2, 1};
+    std::atomic<bool> stop{false};
+    std::atomic<int> refused{0}, placed{0};
+    std::string message;
+    std::thread other([&] {
+        const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (refused.load() < 50 && std::chrono::steady_clock::now() < limit) {
+            const vx::Status s = engine->set_block(p, placed.load() % 2 ? 1 : vx::kAir);
+            if (s) {
+                placed.fetch_add(1);
+            } else if (s.error().find("another thread was inside") != std::string::npos) {
+                if (refused.fetch_add(1) == 0)
+                    message = s.error();
+            } else {
+                ADD_FAILURE() << s.error();
+                break;
+            }
+            (void)engine->get_block(p + vx::BlockPos{0, 1, 0});
+        }
+        stop = true;
+    });
+    // The main thread keeps moving the viewer back and forth: each update() has work to do.
+    for (int i = 0; !stop.load(); ++i) {
+        vx::Viewer v;
+        v.block = {32 * (i % 2), vx::terrain_height(1, 0, 0) + 4, 0};
+        (void)engine->set_viewer(v); // Refused too at times: the other thread may be inside.
+        engine->update();
+    }
+    other.join();
+    EXPECT_GE(refused.load(), 50) << "the threads never overlapped";
+    EXPECT_NE(message.find("Engine::set_blocks"), std::string::npos) << message;
+    // Alone again: every call works, and the last edit that was accepted is there.
+    ASSERT_TRUE(engine->set_block(p, 1));
+    EXPECT_EQ(engine->get_block(p), std::optional<vx::BlockId>(1));
+    EXPECT_TRUE(engine->shutdown());
 }
 
 // An edit made without levels of detail marks the coarse levels above it stale in the store, so a
