@@ -203,6 +203,11 @@ Result<OpenedWorld> open_world(const WorldSource& source, const std::vector<Bloc
         return out;
     case WorldSource::Kind::Sqlite:
     case WorldSource::Kind::Vdb: {
+        // Before the store is opened: a world created with the terrain in the generator's place
+        // would be tagged with it for good (reopened with the generator, it is refused).
+        if (source.generator_required && !source.generator)
+            return Error{"WorldSource::sqlite(path, generator) got a null generator (for the built-in terrain, pass "
+                         "a seed)"};
         auto store = open_store(source);
         if (!store)
             return Error{store.error()};
@@ -254,6 +259,7 @@ WorldSource WorldSource::sqlite(std::string path, uint64_t seed) {
 WorldSource WorldSource::sqlite(std::string path, std::shared_ptr<const Generator> generator) {
     WorldSource s = sqlite(std::move(path), uint64_t(1));
     s.generator = std::move(generator);
+    s.generator_required = true;
     return s;
 }
 

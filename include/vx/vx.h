@@ -124,6 +124,9 @@ struct WorldSource {
     std::string path;
     std::string overlay;    // Vdb: the edit store (SQLite path or PostgreSQL URI); "": beside `path`.
     bool read_only = false; // Vdb: no overlay, edits are not kept (see Kind::Vdb).
+    // Set by sqlite(path, generator): create() refuses a null `generator` rather than fall back
+    // to the terrain of `seed`, which the stored world would then remember for good.
+    bool generator_required = false;
 
     static WorldSource terrain(uint64_t seed);
     static WorldSource custom(std::shared_ptr<const Generator> generator);

@@ -256,6 +256,13 @@ TEST(Facade, GameBlocksAndGenerator) {
     EXPECT_NE(dup.error().find("post"), std::string::npos) << dup.error();
     vx::EngineCreateInfo null_gen = small_info(vx::WorldSource::custom(nullptr));
     EXPECT_FALSE(vx::Engine::create(null_gen));
+    // A stored world given a null generator is refused before the file is made: it was created with
+    // the terrain of seed 1 and remembered it, so the game's generator was refused from then on.
+    const std::string path = temp_path("null_generator");
+    auto stored = vx::Engine::create(small_info(vx::WorldSource::sqlite(path, nullptr)));
+    ASSERT_FALSE(stored);
+    EXPECT_NE(stored.error().find("null generator"), std::string::npos) << stored.error();
+    EXPECT_FALSE(std::filesystem::exists(path));
 }
 
 TEST(Facade, SaveTicketsAndReopen) {
