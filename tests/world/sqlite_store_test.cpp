@@ -266,7 +266,22 @@ TEST(SqliteStoreErrors, AFileDeletedOrReplacedWhileOpenFailsItsFlushes) {
         ASSERT_FALSE(s.ok()) << replace;
         EXPECT_NE(s.error().find("deleted or replaced while open"), std::string::npos) << s.error();
         EXPECT_GT(store->pending_edits(), 0u) << "the queue is kept";
+        EXPECT_EQ(store->health().pending_edits, store->pending_edits()) << "what a game's stats show";
     }
+}
+
+// health() (thread-safe, what Stats::store_pending_edits shows) follows the queue: it read 0 for
+// every SQLite world, so a game could not see edits waiting for their commit.
+TEST(SqliteStoreErrors, HealthShowsTheEditsWaitingForACommit) {
+    TempDir dir;
+    auto store = open_store(dir.file("w.db"));
+    ASSERT_NE(store, nullptr);
+    EXPECT_EQ(store->health().pending_edits, 0u);
+    ASSERT_TRUE(store->save({1, 0, 0}, versioned_chunk({1, 0, 0}, 1)).ok());
+    ASSERT_TRUE(store->set_meta("k", "v").ok());
+    EXPECT_EQ(store->health().pending_edits, 2u);
+    ASSERT_TRUE(store->flush().ok());
+    EXPECT_EQ(store->health().pending_edits, 0u);
 }
 
 // One writer per file. Two writers each saved their own copy of the same chunk, and the last

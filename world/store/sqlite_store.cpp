@@ -348,7 +348,16 @@ Status SqliteStore::save(std::span<const ChunkWrite> batch) {
 Status SqliteStore::queued() {
     if (m_queue.bytes() > m_info.max_pending_bytes)
         return commit();
+    show_pending();
     return {};
+}
+
+void SqliteStore::show_pending() { m_pending_shown.store(m_queue.edits(), std::memory_order_relaxed); }
+
+StoreHealth SqliteStore::health() const {
+    StoreHealth h;
+    h.pending_edits = m_pending_shown.load(std::memory_order_relaxed);
+    return h;
 }
 
 Status SqliteStore::tick(Clock::time_point now) {
@@ -365,6 +374,10 @@ Status SqliteStore::flush() {
 Status SqliteStore::commit() {
     if (pending_edits() == 0)
         return {};
+    struct Shown { // Every way out, committed or not.
+        SqliteStore& store;
+        ~Shown() { store.show_pending(); }
+    } shown{*this};
     if (!m_queue.lods.empty() || !m_queue.dirty.empty()) {
         Result<bool> ready = lod_tables(/*create=*/true);
         if (!ready)
@@ -533,6 +546,7 @@ Status SqliteStore::set_meta(std::string_view key, std::string_view value) {
         return Error{"store '" + m_info.path + "' is open read-only"};
     if (Status s = m_queue.set_meta(key, value); !s)
         return Error{"store '" + m_info.path + "': " + s.error()};
+    show_pending();
     return {};
 }
 
@@ -594,7 +608,9 @@ Status SqliteStore::save_lod(std::span<const LodWrite> batch) {
 Status SqliteStore::mark_lod_dirty(std::span<const LodCoord> coords) {
     if (m_info.read_only)
         return Error{"store '" + m_info.path + "' is open read-only"};
-    return m_queue.mark_dirty(coords);
+    Status s = m_queue.mark_dirty(coords);
+    show_pending();
+    return s;
 }
 
 Status SqliteStore::commit_lod() {

@@ -14,6 +14,7 @@
 // are not limited.
 // Thread affinity: not thread-safe; one serial I/O lane thread only (as every ChunkStore).
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <set>
@@ -76,6 +77,9 @@ public:
 
     // Queued edits (chunks, coarse chunks, dirty marks and metadata) not yet committed.
     size_t pending_edits() const override { return m_queue.edits(); }
+    // Thread-safe: pending_edits as of the last call that changed the queue (the rest of
+    // StoreHealth is a server's; a file is always "connected").
+    StoreHealth health() const override;
     // Records in the quarantine tables (level 0 and coarse).
     Result<uint64_t> quarantine_count();
     // Rows whose keys name no chunk (a coordinate that is not a 32-bit integer, a level outside
@@ -109,6 +113,7 @@ private:
     Status write_record(LodCoord c, const std::optional<std::vector<uint8_t>>& record, const LevelStmts& stmts);
     Status commit_lod(); // Inside commit()'s transaction.
     Status queued();     // After a save: commits when the queue passed its byte bound.
+    void show_pending(); // Publishes the queue's size to health().
     Result<std::vector<LodCoord>> list_lod(bool dirty); // Dirty marks, or stored coarse chunks.
     Status exec(const char* sql);
     Error db_error(const std::string& what) const;
@@ -121,6 +126,7 @@ private:
     RecordCodec m_codec;
     RecordBatchEncoder m_encoder;
     StoreQueue<> m_queue; // Edits not yet committed.
+    std::atomic<size_t> m_pending_shown{0}; // Its size for health() (show_pending()).
     std::set<std::tuple<int, int, int, int>> m_reported; // Corrupt records logged (read-only): level, x, y, z.
 };
 
