@@ -342,8 +342,8 @@ struct RenderSettings {
     // at the default 2 bounces, the cheapest whose moving-camera error (RMSE p95 over an orbit and
     // a fly-over against converged references, 1920x1080 on an H200) is within 1.25x of the best
     // measured at up to twice its cost: 1 shadow sample, 1 per bounce, the denoiser with 8
-    // frames of history (3.2 ms at RMSE p95 0.019 there; 8 samples halve the error at 3.7x the
-    // cost). What the sandbox runs. Any thread.
+    // frames of history (3.2 ms at RMSE p95 0.019 there; 8 samples halve the error at 3.8x the
+    // cost: 12.1 ms; README, "Render defaults"). What the sandbox runs. Any thread.
     static RenderSettings recommended();
 };
 

@@ -8,8 +8,8 @@ namespace sandbox {
 Game::Game(vx::Engine& engine, bool persistent, double fly_speed)
     : m_engine(&engine), m_persistent(persistent) {
     m_player.params().fly_speed = fly_speed;
-    // The settings chosen from the moving-camera curves (vx::RenderSettings::recommended): 8
-    // shadow samples, 1 per bounce, the denoiser with 8 frames of history.
+    // The settings chosen from the moving-camera curves (vx::RenderSettings::recommended): 1
+    // shadow sample, 1 per bounce, the denoiser with 8 frames of history.
     m_settings = vx::RenderSettings::recommended();
     m_shadow_samples = m_settings.shadow_samples;
     m_bounces = m_settings.max_bounces;

@@ -41,12 +41,18 @@ struct FrameFigures {
 class DeviceLossPolicy {
 public:
     static constexpr int kMaxInARow = 3;
+    // Any other failed frame (out of GPU memory for it, say) is tried again next frame, up to this
+    // many in a row (about 2 s at 60 Hz): embedding.md's advice, where the sandbox once quit.
+    static constexpr int kMaxFailedFrames = 120;
     // A frame failed on a lost device: true to recreate the renderer, false to give up.
     bool recreate() { return ++m_in_a_row <= kMaxInARow; }
-    void frame_drawn() { m_in_a_row = 0; }
+    // A frame failed otherwise: true to go on to the next frame, false to give up.
+    bool try_next_frame() { return ++m_failed_frames <= kMaxFailedFrames; }
+    void frame_drawn() { m_in_a_row = m_failed_frames = 0; }
 
 private:
     int m_in_a_row = 0;
+    int m_failed_frames = 0;
 };
 
 class Game {

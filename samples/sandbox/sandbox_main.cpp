@@ -393,9 +393,14 @@ int run(App& app) {
                                       : app.engine->render_to_image(shot);
         if (vx::Status s = drawn; !s) {
             std::fprintf(stderr, "vx_sandbox: %s\n", s.error().c_str());
-            // A lost GPU device: a new renderer, the world and every edit kept; else (or when
-            // renderers keep being lost before a frame: DeviceLossPolicy) give up.
-            if (!app.engine->stats().device_lost || !app.loss_policy.recreate())
+            // A lost GPU device: a new renderer, the world and every edit kept; another failure:
+            // the next frame; either given up when it persists (DeviceLossPolicy).
+            if (!app.engine->stats().device_lost) {
+                if (!app.loss_policy.try_next_frame())
+                    return 1;
+                continue;
+            }
+            if (!app.loss_policy.recreate())
                 return 1;
             if (vx::Status r = app.engine->recreate_renderer(); !r) {
                 std::fprintf(stderr, "vx_sandbox: %s\n", r.error().c_str());

@@ -148,3 +148,18 @@ TEST(DeviceLossPolicy, GivesUpOnlyOnLossesInARow) {
     EXPECT_FALSE(p.recreate());
     EXPECT_FALSE(p.recreate());
 }
+
+// A frame that fails for another reason (no GPU memory for it) is tried again next frame, as
+// embedding.md advises: the sandbox quit on the first. A failure that persists still ends it.
+TEST(DeviceLossPolicy, OtherFailedFramesAreRetriedUntilTheyPersist) {
+    using sandbox::DeviceLossPolicy;
+    DeviceLossPolicy p;
+    for (int round = 0; round < 3; ++round) {
+        for (int i = 0; i < DeviceLossPolicy::kMaxFailedFrames; ++i)
+            ASSERT_TRUE(p.try_next_frame()) << round << " " << i;
+        p.frame_drawn();
+    }
+    for (int i = 0; i < DeviceLossPolicy::kMaxFailedFrames; ++i)
+        ASSERT_TRUE(p.try_next_frame());
+    EXPECT_FALSE(p.try_next_frame());
+}
