@@ -167,7 +167,7 @@ EditRun run_edits(engine::LoadedScene& scene, const std::vector<ChunkCoord>& coo
     run.cold_full = trace_ms(r, t.full, info.camera, info.repeat);
 
     const BlockId stone = scene.world->registry().find("stone").value_or(BlockId(1));
-    EditMesher em;
+    EditMesher em(scene.isolated);
     std::mt19937 rng(12345); // Same sequence for every run.
     std::uniform_int_distribution<int> inner(1, kChunkSize - 2);
     std::vector<std::optional<BlockPos>> previous(coords.size());

@@ -46,7 +46,7 @@ int64_t cube_side(const engine::LoadedScene& scene) {
 // renderer. Returns the blocks they held, so a second call puts them back.
 std::vector<world::BlockId> set_cube(render::Renderer& r, engine::LoadedScene& scene, world::BlockPos top,
                                      const std::vector<world::BlockId>& ids) {
-    world::EditMesher em;
+    world::EditMesher em(scene.isolated);
     const int64_t side = cube_side(scene), lo = -side / 2;
     std::vector<world::BlockId> previous;
     for (int64_t y = 1; y <= side; ++y)

@@ -115,7 +115,7 @@ Result<engine::SceneLoadInfo> load_info_of(const MeshArgs& a) {
 // chunks with the reference mesher. Returns the slices the incremental path remeshed.
 uint64_t apply_edits(engine::LoadedScene& scene, const std::vector<Edit>& edits, const engine::ChunkMeshFn& fn) {
     World& world = *scene.world;
-    EditMesher em;
+    EditMesher em(scene.isolated);
     GreedyMesher scratch;
     uint64_t slices = 0;
     for (const Edit& e : edits) {
@@ -125,13 +125,14 @@ uint64_t apply_edits(engine::LoadedScene& scene, const std::vector<Edit>& edits,
         }
         world.set_block(e.pos, e.id);
         const ChunkCoord c = chunk_of(e.pos);
-        for (int f = -1; f < 6; ++f) {
+        // An isolated scene's chunks are meshed alone (air aprons), as the greedy edit path does.
+        const engine::ApronMode apron = scene.isolated ? engine::ApronMode::Air : engine::ApronMode::Neighbours;
+        for (int f = -1; f < (scene.isolated ? 0 : 6); ++f) {
             if (f >= 0 && !has_neighbour(c, Face(f)))
                 continue; // The world's edge: nothing beyond it to remesh.
             const ChunkCoord n = f < 0 ? c : c + face_normal(Face(f));
-            // Real neighbours, as the greedy edit path reads them, even in the isolated seed scene.
             if (world.find_chunk(n))
-                engine::mesh_chunk(world, n, {engine::ApronMode::Neighbours, fn}, scratch, scene.meshes[n]);
+                engine::mesh_chunk(world, n, {apron, fn}, scratch, scene.meshes[n]);
         }
     }
     return slices;

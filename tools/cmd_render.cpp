@@ -353,7 +353,7 @@ void edit_bursts(render::Renderer& r, engine::LoadedScene& scene, const Settings
         return;
     }
     const BlockId stone = scene.world->registry().find("stone").value_or(BlockId(1));
-    EditMesher em;
+    EditMesher em(scene.isolated);
     enum Mode { Slices, Whole, Rebuild };
     auto burst = [&](Mode mode) {
         for (ChunkCoord c : coords) {

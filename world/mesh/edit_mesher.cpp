@@ -13,7 +13,7 @@ const Chunk& chunk_or_air(const World& world, ChunkCoord c) {
 
 void EditMesher::mesh_chunk(const World& world, ChunkCoord c, MeshMap& meshes) {
     MeshedChunk& mc = meshes[c];
-    mc.apron = make_apron(world, c);
+    mc.apron = m_isolated ? Apron::air() : make_apron(world, c);
     m_mesher.mesh({chunk_or_air(world, c), mc.apron, world.registry()}, mc.mesh);
 }
 
@@ -31,7 +31,7 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLoo
         for (int f = 0; f < 6; ++f) {
             const Face face = Face(f);
             if (l[face_axis(face)] == (face_positive(face) ? kChunkSize - 1 : 0))
-                m_apron.copy_face(face, world.find_neighbour(c, face), reg);
+                m_apron.copy_face(face, m_isolated ? nullptr : world.find_neighbour(c, face), reg);
         }
         const uint32_t changed = m_mesher.remesh_block({chunk_or_air(world, c), m_apron, reg}, l, old, *mesh);
         SliceUpdate u{c, false, 0, {}};
@@ -43,7 +43,7 @@ EditResult EditMesher::apply(World& world, BlockPos p, BlockId id, const MeshLoo
             r.updates.push_back(u);
         r.slices_remeshed += 6;
     }
-    for (int f = 0; f < 6; ++f) {
+    for (int f = 0; f < 6 && !m_isolated; ++f) {
         const Face face = Face(f);
         const int axis = face_axis(face);
         const bool pos = face_positive(face);

@@ -42,6 +42,12 @@ using MeshLookup = std::function<ChunkMesh*(ChunkCoord)>;
 
 class EditMesher {
 public:
+    // `isolated`: the meshes were made with air aprons (engine::LoadedScene::isolated, the seed
+    // scene: each chunk meshed alone, as in the thesis). Edits then read air beyond the chunk
+    // and leave the neighbours' meshes alone. Read from the world instead, an edit on a border
+    // kept the quad of a block it removed (the neighbour hid it "before", so it was not redone).
+    explicit EditMesher(bool isolated = false) : m_isolated(isolated) {}
+
     // Meshes chunk `c` of `world` from scratch into `meshes`.
     void mesh_chunk(const World& world, ChunkCoord c, MeshMap& meshes);
 
@@ -58,6 +64,7 @@ public:
     GreedyMesher& mesher() { return m_mesher; }
 
 private:
+    bool m_isolated = false;
     GreedyMesher m_mesher;
     Apron m_apron;
 };
