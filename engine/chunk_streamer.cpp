@@ -378,11 +378,16 @@ bool ChunkStreamer::neighbours_settled(ChunkCoord c) const {
 
 void ChunkStreamer::queue_mesh(ChunkCoord c) {
     // A chunk that wants no mesh now is not queued: refresh_region() queues it when it enters
-    // either box, and put_chunk() when its data arrives.
-    if (in_view(c))
+    // either box, and put_chunk() when its data arrives. But one still drawn (outside both boxes,
+    // not unloaded yet) is kept current: left out, its old mesh stayed drawn, and edits of it
+    // never reached the screen (their lookup finds no current mesh).
+    if (in_view(c)) {
         m_mesh_candidates.insert(c);
-    else if (wants_mesh(c))
+    } else if (wants_mesh(c)) {
         m_ahead_candidates.insert(c);
+    } else if (auto it = m_chunks.find(c); it != m_chunks.end() && it->second.in_sink) {
+        m_ahead_candidates.insert(c);
+    }
 }
 
 void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
@@ -413,7 +418,11 @@ void ChunkStreamer::schedule_meshes(Clock::time_point deadline) {
             if (st == m_chunks.end())
                 continue;
             ChunkState& s = st->second;
-            if (s.data != Data::Present || s.has_mesh || s.mesh_pending || !wants_mesh(c) || !neighbours_settled(c))
+            // Drawn only (queue_mesh): meshed whatever its neighbours, which may lie beyond the
+            // loaded ring; one that arrives later remeshes it (put_chunk, remesh_around).
+            const bool drawn_only = !wants_mesh(c);
+            if (s.data != Data::Present || s.has_mesh || s.mesh_pending || (drawn_only && !s.in_sink) ||
+                (!drawn_only && !neighbours_settled(c)))
                 continue; // A later put_chunk() or refresh_region() brings it back.
             unchecked = kCheckEvery;
             if (std::unique_ptr<Job> job = request_mesh(c, s))

@@ -6,10 +6,12 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -333,6 +335,43 @@ TEST(StoreFaults, AChangeDuringALoadIsReadOnceTheChunkIsPresent) {
     store.released.open();
     ASSERT_TRUE(settle(s, eye, now));
     EXPECT_TRUE(update_until_block(s, eye, now, BlockPos(8, 60, 8), 2)) << "the version committed during the load";
+}
+
+// A chunk outside the view, still drawn while its unload delay runs, whose neighbour another
+// process changed: the neighbour's reload asks it for a new mesh (its border may show). It was not
+// queued, wanting no mesh out there, so its old mesh stayed drawn and an edit of it never reached
+// the sink (the edit path found no current mesh). Now it is kept current while drawn.
+TEST(StoreFaults, AChunkStillDrawnOutsideTheViewIsKeptCurrent) {
+    struct Counts : MeshSink {
+        std::map<std::tuple<int, int, int>, int> meshes;
+        void on_mesh(ChunkCoord c, const ChunkMesh&, std::span<const int>) override { ++meshes[{c.x, c.y, c.z}]; }
+        void on_unload(ChunkCoord) override {}
+        int of(ChunkCoord c) { return meshes[{c.x, c.y, c.z}]; }
+    };
+    const TerrainGenerator gen(5);
+    const ChunkCoord c = chunk_of(BlockPos(8, 60, 8)), x = c + ChunkCoord(-1, 0, 0);
+    SharedFake store(c, Chunk(1));
+    store.released.open(); // Loads do not wait.
+    Counts sink;
+    StreamingSettings st = settings();
+    st.unload_delay_s = 600.0; // x stays loaded and drawn after the viewer leaves.
+    ChunkStreamer s(gen, &store, sink, st);
+    Clock::time_point now = Clock::now();
+    ASSERT_TRUE(settle(s, glm::dvec3(8.5, 60.5, 8.5), now));
+    ASSERT_NE(s.mesh(x), nullptr);
+    const glm::dvec3 away(8.5 + 64, 60.5, 8.5); // The view is chunks 1..3 in x: x (-1) is outside.
+    ASSERT_TRUE(settle(s, away, now));
+    ASSERT_NE(s.world().find_chunk(x), nullptr);
+    const int before = sink.of(x);
+    store.announce(Chunk(2));
+    ASSERT_TRUE(update_until_block(s, away, now, BlockPos(8, 60, 8), 2));
+    ASSERT_TRUE(settle(s, away, now));
+    EXPECT_GT(sink.of(x), before) << "remeshed after its neighbour's reload";
+    ASSERT_NE(s.mesh(x), nullptr);
+    const BlockPos p = chunk_origin(x) + BlockPos(16, 16, 16);
+    const int edited_before = sink.of(x);
+    ASSERT_TRUE(s.set_block(p, s.get_block(p) == kAir ? BlockId(1) : kAir).ok());
+    EXPECT_GT(sink.of(x), edited_before) << "the edit reached the sink";
 }
 
 // The store cannot name what changed (its pending changes overflowed, or it missed notifications
