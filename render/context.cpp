@@ -139,6 +139,12 @@ bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) const {
         swapchain = swapchain || std::strcmp(e.extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
     if (!swapchain)
         return false;
+    // Frames are blitted into the swapchain's images: a surface whose images cannot be a copy's
+    // destination cannot show them here (the spec guarantees only COLOR_ATTACHMENT usage).
+    VkSurfaceCapabilitiesKHR caps;
+    if (vkGetPhysicalDeviceSurfaceCapabilitiesKHR(pd, m_surface, &caps) != VK_SUCCESS ||
+        !(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+        return false;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
     std::vector<VkQueueFamilyProperties> qf(n);
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, qf.data());

@@ -89,8 +89,10 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
     const VkExtent2D extent = choose_extent(caps, framebuffer);
     if (extent.width == 0 || extent.height == 0)
         return false;
-    VX_ASSERT_MSG(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                  "the surface's images cannot be blitted to (no TRANSFER_DST usage)");
+    // The frame is blitted in. Context::can_present() turns such a surface down at create; one
+    // whose caps changed since is a surface this renderer cannot use (a lost context).
+    if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+        return m_ctx->check_device(VK_ERROR_SURFACE_LOST_KHR, "surface without TRANSFER_DST usage");
     // Frames in flight may still blit into or present the old images: wait (resizes are rare).
     m_ctx->wait_idle();
     if (m_ctx->lost())
@@ -124,15 +126,25 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
     m_swapchain = fresh;
     m_ctx->set_name(m_swapchain, VK_OBJECT_TYPE_SWAPCHAIN_KHR, "swapchain");
 
+    // Out of host or device memory here is reported as a lost context, as for the swapchain
+    // itself (it aborted): the game recreates the renderer, its world and edits kept.
     uint32_t n = 0;
-    VK_CHECK(vkGetSwapchainImagesKHR(m_ctx->device(), m_swapchain, &n, nullptr));
-    m_images.resize(n);
-    VK_CHECK(vkGetSwapchainImagesKHR(m_ctx->device(), m_swapchain, &n, m_images.data()));
+    m_images.clear();
     destroy_semaphores();
+    if (!m_ctx->check_device(vkGetSwapchainImagesKHR(m_ctx->device(), m_swapchain, &n, nullptr),
+                             "vkGetSwapchainImagesKHR"))
+        return false;
+    m_images.resize(n);
+    if (!m_ctx->check_device(vkGetSwapchainImagesKHR(m_ctx->device(), m_swapchain, &n, m_images.data()),
+                             "vkGetSwapchainImagesKHR")) {
+        m_images.clear();
+        return false;
+    }
     for (uint32_t i = 0; i < n; ++i) {
         VkSemaphoreCreateInfo si{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
         VkSemaphore s = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateSemaphore(m_ctx->device(), &si, nullptr, &s));
+        if (!m_ctx->check_device(vkCreateSemaphore(m_ctx->device(), &si, nullptr, &s), "vkCreateSemaphore (swapchain)"))
+            return false;
         m_render_done.push_back(s);
         const std::string name = "swapchain image " + std::to_string(i);
         m_ctx->set_name(m_images[i], VK_OBJECT_TYPE_IMAGE, name.c_str());

@@ -195,6 +195,29 @@ TEST_F(WindowTest, SurvivesAResizeEveryFrame) {
     expect_matches_headless(shown, 72, 56);
 }
 
+// Out of memory while the swapchain's images and semaphores are made (its first creation or a
+// resize) is a lost context the game recovers from with a new renderer, not an abort (they were
+// VK_CHECKed).
+TEST_F(WindowTest, OutOfMemoryMakingTheSwapchainIsALostDeviceNotAnAbort) {
+    for (const char* call : {"vkGetSwapchainImagesKHR", "vkCreateSemaphore (swapchain)"}) {
+        make_renderer(false);
+        ASSERT_NE(m_renderer, nullptr);
+        m_renderer->context().inject_result(call, VK_ERROR_OUT_OF_HOST_MEMORY);
+        Result<PresentResult> r = m_renderer->present(small_settings(), kCamera);
+        ASSERT_FALSE(r.ok()) << call;
+        EXPECT_NE(r.error().find("device was lost"), std::string::npos) << call << ": " << r.error();
+        EXPECT_TRUE(m_renderer->device_lost()) << call;
+        EXPECT_EQ(m_renderer->validation_errors(), 0u) << call;
+        m_renderer.reset(); // What the game does: a new renderer, which presents.
+        make_renderer(false);
+        ASSERT_NE(m_renderer, nullptr);
+        RenderImage shown;
+        present_frames(2, &shown);
+        expect_matches_headless(shown, 96, 64);
+        m_renderer.reset();
+    }
+}
+
 TEST_F(WindowTest, VsyncPresentsToo) {
     make_renderer(true);
     ASSERT_NE(m_renderer, nullptr);
