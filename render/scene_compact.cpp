@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "render/scene_accel.h"
+#include "world/base/log.h"
 
 namespace vx::render {
 
@@ -67,8 +68,21 @@ void SceneAccel::record_compaction_queries(VkCommandBuffer cmd) {
         VkQueryPoolCreateInfo ci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         ci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
         ci.queryCount = q.capacity;
-        VK_CHECK(vkCreateQueryPool(m_ctx->device(), &ci, nullptr, &q.pool));
-        m_ctx->set_name(q.pool, VK_OBJECT_TYPE_QUERY_POOL, "BLAS compacted sizes");
+        q.pool = VK_NULL_HANDLE;
+        const char* name = "BLAS compacted sizes";
+        const VkResult r = m_ctx->allocation_injected(name) ? VK_ERROR_OUT_OF_HOST_MEMORY // Test hook.
+                                                            : vkCreateQueryPool(m_ctx->device(), &ci, nullptr, &q.pool);
+        if (r != VK_SUCCESS) {
+            // Out of memory (it aborted): compaction only saves memory, so these chunks keep
+            // their build size and the frame goes on; a later build tries again.
+            VX_LOG_WARN("renderer: no query pool for BLAS compaction (%s): %u chunks stay uncompacted",
+                        vk_result_name(r), n);
+            q.pool = VK_NULL_HANDLE;
+            q.capacity = 0;
+            m_built_cold.clear();
+            return;
+        }
+        m_ctx->set_name(q.pool, VK_OBJECT_TYPE_QUERY_POOL, name);
     }
     std::vector<VkAccelerationStructureKHR> handles;
     handles.reserve(n);

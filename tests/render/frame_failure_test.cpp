@@ -253,5 +253,36 @@ TEST(FrameSize, TooLargeForTheDeviceIsRefusedWithTheEstimate) {
     EXPECT_NE(big.error().find("GiB"), std::string::npos) << big.error();
 }
 
+// No memory for the query pool that reads compacted BLAS sizes (it was VK_CHECKed: an abort in
+// the middle of a frame): compaction is skipped, the chunks keep their build size and draw the
+// same image, and chunks built once memory is back are compacted again.
+TEST(DeviceErrors, NoMemoryForCompactionQueriesLeavesChunksUncompacted) {
+    const world::World w = test::hills();
+    const world::MeshMap meshes = test::mesh_world(w);
+    const RenderSettings s = small(ShadingMode::Flat, false);
+    std::unique_ptr<Renderer> r = test::make_renderer();
+    ASSERT_NE(r, nullptr);
+    r->fail_allocations("BLAS compacted sizes");
+    test::load_meshes(*r, meshes);
+    RenderImage img;
+    uint32_t compactions = 0;
+    for (int i = 0; i < 4; ++i) {
+        img = r->render(s, kCamera);
+        compactions += r->last_stats().blas_compactions;
+    }
+    EXPECT_EQ(compactions, 0u);
+    EXPECT_FALSE(r->device_lost());
+    EXPECT_EQ(test::differing_bytes(test::fresh_render(meshes, s, kCamera), img), 0);
+    r->fail_allocations("");
+    r->clear_chunks();
+    test::load_meshes(*r, meshes);
+    for (int i = 0; i < 4; ++i) {
+        r->render(s, kCamera);
+        compactions += r->last_stats().blas_compactions;
+    }
+    EXPECT_GT(compactions, 0u);
+    EXPECT_EQ(r->validation_errors(), 0u);
+}
+
 } // namespace
 } // namespace vx::render
