@@ -60,6 +60,24 @@ layout(binding = 21, rgba16f) writeonly uniform image2D u_mirror_filter_out; // 
 
 #include "shared/denoise_common.glsl"
 
+// This frame's inputs are read through these. A non-finite value (radiance or a variance past
+// half float's 65504 where a driver stores infinity, a NaN from anywhere) reads as nothing:
+// radiance 0, variance unknown. Read as it was, one such sample made the whole frame NaN (the
+// a-trous taps of weight 0 still multiply: 0 * inf) and stayed in the history for good.
+bool finite4(vec4 v) { return !any(isinf(v)) && !any(isnan(v)); }
+vec4 color_at(ivec2 q) {
+    const vec4 c = imageLoad(u_color, q);
+    return finite4(c) ? c : vec4(0, 0, 0, -1);
+}
+vec4 reflected_at(ivec2 q) {
+    const vec4 r = imageLoad(u_reflected, q);
+    return finite4(r) ? r : vec4(0);
+}
+vec4 mirror_at(ivec2 q) {
+    const vec4 m = imageLoad(u_mirror, q);
+    return finite4(m) ? m : vec4(0, 0, 0, -1);
+}
+
 // Whether a surface's albedo (u_albedo, u_mirror_albedo) marks it near this frame's edits:
 // a = kEditedAlpha (1: a surface, 0: none; render/gbuffer.h), stored in 8 bits.
 bool edited(vec4 albedo) { return albedo.a > 0.25 && albedo.a < 0.75; }
@@ -79,12 +97,12 @@ bool mirror_inputs() { return (pc.params.w & kDenoiseMirror) != 0; }
 vec3 mirror_part(ivec2 p) {
     if (!mirror_inputs() || !has_surface(imageLoad(u_mirror_nd, p)))
         return vec3(0);
-    return imageLoad(u_mirror, p).rgb * imageLoad(u_mirror_albedo, p).rgb;
+    return mirror_at(p).rgb * imageLoad(u_mirror_albedo, p).rgb;
 }
 
 // The diffuse part over albedo (>= 0: the half-float difference may dip below).
 vec3 illumination(ivec2 p) {
-    const vec3 diffuse = max(imageLoad(u_color, p).rgb - imageLoad(u_reflected, p).rgb - mirror_part(p), vec3(0));
+    const vec3 diffuse = max(color_at(p).rgb - reflected_at(p).rgb - mirror_part(p), vec3(0));
     return diffuse / demod_albedo(imageLoad(u_albedo, p).rgb);
 }
 
@@ -115,7 +133,7 @@ float mirror_variance(ivec2 p, ivec2 size, vec4 mnd) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
             if (!same_mirror_surface(mnd, q))
                 continue;
-            const vec4 m = imageLoad(u_mirror, q);
+            const vec4 m = mirror_at(q);
             const float l = luminance(m.rgb);
             m1 += l;
             m2 += l * l;
@@ -138,7 +156,7 @@ vec3 clamp_mirror(vec3 history, ivec2 p, ivec2 size, vec4 mnd) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
             if (!same_mirror_surface(mnd, q))
                 continue;
-            const vec3 m = imageLoad(u_mirror, q).rgb;
+            const vec3 m = mirror_at(q).rgb;
             lo = min(lo, m);
             hi = max(hi, m);
         }
@@ -174,7 +192,7 @@ vec3 accumulate_mirror(ivec2 p, ivec2 size, Taps taps, float max_frames) {
     if ((pc.params.w & kDenoiseHistoryClamp) != 0 && frames > 0.0)
         history = clamp_mirror(history, p, size, mnd);
     frames = min(frames + 1, max_frames);
-    const vec3 accumulated = mix(history, imageLoad(u_mirror, p).rgb, 1.0 / frames);
+    const vec3 accumulated = mix(history, mirror_at(p).rgb, 1.0 / frames);
     imageStore(u_hist_mirror_out, p, vec4(accumulated, frames));
     imageStore(u_mirror_filter_out, p, vec4(accumulated, mirror_variance(p, size, mnd) / frames));
     return accumulated * imageLoad(u_mirror_albedo, p).rgb;
@@ -205,13 +223,13 @@ float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
 // filter (at 4 spp a 3x3 mean still left such pixels under-filtered, docs/render_report.md).
 // One loop for both. Negative: unknown (1 sample).
 vec2 own_variance(ivec2 p, ivec2 size, vec4 nd) {
-    if (imageLoad(u_color, p).a < 0.0)
+    if (color_at(p).a < 0.0)
         return vec2(-1.0);
     vec2 sum = vec2(0), n = vec2(0);
     for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-            const float v = imageLoad(u_color, q).a;
+            const float v = color_at(q).a;
             if (v < 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
             const float inner = max(abs(dx), abs(dy)) <= 1 ? 1.0 : 0.0;
@@ -244,7 +262,7 @@ float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
     for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
             const ivec2 q = clamp(p + 2 * ivec2(dx, dy), ivec2(0), size - 1);
-            const float d = imageLoad(u_reflected, q).a;
+            const float d = reflected_at(q).a;
             if (d == 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
             known += 1;
@@ -357,7 +375,7 @@ vec3 clamp_to_neighbourhood(vec3 history, ivec2 p, ivec2 size, vec4 nd) {
             const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
             if (!same_surface(nd, imageLoad(u_normal_depth, q)))
                 continue;
-            const vec3 r = imageLoad(u_reflected, q).rgb;
+            const vec3 r = reflected_at(q).rgb;
             lo = min(lo, r);
             hi = max(hi, r);
         }
@@ -447,19 +465,19 @@ void main() {
     const vec4 nd = imageLoad(u_normal_depth, p);
     imageStore(u_hist_nd_out, p, nd);
     if (!has_surface(nd)) { // Sky: nothing to filter or accumulate.
-        imageStore(u_hist_out, p, vec4(imageLoad(u_color, p).rgb, 0));
+        imageStore(u_hist_out, p, vec4(color_at(p).rgb, 0));
         imageStore(u_moments_out, p, vec4(0));
         imageStore(u_hist_refl_out, p, vec4(0));
         imageStore(u_refl_out, p, vec4(0));
-        imageStore(u_filter_out, p, vec4(imageLoad(u_color, p).rgb, 0));
+        imageStore(u_filter_out, p, vec4(color_at(p).rgb, 0));
         imageStore(u_hist_mirror_out, p, vec4(0));
         imageStore(u_mirror_filter_out, p, vec4(0));
         if ((pc.params.w & kDenoiseLastPass) != 0)
-            store_result(p, imageLoad(u_color, p).rgb, vec3(1), false, vec3(0));
+            store_result(p, color_at(p).rgb, vec3(1), false, vec3(0));
         return;
     }
     const vec3 illum = illumination(p);
-    const bool sun_blocked_here = imageLoad(u_reflected, p).a < 0.0; // render/gbuffer.h.
+    const bool sun_blocked_here = reflected_at(p).a < 0.0; // render/gbuffer.h.
     float frames = 0;
     vec3 history = vec3(0), history_reflected = vec3(0);
     vec4 moments = vec4(0);
@@ -552,8 +570,11 @@ void main() {
     const float pooled = (pc.params.w & kDenoiseHistoryClamp) != 0 && frames > 0.0 && variance_now >= 0.0
                              ? pooled_gap(p, history_pixel, size, nd, variance_now, variance_before, frames)
                              : 0.0;
-    if (pooled > 4.5)
-        frames = 0; // Stale: start again from this frame, as after a disocclusion.
+    if (pooled > 4.5) { // Stale: start again from this frame, as after a disocclusion.
+        frames = 0;
+        history = vec3(0); // mix(history, x, 1) is x only while history is finite.
+        moments = vec4(0);
+    }
     const vec3 accumulated = mix(history, illum, 1.0 / min(frames + 1, max_frames));
     if ((pc.params.w & kDenoiseHistoryClamp) != 0 && reflected_frames > 0.0)
         history_reflected = clamp_to_neighbourhood(history_reflected, p, size, nd);
@@ -564,7 +585,7 @@ void main() {
     // 0.0130; 1 frame costs the 1-spp rows 12%). A still camera keeps max_frames.
     const float moving_frames = moved ? min(max_frames, 2.0) : max_frames;
     reflected_frames = min(reflected_frames + 1, moving_frames);
-    const vec3 reflected = mix(history_reflected, imageLoad(u_reflected, p).rgb, 1.0 / reflected_frames);
+    const vec3 reflected = mix(history_reflected, reflected_at(p).rgb, 1.0 / reflected_frames);
     frames = min(frames + 1, max_frames);
     moments.xyz = mix(moments.xyz, vec3(lum, lum * lum, owns.y), 1.0 / frames);
     // Variance of one frame's estimate: the pixels' own from their light samples

@@ -12,8 +12,9 @@ float luminance(vec3 c) { return vx_luminance(c); }
 // Albedo used to demodulate: black albedo (sky, emitters without a colour) divides by 1.
 vec3 demod_albedo(vec3 albedo) { return max(albedo, vec3(1e-3)); }
 
-// A pixel with geometry: distance > 0 (render/gbuffer.h: a miss stores 0).
-bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0; }
+// A pixel with geometry: distance > 0 (render/gbuffer.h: a miss stores 0) and finite (past
+// half float's 65504 a driver may store infinity: read as a miss, not divided by).
+bool has_surface(vec4 normal_depth) { return normal_depth.w > 0.0 && !isinf(normal_depth.w); }
 
 // Whether `q` (normal + distance) continues the surface of `p`: a hit, the same normal, the
 // distance within 5% (SVGF's neighbourhood test for variance and history clamping).

@@ -392,6 +392,50 @@ TEST_F(DenoiserTest, AccumulationOfAStillCameraLowersTheErrorFurther) {
     }
 }
 
+// One non-finite input (radiance or a variance past half float's 65504 where a driver stores
+// infinity, a distance past it, a NaN) costs at most its own pixel in its own frame. It made the
+// whole frame NaN (the a-trous taps of weight 0 still multiplied: 0 * inf) and stayed in the
+// history for every frame after; a moving camera dragged it into a streak.
+TEST_F(DenoiserTest, ANonFiniteInputCostsOnePixelOneFrame) {
+    const GBuffer g = make_scene();
+    const float inf = INFINITY, nan = std::nanf("");
+    struct Case {
+        const char* what;
+        int channel; // Of the colour; -1: the distance of a patch.
+        float value;
+    };
+    const Case cases[] = {{"radiance inf", 0, inf}, {"variance inf", 3, inf}, {"radiance nan", 1, nan},
+                          {"distance inf", -1, inf}};
+    auto non_finite = [](const ImageF& img) {
+        int n = 0;
+        for (uint32_t y = 0; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x)
+                n += !std::isfinite(img.at(x, y)[0]) || !std::isfinite(img.at(x, y)[1]) || !std::isfinite(img.at(x, y)[2]);
+        return n;
+    };
+    for (const Case& c : cases)
+        for (const float move : {0.f, 0.5f}) {
+            Denoiser denoiser(*m_ctx, kW, kH);
+            DenoiseSettings s;
+            s.max_history = 16;
+            glm::mat4 reproject(1.f);
+            reproject[2][0] = move; // The history pixel is this one + move in x: a moving camera.
+            for (uint32_t frame = 0; frame < 12; ++frame) {
+                ImageF in = noisy(g, 4, 700 + frame);
+                ImageF nd = g.normal_depth;
+                if (frame == 0 && c.channel >= 0)
+                    in.at(20, 20)[c.channel] = c.value;
+                if (frame == 0 && c.channel < 0)
+                    for (uint32_t y = 16; y < 20; ++y)
+                        for (uint32_t x = 4; x < 10; ++x)
+                            nd.at(x, y)[3] = c.value;
+                const ImageF out = denoise_on_host(*m_ctx, denoiser, in, g.albedo, nd, s, reproject);
+                EXPECT_LE(non_finite(out), frame == 0 ? (c.channel < 0 ? 24 : 1) : 0)
+                    << c.what << ", move " << move << ", frame " << frame;
+            }
+        }
+}
+
 TEST_F(DenoiserTest, ChangedBlocksDropTheirHistory) {
     // Accumulate a noise-free scene, then move the wall's edge 8 columns left: those pixels turn
     // from floor (normal +y) to wall (+z), so their history must be rejected and the next frame
