@@ -7,6 +7,7 @@
 #include <cstring>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 #include <glm/gtc/packing.hpp>
 
@@ -33,12 +34,14 @@ namespace vx::render {
 // the light cache's resolve pass (a compute shader) when the frame caches.
 constexpr VkPipelineStageFlags2 kTraceStages =
     VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-// Bytes per pixel of the G-buffer images in the read-back buffer: radiance, albedo, normal_depth,
-// reflected, then the denoiser's output (the final radiance, when the denoiser ran).
-constexpr VkDeviceSize kGBufferPixelBytes[5] = {8, 4, 8, 8, 8};
-constexpr VkDeviceSize kGBufferReadbackPixelBytes = kGBufferPixelBytes[0] + kGBufferPixelBytes[1] +
-                                                    kGBufferPixelBytes[2] + kGBufferPixelBytes[3] +
-                                                    kGBufferPixelBytes[4];
+// The G-buffer read-back buffer: per pixel, radiance, normal_depth, reflected and the denoiser's
+// output (8 bytes each: RGBA16F), then albedo (4: RGBA8). Section k starts at pixels *
+// kGBufferSectionAt[k]. The 8-byte texels come first so every copy's bufferOffset is a multiple
+// of its texel size at any pixel count (VUID-vkCmdCopyImageToBuffer-bufferOffset-01558: albedo
+// second left the later sections 4 bytes off whenever width x height was odd).
+enum GBufferSection { kRadianceSection, kNormalDepthSection, kReflectedSection, kDenoisedSection, kAlbedoSection };
+constexpr VkDeviceSize kGBufferSectionAt[5] = {0, 8, 16, 24, 32};
+constexpr VkDeviceSize kGBufferReadbackPixelBytes = 36;
 
 struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
@@ -860,25 +863,26 @@ void Renderer::Impl::record_gbuffer_readback(VkCommandBuffer cmd, const RenderSe
     VX_ASSERT(gbuffer_readback.size() == pixels * kGBufferReadbackPixelBytes);
     // Last use of the frame's G-buffer (the next frame starts it from UNDEFINED).
     const GBuffer& g = gbuffers[ctx->frame_slot()];
-    const VkImage images[4] = {g.radiance.handle(), g.albedo.handle(), g.normal_depth.handle(), g.reflected.handle()};
-    VkDeviceSize offset = 0;
+    const std::pair<VkImage, GBufferSection> images[4] = {{g.radiance.handle(), kRadianceSection},
+                                                          {g.albedo.handle(), kAlbedoSection},
+                                                          {g.normal_depth.handle(), kNormalDepthSection},
+                                                          {g.reflected.handle(), kReflectedSection}};
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {s.width, s.height, 1};
-    for (int i = 0; i < 4; ++i) {
-        image_barrier(cmd, images[i], VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    for (const auto& [image, section] : images) {
+        image_barrier(cmd, image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                       kTraceStages, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                       VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-        region.bufferOffset = offset;
-        vkCmdCopyImageToBuffer(cmd, images[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, gbuffer_readback.handle(), 1,
+        region.bufferOffset = pixels * kGBufferSectionAt[section];
+        vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, gbuffer_readback.handle(), 1,
                                &region);
-        offset += pixels * kGBufferPixelBytes[i];
     }
     // The denoiser's output stays in GENERAL (its next frame writes it again).
     if (denoise_active(s)) {
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-        region.bufferOffset = offset;
+        region.bufferOffset = pixels * kGBufferSectionAt[kDenoisedSection];
         vkCmdCopyImageToBuffer(cmd, denoiser->output().handle(), VK_IMAGE_LAYOUT_GENERAL, gbuffer_readback.handle(), 1,
                                &region);
     }
@@ -900,19 +904,17 @@ void Renderer::Impl::read_gbuffer(GBufferImage& out, const RenderSettings& s) co
     };
     out.width = s.width;
     out.height = s.height;
-    halves(out.radiance, src);
-    src += pixels * kGBufferPixelBytes[0];
+    auto section = [&](GBufferSection k) { return src + pixels * kGBufferSectionAt[k]; };
+    halves(out.radiance, section(kRadianceSection));
+    const uint8_t* albedo = section(kAlbedoSection);
     out.albedo.resize(pixels);
     for (size_t i = 0; i < pixels; ++i)
-        out.albedo[i] = glm::vec4(src[i * 4], src[i * 4 + 1], src[i * 4 + 2], src[i * 4 + 3]) / 255.f;
-    src += pixels * kGBufferPixelBytes[1];
-    halves(out.normal_depth, src);
-    src += pixels * kGBufferPixelBytes[2];
-    halves(out.reflected, src);
-    src += pixels * kGBufferPixelBytes[3];
+        out.albedo[i] = glm::vec4(albedo[i * 4], albedo[i * 4 + 1], albedo[i * 4 + 2], albedo[i * 4 + 3]) / 255.f;
+    halves(out.normal_depth, section(kNormalDepthSection));
+    halves(out.reflected, section(kReflectedSection));
     std::vector<glm::vec4> denoised;
     if (denoise_active(s))
-        halves(denoised, src);
+        halves(denoised, section(kDenoisedSection));
     const std::vector<glm::vec4>& final_radiance = denoise_active(s) ? denoised : out.radiance;
     const bool tone_mapped = s.mode == ShadingMode::Full;
     const float exposure = gpu::vx_exposure_scale(frame_ev100);
