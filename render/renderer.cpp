@@ -43,6 +43,18 @@ enum GBufferSection { kRadianceSection, kNormalDepthSection, kReflectedSection, 
 constexpr VkDeviceSize kGBufferSectionAt[5] = {0, 8, 16, 24, 32};
 constexpr VkDeviceSize kGBufferReadbackPixelBytes = 36;
 
+// An exponent outside (0, 1] (NaN too) counts as 1: pow() of NaN would make every count
+// undefined. The facade and `vx render` refuse such values (weight_exponent_valid).
+static float effective_weight_exponent(const RenderSettings& s) {
+    return weight_exponent_valid(s.weight_exponent) ? s.weight_exponent : 1.f;
+}
+
+// The light cache's cell width, clamped; not finite: the default (renderer.h).
+static float effective_cell_pixels(const RenderSettings& s) {
+    return std::isfinite(s.light_cache_pixels) ? std::clamp(s.light_cache_pixels, kMinLightCachePixels, kMaxLightCachePixels)
+                                               : RenderSettings{}.light_cache_pixels;
+}
+
 struct Renderer::Impl {
     std::unique_ptr<Context> ctx;
     std::unique_ptr<SceneAccel> accel;
@@ -594,9 +606,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     const EmitterCounts emitters = write_emitter_list(cam.block, s.emitter_sampling);
     frame_samples_faces = emitters.quads > 0;
     p.flags = glm::uvec4(s.sky_access ? 1u : 0u, emitters.chunks, emitters.quads, emitters.covered);
-    // An exponent outside (0, 1] (NaN too) counts as 1: pow() of NaN would make every count
-    // undefined. The facade and `vx render` refuse such values (weight_exponent_valid).
-    const float exponent = weight_exponent_valid(s.weight_exponent) ? s.weight_exponent : 1.f;
+    const float exponent = effective_weight_exponent(s);
     p.sampling = glm::uvec4(s.samples_by_weight ? 1u : 0u, glm::floatBitsToUint(exponent), 0u, 0u);
     const uint32_t slot = ctx->frame_slot();
     metering[slot] = metered(s);
@@ -614,9 +624,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.materials = materials.address();
     frame_cached = cache_active(s);
     if (frame_cached) { // Made and sized by prepare_frame.
-        const float cell_pixels = std::isfinite(s.light_cache_pixels)
-                                      ? std::clamp(s.light_cache_pixels, kMinLightCachePixels, kMaxLightCachePixels)
-                                      : RenderSettings{}.light_cache_pixels;
+        const float cell_pixels = effective_cell_pixels(s);
         p.cache = glm::uvec4(light_cache->cells(), cached_bounces(s), std::bit_cast<uint32_t>(cell_pixels), 0u);
         p.cache_table = light_cache->table();
         p.cache_records = light_cache->records();
@@ -772,14 +780,17 @@ static glm::dmat4 view_from_world(const Camera& cam, world::BlockPos origin) {
 
 // Whether frames of `a` and `b` estimate the same image with the same samples (the history of
 // one may be averaged with the other). Lights and sky may change under a kept history.
+// The values the frame uses (a NaN compared unequal to itself, restarting the history every frame;
+// a setting that is off does not count).
 static bool same_sampling(const RenderSettings& a, const RenderSettings& b) {
     return a.mode == b.mode && a.shadow_samples == b.shadow_samples &&
            a.bounce_shadow_samples.value_or(a.shadow_samples) == b.bounce_shadow_samples.value_or(b.shadow_samples) &&
-           a.samples_by_weight == b.samples_by_weight && a.weight_exponent == b.weight_exponent &&
+           a.samples_by_weight == b.samples_by_weight &&
+           (!a.samples_by_weight || effective_weight_exponent(a) == effective_weight_exponent(b)) &&
            a.max_bounces == b.max_bounces &&
            a.accumulate == b.accumulate && a.denoise == b.denoise &&
            a.history_clamp == b.history_clamp && a.denoise_reflections == b.denoise_reflections &&
-           a.light_cache == b.light_cache && a.light_cache_pixels == b.light_cache_pixels;
+           a.light_cache == b.light_cache && (!a.light_cache || effective_cell_pixels(a) == effective_cell_pixels(b));
 }
 
 // The denoiser after the trace: reads the G-buffer (render/gbuffer.h), writes the target.

@@ -1,6 +1,7 @@
 // The light cache (render/light_cache.h, shaders/shared/light_cache.glsl) on lavapipe: hits that
 // share their light through the cache give a frame with far less noise and nearly the same long
 // mean; a table too small for the frame's cells, and no memory for the cache, lose no light.
+#include <cmath>
 #include <cstdio>
 
 #include "render/image_metrics.h"
@@ -52,6 +53,37 @@ double one_frame_error(Renderer& r, RenderSettings s, const ImageF& reference) {
 // The cache's frame has far less noise than the hits' own samples, and its long mean (its bias:
 // the light's change over a cell, which the resolve weighs against the noise) stays close to
 // the plain mean.
+// A light-cache width or a sampling exponent that is not finite means the default (renderer.h):
+// accumulated frames with it are the default's frames, byte for byte. NaN compared unequal to
+// itself, so the history restarted in every frame and never accumulated.
+TEST(RendererSettings, NonFiniteMeansTheDefaultAndKeepsTheHistory) {
+    const world::MeshMap meshes = test::mesh_world(courtyard());
+    auto frame_8 = [&](const RenderSettings& s) {
+        std::unique_ptr<Renderer> r = test::make_renderer();
+        EXPECT_NE(r, nullptr);
+        if (!r)
+            return RenderImage{};
+        test::load_meshes(*r, meshes);
+        RenderImage img;
+        for (int i = 0; i < 8; ++i)
+            img = r->render(s, kView);
+        EXPECT_EQ(r->validation_errors(), 0u);
+        return img;
+    };
+    RenderSettings cached = lit(2, true);
+    cached.accumulate = 8;
+    cached.denoise = true;
+    RenderSettings nan_cell = cached;
+    nan_cell.light_cache_pixels = std::nanf("");
+    EXPECT_EQ(test::differing_bytes(frame_8(cached), frame_8(nan_cell)), 0);
+    RenderSettings weighted = lit(2, false);
+    weighted.accumulate = 8;
+    weighted.samples_by_weight = true;
+    RenderSettings nan_exponent = weighted;
+    nan_exponent.weight_exponent = std::nanf("");
+    EXPECT_EQ(test::differing_bytes(frame_8(weighted), frame_8(nan_exponent)), 0);
+}
+
 TEST_F(RendererTest, SharedLightHasLessNoiseAndNearlyTheSameMean) {
     test::load_meshes(*m_renderer, test::mesh_world(courtyard()));
     RenderSettings ref_s = lit(16, false);
