@@ -83,21 +83,6 @@ std::optional<world::LodViewSettings> lod_settings(const StreamingDesc& d, const
     return s;
 }
 
-// Coarse chunks the level boxes hold around a viewer: the LodStreamer keeps every one (a node, and
-// its block data once loaded). Accepted settings asked for 66 million (lod_ring 64, vertical reach
-// 65536, view distance 65536): the first update took 95 s and 7.5 GB before any block data.
-inline constexpr uint64_t kMaxLodBoxChunks = uint64_t(1) << 20;
-
-uint64_t lod_box_chunks(const world::LodViewSettings& s) {
-    const world::LodView view(glm::dvec3(0.0), s);
-    uint64_t n = 0;
-    for (int k = 1; k <= view.top_level(); ++k) {
-        const uint64_t w = 2 * uint64_t(view.half_width(k)) + 1, h = 2 * uint64_t(view.half_height(k)) + 1;
-        n += w * w * h;
-    }
-    return n;
-}
-
 Result<std::unique_ptr<render::Renderer>> make_renderer(const RenderDesc& desc, const world::BlockRegistry& registry) {
     auto choice = render::parse_device_choice(desc.device);
     if (!choice)
@@ -223,9 +208,9 @@ Result<std::unique_ptr<Engine>> Engine::create(const EngineCreateInfo& info) {
     m.sink = std::make_unique<engine::EngineSink>(m.renderer.get(), info.chunk_events);
     engine::MeshSink* meshes = m.sink.get();
     if (auto lod = lod_settings(info.streaming, *m.world.generator)) {
-        if (const uint64_t n = lod_box_chunks(*lod); n > kMaxLodBoxChunks)
+        if (const uint64_t n = world::lod_box_chunks(*lod); n > world::kMaxLodBoxChunks)
             return Error{"levels of detail would keep " + std::to_string(n) + " coarse chunks around the viewer (at most " +
-                         std::to_string(kMaxLodBoxChunks) + "): lower lod_vertical_reach, lod_ring or view_distance"};
+                         std::to_string(world::kMaxLodBoxChunks) + "): lower lod_vertical_reach, lod_ring or view_distance"};
         m.lod = std::make_unique<engine::LodStreamer>(*m.world.generator, m.world.store.get(), *m.sink, *lod,
                                                       m.world.registry);
         meshes = m.lod.get();

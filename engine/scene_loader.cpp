@@ -214,6 +214,10 @@ Status load_terrain_view(JobSystem& jobs, LoadedScene& scene, const SceneLoadInf
                      std::to_string(kMaxLodVerticalReach) + " blocks up or down"};
     vs.view_distance = a.view_distance;
     vs.max_level = a.lod ? kMaxLodLevel : 0;
+    if (a.lod)
+        if (const uint64_t n = lod_box_chunks(vs); n > kMaxLodBoxChunks)
+            return Error{"levels of detail would hold " + std::to_string(n) + " coarse chunks around the eye (at most " +
+                         std::to_string(kMaxLodBoxChunks) + "): lower --view-distance or --lod-ring, or the eye"};
     const LodView view(viewer, vs);
     std::vector<ChunkCoord> inner;
     std::vector<LodCoord> coarse;

@@ -79,5 +79,23 @@ TEST(LodSceneLoader, CoversFullDetailExactlyOnceWithCoarseChunksMeshedInIsolatio
     EXPECT_EQ(lod->levels[0].chunks, lod->meshes.size());
 }
 
+// An eye far above the terrain with a wide ring: the coarse boxes reach down to the terrain from
+// 65,000 blocks up and would hold 27 million chunks (`vx render --view-distance 4096 --lod-ring 64
+// --eye 0,65000,0`): refused with the count, as the engine refuses such settings at create.
+TEST(LodSceneLoader, TooManyCoarseChunksAreRefused) {
+    JobSystem jobs(batch_job_system_info(1));
+    SceneLoadInfo info = view(true);
+    info.view_distance = 4096;
+    info.lod_ring = 64;
+    info.eye = WorldPos{{0, 65000, 0}, glm::dvec3(0.5)};
+    auto scene = load_scene(jobs, info);
+    ASSERT_FALSE(scene);
+    EXPECT_NE(scene.error().find("coarse chunks around the eye (at most 1048576)"), std::string::npos) << scene.error();
+    info.eye.reset(); // The same settings from the default eye, near the ground, load.
+    info.view_distance = 300;
+    info.lod_ring = 2;
+    EXPECT_TRUE(load_scene(jobs, info));
+}
+
 } // namespace
 } // namespace vx::engine

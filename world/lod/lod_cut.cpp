@@ -114,4 +114,14 @@ void LodView::coarse_chunks(std::vector<LodCoord>& out, double extra) const {
     }
 }
 
+uint64_t lod_box_chunks(const LodViewSettings& settings) {
+    const LodView view(glm::dvec3(0.0), settings);
+    uint64_t n = 0;
+    for (int k = 1; k <= view.top_level(); ++k) {
+        const uint64_t w = 2 * uint64_t(view.half_width(k)) + 1, h = 2 * uint64_t(view.half_height(k)) + 1;
+        n += w * w * h;
+    }
+    return n;
+}
+
 } // namespace vx::world

@@ -86,4 +86,12 @@ private:
     std::array<int, kMaxLodLevel + 1> m_half{}, m_half_v{};
 };
 
+// Coarse chunks the level boxes of `settings` hold around a viewer (levels 1..top): what an
+// engine's LOD streamer keeps (a node, and block data once loaded), and at most what one view's
+// cut draws. Settings whose boxes hold more than kMaxLodBoxChunks are refused where they are
+// received (the engine at create, `vx render` at load): lod_ring 64, vertical reach 65536 and view
+// distance 65536 asked for 66 million, whose first update took 95 s and 7.5 GB.
+inline constexpr uint64_t kMaxLodBoxChunks = uint64_t(1) << 20;
+uint64_t lod_box_chunks(const LodViewSettings& settings);
+
 } // namespace vx::world
