@@ -85,7 +85,7 @@ VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
     if (d.depth_format != VK_FORMAT_UNDEFINED) {
         depth.depthTestEnable = VK_TRUE;
         depth.depthWriteEnable = VK_TRUE;
-        depth.depthCompareOp = VK_COMPARE_OP_LESS;
+        depth.depthCompareOp = VK_COMPARE_OP_GREATER; // Reversed depth (raster_pipeline.h).
     }
     const VkPipelineColorBlendAttachmentState attachment = blend_attachment(d.alpha_blend);
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};

@@ -27,7 +27,7 @@ struct GraphicsPipelineDesc {
     const char* name = "";                // The pipeline's debug name.
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkFormat color_format = VK_FORMAT_UNDEFINED;
-    VkFormat depth_format = VK_FORMAT_UNDEFINED; // Set: depth test LESS with writes.
+    VkFormat depth_format = VK_FORMAT_UNDEFINED; // Set: depth test GREATER (reversed) with writes.
     bool alpha_blend = false; // Straight alpha over the attachment; the attachment's alpha stays.
 };
 

@@ -1,5 +1,7 @@
 #include "render/raster_pipeline.h"
 
+#include <cmath>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/commands.h"
@@ -97,7 +99,7 @@ uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
     depth_info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     depth_info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     depth_info.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    depth_info.clearValue.depthStencil = {1.f, 0};
+    depth_info.clearValue.depthStencil = {0.f, 0}; // Reversed depth: 0 is infinitely far.
     VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
     ri.renderArea = {{0, 0}, {f.width, f.height}};
     ri.layerCount = 1;
@@ -142,7 +144,8 @@ uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
 bool raster_box_visible(const glm::mat4& m, glm::vec3 lo, glm::vec3 hi) {
     // Planes of the clip volume -w <= x, y <= w, 0 <= z <= w as rows of m (Gribb and Hartmann,
     // "Fast extraction of viewing frustum planes", 2001): a point p is inside plane n when
-    // dot(n, (p, 1)) >= 0. A box is outside when its corner furthest along n is outside.
+    // dot(n, (p, 1)) >= 0. A box is outside when its corner furthest along n is outside. With
+    // reversed infinite depth z <= w is the near plane and 0 <= z holds everywhere (no far plane).
     const glm::vec4 r0(m[0][0], m[1][0], m[2][0], m[3][0]), r1(m[0][1], m[1][1], m[2][1], m[3][1]),
         r2(m[0][2], m[1][2], m[2][2], m[3][2]), r3(m[0][3], m[1][3], m[2][3], m[3][3]);
     const glm::vec4 planes[6] = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2};
@@ -154,12 +157,16 @@ bool raster_box_visible(const glm::mat4& m, glm::vec3 lo, glm::vec3 hi) {
     return true;
 }
 
-glm::mat4 raster_clip_from_eye(glm::vec3 forward, glm::vec3 up, float fov_y_degrees, float aspect, float near_plane,
-                               float far_plane) {
+glm::mat4 raster_clip_from_eye(glm::vec3 forward, glm::vec3 up, float fov_y_degrees, float aspect, float near_plane) {
     // The ray tracer's basis (renderer.cpp write_params): right = fwd x up, up' = right x fwd.
     const glm::mat4 view = glm::lookAtRH(glm::vec3(0.f), glm::normalize(forward), up);
-    glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(fov_y_degrees), aspect, near_plane, far_plane);
-    proj[1][1] = -proj[1][1]; // Vulkan's y points down, as the image rows.
+    // Reversed, infinite (raster_pipeline.h): clip z = near, w = distance along the view axis.
+    const float f = 1.f / std::tan(glm::radians(fov_y_degrees) * 0.5f);
+    glm::mat4 proj(0.f);
+    proj[0][0] = f / aspect;
+    proj[1][1] = -f; // Vulkan's y points down, as the image rows.
+    proj[2][3] = -1.f;
+    proj[3][2] = near_plane;
     return proj * view;
 }
 

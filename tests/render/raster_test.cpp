@@ -102,16 +102,50 @@ TEST_F(RendererTest, RasterSkipsChunksOutsideTheFrustumAndKeepsCoverage) {
     EXPECT_LE(coverage_diff, s.width * s.height / 200) << coverage_diff << " pixels differ in coverage";
 }
 
-// The frustum test on its own (no GPU): boxes in front, behind, beside and beyond the far plane.
+// Far surfaces keep their order: a stone slab 3 blocks in front of a sand wall, seen from 2,000
+// and from 9,000 blocks (a level-of-detail view's distances) through a narrow field of view. With
+// depth 0..1 to a far plane of 8192 the sand covered the stone at 2,000 (24 blocks of depth
+// resolution there) and both vanished past about 7,900; reversed depth draws what the ray tracer
+// does.
+TEST_F(RendererTest, RasterKeepsFarSurfacesInOrder) {
+    world::World w;
+    test::fill_box(w, {0, 0, 3}, {16, 16, 4}, test::block_id("sand"));
+    test::fill_box(w, {4, 4, 0}, {12, 12, 1}, test::block_id("stone"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Flat;
+    for (const double distance : {2000.0, 9000.0}) {
+        const Camera cam = Camera::look_at({8.0, 8.0, -distance}, {8.0, 8.0, 0.0}, {0, 1, 0}, 1.5f * 2000.f / float(distance));
+        s.pipeline = PipelineKind::RayTraced;
+        const RenderImage rt = m_renderer->render(s, cam);
+        s.pipeline = PipelineKind::Raster;
+        const RenderImage raster = m_renderer->render(s, cam);
+        // The centre pixel sees the stone slab; the corners see the sand around it.
+        uint32_t stone = 0, differ = 0;
+        for (uint32_t y = 0; y < s.height; ++y)
+            for (uint32_t x = 0; x < s.width; ++x) {
+                stone += rt.at(x, y) == rt.at(16, 16);
+                differ += rt.at(x, y) != raster.at(x, y);
+            }
+        EXPECT_NE(rt.at(16, 16), rt.at(1, 1)) << distance;
+        EXPECT_GT(stone, 10u) << distance << ": the ray tracer sees the slab";
+        EXPECT_LE(differ, 8u) << distance << ": raster pixels that differ from the ray tracer's";
+    }
+}
+
+// The frustum test on its own (no GPU): boxes in front, behind, beside; no far plane.
 TEST(RasterBoxVisible, CullsBoxesOutsideTheViewVolume) {
     // Looking along -z (fov 60, aspect 1): x, y within |z| tan(30°) are in view.
-    const glm::mat4 m = raster_clip_from_eye({0, 0, -1}, {0, 1, 0}, 60.f, 1.f, 0.02f, 1000.f);
+    const glm::mat4 m = raster_clip_from_eye({0, 0, -1}, {0, 1, 0}, 60.f, 1.f, 0.02f);
     EXPECT_TRUE(raster_box_visible(m, {-1, -1, -11}, {1, 1, -9}));     // Straight ahead.
     EXPECT_FALSE(raster_box_visible(m, {-1, -1, 9}, {1, 1, 11}));      // Behind.
     EXPECT_FALSE(raster_box_visible(m, {20, -1, -11}, {22, 1, -9}));   // Right of the view: 10 tan 30° ≈ 5.8.
     EXPECT_FALSE(raster_box_visible(m, {-1, 20, -11}, {1, 22, -9}));   // Above.
     EXPECT_TRUE(raster_box_visible(m, {5, -1, -11}, {7, 1, -9}));      // Straddles the right plane.
-    EXPECT_FALSE(raster_box_visible(m, {-1, -1, -1200}, {1, 1, -1100})); // Beyond the far plane.
+    EXPECT_TRUE(raster_box_visible(m, {-1, -1, -1.2e6f}, {1, 1, -1.1e6f})); // Far: no far plane.
+    EXPECT_FALSE(raster_box_visible(m, {-1, -1, -0.01f}, {1, 1, 0.01f}));   // Only before the near plane.
     EXPECT_TRUE(raster_box_visible(m, {-4, -4, -4}, {4, 4, 4}));       // Around the eye.
 }
 
