@@ -39,7 +39,11 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.max_bounces = s.max_bounces;
     r.sky = s.sky;
     r.sky_light = s.sky_light;
-    r.sun.direction = s.sun.direction;
+    // Normalised in double: a float length of {1e20, 1e20, 1e20} is infinite (the shader got a
+    // zero direction and sampled a ring round the horizon), of {1e-25, ...} zero (no sun).
+    const glm::dvec3 sun(s.sun.direction);
+    const double sun_length = glm::length(sun);
+    r.sun.direction = sun_length > 0.0 ? glm::vec3(sun / sun_length) : glm::vec3(0.f);
     r.sun.angular_radius_degrees = s.sun.angular_radius_degrees;
     r.sun.irradiance = s.sun.irradiance;
     r.denoise = s.denoise;
@@ -124,8 +128,14 @@ Status check_render_settings(const RenderSettings& s) {
     if (!finite3(s.sun.direction) || !non_negative3(s.sun.irradiance) ||
         !(s.sun.angular_radius_degrees >= 0.f && s.sun.angular_radius_degrees < 90.f))
         return Error{"render settings: the sun needs a finite direction, irradiance >= 0 and a radius of 0..90 degrees"};
-    if (!finite3(s.light.edge_u) || !finite3(s.light.edge_v) || !non_negative3(s.light.emission))
-        return Error{"render settings: the area light needs finite edges and emission >= 0"};
+    if (glm::dvec3(s.sun.direction) == glm::dvec3(0.0) && s.sun.irradiance != glm::vec3(0.f))
+        return Error{"render settings: the sun's direction is zero (irradiance 0 turns the sun off)"};
+    // An edge of 2^20 blocks keeps the light's area (their cross product) finite in float: edges
+    // of 1e20 made it infinite, so the ray tracer dropped the light and the raster drew black.
+    constexpr double kMaxLightEdge = double(1 << 20);
+    if (!finite3(s.light.edge_u) || !finite3(s.light.edge_v) || !non_negative3(s.light.emission) ||
+        glm::length(glm::dvec3(s.light.edge_u)) > kMaxLightEdge || glm::length(glm::dvec3(s.light.edge_v)) > kMaxLightEdge)
+        return Error{"render settings: the area light needs edges of at most 2^20 blocks and emission >= 0"};
     if (!std::isfinite(s.exposure.ev100) || !std::isfinite(s.exposure.adapt_speed) || s.exposure.adapt_speed < 0.f)
         return Error{"render settings: exposure ev100 must be finite and adapt_speed finite and >= 0"};
     if (!(s.haze.visibility > 0.f) || !std::isfinite(s.haze.height_falloff) || s.haze.height_falloff < 0.f ||

@@ -236,13 +236,14 @@ struct ScreenRay {
 struct Light {
     bool follow_viewer = true;       // `corner` is relative to the viewer's block.
     BlockPos corner{-40, 120, -60};  // World block (or offset from the viewer's block).
-    glm::vec3 edge_u{48.f, 0.f, 0.f}, edge_v{0.f, 0.f, 48.f};
+    glm::vec3 edge_u{48.f, 0.f, 0.f}, edge_v{0.f, 0.f, 48.f}; // Each at most 2^20 blocks long.
     glm::vec3 emission{20.f};        // Radiance, linear RGB.
 };
 
 // The sun: a directional light with a soft disc (its shadows are sampled over the disc).
 struct Sun {
-    glm::vec3 direction{0.35f, 1.f, 0.2f}; // World space, towards the sun; need not be unit.
+    glm::vec3 direction{0.35f, 1.f, 0.2f}; // World space, towards the sun; need not be unit (not 0
+                                           // while irradiance is not 0).
     float angular_radius_degrees = 0.27f;  // Half the disc's apparent size (the real sun: 0.27).
     glm::vec3 irradiance{3.f, 2.9f, 2.7f}; // Linear RGB on a surface facing the sun; 0: no sun.
 };

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -307,6 +308,44 @@ glm::u8vec4 centre_pixel(bool window_transparent) {
     EXPECT_TRUE(e.render_to_image(img));
     EXPECT_EQ(e.stats().validation_errors, 0u);
     return img.at(8, 8);
+}
+
+// A sun direction of any finite length is the same sun: {1e20, 1e20, 1e20} (infinitely long in
+// float: the shader got a zero direction and sampled a ring round the horizon) and {1e-25, ...}
+// (zero in float: no sun) render as {1, 1, 1} does. A zero direction with the sun on, and area
+// light edges whose area overflows float, are refused where they are handed over.
+TEST(FacadeRender, TheSunsDirectionNeedNotBeUnit) {
+    auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 48, 32));
+    if (!engine)
+        GTEST_SKIP() << "no ray-tracing device: " << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(e.set_viewer(terrain_view()));
+    ASSERT_TRUE(settle(e));
+    auto frame = [&](glm::vec3 sun) {
+        vx::RenderSettings r;
+        r.shadow_samples = 2;
+        r.sun.direction = sun;
+        EXPECT_TRUE(e.set_render_settings(r));
+        vx::Image img;
+        EXPECT_TRUE(e.render_to_image(img));
+        return img.rgba;
+    };
+    const std::vector<uint8_t> unit = frame({1.f, 1.f, 1.f});
+    EXPECT_EQ(frame({1e20f, 1e20f, 1e20f}), unit);
+    EXPECT_EQ(frame({1e-25f, 1e-25f, 1e-25f}), unit);
+    vx::RenderSettings r;
+    r.sun.direction = glm::vec3(0.f);
+    const vx::Status zero = e.set_render_settings(r);
+    ASSERT_FALSE(zero);
+    EXPECT_NE(zero.error().find("direction is zero"), std::string::npos) << zero.error();
+    r.sun.irradiance = glm::vec3(0.f); // No sun: any direction.
+    EXPECT_TRUE(e.set_render_settings(r));
+    r = vx::RenderSettings{};
+    r.light.edge_u = {1e20f, 0.f, 0.f};
+    EXPECT_FALSE(e.set_render_settings(r));
+    r.light.edge_u = {float(1 << 20), 0.f, 0.f};
+    EXPECT_TRUE(e.set_render_settings(r));
+    EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 
 TEST(FacadeRender, TransparentBlockShowsWhatIsBehind) {
