@@ -74,7 +74,7 @@ int run_bench(int argc, char** argv) {
     return kExitBadInput;
 #else
     if (argc < 2 || argv[1][0] == '-') {
-        std::fprintf(stderr, "usage: vx bench SUITE [--benchmark_* flags]   (suites: mesh, terrain, stream, store, pg)\n");
+        std::fprintf(stderr, "usage: vx bench SUITE [--benchmark_* flags]   (suites: mesh, terrain, stream, store, pg; render, lod: renderer reports; vdb: export memory)\n");
         return kExitBadInput;
     }
     const std::string suite = argv[1];

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
     add_world_command(app, action);
     add_vdb_commands(app, action);
     add_render_command(app, action);
-    app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store; vdb: export memory)");
+    app.add_subcommand("bench", "Run benchmarks: vx bench SUITE [--benchmark_* flags] (suites: mesh, terrain, stream, store, pg; render, lod: renderer reports; vdb: export memory)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

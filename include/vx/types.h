@@ -53,7 +53,7 @@ struct BlockType {
 };
 
 // The built-in palette, ids 1..N in this order after air: stone, dirt, grass, sand, water,
-// glass, mirror, lamp, snow, wood, leaves. The built-in terrain uses these ids. Start from it and
+// glass, mirror, lamp, snow, wood, leaves, glazed. The built-in terrain uses these ids. Start from it and
 // append a game's own blocks to keep the terrain's meaning.
 std::vector<BlockType> default_blocks();
 

@@ -216,7 +216,8 @@ struct EngineCreateInfo {
 // The camera and the centre of streaming. Position = block + offset (64-bit exact anywhere).
 struct Viewer {
     BlockPos block{0};                     // World block holding the eye.
-    glm::dvec3 offset{0.5};                // Eye inside that block, blocks (any value; folded in).
+    glm::dvec3 offset{0.5};                // Eye inside that block, blocks (|component| <= 2^40; whole
+                                           // blocks are folded into `block`).
     glm::dvec3 forward{0.0, 0.0, -1.0};    // View direction (need not be unit).
     glm::dvec3 up{0.0, 1.0, 0.0};          // Approximate up; not parallel to forward.
     std::optional<glm::dvec3> velocity;    // Blocks per second; unset: estimated from positions.
@@ -335,7 +336,7 @@ struct RenderSettings {
     bool light_cache = false;
     float light_cache_pixels = 3.f; // Pixels, 1/64..4096 (set_render_settings refuses others).
     // Ray tracer, Full shading: the edge-aware denoiser over the traced radiance (off by default:
-    // it costs two compute passes a frame and softens edges; a game at 1-4 samples wants it).
+    // it costs a temporal and 5 a-trous compute passes a frame and softens edges; a game at 1-4 samples wants it).
     bool denoise = false;
     // Ray tracer, Full shading: at most this many frames averaged (reprojected when the camera
     // moves); 1: none. Above 1 each frame traces with a new seed so the average converges.
@@ -491,8 +492,8 @@ public:
     // Main thread. Where the camera is and where streaming centres; takes effect at update().
     // Fails, keeping the previous viewer, on non-finite values, a position outside the streamed
     // world (|coordinate| < 2^36 - 2^17 blocks: the loaded box stays inside the world's 32-bit
-    // chunk coordinates), a zero forward or up, forward parallel to up, or a field of view outside
-    // (0, 180) degrees.
+    // chunk coordinates), an offset past 2^40 blocks, a zero forward or up, forward parallel to up,
+    // or a field of view outside (0, 180) degrees.
     Status set_viewer(const Viewer& viewer);
     // Main thread, once per frame. Streams around the viewer, applies finished loads and meshes
     // (within update_budget_ms), unloads, saves edited chunks after save_delay_s. `now` is the
