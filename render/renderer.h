@@ -110,8 +110,9 @@ struct Haze {
 enum class PipelineKind : uint8_t {
     RayTraced, // The ray tracer (render/rt_pipeline.h).
     Raster,    // The raster baseline (render/raster_pipeline.h): the same chunks and camera, a
-               // depth buffer; Flat as the ray tracer's, Full is Phong with the area light's
-               // centre as a point light and no shadows, reflections or haze, Visibility all lit.
+               // depth buffer, see-through blocks (glass, water) drawn as solid; Flat as the ray
+               // tracer's elsewhere, Full is Phong with the area light's centre as a point light and
+               // no shadows, reflections or haze, Visibility all lit.
 };
 
 // The light cache's cell widths, pixels (RenderSettings::light_cache_pixels): the renderer clamps

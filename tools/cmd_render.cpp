@@ -166,7 +166,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
             return "--visibility must be a distance in blocks >= 1 (inf: clear air), got '" + a.visibility + "'";
         s.haze.visibility = v;
     }
-    if (!(a.fov > 1.f && a.fov < 179.f))
+    if (!(a.fov >= 1.f && a.fov <= 179.f))
         return "--fov must be within 1..179 degrees";
     const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
     const double half_fov = glm::radians(double(a.fov)) * 0.5;

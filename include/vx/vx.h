@@ -256,8 +256,9 @@ struct RenderSettings {
     };
     enum class Pipeline : uint8_t {
         RayTraced, // The ray tracer: everything below.
-        Raster,    // The raster baseline: the same chunks and camera with a depth buffer; Full is
-                   // Phong lit by the area light's centre, no shadows, reflections, haze or denoiser.
+        Raster,    // The raster baseline: the same chunks and camera with a depth buffer (see-through
+                   // blocks drawn as solid); Full is Phong lit by the area light's centre, no shadows,
+                   // reflections, haze or denoiser.
     };
     Pipeline pipeline = Pipeline::RayTraced;
     Shading shading = Shading::Full;

@@ -153,6 +153,10 @@ TEST(CliRender, RasterPipelineAndDenoiser) {
                                 "--history-clamp off --out " + dir() + "/plain.png");
     EXPECT_NE(plain.out.find("accumulated frames 2..3"), std::string::npos) << plain.out;
     EXPECT_EQ(vx("render --raw " + vol + " --dims 24,12,20 --history-clamp maybe").code, 2);
+    // --fov's documented ends 1 and 179 render (they were refused); past them is refused.
+    for (const char* fov : {"1", "179"})
+        EXPECT_EQ(render(view + "--fov " + fov + " --out " + dir() + "/fov.png").code, 0) << fov;
+    EXPECT_EQ(vx("render " + view + "--fov 179.5").code, 2);
 }
 
 // Flat shading is exact, so the same volume and camera up to 2^36 blocks from the origin give the
