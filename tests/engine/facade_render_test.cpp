@@ -42,6 +42,15 @@ vx::Viewer terrain_view() {
     return v;
 }
 
+// Sets terrain_view() and waits until it is streamed; false (with a failure) if a step fails.
+bool view_terrain(vx::Engine& e) {
+    const vx::Status viewer = e.set_viewer(terrain_view());
+    EXPECT_TRUE(viewer) << viewer.error();
+    const bool settled = viewer && settle(e);
+    EXPECT_TRUE(settled);
+    return settled;
+}
+
 TEST(FacadeRender, TerrainToMemory) {
     auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 64, 48));
     if (!engine)
@@ -131,8 +140,7 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     if (!engine)
         GTEST_SKIP() << "no ray-tracing device: " << engine.error();
     vx::Engine& e = **engine;
-    ASSERT_TRUE(e.set_viewer(terrain_view()));
-    ASSERT_TRUE(settle(e));
+    ASSERT_TRUE(view_terrain(e));
     auto render = [&](const vx::RenderSettings& rs) {
         e.set_render_settings(rs);
         vx::Image img;
@@ -319,8 +327,7 @@ TEST(FacadeRender, TheSunsDirectionNeedNotBeUnit) {
     if (!engine)
         GTEST_SKIP() << "no ray-tracing device: " << engine.error();
     vx::Engine& e = **engine;
-    ASSERT_TRUE(e.set_viewer(terrain_view()));
-    ASSERT_TRUE(settle(e));
+    ASSERT_TRUE(view_terrain(e));
     auto frame = [&](glm::vec3 sun) {
         vx::RenderSettings r;
         r.shadow_samples = 2;

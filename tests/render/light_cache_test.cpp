@@ -3,6 +3,7 @@
 // mean; a table too small for the frame's cells, and no memory for the cache, lose no light.
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "render/image_metrics.h"
 #include "scene_util.h"
@@ -70,18 +71,14 @@ TEST(RendererSettings, NonFiniteMeansTheDefaultAndKeepsTheHistory) {
         EXPECT_EQ(r->validation_errors(), 0u);
         return img;
     };
-    RenderSettings cached = lit(2, true);
-    cached.accumulate = 8;
+    RenderSettings cached = lit(2, true), weighted = lit(2, false);
+    cached.accumulate = weighted.accumulate = 8;
     cached.denoise = true;
-    RenderSettings nan_cell = cached;
-    nan_cell.light_cache_pixels = std::nanf("");
-    EXPECT_EQ(test::differing_bytes(frame_8(cached), frame_8(nan_cell)), 0);
-    RenderSettings weighted = lit(2, false);
-    weighted.accumulate = 8;
     weighted.samples_by_weight = true;
-    RenderSettings nan_exponent = weighted;
-    nan_exponent.weight_exponent = std::nanf("");
-    EXPECT_EQ(test::differing_bytes(frame_8(weighted), frame_8(nan_exponent)), 0);
+    RenderSettings nan_cell = cached, nan_exponent = weighted;
+    nan_cell.light_cache_pixels = nan_exponent.weight_exponent = std::nanf("");
+    for (const auto& [given, nan] : {std::pair{cached, nan_cell}, std::pair{weighted, nan_exponent}})
+        EXPECT_EQ(test::differing_bytes(frame_8(given), frame_8(nan)), 0) << "light cache " << given.light_cache;
 }
 
 TEST_F(RendererTest, SharedLightHasLessNoiseAndNearlyTheSameMean) {
