@@ -62,6 +62,10 @@ bool StagingRing::begin(VkDeviceSize bytes) {
         bi.memory = MemoryUse::Upload;
         bi.name = "frame staging";
         b = Buffer::create(*m_ctx, bi);
+        if (!b.valid() && bi.size > bytes) { // Room for what is asked, not for the growth.
+            bi.size = bytes;
+            b = Buffer::create(*m_ctx, bi);
+        }
         if (!b.valid())
             return false; // Logged by Buffer::create.
     }

@@ -114,16 +114,22 @@ public:
     // Test hooks (tests and fault-injection only). simulate_device_loss: the next submission is
     // not made and reads as VK_ERROR_DEVICE_LOST, as when the GPU hangs or its driver resets.
     // fail_allocations: Buffer::create and Image::create of resources whose debug name starts
-    // with `name_prefix` fail as out of memory (logged) until called again with "" (none).
+    // with `name_prefix` fail as out of memory (logged) until called again with "" (none); with
+    // `above_bytes` > 0 only those larger than that fail (a device with room for smaller ones).
     void simulate_device_loss() { m_simulate_loss = true; }
     // inject_result: the next check_device call for `call` (its `what`) sees `result` instead.
     void inject_result(std::string call, VkResult result) {
         m_injected_call = std::move(call);
         m_injected_result = result;
     }
-    void fail_allocations(std::string name_prefix) { m_fail_prefix = std::move(name_prefix); }
-    bool allocation_injected(const char* name) const {
-        return !m_fail_prefix.empty() && std::string_view(name).starts_with(m_fail_prefix);
+    void fail_allocations(std::string name_prefix, VkDeviceSize above_bytes = 0) {
+        m_fail_prefix = std::move(name_prefix);
+        m_fail_above = above_bytes;
+    }
+    // `bytes`: the allocation's size (0: one without a size, such as a pipeline).
+    bool allocation_injected(const char* name, VkDeviceSize bytes = 0) const {
+        return !m_fail_prefix.empty() && std::string_view(name).starts_with(m_fail_prefix) &&
+               (m_fail_above == 0 || bytes > m_fail_above);
     }
 
     // Retiring: called by resource destructors; the handle is destroyed once the current frame
@@ -188,6 +194,7 @@ private:
     std::string m_injected_call; // inject_result.
     VkResult m_injected_result = VK_SUCCESS;
     std::string m_fail_prefix;
+    VkDeviceSize m_fail_above = 0; // fail_allocations: only larger allocations fail (0: all).
     VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
     VkFence m_one_shot_fence = VK_NULL_HANDLE;
     std::atomic<uint32_t> m_validation_errors{0};

@@ -1181,7 +1181,9 @@ void Renderer::clear_chunks() {
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }
-void Renderer::fail_allocations(std::string name_prefix) { m->ctx->fail_allocations(std::move(name_prefix)); }
+void Renderer::fail_allocations(std::string name_prefix, uint64_t above_bytes) {
+    m->ctx->fail_allocations(std::move(name_prefix), above_bytes);
+}
 
 void Renderer::limit_light_cache_cells(uint32_t cells) {
     VX_ASSERT(cells == 0 || (cells >= 4 && std::has_single_bit(cells)));

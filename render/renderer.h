@@ -375,7 +375,8 @@ public:
 
     // Materials come from `registry` (copied); unknown ids get the registry's fallback colours.
     void set_registry(const world::BlockRegistry& registry);
-    // Incremental scene edits, applied at the next render(). `changed_slices` (slice_index()
+    // Incremental scene edits, applied at the next render() (past a frame's build budget, 256 MiB
+    // of uploads, at a later one; the old mesh is drawn meanwhile). `changed_slices` (slice_index()
     // values, as MeshSink::on_mesh gives them) marks an edit: only those slices' slots are
     // uploaded and the BLAS refitted when they fit (else the chunk is rebuilt). Empty: the whole
     // mesh is new (a chunk not edited lately is rebuilt exact-size and compacted).
@@ -453,9 +454,10 @@ public:
     // Test hooks (Context::simulate_device_loss, Context::fail_allocations): the next submission
     // reads as a lost device; resources whose debug name starts with `name_prefix` ("render
     // target", "gbuffer", "render readback", "TLAS", "AS scratch", "ui texture", "denoise",
-    // "light cache") fail to allocate until called again with "".
+    // "light cache") fail to allocate until called again with ""; with `above_bytes` > 0 only
+    // those larger than that.
     void simulate_device_loss();
-    void fail_allocations(std::string name_prefix);
+    void fail_allocations(std::string name_prefix, uint64_t above_bytes = 0);
     // Test hook: the light cache's table has at most `cells` cells (a power of two, >= 4; 0: as
     // sized for the frame), so that hits find their probes taken (LightCache).
     void limit_light_cache_cells(uint32_t cells);

@@ -50,7 +50,7 @@ Buffer Buffer::create(Context& ctx, const BufferCreateInfo& info) {
     vkGetBufferMemoryRequirements(ctx.device(), b.m_buffer, &req);
     if (info.alignment > req.alignment)
         req.alignment = info.alignment;
-    if (!ctx.allocation_injected(info.name)) // A test hook: as if the device were full.
+    if (!ctx.allocation_injected(info.name, info.size)) // A test hook: as if the device were full.
         b.m_alloc = ctx.allocator().allocate(req, info.memory, false, info.scene);
     if (!b.m_alloc.valid()) {
         if (!info.scene)
@@ -121,7 +121,7 @@ Image Image::create(Context& ctx, const ImageCreateInfo& info) {
     img.m_height = info.height;
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx.device(), img.m_image, &req);
-    if (!ctx.allocation_injected(info.name)) // A test hook: as if the device were full.
+    if (!ctx.allocation_injected(info.name, req.size)) // A test hook: as if the device were full.
         img.m_alloc = ctx.allocator().allocate(req, MemoryUse::Device, true);
     if (!img.m_alloc.valid()) {
         VX_LOG_ERROR("out of GPU memory for image '%s'", info.name);

@@ -7,6 +7,15 @@
 
 namespace vx::render {
 
+// A pending chunk and what building it this frame asks of the shared buffers.
+struct SceneAccel::PendingBuild {
+    world::LodCoord c;
+    ChunkGpu* g; // Element pointers survive rehashing.
+    VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    VkDeviceSize staging = 0; // staging_bytes().
+    VkDeviceSize scratch = 0; // Build or update scratch, aligned up to its offset alignment.
+};
+
 struct SceneAccel::BuildBatch {
     std::vector<VkAccelerationStructureGeometryKHR> geometries;
     std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
@@ -28,8 +37,19 @@ template <class G> static void mark_dirty(G& g, int slice) {
     g.dirty.set(size_t(slice));
 }
 
+// At most this much staging and BLAS build scratch per frame; the rest of the pending chunks
+// waits for later frames. It bounds the frame's hitch and the two shared buffers: a scene sent
+// whole (as after Engine::recreate_renderer) asked for a staging buffer and a scratch buffer
+// each as large as the whole scene's.
+constexpr VkDeviceSize kMaxFrameBuildBytes = 256ull << 20;
+
+static VkDeviceSize frame_build_cap(const Context& ctx) {
+    return ctx.max_buffer_size() ? std::min(kMaxFrameBuildBytes, ctx.max_buffer_size()) : kMaxFrameBuildBytes;
+}
+
 SceneAccel::SceneAccel(Context& ctx, const SceneAccelCreateInfo& info)
-    : m_ctx(&ctx), m_staging(ctx), m_info(info) {}
+    : m_ctx(&ctx), m_staging(ctx), m_info(info), m_staging_limit(frame_build_cap(ctx)),
+      m_scratch_limit(frame_build_cap(ctx)) {}
 
 SceneAccel::~SceneAccel() {
     bool pools = false;
@@ -222,6 +242,10 @@ VkDeviceAddress SceneAccel::scratch(VkDeviceSize bytes) {
         bi.alignment = align;
         bi.name = "AS scratch";
         m_scratch = Buffer::create(*m_ctx, bi); // The old one retires with this frame.
+        if (!m_scratch.valid() && bi.size > bytes) { // Room for what is asked, not for the growth.
+            bi.size = bytes;
+            m_scratch = Buffer::create(*m_ctx, bi);
+        }
         if (!m_scratch.valid())
             return 0; // Logged by Buffer::create; the next call tries again.
     }
@@ -357,28 +381,45 @@ void SceneAccel::upload_chunk(ChunkGpu& g, bool whole) {
     }
 }
 
-void SceneAccel::prepare_chunk(world::LodCoord c, ChunkGpu& g, BuildBatch& batch) {
-    const uint32_t slots = g.layout.total;
-    const bool build = g.pending == Pending::Build;
+static VkAccelerationStructureBuildGeometryInfoKHR blas_info(bool hot, bool build) {
     VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
     info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
     info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
-                 (g.hot ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR
-                        : VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR);
+                 (hot ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR
+                      : VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR);
     info.mode = build ? VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR : VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
     info.geometryCount = 1;
-    const uint32_t triangles = 2 * slots;
+    return info;
+}
+
+SceneAccel::PendingBuild SceneAccel::plan_chunk(world::LodCoord c, ChunkGpu& g) const {
+    PendingBuild p{c, &g};
+    p.staging = staging_bytes(g);
     VkDeviceSize scratch_bytes = g.update_scratch;
-    if (build) {
-        const VkAccelerationStructureGeometryKHR shape = triangle_geometry(0, 0, slots, g.opaque);
+    if (g.pending == Pending::Build) {
+        VkAccelerationStructureBuildGeometryInfoKHR info = blas_info(g.hot, true);
+        const VkAccelerationStructureGeometryKHR shape = triangle_geometry(0, 0, g.layout.total, g.opaque);
         info.pGeometries = &shape;
-        VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+        const uint32_t triangles = 2 * g.layout.total;
         vkGetAccelerationStructureBuildSizesKHR(m_ctx->device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info,
-                                                &triangles, &sizes);
-        if (!allocate_chunk(c, g, sizes))
+                                                &triangles, &p.sizes);
+        scratch_bytes = p.sizes.buildScratchSize;
+    }
+    p.scratch = align_up(scratch_bytes, m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment);
+    return p;
+}
+
+void SceneAccel::prepare_chunk(const PendingBuild& p, BuildBatch& batch) {
+    const world::LodCoord c = p.c;
+    ChunkGpu& g = *p.g;
+    const uint32_t slots = g.layout.total;
+    const bool build = g.pending == Pending::Build;
+    VkAccelerationStructureBuildGeometryInfoKHR info = blas_info(g.hot, build);
+    const uint32_t triangles = 2 * slots;
+    if (build) {
+        if (!allocate_chunk(c, g, p.sizes))
             return;
-        scratch_bytes = sizes.buildScratchSize;
-        g.update_scratch = sizes.updateScratchSize;
+        g.update_scratch = p.sizes.updateScratchSize;
         g.build_serial = m_next_serial++;
         g.refits_since_build = 0;
         ++m_stats.blas_builds;
@@ -392,25 +433,25 @@ void SceneAccel::prepare_chunk(world::LodCoord c, ChunkGpu& g, BuildBatch& batch
     info.dstAccelerationStructure = g.blas.handle();
     batch.infos.push_back(info); // pGeometries is set in record_blas_builds.
     batch.ranges.push_back({triangles, 0, 0, 0});
-    batch.scratch_sizes.push_back(scratch_bytes);
+    batch.scratch_sizes.push_back(p.scratch);
     batch.coords.push_back(c);
     g.pending = Pending::None;
     g.dirty.reset();
 }
 
-bool SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
+void SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
     if (batch.infos.empty())
-        return true;
+        return;
     const VkDeviceSize align = m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment;
     VkDeviceSize total = 0;
     std::vector<VkDeviceSize> offsets;
-    for (VkDeviceSize s : batch.scratch_sizes) {
+    for (VkDeviceSize s : batch.scratch_sizes) { // Aligned already (plan_chunk).
         offsets.push_back(total);
-        total += align_up(s, align);
+        total += s;
     }
+    // allocate_batch made room for at least these (the chunks that failed since only take less).
     const VkDeviceAddress base = scratch(total + align);
-    if (!base)
-        return false;
+    VX_ASSERT(base != 0);
     std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs;
     for (size_t i = 0; i < batch.infos.size(); ++i) {
         batch.infos[i].pGeometries = &batch.geometries[i]; // The vector may have moved while filling.
@@ -418,7 +459,6 @@ bool SceneAccel::record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch) {
         range_ptrs.push_back(&batch.ranges[i]);
     }
     vkCmdBuildAccelerationStructuresKHR(cmd, uint32_t(batch.infos.size()), batch.infos.data(), range_ptrs.data());
-    return true;
 }
 
 bool SceneAccel::record_builds(VkCommandBuffer cmd) {
@@ -435,51 +475,35 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
                        VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
     record_compactions(cmd);
     demote_idle_hot_chunks();
+    std::vector<world::LodCoord> later;
+    std::vector<PendingBuild> pending = take_pending(later);
+    size_t first = 0, count = 0;
     uint32_t max_slots = 0;
-    VkDeviceSize staging = 0;
-    std::vector<std::pair<world::LodCoord, ChunkGpu*>> pending; // Element pointers survive rehashing.
-    pending.reserve(m_pending.size());
-    for (world::LodCoord c : m_pending) {
-        auto it = m_chunks.find(c);
-        if (it == m_chunks.end() || !it->second.queued)
-            continue; // Removed since, or listed twice (removed and set again).
-        ChunkGpu& g = it->second;
-        g.queued = false;
-        if (g.pending == Pending::None)
-            continue;
-        pending.emplace_back(c, &g);
-        max_slots = std::max(max_slots, g.layout.total);
-        staging += staging_bytes(g);
-    }
-    m_pending.clear();
-    // Out of memory for the frame's own buffers: every pending chunk stays pending.
-    if (!ensure_indices(max_slots) || !m_staging.begin(staging)) {
-        for (auto& [c, g] : pending)
-            queue(c, *g);
+    const bool room = pending.empty() || allocate_batch(pending, first, count);
+    for (size_t i = first; room && i < first + count; ++i)
+        max_slots = std::max(max_slots, pending[i].g->layout.total);
+    // Out of memory for the frame's own buffers: every pending chunk stays pending, in order.
+    if (!room || !ensure_indices(max_slots)) {
+        for (PendingBuild& p : pending)
+            queue(p.c, *p.g);
+        m_pending.insert(m_pending.end(), later.begin(), later.end());
         return false;
     }
+    for (size_t i = 0; i < first; ++i) // Too large alone, while later chunks fit.
+        fail_alone(pending[i]);
     BuildBatch batch;
-    batch.geometries.reserve(pending.size());
-    for (auto& [c, g] : pending)
-        prepare_chunk(c, *g, batch);
+    batch.geometries.reserve(count);
+    for (size_t i = first; i < first + count; ++i)
+        prepare_chunk(pending[i], batch);
+    for (size_t i = first + count; i < pending.size(); ++i) // Later frames, in the same order.
+        queue(pending[i].c, *pending[i].g);
+    m_pending.insert(m_pending.end(), later.begin(), later.end());
     if (m_staging.record(cmd))
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR |
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    if (!record_blas_builds(cmd, batch)) {
-        // No scratch: none of the batch is built. Each chunk is rebuilt whole next frame (its
-        // mesh is still here), and is not drawn meanwhile (an unbuilt BLAS must not be traced).
-        for (world::LodCoord c : batch.coords) {
-            ChunkGpu& g = m_chunks.at(c);
-            g.blas.reset();
-            g.pending = Pending::Build;
-            queue(c, g);
-            drop_instance(g);
-            retally(g);
-        }
-        return false;
-    }
+    record_blas_builds(cmd, batch);
     for (world::LodCoord c : batch.coords) {
         ChunkGpu& g = m_chunks.at(c);
         if (!g.hot) {
@@ -493,6 +517,93 @@ bool SceneAccel::record_builds(VkCommandBuffer cmd) {
         retally(g);
     }
     return true;
+}
+
+// The queued chunks still pending, in queue order, up to those past this frame's limits: the
+// rest stay listed, unread, in `later` (a scene sent whole is not sized again every frame). One
+// whose staging or scratch alone exceeds the device's largest buffer can never be built: it
+// fails now, for itself.
+std::vector<SceneAccel::PendingBuild> SceneAccel::take_pending(std::vector<world::LodCoord>& later) {
+    std::vector<PendingBuild> pending;
+    const VkDeviceSize largest = m_ctx->max_buffer_size();
+    const VkDeviceSize align = m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment;
+    VkDeviceSize staging = 0, scratch_bytes = 0;
+    for (size_t i = 0; i < m_pending.size(); ++i) {
+        if (staging > m_staging_limit || scratch_bytes > m_scratch_limit) {
+            later.assign(m_pending.begin() + ptrdiff_t(i), m_pending.end());
+            break;
+        }
+        const world::LodCoord c = m_pending[i];
+        auto it = m_chunks.find(c);
+        if (it == m_chunks.end() || !it->second.queued)
+            continue; // Removed since, or listed twice (removed and set again).
+        ChunkGpu& g = it->second;
+        g.queued = false;
+        if (g.pending == Pending::None)
+            continue;
+        PendingBuild p = plan_chunk(c, g);
+        if (largest && (p.staging > largest || p.scratch + align > largest)) {
+            fail_alone(p);
+            continue;
+        }
+        staging += p.staging;
+        scratch_bytes += p.scratch;
+        pending.push_back(p);
+    }
+    m_pending.clear();
+    return pending;
+}
+
+// This frame's builds: pending[first, first + count), the longest run from `first` within the
+// staging and scratch limits (at least one chunk), with the staging ring and the scratch buffer
+// grown to hold them. An allocation that fails halves the limit it hit (remembered: later
+// frames start there, and it doubles back up after each frame that fits) and a shorter run is
+// tried, instead of the whole batch again next frame. A chunk that fails alone is skipped and
+// fails for itself (pending[0, first)), as when its own buffers cannot be allocated; a second
+// one means memory is short for all, whatever the size: false, and the frame fails with every
+// chunk kept pending.
+bool SceneAccel::allocate_batch(std::span<const PendingBuild> pending, size_t& first, size_t& count) {
+    const VkDeviceSize align = m_ctx->as_properties().minAccelerationStructureScratchOffsetAlignment;
+    uint32_t alone = 0;
+    for (first = 0; first < pending.size();) {
+        VkDeviceSize staging = 0, scratch_bytes = align; // Slack to align the scratch's base.
+        for (count = 0; first + count < pending.size(); ++count) {
+            const PendingBuild& p = pending[first + count];
+            if (count > 0 && (staging + p.staging > m_staging_limit || scratch_bytes + p.scratch > m_scratch_limit))
+                break;
+            staging += p.staging;
+            scratch_bytes += p.scratch;
+        }
+        const bool staged = m_staging.begin(staging);
+        if (staged && scratch(scratch_bytes)) {
+            m_staging_limit = std::min(frame_build_cap(*m_ctx), 2 * m_staging_limit);
+            m_scratch_limit = std::min(frame_build_cap(*m_ctx), 2 * m_scratch_limit);
+            return true;
+        }
+        if (!staged)
+            m_staging_limit = std::max<VkDeviceSize>(staging / 2, 1);
+        else
+            m_scratch_limit = std::max<VkDeviceSize>(scratch_bytes / 2, 1);
+        if (count > 1)
+            continue;
+        if (++alone == 2) {
+            // Not a matter of size: the next frame starts from the full budget again.
+            m_staging_limit = m_scratch_limit = frame_build_cap(*m_ctx);
+            return false;
+        }
+        ++first;
+    }
+    count = 0; // The last chunk failed alone: nothing else to build this frame.
+    return true;
+}
+
+// Not built, as when its own buffers cannot be allocated: dropped from the scene and counted,
+// or, for a cool-down rebuild, left hot as it was.
+void SceneAccel::fail_alone(const PendingBuild& p) {
+    if (p.g->cooling_from)
+        cool_down_failed(p.c, *p.g);
+    else
+        fail_chunk(p.c, *p.g, p.staging + p.sizes.accelerationStructureSize);
 }
 
 bool SceneAccel::record_tlas_build(VkCommandBuffer cmd, world::BlockPos camera_block) {

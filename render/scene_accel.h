@@ -5,7 +5,9 @@
 // changed instances are written, translations relative to a render origin that follows the
 // camera in steps, computed in 64-bit on the CPU, so a world at 2^24 blocks renders like one at
 // the origin). All BLAS builds and refits of a frame go into one
-// vkCmdBuildAccelerationStructuresKHR call, followed by one barrier and the TLAS build.
+// vkCmdBuildAccelerationStructuresKHR call, followed by one barrier and the TLAS build. A frame
+// builds the pending chunks, oldest first, up to a staging and a scratch budget (256 MiB each,
+// less after allocations fail); the rest wait, still drawn as before, for the next frames.
 // A frame's CPU work follows what changed (pending chunks, hot chunks cooling down, compactions),
 // never every chunk: counts and memory are kept as chunks change.
 // Main thread only.
@@ -75,14 +77,16 @@ public:
     SceneAccel& operator=(const SceneAccel&) = delete;
 
     // Sets chunk `c`'s mesh (chunk-local cell units: cells of 2^c.level blocks; level 0 is
-    // blocks); applied at the next record(). Chunks of different levels are different entries,
+    // blocks); applied at the next record(), or a later one when that frame's build budget is
+    // spent (the old mesh is drawn meanwhile). Chunks of different levels are different entries,
     // whatever their chunk coordinates. An empty
     // mesh removes the chunk. `changed_slices` (slice_index() values) marks an edit: the chunk
     // turns hot and, when it is hot already and every slice still fits its slots, only those
     // slices are uploaded before a refit. Empty: the whole mesh is new (a hot chunk refits with
     // a full upload when it fits, a cold one is rebuilt; a mesh equal to the current one is
-    // ignored). A chunk whose GPU memory cannot be allocated is not drawn and is counted in
-    // AccelStats::failed_chunks until it is set again or removed.
+    // ignored). A chunk whose GPU memory (its own buffers, or its staging or build scratch even
+    // alone) cannot be allocated is not drawn and is counted in AccelStats::failed_chunks until
+    // it is set again or removed.
     void set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {},
                    bool opaque = false);
     void remove_chunk(world::LodCoord c);
@@ -94,9 +98,9 @@ public:
     // Records the frame's uploads, BLAS builds/refits and the TLAS build into `cmd` (between
     // Context::begin_frame and end_frame). Afterwards the TLAS and the chunk table may be read by
     // ray-tracing shaders. `camera_block` is the world block the camera is in. False (logged)
-    // when a frame resource (scratch, staging, the index pattern, the TLAS) cannot be allocated:
-    // what was recorded may still be submitted, nothing may trace this frame, and the chunks it
-    // could not build are built by the next call.
+    // when a frame resource (scratch, staging, the index pattern, the TLAS) cannot be allocated
+    // even for one chunk: what was recorded may still be submitted, nothing may trace this frame,
+    // and the chunks it could not build are built by the next call.
     bool record(VkCommandBuffer cmd, world::BlockPos camera_block) {
         return record_builds(cmd) && record_tlas_build(cmd, camera_block);
     }
@@ -165,7 +169,8 @@ private:
         uint32_t capacity = 0;
         std::vector<std::pair<world::LodCoord, uint64_t>> chunks; // Query i: chunk, build serial.
     };
-    struct BuildBatch; // Geometry and build infos of one frame's BLAS call.
+    struct PendingBuild; // A pending chunk and its staging and scratch sizes.
+    struct BuildBatch;   // Geometry and build infos of one frame's BLAS call.
 
     bool ensure_indices(uint32_t slots);
     void apply_mesh(world::LodCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
@@ -176,8 +181,12 @@ private:
     void cool_down_failed(world::LodCoord c, ChunkGpu& g);
     void fail_chunk(world::LodCoord c, ChunkGpu& g, VkDeviceSize bytes);
     void upload_chunk(ChunkGpu& g, bool whole);
-    void prepare_chunk(world::LodCoord c, ChunkGpu& g, BuildBatch& batch);
-    bool record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
+    PendingBuild plan_chunk(world::LodCoord c, ChunkGpu& g) const;
+    std::vector<PendingBuild> take_pending(std::vector<world::LodCoord>& later);
+    bool allocate_batch(std::span<const PendingBuild> pending, size_t& first, size_t& count);
+    void fail_alone(const PendingBuild& p);
+    void prepare_chunk(const PendingBuild& p, BuildBatch& batch);
+    void record_blas_builds(VkCommandBuffer cmd, BuildBatch& batch);
     void record_compactions(VkCommandBuffer cmd);
     void record_compaction_queries(VkCommandBuffer cmd);
     bool record_tlas(VkCommandBuffer cmd, world::BlockPos camera_block);
@@ -209,6 +218,9 @@ private:
     AccelStats m_stats;
     AccelMemory m_memory;
     SceneAccelCreateInfo m_info;
+    // Staging and scratch bytes a frame's builds may take: kMaxFrameBuildBytes, halved at each
+    // failed allocation and doubled back after each frame whose allocations succeed.
+    VkDeviceSize m_staging_limit, m_scratch_limit;
     uint64_t m_frame = 0;       // record_builds() calls.
     uint64_t m_next_serial = 1;
     bool m_logged_failure = false;
