@@ -139,21 +139,29 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
     return v;
 }
 
+SbtLayout sbt_layout(uint32_t handle_size, uint32_t handle_alignment, uint32_t base_alignment) {
+    SbtLayout l;
+    l.stride = align_up(handle_size, handle_alignment);
+    l.raygen_size = align_up(l.stride, base_alignment);
+    l.miss_size = align_up(2 * l.stride, base_alignment);
+    l.hit_size = align_up(l.stride, base_alignment);
+    l.raygen_flat_at = l.raygen_size;
+    l.miss_at = 2 * l.raygen_size;
+    l.hit_at = l.miss_at + l.miss_size;
+    l.bytes = l.hit_at + l.hit_size + base_alignment;
+    return l;
+}
+
 bool RtPipeline::create_sbt(Variant& v, const char* name) {
     const auto& p = m_ctx->rt_properties();
     const uint32_t handle = p.shaderGroupHandleSize;
-    const VkDeviceSize stride = align_up(handle, p.shaderGroupHandleAlignment);
-    const VkDeviceSize base = p.shaderGroupBaseAlignment;
+    const uint32_t base = p.shaderGroupBaseAlignment;
+    const SbtLayout l = sbt_layout(handle, p.shaderGroupHandleAlignment, base);
     std::vector<uint8_t> handles(size_t(handle) * kGroupCount);
     VK_CHECK(vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), v.pipeline, 0, kGroupCount, handles.size(),
                                                   handles.data()));
-    // Regions start at base-aligned offsets: [raygen][raygen flat][miss primary, miss shadow][hit].
-    const VkDeviceSize raygen_size = align_up(stride, base);
-    const VkDeviceSize miss_size = align_up(2 * stride, base);
-    const VkDeviceSize hit_size = align_up(stride, base);
-    const VkDeviceSize miss_at = 2 * raygen_size, hit_at = miss_at + miss_size;
     BufferCreateInfo bi;
-    bi.size = hit_at + hit_size;
+    bi.size = l.bytes;
     bi.usage = VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR;
     bi.memory = MemoryUse::Upload;
     bi.alignment = base;
@@ -161,21 +169,22 @@ bool RtPipeline::create_sbt(Variant& v, const char* name) {
     v.sbt = Buffer::create(*m_ctx, bi);
     if (!v.sbt.valid())
         return false; // Logged by Buffer::create.
+    const VkDeviceAddress a = sbt_start(v.sbt.address(), base);
     auto* dst = static_cast<uint8_t*>(v.sbt.mapped());
     std::memset(dst, 0, bi.size);
+    dst += a - v.sbt.address();
     auto put = [&](uint32_t group_index, VkDeviceSize offset) {
         std::memcpy(dst + offset, handles.data() + size_t(group_index) * handle, handle);
     };
     put(kGroupRaygen, 0);
-    put(kGroupRaygenFlat, raygen_size);
-    put(kGroupPrimaryMiss, miss_at);
-    put(kGroupShadowMiss, miss_at + stride);
-    put(kGroupHit, hit_at);
-    const VkDeviceAddress a = v.sbt.address();
-    v.raygen = {a, raygen_size, raygen_size}; // Raygen: stride must equal size.
-    v.raygen_flat = {a + raygen_size, raygen_size, raygen_size};
-    v.miss = {a + miss_at, stride, miss_size};
-    v.hit = {a + hit_at, stride, hit_size};
+    put(kGroupRaygenFlat, l.raygen_flat_at);
+    put(kGroupPrimaryMiss, l.miss_at);
+    put(kGroupShadowMiss, l.miss_at + l.stride);
+    put(kGroupHit, l.hit_at);
+    v.raygen = {a, l.raygen_size, l.raygen_size}; // Raygen: stride must equal size.
+    v.raygen_flat = {a + l.raygen_flat_at, l.raygen_size, l.raygen_size};
+    v.miss = {a + l.miss_at, l.stride, l.miss_size};
+    v.hit = {a + l.hit_at, l.stride, l.hit_size};
     return true;
 }
 

@@ -12,10 +12,29 @@
 
 #include <array>
 
+#include "render/commands.h"
 #include "render/gpu_layouts.h"
 #include "render/resources.h"
 
 namespace vx::render {
+
+// The shader binding table's regions: [raygen][raygen flat][primary miss, shadow miss][hit], each
+// starting at a multiple of shaderGroupBaseAlignment in device-address space
+// (VUID-vkCmdTraceRaysKHR-pRayGenShaderBindingTable-03682). The buffer's address need not be so
+// aligned (only the allocation's offset within its memory block is), so `bytes` holds `base`
+// bytes of slack and the table starts at sbt_start(): the buffer's address aligned up.
+struct SbtLayout {
+    VkDeviceSize stride = 0;      // One handle, aligned to shaderGroupHandleAlignment.
+    VkDeviceSize raygen_size = 0; // Each raygen region (stride == size for raygen).
+    VkDeviceSize miss_size = 0, hit_size = 0;
+    VkDeviceSize raygen_flat_at = 0, miss_at = 0, hit_at = 0; // Offsets from the table's start.
+    VkDeviceSize bytes = 0;       // Buffer size to allocate, slack included.
+};
+SbtLayout sbt_layout(uint32_t handle_size, uint32_t handle_alignment, uint32_t base_alignment);
+// Where the table starts in a buffer at `buffer_address`: the first base-aligned address.
+inline VkDeviceAddress sbt_start(VkDeviceAddress buffer_address, uint32_t base_alignment) {
+    return align_up(buffer_address, base_alignment);
+}
 
 class RtPipeline {
 public:
