@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -163,6 +164,11 @@ void Denoiser::create_pipelines() {
             VK_CHECK(vkAllocateDescriptorSets(m_ctx->device(), &ai, &m_temporal_sets[slot][i]));
             ai.pSetLayouts = &m_atrous_layout;
             VK_CHECK(vkAllocateDescriptorSets(m_ctx->device(), &ai, &m_atrous_sets[slot][i]));
+            char name[64];
+            std::snprintf(name, sizeof name, "denoise temporal set %u.%u", slot, i);
+            m_ctx->set_name(m_temporal_sets[slot][i], VK_OBJECT_TYPE_DESCRIPTOR_SET, name);
+            std::snprintf(name, sizeof name, "denoise atrous set %u.%u", slot, i);
+            m_ctx->set_name(m_atrous_sets[slot][i], VK_OBJECT_TYPE_DESCRIPTOR_SET, name);
         }
 }
 

@@ -162,6 +162,7 @@ void Context::wait_idle() {
 VkCommandBuffer Context::begin_one_shot() {
     VK_CHECK(vkResetCommandPool(m_device, m_one_shot_pool, 0));
     VkCommandBuffer cmd = make_cmd(m_device, m_one_shot_pool);
+    set_name(cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, "one-shot cmd");
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(cmd, &bi));

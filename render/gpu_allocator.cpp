@@ -1,6 +1,7 @@
 #include "render/gpu_allocator.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <iterator>
 
 #include "world/base/assert.h"
@@ -61,23 +62,26 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
     }
     if (m_props.memoryTypes[memory_type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
         VK_CHECK(vkMapMemory(m_device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
-    if (m_debug_names) {
-        VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
-        ni.objectType = VK_OBJECT_TYPE_DEVICE_MEMORY;
-        ni.objectHandle = uint64_t(b.memory);
-        ni.pObjectName = "vx memory block";
-        VK_CHECK(vkSetDebugUtilsObjectNameEXT(m_device, &ni));
-    }
     b.size = size;
     b.pool = pool;
     b.add_range(0, size);
-    for (size_t i = 0; i < m_blocks.size(); ++i)
-        if (!m_blocks[i].memory) {
-            m_blocks[i] = std::move(b);
-            return int(i);
-        }
-    m_blocks.push_back(std::move(b));
-    return int(m_blocks.size() - 1);
+    size_t index = 0;
+    while (index < m_blocks.size() && m_blocks[index].memory)
+        ++index;
+    if (index == m_blocks.size())
+        m_blocks.emplace_back();
+    if (m_debug_names) { // Which block a validation message is about: index, type, kind, size.
+        char name[96];
+        std::snprintf(name, sizeof name, "vx memory block %zu (type %u, %s, %llu KiB)", index, memory_type,
+                      pool % 2 ? "images" : "buffers", (unsigned long long)(size >> 10));
+        VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+        ni.objectType = VK_OBJECT_TYPE_DEVICE_MEMORY;
+        ni.objectHandle = uint64_t(b.memory);
+        ni.pObjectName = name;
+        VK_CHECK(vkSetDebugUtilsObjectNameEXT(m_device, &ni));
+    }
+    m_blocks[index] = std::move(b);
+    return int(index);
 }
 
 void GpuAllocator::Block::add_range(VkDeviceSize offset, VkDeviceSize bytes) {
