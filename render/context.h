@@ -117,6 +117,9 @@ public:
     // with `name_prefix` fail as out of memory (logged) until called again with "" (none); with
     // `above_bytes` > 0 only those larger than that fail (a device with room for smaller ones).
     void simulate_device_loss() { m_simulate_loss = true; }
+    // simulate_hang: the next fence wait is not made and reads as VK_ERROR_DEVICE_LOST, its
+    // submission left pending, as when the GPU hangs and the driver gives the device up.
+    void simulate_hang() { m_simulate_hang = true; }
     // inject_result: the next check_device call for `call` (its `what`) sees `result` instead.
     void inject_result(std::string call, VkResult result) {
         m_injected_call = std::move(call);
@@ -156,6 +159,7 @@ private:
     VkCommandBuffer begin_one_shot();
     void end_one_shot(VkCommandBuffer cmd);
     VkResult submit(const VkSubmitInfo2& si, VkFence fence);
+    VkResult wait_fence(VkFence fence); // vkWaitForFences without a timeout (or simulate_hang).
     static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                          VkDebugUtilsMessageTypeFlagsEXT types,
                                                          const VkDebugUtilsMessengerCallbackDataEXT* data,
@@ -191,12 +195,14 @@ private:
     bool m_in_frame = false;
     bool m_lost = false;
     bool m_simulate_loss = false;
+    bool m_simulate_hang = false;
     std::string m_injected_call; // inject_result.
     VkResult m_injected_result = VK_SUCCESS;
     std::string m_fail_prefix;
     VkDeviceSize m_fail_above = 0; // fail_allocations: only larger allocations fail (0: all).
     VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
     VkFence m_one_shot_fence = VK_NULL_HANDLE;
+    bool m_one_shot_stranded = false; // A one-shot's wait failed: it is left in its pool.
     std::atomic<uint32_t> m_validation_errors{0};
     std::atomic<uint32_t> m_validation_warnings{0};
 };

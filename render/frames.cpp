@@ -93,7 +93,7 @@ VkCommandBuffer Context::begin_frame() {
     Frame& f = m_frames[slot];
     // The slot's fence covers its last submission; with kFramesInFlight >= 2 every earlier frame
     // was waited for when its own slot began again, so everything retired in this slot is idle.
-    if (!check_device(vkWaitForFences(m_device, 1, &f.fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"))
+    if (!check_device(wait_fence(f.fence), "vkWaitForFences"))
         return VK_NULL_HANDLE;
     m_frame_slot = slot;
     ++m_frame_number;
@@ -117,6 +117,15 @@ VkResult Context::submit(const VkSubmitInfo2& si, VkFence fence) {
         return VK_ERROR_DEVICE_LOST;
     }
     return vkQueueSubmit2(m_queue, 1, &si, fence);
+}
+
+// The injected hang (simulate_hang) skips the wait: what it waited for stays pending.
+VkResult Context::wait_fence(VkFence fence) {
+    if (m_simulate_hang) {
+        m_simulate_hang = false;
+        return VK_ERROR_DEVICE_LOST;
+    }
+    return vkWaitForFences(m_device, 1, &fence, VK_TRUE, UINT64_MAX);
 }
 
 bool Context::end_frame(const FrameSubmitSync& sync) {
@@ -147,8 +156,7 @@ bool Context::wait_frame() {
     VX_ASSERT(!m_in_frame);
     if (m_lost)
         return false;
-    return check_device(vkWaitForFences(m_device, 1, &m_frames[m_frame_slot].fence, VK_TRUE, UINT64_MAX),
-                        "vkWaitForFences");
+    return check_device(wait_fence(m_frames[m_frame_slot].fence), "vkWaitForFences");
 }
 
 void Context::wait_idle() {
@@ -160,7 +168,8 @@ void Context::wait_idle() {
 }
 
 VkCommandBuffer Context::begin_one_shot() {
-    VK_CHECK(vkResetCommandPool(m_device, m_one_shot_pool, 0));
+    if (!m_one_shot_stranded) // A stranded buffer may be pending: the pool must not be reset.
+        VK_CHECK(vkResetCommandPool(m_device, m_one_shot_pool, 0));
     VkCommandBuffer cmd = make_cmd(m_device, m_one_shot_pool);
     set_name(cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, "one-shot cmd");
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -176,9 +185,18 @@ void Context::end_one_shot(VkCommandBuffer cmd) {
     VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
     si.commandBufferInfoCount = 1;
     si.pCommandBufferInfos = &cbi;
-    if (check_device(submit(si, m_one_shot_fence), "vkQueueSubmit2") &&
-        check_device(vkWaitForFences(m_device, 1, &m_one_shot_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"))
-        VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
+    if (!check_device(submit(si, m_one_shot_fence), "vkQueueSubmit2")) {
+        vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd); // Never submitted.
+        return;
+    }
+    if (!check_device(wait_fence(m_one_shot_fence), "vkWaitForFences")) {
+        // Lost while it may still be pending: freeing it is invalid. It stays allocated and goes
+        // with its pool, destroyed after the destructor's vkDeviceWaitIdle; a lost context
+        // submits nothing again, so neither it nor the fence is reused.
+        m_one_shot_stranded = true;
+        return;
+    }
+    VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
     vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd);
 }
 

@@ -7,6 +7,7 @@
 
 #include <cctype>
 
+#include "render/commands.h"
 #include "render/context.h"
 #include "scene_util.h"
 
@@ -229,6 +230,27 @@ TEST(DeviceLoss, FramesFailUntilANewRendererRendersTheSameImage) {
         EXPECT_EQ(r->validation_errors(), 0u);
     }
     EXPECT_EQ(test::differing_bytes(test::fresh_render(meshes, s, kCamera), before), 0);
+}
+
+// A one-shot submission whose fence wait fails (the GPU hung and the driver gave the device up:
+// Context::simulate_hang) may still be pending: it is not freed
+// (VUID-vkFreeCommandBuffers-pCommandBuffers-00047), nor is its pool reset under it by the next
+// one-shot (VUID-vkResetCommandPool-commandPool-00040); the context reads as lost and is destroyed
+// cleanly. The buffer was freed right after the failed wait.
+using OneShotHang = test::RenderTest;
+
+TEST_F(OneShotHang, APendingOneShotIsNotFreedAfterAFailedWait) {
+    auto barrier = [](VkCommandBuffer cmd) {
+        memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+    };
+    m_ctx->submit_now(barrier); // One that completes first: the pool has been used.
+    EXPECT_FALSE(m_ctx->lost());
+    m_ctx->simulate_hang();
+    m_ctx->submit_now(barrier);
+    EXPECT_TRUE(m_ctx->lost());
+    m_ctx->submit_now(barrier); // On the lost device: recorded, never submitted.
+    EXPECT_EQ(m_ctx->validation_errors(), 0u);
 }
 
 // The estimate of check_frame_size against this device's largest device-local heap: 16384^2
