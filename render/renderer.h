@@ -375,7 +375,7 @@ public:
 
     // Materials come from `registry` (copied); unknown ids get the registry's fallback colours.
     void set_registry(const world::BlockRegistry& registry);
-    // Incremental scene edits, applied at the next render() (past a frame's build budget, 256 MiB
+    // Incremental scene edits, applied at the next render() (past a frame's build budget, 2 GiB
     // of uploads, at a later one; the old mesh is drawn meanwhile). `changed_slices` (slice_index()
     // values, as MeshSink::on_mesh gives them) marks an edit: only those slices' slots are
     // uploaded and the BLAS refitted when they fit (else the chunk is rebuilt). Empty: the whole

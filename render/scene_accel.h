@@ -6,7 +6,7 @@
 // camera in steps, computed in 64-bit on the CPU, so a world at 2^24 blocks renders like one at
 // the origin). All BLAS builds and refits of a frame go into one
 // vkCmdBuildAccelerationStructuresKHR call, followed by one barrier and the TLAS build. A frame
-// builds the pending chunks, oldest first, up to a staging and a scratch budget (256 MiB each,
+// builds the pending chunks, oldest first, up to a staging and a scratch budget (2 GiB each,
 // less after allocations fail); the rest wait, still drawn as before, for the next frames.
 // A frame's CPU work follows what changed (pending chunks, hot chunks cooling down, compactions),
 // never every chunk: counts and memory are kept as chunks change.

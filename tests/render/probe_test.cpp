@@ -1,4 +1,6 @@
 #include <cstdlib>
+#include <optional>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -70,9 +72,18 @@ TEST(DeviceProbe, ApiVersionRequiresVulkan13) {
     EXPECT_FALSE(d.can_ray_trace());
 }
 
-// A missing driver names the driver files looked for, not VK_ERROR_INCOMPATIBLE_DRIVER. ctest runs
-// each test in its own process, so changing the environment here touches no other test.
+// A missing driver names the driver files looked for, not VK_ERROR_INCOMPATIBLE_DRIVER. The
+// environment is put back afterwards: run in one process (the test binary alone, not ctest), every
+// later test found no driver.
 TEST(DeviceProbe, MissingDriverNamesTheFilesLookedFor) {
+    struct Restore {
+        std::optional<std::string> was;
+        Restore() {
+            if (const char* v = std::getenv("VK_DRIVER_FILES"))
+                was = v;
+        }
+        ~Restore() { was ? setenv("VK_DRIVER_FILES", was->c_str(), 1) : unsetenv("VK_DRIVER_FILES"); }
+    } restore;
     ASSERT_EQ(setenv("VK_DRIVER_FILES", "/nonexistent/vx_no_driver.json", 1), 0);
     Result<std::vector<DeviceReport>> devices = probe_devices();
     ASSERT_FALSE(devices.ok());
