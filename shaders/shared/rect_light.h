@@ -138,7 +138,7 @@ VX_R_FN r_vec3 vx_rect_sample(RectView r, float u, float v) {
     const float h0 = r.y0 / sqrt(dd * dd + r.y0 * r.y0);
     const float h1 = r.y1 / sqrt(dd * dd + r.y1 * r.y1);
     const float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
-    const float yv = hv2 < 1.0f - 1e-6f ? (hv * dd) / sqrt(1.0f - hv2) : r.y1;
+    const float yv = hv2 < 1.0f - 1e-6f ? (hv * dd) / sqrt(1.0f - hv2) : (hv < 0.0f ? r.y0 : r.y1);
     return xu * r.x + clamp(yv, r.y0, r.y1) * r.y + r.z0 * r.z;
 }
 
