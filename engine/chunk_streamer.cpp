@@ -756,9 +756,10 @@ bool ChunkStreamer::settled() const {
         return false; // A load or generation in flight (counted: no walk while filling the view).
     const auto delay = std::chrono::duration<double>(m_settings.unload_delay_s);
     for (const auto& [c, s] : m_chunks) {
-        // A failed chunk waits for its retry: nothing to do until then.
+        // A failed chunk waits for its retry: nothing to do until then. A chunk still drawn out
+        // of the boxes is kept current too (queue_mesh).
         if (s.data == Data::Requested ||
-            (s.data == Data::Present && wants_mesh(c) && (!s.has_mesh || s.mesh_pending)))
+            (s.data == Data::Present && (wants_mesh(c) || s.in_sink) && (!s.has_mesh || s.mesh_pending)))
             return false;
         // A chunk beyond the unload radius that is due to go (or not yet noticed) is pending work.
         if (beyond_unload(c) && (!s.outside || m_last_now - s.outside_since >= delay))
