@@ -97,12 +97,16 @@ VkCommandBuffer Context::begin_frame() {
         return VK_NULL_HANDLE;
     m_frame_slot = slot;
     ++m_frame_number;
-    VK_CHECK(vkResetFences(m_device, 1, &f.fence));
     flush(f.retire);
-    VK_CHECK(vkResetCommandPool(m_device, f.pool, 0));
+    // Out of memory resetting or beginning the frame's commands: a lost context, as for a submit
+    // (they aborted). The fence is reset only after them, so it stays signalled on that path.
+    if (!check_device(vkResetCommandPool(m_device, f.pool, 0), "vkResetCommandPool"))
+        return VK_NULL_HANDLE;
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(f.cmd, &bi));
+    if (!check_device(vkBeginCommandBuffer(f.cmd, &bi), "vkBeginCommandBuffer"))
+        return VK_NULL_HANDLE;
+    VK_CHECK(vkResetFences(m_device, 1, &f.fence));
     m_in_frame = true;
     return f.cmd;
 }

@@ -152,10 +152,11 @@ TEST(TlasFailure, ManyFailedFramesDoNotGrowTheTlas) {
     EXPECT_EQ(r->validation_errors(), 0u);
 }
 
-// Any failure of a submit, a wait, a command buffer's end or a query read (out of memory, an
-// unknown error) gives the device up as lost: the frame fails with the lost-device line, later
-// ones too, and the renderer is destroyed cleanly. Out of memory there was VK_CHECKed (an abort);
-// so was a compaction query read on a device lost after the frame's fence wait.
+// Any failure of a submit, a wait, a command pool's reset, a command buffer's begin or end or a
+// query read (out of memory, an unknown error) gives the device up as lost: the frame fails with
+// the lost-device line, later ones too, and the renderer is destroyed cleanly. Out of memory
+// there was VK_CHECKed (an abort); so was a compaction query read on a device lost after the
+// frame's fence wait.
 TEST(DeviceErrors, AFailedSubmitWaitEndOrQueryIsALostDeviceNotAnAbort) {
     const world::World w = test::hills();
     const world::MeshMap meshes = test::mesh_world(w);
@@ -165,6 +166,8 @@ TEST(DeviceErrors, AFailedSubmitWaitEndOrQueryIsALostDeviceNotAnAbort) {
         {"vkWaitForFences", VK_ERROR_OUT_OF_HOST_MEMORY},
         {"vkEndCommandBuffer", VK_ERROR_OUT_OF_DEVICE_MEMORY},
         {"vkGetQueryPoolResults (compaction)", VK_ERROR_DEVICE_LOST},
+        {"vkResetCommandPool", VK_ERROR_OUT_OF_DEVICE_MEMORY},
+        {"vkBeginCommandBuffer", VK_ERROR_OUT_OF_HOST_MEMORY},
     };
     for (const auto& [call, result] : cases) {
         std::unique_ptr<Renderer> r = test::make_renderer();
