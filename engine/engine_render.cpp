@@ -39,11 +39,7 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.max_bounces = s.max_bounces;
     r.sky = s.sky;
     r.sky_light = s.sky_light;
-    // Normalised in double: a float length of {1e20, 1e20, 1e20} is infinite (the shader got a
-    // zero direction and sampled a ring round the horizon), of {1e-25, ...} zero (no sun).
-    const glm::dvec3 sun(s.sun.direction);
-    const double sun_length = glm::length(sun);
-    r.sun.direction = sun_length > 0.0 ? glm::vec3(sun / sun_length) : glm::vec3(0.f);
+    r.sun.direction = s.sun.direction; // Any finite length: the renderer normalises it in double.
     r.sun.angular_radius_degrees = s.sun.angular_radius_degrees;
     r.sun.irradiance = s.sun.irradiance;
     r.denoise = s.denoise;

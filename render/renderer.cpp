@@ -593,8 +593,11 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     p.light_edge_u = glm::vec4(s.light.edge_u, 0.f);
     p.light_edge_v = glm::vec4(s.light.edge_v, 0.f);
     p.light_emission = glm::vec4(s.light.emission, 0.f);
-    const float sun_len = glm::length(s.sun.direction);
-    p.sun_direction = glm::vec4(sun_len > 0.f ? s.sun.direction / sun_len : glm::vec3(0, 1, 0),
+    // Normalised in double: a float length of {1e20, 1e20, 1e20} is infinite (the shader got a
+    // zero direction and sampled a ring round the horizon), of {1e-25, ...} zero (no sun).
+    const glm::dvec3 sun(s.sun.direction);
+    const double sun_len = glm::length(sun);
+    p.sun_direction = glm::vec4(sun_len > 0.0 ? glm::vec3(sun / sun_len) : glm::vec3(0, 1, 0),
                                 std::cos(glm::radians(s.sun.angular_radius_degrees)));
     p.sun_irradiance = glm::vec4(sun_len > 0.f ? s.sun.irradiance : glm::vec3(0.f), 0.f);
     p.sky_light = glm::vec4(s.sky * std::max(s.sky_light, 0.f), 0.f);
