@@ -381,8 +381,10 @@ struct TerrainGenerator::CoarseGrid {
 
 namespace {
 
-// Votes of block columns for a cell's id: most votes, ties to the smaller id (downsample()'s
-// rule). The terrain votes for at most 6 ids (stone, dirt, grass, sand, snow, water).
+// Votes of block columns for a cell's id, downsample()'s rule: the class by majority (water, the
+// only see-through id the terrain votes for, against the opaque ids; ties to opaque), then the
+// most votes within it, ties to the smaller id. The terrain votes for at most 6 ids (stone, dirt,
+// grass, sand, snow, water).
 struct Ballot {
     BlockId ids[8];
     int counts[8];
@@ -397,11 +399,19 @@ struct Ballot {
         ids[n] = id;
         counts[n++] = 1;
     }
-    BlockId winner() const {
+    BlockId winner(BlockId water) const {
+        int wet = 0, total = 0;
+        for (int i = 0; i < n; ++i) {
+            wet += ids[i] == water ? counts[i] : 0;
+            total += counts[i];
+        }
+        // Water by plurality over land split between several ids sank coastal ground (issue 16).
+        if (2 * wet > total)
+            return water;
         BlockId best = kAir;
         int best_count = 0;
         for (int i = 0; i < n; ++i)
-            if (counts[i] > best_count || (counts[i] == best_count && ids[i] < best)) {
+            if (ids[i] != water && (counts[i] > best_count || (counts[i] == best_count && ids[i] < best))) {
                 best = ids[i];
                 best_count = counts[i];
             }
@@ -474,7 +484,7 @@ void TerrainGenerator::coarse_column(CoarseGrid& g, int cx, int cz, BlockId* den
                 else if (h >= ylo)
                     ballot.vote(g.col_ids[j].top);
             }
-            id = ballot.winner();
+            id = ballot.winner(m_ids.water);
         }
         dense[local_index(cx, y, cz)] = id;
     }

@@ -64,7 +64,8 @@ public:
 
     // Levels 1..kMaxDirectLevel: the level-c.level chunk at c.chunk, as described above; ids by
     // downsample()'s vote (each block column under a cell votes for its topmost non-air block in
-    // the cell; most votes, ties to the smaller id), counted over block columns. Cost: the height
+    // the cell; the class by majority, water against opaque ids, ties to opaque; then most votes
+    // within it, ties to the smaller id), counted over block columns. Cost: the height
     // noise every 4 blocks over the chunk's footprint ((8 * 2^k + 1)² samples) and one bilinear
     // height per block column under cells near the surface ((32 * 2^k)² at most). Coarser
     // levels return false (generate_lod() then builds them from 8 level-6 chunks each).

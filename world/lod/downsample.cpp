@@ -15,11 +15,23 @@ namespace {
 constexpr int kHalf = kChunkSize / 2; // Cells per octant edge.
 constexpr uint16_t kNoVote = 0xFFFF;
 
-// The winner among up to 4 votes (palette entries): most votes, ties to the smaller block id.
-uint16_t elect(const uint16_t* votes, int n, const std::vector<BlockId>& ids) {
+// Palette entry kinds, from the registry once per child.
+enum : uint8_t { kKindAir = 0, kKindOpaque = 1, kKindClear = 2 };
+
+// The winner among up to 4 votes (palette entries, none air), in two stages: the class by
+// majority (opaque or see-through, ties to opaque), then the id by plurality within that class,
+// ties to the smaller block id. A plain plurality let water, one id, win a coast cell over land
+// split between grass, sand and dirt, and the ground seen through the water sank (issue 16).
+uint16_t elect(const uint16_t* votes, int n, const uint8_t* kind, const std::vector<BlockId>& ids) {
+    int clear = 0;
+    for (int i = 0; i < n; ++i)
+        clear += kind[votes[i]] == kKindClear;
+    const uint8_t want = 2 * clear > n ? kKindClear : kKindOpaque;
     uint16_t best = kNoVote;
     int best_count = 0;
     for (int i = 0; i < n; ++i) {
+        if (kind[votes[i]] != want)
+            continue;
         int count = 0;
         for (int j = 0; j < n; ++j)
             count += votes[j] == votes[i];
@@ -33,7 +45,7 @@ uint16_t elect(const uint16_t* votes, int n, const std::vector<BlockId>& ids) {
 
 // Cells of one octant from the unpacked palette indices `idx` of the child.
 template <class Index>
-void vote_octant(const Index* idx, const uint8_t* air, const std::vector<BlockId>& ids, LocalPos base, BlockId* out) {
+void vote_octant(const Index* idx, const uint8_t* kind, const std::vector<BlockId>& ids, LocalPos base, BlockId* out) {
     for (int z = 0; z < kHalf; ++z)
         for (int y = 0; y < kHalf; ++y) {
             BlockId* row = out + local_index(base.x, base.y + y, base.z + z);
@@ -44,7 +56,9 @@ void vote_octant(const Index* idx, const uint8_t* air, const std::vector<BlockId
             const Index* hi1 = lo1 + kChunkSize;
             // The topmost non-air sub-cell of a sub-column (its lower one, air or not, when the
             // upper is air).
-            auto top = [&](const Index* lo, const Index* hi, int x) { return uint16_t(air[hi[x]] ? lo[x] : hi[x]); };
+            auto top = [&](const Index* lo, const Index* hi, int x) {
+                return uint16_t(kind[hi[x]] == kKindAir ? lo[x] : hi[x]);
+            };
             for (int x = 0; x < kHalf; ++x) {
                 const uint16_t t[4] = {top(lo0, hi0, 2 * x), top(lo0, hi0, 2 * x + 1), top(lo1, hi1, 2 * x),
                                        top(lo1, hi1, 2 * x + 1)};
@@ -55,16 +69,16 @@ void vote_octant(const Index* idx, const uint8_t* air, const std::vector<BlockId
                 uint16_t votes[4];
                 int n = 0;
                 for (uint16_t v : t)
-                    if (!air[v])
+                    if (kind[v] != kKindAir)
                         votes[n++] = v;
-                row[x] = n == 0 ? kAir : ids[elect(votes, n, ids)];
+                row[x] = n == 0 ? kAir : ids[elect(votes, n, kind, ids)];
             }
         }
 }
 
 } // namespace
 
-void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out) {
+void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out, const BlockRegistry& registry) {
     VX_ASSERT(octant >= 0 && octant < kLodChildren && out.size() == size_t(kChunkVolume));
     const LocalPos base = LocalPos(octant & 1, (octant >> 1) & 1, octant >> 2) * kHalf;
     const ChunkPalette* pal = child.palette();
@@ -75,22 +89,24 @@ void downsample_octant(const Chunk& child, int octant, std::span<BlockId> out) {
                 std::fill_n(out.begin() + local_index(base.x, base.y + y, base.z + z), kHalf, child.uniform_id());
         return;
     }
-    std::vector<uint8_t> air(pal->ids.size());
-    for (size_t e = 0; e < air.size(); ++e)
-        air[e] = pal->ids[e] == kAir;
+    std::vector<uint8_t> kind(pal->ids.size());
+    for (size_t e = 0; e < kind.size(); ++e) {
+        const BlockId id = pal->ids[e];
+        kind[e] = id == kAir ? kKindAir : registry.is_opaque(id) ? kKindOpaque : kKindClear;
+    }
     // Palette indices unpacked once, a byte each when they fit (most chunks hold < 256 ids).
     if (pal->indices.bits() <= 8) {
         auto idx = std::make_unique<uint8_t[]>(kChunkVolume);
         mesher_detail::unpack_rows8(pal->indices, 0, kChunkSize * kChunkSize, idx.get());
-        vote_octant(idx.get(), air.data(), pal->ids, base, out.data());
+        vote_octant(idx.get(), kind.data(), pal->ids, base, out.data());
     } else {
         auto idx = std::make_unique<uint16_t[]>(kChunkVolume);
         mesher_detail::unpack_rows16(pal->indices, 0, kChunkSize * kChunkSize, idx.get());
-        vote_octant(idx.get(), air.data(), pal->ids, base, out.data());
+        vote_octant(idx.get(), kind.data(), pal->ids, base, out.data());
     }
 }
 
-Chunk downsample(std::span<const Chunk* const, kLodChildren> children) {
+Chunk downsample(std::span<const Chunk* const, kLodChildren> children, const BlockRegistry& registry) {
     for (const Chunk* c : children)
         VX_ASSERT(c != nullptr);
     const bool same_uniform = std::all_of(children.begin(), children.end(), [&](const Chunk* c) {
@@ -100,16 +116,16 @@ Chunk downsample(std::span<const Chunk* const, kLodChildren> children) {
         return Chunk(children[0]->uniform_id());
     std::vector<BlockId> dense(kChunkVolume);
     for (int i = 0; i < kLodChildren; ++i)
-        downsample_octant(*children[size_t(i)], i, dense);
+        downsample_octant(*children[size_t(i)], i, dense, registry);
     return Chunk::from_dense(dense);
 }
 
-bool refresh_octant(Chunk& parent, const Chunk& child, int octant) {
+bool refresh_octant(Chunk& parent, const Chunk& child, int octant, const BlockRegistry& registry) {
     VX_ASSERT(octant >= 0 && octant < kLodChildren);
     std::vector<BlockId> before(kChunkVolume);
     parent.to_dense(before);
     std::vector<BlockId> after = before;
-    downsample_octant(child, octant, after);
+    downsample_octant(child, octant, after, registry);
     if (after == before)
         return false;
     parent = Chunk::from_dense(after);
@@ -120,7 +136,7 @@ namespace {
 
 // Level 0 from try_generate(); a coarser level from generate_coarse() when `direct` and the
 // generator offers it, else from its 8 children built the same way, depth first.
-Result<Chunk> build(const ChunkGenerator& gen, LodCoord c, bool direct) {
+Result<Chunk> build(const ChunkGenerator& gen, LodCoord c, bool direct, const BlockRegistry& registry) {
     VX_ASSERT(valid_lod_level(c.level));
     if (c.level == 0)
         return gen.try_generate(c.chunk);
@@ -130,19 +146,23 @@ Result<Chunk> build(const ChunkGenerator& gen, LodCoord c, bool direct) {
     std::array<Chunk, kLodChildren> kids;
     std::array<const Chunk*, kLodChildren> ptrs;
     for (int i = 0; i < kLodChildren; ++i) {
-        Result<Chunk> r = build(gen, lod_child(c, i), direct);
+        Result<Chunk> r = build(gen, lod_child(c, i), direct, registry);
         if (!r)
             return Error{r.error()};
         kids[size_t(i)] = std::move(*r);
         ptrs[size_t(i)] = &kids[size_t(i)];
     }
-    return downsample(ptrs);
+    return downsample(ptrs, registry);
 }
 
 } // namespace
 
-Result<Chunk> downsample_generated(const ChunkGenerator& gen, LodCoord c) { return build(gen, c, false); }
+Result<Chunk> downsample_generated(const ChunkGenerator& gen, LodCoord c, const BlockRegistry& registry) {
+    return build(gen, c, false, registry);
+}
 
-Result<Chunk> generate_lod(const ChunkGenerator& gen, LodCoord c) { return build(gen, c, true); }
+Result<Chunk> generate_lod(const ChunkGenerator& gen, LodCoord c, const BlockRegistry& registry) {
+    return build(gen, c, true, registry);
+}
 
 } // namespace vx::world
