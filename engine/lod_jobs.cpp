@@ -19,7 +19,7 @@ glm::dvec3 lod_priority_position(world::LodCoord c, const glm::dvec3& viewer) {
 void LodGenerateJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
         return;
-    Result<world::Chunk> r = world::generate_lod(m_gen, lod_of(key()));
+    Result<world::Chunk> r = world::generate_lod(m_gen, lod_of(key()), m_registry);
     if (r)
         m_chunk = std::move(*r);
     else
@@ -53,7 +53,7 @@ void LodLoadJob::derive_corrupt() {
     const world::LodCoord c = lod_of(key());
     world::LodDerived derived;
     Result<world::Chunk> d =
-        world::load_or_derive_lod(m_store, m_gen, c, world::LodDirtySet{c}, &derived, m_overlay.get());
+        world::load_or_derive_lod(m_store, m_gen, c, world::LodDirtySet{c}, &derived, m_overlay.get(), m_registry);
     if (!d) {
         m_error = d.error();
         return;
@@ -76,7 +76,8 @@ void LodDeriveJob::run(JobContext& ctx) {
     if (ctx.is_cancelled())
         return;
     world::LodDerived derived;
-    Result<world::Chunk> r = world::load_or_derive_lod(m_store, m_gen, lod_of(key()), *m_dirty, &derived, m_overlay.get());
+    Result<world::Chunk> r =
+        world::load_or_derive_lod(m_store, m_gen, lod_of(key()), *m_dirty, &derived, m_overlay.get(), m_registry);
     if (!r) {
         m_error = r.error();
         return;

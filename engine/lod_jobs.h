@@ -47,8 +47,9 @@ glm::dvec3 lod_priority_position(world::LodCoord c, const glm::dvec3& viewer);
 // Pool: the generator's coarse chunk (world::generate_lod: the terrain makes it directly).
 class LodGenerateJob final : public Job {
 public:
-    LodGenerateJob(LodJobEvents& owner, world::LodCoord c, const world::ChunkGenerator& gen, const glm::dvec3& viewer)
-        : Job(lod_job_key(c, JobKind::Generate)), m_owner(owner), m_gen(gen), m_viewer(viewer) {}
+    LodGenerateJob(LodJobEvents& owner, world::LodCoord c, const world::ChunkGenerator& gen,
+                   const world::BlockRegistry& registry, const glm::dvec3& viewer)
+        : Job(lod_job_key(c, JobKind::Generate)), m_owner(owner), m_gen(gen), m_registry(registry), m_viewer(viewer) {}
     void run(JobContext& ctx) override;
     void complete() override;
     glm::dvec3 priority_position() const override { return lod_priority_position(lod_of(key()), m_viewer); }
@@ -56,6 +57,7 @@ public:
 private:
     LodJobEvents& m_owner;
     const world::ChunkGenerator& m_gen;
+    const world::BlockRegistry& m_registry; // Opacity for the vote of levels built by downsampling.
     glm::dvec3 m_viewer;
     std::optional<world::Chunk> m_chunk;
     std::string m_error;
@@ -70,8 +72,9 @@ private:
 class LodLoadJob final : public Job {
 public:
     LodLoadJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
-               std::unique_ptr<Job> fallback, std::unique_ptr<const world::LodOverlay> overlay = nullptr)
-        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen),
+               const world::BlockRegistry& registry, std::unique_ptr<Job> fallback,
+               std::unique_ptr<const world::LodOverlay> overlay = nullptr)
+        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_registry(registry),
           m_fallback(std::move(fallback)), m_overlay(std::move(overlay)) {}
     void run(JobContext& ctx) override;
     void complete() override;
@@ -83,6 +86,7 @@ private:
     LodJobEvents& m_owner;
     world::ChunkStore& m_store;
     const world::ChunkGenerator& m_gen;
+    const world::BlockRegistry& m_registry;
     std::unique_ptr<Job> m_fallback;
     std::unique_ptr<const world::LodOverlay> m_overlay;
     std::optional<world::Chunk> m_chunk;
@@ -99,10 +103,10 @@ private:
 class LodDeriveJob final : public Job {
 public:
     LodDeriveJob(LodJobEvents& owner, world::LodCoord c, world::ChunkStore& store, const world::ChunkGenerator& gen,
-                 std::shared_ptr<const world::LodDirtySet> dirty, bool save,
+                 const world::BlockRegistry& registry, std::shared_ptr<const world::LodDirtySet> dirty, bool save,
                  std::unique_ptr<const world::LodOverlay> overlay = nullptr)
-        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_dirty(std::move(dirty)),
-          m_save(save), m_overlay(std::move(overlay)) {}
+        : Job(lod_job_key(c, JobKind::Load)), m_owner(owner), m_store(store), m_gen(gen), m_registry(registry),
+          m_dirty(std::move(dirty)), m_save(save), m_overlay(std::move(overlay)) {}
     void run(JobContext& ctx) override;
     void complete() override;
 
@@ -110,6 +114,7 @@ private:
     LodJobEvents& m_owner;
     world::ChunkStore& m_store;
     const world::ChunkGenerator& m_gen;
+    const world::BlockRegistry& m_registry;
     std::shared_ptr<const world::LodDirtySet> m_dirty;
     bool m_save;
     std::unique_ptr<const world::LodOverlay> m_overlay;

@@ -145,12 +145,14 @@ void LodStreamer::request_data(LodCoord c, Node& n) {
         std::unique_ptr<const LodOverlay> overlay = edited_under(c);
         const bool save = !overlay && !m_marked_here.contains(c); // Nothing unsaved in it.
         m_batch.push_back(
-            std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_stale, save, std::move(overlay)));
+            std::make_unique<LodDeriveJob>(events(), c, *m_store, m_generator, m_registry, m_stale, save,
+                                           std::move(overlay)));
         return;
     }
-    auto generate = std::make_unique<LodGenerateJob>(events(), c, m_generator, m_viewer);
+    auto generate = std::make_unique<LodGenerateJob>(events(), c, m_generator, m_registry, m_viewer);
     if (m_store && m_store->supports_lod())
-        m_batch.push_back(std::make_unique<LodLoadJob>(events(), c, *m_store, m_generator, std::move(generate),
+        m_batch.push_back(std::make_unique<LodLoadJob>(events(), c, *m_store, m_generator, m_registry,
+                                                       std::move(generate),
                                                        edited_under(c))); // Read only if its record is damaged.
     else
         m_batch.push_back(std::move(generate));
@@ -344,7 +346,7 @@ void LodStreamer::apply_edits() {
                 break;
             }
             const size_t bytes = n.chunk.memory_bytes();
-            if (!refresh_octant(n.chunk, *child, lod_octant(x))) {
+            if (!refresh_octant(n.chunk, *child, lod_octant(x), m_registry)) {
                 // Nothing changed at this level: none above changes either, unless the edit waited
                 // for a level to load (those above it were never refreshed, and the one that
                 // arrived may hold the edit already: derived over it).
@@ -428,7 +430,7 @@ void LodStreamer::merge_children(LodCoord c, Node& n) {
             cells = &it->second.chunk;
         }
         if (cells)
-            (void)refresh_octant(n.chunk, *cells, lod_octant(child));
+            (void)refresh_octant(n.chunk, *cells, lod_octant(child), m_registry);
     }
 }
 

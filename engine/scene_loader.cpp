@@ -137,7 +137,7 @@ public:
     void run(JobContext& ctx) override {
         if (ctx.is_cancelled())
             return;
-        const Result<Chunk> chunk = generate_lod(m_gen, m_coord);
+        const Result<Chunk> chunk = generate_lod(m_gen, m_coord, m_registry);
         VX_ASSERT(bool(chunk)); // The built-in terrain never fails.
         static const Apron kAirApron = Apron::air();
         thread_local GreedyMesher scratch; // One per worker, reused by every job it runs.

@@ -255,6 +255,13 @@ TEST(Downsample, CoastLandMajorityBeatsWaterPlurality) {
     const Chunk parent = downsample(pointers(kids));
     EXPECT_EQ(parent.get(0, 0, 0), grass);
     EXPECT_EQ(parent.get(2, 0, 0), water);
+    // The registry passed decides: in an empty one every id is opaque, so one class, and cell
+    // (0,0,0) goes to water by plurality (2 of 4 votes).
+    const BlockRegistry all_opaque;
+    std::vector<BlockId> plain(kChunkVolume, kAir);
+    downsample_octant(Chunk::from_dense(ids), 0, plain, all_opaque);
+    EXPECT_EQ(plain[size_t(local_index(0, 0, 0))], water);
+    EXPECT_EQ(plain[size_t(local_index(1, 0, 0))], water); // 2 water, 1 sand, 1 dirt.
 }
 
 // Random children of several densities and palette widths (up to 300 ids: 9-bit indices take

@@ -39,10 +39,10 @@
 namespace vx::world {
 
 // `registry` in every function below says which ids are see-through (the class stage of the vote);
-// it must outlive the call. The default registry is the one the terrain generator's ids come from.
-// TODO: the engine and the store's re-derivation pass no registry yet, so a game whose registry
-// differs from the default in opacity gets votes by the default's opacity (ids only; which
-// cells are air never depends on it).
+// it must outlive the call. The engine's LOD streamer and scene loader pass their world's; the
+// default registry is the one the terrain generator's ids come from. Every path that builds or
+// refreshes the same chunk must pass the same registry, or their ids may differ (which cells are
+// air never depends on it).
 
 // The level-k chunk whose children (level k-1, order of lod_child()) are `children`, none null.
 Chunk downsample(std::span<const Chunk* const, kLodChildren> children,

@@ -30,7 +30,8 @@ Result<Chunk> level0(ChunkStore& store, const ChunkGenerator& gen, ChunkCoord c)
 } // namespace
 
 Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c,
-                                 const LodDirtySet& dirty, LodDerived* derived, const LodOverlay* overlay) {
+                                 const LodDirtySet& dirty, LodDerived* derived, const LodOverlay* overlay,
+                                 const BlockRegistry& registry) {
     VX_ASSERT_RETURN(valid_lod_level(c.level), failed(c, "level out of range"));
     if (c.level == 0) {
         if (overlay)
@@ -48,7 +49,7 @@ Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, L
             return std::move(*r->chunk);
         corrupt = r->state == LoadState::Corrupt;
         if (!corrupt) {
-            Result<Chunk> g = generate_lod(gen, c);
+            Result<Chunk> g = generate_lod(gen, c, registry);
             if (!g)
                 return failed(c, g.error());
             return g;
@@ -58,13 +59,13 @@ Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, L
     std::array<Chunk, kLodChildren> kids;
     std::array<const Chunk*, kLodChildren> ptrs;
     for (int i = 0; i < kLodChildren; ++i) {
-        Result<Chunk> k = load_or_derive_lod(store, gen, lod_child(c, i), dirty, derived, overlay);
+        Result<Chunk> k = load_or_derive_lod(store, gen, lod_child(c, i), dirty, derived, overlay, registry);
         if (!k)
             return Error{k.error()}; // Already names the child.
         kids[size_t(i)] = std::move(*k);
         ptrs[size_t(i)] = &kids[size_t(i)];
     }
-    Chunk out = downsample(ptrs);
+    Chunk out = downsample(ptrs, registry);
     if (derived)
         derived->emplace_back(c, out);
     return out;

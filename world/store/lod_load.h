@@ -51,9 +51,11 @@ Status save_derived(ChunkStore& store, const LodDerived& derived);
 using LodOverlay = std::unordered_map<ChunkCoord, Chunk, ChunkCoordHash>;
 
 // The chunk at `c` by the rule above (level 0: `overlay`'s chunk, else the store's, else the
-// generator's). `derived` and `overlay` may be null.
+// generator's). `derived` and `overlay` may be null. `registry`: the opacity downsample() votes
+// by (the world's registry).
 Result<Chunk> load_or_derive_lod(ChunkStore& store, const ChunkGenerator& gen, LodCoord c,
                                  const LodDirtySet& dirty, LodDerived* derived = nullptr,
-                                 const LodOverlay* overlay = nullptr);
+                                 const LodOverlay* overlay = nullptr,
+                                 const BlockRegistry& registry = BlockRegistry::default_registry());
 
 } // namespace vx::world
