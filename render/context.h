@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "render/device_probe.h"
+#include "render/fault_injection.h"
 #include "render/gpu_allocator.h"
 #include "render/vk_common.h"
 
@@ -120,19 +121,20 @@ public:
     // simulate_hang: the next fence wait is not made and reads as VK_ERROR_DEVICE_LOST, its
     // submission left pending, as when the GPU hangs and the driver gives the device up.
     void simulate_hang() { m_simulate_hang = true; }
-    // inject_result: the next check_device call for `call` (its `what`) sees `result` instead.
+    // inject_result: the next check_device or vkMapMemory of a new memory block for `call` (its
+    // `what`) sees `result`.
     void inject_result(std::string call, VkResult result) {
-        m_injected_call = std::move(call);
-        m_injected_result = result;
+        m_faults.call = std::move(call);
+        m_faults.result = result;
     }
+    // Also fails new memory blocks' vkMapMemory ("vkMapMemory") as VK_ERROR_OUT_OF_HOST_MEMORY.
     void fail_allocations(std::string name_prefix, VkDeviceSize above_bytes = 0) {
-        m_fail_prefix = std::move(name_prefix);
-        m_fail_above = above_bytes;
+        m_faults.prefix = std::move(name_prefix);
+        m_faults.above = above_bytes;
     }
     // `bytes`: the allocation's size (0: one without a size, such as a pipeline).
     bool allocation_injected(const char* name, VkDeviceSize bytes = 0) const {
-        return !m_fail_prefix.empty() && std::string_view(name).starts_with(m_fail_prefix) &&
-               (m_fail_above == 0 || bytes > m_fail_above);
+        return m_faults.allocation(name, bytes);
     }
 
     // Retiring: called by resource destructors; the handle is destroyed once the current frame
@@ -196,10 +198,7 @@ private:
     bool m_lost = false;
     bool m_simulate_loss = false;
     bool m_simulate_hang = false;
-    std::string m_injected_call; // inject_result.
-    VkResult m_injected_result = VK_SUCCESS;
-    std::string m_fail_prefix;
-    VkDeviceSize m_fail_above = 0; // fail_allocations: only larger allocations fail (0: all).
+    FaultInjection m_faults; // inject_result, fail_allocations; the allocator reads it too.
     VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
     VkFence m_one_shot_fence = VK_NULL_HANDLE;
     bool m_one_shot_stranded = false; // A one-shot's wait failed: it is left in its pool.

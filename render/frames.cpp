@@ -67,10 +67,8 @@ void Context::flush(RetireList& list) {
 }
 
 bool Context::check_device(VkResult result, const char* what) {
-    if (!m_injected_call.empty() && m_injected_call == what) { // Test hook (inject_result).
-        result = m_injected_result;
-        m_injected_call.clear();
-    }
+    if (const VkResult injected = m_faults.take_call(what); injected != VK_SUCCESS) // Test hook.
+        result = injected;
     if (result == VK_SUCCESS)
         return true;
     // Out of memory in a submit or a wait leaves the frame's fence unsignalled for good (the

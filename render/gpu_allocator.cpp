@@ -11,8 +11,9 @@ namespace vx::render {
 
 static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
-GpuAllocator::GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size, bool debug_names)
-    : m_device(device), m_block_size(block_size), m_debug_names(debug_names) {
+GpuAllocator::GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size, bool debug_names,
+                           FaultInjection* faults)
+    : m_device(device), m_block_size(block_size), m_debug_names(debug_names), m_faults(faults) {
     vkGetPhysicalDeviceMemoryProperties(pd, &m_props);
 }
 
@@ -60,8 +61,13 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
         VX_LOG_ERROR("GPU allocator: vkAllocateMemory of %llu bytes failed", (unsigned long long)size);
         return -1;
     }
-    if (m_props.memoryTypes[memory_type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
-        VK_CHECK(vkMapMemory(m_device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+    // Out of host memory mapping a new block (a game running long meets it): the allocation
+    // fails as when vkAllocateMemory does, and the caller reports it (it was a VK_CHECK abort).
+    const bool host_visible = m_props.memoryTypes[memory_type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+    if (host_visible && !map_block(b.memory, &b.mapped)) {
+        vkFreeMemory(m_device, b.memory, nullptr);
+        return -1;
+    }
     b.size = size;
     b.pool = pool;
     b.add_range(0, size);
@@ -70,18 +76,34 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
         ++index;
     if (index == m_blocks.size())
         m_blocks.emplace_back();
-    if (m_debug_names) { // Which block a validation message is about: index, type, kind, size.
-        char name[96];
-        std::snprintf(name, sizeof name, "vx memory block %zu (type %u, %s, %llu KiB)", index, memory_type,
-                      pool % 2 ? "images" : "buffers", (unsigned long long)(size >> 10));
-        VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
-        ni.objectType = VK_OBJECT_TYPE_DEVICE_MEMORY;
-        ni.objectHandle = uint64_t(b.memory);
-        ni.pObjectName = name;
-        VK_CHECK(vkSetDebugUtilsObjectNameEXT(m_device, &ni));
-    }
+    if (m_debug_names)
+        name_block(b.memory, index, pool, memory_type, size);
     m_blocks[index] = std::move(b);
     return int(index);
+}
+
+bool GpuAllocator::map_block(VkDeviceMemory memory, void** mapped) {
+    VkResult r = m_faults ? m_faults->take("vkMapMemory") : VK_SUCCESS; // Test hook.
+    if (r == VK_SUCCESS)
+        r = vkMapMemory(m_device, memory, 0, VK_WHOLE_SIZE, 0, mapped);
+    if (r == VK_SUCCESS)
+        return true;
+    VX_LOG_ERROR("GPU allocator: vkMapMemory of a new block failed (%s)", vk_result_name(r));
+    *mapped = nullptr;
+    return false;
+}
+
+// Which block a validation message is about: index, type, kind, size.
+void GpuAllocator::name_block(VkDeviceMemory memory, size_t index, uint32_t pool, uint32_t memory_type,
+                              VkDeviceSize size) {
+    char name[96];
+    std::snprintf(name, sizeof name, "vx memory block %zu (type %u, %s, %llu KiB)", index, memory_type,
+                  pool % 2 ? "images" : "buffers", (unsigned long long)(size >> 10));
+    VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+    ni.objectType = VK_OBJECT_TYPE_DEVICE_MEMORY;
+    ni.objectHandle = uint64_t(memory);
+    ni.pObjectName = name;
+    (void)vkSetDebugUtilsObjectNameEXT(m_device, &ni); // Out of host memory: only the name is missing.
 }
 
 void GpuAllocator::Block::add_range(VkDeviceSize offset, VkDeviceSize bytes) {

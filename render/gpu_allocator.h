@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "render/fault_injection.h"
 #include "render/vk_common.h"
 
 namespace vx::render {
@@ -45,8 +46,9 @@ struct AllocatorStats {
 class GpuAllocator {
 public:
     // `debug_names`: name each block for validation messages (needs VK_EXT_debug_utils).
+    // `faults`: test hooks (the Context's) that may fail a new block's vkMapMemory; null: none.
     GpuAllocator(VkPhysicalDevice pd, VkDevice device, VkDeviceSize block_size = 64ull << 20,
-                 bool debug_names = false);
+                 bool debug_names = false, FaultInjection* faults = nullptr);
     ~GpuAllocator();
     GpuAllocator(const GpuAllocator&) = delete;
     GpuAllocator& operator=(const GpuAllocator&) = delete;
@@ -80,11 +82,14 @@ private:
     int find_memory_type(uint32_t type_bits, MemoryUse use) const;
     bool carve(Block& b, VkDeviceSize size, VkDeviceSize align, VkDeviceSize& out_offset);
     int new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize size);
+    bool map_block(VkDeviceMemory memory, void** mapped);
+    void name_block(VkDeviceMemory memory, size_t index, uint32_t pool, uint32_t memory_type, VkDeviceSize size);
 
     VkDevice m_device;
     VkPhysicalDeviceMemoryProperties m_props{};
     VkDeviceSize m_block_size;
     bool m_debug_names;
+    FaultInjection* m_faults;
     VkDeviceSize m_budget = 0, m_budgeted_used = 0;
     std::vector<Block> m_blocks; // Slots of released blocks have memory == VK_NULL_HANDLE.
 };

@@ -84,6 +84,25 @@ TEST_F(ResourcesTest, BuffersTheDeviceCannotMakeAreEmptyNotAborts) {
     EXPECT_EQ(m_ctx->validation_errors(), 0u);
 }
 
+// A new memory block that cannot be mapped (out of host memory mid-game; it was a VK_CHECK
+// abort): the buffer that needed it is empty, as for any allocation the device refuses, and the
+// block is freed; once mapping works again the same request gets a mapped buffer.
+TEST_F(ResourcesTest, ANewBlockThatCannotBeMappedIsAFailedAllocation) {
+    const VkDeviceSize big = VkDeviceSize(80) << 20; // Past the 64 MiB blocks: a block of its own.
+    const BufferCreateInfo ci{big, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Upload, 0, "needs a new block"};
+    const uint32_t blocks = m_ctx->allocator().stats().blocks;
+    m_ctx->inject_result("vkMapMemory", VK_ERROR_MEMORY_MAP_FAILED);
+    EXPECT_FALSE(Buffer::create(*m_ctx, ci).valid());
+    m_ctx->fail_allocations("vkMapMemory");
+    const BufferCreateInfo read{big, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "read"};
+    EXPECT_FALSE(Buffer::create(*m_ctx, read).valid());
+    EXPECT_EQ(m_ctx->allocator().stats().blocks, blocks);
+    m_ctx->fail_allocations("");
+    Buffer mapped = Buffer::create(*m_ctx, ci);
+    ASSERT_TRUE(mapped.valid());
+    EXPECT_NE(mapped.mapped(), nullptr);
+}
+
 TEST_F(ResourcesTest, DestroyedBuffersRetireUntilTheirFrameCompletes) {
     m_ctx->wait_idle();
     const uint32_t before = m_ctx->allocator().stats().allocations;
