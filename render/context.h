@@ -121,13 +121,14 @@ public:
     // simulate_hang: the next fence wait is not made and reads as VK_ERROR_DEVICE_LOST, its
     // submission left pending, as when the GPU hangs and the driver gives the device up.
     void simulate_hang() { m_simulate_hang = true; }
-    // inject_result: the next check_device or vkMapMemory of a new memory block for `call` (its
-    // `what`) sees `result`.
+    // inject_result: the next check_device, create_call or new block's vkMapMemory for `call`
+    // (its `what`) sees `result`.
     void inject_result(std::string call, VkResult result) {
         m_faults.call = std::move(call);
         m_faults.result = result;
     }
-    // Also fails new memory blocks' vkMapMemory ("vkMapMemory") as VK_ERROR_OUT_OF_HOST_MEMORY.
+    // Also fails create_call and new memory blocks' vkMapMemory ("vkMapMemory") whose `what`
+    // starts with `name_prefix`, as VK_ERROR_OUT_OF_HOST_MEMORY.
     void fail_allocations(std::string name_prefix, VkDeviceSize above_bytes = 0) {
         m_faults.prefix = std::move(name_prefix);
         m_faults.above = above_bytes;
@@ -136,6 +137,22 @@ public:
     bool allocation_injected(const char* name, VkDeviceSize bytes = 0) const {
         return m_faults.allocation(name, bytes);
     }
+    // A creation call the device may refuse at run time (out of host or device memory): returns
+    // `call()`'s result, or without calling it the result a test hook gave `what` (inject_result,
+    // fail_allocations). A failure is logged and kept (last_create_failure) naming `what`; the
+    // caller turns it into an error (a Status, an empty resource), never an abort.
+    template <class F> VkResult create_call(const char* what, F&& call) {
+        VkResult r = m_faults.take(what);
+        if (r == VK_SUCCESS)
+            r = call();
+        if (r != VK_SUCCESS)
+            log_create_failure(what, r);
+        return r;
+    }
+
+    // "<what> failed (<result>)" of the last create_call that failed, for error messages that
+    // name the call; empty: none failed.
+    const std::string& last_create_failure() const { return m_last_create_failure; }
 
     // Retiring: called by resource destructors; the handle is destroyed once the current frame
     // (and so every earlier one) has completed on the GPU.
@@ -155,6 +172,7 @@ private:
     Status create_surface(const ContextCreateInfo& info);
     Status pick_device(const ContextCreateInfo& info);
     bool can_present(VkPhysicalDevice pd, uint32_t* family) const;
+    void log_create_failure(const char* what, VkResult result);
     Status create_device();
     void create_frames();
     void flush(RetireList& list);
@@ -199,6 +217,7 @@ private:
     bool m_simulate_loss = false;
     bool m_simulate_hang = false;
     FaultInjection m_faults; // inject_result, fail_allocations; the allocator reads it too.
+    std::string m_last_create_failure;
     VkCommandPool m_one_shot_pool = VK_NULL_HANDLE;
     VkFence m_one_shot_fence = VK_NULL_HANDLE;
     bool m_one_shot_stranded = false; // A one-shot's wait failed: it is left in its pool.

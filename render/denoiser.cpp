@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include <glm/gtc/packing.hpp>
@@ -36,12 +37,17 @@ VkDescriptorSetLayout make_set_layout(Context& ctx, uint32_t bindings, const cha
     ci.bindingCount = bindings;
     ci.pBindings = b.data();
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &ci, nullptr, &layout));
+    const std::string call = std::string("vkCreateDescriptorSetLayout (") + name + ")";
+    auto create = [&] { return vkCreateDescriptorSetLayout(ctx.device(), &ci, nullptr, &layout); };
+    if (ctx.create_call(call.c_str(), create) != VK_SUCCESS)
+        return VK_NULL_HANDLE;
     ctx.set_name(layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, name);
     return layout;
 }
 
 VkPipelineLayout make_pipeline_layout(Context& ctx, VkDescriptorSetLayout set, const char* name) {
+    if (!set)
+        return VK_NULL_HANDLE; // Its creation failed (logged).
     const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::DenoisePush)};
     VkPipelineLayoutCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     ci.setLayoutCount = 1;
@@ -49,7 +55,10 @@ VkPipelineLayout make_pipeline_layout(Context& ctx, VkDescriptorSetLayout set, c
     ci.pushConstantRangeCount = 1;
     ci.pPushConstantRanges = &range;
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &ci, nullptr, &layout));
+    const std::string call = std::string("vkCreatePipelineLayout (") + name + ")";
+    auto create = [&] { return vkCreatePipelineLayout(ctx.device(), &ci, nullptr, &layout); };
+    if (ctx.create_call(call.c_str(), create) != VK_SUCCESS)
+        return VK_NULL_HANDLE;
     ctx.set_name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
     return layout;
 }
@@ -80,7 +89,7 @@ void compute_barrier(VkCommandBuffer cmd) {
 Denoiser::Denoiser(Context& ctx, uint32_t width, uint32_t height) : m_ctx(&ctx), m_width(width), m_height(height) {
     VX_ASSERT(width > 0 && height > 0);
     create_images();
-    create_pipelines();
+    m_valid = create_pipelines();
 }
 
 Denoiser::~Denoiser() {
@@ -140,20 +149,24 @@ void Denoiser::create_images() {
     m_ready = m_ready && m_ldr.valid();
 }
 
-void Denoiser::create_pipelines() {
+bool Denoiser::create_pipelines() {
     m_temporal_layout = make_set_layout(*m_ctx, kTemporalBindings, "denoise temporal set layout");
     m_atrous_layout = make_set_layout(*m_ctx, kAtrousBindings, "denoise atrous set layout");
     m_temporal_pl = make_pipeline_layout(*m_ctx, m_temporal_layout, "denoise temporal layout");
     m_atrous_pl = make_pipeline_layout(*m_ctx, m_atrous_layout, "denoise atrous layout");
     m_temporal = make_compute_pipeline(*m_ctx, m_temporal_pl, spirv::denoise_temporal(), "denoise_temporal.comp");
     m_atrous = make_compute_pipeline(*m_ctx, m_atrous_pl, spirv::denoise_atrous(), "denoise_atrous.comp");
+    if (!m_temporal || !m_atrous)
+        return false; // Out of memory (logged); the destructor frees what was made.
     constexpr uint32_t kSets = kFramesInFlight * 4;
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kFramesInFlight * 2 * (kTemporalBindings + kAtrousBindings)};
     VkDescriptorPoolCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     ci.maxSets = kSets;
     ci.poolSizeCount = 1;
     ci.pPoolSizes = &size;
-    VK_CHECK(vkCreateDescriptorPool(m_ctx->device(), &ci, nullptr, &m_pool));
+    auto create_pool = [&] { return vkCreateDescriptorPool(m_ctx->device(), &ci, nullptr, &m_pool); };
+    if (m_ctx->create_call("vkCreateDescriptorPool (denoise descriptor pool)", create_pool) != VK_SUCCESS)
+        return false;
     m_ctx->set_name(m_pool, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "denoise descriptor pool");
     for (uint32_t slot = 0; slot < kFramesInFlight; ++slot)
         for (uint32_t i = 0; i < 2; ++i) {
@@ -161,15 +174,23 @@ void Denoiser::create_pipelines() {
             ai.descriptorPool = m_pool;
             ai.descriptorSetCount = 1;
             ai.pSetLayouts = &m_temporal_layout;
-            VK_CHECK(vkAllocateDescriptorSets(m_ctx->device(), &ai, &m_temporal_sets[slot][i]));
+            if (!allocate_set(ai, m_temporal_sets[slot][i]))
+                return false; // The pool frees the sets made.
             ai.pSetLayouts = &m_atrous_layout;
-            VK_CHECK(vkAllocateDescriptorSets(m_ctx->device(), &ai, &m_atrous_sets[slot][i]));
+            if (!allocate_set(ai, m_atrous_sets[slot][i]))
+                return false;
             char name[64];
             std::snprintf(name, sizeof name, "denoise temporal set %u.%u", slot, i);
             m_ctx->set_name(m_temporal_sets[slot][i], VK_OBJECT_TYPE_DESCRIPTOR_SET, name);
             std::snprintf(name, sizeof name, "denoise atrous set %u.%u", slot, i);
             m_ctx->set_name(m_atrous_sets[slot][i], VK_OBJECT_TYPE_DESCRIPTOR_SET, name);
         }
+    return true;
+}
+
+bool Denoiser::allocate_set(const VkDescriptorSetAllocateInfo& ai, VkDescriptorSet& set) {
+    return m_ctx->create_call("vkAllocateDescriptorSets (denoise)",
+                              [&] { return vkAllocateDescriptorSets(m_ctx->device(), &ai, &set); }) == VK_SUCCESS;
 }
 
 void Denoiser::write_sets(const DenoiseInputs& in, uint32_t slot) {

@@ -130,6 +130,8 @@ public:
     uint32_t height() const { return m_height; }
     // Every image was allocated (record() may be called).
     bool ready() const { return m_ready; }
+    // Its pipelines and descriptor sets were made; false (out of memory, logged): destroy it.
+    bool valid() const { return m_valid; }
 
     // Records the temporal pass and settings.iterations a-trous passes into `cmd` (a frame's
     // command buffer: descriptor sets are per frame slot, so at most kFramesInFlight frames may
@@ -142,8 +144,10 @@ public:
 
 private:
     void create_images();
-    void create_pipelines();
+    bool create_pipelines();
+    bool allocate_set(const VkDescriptorSetAllocateInfo& ai, VkDescriptorSet& set);
     bool m_ready = false;
+    bool m_valid = false;
     void write_sets(const DenoiseInputs& inputs, uint32_t slot);
 
     Context* m_ctx;

@@ -66,6 +66,11 @@ void Context::flush(RetireList& list) {
     list = RetireList{};
 }
 
+void Context::log_create_failure(const char* what, VkResult result) {
+    m_last_create_failure = std::string(what) + " failed (" + vk_result_name(result) + ")";
+    VX_LOG_ERROR("renderer: %s", m_last_create_failure.c_str());
+}
+
 bool Context::check_device(VkResult result, const char* what) {
     if (const VkResult injected = m_faults.take_call(what); injected != VK_SUCCESS) // Test hook.
         result = injected;

@@ -1,19 +1,32 @@
 #include "render/graphics_pipeline.h"
 
+#include <string>
+
 namespace vx::render {
+
+// The name create_call logs and tests inject by: "<call> (<object's debug name>)".
+static std::string call_name(const char* call, const char* object) {
+    return std::string(call) + " (" + object + ")";
+}
 
 VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv, const char* name) {
     VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     ci.codeSize = spirv.size_bytes();
     ci.pCode = spirv.data();
     VkShaderModule m = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &ci, nullptr, &m));
+    if (ctx.create_call(call_name("vkCreateShaderModule", name).c_str(),
+                        [&] { return vkCreateShaderModule(ctx.device(), &ci, nullptr, &m); }) != VK_SUCCESS)
+        return VK_NULL_HANDLE;
     ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
     return m;
 }
 
 VkPipeline make_compute_pipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> code, const char* name) {
+    if (!layout)
+        return VK_NULL_HANDLE; // Its creation failed (logged).
     const VkShaderModule module = make_shader_module(ctx, code, name);
+    if (!module)
+        return VK_NULL_HANDLE;
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -21,9 +34,13 @@ VkPipeline make_compute_pipeline(Context& ctx, VkPipelineLayout layout, std::spa
     ci.stage.pName = "main";
     ci.layout = layout;
     VkPipeline pipeline = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
-    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, name);
+    const VkResult r = ctx.create_call(call_name("vkCreateComputePipelines", name).c_str(), [&] {
+        return vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
+    });
     vkDestroyShaderModule(ctx.device(), module, nullptr);
+    if (r != VK_SUCCESS)
+        return VK_NULL_HANDLE;
+    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, name);
     return pipeline;
 }
 
@@ -33,7 +50,9 @@ VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const c
     pl.pushConstantRangeCount = 1;
     pl.pPushConstantRanges = &range;
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &pl, nullptr, &layout));
+    if (ctx.create_call(call_name("vkCreatePipelineLayout", name).c_str(),
+                        [&] { return vkCreatePipelineLayout(ctx.device(), &pl, nullptr, &layout); }) != VK_SUCCESS)
+        return VK_NULL_HANDLE;
     ctx.set_name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
     return layout;
 }
@@ -59,8 +78,14 @@ VkPipelineColorBlendAttachmentState blend_attachment(bool alpha_blend) {
 } // namespace
 
 VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
+    if (!d.layout)
+        return VK_NULL_HANDLE; // Its creation failed (logged).
     const VkShaderModule vert = make_shader_module(ctx, d.vert, d.vert_name);
-    const VkShaderModule frag = make_shader_module(ctx, d.frag, d.frag_name);
+    const VkShaderModule frag = vert ? make_shader_module(ctx, d.frag, d.frag_name) : VK_NULL_HANDLE;
+    if (!frag) {
+        vkDestroyShaderModule(ctx.device(), vert, nullptr);
+        return VK_NULL_HANDLE;
+    }
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                  {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -113,10 +138,14 @@ VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
     ci.pDynamicState = &dynamic;
     ci.layout = d.layout;
     VkPipeline pipeline = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
-    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, d.name);
+    const VkResult r = ctx.create_call(call_name("vkCreateGraphicsPipelines", d.name).c_str(), [&] {
+        return vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
+    });
     vkDestroyShaderModule(ctx.device(), vert, nullptr);
     vkDestroyShaderModule(ctx.device(), frag, nullptr);
+    if (r != VK_SUCCESS)
+        return VK_NULL_HANDLE;
+    ctx.set_name(pipeline, VK_OBJECT_TYPE_PIPELINE, d.name);
     return pipeline;
 }
 

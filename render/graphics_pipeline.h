@@ -10,6 +10,9 @@
 
 namespace vx::render {
 
+// Each returns VK_NULL_HANDLE when the device refuses it (out of memory: logged, named by
+// Context::last_create_failure), and a pipeline given a null layout is null too.
+
 // A shader module with a debug name; the caller destroys it once the pipeline exists.
 VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv, const char* name);
 

@@ -20,7 +20,9 @@ LightCache::LightCache(Context& ctx, VkDescriptorSetLayout set_layout) : m_ctx(&
     VkPipelineLayoutCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     ci.setLayoutCount = 1;
     ci.pSetLayouts = &set_layout;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &ci, nullptr, &m_layout));
+    if (ctx.create_call("vkCreatePipelineLayout (light cache layout)",
+                        [&] { return vkCreatePipelineLayout(ctx.device(), &ci, nullptr, &m_layout); }) != VK_SUCCESS)
+        return; // Out of memory: valid() is false.
     ctx.set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "light cache layout");
     m_pipeline = make_compute_pipeline(ctx, m_layout, spirv::light_cache_resolve(), "light_cache.comp");
 }

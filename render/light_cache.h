@@ -29,6 +29,8 @@ public:
     ~LightCache();
     LightCache(const LightCache&) = delete;
     LightCache& operator=(const LightCache&) = delete;
+    // Its pipeline was made; false (out of memory, logged): destroy it, a later frame retries.
+    bool valid() const { return m_pipeline != VK_NULL_HANDLE; }
 
     // Buffers for width x height frames whose paths cache the primary hit and `bounces`
     // (0..gpu::kMaxCachedBounces) mirror bounces; kept when large enough. false: out of GPU

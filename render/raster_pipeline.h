@@ -42,6 +42,8 @@ public:
     RasterPipeline(Context& ctx, VkFormat color_format);
     ~RasterPipeline();
     RasterPipeline(const RasterPipeline&) = delete;
+    // Its pipeline was made; false (out of memory, logged): destroy it, a later frame retries.
+    bool valid() const { return m_pipeline != VK_NULL_HANDLE; }
     RasterPipeline& operator=(const RasterPipeline&) = delete;
 
     // Records the clear and one draw per chunk inside the view frustum (a level-k chunk: its

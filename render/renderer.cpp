@@ -202,7 +202,13 @@ struct Renderer::Impl {
             vkDestroyQueryPool(ctx->device(), queries, nullptr);
     }
     bool create_descriptors(); // False: out of memory for the frame parameters.
-    void create_queries();
+    bool create_queries();     // False: out of memory for the timestamps' query pool.
+    // Renderer::create's error for `what`, naming the call that failed when one did.
+    Error create_error(const char* what) const {
+        const std::string& call = ctx->last_create_failure();
+        return Error{std::string("cannot create the renderer: out of GPU memory for ") + what +
+                     (call.empty() ? "" : " (" + call + ")")};
+    }
     void stamp(VkCommandBuffer cmd, uint32_t i) {
         if (queries)
             vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, queries, ctx->frame_slot() * kStamps + i);
@@ -271,10 +277,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     // Out of memory here is the device's state, not our bug: an error, as for a frame (it was
     // an assertion; a renderer recreated after a device loss meets a full device).
     if (!r->m->pipeline->valid())
-        return Error{"cannot create the renderer: out of GPU memory for the ray tracing pipeline"};
+        return r->m->create_error("the ray tracing pipeline");
     if (!r->m->create_descriptors())
-        return Error{"cannot create the renderer: out of GPU memory for the frame parameters"};
-    r->m->create_queries();
+        return r->m->create_error("the frame parameters");
+    if (!r->m->create_queries())
+        return r->m->create_error("the frame timestamps");
     r->set_registry(world::BlockRegistry::default_registry());
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
@@ -293,7 +300,9 @@ bool Renderer::Impl::create_descriptors() {
     ci.maxSets = kFramesInFlight;
     ci.poolSizeCount = uint32_t(std::size(sizes));
     ci.pPoolSizes = sizes;
-    VK_CHECK(vkCreateDescriptorPool(ctx->device(), &ci, nullptr, &pool));
+    if (ctx->create_call("vkCreateDescriptorPool (rt descriptor pool)",
+                         [&] { return vkCreateDescriptorPool(ctx->device(), &ci, nullptr, &pool); }) != VK_SUCCESS)
+        return false;
     ctx->set_name(pool, VK_OBJECT_TYPE_DESCRIPTOR_POOL, "rt descriptor pool");
     std::array<VkDescriptorSetLayout, kFramesInFlight> layouts;
     layouts.fill(pipeline->set_layout());
@@ -301,7 +310,9 @@ bool Renderer::Impl::create_descriptors() {
     ai.descriptorPool = pool;
     ai.descriptorSetCount = kFramesInFlight;
     ai.pSetLayouts = layouts.data();
-    VK_CHECK(vkAllocateDescriptorSets(ctx->device(), &ai, sets.data()));
+    if (ctx->create_call("vkAllocateDescriptorSets (rt descriptor set)",
+                         [&] { return vkAllocateDescriptorSets(ctx->device(), &ai, sets.data()); }) != VK_SUCCESS)
+        return false; // The pool frees whatever was allocated.
     for (uint32_t i = 0; i < kFramesInFlight; ++i) {
         ctx->set_name(sets[i], VK_OBJECT_TYPE_DESCRIPTOR_SET, "rt descriptor set");
         params[i] = Buffer::create(*ctx, {sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -312,19 +323,22 @@ bool Renderer::Impl::create_descriptors() {
     return true;
 }
 
-void Renderer::Impl::create_queries() {
+bool Renderer::Impl::create_queries() {
     uint32_t count = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device(), &count, nullptr);
     std::vector<VkQueueFamilyProperties> families(count);
     vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device(), &count, families.data());
     if (families[ctx->queue_family()].timestampValidBits == 0 || ctx->limits().timestampPeriod <= 0.f)
-        return;
+        return true; // No timestamps on this queue: stats without GPU times.
     VkQueryPoolCreateInfo ci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     ci.queryType = VK_QUERY_TYPE_TIMESTAMP;
     ci.queryCount = kStamps * kFramesInFlight;
-    VK_CHECK(vkCreateQueryPool(ctx->device(), &ci, nullptr, &queries));
+    if (ctx->create_call("vkCreateQueryPool (frame timestamps)",
+                         [&] { return vkCreateQueryPool(ctx->device(), &ci, nullptr, &queries); }) != VK_SUCCESS)
+        return false;
     ctx->set_name(queries, VK_OBJECT_TYPE_QUERY_POOL, "frame timestamps");
     ms_per_tick = double(ctx->limits().timestampPeriod) * 1e-6; // timestampPeriod: ns per tick.
+    return true;
 }
 
 // The timestamps of the frame last submitted in this slot, once its fence has signalled.
@@ -487,6 +501,12 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         return Error{std::string("out of GPU memory for ") + what + " of a " + size +
                      " frame: nothing drawn; a later frame (or a smaller size) tries again"};
     };
+    // A pipeline made at its first frame that the device refused (it was a VK_CHECK abort): it is
+    // dropped, and the next frame that needs it makes it again.
+    auto not_created = [&](const char* what) {
+        return Error{std::string("out of GPU memory for ") + what + " (" + ctx->last_create_failure() +
+                     "): nothing drawn; a later frame tries again"};
+    };
     if (!ensure_target(s.width, s.height))
         return out_of_memory("the render target and G-buffer");
     if (!update_materials())
@@ -524,13 +544,21 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
     if (s.pipeline == PipelineKind::Raster) {
         if (!raster)
             raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.
+        if (!raster->valid()) {
+            raster.reset(); // Never recorded: its pipeline layout is destroyed at once.
+            return not_created("the raster pipeline");
+        }
         if (!raster->ensure_depth(s.width, s.height))
             return out_of_memory("the raster depth buffer");
     }
     if (denoise_active(s)) {
-        if (!denoiser)
+        if (!denoiser) {
             denoiser = std::make_unique<Denoiser>(*ctx, s.width, s.height);
-        else if (!denoiser->ready() || denoiser->width() != s.width || denoiser->height() != s.height)
+            if (!denoiser->valid()) {
+                denoiser.reset(); // Never recorded: its pool and layouts go at once.
+                return not_created("the denoiser's pipelines");
+            }
+        } else if (!denoiser->ready() || denoiser->width() != s.width || denoiser->height() != s.height)
             denoiser->resize(s.width, s.height);
         if (!denoiser->ready())
             return out_of_memory("the denoiser's images");
@@ -548,6 +576,10 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
     if (cache_active(s)) {
         if (!light_cache)
             light_cache = std::make_unique<LightCache>(*ctx, pipeline->set_layout());
+        if (!light_cache->valid()) {
+            light_cache.reset();
+            return not_created("the light cache's pipeline");
+        }
         light_cache->limit_cells_for_testing(light_cache_cell_limit);
         if (!light_cache->ensure(s.width, s.height, cached_bounces(s)))
             return out_of_memory("the light cache");

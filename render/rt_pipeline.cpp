@@ -1,6 +1,8 @@
 #include "render/rt_pipeline.h"
 
+#include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <vector>
 
 #include "render/commands.h"
@@ -60,7 +62,10 @@ void RtPipeline::create_layouts() {
     VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     ci.bindingCount = uint32_t(std::size(bindings));
     ci.pBindings = bindings;
-    VK_CHECK(vkCreateDescriptorSetLayout(m_ctx->device(), &ci, nullptr, &m_set_layout));
+    if (m_ctx->create_call("vkCreateDescriptorSetLayout (rt set layout)", [&] {
+            return vkCreateDescriptorSetLayout(m_ctx->device(), &ci, nullptr, &m_set_layout);
+        }) != VK_SUCCESS)
+        return; // Out of memory: valid() is false.
     m_ctx->set_name(m_set_layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "rt set layout");
     const VkPushConstantRange push{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof(gpu::TracePush)};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -68,7 +73,10 @@ void RtPipeline::create_layouts() {
     pl.pSetLayouts = &m_set_layout;
     pl.pushConstantRangeCount = 1;
     pl.pPushConstantRanges = &push;
-    VK_CHECK(vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout));
+    if (m_ctx->create_call("vkCreatePipelineLayout (rt pipeline layout)", [&] {
+            return vkCreatePipelineLayout(m_ctx->device(), &pl, nullptr, &m_layout);
+        }) != VK_SUCCESS)
+        return;
     m_ctx->set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "rt pipeline layout");
 }
 
@@ -84,6 +92,8 @@ static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR
 }
 
 RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
+    if (!m_layout)
+        return Variant{}; // Its creation failed (logged).
     const VkShaderModule modules[] = {
         make_shader_module(*m_ctx, spirv::raygen(), "raygen.rgen"),
         make_shader_module(*m_ctx, spirv::primary_miss(), "primary.rmiss"),
@@ -125,7 +135,8 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
     Variant v;
     const char* name = sample_faces ? "rt pipeline, emitter faces" : "rt pipeline";
     // The test hook (Context::fail_allocations) stands in for the device's own refusal.
-    const bool refused = m_ctx->allocation_injected(name) ||
+    const bool no_module = std::find(std::begin(modules), std::end(modules), VK_NULL_HANDLE) != std::end(modules);
+    const bool refused = no_module || m_ctx->allocation_injected(name) ||
                          VK_OUT_OF_MEMORY(vkCreateRayTracingPipelinesKHR(m_ctx->device(), VK_NULL_HANDLE, VK_NULL_HANDLE,
                                                                          1, &ci, nullptr, &v.pipeline));
     for (VkShaderModule m : modules)
@@ -158,8 +169,11 @@ bool RtPipeline::create_sbt(Variant& v, const char* name) {
     const uint32_t base = p.shaderGroupBaseAlignment;
     const SbtLayout l = sbt_layout(handle, p.shaderGroupHandleAlignment, base);
     std::vector<uint8_t> handles(size_t(handle) * kGroupCount);
-    VK_CHECK(vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), v.pipeline, 0, kGroupCount, handles.size(),
-                                                  handles.data()));
+    if (m_ctx->create_call("vkGetRayTracingShaderGroupHandlesKHR", [&] {
+            return vkGetRayTracingShaderGroupHandlesKHR(m_ctx->device(), v.pipeline, 0, kGroupCount, handles.size(),
+                                                        handles.data());
+        }) != VK_SUCCESS)
+        return false; // v.sbt stays invalid: the variant is not used.
     BufferCreateInfo bi;
     bi.size = l.bytes;
     bi.usage = VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR;

@@ -26,7 +26,7 @@ std::string ui_draw_list_error(const UiDrawList& list) {
     return {};
 }
 
-UiPass::UiPass(Context& ctx, VkFormat color_format) : m_ctx(&ctx) { create_pipeline(color_format); }
+UiPass::UiPass(Context& ctx, VkFormat color_format) : m_ctx(&ctx), m_color_format(color_format) {}
 
 UiPass::~UiPass() {
     if (m_pipeline)
@@ -34,8 +34,9 @@ UiPass::~UiPass() {
     vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
 }
 
-void UiPass::create_pipeline(VkFormat color_format) {
-    m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::UiPush), "ui pipeline layout");
+bool UiPass::create_pipeline() {
+    if (!m_layout)
+        m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::UiPush), "ui pipeline layout");
     // No culling: Dear ImGui's winding is not fixed.
     m_pipeline = make_graphics_pipeline(*m_ctx, {.vert = spirv::ui_vert(),
                                                  .frag = spirv::ui_frag(),
@@ -43,8 +44,9 @@ void UiPass::create_pipeline(VkFormat color_format) {
                                                  .frag_name = "ui.frag",
                                                  .name = "ui pipeline",
                                                  .layout = m_layout,
-                                                 .color_format = color_format,
+                                                 .color_format = m_color_format,
                                                  .alpha_blend = true});
+    return m_pipeline != VK_NULL_HANDLE;
 }
 
 bool UiPass::set_texture(uint32_t width, uint32_t height, std::vector<uint8_t> rgba) {
@@ -104,6 +106,8 @@ bool UiPass::upload_geometry(VkDeviceSize* index_offset) {
 bool UiPass::prepare() {
     if (m_list.cmds.empty() || m_list.indices.empty())
         return true;
+    if (!m_pipeline && !create_pipeline())
+        return false;
     // Until the game sets one, the texture is one white texel.
     if (!m_texture.valid() && !m_next_texture.valid() && !prepare_texture(1, 1, {255, 255, 255, 255}))
         return false;

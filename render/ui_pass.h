@@ -39,17 +39,18 @@ public:
     // Call prepare() first, in the same frame.
     void record(VkCommandBuffer cmd, VkImage target, VkImageView view, uint32_t width, uint32_t height);
     // After Context::begin_frame, before record(): allocates what this frame's UI needs (the
-    // default texture, the slot's geometry buffer) and copies the list in. False when GPU memory
-    // runs out (logged): the frame must not record the UI.
+    // default texture, the slot's geometry buffer, the pipeline at first) and copies the list in.
+    // False when GPU memory runs out (logged): the frame must not record the UI.
     bool prepare();
 
 private:
-    void create_pipeline(VkFormat color_format);
+    bool create_pipeline(); // False: out of memory (logged); prepare() tries again.
     void upload_texture(VkCommandBuffer cmd);
     bool prepare_texture(uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
     bool upload_geometry(VkDeviceSize* index_offset);
 
     Context* m_ctx;
+    VkFormat m_color_format;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
     VkPipeline m_pipeline = VK_NULL_HANDLE;
     UiDrawList m_list;

@@ -3,9 +3,9 @@
 // the injection stops renders the image a fresh renderer renders. A lost device fails every
 // later frame; a new renderer given the same meshes renders the same image. Validation stays
 // silent throughout. A frame size the device cannot hold is refused before any frame.
-#include <cmath>
-
 #include <cctype>
+#include <cmath>
+#include <string_view>
 
 #include "render/commands.h"
 #include "render/context.h"
@@ -39,12 +39,20 @@ UiDrawList white_square() {
 }
 
 struct Injection {
-    const char* name_prefix; // Context::fail_allocations: the resources' debug names.
+    const char* name_prefix; // Context::fail_allocations: the resources' debug names, or calls'.
     bool denoise = false;    // Full mode with the denoiser (its images).
     bool gbuffer = false;    // try_render with a GBufferImage (the G-buffer read-back).
     bool ui = false;         // A UI over the frame (its texture).
     bool raster = false;     // The raster pipeline (its depth buffer).
+    bool light_cache = false; // Full mode with the light cache.
 };
+
+RenderSettings settings_of(const Injection& inj) {
+    RenderSettings s = small(inj.denoise || inj.light_cache ? ShadingMode::Full : ShadingMode::Flat, inj.denoise,
+                             inj.raster);
+    s.light_cache = inj.light_cache;
+    return s;
+}
 
 class FrameFailure : public ::testing::TestWithParam<Injection> {};
 
@@ -58,7 +66,7 @@ RenderImage reference(const world::MeshMap& meshes, const Injection& inj) {
     test::load_meshes(*r, meshes);
     if (inj.ui)
         r->set_ui(white_square());
-    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise, inj.raster);
+    const RenderSettings s = settings_of(inj);
     GBufferImage g;
     Result<RenderImage> img = r->try_render(s, kCamera, inj.gbuffer ? &g : nullptr);
     EXPECT_TRUE(img) << (img ? "" : img.error());
@@ -78,16 +86,20 @@ TEST_P(FrameFailure, OneLineErrorThenTheNextFrameRenders) {
     test::load_meshes(*r, meshes);
     if (inj.ui)
         r->set_ui(white_square());
-    const RenderSettings s = small(inj.denoise ? ShadingMode::Full : ShadingMode::Flat, inj.denoise, inj.raster);
+    const RenderSettings s = settings_of(inj);
     GBufferImage g;
     r->fail_allocations(inj.name_prefix);
+    const bool call = std::string_view(inj.name_prefix).starts_with("vk"); // Not a resource.
     for (int i = 0; i < 2; ++i) { // Still failing while the injection lasts, never aborting.
         Result<RenderImage> failed = r->try_render(s, kCamera, inj.gbuffer ? &g : nullptr);
         ASSERT_FALSE(failed) << inj.name_prefix;
         EXPECT_NE(failed.error().find("out of GPU memory"), std::string::npos) << failed.error();
         EXPECT_EQ(failed.error().find('\n'), std::string::npos); // One line.
+        if (call && !inj.ui) { // Named (the UI's error names its whole preparation).
+            EXPECT_NE(failed.error().find(inj.name_prefix), std::string::npos) << failed.error();
+        }
     }
-    if (inj.ui) { // The texture is allocated when it is set: refused now, the default kept.
+    if (inj.ui && !call) { // The texture is allocated when it is set: refused now, the default kept.
         EXPECT_FALSE(r->set_ui_texture(1, 1, {255, 255, 255, 255}));
     }
     EXPECT_FALSE(r->device_lost());
@@ -115,7 +127,24 @@ INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
                                            Injection{"TLAS instances"}, Injection{"chunk table"}, Injection{"AS scratch"},
                                            Injection{"frame staging"}, Injection{"slot index pattern"},
                                            Injection{"denoise", true}, Injection{"ui", false, false, true},
-                                           Injection{"raster depth", false, false, false, true}),
+                                           Injection{"raster depth", false, false, false, true},
+                                           // Pipelines made at their first frame (these were
+                                           // VK_CHECK aborts): Context::create_call's names.
+                                           Injection{"vkCreateDescriptorSetLayout (denoise", true},
+                                           Injection{"vkCreatePipelineLayout (denoise", true},
+                                           Injection{"vkCreateShaderModule (denoise_atrous", true},
+                                           Injection{"vkCreateComputePipelines (denoise_temporal", true},
+                                           Injection{"vkCreateDescriptorPool (denoise", true},
+                                           Injection{"vkAllocateDescriptorSets (denoise", true},
+                                           Injection{"vkCreatePipelineLayout (light cache", false, false, false,
+                                                     false, true},
+                                           Injection{"vkCreateComputePipelines (light_cache", false, false, false,
+                                                     false, true},
+                                           Injection{"vkCreatePipelineLayout (raster", false, false, false, true},
+                                           Injection{"vkCreateShaderModule (raster.frag", false, false, false, true},
+                                           Injection{"vkCreateGraphicsPipelines (raster", false, false, false, true},
+                                           Injection{"vkCreatePipelineLayout (ui", false, false, true},
+                                           Injection{"vkCreateGraphicsPipelines (ui", false, false, true}),
                          [](const ::testing::TestParamInfo<Injection>& p) {
                              std::string n = p.param.name_prefix;
                              for (char& c : n)
@@ -203,6 +232,29 @@ TEST(RendererCreateFailure, OutOfMemoryIsAnErrorFromCreate) {
         ASSERT_FALSE(r) << resource;
         EXPECT_NE(r.error().find("cannot create the renderer: out of GPU memory"), std::string::npos) << r.error();
     }
+}
+
+// A creation call refused while the renderer is made (each was a VK_CHECK abort): an error from
+// create naming the call, and nothing leaked: the validation layer reports leaked objects as
+// errors when the device is destroyed, inside create here, so its log lines are counted.
+TEST(RendererCreateFailure, ARefusedCreationCallIsAnErrorNamingIt) {
+    const test::LayerErrorCounter layer;
+    for (const char* call : {"vkCreateDescriptorSetLayout (rt set layout)",
+                             "vkCreatePipelineLayout (rt pipeline layout)",
+                             "vkCreateShaderModule (closest_hit.rchit)", "vkGetRayTracingShaderGroupHandlesKHR",
+                             "vkCreateDescriptorPool (rt descriptor pool)",
+                             "vkAllocateDescriptorSets (rt descriptor set)", "vkCreateQueryPool (frame timestamps)"}) {
+        RendererCreateInfo ci;
+        ci.validation = true;
+        ci.device = test::test_device_choice();
+        ci.fail_allocations = call;
+        Result<std::unique_ptr<Renderer>> r = Renderer::create(ci);
+        ASSERT_FALSE(r) << call;
+        EXPECT_NE(r.error().find("cannot create the renderer: out of GPU memory"), std::string::npos) << r.error();
+        EXPECT_NE(r.error().find(std::string(call) + " failed (VK_ERROR_OUT_OF_HOST_MEMORY)"), std::string::npos)
+            << r.error();
+    }
+    EXPECT_EQ(layer.errors(), 0);
 }
 
 // A lost device: this frame and every later one fail with the same line, the renderer still

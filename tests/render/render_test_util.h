@@ -1,10 +1,14 @@
 #pragma once
 // Shared by the renderer tests: a lavapipe context with validation on, checked for 0 errors.
 
+#include <atomic>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string_view>
 
 #include <gtest/gtest.h>
+#include <vx/log.h>
 
 #include "render/context.h"
 
@@ -32,6 +36,27 @@ inline std::unique_ptr<Context> make_test_context() {
     EXPECT_TRUE((*ctx)->validation_enabled()) << "the validation layer must be installed for these tests";
     return std::move(*ctx);
 }
+
+// Counts the validation layer's errors logged while it lives, also those a Context logs as it is
+// destroyed (leaked objects), which Context::validation_errors() can no longer be asked for.
+// Lines still go to stderr. One at a time (it owns the process's log handler).
+class LayerErrorCounter {
+public:
+    LayerErrorCounter() {
+        set_log_handler([this](LogLevel level, std::string_view line) {
+            if (level == LogLevel::Error && line.starts_with("vulkan:"))
+                ++m_errors;
+            std::fprintf(stderr, "%.*s\n", int(line.size()), line.data());
+        });
+    }
+    ~LayerErrorCounter() { set_log_handler({}); }
+    LayerErrorCounter(const LayerErrorCounter&) = delete;
+    LayerErrorCounter& operator=(const LayerErrorCounter&) = delete;
+    int errors() const { return m_errors.load(); }
+
+private:
+    std::atomic<int> m_errors{0};
+};
 
 // Fixture: a context per test; fails the test when the validation layer reported an error.
 class RenderTest : public ::testing::Test {
