@@ -8,9 +8,12 @@
 namespace vx::render {
 
 Presenter::Presenter(Context& ctx, bool vsync) : m_ctx(&ctx), m_swapchain(ctx, vsync) {
-    for (uint32_t i = 0; i < kFramesInFlight; ++i) {
+    m_valid = m_swapchain.valid();
+    for (uint32_t i = 0; i < kFramesInFlight && m_valid; ++i) {
         VkSemaphoreCreateInfo si{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-        VK_CHECK(vkCreateSemaphore(ctx.device(), &si, nullptr, &m_acquired[i]));
+        m_valid = ctx.create_call("vkCreateSemaphore (image acquired)", [&] {
+            return vkCreateSemaphore(ctx.device(), &si, nullptr, &m_acquired[i]);
+        }) == VK_SUCCESS;
         ctx.set_name(m_acquired[i], VK_OBJECT_TYPE_SEMAPHORE, i ? "image acquired 1" : "image acquired 0");
     }
 }

@@ -26,6 +26,9 @@ public:
     ~Presenter();
     Presenter(const Presenter&) = delete;
     Presenter& operator=(const Presenter&) = delete;
+    // Its surface was queried and its semaphores made; false (out of memory, a lost surface:
+    // logged, Context::last_create_failure): destroy it.
+    bool valid() const { return m_valid; }
 
     // Format of the trace target whose bytes reach the screen unchanged (see the top).
     VkFormat target_format() const;
@@ -66,6 +69,7 @@ private:
     Context* m_ctx;
     Swapchain m_swapchain;
     std::array<VkSemaphore, kFramesInFlight> m_acquired{};
+    bool m_valid = false;
     uint32_t m_image = 0; // Acquired this frame.
     Buffer m_capture;
     VkExtent2D m_capture_extent{0, 0};

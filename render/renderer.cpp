@@ -285,6 +285,9 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     r->set_registry(world::BlockRegistry::default_registry());
     if (info.glfw_window) {
         r->m->presenter = std::make_unique<Presenter>(*r->m->ctx, info.vsync);
+        if (!r->m->presenter->valid())
+            return Error{"cannot create the renderer: cannot present to the window (" +
+                         r->m->ctx->last_create_failure() + ")"};
         r->m->target_format = r->m->presenter->target_format();
     }
     return r;

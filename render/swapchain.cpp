@@ -43,15 +43,39 @@ VkExtent2D choose_extent(const VkSurfaceCapabilitiesKHR& caps, VkExtent2D frameb
 
 Swapchain::Swapchain(Context& ctx, bool vsync) : m_ctx(&ctx) {
     VX_ASSERT(ctx.surface() != VK_NULL_HANDLE);
+    m_valid = query_surface(vsync);
+}
+
+// The surface's formats and present modes. Out of memory or a lost surface (a runtime state,
+// it was a VK_CHECK abort): false, logged by create_call. VK_INCOMPLETE (the list grew between
+// the calls) keeps the first n entries.
+bool Swapchain::query_surface(bool vsync) {
+    const VkPhysicalDevice pd = m_ctx->physical_device();
+    const VkSurfaceKHR surface = m_ctx->surface();
+    auto ok = [](VkResult r) { return r == VK_SUCCESS || r == VK_INCOMPLETE; };
+    const char* formats_call = "vkGetPhysicalDeviceSurfaceFormatsKHR";
     uint32_t n = 0;
-    VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &n, nullptr));
+    if (!ok(m_ctx->create_call(formats_call,
+                               [&] { return vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface, &n, nullptr); })))
+        return false;
     std::vector<VkSurfaceFormatKHR> formats(n);
-    VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &n, formats.data()));
-    m_format = choose_surface_format(formats);
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, nullptr));
+    if (!ok(m_ctx->create_call(formats_call, [&] {
+            return vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface, &n, formats.data());
+        })) || n == 0)
+        return false;
+    m_format = choose_surface_format(std::span(formats).first(n));
+    const char* modes_call = "vkGetPhysicalDeviceSurfacePresentModesKHR";
+    if (!ok(m_ctx->create_call(modes_call,
+                               [&] { return vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface, &n, nullptr); })))
+        return false;
     m_modes.resize(n);
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physical_device(), ctx.surface(), &n, m_modes.data()));
+    if (!ok(m_ctx->create_call(modes_call, [&] {
+            return vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface, &n, m_modes.data());
+        })))
+        return false;
+    m_modes.resize(n);
     m_mode = choose_present_mode(m_modes, vsync);
+    return true;
 }
 
 void Swapchain::set_vsync(bool vsync) {
@@ -143,7 +167,11 @@ bool Swapchain::recreate(VkExtent2D framebuffer) {
     for (uint32_t i = 0; i < n; ++i) {
         VkSemaphoreCreateInfo si{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
         VkSemaphore s = VK_NULL_HANDLE;
-        if (!m_ctx->check_device(vkCreateSemaphore(m_ctx->device(), &si, nullptr, &s), "vkCreateSemaphore (swapchain)"))
+        // Through create_call: an injected failure makes no semaphore (check_device alone
+        // replaced the result of one made: a leak at destroy).
+        const char* call = "vkCreateSemaphore (swapchain)";
+        auto create = [&] { return vkCreateSemaphore(m_ctx->device(), &si, nullptr, &s); };
+        if (!m_ctx->check_device(m_ctx->create_call(call, create), call))
             return false;
         m_render_done.push_back(s);
         const std::string name = "swapchain image " + std::to_string(i);

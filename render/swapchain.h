@@ -29,6 +29,9 @@ public:
     Swapchain(Context& ctx, bool vsync);
     ~Swapchain();
     Swapchain(const Swapchain&) = delete;
+    // The surface's formats and present modes were read; false (out of memory, a lost surface:
+    // logged, Context::last_create_failure): the swapchain cannot be made.
+    bool valid() const { return m_valid; }
     Swapchain& operator=(const Swapchain&) = delete;
 
     // True when a frame for a window framebuffer of `framebuffer` pixels needs recreate() first.
@@ -63,6 +66,8 @@ private:
     void destroy_semaphores();
 
     Context* m_ctx;
+    bool query_surface(bool vsync);
+    bool m_valid = false;
     VkSurfaceFormatKHR m_format{};
     VkPresentModeKHR m_mode = VK_PRESENT_MODE_FIFO_KHR;
     std::vector<VkPresentModeKHR> m_modes; // The surface's.
