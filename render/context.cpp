@@ -51,6 +51,7 @@ Result<std::unique_ptr<Context>> Context::create(const ContextCreateInfo& info) 
     if (Status s = init_loader(); !s)
         return Error{s.error()};
     std::unique_ptr<Context> ctx(new Context());
+    ctx->fail_allocations(info.fail_allocations);
     if (Status s = ctx->create_instance(info); !s)
         return Error{s.error()};
     if (Status s = ctx->create_surface(info); !s)
@@ -59,7 +60,8 @@ Result<std::unique_ptr<Context>> Context::create(const ContextCreateInfo& info) 
         return Error{s.error()};
     if (Status s = ctx->create_device(); !s)
         return Error{s.error()};
-    ctx->create_frames();
+    if (Status s = ctx->create_frames(); !s)
+        return Error{s.error()};
     return ctx;
 }
 
@@ -111,8 +113,12 @@ Status Context::create_instance(const ContextCreateInfo& info) {
     if (VkResult r = vkCreateInstance(&ci, nullptr, &m_instance); r != VK_SUCCESS)
         return Error{instance_error(r)};
     volkLoadInstance(m_instance);
-    if (m_debug_utils)
-        VK_CHECK(vkCreateDebugUtilsMessengerEXT(m_instance, &mci, nullptr, &m_messenger));
+    // Out of host memory (it was a VK_CHECK abort): an error, not a context whose validation
+    // errors would go uncounted.
+    if (m_debug_utils && create_call("vkCreateDebugUtilsMessengerEXT", [&] {
+            return vkCreateDebugUtilsMessengerEXT(m_instance, &mci, nullptr, &m_messenger);
+        }) != VK_SUCCESS)
+        return Error{"cannot create the Vulkan instance's debug messenger: " + m_last_create_failure};
     return {};
 }
 
@@ -129,7 +135,7 @@ Status Context::create_surface(const ContextCreateInfo& info) {
 
 // A queue family with graphics (vkCmdBlitImage needs it) and compute that presents to the
 // surface, on a device with VK_KHR_swapchain.
-bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) const {
+bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) {
     uint32_t n = 0;
     vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
     std::vector<VkExtensionProperties> exts(n);
@@ -153,8 +159,11 @@ bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) const {
         VkBool32 supported = VK_FALSE;
         if ((qf[i].queueFlags & need) != need)
             continue;
-        VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, m_surface, &supported));
-        if (supported) {
+        // Out of memory or a lost surface (it was a VK_CHECK abort): this family cannot present;
+        // pick_device's error names the call.
+        if (create_call("vkGetPhysicalDeviceSurfaceSupportKHR", [&] {
+                return vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, m_surface, &supported);
+            }) == VK_SUCCESS && supported) {
             *family = i;
             return true;
         }
@@ -175,6 +184,8 @@ Status Context::pick_device(const ContextCreateInfo& info) {
             reports.back().present = can_present(pds[i], &present_family[i]);
     }
     Result<uint32_t> chosen = choose_device(reports, info.device, m_surface != VK_NULL_HANDLE);
+    if (!chosen && !m_last_create_failure.empty())
+        return Error{chosen.error() + " (" + m_last_create_failure + ")"};
     if (!chosen)
         return Error{chosen.error()};
     m_pd = pds[*chosen];

@@ -27,6 +27,9 @@ struct ContextCreateInfo {
     bool sync_validation = false; // With validation: also its synchronization checks (slow).
     DeviceChoice device{};     // Which device to use.
     const char* app_name = "vx";
+    // Test hook: Context::fail_allocations from the start, so the frames' pools, buffers and
+    // fences can be refused too (create returns an error). Empty: none.
+    std::string fail_allocations{};
     // A GLFWwindow* to present to, or null (headless). With a window the instance enables GLFW's
     // surface extensions, the device must present from its graphics+compute queue, and
     // VK_KHR_swapchain is enabled. The caller keeps GLFW initialised and the window alive
@@ -159,9 +162,12 @@ public:
     RetireList& retire_list() { return m_frames[m_frame_slot].retire; }
 
     // Records `record` into a fresh command buffer, submits it and waits (uploads, tests).
-    // On a lost device the commands are not run (callers see lost()).
+    // On a lost device (also one lost making the buffer: out of memory) `record` is not called
+    // and nothing runs (callers see lost()).
     template <class F> void submit_now(F&& record) {
         VkCommandBuffer cmd = begin_one_shot();
+        if (!cmd)
+            return; // Lost (logged).
         record(cmd);
         end_one_shot(cmd);
     }
@@ -171,10 +177,13 @@ private:
     Status create_instance(const ContextCreateInfo& info);
     Status create_surface(const ContextCreateInfo& info);
     Status pick_device(const ContextCreateInfo& info);
-    bool can_present(VkPhysicalDevice pd, uint32_t* family) const;
+    bool can_present(VkPhysicalDevice pd, uint32_t* family);
     void log_create_failure(const char* what, VkResult result);
     Status create_device();
-    void create_frames();
+    Status create_frames();
+    VkResult make_pool(VkCommandPool& pool, const char* name);
+    VkResult make_cmd(VkCommandPool pool, VkCommandBuffer& cmd, const char* name);
+    VkResult make_fence(VkFence& fence, bool signalled, const char* name);
     void flush(RetireList& list);
     VkCommandBuffer begin_one_shot();
     void end_one_shot(VkCommandBuffer cmd);

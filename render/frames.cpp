@@ -1,52 +1,64 @@
 // Context frames, retire lists and one-shot submissions.
 #include "render/context.h"
 
+#include <string>
+
 #include "world/base/assert.h"
 #include "world/base/log.h"
 
 namespace vx::render {
 
-static VkCommandPool make_pool(VkDevice device, uint32_t family) {
+VkResult Context::make_pool(VkCommandPool& pool, const char* name) {
     VkCommandPoolCreateInfo ci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     ci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-    ci.queueFamilyIndex = family;
-    VkCommandPool pool = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateCommandPool(device, &ci, nullptr, &pool));
-    return pool;
+    ci.queueFamilyIndex = m_queue_family;
+    const std::string call = std::string("vkCreateCommandPool (") + name + ")";
+    const VkResult r = create_call(call.c_str(), [&] { return vkCreateCommandPool(m_device, &ci, nullptr, &pool); });
+    if (r == VK_SUCCESS)
+        set_name(pool, VK_OBJECT_TYPE_COMMAND_POOL, name);
+    return r;
 }
 
-static VkCommandBuffer make_cmd(VkDevice device, VkCommandPool pool) {
+VkResult Context::make_cmd(VkCommandPool pool, VkCommandBuffer& cmd, const char* name) {
     VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     ai.commandPool = pool;
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
-    return cmd;
+    const std::string call = std::string("vkAllocateCommandBuffers (") + name + ")";
+    const VkResult r = create_call(call.c_str(), [&] { return vkAllocateCommandBuffers(m_device, &ai, &cmd); });
+    if (r == VK_SUCCESS)
+        set_name(cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, name);
+    return r;
 }
 
-static VkFence make_fence(VkDevice device, bool signalled) {
+VkResult Context::make_fence(VkFence& fence, bool signalled, const char* name) {
     VkFenceCreateInfo ci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     ci.flags = signalled ? VK_FENCE_CREATE_SIGNALED_BIT : 0;
-    VkFence fence = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateFence(device, &ci, nullptr, &fence));
-    return fence;
+    const std::string call = std::string("vkCreateFence (") + name + ")";
+    const VkResult r = create_call(call.c_str(), [&] { return vkCreateFence(m_device, &ci, nullptr, &fence); });
+    if (r == VK_SUCCESS)
+        set_name(fence, VK_OBJECT_TYPE_FENCE, name);
+    return r;
 }
 
-void Context::create_frames() {
-    for (uint32_t i = 0; i < kFramesInFlight; ++i) {
+// Out of memory here was a VK_CHECK abort: an error naming the call; ~Context frees what was made.
+Status Context::create_frames() {
+    VkResult r = VK_SUCCESS;
+    for (uint32_t i = 0; i < kFramesInFlight && r == VK_SUCCESS; ++i) {
         Frame& f = m_frames[i];
-        f.pool = make_pool(m_device, m_queue_family);
-        f.cmd = make_cmd(m_device, f.pool);
-        f.fence = make_fence(m_device, true);
-        set_name(f.pool, VK_OBJECT_TYPE_COMMAND_POOL, i ? "frame pool 1" : "frame pool 0");
-        set_name(f.cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, i ? "frame cmd 1" : "frame cmd 0");
-        set_name(f.fence, VK_OBJECT_TYPE_FENCE, i ? "frame fence 1" : "frame fence 0");
+        r = make_pool(f.pool, i ? "frame pool 1" : "frame pool 0");
+        if (r == VK_SUCCESS)
+            r = make_cmd(f.pool, f.cmd, i ? "frame cmd 1" : "frame cmd 0");
+        if (r == VK_SUCCESS)
+            r = make_fence(f.fence, true, i ? "frame fence 1" : "frame fence 0");
     }
-    m_one_shot_pool = make_pool(m_device, m_queue_family);
-    m_one_shot_fence = make_fence(m_device, false);
-    set_name(m_one_shot_pool, VK_OBJECT_TYPE_COMMAND_POOL, "one-shot pool");
-    set_name(m_one_shot_fence, VK_OBJECT_TYPE_FENCE, "one-shot fence");
+    if (r == VK_SUCCESS)
+        r = make_pool(m_one_shot_pool, "one-shot pool");
+    if (r == VK_SUCCESS)
+        r = make_fence(m_one_shot_fence, false, "one-shot fence");
+    if (r != VK_SUCCESS)
+        return Error{"cannot create the Vulkan context's frames: " + m_last_create_failure};
+    return {};
 }
 
 void Context::flush(RetireList& list) {
@@ -109,7 +121,8 @@ VkCommandBuffer Context::begin_frame() {
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     if (!check_device(vkBeginCommandBuffer(f.cmd, &bi), "vkBeginCommandBuffer"))
         return VK_NULL_HANDLE;
-    VK_CHECK(vkResetFences(m_device, 1, &f.fence));
+    if (!check_device(vkResetFences(m_device, 1, &f.fence), "vkResetFences"))
+        return VK_NULL_HANDLE; // Its buffer is recording, never submitted: the context is lost.
     m_in_frame = true;
     return f.cmd;
 }
@@ -174,19 +187,32 @@ void Context::wait_idle() {
         flush(f.retire);
 }
 
+// Out of memory resetting, allocating or beginning the one-shot buffer marks the context lost
+// (it was a VK_CHECK abort): null, and submit_now records nothing.
 VkCommandBuffer Context::begin_one_shot() {
-    if (!m_one_shot_stranded) // A stranded buffer may be pending: the pool must not be reset.
-        VK_CHECK(vkResetCommandPool(m_device, m_one_shot_pool, 0));
-    VkCommandBuffer cmd = make_cmd(m_device, m_one_shot_pool);
-    set_name(cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, "one-shot cmd");
+    if (m_lost)
+        return VK_NULL_HANDLE; // Nothing would be submitted.
+    // A stranded buffer may be pending: the pool must not be reset.
+    if (!m_one_shot_stranded &&
+        !check_device(vkResetCommandPool(m_device, m_one_shot_pool, 0), "vkResetCommandPool (one-shot)"))
+        return VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    if (!check_device(make_cmd(m_one_shot_pool, cmd, "one-shot cmd"), "vkAllocateCommandBuffers (one-shot cmd)"))
+        return VK_NULL_HANDLE;
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    if (!check_device(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer (one-shot)")) {
+        vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd);
+        return VK_NULL_HANDLE;
+    }
     return cmd;
 }
 
 void Context::end_one_shot(VkCommandBuffer cmd) {
-    VK_CHECK(vkEndCommandBuffer(cmd));
+    if (!check_device(vkEndCommandBuffer(cmd), "vkEndCommandBuffer (one-shot)")) {
+        vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd); // Never submitted.
+        return;
+    }
     VkCommandBufferSubmitInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     cbi.commandBuffer = cmd;
     VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
@@ -203,7 +229,8 @@ void Context::end_one_shot(VkCommandBuffer cmd) {
         m_one_shot_stranded = true;
         return;
     }
-    VK_CHECK(vkResetFences(m_device, 1, &m_one_shot_fence));
+    // Out of device memory resetting the fence: lost (a signalled fence must not be reused).
+    check_device(vkResetFences(m_device, 1, &m_one_shot_fence), "vkResetFences (one-shot)");
     vkFreeCommandBuffers(m_device, m_one_shot_pool, 1, &cmd);
 }
 

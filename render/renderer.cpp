@@ -265,13 +265,13 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     ci.sync_validation = info.sync_validation;
     ci.device = info.device;
     ci.window = info.glfw_window;
+    ci.fail_allocations = info.fail_allocations;
     Result<std::unique_ptr<Context>> ctx = Context::create(ci);
     if (!ctx)
         return Error{ctx.error()};
     std::unique_ptr<Renderer> r(new Renderer());
     r->m->ctx = std::move(*ctx);
     r->m->ctx->allocator().set_budget(info.gpu_memory_budget_bytes);
-    r->m->ctx->fail_allocations(info.fail_allocations);
     r->m->accel = std::make_unique<SceneAccel>(*r->m->ctx, SceneAccelCreateInfo{info.allow_refit, info.hot_frames, info.max_refits});
     r->m->pipeline = std::make_unique<RtPipeline>(*r->m->ctx);
     // Out of memory here is the device's state, not our bug: an error, as for a frame (it was

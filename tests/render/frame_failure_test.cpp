@@ -5,7 +5,9 @@
 // silent throughout. A frame size the device cannot hold is refused before any frame.
 #include <cctype>
 #include <cmath>
+#include <string>
 #include <string_view>
+#include <utility>
 
 #include "render/commands.h"
 #include "render/context.h"
@@ -254,7 +256,51 @@ TEST(RendererCreateFailure, ARefusedCreationCallIsAnErrorNamingIt) {
         EXPECT_NE(r.error().find(std::string(call) + " failed (VK_ERROR_OUT_OF_HOST_MEMORY)"), std::string::npos)
             << r.error();
     }
+    // The context's: its frames' command pools, buffers and fences, the debug messenger.
+    const std::string frames = "cannot create the Vulkan context's frames: ";
+    const std::pair<const char*, std::string> context_calls[] = {
+        {"vkCreateCommandPool (frame pool 1)", frames},
+        {"vkAllocateCommandBuffers (frame cmd 0)", frames},
+        {"vkCreateFence (frame fence 1)", frames},
+        {"vkCreateCommandPool (one-shot pool)", frames},
+        {"vkCreateFence (one-shot fence)", frames},
+        {"vkCreateDebugUtilsMessengerEXT", "cannot create the Vulkan instance's debug messenger: "},
+    };
+    for (const auto& [call, prefix] : context_calls) {
+        RendererCreateInfo ci;
+        ci.validation = true;
+        ci.device = test::test_device_choice();
+        ci.fail_allocations = call;
+        Result<std::unique_ptr<Renderer>> r = Renderer::create(ci);
+        ASSERT_FALSE(r) << call;
+        EXPECT_NE(r.error().find(prefix + call + " failed (VK_ERROR_OUT_OF_HOST_MEMORY)"), std::string::npos)
+            << r.error();
+    }
     EXPECT_EQ(layer.errors(), 0);
+}
+
+// Out of memory in a one-shot submission (the material table's upload at the first frame: its
+// pool's reset, its buffer's allocation, begin or end, its fence's reset) or in the reset of a
+// frame's fence: a lost context, reported by the frame, not a VK_CHECK abort; nothing leaks.
+TEST(DeviceErrors, AFailedOneShotOrFenceResetIsALostDeviceNotAnAbort) {
+    const world::World w = test::hills();
+    const world::MeshMap meshes = test::mesh_world(w);
+    const RenderSettings s = small(ShadingMode::Flat, false);
+    const test::LayerErrorCounter layer;
+    for (const char* call : {"vkResetCommandPool (one-shot)", "vkAllocateCommandBuffers (one-shot cmd)",
+                             "vkBeginCommandBuffer (one-shot)", "vkEndCommandBuffer (one-shot)",
+                             "vkResetFences (one-shot)", "vkResetFences"}) {
+        std::unique_ptr<Renderer> r = test::make_renderer();
+        ASSERT_NE(r, nullptr);
+        test::load_meshes(*r, meshes);
+        r->context().inject_result(call, VK_ERROR_OUT_OF_DEVICE_MEMORY);
+        Result<RenderImage> img = r->try_render(s, kCamera);
+        ASSERT_FALSE(img) << call;
+        EXPECT_NE(img.error().find("device was lost"), std::string::npos) << call << ": " << img.error();
+        EXPECT_TRUE(r->device_lost()) << call;
+        EXPECT_EQ(r->validation_errors(), 0u) << call;
+    }
+    EXPECT_EQ(layer.errors(), 0); // Leaks are reported as each renderer is destroyed.
 }
 
 // A lost device: this frame and every later one fail with the same line, the renderer still

@@ -223,14 +223,14 @@ TEST_F(WindowTest, OutOfMemoryMakingTheSwapchainIsALostDeviceNotAnAbort) {
     }
 }
 
-// Out of memory (or a lost surface: the same path) while the surface is queried or the acquire
-// semaphores are made at create (they were VK_CHECK aborts): an error from create naming the
-// call, nothing leaked, and the next renderer presents.
+// Out of memory (or a lost surface: the same path) while the surface is queried (when the device
+// is picked too) or the acquire semaphores are made at create (they were VK_CHECK aborts): an
+// error from create naming the call, nothing leaked, and the next renderer presents.
 TEST_F(WindowTest, ARefusedSurfaceQueryOrSemaphoreIsAnErrorFromCreate) {
     {
         const test::LayerErrorCounter layer;
-        for (const char* call : {"vkGetPhysicalDeviceSurfaceFormatsKHR", "vkGetPhysicalDeviceSurfacePresentModesKHR",
-                                 "vkCreateSemaphore (image acquired)"}) {
+        for (const char* call : {"vkGetPhysicalDeviceSurfaceSupportKHR", "vkGetPhysicalDeviceSurfaceFormatsKHR",
+                                 "vkGetPhysicalDeviceSurfacePresentModesKHR", "vkCreateSemaphore (image acquired)"}) {
             RendererCreateInfo ci;
             ci.validation = true;
             ci.device = test::test_device_choice();
