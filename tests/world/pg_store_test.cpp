@@ -8,6 +8,8 @@
 #include <atomic>
 #include <barrier>
 #include <chrono>
+#include <csignal>
+#include <fstream>
 #include <map>
 #include <thread>
 
@@ -80,6 +82,41 @@ bool wait_listening(PgStore& writer, PgStore& reader, ChunkCoord probe) {
     }
     return false;
 }
+
+// Stops (SIGSTOP) the backends of a database's vx connections and the postmaster: the server
+// is alive (keepalives pass) but answers nothing, as a frozen host or a stuck disk. thaw()
+// (SIGCONT) is idempotent and runs on destruction, so a failed assertion never leaves it stopped.
+class FrozenServer {
+public:
+    explicit FrozenServer(const std::string& uri) {
+        PGconn* c = PQconnectdb(uri.c_str());
+        pg::ResultPtr r(PQexec(c, "SELECT pid FROM pg_stat_activity "
+                                  "WHERE datname = current_database() AND application_name = 'vx'"));
+        for (int i = 0; i < PQntuples(r.get()); ++i)
+            m_pids.push_back(std::atoi(PQgetvalue(r.get(), i, 0)));
+        PQfinish(c);
+        if (!m_pids.empty())
+            m_pids.push_back(parent_of(m_pids[0])); // The postmaster: no new backend either.
+        for (int pid : m_pids)
+            ::kill(pid, SIGSTOP);
+    }
+    ~FrozenServer() { thaw(); }
+    const std::vector<int>& pids() const { return m_pids; }
+    void thaw() {
+        for (int pid : m_pids)
+            ::kill(pid, SIGCONT);
+    }
+
+private:
+    static int parent_of(int pid) {
+        std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+        for (std::string line; std::getline(status, line);)
+            if (line.starts_with("PPid:"))
+                return std::atoi(line.c_str() + 5);
+        return 0;
+    }
+    std::vector<int> m_pids;
+};
 
 } // namespace
 
@@ -167,6 +204,65 @@ TEST(PgStore, ALockedRowFailsACommitInsteadOfBlockingIt) {
     ASSERT_TRUE(again.ok()) << again.error();
     auto check = open_pg(uri);
     EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
+}
+
+// The server frozen (SIGSTOP) while two stores are connected: a flush (a pipelined commit) and a
+// load each fail within query_timeout with an error naming it, the edit is kept, a flush while
+// still frozen fails within connect_timeout, and once the server runs again the next flush commits
+// the edit. They used to block until the server woke (here the watchdog's 8 s; in the field for
+// ever), and then report success.
+TEST(PgStore, AFrozenServerFailsWithinTheQueryTimeout) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    PgStoreCreateInfo info;
+    info.uri = uri;
+    info.listen = false;
+    info.connect_timeout_s = 2; // libpq's least.
+    info.query_timeout = std::chrono::milliseconds(500);
+    auto writer = PgStore::open(info);
+    auto reader = PgStore::open(info);
+    ASSERT_TRUE(writer.ok() && reader.ok());
+    ASSERT_TRUE((*writer)->save({0, 0, 0}, Chunk(5)).ok());
+    ASSERT_TRUE((*writer)->flush().ok());
+    ASSERT_TRUE((*writer)->save({0, 0, 0}, Chunk(6)).ok());
+    FrozenServer frozen(uri);
+    ASSERT_EQ(frozen.pids().size(), 3u); // Both stores' backends and the postmaster.
+    std::atomic<bool> done{false};
+    std::thread watchdog([&] { // Wakes the server after 8 s on a build that blocks.
+        for (int i = 0; i < 800 && !done.load(); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        frozen.thaw();
+    });
+    const auto timed = [](auto&& call) {
+        const auto t0 = Clock::now();
+        auto result = call();
+        return std::make_pair(std::move(result), std::chrono::duration<double>(Clock::now() - t0).count());
+    };
+    auto [flushed, flush_s] = timed([&] { return (*writer)->flush(); });
+    auto [loaded, load_s] = timed([&] { return (*reader)->load({1, 0, 0}); });
+    auto [again, again_s] = timed([&] { return (*writer)->flush(); }); // Reconnecting: connect_timeout.
+    done.store(true);
+    watchdog.join();
+    frozen.thaw();
+    EXPECT_LT(flush_s, 2.0) << "the flush waited for the frozen server";
+    ASSERT_FALSE(flushed.ok());
+    EXPECT_NE(flushed.error().find("query_timeout"), std::string::npos) << flushed.error();
+    EXPECT_NE(flushed.error().find("edits kept in memory"), std::string::npos) << flushed.error();
+    EXPECT_LT(load_s, 2.0) << "the load waited for the frozen server";
+    ASSERT_FALSE(loaded.ok());
+    EXPECT_NE(loaded.error().find("query_timeout"), std::string::npos) << loaded.error();
+    EXPECT_LT(again_s, 4.0) << "the reconnect waited past connect_timeout";
+    EXPECT_FALSE(again.ok());
+    EXPECT_EQ((*writer)->pending_edits(), 1u);
+    EXPECT_FALSE((*writer)->health().connected);
+    vx::Status retried = (*writer)->flush();
+    ASSERT_TRUE(retried.ok()) << retried.error();
+    EXPECT_EQ((*writer)->pending_edits(), 0u);
+    auto check = open_pg(uri);
+    EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
+    auto reload = (*reader)->load({0, 0, 0}); // The reader reconnects too.
+    ASSERT_TRUE(reload.ok()) << reload.error();
+    EXPECT_TRUE(*reload->chunk == Chunk(6));
 }
 
 TEST(PgStore, ClearErrorsForMissingAndForeignDatabases) {

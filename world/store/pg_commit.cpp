@@ -69,6 +69,8 @@ bool refused_for_good(const char* state) {
 // Reads the results of one pipelined command (results up to the NULL that ends it).
 struct PipelineReader {
     PGconn* conn = nullptr;
+    pg::Deadline deadline = pg::Deadline::max(); // Of the whole read.
+    bool timed_out = false; // The deadline passed: nothing more is read (drop the connection).
     std::string first_error{};
     size_t commands = 0;             // Commands read so far.
     size_t first_error_at = 0;       // The command that failed first (when first_error is set).
@@ -77,7 +79,7 @@ struct PipelineReader {
     // The command's last result (null if the connection failed); records the first error.
     pg::ResultPtr next() {
         pg::ResultPtr last;
-        while (PGresult* r = PQgetResult(conn)) {
+        while (PGresult* r = get()) {
             last.reset(r);
             const ExecStatusType s = PQresultStatus(r);
             if (s != PGRES_COMMAND_OK && s != PGRES_TUPLES_OK && first_error.empty()) {
@@ -96,8 +98,13 @@ struct PipelineReader {
     }
     // Consumes the sync point.
     bool sync() {
-        pg::ResultPtr r(PQgetResult(conn));
+        pg::ResultPtr r(get());
         return r && PQresultStatus(r.get()) == PGRES_PIPELINE_SYNC;
+    }
+    // PQgetResult within the deadline (null once it passed).
+    PGresult* get() {
+        timed_out = timed_out || !pg::wait_result(conn, deadline);
+        return timed_out ? nullptr : PQgetResult(conn);
     }
 };
 
@@ -176,7 +183,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
             PQexitPipelineMode(m_conn);
         return e;
     }
-    PipelineReader reader{m_conn};
+    PipelineReader reader{m_conn, deadline()};
     std::vector<uint64_t> versions(order.size(), 0);
     bool conflicted = false;
     for (size_t i = 0; i < order.size(); ++i) {
@@ -191,6 +198,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
     for (size_t i = 0; i < lod_order.size() + dirty_order.size() + m_queue.meta.size() + payloads.size(); ++i)
         reader.next();
     const bool synced = reader.sync(); // The commit (or the rollback) is done when it arrives.
+    m_timed_out = reader.timed_out; // Then the server may still commit it: a retry meets a conflict.
     if (!synced || PQexitPipelineMode(m_conn) != 1) {
         const std::string why = reader.first_error.empty() ? "pipeline out of step" : reader.first_error;
         return error("cannot write " + std::to_string(order.size()) + " chunks", why);
@@ -235,7 +243,7 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
 Status PgStore::resolve_conflict(ChunkCoord c) {
     pg::Params params;
     params.add_coord(c);
-    pg::ResultPtr r = pg::exec(m_conn, "vx_load", params);
+    pg::ResultPtr r = pg::exec(m_conn, "vx_load", params, deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error("cannot reload chunk " + pg::coord_str(c) + " after a conflict");
     Pending& p = m_queue.chunks[c];
@@ -275,7 +283,7 @@ Result<bool> PgStore::contains(ChunkCoord c) {
         return Error{s.error()};
     pg::Params p;
     p.add_coord(c);
-    pg::ResultPtr r = pg::exec(m_conn, "vx_has", p);
+    pg::ResultPtr r = pg::exec(m_conn, "vx_has", p, deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error("cannot look up chunk " + pg::coord_str(c));
     return PQntuples(r.get()) > 0;
@@ -286,7 +294,7 @@ Result<uint64_t> PgStore::count() {
         return Error{s.error()};
     if (Status s = ensure_connected(true); !s)
         return Error{s.error()};
-    pg::ResultPtr r = pg::exec(m_conn, "vx_count");
+    pg::ResultPtr r = pg::exec(m_conn, "vx_count", pg::Params(), deadline(), m_timed_out);
     if (!pg::ok(r.get()) || PQntuples(r.get()) != 1)
         return error("cannot count chunks");
     return uint64_t(pg::get_i64(r.get(), 0, 0));
@@ -297,7 +305,7 @@ Status PgStore::for_each_coord(const std::function<bool(ChunkCoord)>& fn) {
         return s;
     if (Status s = ensure_connected(true); !s)
         return s;
-    pg::ResultPtr r = pg::exec(m_conn, "vx_list");
+    pg::ResultPtr r = pg::exec(m_conn, "vx_list", pg::Params(), deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error("cannot list chunks");
     for (int i = 0, n = PQntuples(r.get()); i < n; ++i)
@@ -313,7 +321,7 @@ Result<std::optional<std::string>> PgStore::get_meta(std::string_view key) {
         return Error{s.error()};
     pg::Params p;
     p.add_text(std::string(key));
-    pg::ResultPtr r = pg::exec(m_conn, "vx_meta_get", p);
+    pg::ResultPtr r = pg::exec(m_conn, "vx_meta_get", p, deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error("cannot read metadata '" + std::string(key) + "'");
     if (PQntuples(r.get()) == 0)

@@ -107,7 +107,11 @@ void ChangeListener::run() {
     while (!m_stop.load()) {
         PGconn* conn = connect_polling();
         if (conn && PQstatus(conn) == CONNECTION_OK) {
-            ResultPtr r(PQexec(conn, "LISTEN vx_chunks"));
+            PQsetnonblocking(conn, 1); // Nothing queued yet: cannot fail.
+            // Bounded (pg_wire.h): a frozen server would otherwise keep destruction waiting.
+            bool timed_out = false;
+            const auto deadline = steady_clock::now() + seconds(std::max(m_timeout_s, 1));
+            ResultPtr r = pg::run(conn, "LISTEN vx_chunks", deadline, timed_out);
             if (PQresultStatus(r.get()) == PGRES_COMMAND_OK) {
                 m_listening.store(true);
                 m_epoch.fetch_add(1); // After LISTEN: a commit from now on is notified.

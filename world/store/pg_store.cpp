@@ -125,6 +125,7 @@ Result<std::unique_ptr<PgStore>> PgStore::open(const PgStoreCreateInfo& info) {
 Status PgStore::connect() {
     if (m_conn)
         PQfinish(m_conn);
+    m_timed_out = false;
     {
         std::lock_guard lock(m_health_mutex);
         ++m_health.connect_attempts;
@@ -139,12 +140,13 @@ Status PgStore::connect() {
         m_health.last_error = e.message;
         return e;
     }
+    PQsetnonblocking(m_conn, 1); // For the deadlines (pg_wire.h); cannot fail with nothing queued yet.
     if (m_listener)
         m_listener->set_own_pid(PQbackendPID(m_conn));
     if (m_info.lock_timeout.count() > 0) { // Only where the URI (options=-c ...) set none.
         const std::string sql = "SELECT set_config('lock_timeout', '" + std::to_string(m_info.lock_timeout.count()) +
                                 "ms', false) WHERE current_setting('lock_timeout') = '0'";
-        if (pg::ResultPtr r(PQexec(m_conn, sql.c_str())); !pg::ok(r.get()))
+        if (pg::ResultPtr r = pg::run(m_conn, sql.c_str(), deadline(), m_timed_out); !pg::ok(r.get()))
             return error("cannot set lock_timeout");
     }
     if (!m_schema_ready)
@@ -160,8 +162,10 @@ Status PgStore::connect() {
 }
 
 Status PgStore::init_schema() {
-    pg::ResultPtr r(PQexec(m_conn, "SELECT to_regclass('vx_meta') IS NOT NULL, "
-                                   "(SELECT count(*) FROM pg_tables WHERE schemaname = current_schema())"));
+    pg::ResultPtr r = pg::run(m_conn,
+                              "SELECT to_regclass('vx_meta') IS NOT NULL, "
+                              "(SELECT count(*) FROM pg_tables WHERE schemaname = current_schema())",
+                              deadline(), m_timed_out);
     if (!pg::ok(r.get()) || PQntuples(r.get()) != 1)
         return error("cannot read the database's tables");
     const bool has_world = PQgetvalue(r.get(), 0, 0)[0] == 't';
@@ -177,14 +181,16 @@ Status PgStore::init_schema() {
         const std::string sql = std::string("BEGIN; SELECT pg_advisory_xact_lock(7942519736); ") + pg::kSchemaSql +
                                 "INSERT INTO vx_meta VALUES ('format', convert_to('" + pg::kFormat +
                                 "', 'UTF8')) ON CONFLICT DO NOTHING; COMMIT;";
-        pg::ResultPtr c(PQexec(m_conn, sql.c_str()));
+        pg::ResultPtr c = pg::run(m_conn, sql.c_str(), deadline(), m_timed_out);
         if (!pg::ok(c.get())) {
             Error e = error("cannot create the world's tables");
-            pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
+            if (m_conn)
+                pg::run(m_conn, "ROLLBACK", deadline(), m_timed_out);
             return e;
         }
     }
-    pg::ResultPtr f(PQexec(m_conn, "SELECT convert_from(value, 'UTF8') FROM vx_meta WHERE key = 'format'"));
+    pg::ResultPtr f = pg::run(m_conn, "SELECT convert_from(value, 'UTF8') FROM vx_meta WHERE key = 'format'",
+                              deadline(), m_timed_out);
     if (!pg::ok(f.get()))
         return error("cannot read the world's format");
     const std::string format = PQntuples(f.get()) == 1 ? PQgetvalue(f.get(), 0, 0) : "";
@@ -197,7 +203,8 @@ Status PgStore::init_schema() {
 
 Status PgStore::prepare() {
     for (size_t i = 0; i < pg::kStatementCount; ++i) {
-        pg::ResultPtr r(PQprepare(m_conn, pg::kStatements[i].name, pg::kStatements[i].sql, 0, nullptr));
+        const pg::Statement& st = pg::kStatements[i];
+        pg::ResultPtr r = pg::prepare(m_conn, st.name, st.sql, deadline(), m_timed_out);
         if (!pg::ok(r.get()))
             return error(std::string("cannot prepare ") + pg::kStatements[i].name);
     }
@@ -205,8 +212,12 @@ Status PgStore::prepare() {
 }
 
 Error PgStore::error(const std::string& what, const std::string& why) {
-    Error e{"PostgreSQL world '" + m_name + "': " + what + ": " + (why.empty() ? pg::message(m_conn) : why)};
-    if (!m_conn || PQstatus(m_conn) != CONNECTION_OK)
+    std::string cause = why.empty() ? pg::message(m_conn) : why;
+    if (m_timed_out) // The connection is out of step with the server: only a new one is usable.
+        cause = "no answer within query_timeout (" + std::to_string(m_info.query_timeout.count()) +
+                " ms); connection dropped";
+    Error e{"PostgreSQL world '" + m_name + "': " + what + ": " + cause};
+    if (m_timed_out || !m_conn || PQstatus(m_conn) != CONNECTION_OK)
         lost(e.message);
     std::lock_guard lock(m_health_mutex);
     m_health.last_error = e.message;
@@ -225,6 +236,8 @@ void PgStore::lost(const std::string& what) {
     m_health.connected = false;
     m_health.last_error = what;
 }
+
+PgStore::Clock::time_point PgStore::deadline() const { return pg::deadline_in(m_info.query_timeout); }
 
 Status PgStore::ensure_connected(bool now) {
     if (m_conn && PQstatus(m_conn) == CONNECTION_OK)
@@ -278,7 +291,7 @@ Result<ChunkLoad> PgStore::load_level(LodCoord c) {
     }
     pg::Params p;
     add_key(p, c);
-    pg::ResultPtr r = pg::exec(m_conn, c.level == 0 ? "vx_load" : "vx_lod_load", p);
+    pg::ResultPtr r = pg::exec(m_conn, c.level == 0 ? "vx_load" : "vx_lod_load", p, deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error("cannot load " + record_name(c));
     const bool found = PQntuples(r.get()) != 0;
@@ -309,7 +322,8 @@ Status PgStore::quarantine(LodCoord c, uint64_t version, const std::string& reas
     add_key(p, c);
     p.add_i64(int64_t(version));
     p.add_text(reason);
-    pg::ResultPtr r = pg::exec(m_conn, c.level == 0 ? "vx_quarantine" : "vx_lod_quarantine", p);
+    const char* statement = c.level == 0 ? "vx_quarantine" : "vx_lod_quarantine";
+    pg::ResultPtr r = pg::exec(m_conn, statement, p, deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error("cannot quarantine " + record_name(c));
     if (c.level == 0 && PQntuples(r.get()) == 1)
@@ -320,7 +334,8 @@ Status PgStore::quarantine(LodCoord c, uint64_t version, const std::string& reas
 Result<bool> PgStore::lod_tables(bool create) {
     if (m_lod_ready)
         return true;
-    pg::ResultPtr r(PQexec(m_conn, "SELECT to_regclass('vx_lod_chunks') IS NOT NULL"));
+    const char* probe = "SELECT to_regclass('vx_lod_chunks') IS NOT NULL";
+    pg::ResultPtr r = pg::run(m_conn, probe, deadline(), m_timed_out);
     if (!pg::ok(r.get()) || PQntuples(r.get()) != 1)
         return error("cannot read the database's tables");
     if (PQgetvalue(r.get(), 0, 0)[0] != 't') {
@@ -329,16 +344,17 @@ Result<bool> PgStore::lod_tables(bool create) {
         // As init_schema: the advisory lock orders processes creating them at once.
         const std::string sql =
             std::string("BEGIN; SELECT pg_advisory_xact_lock(7942519736); ") + pg::kLodSchemaSql + "COMMIT;";
-        pg::ResultPtr c(PQexec(m_conn, sql.c_str()));
+        pg::ResultPtr c = pg::run(m_conn, sql.c_str(), deadline(), m_timed_out);
         if (!pg::ok(c.get())) {
             Error e = error("cannot create the coarse-level tables");
             if (m_conn)
-                pg::ResultPtr(PQexec(m_conn, "ROLLBACK"));
+                pg::run(m_conn, "ROLLBACK", deadline(), m_timed_out);
             return e;
         }
     }
     for (size_t i = 0; i < pg::kLodStatementCount; ++i) {
-        pg::ResultPtr p(PQprepare(m_conn, pg::kLodStatements[i].name, pg::kLodStatements[i].sql, 0, nullptr));
+        const pg::Statement& st = pg::kLodStatements[i];
+        pg::ResultPtr p = pg::prepare(m_conn, st.name, st.sql, deadline(), m_timed_out);
         if (!pg::ok(p.get()))
             return error(std::string("cannot prepare ") + pg::kLodStatements[i].name);
     }
@@ -381,7 +397,7 @@ Result<std::vector<LodCoord>> PgStore::list_lod(const char* statement, const cha
         return Error{ready.error()};
     if (!*ready)
         return out;
-    pg::ResultPtr r = pg::exec(m_conn, statement);
+    pg::ResultPtr r = pg::exec(m_conn, statement, pg::Params(), deadline(), m_timed_out);
     if (!pg::ok(r.get()))
         return error(std::string("cannot list ") + what);
     for (int i = 0, n = PQntuples(r.get()); i < n; ++i) {
@@ -454,9 +470,11 @@ Status PgStore::commit() {
     // when it is used. Then once more, on a new connection. Safe even if the first attempt
     // committed before the link broke: this store's versions are then stale, so the retry meets a
     // conflict and re-applies the same edits (a whole-chunk write rewrites the same record).
+    // Not after a timeout: the caller gets its error within query_timeout, and a later call
+    // reconnects.
     const bool was_up = m_conn != nullptr;
     Status s = commit_attempts();
-    if (!s && was_up && !m_conn)
+    if (!s && was_up && !m_conn && !m_timed_out)
         s = commit_attempts();
     return s;
 }
@@ -522,7 +540,7 @@ Status PgStore::changed_since(const std::vector<ChunkCoord>& coords,
         p.add_text(std::move(xs));
         p.add_text(std::move(ys));
         p.add_text(std::move(zs));
-        pg::ResultPtr r = pg::exec(m_conn, "vx_versions", p);
+        pg::ResultPtr r = pg::exec(m_conn, "vx_versions", p, deadline(), m_timed_out);
         if (!pg::ok(r.get()))
             return error("cannot read the stored versions of " + std::to_string(end - begin) + " chunks");
         stored.clear();

@@ -34,9 +34,10 @@
 // chunk the caller still holds may have no version to compare: then the catch-up makes
 // poll_changes() ask for a resync (the caller re-checks every chunk it holds) instead.
 //
-// Connection loss: queued edits stay in memory; tick() reconnects with exponential back-off
-// (0.25 s doubling to 8 s), flush() and load() report the error; health() says so. A commit on
-// a connection that died unnoticed (a server restart) reconnects at once and tries again.
+// Connection loss (or a server that stops answering for query_timeout): queued edits stay in
+// memory; tick() reconnects with exponential back-off (0.25 s doubling to 8 s), flush() and
+// load() report the error; health() says so. A commit on a connection that died unnoticed (a
+// server restart) reconnects at once and tries again (not after a timeout: one wait is enough).
 // Destruction commits queued edits only over a live connection (one that is down was reported by
 // the last flush; no further connect timeout is spent) and logs any edits it could not save.
 //
@@ -82,6 +83,15 @@ struct PgStoreCreateInfo {
     // session holds fails a commit (edits kept, retried later) or a load after this long instead
     // of blocking the I/O lane for ever. 0: wait for ever.
     std::chrono::milliseconds lock_timeout{5000};
+    // The longest one round trip may wait for the server's answer (a statement, or a commit's
+    // whole pipelined transaction), in milliseconds. A server process that is alive but stopped
+    // answering (frozen, a stuck disk) passes keepalives, so without this the I/O lane, flush()
+    // and shutdown would wait for ever. Past it the call returns an error naming query_timeout,
+    // the connection is dropped (not cancelled: a cancel request to a frozen server blocks too),
+    // queued edits are kept, and a later call reconnects. A commit that landed anyway is met by
+    // the retry as a conflict and its edits re-applied. Longer than lock_timeout, so a lock wait
+    // reports as such. 0: wait for ever.
+    std::chrono::milliseconds query_timeout{15000};
     // Chunk versions remembered (about 60 B each). Past this, versions of chunks with no queued
     // edit are forgotten down to half: a later commit of such a chunk costs one conflict round
     // trip (reload, re-apply edits) but stays correct, so a long session's memory stays bounded.
@@ -162,6 +172,9 @@ private:
     Result<bool> lod_tables(bool create);
     Result<std::vector<LodCoord>> list_lod(const char* statement, const char* what);
     void lost(const std::string& what);
+    // The deadline of a round trip on m_conn starting now (query_timeout; max: none). A round trip
+    // past it sets m_timed_out (pg_wire.h), and error() then drops the connection.
+    Clock::time_point deadline() const;
     // load() and load_lod() (level 0: vx_chunks, with versions and tombstones).
     Result<ChunkLoad> load_level(LodCoord c);
     Status quarantine(LodCoord c, uint64_t version, const std::string& reason);
@@ -188,6 +201,7 @@ private:
     PgStoreCreateInfo m_info;
     std::string m_name; // Redacted URI for messages.
     pg_conn* m_conn = nullptr;
+    bool m_timed_out = false; // A round trip on m_conn passed query_timeout; cleared by connect().
     bool m_schema_ready = false;
     bool m_lod_ready = false; // The coarse-level tables exist and their statements are prepared.
     RecordCodec m_codec;

@@ -1,5 +1,11 @@
 #include "world/store/pg_wire.h"
 
+#include <poll.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+
 namespace vx::world::pg {
 
 namespace {
@@ -34,6 +40,74 @@ PGconn* connect_start(const std::string& conninfo, int connect_timeout_s) {
     return connect_with(conninfo, connect_timeout_s, [](const char* const* keys, const char* const* values) {
         return PQconnectStartParams(keys, values, 1);
     });
+}
+
+Deadline deadline_in(std::chrono::milliseconds timeout) {
+    return timeout.count() > 0 ? std::chrono::steady_clock::now() + timeout : Deadline::max();
+}
+
+namespace {
+
+// Milliseconds for poll() until `deadline` (-1: none; 0: passed).
+int poll_ms(Deadline deadline) {
+    if (deadline == Deadline::max())
+        return -1;
+    using namespace std::chrono;
+    const auto left = ceil<milliseconds>(deadline - steady_clock::now());
+    return int(std::clamp<int64_t>(left.count(), 0, INT_MAX));
+}
+
+} // namespace
+
+bool wait_result(PGconn* conn, Deadline deadline) {
+    for (;;) {
+        // 1: output still queued; -1: the send failed (PQgetResult then reports why).
+        const bool sending = PQflush(conn) == 1;
+        if (!sending && !PQisBusy(conn))
+            return true;
+        const int ms = poll_ms(deadline);
+        if (ms == 0)
+            return false;
+        pollfd fd{PQsocket(conn), short(POLLIN | (sending ? POLLOUT : 0)), 0};
+        const int ready = ::poll(&fd, 1, ms);
+        if (ready < 0 && errno != EINTR)
+            return false; // Cannot wait: drop the connection rather than block in PQgetResult.
+        // A read error marks the connection bad, and PQisBusy() is then false.
+        if (ready > 0 && (fd.revents & (POLLIN | POLLERR | POLLHUP)))
+            PQconsumeInput(conn);
+    }
+}
+
+ResultPtr finish(PGconn* conn, Deadline deadline, bool& timed_out) {
+    ResultPtr last;
+    for (;;) {
+        if (!wait_result(conn, deadline)) {
+            timed_out = true;
+            return {};
+        }
+        PGresult* r = PQgetResult(conn);
+        if (!r)
+            return last;
+        last.reset(r);
+    }
+}
+
+ResultPtr run(PGconn* conn, const char* sql, Deadline deadline, bool& timed_out) {
+    if (PQsendQuery(conn, sql) != 1)
+        return {};
+    return finish(conn, deadline, timed_out);
+}
+
+ResultPtr prepare(PGconn* conn, const char* name, const char* sql, Deadline deadline, bool& timed_out) {
+    if (PQsendPrepare(conn, name, sql, 0, nullptr) != 1)
+        return {};
+    return finish(conn, deadline, timed_out);
+}
+
+ResultPtr exec(PGconn* conn, const char* name, const Params& p, Deadline deadline, bool& timed_out) {
+    if (PQsendQueryPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1) != 1)
+        return {};
+    return finish(conn, deadline, timed_out);
 }
 
 std::string message(PGconn* conn, const PGresult* r) {

@@ -3,6 +3,7 @@
 // in network byte order, and the SQL the store speaks. Internal to vx_store (includes libpq).
 // Thread affinity: none of their own; a connection is used by one thread at a time.
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <deque>
@@ -98,10 +99,25 @@ inline bool ok(const PGresult* r) {
     return s == PGRES_COMMAND_OK || s == PGRES_TUPLES_OK;
 }
 
-// Runs prepared statement `name` (blocking), results in binary format.
-inline ResultPtr exec(PGconn* conn, const char* name, const Params& p = {}) {
-    return ResultPtr(PQexecPrepared(conn, name, p.count(), p.values(), p.lengths(), p.formats(), 1));
-}
+// Round trips with a deadline: a server that is alive but stopped answering (a frozen process, a
+// stuck disk) is not noticed by keepalives (the kernel still answers them), so a blocking libpq
+// call would wait for ever. These take steady_clock deadlines (time_point::max(): none) and need
+// the connection in nonblocking mode (PQsetnonblocking), so sends and PQfinish never block either.
+using Deadline = std::chrono::steady_clock::time_point;
+// The deadline `timeout` from now (0: none).
+Deadline deadline_in(std::chrono::milliseconds timeout);
+// Sends what `conn` has queued and waits until PQgetResult would not block. False: `deadline`
+// passed first; the connection is then out of step with the server and must be dropped.
+bool wait_result(PGconn* conn, Deadline deadline);
+// The last result of the command sent (PQexec's rule), null when the send failed or `deadline`
+// passed (`timed_out` set).
+ResultPtr finish(PGconn* conn, Deadline deadline, bool& timed_out);
+// SQL text, one or more statements, as PQexec.
+ResultPtr run(PGconn* conn, const char* sql, Deadline deadline, bool& timed_out);
+// Prepares statement `name`, as PQprepare.
+ResultPtr prepare(PGconn* conn, const char* name, const char* sql, Deadline deadline, bool& timed_out);
+// Runs prepared statement `name`, results in binary format.
+ResultPtr exec(PGconn* conn, const char* name, const Params& p, Deadline deadline, bool& timed_out);
 
 // "x,y,z": chunk coordinates in messages and NOTIFY payloads.
 inline std::string coord_str(ChunkCoord c) {
