@@ -43,8 +43,12 @@ public:
             return;
         }
         m_kept = *stored;
-        if (!m_kept)
-            m_status = m_p.store.save(key().chunk, m_chunk);
+        if (!m_kept) {
+            // If absent: a shared store keeps a chunk another process saves before the commit.
+            ChunkWrite w{key().chunk, &m_chunk};
+            w.if_absent = true;
+            m_status = m_p.store.save(std::span<const ChunkWrite>(&w, 1));
+        }
         (void)m_p.store.tick(Clock::now()); // A failed commit shows again at flush().
     }
     void complete() override {

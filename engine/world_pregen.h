@@ -6,9 +6,9 @@
 // checks that each chunk meshes and measures the world (quads in isolation); the streamer meshes
 // again with real neighbours when it streams the world in. Chunks the store already has (edited by
 // players, made by an earlier run) are kept, and so are coarse chunks it has or marks stale: a run
-// over an existing world only fills in what is missing. The check and the save are not one step:
-// on a shared PostgreSQL world, a chunk another process saves first in between (under a second,
-// before the commit) is written over.
+// over an existing world only fills in what is missing. The check and the commit are not one
+// step, so the save is conditional (ChunkWrite::if_absent): on a shared PostgreSQL world, a chunk
+// another process saves in between is kept too (counted in PregenStats::chunks, not kept).
 
 #include <cstddef>
 #include <cstdint>

@@ -265,6 +265,41 @@ TEST(PgStore, AFrozenServerFailsWithinTheQueryTimeout) {
     EXPECT_TRUE(*reload->chunk == Chunk(6));
 }
 
+// A write if absent (pregeneration's) commits where nothing or a tombstone is stored, and is
+// dropped where another process stored a chunk after this one looked (theirs kept); a plain write
+// of the same coordinate queued after it is unconditional.
+TEST(PgStore, AWriteIfAbsentKeepsAnotherProcesssChunk) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    auto mine = open_pg(uri);
+    auto other = open_pg(uri);
+    // x = 0: the other stores it after our check; 1: the other erased it (a tombstone); 2: never
+    // stored; 3: the other stores it, and our plain write follows our write if absent.
+    ASSERT_TRUE(other->save({1, 0, 0}, Chunk(4)).ok());
+    ASSERT_TRUE(other->flush().ok());
+    ASSERT_TRUE(other->erase({1, 0, 0}).ok());
+    ASSERT_TRUE(other->flush().ok());
+    for (int x = 0; x < 4; ++x)
+        EXPECT_FALSE(*mine->contains({x, 0, 0}));
+    ASSERT_TRUE(other->save({0, 0, 0}, Chunk(9)).ok());
+    ASSERT_TRUE(other->save({3, 0, 0}, Chunk(9)).ok());
+    ASSERT_TRUE(other->flush().ok());
+    const Chunk terrain(5);
+    for (int x = 0; x < 4; ++x) {
+        ChunkWrite w{{x, 0, 0}, &terrain};
+        w.if_absent = true;
+        ASSERT_TRUE(mine->save(std::span<const ChunkWrite>(&w, 1)).ok());
+    }
+    ASSERT_TRUE(mine->save({3, 0, 0}, Chunk(6)).ok());
+    vx::Status s = mine->flush();
+    ASSERT_TRUE(s.ok()) << s.error();
+    EXPECT_EQ(mine->pending_edits(), 0u);
+    auto check = open_pg(uri);
+    const BlockId want[4] = {9, 5, 5, 6};
+    for (int x = 0; x < 4; ++x)
+        EXPECT_TRUE(*check->load({x, 0, 0})->chunk == Chunk(want[x])) << "x = " << x;
+}
+
 TEST(PgStore, ClearErrorsForMissingAndForeignDatabases) {
     VX_NEED_PG();
     PgStoreCreateInfo info;

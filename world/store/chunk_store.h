@@ -76,6 +76,11 @@ struct ChunkWrite {
     // last read or wrote (right only when the caller applies every load). Single-writer stores
     // ignore it.
     std::optional<uint64_t> base_version{};
+    // Write only where no chunk is stored (a generated chunk: pregeneration checks contains()
+    // first). A shared store that finds one another process stored meanwhile drops this write
+    // and keeps theirs; single-writer stores ignore it (nobody writes between the check and the
+    // save). A later plain write of the coordinate in the same queue makes it unconditional.
+    bool if_absent = false;
 };
 
 // One coarse chunk of a save_lod batch (levels of detail, world/lod/lod_coords.h). `chunk` ==

@@ -138,6 +138,14 @@ public:
     }
     Entry& operator[](Coord c) { return m_map[c]; }
     bool contains(Coord c) const { return m_map.count(c) != 0; }
+    // Drops the queued write of `c` (if any).
+    void erase(Coord c) {
+        if (const auto it = m_map.find(c); it != m_map.end()) {
+            if (it->second.record)
+                m_bytes -= it->second.record->size();
+            m_map.erase(it);
+        }
+    }
     typename Map::const_iterator begin() const { return m_map.begin(); }
     typename Map::const_iterator end() const { return m_map.end(); }
     size_t size() const { return m_map.size(); }

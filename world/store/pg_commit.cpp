@@ -265,6 +265,10 @@ Status PgStore::resolve_conflict(ChunkCoord c) {
     }
     note_version(c, version);
     p.base = version;
+    if (p.if_absent && theirs) { // Theirs is kept: drop ours (`p` dangles from here).
+        m_queue.chunks.erase(c);
+        return {};
+    }
     if (p.whole || !p.record || !theirs)
         return {};
     p.merged = true;

@@ -424,9 +424,12 @@ Status PgStore::save(std::span<const ChunkWrite> batch) {
         const uint64_t base = base_of(w);
         Pending& p = m_queue.chunks.write(w.coord, w.chunk, w.record, encodes);
         // A later write of a queued chunk keeps the first one's base: if another process wrote
-        // since, all the queued edits are re-applied to its version.
+        // since, all the queued edits are re-applied to its version. A write if absent expects
+        // no row (0): a tombstone or another process's chunk then meets a conflict.
+        const bool if_absent = w.if_absent && w.chunk && (first || p.if_absent);
         if (first)
-            p.base = base;
+            p.base = if_absent ? 0 : base;
+        p.if_absent = if_absent;
         p.caller_base = w.base_version;
         if (!w.chunk || w.edits.empty()) {
             p.whole = true;

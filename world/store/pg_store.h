@@ -153,6 +153,7 @@ private:
         uint64_t base = 0;
         std::optional<uint64_t> caller_base; // The latest write's ChunkWrite::base_version.
         bool merged = false; // Another process's blocks were merged in: no caller's copy has them.
+        bool if_absent = false; // ChunkWrite::if_absent: `base` is 0 or a tombstone's version.
     };
     // What this process's own commits made of a caller's copy: a copy loaded as `caller_base`
     // (plus edits) was written as `latest`, with nothing of another process merged in. A later
