@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "render/device_probe.h"
@@ -151,6 +152,12 @@ public:
         if (r != VK_SUCCESS)
             log_create_failure(what, r);
         return r;
+    }
+
+    // create_call for the object named `object`: `what` is "<call> (<object>)".
+    template <class F> VkResult create_call(const char* call, const char* object, F&& make) {
+        const std::string what = std::string(call) + " (" + object + ")";
+        return create_call(what.c_str(), std::forward<F>(make));
     }
 
     // "<what> failed (<result>)" of the last create_call that failed, for error messages that

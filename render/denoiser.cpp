@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <string>
 #include <vector>
 
 #include <glm/gtc/packing.hpp>
@@ -37,9 +36,8 @@ VkDescriptorSetLayout make_set_layout(Context& ctx, uint32_t bindings, const cha
     ci.bindingCount = bindings;
     ci.pBindings = b.data();
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    const std::string call = std::string("vkCreateDescriptorSetLayout (") + name + ")";
     auto create = [&] { return vkCreateDescriptorSetLayout(ctx.device(), &ci, nullptr, &layout); };
-    if (ctx.create_call(call.c_str(), create) != VK_SUCCESS)
+    if (ctx.create_call("vkCreateDescriptorSetLayout", name, create) != VK_SUCCESS)
         return VK_NULL_HANDLE;
     ctx.set_name(layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, name);
     return layout;
@@ -55,9 +53,8 @@ VkPipelineLayout make_pipeline_layout(Context& ctx, VkDescriptorSetLayout set, c
     ci.pushConstantRangeCount = 1;
     ci.pPushConstantRanges = &range;
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    const std::string call = std::string("vkCreatePipelineLayout (") + name + ")";
     auto create = [&] { return vkCreatePipelineLayout(ctx.device(), &ci, nullptr, &layout); };
-    if (ctx.create_call(call.c_str(), create) != VK_SUCCESS)
+    if (ctx.create_call("vkCreatePipelineLayout", name, create) != VK_SUCCESS)
         return VK_NULL_HANDLE;
     ctx.set_name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
     return layout;

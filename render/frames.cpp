@@ -12,8 +12,8 @@ VkResult Context::make_pool(VkCommandPool& pool, const char* name) {
     VkCommandPoolCreateInfo ci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     ci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
     ci.queueFamilyIndex = m_queue_family;
-    const std::string call = std::string("vkCreateCommandPool (") + name + ")";
-    const VkResult r = create_call(call.c_str(), [&] { return vkCreateCommandPool(m_device, &ci, nullptr, &pool); });
+    const VkResult r =
+        create_call("vkCreateCommandPool", name, [&] { return vkCreateCommandPool(m_device, &ci, nullptr, &pool); });
     if (r == VK_SUCCESS)
         set_name(pool, VK_OBJECT_TYPE_COMMAND_POOL, name);
     return r;
@@ -24,8 +24,8 @@ VkResult Context::make_cmd(VkCommandPool pool, VkCommandBuffer& cmd, const char*
     ai.commandPool = pool;
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
-    const std::string call = std::string("vkAllocateCommandBuffers (") + name + ")";
-    const VkResult r = create_call(call.c_str(), [&] { return vkAllocateCommandBuffers(m_device, &ai, &cmd); });
+    const VkResult r =
+        create_call("vkAllocateCommandBuffers", name, [&] { return vkAllocateCommandBuffers(m_device, &ai, &cmd); });
     if (r == VK_SUCCESS)
         set_name(cmd, VK_OBJECT_TYPE_COMMAND_BUFFER, name);
     return r;
@@ -34,8 +34,8 @@ VkResult Context::make_cmd(VkCommandPool pool, VkCommandBuffer& cmd, const char*
 VkResult Context::make_fence(VkFence& fence, bool signalled, const char* name) {
     VkFenceCreateInfo ci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     ci.flags = signalled ? VK_FENCE_CREATE_SIGNALED_BIT : 0;
-    const std::string call = std::string("vkCreateFence (") + name + ")";
-    const VkResult r = create_call(call.c_str(), [&] { return vkCreateFence(m_device, &ci, nullptr, &fence); });
+    const VkResult r =
+        create_call("vkCreateFence", name, [&] { return vkCreateFence(m_device, &ci, nullptr, &fence); });
     if (r == VK_SUCCESS)
         set_name(fence, VK_OBJECT_TYPE_FENCE, name);
     return r;

@@ -1,20 +1,13 @@
 #include "render/graphics_pipeline.h"
 
-#include <string>
-
 namespace vx::render {
-
-// The name create_call logs and tests inject by: "<call> (<object's debug name>)".
-static std::string call_name(const char* call, const char* object) {
-    return std::string(call) + " (" + object + ")";
-}
 
 VkShaderModule make_shader_module(Context& ctx, std::span<const uint32_t> spirv, const char* name) {
     VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     ci.codeSize = spirv.size_bytes();
     ci.pCode = spirv.data();
     VkShaderModule m = VK_NULL_HANDLE;
-    if (ctx.create_call(call_name("vkCreateShaderModule", name).c_str(),
+    if (ctx.create_call("vkCreateShaderModule", name,
                         [&] { return vkCreateShaderModule(ctx.device(), &ci, nullptr, &m); }) != VK_SUCCESS)
         return VK_NULL_HANDLE;
     ctx.set_name(m, VK_OBJECT_TYPE_SHADER_MODULE, name);
@@ -34,7 +27,7 @@ VkPipeline make_compute_pipeline(Context& ctx, VkPipelineLayout layout, std::spa
     ci.stage.pName = "main";
     ci.layout = layout;
     VkPipeline pipeline = VK_NULL_HANDLE;
-    const VkResult r = ctx.create_call(call_name("vkCreateComputePipelines", name).c_str(), [&] {
+    const VkResult r = ctx.create_call("vkCreateComputePipelines", name, [&] {
         return vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
     });
     vkDestroyShaderModule(ctx.device(), module, nullptr);
@@ -50,7 +43,7 @@ VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const c
     pl.pushConstantRangeCount = 1;
     pl.pPushConstantRanges = &range;
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    if (ctx.create_call(call_name("vkCreatePipelineLayout", name).c_str(),
+    if (ctx.create_call("vkCreatePipelineLayout", name,
                         [&] { return vkCreatePipelineLayout(ctx.device(), &pl, nullptr, &layout); }) != VK_SUCCESS)
         return VK_NULL_HANDLE;
     ctx.set_name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
@@ -138,7 +131,7 @@ VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
     ci.pDynamicState = &dynamic;
     ci.layout = d.layout;
     VkPipeline pipeline = VK_NULL_HANDLE;
-    const VkResult r = ctx.create_call(call_name("vkCreateGraphicsPipelines", d.name).c_str(), [&] {
+    const VkResult r = ctx.create_call("vkCreateGraphicsPipelines", d.name, [&] {
         return vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
     });
     vkDestroyShaderModule(ctx.device(), vert, nullptr);
