@@ -16,11 +16,12 @@
 //     keeps its grass (the dirt under a grass block never outvotes it, however many dirt blocks
 //     the cell holds), and a beach cell half water, half sand stays one of the two. The class
 //     stage is for coasts: a plain plurality let water (one id) win a cell whose columns are
-//     mostly land split over grass, sand and dirt, and the ground seen through the water sank
-//     (by up to 22 blocks at level 4). The most frequent id would turn a thin
-//     surface layer into what lies beneath it; Cubyz's most exposed sub-cell keeps surfaces too
-//     but reads neighbours across chunk borders, while the vote needs only the 8 sub-cells. The
-//     class never decides whether a cell is air: the rule above is untouched.
+//     mostly land split over grass, sand and dirt, and the ground seen through the water sank.
+//     (Land columns of a cell where water holds the majority still sink: one id per cell.) The
+//     most frequent id would turn a thin surface layer into what lies beneath it; Cubyz's most
+//     exposed sub-cell keeps surfaces too but reads neighbours across chunk borders, while the
+//     vote needs only the 8 sub-cells. The class never decides whether a cell is air: the rule
+//     above is untouched.
 //
 // Cost: the work is on palette indices (one unpack per child, a table says which entries are
 // air, opaque or see-through: one is_opaque() per palette entry), ids are looked up once per
