@@ -8,6 +8,7 @@
 
 #include "world/base/assert.h"
 #include "world/gen/noise.h"
+#include "world/lod/cell_vote.h"
 
 namespace vx::world {
 
@@ -379,48 +380,6 @@ struct TerrainGenerator::CoarseGrid {
     std::vector<SurfaceIds> col_ids;
 };
 
-namespace {
-
-// Votes of block columns for a cell's id, downsample()'s rule: the class by majority (water, the
-// only see-through id the terrain votes for, against the opaque ids; ties to opaque), then the
-// most votes within it, ties to the smaller id. The terrain votes for at most 6 ids (stone, dirt,
-// grass, sand, snow, water).
-struct Ballot {
-    BlockId ids[8];
-    int counts[8];
-    int n = 0;
-    void vote(BlockId id) {
-        for (int i = 0; i < n; ++i)
-            if (ids[i] == id) {
-                ++counts[i];
-                return;
-            }
-        VX_ASSERT(n < 8); // Once per new id, so cheap.
-        ids[n] = id;
-        counts[n++] = 1;
-    }
-    BlockId winner(BlockId water) const {
-        int wet = 0, total = 0;
-        for (int i = 0; i < n; ++i) {
-            wet += ids[i] == water ? counts[i] : 0;
-            total += counts[i];
-        }
-        // Water by plurality over land split between several ids sank coastal ground (issue 16).
-        if (2 * wet > total)
-            return water;
-        BlockId best = kAir;
-        int best_count = 0;
-        for (int i = 0; i < n; ++i)
-            if (ids[i] != water && (counts[i] > best_count || (counts[i] == best_count && ids[i] < best))) {
-                best = ids[i];
-                best_count = counts[i];
-            }
-        return best;
-    }
-};
-
-} // namespace
-
 // One cell column (cx, cz) of a coarse chunk: 32 cells written to dense[local_index(cx, y, cz)].
 void TerrainGenerator::coarse_column(CoarseGrid& g, int cx, int cz, BlockId* dense) const {
     const TerrainParams& p = m_params;
@@ -472,19 +431,21 @@ void TerrainGenerator::coarse_column(CoarseGrid& g, int cx, int cz, BlockId* den
         } else {
             // Each block column votes for its topmost non-air block in the cell: terrain at yhi
             // when the surface is higher, the water surface when the sea covers the column
-            // inside the cell, else the surface block when it is inside the cell.
-            Ballot ballot;
+            // inside the cell, else the surface block when it is inside the cell. The vote of
+            // downsample() (cell_vote.h); water is the only see-through id the terrain votes for.
+            CellVote ballot;
+            const auto vote = [&](BlockId v) { ballot.add(v, v != m_ids.water); };
             for (size_t j = 0; j < size_t(s) * size_t(s); ++j) {
                 const int h = g.col_h[j];
                 if (h >= yhi)
-                    ballot.vote(yhi == h ? g.col_ids[j].top
-                                         : yhi >= int64_t(h) - p.soil_depth ? g.col_ids[j].under : m_ids.stone);
+                    vote(yhi == h ? g.col_ids[j].top
+                                  : yhi >= int64_t(h) - p.soil_depth ? g.col_ids[j].under : m_ids.stone);
                 else if (p.sea_level > h && p.sea_level >= ylo)
-                    ballot.vote(m_ids.water);
+                    vote(m_ids.water);
                 else if (h >= ylo)
-                    ballot.vote(g.col_ids[j].top);
+                    vote(g.col_ids[j].top);
             }
-            id = ballot.winner(m_ids.water);
+            id = ballot.winner();
         }
         dense[local_index(cx, y, cz)] = id;
     }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "world/base/assert.h"
+#include "world/lod/cell_vote.h"
 #include "world/mesh/index_unpack.h"
 
 namespace vx::world {
@@ -13,35 +14,9 @@ namespace vx::world {
 namespace {
 
 constexpr int kHalf = kChunkSize / 2; // Cells per octant edge.
-constexpr uint16_t kNoVote = 0xFFFF;
 
 // Palette entry kinds, from the registry once per child.
 enum : uint8_t { kKindAir = 0, kKindOpaque = 1, kKindClear = 2 };
-
-// The winner among up to 4 votes (palette entries, none air), in two stages: the class by
-// majority (opaque or see-through, ties to opaque), then the id by plurality within that class,
-// ties to the smaller block id. A plain plurality let water, one id, win a coast cell over land
-// split between grass, sand and dirt, and the ground seen through the water sank (issue 16).
-uint16_t elect(const uint16_t* votes, int n, const uint8_t* kind, const std::vector<BlockId>& ids) {
-    int clear = 0;
-    for (int i = 0; i < n; ++i)
-        clear += kind[votes[i]] == kKindClear;
-    const uint8_t want = 2 * clear > n ? kKindClear : kKindOpaque;
-    uint16_t best = kNoVote;
-    int best_count = 0;
-    for (int i = 0; i < n; ++i) {
-        if (kind[votes[i]] != want)
-            continue;
-        int count = 0;
-        for (int j = 0; j < n; ++j)
-            count += votes[j] == votes[i];
-        if (count > best_count || (count == best_count && ids[votes[i]] < ids[best])) {
-            best = votes[i];
-            best_count = count;
-        }
-    }
-    return best;
-}
 
 // Cells of one octant from the unpacked palette indices `idx` of the child.
 template <class Index>
@@ -66,12 +41,10 @@ void vote_octant(const Index* idx, const uint8_t* kind, const std::vector<BlockI
                     row[x] = ids[t[0]]; // Unanimous (air too): inside the ground, the sky, flat ground.
                     continue;
                 }
-                uint16_t votes[4];
-                int n = 0;
+                CellVote ballot;
                 for (uint16_t v : t)
-                    if (kind[v] != kKindAir)
-                        votes[n++] = v;
-                row[x] = n == 0 ? kAir : ids[elect(votes, n, kind, ids)];
+                    ballot.add(ids[v], kind[v] == kKindOpaque); // Air abstains.
+                row[x] = ballot.winner();
             }
         }
 }

@@ -9,8 +9,9 @@
 //     is non-air only if something under it is). Applied level after level, a level-k cell is
 //     non-air exactly when one of the (2^k)³ blocks under it is. Water and every other drawn
 //     block count as solid.
-//   - The id: each of the 4 sub-columns votes for its topmost non-air sub-cell, in two stages.
-//     First the class, by majority: opaque tops against see-through ones (water, glass: not
+//   - The id: each of the 4 sub-columns votes for its topmost non-air sub-cell, in two stages
+//     (CellVote, cell_vote.h; the terrain's direct coarse levels elect the same way). First the
+//     class, by majority: opaque tops against see-through ones (water, glass: not
 //     BlockRegistry::is_opaque), ties to opaque. Then the id with the most votes within that
 //     class, ties going to the smaller id. A surface is what is seen from above, so a hillside
 //     keeps its grass (the dirt under a grass block never outvotes it, however many dirt blocks
@@ -25,7 +26,7 @@
 //
 // Cost: the work is on palette indices (one unpack per child, a table says which entries are
 // air, opaque or see-through: one is_opaque() per palette entry), ids are looked up once per
-// output cell; a uniform child fills its octant without reading anything, and 8 equal uniform
+// output cell, or once per vote where the 4 tops differ; a uniform child fills its octant without reading anything, and 8 equal uniform
 // children give a uniform chunk at once.
 // Thread-safe: pure functions of their arguments.
 
