@@ -5,10 +5,17 @@
 # works from any prefix. Installed files name no path of this machine: targets use
 # $<INSTALL_INTERFACE:...> and dependencies are found again by vxConfig.cmake.
 #
+# Include paths: vx::vx gives include/ alone, for <vx/vx.h> (the facade includes only glm and
+# vx/*.h); it links the components but takes none of their include paths ($<LINK_ONLY:...>,
+# VxTargets.cmake), so a game's own "world/chunk.h" is never shadowed by vx's. vx::world,
+# vx::store, vx::render, vx::engine and vx::vdb, for who uses the internals, give
+# include/vx/internal as well.
+#
 # Layout under the prefix:
 #   include/vx/...           the facade (<vx/vx.h>, when the source tree has include/vx)
 #   include/vx/internal/...  the headers of the component libraries, by their source paths
-#                            ("world/world.h", "engine/job_system.h", "render/renderer.h")
+#                            ("world/world.h", "engine/job_system.h", "render/renderer.h"):
+#                            on the include path of the component targets only
 #   lib/libvx_*.a            the static libraries
 #   lib/cmake/vx/            the package files
 #   bin/vx                   the CLI (when built)
@@ -18,11 +25,12 @@ set(VX_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/vx)
 set(VX_INTERNAL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/vx/internal)
 get_property(VX_COMPONENTS GLOBAL PROPERTY VX_COMPONENTS)
 
+# The internal headers include <vx/result.h> and the like: every component gives include/ too.
 foreach(component IN LISTS VX_COMPONENTS)
-  target_include_directories(vx_${component} PUBLIC $<INSTALL_INTERFACE:${VX_INTERNAL_INCLUDEDIR}>)
+  target_include_directories(vx_${component} PUBLIC $<INSTALL_INTERFACE:${VX_INTERNAL_INCLUDEDIR}>
+                                                    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 endforeach()
-# <vx/vx.h>: the facade lives in vx_engine.
-target_include_directories(vx_engine PUBLIC $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+# <vx/vx.h> (implemented by vx_engine), and nothing else: the components are linked only.
 target_include_directories(vx_all INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 
 # vx_vdb goes to its own export set (vxVdbTargets.cmake), loaded only for COMPONENTS vdb: it

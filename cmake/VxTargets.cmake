@@ -21,13 +21,20 @@ set_target_properties(vx_stb_write PROPERTIES EXPORT_NAME stb_write)
 add_library(vx_all INTERFACE)
 set_target_properties(vx_all PROPERTIES EXPORT_NAME vx)
 target_compile_features(vx_all INTERFACE cxx_std_20)
+# Installed, vx::vx compiles a game against the facade alone (include/, VxInstall.cmake, and glm,
+# which the facade includes): the components are linked only, so their include/vx/internal, where
+# "world/chunk.h" and the like live, cannot shadow a game's own headers of those names. vx::world,
+# vx::engine... keep it for who links them. In a build tree (add_subdirectory) vx::vx still links
+# the components whole, as it always did.
 # vdb is an optional component of the installed package (it needs OpenVDB): the installed vx::vx
 # gains vx::vdb only when find_package(vx COMPONENTS vdb) asks for it (vxConfig.cmake.in).
+target_link_libraries(vx_all INTERFACE $<INSTALL_INTERFACE:glm::glm>)
 foreach(component IN LISTS VX_COMPONENTS)
   if(component STREQUAL "vdb")
     target_link_libraries(vx_all INTERFACE $<BUILD_INTERFACE:vx_${component}>)
   else()
-    target_link_libraries(vx_all INTERFACE vx_${component})
+    target_link_libraries(vx_all INTERFACE $<BUILD_INTERFACE:vx_${component}>
+                                           $<INSTALL_INTERFACE:$<LINK_ONLY:vx_${component}>>)
   endif()
 endforeach()
 add_library(vx::vx ALIAS vx_all)
