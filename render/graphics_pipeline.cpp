@@ -52,15 +52,20 @@ VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const c
 
 namespace {
 
-VkPipelineColorBlendAttachmentState blend_attachment(bool alpha_blend) {
+VkPipelineColorBlendAttachmentState blend_attachment(Blend blend) {
     VkPipelineColorBlendAttachmentState a{};
     a.colorWriteMask =
         VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    if (!alpha_blend)
+    if (blend == Blend::None)
         return a;
     a.blendEnable = VK_TRUE;
-    a.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
-    a.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    if (blend == Blend::Alpha) {
+        a.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+        a.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    } else { // src x 0 + dst x src (Vulkan spec, "Blend Factors").
+        a.srcColorBlendFactor = VK_BLEND_FACTOR_ZERO;
+        a.dstColorBlendFactor = VK_BLEND_FACTOR_SRC_COLOR;
+    }
     a.colorBlendOp = VK_BLEND_OP_ADD;
     a.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO; // The attachment's alpha stays.
     a.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
@@ -84,9 +89,11 @@ VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = vert;
     stages[0].pName = "main";
+    stages[0].pSpecializationInfo = d.specialization;
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages[1].module = frag;
     stages[1].pName = "main";
+    stages[1].pSpecializationInfo = d.specialization;
     VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
@@ -102,10 +109,10 @@ VkPipeline make_graphics_pipeline(Context& ctx, const GraphicsPipelineDesc& d) {
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     if (d.depth_format != VK_FORMAT_UNDEFINED) {
         depth.depthTestEnable = VK_TRUE;
-        depth.depthWriteEnable = VK_TRUE;
+        depth.depthWriteEnable = d.depth_write ? VK_TRUE : VK_FALSE;
         depth.depthCompareOp = VK_COMPARE_OP_GREATER; // Reversed depth (raster_pipeline.h).
     }
-    const VkPipelineColorBlendAttachmentState attachment = blend_attachment(d.alpha_blend);
+    const VkPipelineColorBlendAttachmentState attachment = blend_attachment(d.blend);
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &attachment;

@@ -23,6 +23,13 @@ VkPipeline make_compute_pipeline(Context& ctx, VkPipelineLayout layout, std::spa
 // A pipeline layout with one push-constant range of `bytes` for the vertex and fragment stages.
 VkPipelineLayout make_push_constant_layout(Context& ctx, uint32_t bytes, const char* name);
 
+// How fragments combine with the colour attachment; every kind keeps the attachment's alpha.
+enum class Blend : uint8_t {
+    None,     // Written as they are.
+    Alpha,    // Straight alpha over the attachment.
+    Multiply, // dst = dst x src, per colour channel.
+};
+
 struct GraphicsPipelineDesc {
     std::span<const uint32_t> vert, frag; // SPIR-V (render/shader_code.h).
     const char* vert_name = "";
@@ -30,8 +37,10 @@ struct GraphicsPipelineDesc {
     const char* name = "";                // The pipeline's debug name.
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkFormat color_format = VK_FORMAT_UNDEFINED;
-    VkFormat depth_format = VK_FORMAT_UNDEFINED; // Set: depth test GREATER (reversed) with writes.
-    bool alpha_blend = false; // Straight alpha over the attachment; the attachment's alpha stays.
+    VkFormat depth_format = VK_FORMAT_UNDEFINED; // Set: depth test GREATER (reversed).
+    bool depth_write = true;                     // With a depth format: passing fragments write it.
+    Blend blend = Blend::None;
+    const VkSpecializationInfo* specialization = nullptr; // Both stages' (null: none).
 };
 
 // Triangle lists, no culling (the shaders reject what they must), one sample.

@@ -45,7 +45,7 @@ bool UiPass::create_pipeline() {
                                                  .name = "ui pipeline",
                                                  .layout = m_layout,
                                                  .color_format = m_color_format,
-                                                 .alpha_blend = true});
+                                                 .blend = Blend::Alpha});
     return m_pipeline != VK_NULL_HANDLE;
 }
 
