@@ -188,7 +188,7 @@ void SceneAccel::sync_instance(world::LodCoord c, ChunkGpu& g) {
         drop_instance(g);
         return;
     }
-    const DrawChunk d{c, g.quads.address(), g.layout.total}; // c's level scales its instance.
+    const DrawChunk d{c, g.quads.address(), g.layout.total, g.opaque}; // c's level scales its instance.
     if (g.instance == TlasInstances::kNone)
         g.instance = m_instances.add(d, g.blas.address());
     else

@@ -59,7 +59,7 @@ uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
 void TlasInstances::update(uint32_t i, const DrawChunk& chunk, VkDeviceAddress blas) {
     VX_ASSERT(i < size() && m_draw[i].coord == chunk.coord);
     if (m_instances[i].accelerationStructureReference == blas && m_draw[i].quads == chunk.quads &&
-        m_draw[i].slots == chunk.slots)
+        m_draw[i].slots == chunk.slots && m_draw[i].opaque == chunk.opaque)
         return; // A refit: same BLAS, same buffers.
     m_draw[i] = chunk;
     m_instances[i].accelerationStructureReference = blas;

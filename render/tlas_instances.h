@@ -37,6 +37,7 @@ struct DrawChunk {
     world::LodCoord coord;     // Level and chunk: the mesh is in cells of 2^level blocks.
     VkDeviceAddress quads = 0; // Quad records, one per slot (Quad{} in spare slots).
     uint32_t slots = 0;
+    bool opaque = false; // Only opaque blocks (SceneAccel::set_chunk): raster's see-through pass skips it.
 };
 
 class TlasInstances {
