@@ -23,23 +23,36 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 RasterPipeline::RasterPipeline(Context& ctx, VkFormat color_format) : m_ctx(&ctx) { create_pipeline(color_format); }
 
 RasterPipeline::~RasterPipeline() {
-    if (m_pipeline)
-        m_ctx->retire_list().pipelines.push_back(m_pipeline);
+    for (VkPipeline p : {m_pipeline, m_transparent})
+        if (p)
+            m_ctx->retire_list().pipelines.push_back(p);
     vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
 }
 
 void RasterPipeline::create_pipeline(VkFormat color_format) {
     m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::RasterPush), "raster pipeline layout");
     // No face culling here, as the ray tracer (TRIANGLE_FACING_CULL_DISABLE): raster.vert drops
-    // the back faces of opaque blocks itself.
-    m_pipeline = make_graphics_pipeline(*m_ctx, {.vert = spirv::raster_vert(),
-                                                 .frag = spirv::raster_frag(),
-                                                 .vert_name = "raster.vert",
-                                                 .frag_name = "raster.frag",
-                                                 .name = "raster pipeline",
-                                                 .layout = m_layout,
-                                                 .color_format = color_format,
-                                                 .depth_format = kDepthFormat});
+    // the back faces of opaque blocks itself, and each pass's faces the other's.
+    const VkBool32 transparent_pass[2] = {VK_FALSE, VK_TRUE};
+    const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)}; // kTransparentPass.
+    for (uint32_t pass = 0; pass < 2; ++pass) {
+        const VkSpecializationInfo spec{1, &entry, sizeof(VkBool32), &transparent_pass[pass]};
+        const VkPipeline p = make_graphics_pipeline(
+            *m_ctx, {.vert = spirv::raster_vert(),
+                     .frag = spirv::raster_frag(),
+                     .vert_name = "raster.vert",
+                     .frag_name = "raster.frag",
+                     .name = pass ? "raster transparent pipeline" : "raster pipeline",
+                     .layout = m_layout,
+                     .color_format = color_format,
+                     .depth_format = kDepthFormat,
+                     .depth_write = !pass, // Faces behind a transparent one still show through it.
+                     .blend = pass ? Blend::Multiply : Blend::None,
+                     .specialization = &spec});
+        if (!p)
+            return; // Logged; valid() is false.
+        (pass ? m_transparent : m_pipeline) = p;
+    }
 }
 
 bool RasterPipeline::ensure_depth(uint32_t width, uint32_t height) {
@@ -74,8 +87,8 @@ static void depth_barrier(VkCommandBuffer cmd, VkImage image) {
     vkCmdPipelineBarrier2(cmd, &di);
 }
 
-uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
-                                std::span<const SceneAccel::DrawChunk> chunks, VkBuffer indices) {
+RasterPipeline::Draws RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
+                                             std::span<const SceneAccel::DrawChunk> chunks, VkBuffer indices) {
     const bool have_depth = ensure_depth(f.width, f.height); // A renderer made it already.
     VX_ASSERT_MSG(have_depth, "out of GPU memory for the raster depth buffer");
     const Image& depth = m_depth[m_ctx->frame_slot()];
@@ -118,21 +131,40 @@ uint32_t RasterPipeline::record(VkCommandBuffer cmd, const RasterFrame& f,
     push.light_position = glm::vec4(glm::vec3(f.light_position - glm::dvec3(f.camera_offset)), float(f.mode));
     push.light_power = glm::vec4(f.light_power, f.exposure);
     push.materials = f.materials;
-    uint32_t drawn = 0;
+    Draws drawn;
     if (!chunks.empty())
         vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
-    for (const SceneAccel::DrawChunk& c : chunks) {
-        // 64-bit difference first, then float, as the TLAS transforms.
-        const world::BlockPos rel = world::lod_origin(c.coord) - f.camera_block;
-        const glm::vec3 origin = glm::vec3(rel) - f.camera_offset;
-        if (!raster_box_visible(f.clip_from_eye, origin, origin + float(world::lod_chunk_blocks(c.coord.level))))
-            continue;
+    const auto draw = [&](const SceneAccel::DrawChunk& c, glm::vec3 origin) {
         push.chunk_origin = glm::vec4(origin, float(world::lod_cell_size(c.coord.level)));
         push.quads = c.quads;
         vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                            &push);
         vkCmdDrawIndexed(cmd, 6 * c.slots, 1, 0, 0, 0); // Slot k: vertices 4k..4k+3 (raster.vert).
-        ++drawn;
+    };
+    // 64-bit difference first, then float, as the TLAS transforms.
+    const auto origin_of = [&](const SceneAccel::DrawChunk& c) {
+        return glm::vec3(world::lod_origin(c.coord) - f.camera_block) - f.camera_offset;
+    };
+    // Visibility mode has no tint to show (the ray tracer's reports the first opaque hit's).
+    const bool see_through = f.mode != gpu::kModeVisibility;
+    m_see_through.clear();
+    for (uint32_t i = 0; i < chunks.size(); ++i) {
+        const SceneAccel::DrawChunk& c = chunks[i];
+        const glm::vec3 origin = origin_of(c);
+        if (!raster_box_visible(f.clip_from_eye, origin, origin + float(world::lod_chunk_blocks(c.coord.level))))
+            continue;
+        draw(c, origin);
+        ++drawn.chunks;
+        if (see_through && !c.opaque)
+            m_see_through.push_back(i);
+    }
+    // Transparent faces over the finished opaque image: each multiplies in its tint, so their
+    // order does not matter (the product commutes) and they need no sorting.
+    if (!m_see_through.empty()) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m_transparent);
+        for (uint32_t i : m_see_through)
+            draw(chunks[i], origin_of(chunks[i]));
+        drawn.transparent = uint32_t(m_see_through.size());
     }
     vkCmdEndRendering(cmd);
     image_barrier(cmd, f.target, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,

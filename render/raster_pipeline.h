@@ -8,9 +8,17 @@
 // one indexed draw over the shared slot index pattern (4 vertex shader runs per quad, not 6);
 // the vertex shader drops spare slots and back faces of opaque blocks (never the first thing a
 // ray from outside the blocks hits) before rasterisation.
+// See-through blocks (registry opacity false) tint what lies behind them as the ray tracer's
+// trace_through does (docs/architecture.md, Transparency): a first pass draws the opaque faces
+// with depth writes, a second the transparent faces, both sides, depth tested against the first
+// but not written, blended dst = dst x sqrt(albedo) per face. A product does not depend on the
+// order of its factors, so faces need no sorting (up to 8-bit rounding per face). The second
+// pass skips chunks of opaque blocks only (DrawChunk::opaque) and Visibility mode. Unlike the
+// ray tracer it has no kMaxTransparentLayers limit.
 // Dynamic rendering (Vulkan 1.3). Main thread only.
 
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -42,17 +50,21 @@ public:
     RasterPipeline(Context& ctx, VkFormat color_format);
     ~RasterPipeline();
     RasterPipeline(const RasterPipeline&) = delete;
-    // Its pipeline was made; false (out of memory, logged): destroy it, a later frame retries.
-    bool valid() const { return m_pipeline != VK_NULL_HANDLE; }
+    // Its pipelines were made; false (out of memory, logged): destroy it, a later frame retries.
+    bool valid() const { return m_pipeline != VK_NULL_HANDLE && m_transparent != VK_NULL_HANDLE; }
     RasterPipeline& operator=(const RasterPipeline&) = delete;
 
+    // Chunks record() drew: inside the view frustum; of those, with transparent blocks.
+    struct Draws {
+        uint32_t chunks = 0, transparent = 0;
+    };
     // Records the clear and one draw per chunk inside the view frustum (a level-k chunk: its
-    // quads scaled by 2^k at lod_origin, render/tlas_instances.h) into `cmd`, leaving the
-    // target in TRANSFER_SRC_OPTIMAL (as the ray tracer's trace does). The chunks' quad buffers
-    // must have been uploaded earlier in `cmd` or before (SceneAccel::record_builds);
-    // `indices` is SceneAccel::index_buffer(), covering every chunk's slots. Returns the number
-    // of chunks drawn.
-    uint32_t record(VkCommandBuffer cmd, const RasterFrame& frame, std::span<const SceneAccel::DrawChunk> chunks,
+    // quads scaled by 2^k at lod_origin, render/tlas_instances.h), then one more per such chunk
+    // with transparent blocks, into `cmd`, leaving the target in TRANSFER_SRC_OPTIMAL (as the
+    // ray tracer's trace does). The chunks' quad buffers must have been uploaded earlier in
+    // `cmd` or before (SceneAccel::record_builds); `indices` is SceneAccel::index_buffer(),
+    // covering every chunk's slots.
+    Draws record(VkCommandBuffer cmd, const RasterFrame& frame, std::span<const SceneAccel::DrawChunk> chunks,
                     VkBuffer indices);
     // Before record(), after Context::begin_frame: this frame slot's depth buffer for width x
     // height frames. False when GPU memory runs out (logged): do not record().
@@ -63,8 +75,10 @@ private:
 
     Context* m_ctx;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    VkPipeline m_pipeline = VK_NULL_HANDLE;    // Opaque faces, depth written.
+    VkPipeline m_transparent = VK_NULL_HANDLE; // Transparent faces, multiplied in.
     std::array<Image, kFramesInFlight> m_depth;
+    std::vector<uint32_t> m_see_through; // record(): drawn chunks with transparent blocks (capacity kept).
 };
 
 // Whether the axis-aligned box [lo, hi] (positions relative to the eye) may intersect the view

@@ -231,6 +231,7 @@ struct Renderer::Impl {
         out.level_gpu_bytes = a.level_gpu_bytes;
         out.memory = accel->memory();
         out.raster_chunks = raster_chunks;
+        out.raster_transparent_chunks = raster_transparent_chunks;
     }
     bool update_materials();
     Image& target() { return targets[ctx->frame_slot()]; }
@@ -246,6 +247,7 @@ struct Renderer::Impl {
     void record_trace(VkCommandBuffer cmd, const RenderSettings& s);
     void record_raster(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam);
     uint32_t raster_chunks = 0; // Chunks the last frame's raster pass drew.
+    uint32_t raster_transparent_chunks = 0; // Of those, drawn again by its transparent pass.
     static bool denoise_active(const RenderSettings& s) {
         return s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full && (s.denoise || s.accumulate > 1);
     }
@@ -738,7 +740,7 @@ Status Renderer::Impl::record_scene(VkCommandBuffer cmd, const Camera& cam) {
 // The trace (or raster pass) and the denoiser. Leaves the target in TRANSFER_SRC_OPTIMAL,
 // readable by transfers.
 void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s, const Camera& cam) {
-    raster_chunks = 0;
+    raster_chunks = raster_transparent_chunks = 0;
     if (!s.exposure.automatic)
         adapted_ev100.reset();
     frame_ev100 = s.exposure.automatic && adapted_ev100 ? *adapted_ev100 : s.exposure.ev100;
@@ -890,7 +892,9 @@ void Renderer::Impl::record_raster(VkCommandBuffer cmd, const RenderSettings& s,
     // The clear colour is written as is: Full mode's sky goes through the output transform here.
     f.sky = s.mode == ShadingMode::Full ? gpu::vx_display(s.sky, f.exposure) : s.sky;
     f.materials = materials.address();
-    raster_chunks = raster->record(cmd, f, accel->draw_list(), accel->index_buffer());
+    const RasterPipeline::Draws drawn = raster->record(cmd, f, accel->draw_list(), accel->index_buffer());
+    raster_chunks = drawn.chunks;
+    raster_transparent_chunks = drawn.transparent;
     stamp(cmd, 3);
 }
 

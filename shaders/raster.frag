@@ -5,12 +5,15 @@
 // The raster baseline's shading: Flat mode writes the block albedo (linear, unencoded, as the ray
 // tracer's Flat mode); Full mode is Phong with one point light and no shadows (the thesis's
 // baseline), exposed, tone-mapped and sRGB encoded as the ray tracer's (shared/tonemap.h);
-// Visibility mode has no shadows to show: every surface is lit (1).
+// Visibility mode has no shadows to show: every surface is lit (1). The transparent pass
+// (kTransparentPass) writes each face's tint instead, which the blend multiplies into what lies
+// behind (render/raster_pipeline.h).
 
 #include "shared/raster_types.h"
 #include "shared/render_types.h"
 #include "shared/tonemap.h"
 
+layout(constant_id = 0) const bool kTransparentPass = false;
 layout(push_constant) uniform Push { RasterPush pc; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
 
@@ -23,6 +26,14 @@ void main() {
     const Material mat = Materials(pc.materials).m[v_block];
     const vec3 albedo = mat.albedo_reflectivity.xyz;
     const uint mode = uint(pc.light_position.w);
+    if (kTransparentPass) {
+        // sqrt per face: one albedo per block crossed (its two faces), as trace_through tints
+        // linear radiance. Full mode's target holds sRGB-encoded values, so there the encoded
+        // albedo: the sRGB curve is nearly a power law (encode(a x) ~ encode(a) encode(x)), but
+        // the tone curve's toe is not undone (a blend cannot). Visibility draws no such pass.
+        o_color = vec4(sqrt(mode == kModeFull ? vx_srgb_encode(albedo) : albedo), 1.0);
+        return;
+    }
     if (mode == kModeFlat) {
         o_color = vec4(albedo, 1.0);
         return;

@@ -8,11 +8,14 @@
 // raster and ray tracer see the same geometry without a vertex buffer. Spare slots (block air)
 // and back faces of opaque blocks are placed outside the clip volume and drawn as nothing: a
 // ray from outside the blocks meets an opaque block's front face first (the camera inside a
-// block is the exception), while faces of transparent blocks are seen from both sides.
+// block is the exception), while faces of transparent blocks are seen from both sides. The
+// pipeline's pass (kTransparentPass) keeps the faces of opaque blocks or those of transparent
+// ones, the others culled so (render/raster_pipeline.h).
 
 #include "shared/raster_types.h"
 #include "shared/render_types.h"
 
+layout(constant_id = 0) const bool kTransparentPass = false;
 layout(push_constant) uniform Push { RasterPush pc; };
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer QuadSlots { uvec2 slot[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material m[]; };
@@ -42,7 +45,8 @@ void main() {
     const uint cull_axis = (packed >> 26u) & 3u;
     const float plane_rel = pc.chunk_origin[cull_axis] + cell * float((packed >> 20u) & 63u);
     const bool front = ((packed >> 28u) & 1u) != 0u ? plane_rel < 0.0 : plane_rel > 0.0;
-    if (!front && Materials(pc.materials).m[v_block].emission.w == 0.0) { // An opaque block's back face.
+    const bool transparent = Materials(pc.materials).m[v_block].emission.w != 0.0;
+    if (transparent != kTransparentPass || (!front && !transparent)) { // Another pass's, or an opaque back face.
         cull();
         return;
     }

@@ -145,6 +145,8 @@ INSTANTIATE_TEST_SUITE_P(EachFrameResource, FrameFailure,
                                            Injection{"vkCreatePipelineLayout (raster", false, false, false, true},
                                            Injection{"vkCreateShaderModule (raster.frag", false, false, false, true},
                                            Injection{"vkCreateGraphicsPipelines (raster", false, false, false, true},
+                                           Injection{"vkCreateGraphicsPipelines (raster transparent", false, false,
+                                                     false, true},
                                            Injection{"vkCreatePipelineLayout (ui", false, false, true},
                                            Injection{"vkCreateGraphicsPipelines (ui", false, false, true}),
                          [](const ::testing::TestParamInfo<Injection>& p) {
