@@ -21,6 +21,10 @@
 namespace vx::tools {
 namespace {
 
+// vx's own URI parameter (pg_uri_params.h), where a world path may be a URI.
+constexpr const char* kPgUriHelp = " (vx_query_timeout_ms=N in it: the longest wait for one server answer, "
+                                   "1 to 3600000 ms; default 15000)";
+
 using namespace vx::world;
 using Clock = std::chrono::steady_clock;
 
@@ -197,7 +201,8 @@ void add_world_command(CLI::App& app, std::function<int()>& action) {
 
     auto gen = std::make_shared<GenArgs>();
     CLI::App* g = world->add_subcommand("gen", "Pregenerate (and mesh) the chunks around the origin into a store");
-    g->add_option("path", gen->path, "World store: a SQLite file (its folder must exist) or a postgresql:// URI")
+    g->add_option("path", gen->path,
+                  std::string("World store: a SQLite file (its folder must exist) or a postgresql:// URI") + kPgUriHelp)
         ->required();
     g->add_option("--seed", gen->seed, "Terrain seed")
         ->check(seed_range());
@@ -212,7 +217,8 @@ void add_world_command(CLI::App& app, std::function<int()>& action) {
     auto path = std::make_shared<std::string>();
     auto check = std::make_shared<bool>(false);
     CLI::App* i = world->add_subcommand("info", "Print what a world holds; --check verifies every record");
-    i->add_option("path", *path, "World store: a SQLite file or a postgresql:// URI")->required();
+    i->add_option("path", *path, std::string("World store: a SQLite file or a postgresql:// URI") + kPgUriHelp)
+        ->required();
     i->add_flag("--check", *check, "Read and verify every record: exit 0 if none is corrupt, 1 otherwise");
     i->callback([path, check, &action] { action = [path, check] { return run_info(*path, *check); }; });
 }

@@ -317,3 +317,27 @@ TEST(SharedWorld, ShutdownWithTheServerAwayFlushesOnce) {
     ASSERT_TRUE(load.ok() && load->chunk);
     EXPECT_EQ(load->chunk->get(vx::world::local_of(vx::world::BlockPos(5, 40, 5))), 3);
 }
+
+// The facade's world URI carries vx's query timeout (vx_query_timeout_ms): an engine opens the
+// world with it, saves, and a bad value fails Engine::create with a message naming it. libpq used
+// to refuse the URI whatever the value.
+TEST(SharedWorld, TheWorldUriCarriesTheQueryTimeout) {
+    PgCluster* cluster = cluster_or_skip();
+    if (!cluster)
+        GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    const std::string uri = cluster->new_database();
+    {
+        auto created = vx::Engine::create(shared_info(uri + "&vx_query_timeout_ms=3000"));
+        ASSERT_TRUE(created.ok()) << created.error();
+        vx::Engine& e = **created;
+        e.set_viewer(viewer());
+        ASSERT_TRUE(settle(e));
+        ASSERT_TRUE(e.set_block({4, 30, 5}, 6));
+        auto t = e.save();
+        ASSERT_TRUE(t && e.wait(*t));
+    }
+    auto bad = vx::Engine::create(shared_info(uri + "&vx_query_timeout_ms=0"));
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().find("vx_query_timeout_ms must be a whole number of milliseconds"), std::string::npos)
+        << bad.error();
+}

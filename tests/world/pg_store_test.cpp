@@ -861,3 +861,76 @@ TEST(PgStore, CoarseChangesAreNotifiedWithTheirLevel) {
     ASSERT_TRUE(load.ok()) << load.error();
     EXPECT_EQ(load->state, LoadState::Present);
 }
+
+// A world opened by URI alone (open_store: the engine's WorldSource, the vx CLI) sets the query
+// timeout with vx_query_timeout_ms: a flush to a frozen server fails within it (400 ms, not the
+// default 15 s) naming it, the edit is kept and commits once the server runs again. libpq used to
+// refuse the URI ("invalid URI query parameter").
+TEST(PgStore, AUrisQueryTimeoutIsWhatAFrozenServersCallFailsWithin) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    auto opened = open_store({.name = uri + "&vx_query_timeout_ms=400", .listen = false});
+    ASSERT_TRUE(opened.ok()) << opened.error();
+    ChunkStore& store = **opened;
+    ASSERT_TRUE(store.save({0, 0, 0}, Chunk(5)).ok());
+    ASSERT_TRUE(store.flush().ok());
+    ASSERT_TRUE(store.save({0, 0, 0}, Chunk(6)).ok());
+    vx::Status flushed;
+    double flush_s = 0;
+    {
+        FrozenServer frozen(uri);
+        ASSERT_EQ(frozen.pids().size(), 2u); // The store's backend and the postmaster.
+        std::atomic<bool> done{false};
+        std::thread watchdog([&] { // Wakes the server after 8 s on a build that waits longer.
+            for (int i = 0; i < 800 && !done.load(); ++i)
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            frozen.thaw();
+        });
+        const auto t0 = Clock::now();
+        flushed = store.flush();
+        flush_s = std::chrono::duration<double>(Clock::now() - t0).count();
+        done.store(true);
+        watchdog.join();
+    }
+    EXPECT_GE(flush_s, 0.35);
+    EXPECT_LT(flush_s, 1.5) << "the flush did not fail within the URI's 400 ms";
+    ASSERT_FALSE(flushed.ok());
+    EXPECT_NE(flushed.error().find("query_timeout (400 ms)"), std::string::npos) << flushed.error();
+    EXPECT_EQ(store.pending_edits(), 1u);
+    vx::Status retried = store.flush();
+    ASSERT_TRUE(retried.ok()) << retried.error();
+    auto check = open_pg(uri);
+    EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
+}
+
+// The listener connects with the URI too: without vx's parameters, or libpq refuses it and the
+// store never hears other processes (the store's own connection worked).
+TEST(PgStore, AStoreOpenedWithVxUriParametersHearsOtherProcesses) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    auto writer = open_pg(uri);
+    auto reader = open_pg(uri + "&vx_query_timeout_ms=5000");
+    ASSERT_TRUE(writer && reader);
+    EXPECT_TRUE(wait_listening(*writer, *reader, {7, 0, 7}));
+}
+
+// A bad value fails the open with a message naming the parameter, and nothing is opened: the
+// empty database stays empty (no tables created).
+TEST(PgStore, ABadUriQueryTimeoutIsRefusedNamingIt) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    for (const char* value : {"soon", "0", "-1", "86400000000"}) {
+        auto opened = open_store({.name = uri + "&vx_query_timeout_ms=" + value});
+        ASSERT_FALSE(opened.ok()) << value;
+        EXPECT_NE(opened.error().find("vx_query_timeout_ms must be a whole number of milliseconds"),
+                  std::string::npos)
+            << opened.error();
+        EXPECT_NE(opened.error().find(std::string("'") + value + "'"), std::string::npos) << opened.error();
+        EXPECT_NE(opened.error().find("nothing opened"), std::string::npos) << opened.error();
+    }
+    PGconn* c = PQconnectdb(uri.c_str());
+    pg::ResultPtr r(PQexec(c, "SELECT count(*) FROM pg_tables WHERE schemaname = current_schema()"));
+    ASSERT_EQ(PQresultStatus(r.get()), PGRES_TUPLES_OK) << PQerrorMessage(c);
+    EXPECT_STREQ(PQgetvalue(r.get(), 0, 0), "0");
+    PQfinish(c);
+}

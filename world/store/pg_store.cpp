@@ -5,6 +5,7 @@
 
 #include "world/base/log.h"
 #include "world/store/pg_listener.h"
+#include "world/store/pg_uri_params.h"
 #include "world/store/pg_wire.h"
 
 namespace vx::world {
@@ -108,7 +109,16 @@ PgStore::~PgStore() {
         PQfinish(m_conn);
 }
 
-Result<std::unique_ptr<PgStore>> PgStore::open(const PgStoreCreateInfo& info) {
+Result<std::unique_ptr<PgStore>> PgStore::open(const PgStoreCreateInfo& given) {
+    // vx's own URI parameters win over `given`, as the URI's connect_timeout does; libpq (the
+    // listener's connection too) gets the URI without them.
+    Result<PgUriParams> params = split_pg_uri_params(given.uri);
+    if (!params)
+        return Error{"PostgreSQL world '" + redact_pg_uri(given.uri) + "': " + params.error() + "; nothing opened"};
+    PgStoreCreateInfo info = given;
+    info.uri = std::move(params->uri);
+    if (params->query_timeout)
+        info.query_timeout = *params->query_timeout;
     std::unique_ptr<PgStore> store(new PgStore(info));
     if (Status s = store->connect(); !s)
         return Error{s.error()};

@@ -65,7 +65,12 @@ struct pg_conn;
 namespace vx::world {
 
 struct PgStoreCreateInfo {
-    std::string uri;                                 // libpq connection URI or key=value string.
+    // libpq connection URI or key=value string. A URI may also carry vx's own parameters, taken
+    // out before libpq reads it (pg_uri_params.h), so a world opened by its URI alone (open_store,
+    // the engine's WorldSource, the vx CLI) can set them; they win over the fields here:
+    //   vx_query_timeout_ms=N   query_timeout, N milliseconds from 1 to 3,600,000
+    // e.g. postgresql://host/world?vx_query_timeout_ms=2000. A bad value fails open() naming it.
+    std::string uri;
     bool read_only = false;                          // Refuse writes (readers still get notified).
     bool create = true;                              // Create the tables in an empty database.
     bool listen = true;                              // Run the change listener (poll_changes).
@@ -90,7 +95,7 @@ struct PgStoreCreateInfo {
     // the connection is dropped (not cancelled: a cancel request to a frozen server blocks too),
     // queued edits are kept, and a later call reconnects. A commit that landed anyway is met by
     // the retry as a conflict and its edits re-applied. Longer than lock_timeout, so a lock wait
-    // reports as such. 0: wait for ever.
+    // reports as such. 0: wait for ever. The URI's vx_query_timeout_ms wins.
     std::chrono::milliseconds query_timeout{15000};
     // Chunk versions remembered (about 60 B each). Past this, versions of chunks with no queued
     // edit are forgotten down to half: a later commit of such a chunk costs one conflict round
@@ -105,10 +110,10 @@ std::string redact_pg_uri(std::string_view uri);
 
 class PgStore final : public ChunkStore {
 public:
-    // Connects, checks (or creates) the schema. Errors, one line naming the database: cannot
-    // connect (server down, no such database, authentication), a database holding something else,
-    // an unsupported format version.
-    static Result<std::unique_ptr<PgStore>> open(const PgStoreCreateInfo& info);
+    // Connects, checks (or creates) the schema. Errors, one line naming the database: a bad vx
+    // parameter in the URI (nothing is opened), cannot connect (server down, no such database,
+    // authentication), a database holding something else, an unsupported format version.
+    static Result<std::unique_ptr<PgStore>> open(const PgStoreCreateInfo& given);
     // Commits queued edits if connected (else logs how many are lost), stops the listener,
     // closes the connections.
     ~PgStore() override;
