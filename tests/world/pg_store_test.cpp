@@ -6,18 +6,22 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <barrier>
 #include <chrono>
 #include <csignal>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <thread>
 
 #include <gtest/gtest.h>
 #include <libpq-fe.h>
+#include <vx/log.h>
 
 #include "pg_cluster.h"
 #include "store_test_util.h"
+#include "world/store/pg_listener.h"
 #include "world/store/pg_store.h"
 #include "world/store/pg_wire.h"
 #include "world/store/store_open.h"
@@ -117,6 +121,54 @@ private:
     }
     std::vector<int> m_pids;
 };
+
+// Collects the log's lines while alive (vx::set_log_handler); thread-safe.
+class LogCapture {
+public:
+    LogCapture() {
+        vx::set_log_handler([this](vx::LogLevel, std::string_view line) {
+            std::lock_guard lock(m_mutex);
+            m_lines.emplace_back(line);
+        });
+    }
+    ~LogCapture() { vx::set_log_handler(nullptr); }
+    // The lines logged so far that hold `text`.
+    size_t count(const std::string& text) {
+        std::lock_guard lock(m_mutex);
+        return size_t(std::count_if(m_lines.begin(), m_lines.end(),
+                                    [&](const std::string& l) { return l.find(text) != std::string::npos; }));
+    }
+
+private:
+    std::mutex m_mutex;
+    std::vector<std::string> m_lines;
+};
+
+// Waits (bounded) until `done()`; whether it came.
+template <class Done> bool wait_until(Done done, double timeout_s) {
+    const auto limit = Clock::now() + std::chrono::duration<double>(timeout_s);
+    while (!done() && Clock::now() < limit)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return done();
+}
+
+// Sends NOTIFY vx_chunks "x,y,z" of `c` from a connection of its own until `listener` collects
+// it (bounded): the listener hears other processes.
+bool hears(pg::ChangeListener& listener, const std::string& uri, ChunkCoord c) {
+    PGconn* conn = PQconnectdb(uri.c_str());
+    const std::string sql = "NOTIFY vx_chunks, '" + pg::coord_str(c) + "'";
+    std::vector<ChunkCoord> got;
+    bool heard = false;
+    for (int i = 0; i < 50 && !heard; ++i) {
+        pg::ResultPtr(PQexec(conn, sql.c_str()));
+        heard = wait_until([&] {
+            listener.take(got);
+            return std::find(got.begin(), got.end(), c) != got.end();
+        }, 0.2);
+    }
+    PQfinish(conn);
+    return heard;
+}
 
 } // namespace
 
@@ -933,4 +985,86 @@ TEST(PgStore, ABadUriQueryTimeoutIsRefusedNamingIt) {
     ASSERT_EQ(PQresultStatus(r.get()), PGRES_TUPLES_OK) << PQerrorMessage(c);
     EXPECT_STREQ(PQgetvalue(r.get(), 0, 0), "0");
     PQfinish(c);
+}
+
+// The listener's first backend is frozen (SIGSTOP) between its connect and its LISTEN: the LISTEN
+// gets no answer within the connect timeout (2 s). The listener logs it, drops that connection,
+// reconnects (listen_epoch 1: the store would then catch up) and hears other processes. It used
+// to give up on that LISTEN silently.
+TEST(PgStore, AListenerWhoseListenGetsNoAnswerReportsItAndReconnects) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    LogCapture log;
+    std::atomic<int> frozen{0};
+    const auto t0 = Clock::now();
+    {
+        pg::ChangeListener listener(uri, 2, 1024, [&](int pid) {
+            int none = 0;
+            if (frozen.compare_exchange_strong(none, pid))
+                ::kill(pid, SIGSTOP);
+        });
+        const bool up = wait_until([&] { return listener.listening(); }, 20.0);
+        const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+        ::kill(frozen.load(), SIGCONT); // Its connection is gone: the backend exits.
+        ASSERT_NE(frozen.load(), 0);
+        ASSERT_TRUE(up) << "the listener never listened again";
+        EXPECT_GE(took, 1.9) << "the frozen LISTEN was not waited for";
+        EXPECT_EQ(listener.listen_epoch(), 1u);
+        EXPECT_EQ(log.count("LISTEN got no answer within 2 s"), 1u);
+        EXPECT_TRUE(hears(listener, uri, {4, 5, 6}));
+    }
+}
+
+// Destroyed while its LISTEN waits on a frozen server, the listener stops at once; it used to
+// wait out the LISTEN's deadline (the connect timeout, here 2 s; a PgStore's destructor with it).
+TEST(PgStore, AListenerStopsPromptlyDuringAnUnansweredListen) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    std::atomic<int> frozen{0};
+    auto listener = std::make_unique<pg::ChangeListener>(uri, 2, 1024, [&](int pid) {
+        int none = 0;
+        if (frozen.compare_exchange_strong(none, pid))
+            ::kill(pid, SIGSTOP);
+    });
+    ASSERT_TRUE(wait_until([&] { return frozen.load() != 0; }, 10.0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(200)); // Inside the LISTEN's wait.
+    const auto t0 = Clock::now();
+    listener.reset();
+    const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+    ::kill(frozen.load(), SIGCONT);
+    EXPECT_LT(took, 0.5) << "destruction waited for the frozen LISTEN";
+}
+
+// poll() failing under the listening loop (injected: EIO) is logged naming poll and the error;
+// the listener reconnects and listens again (listen_epoch 2: the store catches up on what it
+// may have missed) and hears other processes. It used to reconnect without a word.
+TEST(PgStore, AFailedPollIsReportedAndTheListenerReconnects) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    LogCapture log;
+    pg::ChangeListener listener(uri, 2, 1024);
+    ASSERT_TRUE(wait_until([&] { return listener.listening(); }, 10.0));
+    ASSERT_TRUE(hears(listener, uri, {1, 2, 3}));
+    ASSERT_EQ(listener.listen_epoch(), 1u);
+    listener.fail_next_poll(EIO);
+    EXPECT_TRUE(wait_until([&] { return listener.listen_epoch() == 2 && listener.listening(); }, 10.0));
+    EXPECT_EQ(log.count("cannot wait on its connection: poll: " + std::string(std::strerror(EIO))), 1u);
+    EXPECT_TRUE(hears(listener, uri, {3, 2, 1}));
+}
+
+// A poll() interrupted by a signal (EINTR) is no failure: the listener keeps its connection (no
+// reconnect, no missed notification, nothing logged). It used to drop it and reconnect.
+TEST(PgStore, AnInterruptedPollKeepsTheListenersConnection) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    LogCapture log;
+    pg::ChangeListener listener(uri, 2, 1024);
+    ASSERT_TRUE(wait_until([&] { return listener.listening(); }, 10.0));
+    ASSERT_TRUE(hears(listener, uri, {1, 2, 3}));
+    listener.fail_next_poll(EINTR);
+    ASSERT_TRUE(wait_until([&] { return !listener.listening() || listener.listen_epoch() != 1; }, 0.5) == false)
+        << "the listener dropped its connection";
+    EXPECT_TRUE(hears(listener, uri, {3, 2, 1}));
+    EXPECT_EQ(listener.listen_epoch(), 1u);
+    EXPECT_EQ(log.count("reconnecting"), 0u);
 }

@@ -3,18 +3,22 @@
 #include <poll.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
 
 #include "world/base/log.h"
+#include "world/store/pg_store.h"
 #include "world/store/pg_wire.h"
 
 namespace vx::world::pg {
 
-ChangeListener::ChangeListener(std::string conninfo, int connect_timeout_s, size_t max_changes)
-    : m_conninfo(std::move(conninfo)), m_timeout_s(connect_timeout_s), m_changes(max_changes),
-      m_lod_changes(max_changes), m_thread([this] { run(); }) {}
+ChangeListener::ChangeListener(std::string conninfo, int connect_timeout_s, size_t max_changes,
+                               std::function<void(int)> before_listen)
+    : m_conninfo(std::move(conninfo)), m_name(redact_pg_uri(m_conninfo)), m_timeout_s(connect_timeout_s),
+      m_before_listen(std::move(before_listen)), m_changes(max_changes), m_lod_changes(max_changes),
+      m_thread([this] { run(); }) {}
 
 ChangeListener::~ChangeListener() {
     m_stop.store(true);
@@ -76,12 +80,20 @@ void ChangeListener::parse_lod(const char* p) {
     m_lod_changes.add(got);
 }
 
+std::chrono::steady_clock::time_point ChangeListener::attempt_deadline() const {
+    return std::chrono::steady_clock::now() + std::chrono::seconds(std::max(m_timeout_s, 1));
+}
+
+void ChangeListener::report(const std::string& what) {
+    VX_LOG_WARN("PostgreSQL change listener of '%s': %s; reconnecting", m_name.c_str(), what.c_str());
+}
+
 // Connects in 50 ms slices that check m_stop, so destruction never waits out a connect timeout
 // (a server that is away on TCP). Null when stopped, out of memory, failed or timed out.
 PGconn* ChangeListener::connect_polling() {
     using namespace std::chrono;
     PGconn* conn = connect_start(m_conninfo, m_timeout_s);
-    const auto deadline = steady_clock::now() + seconds(std::max(m_timeout_s, 1));
+    const auto deadline = attempt_deadline();
     // libpq: start as if PQconnectPoll had returned PGRES_POLLING_WRITING.
     PostgresPollingStatusType state = PGRES_POLLING_WRITING;
     while (conn && PQstatus(conn) != CONNECTION_BAD && state != PGRES_POLLING_OK) {
@@ -101,6 +113,49 @@ PGconn* ChangeListener::connect_polling() {
     return conn;
 }
 
+bool ChangeListener::listen(PGconn* conn) {
+    using namespace std::chrono;
+    if (m_before_listen)
+        m_before_listen(PQbackendPID(conn));
+    // Bounded (pg_wire.h): a frozen server would otherwise keep the listener, and destruction,
+    // waiting for ever. In 50 ms slices that check m_stop, as connect_polling().
+    const auto deadline = attempt_deadline();
+    if (PQsendQuery(conn, "LISTEN vx_chunks") != 1) {
+        report("cannot send LISTEN: " + message(conn));
+        return false;
+    }
+    for (;;) {
+        if (m_stop.load())
+            return false;
+        const auto now = steady_clock::now();
+        if (now >= deadline) {
+            report("LISTEN got no answer within " + std::to_string(std::max(m_timeout_s, 1)) +
+                   " s (the connect timeout)");
+            return false;
+        }
+        if (wait_result(conn, std::min(deadline, now + milliseconds(50))))
+            break;
+    }
+    ResultPtr last;
+    while (PGresult* r = PQgetResult(conn))
+        last.reset(r);
+    if (PQresultStatus(last.get()) != PGRES_COMMAND_OK) {
+        report("LISTEN failed: " + message(conn, last.get()));
+        return false;
+    }
+    return true;
+}
+
+int ChangeListener::wait_socket(PGconn* conn) {
+    pollfd fd{PQsocket(conn), POLLIN, 0};
+    int ready = -1;
+    if (const int injected = m_poll_errno.exchange(0); injected != 0)
+        errno = injected;
+    else
+        ready = ::poll(&fd, 1, 50);
+    return ready < 0 && errno == EINTR ? 0 : ready; // A signal is no failure: wait again.
+}
+
 void ChangeListener::run() {
     using namespace std::chrono;
     auto backoff = milliseconds(250);
@@ -108,11 +163,7 @@ void ChangeListener::run() {
         PGconn* conn = connect_polling();
         if (conn && PQstatus(conn) == CONNECTION_OK) {
             PQsetnonblocking(conn, 1); // Nothing queued yet: cannot fail.
-            // Bounded (pg_wire.h): a frozen server would otherwise keep destruction waiting.
-            bool timed_out = false;
-            const auto deadline = steady_clock::now() + seconds(std::max(m_timeout_s, 1));
-            ResultPtr r = pg::run(conn, "LISTEN vx_chunks", deadline, timed_out);
-            if (PQresultStatus(r.get()) == PGRES_COMMAND_OK) {
+            if (listen(conn)) {
                 m_listening.store(true);
                 m_epoch.fetch_add(1); // After LISTEN: a commit from now on is notified.
                 backoff = milliseconds(250);
@@ -120,16 +171,20 @@ void ChangeListener::run() {
         }
         // Wait on the socket in short slices so destruction never waits long.
         while (!m_stop.load() && m_listening.load()) {
-            pollfd fd{PQsocket(conn), POLLIN, 0};
-            const int ready = ::poll(&fd, 1, 50);
-            if (ready < 0 || (ready > 0 && !PQconsumeInput(conn)) || PQstatus(conn) != CONNECTION_OK) {
-                m_listening.store(false);
-                break;
-            }
+            const int ready = wait_socket(conn);
+            const int error = errno;
+            const bool consumed = ready <= 0 || PQconsumeInput(conn);
+            // Notifications read before a failure are handed on all the same.
             while (PGnotify* n = PQnotifies(conn)) {
                 if (n->be_pid != m_own_pid.load())
                     parse(n->extra);
                 PQfreemem(n);
+            }
+            if (ready < 0 || !consumed || PQstatus(conn) != CONNECTION_OK) {
+                m_listening.store(false);
+                report(ready < 0 ? std::string("cannot wait on its connection: poll: ") + std::strerror(error)
+                                 : "connection lost: " + message(conn));
+                break;
             }
         }
         if (conn)

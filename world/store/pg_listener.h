@@ -10,11 +10,16 @@
 // Pending changes are a bounded set (ChangeSet): a process that polls rarely or never (a
 // generation tool) holds at most that many coordinates, and past it is told to re-check
 // everything instead. Coarse changes are collected only once someone asked for them (take_lod).
-// Thread affinity: construct and destroy on one thread; take(), take_lod() and set_own_pid()
-// thread-safe.
+// Failures (LISTEN refused or unanswered within the connect timeout, poll() failing, the link
+// lost) are logged as one warning line each; the thread then drops the connection and reconnects
+// with back-off, and the next LISTEN bumps listen_epoch() so the store catches up on what it missed.
+// Thread affinity: construct and destroy on one thread; take(), take_lod(), set_own_pid() and
+// fail_next_poll() thread-safe.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <span>
 #include <string>
@@ -68,8 +73,11 @@ private:
 class ChangeListener {
 public:
     // Starts the thread; it connects (and reconnects with back-off) by itself. `max_changes`:
-    // pending coordinates kept (each of the two sets) until a poll takes them.
-    ChangeListener(std::string conninfo, int connect_timeout_s, size_t max_changes);
+    // pending coordinates kept (each of the two sets) until a poll takes them. `before_listen`
+    // (a test hook, vx's own fault-injection tests): called on the listener thread with the
+    // backend pid of each new connection before its LISTEN is sent (a test freezes it there).
+    ChangeListener(std::string conninfo, int connect_timeout_s, size_t max_changes,
+                   std::function<void(int backend_pid)> before_listen = {});
     ~ChangeListener();
     ChangeListener(const ChangeListener&) = delete;
     ChangeListener& operator=(const ChangeListener&) = delete;
@@ -89,18 +97,35 @@ public:
     // notifications may have been missed since the last value seen.
     uint64_t listen_epoch() const { return m_epoch.load(); }
 
+    // Test hook (vx's own fault-injection tests; thread-safe): the listening loop's next poll()
+    // returns -1 with errno `error` instead of waiting, as poll(2) does when it fails.
+    void fail_next_poll(int error) { m_poll_errno.store(error); }
+
 private:
     void run();
+    // The deadline of one connect or LISTEN started now: connect_timeout, at least 1 s (libpq's
+    // least is 2 s; 0, "for ever", would keep destruction waiting on a frozen server).
+    std::chrono::steady_clock::time_point attempt_deadline() const;
     pg_conn* connect_polling();
+    // LISTEN on `conn`, waiting in short slices that check m_stop. False (reported) when it
+    // failed, passed attempt_deadline() or the listener is stopping.
+    bool listen(pg_conn* conn);
+    // poll() on the connection's socket for up to 50 ms (EINTR: 0, nothing ready), or the
+    // injected failure (fail_next_poll).
+    int wait_socket(pg_conn* conn);
+    void report(const std::string& what); // Logs one warning line; the listener reconnects.
     void parse(const char* payload);
     void parse_lod(const char* items);
 
     std::string m_conninfo;
+    std::string m_name; // Redacted, for messages.
     int m_timeout_s;
     std::atomic<bool> m_stop{false}, m_listening{false};
     std::atomic<int> m_own_pid{0};
     std::atomic<uint64_t> m_epoch{0};
     std::atomic<bool> m_lod_wanted{false}; // take_lod() was called: collect coarse changes.
+    std::atomic<int> m_poll_errno{0};      // fail_next_poll (0: none).
+    std::function<void(int)> m_before_listen; // Set before the thread starts; read by it only.
     std::mutex m_mutex;
     ChangeSet<ChunkCoord, ChunkCoordHash> m_changes;  // Guarded by m_mutex.
     ChangeSet<LodCoord, LodCoordHash> m_lod_changes;  // Guarded by m_mutex.
