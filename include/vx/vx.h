@@ -101,7 +101,9 @@ struct WorldSource {
         Sqlite,    // A stored world, read-write, created if missing: `path` is a SQLite file, or a
                    // PostgreSQL URI (postgresql://[user@]host[:port]/db?...) for a world several
                    // processes share (their edits of one chunk merge; changes by others reload
-                   // within ~100 ms; a lost server is retried, edits kept). Chunks it lacks come
+                   // within ~100 ms; a lost server is retried, edits kept; a server that stops
+                   // answering fails a call after vx_query_timeout_ms=N in the URI, default
+                   // 15000, edits kept: docs/embedding.md). Chunks it lacks come
                    // from `generator` if set, else the built-in terrain of `seed`. The world
                    // remembers which (Generator::name and version, or the terrain and its seed):
                    // create() refuses to reopen it with another.
