@@ -945,7 +945,8 @@ TEST(PgStore, AUrisQueryTimeoutIsWhatAFrozenServersCallFailsWithin) {
         watchdog.join();
     }
     EXPECT_GE(flush_s, 0.35);
-    EXPECT_LT(flush_s, 1.5) << "the flush did not fail within the URI's 400 ms";
+    // Far under the default 15 s and the watchdog's 8 s; loose for a loaded machine (TSan).
+    EXPECT_LT(flush_s, 5.0) << "the flush did not fail within the URI's 400 ms";
     ASSERT_FALSE(flushed.ok());
     EXPECT_NE(flushed.error().find("query_timeout (400 ms)"), std::string::npos) << flushed.error();
     EXPECT_EQ(store.pending_edits(), 1u);
@@ -1016,12 +1017,13 @@ TEST(PgStore, AListenerWhoseListenGetsNoAnswerReportsItAndReconnects) {
 }
 
 // Destroyed while its LISTEN waits on a frozen server, the listener stops at once; it used to
-// wait out the LISTEN's deadline (the connect timeout, here 2 s; a PgStore's destructor with it).
+// wait out the LISTEN's deadline (the connect timeout, here 10 s; a PgStore's destructor with it).
+// It waits in 50 ms slices: 3 s is loose for a loaded machine and far under the deadline.
 TEST(PgStore, AListenerStopsPromptlyDuringAnUnansweredListen) {
     VX_NEED_PG();
     const std::string uri = cluster->new_database();
     std::atomic<int> frozen{0};
-    auto listener = std::make_unique<pg::ChangeListener>(uri, 2, 1024, [&](int pid) {
+    auto listener = std::make_unique<pg::ChangeListener>(uri, 10, 1024, [&](int pid) {
         int none = 0;
         if (frozen.compare_exchange_strong(none, pid))
             ::kill(pid, SIGSTOP);
@@ -1032,7 +1034,7 @@ TEST(PgStore, AListenerStopsPromptlyDuringAnUnansweredListen) {
     listener.reset();
     const double took = std::chrono::duration<double>(Clock::now() - t0).count();
     ::kill(frozen.load(), SIGCONT);
-    EXPECT_LT(took, 0.5) << "destruction waited for the frozen LISTEN";
+    EXPECT_LT(took, 3.0) << "destruction waited for the frozen LISTEN";
 }
 
 // poll() failing under the listening loop (injected: EIO) is logged naming poll and the error;
