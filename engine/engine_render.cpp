@@ -325,6 +325,7 @@ Stats Engine::stats() const {
         s.store_pending_edits = sm.store.pending_edits;
         s.store_conflicts = sm.store.conflicts;
         s.store_reconnects = sm.store.reconnects;
+        s.store_listener_down = sm.store.listener_down;
         s.chunks_reloaded = sm.reloaded;
         s.chunks_generate_failed = sm.generate_failed;
         s.generate_failures = sm.generate_failures;

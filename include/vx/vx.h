@@ -426,6 +426,9 @@ struct Stats {
     size_t store_pending_edits = 0; // Handed to the store, not yet committed.
     uint64_t store_conflicts = 0;   // Writes that met another process's and merged.
     uint64_t store_reconnects = 0;
+    // A shared world hears other processes' changes late: its change listener is down (they
+    // reload once it is back and has caught up).
+    bool store_listener_down = false;
     uint64_t chunks_reloaded = 0;   // Reloaded because another process changed them.
     // Levels of detail (StreamingDesc::view_distance; index = level, cells of 2^level blocks).
     int lod_top_level = 0;          // Coarsest level in use (0: full detail only).

@@ -148,6 +148,16 @@ TEST(SharedWorld, TwoProcessesEditOneWorldAndSeeEachOther) {
         EXPECT_EQ((*again)->get_block(p), glass);
 }
 
+// Updates `e` until its stats satisfy `want` (bounded by timeout_s); whether they did.
+template <class Want> bool stats_become(vx::Engine& e, Want want, double timeout_s) {
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (!want(e.stats()) && std::chrono::steady_clock::now() < limit) {
+        e.update();
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return want(e.stats());
+}
+
 TEST(SharedWorld, ServerRestartUnderARunningEngineLosesNothing) {
     PgCluster* cluster = cluster_or_skip();
     if (!cluster)
@@ -174,6 +184,8 @@ TEST(SharedWorld, ServerRestartUnderARunningEngineLosesNothing) {
     EXPECT_FALSE(e.stats().store_connected);
     EXPECT_GE(e.stats().store_pending_edits, 1u);
     EXPECT_EQ(e.get_block({2, 30, 1}), 4);
+    // The change listener lost its server too: the game is told others' changes come late.
+    EXPECT_TRUE(stats_become(e, [](const vx::Stats& st) { return st.store_listener_down; }, 10.0));
 
     ASSERT_TRUE(cluster->start());
     auto after = e.save();
@@ -181,6 +193,8 @@ TEST(SharedWorld, ServerRestartUnderARunningEngineLosesNothing) {
     vx::Status s = e.wait(*after);
     ASSERT_TRUE(s) << s.error();
     EXPECT_TRUE(e.stats().store_connected);
+    // The listener reconnects by itself (its back-off is at most 8 s).
+    EXPECT_TRUE(stats_become(e, [](const vx::Stats& st) { return !st.store_listener_down; }, 30.0));
     ASSERT_TRUE(e.shutdown());
 
     auto again = vx::Engine::create(shared_info(uri));

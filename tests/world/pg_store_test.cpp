@@ -609,6 +609,7 @@ TEST(PgStore, ChangesMissedDuringAServerRestartAreCaughtUp) {
         heard = wait_change(*reader, {99, 0, 0}, 1.0).has_value();
     }
     ASSERT_TRUE(heard);
+    EXPECT_FALSE(reader->health().listener_down);
     ASSERT_TRUE(reader->tick(Clock::now()).ok()); // The first catch-up (nothing changed).
     EXPECT_EQ(reader->health().caught_up, 0u);
 
@@ -624,6 +625,8 @@ TEST(PgStore, ChangesMissedDuringAServerRestartAreCaughtUp) {
     (void)reader->tick(Clock::now());
     reader->poll_changes(got);
     EXPECT_TRUE(got.empty()) << "the reader cannot have heard of these commits yet";
+    // Its listener cannot log in again: health says changes come late (it used to say nothing).
+    EXPECT_TRUE(wait_until([&] { return reader->health().listener_down; }, 10.0));
 
     sql(cluster->uri("postgres"), ("ALTER ROLE " + role + " LOGIN").c_str());
     coords.push_back(created);
@@ -641,6 +644,7 @@ TEST(PgStore, ChangesMissedDuringAServerRestartAreCaughtUp) {
     }
     EXPECT_TRUE(seen_all()) << got.size() << " of " << coords.size() << " changed chunks reported";
     EXPECT_EQ(reader->health().caught_up, coords.size());
+    EXPECT_FALSE(reader->health().listener_down); // Caught up after it listened again.
     for (size_t i = 0; i + 1 < coords.size(); ++i) // And a reload gets the new records.
         EXPECT_TRUE(*reader->load(coords[i])->chunk == versioned_chunk(coords[i], 2)) << i;
 }

@@ -103,6 +103,9 @@ struct StoreHealth {
     uint64_t resyncs = 0;          // Catch-ups that could not name the changes: re-check everything.
     size_t pending_edits = 0;      // Edits queued in memory, not yet committed.
     std::string last_error;        // The last connection or write error, one line ("" if none).
+    // A shared world's change listener is down (its server away, its LISTEN refused): other
+    // processes' changes reach this one only once it is back and has caught up. False otherwise.
+    bool listener_down = false;
 };
 
 class ChunkStore {

@@ -648,8 +648,13 @@ bool PgStore::poll_changes(std::vector<ChunkCoord>& out) {
 }
 
 StoreHealth PgStore::health() const {
-    std::lock_guard lock(m_health_mutex);
-    return m_health;
+    StoreHealth h;
+    {
+        std::lock_guard lock(m_health_mutex);
+        h = m_health;
+    }
+    h.listener_down = m_listener && !m_listener->listening(); // Set at open, then only read.
+    return h;
 }
 
 } // namespace vx::world
