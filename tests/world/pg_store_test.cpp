@@ -89,7 +89,8 @@ bool wait_listening(PgStore& writer, PgStore& reader, ChunkCoord probe) {
 
 // Stops (SIGSTOP) the backends of a database's vx connections and the postmaster: the server
 // is alive (keepalives pass) but answers nothing, as a frozen host or a stuck disk. thaw()
-// (SIGCONT) is idempotent and runs on destruction, so a failed assertion never leaves it stopped.
+// (SIGCONT) is idempotent and runs on destruction, so a failed assertion never leaves it stopped;
+// a watchdog thaws it after 8 s, so a build whose call waits for the server does not hang the test.
 class FrozenServer {
 public:
     explicit FrozenServer(const std::string& uri) {
@@ -103,8 +104,17 @@ public:
             m_pids.push_back(parent_of(m_pids[0])); // The postmaster: no new backend either.
         for (int pid : m_pids)
             ::kill(pid, SIGSTOP);
+        m_watchdog = std::thread([this] {
+            for (int i = 0; i < 800 && !m_done.load(); ++i)
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            thaw();
+        });
     }
-    ~FrozenServer() { thaw(); }
+    ~FrozenServer() {
+        m_done.store(true);
+        m_watchdog.join();
+        thaw();
+    }
     const std::vector<int>& pids() const { return m_pids; }
     void thaw() {
         for (int pid : m_pids)
@@ -120,6 +130,8 @@ private:
         return 0;
     }
     std::vector<int> m_pids;
+    std::atomic<bool> m_done{false};
+    std::thread m_watchdog;
 };
 
 // Collects the log's lines while alive (vx::set_log_handler); thread-safe.
@@ -279,12 +291,6 @@ TEST(PgStore, AFrozenServerFailsWithinTheQueryTimeout) {
     ASSERT_TRUE((*writer)->save({0, 0, 0}, Chunk(6)).ok());
     FrozenServer frozen(uri);
     ASSERT_EQ(frozen.pids().size(), 3u); // Both stores' backends and the postmaster.
-    std::atomic<bool> done{false};
-    std::thread watchdog([&] { // Wakes the server after 8 s on a build that blocks.
-        for (int i = 0; i < 800 && !done.load(); ++i)
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        frozen.thaw();
-    });
     const auto timed = [](auto&& call) {
         const auto t0 = Clock::now();
         auto result = call();
@@ -293,8 +299,6 @@ TEST(PgStore, AFrozenServerFailsWithinTheQueryTimeout) {
     auto [flushed, flush_s] = timed([&] { return (*writer)->flush(); });
     auto [loaded, load_s] = timed([&] { return (*reader)->load({1, 0, 0}); });
     auto [again, again_s] = timed([&] { return (*writer)->flush(); }); // Reconnecting: connect_timeout.
-    done.store(true);
-    watchdog.join();
     frozen.thaw();
     EXPECT_LT(flush_s, 2.0) << "the flush waited for the frozen server";
     ASSERT_FALSE(flushed.ok());
@@ -936,17 +940,9 @@ TEST(PgStore, AUrisQueryTimeoutIsWhatAFrozenServersCallFailsWithin) {
     {
         FrozenServer frozen(uri);
         ASSERT_EQ(frozen.pids().size(), 2u); // The store's backend and the postmaster.
-        std::atomic<bool> done{false};
-        std::thread watchdog([&] { // Wakes the server after 8 s on a build that waits longer.
-            for (int i = 0; i < 800 && !done.load(); ++i)
-                std::this_thread::sleep_for(std::chrono::milliseconds(10));
-            frozen.thaw();
-        });
         const auto t0 = Clock::now();
         flushed = store.flush();
         flush_s = std::chrono::duration<double>(Clock::now() - t0).count();
-        done.store(true);
-        watchdog.join();
     }
     EXPECT_GE(flush_s, 0.35);
     // Far under the default 15 s and the watchdog's 8 s; loose for a loaded machine (TSan).
