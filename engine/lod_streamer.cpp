@@ -204,6 +204,7 @@ void LodStreamer::on_lod_data(LodCoord c, std::optional<Chunk> chunk, const std:
         const double wait_s = std::min(60.0, double(1 << doublings));
         n.retry_at = m_last_now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wait_s));
         m_retry.emplace_back(c, n.retry_at);
+        m_holes_dirty = true; // A root's hole is now a failed one: settled() compares the counts.
         if (n.failures == 1)
             VX_LOG_WARN("coarse chunk %d:%d,%d,%d not made (%s); retrying in %.0f s", c.level, c.chunk.x, c.chunk.y,
                         c.chunk.z, error.c_str(), wait_s);
@@ -262,6 +263,7 @@ void LodStreamer::retry_failed(Clock::time_point now) {
         if (now < e.second)
             return false;
         request_data(e.first, it->second);
+        m_holes_dirty = true; // No longer failed: being made again.
         return true;
     });
 }
