@@ -182,6 +182,28 @@ bool hears(pg::ChangeListener& listener, const std::string& uri, ChunkCoord c) {
     return heard;
 }
 
+// A listener (connect timeout 2 s) on a new database of `cluster`, whose URI goes to `uri`, once
+// it listens and has heard another process; null, with a test failure, if it never did.
+std::unique_ptr<pg::ChangeListener> heard_listener(PgCluster& cluster, std::string& uri) {
+    uri = cluster.new_database();
+    auto listener = std::make_unique<pg::ChangeListener>(uri, 2, 1024);
+    if (!wait_until([&] { return listener->listening(); }, 10.0) || !hears(*listener, uri, {1, 2, 3})) {
+        ADD_FAILURE() << "the listener never heard another process";
+        return nullptr;
+    }
+    return listener;
+}
+
+// After a failed flush: the edit of chunk (0, 0, 0) to Chunk(6) is still queued, and the next
+// flush commits it (a second connection reads it back).
+void expect_kept_then_committed(ChunkStore& store, const std::string& uri) {
+    EXPECT_EQ(store.pending_edits(), 1u);
+    vx::Status again = store.flush();
+    ASSERT_TRUE(again.ok()) << again.error();
+    auto check = open_pg(uri);
+    EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
+}
+
 } // namespace
 
 TEST(PgStore, UriHelpers) {
@@ -262,12 +284,8 @@ TEST(PgStore, ALockedRowFailsACommitInsteadOfBlockingIt) {
     ASSERT_FALSE(s.ok());
     EXPECT_NE(s.error().find("lock timeout"), std::string::npos) << s.error();
     EXPECT_NE(s.error().find("edits kept in memory"), std::string::npos) << s.error();
-    EXPECT_EQ(store.pending_edits(), 1u);
     EXPECT_TRUE(store.health().connected);
-    vx::Status again = store.flush();
-    ASSERT_TRUE(again.ok()) << again.error();
-    auto check = open_pg(uri);
-    EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
+    expect_kept_then_committed(store, uri);
 }
 
 // The server frozen (SIGSTOP) while two stores are connected: a flush (a pipelined commit) and a
@@ -949,11 +967,7 @@ TEST(PgStore, AUrisQueryTimeoutIsWhatAFrozenServersCallFailsWithin) {
     EXPECT_LT(flush_s, 5.0) << "the flush did not fail within the URI's 400 ms";
     ASSERT_FALSE(flushed.ok());
     EXPECT_NE(flushed.error().find("query_timeout (400 ms)"), std::string::npos) << flushed.error();
-    EXPECT_EQ(store.pending_edits(), 1u);
-    vx::Status retried = store.flush();
-    ASSERT_TRUE(retried.ok()) << retried.error();
-    auto check = open_pg(uri);
-    EXPECT_TRUE(*check->load({0, 0, 0})->chunk == Chunk(6));
+    expect_kept_then_committed(store, uri);
 }
 
 // The listener connects with the URI too: without vx's parameters, or libpq refuses it and the
@@ -1042,11 +1056,11 @@ TEST(PgStore, AListenerStopsPromptlyDuringAnUnansweredListen) {
 // may have missed) and hears other processes. It used to reconnect without a word.
 TEST(PgStore, AFailedPollIsReportedAndTheListenerReconnects) {
     VX_NEED_PG();
-    const std::string uri = cluster->new_database();
     LogCapture log;
-    pg::ChangeListener listener(uri, 2, 1024);
-    ASSERT_TRUE(wait_until([&] { return listener.listening(); }, 10.0));
-    ASSERT_TRUE(hears(listener, uri, {1, 2, 3}));
+    std::string uri;
+    const auto heard = heard_listener(*cluster, uri);
+    ASSERT_TRUE(heard);
+    pg::ChangeListener& listener = *heard;
     ASSERT_EQ(listener.listen_epoch(), 1u);
     listener.fail_next_poll(EIO);
     EXPECT_TRUE(wait_until([&] { return listener.listen_epoch() == 2 && listener.listening(); }, 10.0));
@@ -1058,11 +1072,11 @@ TEST(PgStore, AFailedPollIsReportedAndTheListenerReconnects) {
 // reconnect, no missed notification, nothing logged). It used to drop it and reconnect.
 TEST(PgStore, AnInterruptedPollKeepsTheListenersConnection) {
     VX_NEED_PG();
-    const std::string uri = cluster->new_database();
     LogCapture log;
-    pg::ChangeListener listener(uri, 2, 1024);
-    ASSERT_TRUE(wait_until([&] { return listener.listening(); }, 10.0));
-    ASSERT_TRUE(hears(listener, uri, {1, 2, 3}));
+    std::string uri;
+    const auto heard = heard_listener(*cluster, uri);
+    ASSERT_TRUE(heard);
+    pg::ChangeListener& listener = *heard;
     listener.fail_next_poll(EINTR);
     ASSERT_TRUE(wait_until([&] { return !listener.listening() || listener.listen_epoch() != 1; }, 0.5) == false)
         << "the listener dropped its connection";
