@@ -31,7 +31,7 @@ RasterPipeline::~RasterPipeline() {
 
 void RasterPipeline::create_pipeline(VkFormat color_format) {
     m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::RasterPush), "raster pipeline layout");
-    // No face culling here, as the ray tracer (TRIANGLE_FACING_CULL_DISABLE): raster.vert drops
+    // No face culling here, as the ray tracer's rays (only its coincident-face probes cull): raster.vert drops
     // the back faces of opaque blocks itself, and each pass's faces the other's.
     const VkBool32 transparent_pass[2] = {VK_FALSE, VK_TRUE};
     const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)}; // kTransparentPass.

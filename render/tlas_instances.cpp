@@ -26,7 +26,11 @@ VkAccelerationStructureInstanceKHR TlasInstances::make_instance(world::LodCoord 
     d.instanceCustomIndex = index; // The chunk table's entry (the shaders' gl_InstanceCustomIndexEXT).
     d.mask = 0xFF;
     d.instanceShaderBindingTableRecordOffset = 0;
-    d.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+    // Faces wind counter-clockwise about their normal (world::quad_corners), which Vulkan's default
+    // facing rule (no FLIP_FACING) takes as front-facing seen from the air side (checked: the
+    // glass tests fail with FLIP_FACING). Only trace_through's probes for coincident transparent
+    // faces cull by facing, so no other ray sees a difference.
+    d.flags = 0;
     d.accelerationStructureReference = blas;
     return d;
 }

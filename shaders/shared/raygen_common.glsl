@@ -28,9 +28,26 @@ vec3 primary_dir(uvec2 px) {
                      ndc.y * th * frame.camera_up.xyz);
 }
 
+// The tint of a transparent face coincident with the one just crossed, where two different
+// transparent blocks touch (glass against water: each block has its own face there, and the
+// traversal reports only one of the two at the same distance). A short probe from `through`
+// back across the plane, culling the crossed face by its facing (a face is front-facing seen
+// from its air side: render/tlas_instances.cpp), finds the other: the face of the same plane
+// with the opposite normal (`face` ^ 1). Anything else it meets (near an edge, the faces the ray
+// came through) is not that face. `back` is the probe's reach, just past the plane.
+vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, bool entering) {
+    uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
+    traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back, kPrimaryPayload);
+    if (payload.t < 0.0 || payload.face != (face ^ 1u))
+        return vec3(1.0);
+    Material m = vx_material(payload.block);
+    return vx_transparent(m) ? sqrt(m.albedo_reflectivity.xyz) : vec3(1.0);
+}
+
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces
-// (each tints by sqrt(albedo): one albedo per block crossed). payload holds that hit (t < 0: a
-// miss), with t the whole distance from `origin`. Returns the tint.
+// (each tints by sqrt(albedo): one albedo per block crossed, also where two transparent blocks
+// touch: coincident_tint). payload holds that hit (t < 0: a miss), with t the whole distance
+// from `origin`. Returns the tint.
 vec3 trace_through(vec3 origin, vec3 dir) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
@@ -45,6 +62,14 @@ vec3 trace_through(vec3 origin, vec3 dir) {
             return tint;
         }
         tint *= sqrt(m.albedo_reflectivity.xyz);
-        origin = payload.through;
+        // The face is front-facing (the ray enters its block) when the ray runs against its normal.
+        uint axis = payload.face >> 1u;
+        bool entering = (dir[axis] > 0.0) != ((payload.face & 1u) != 0u);
+        vec3 next = payload.through;
+        // From `next` back to the plane is next's offset along the axis over the ray's slope;
+        // twice that (at least a little) reaches just past the plane and nothing much beyond.
+        float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / max(abs(dir[axis]), 1e-6);
+        tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, payload.face, entering);
+        origin = next;
     }
 }
