@@ -48,8 +48,11 @@ public:
     }
 
     // A new, empty database; its URI.
-    std::string new_database() {
-        const std::string name = "vxtest_" + std::to_string(++m_databases);
+    std::string new_database() { return create_database(next_database_name()); }
+    // A name no database of this cluster has yet (for a database made later: create_database).
+    std::string next_database_name() { return "vxtest_" + std::to_string(++m_databases); }
+    // Creates database `name`; its URI.
+    std::string create_database(const std::string& name) {
         const std::string sql = "CREATE DATABASE " + name;
         PGconn* c = PQconnectdb(uri("postgres").c_str());
         PQclear(PQexec(c, sql.c_str()));

@@ -1068,6 +1068,46 @@ TEST(PgStore, AFailedPollIsReportedAndTheListenerReconnects) {
     EXPECT_TRUE(hears(listener, uri, {3, 2, 1}));
 }
 
+// A listener that cannot connect (its database does not exist yet) says so once, naming the
+// cause, not at every retry (attempts at about 0, 0.25 and 0.75 s); once the database is
+// there it listens. A failed attempt after it was up again is reported again: poll() failing
+// (injected) first under the listening loop, then while reconnecting. Failed connects used to
+// be silent.
+TEST(PgStore, AListenerThatCannotConnectSaysSoOncePerRunOfFailures) {
+    VX_NEED_PG();
+    LogCapture log;
+    const std::string name = cluster->next_database_name();
+    pg::ChangeListener listener(cluster->uri(name), 2, 1024);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    EXPECT_FALSE(listener.listening());
+    EXPECT_EQ(log.count("cannot connect"), 1u);
+    EXPECT_EQ(log.count("does not exist"), 1u);
+    const std::string uri = cluster->create_database(name);
+    ASSERT_TRUE(wait_until([&] { return listener.listening(); }, 15.0));
+    EXPECT_TRUE(hears(listener, uri, {1, 2, 3}));
+    listener.fail_next_poll(EIO);
+    listener.fail_next_poll(EIO);
+    EXPECT_TRUE(wait_until([&] { return listener.listen_epoch() == 2 && listener.listening(); }, 15.0));
+    EXPECT_EQ(log.count("cannot connect: cannot wait on its connection: poll: " + std::string(std::strerror(EIO))), 1u);
+    EXPECT_EQ(log.count("cannot connect"), 2u);
+}
+
+// poll() interrupted (EINTR) while the listener reconnects keeps that attempt: it connects
+// without a failure logged. It used to abandon the attempt and wait out a back-off.
+TEST(PgStore, AnInterruptedPollWhileConnectingKeepsTheAttempt) {
+    VX_NEED_PG();
+    LogCapture log;
+    std::string uri;
+    const auto heard = heard_listener(*cluster, uri);
+    ASSERT_TRUE(heard);
+    pg::ChangeListener& listener = *heard;
+    listener.fail_next_poll(EIO);   // The listening loop's: the listener reconnects.
+    listener.fail_next_poll(EINTR); // The reconnect's first poll.
+    EXPECT_TRUE(wait_until([&] { return listener.listen_epoch() == 2 && listener.listening(); }, 10.0));
+    EXPECT_EQ(log.count("cannot connect"), 0u);
+    EXPECT_TRUE(hears(listener, uri, {3, 2, 1}));
+}
+
 // A poll() interrupted by a signal (EINTR) is no failure: the listener keeps its connection (no
 // reconnect, no missed notification, nothing logged). It used to drop it and reconnect.
 TEST(PgStore, AnInterruptedPollKeepsTheListenersConnection) {

@@ -89,24 +89,40 @@ void ChangeListener::report(const std::string& what) {
 }
 
 // Connects in 50 ms slices that check m_stop, so destruction never waits out a connect timeout
-// (a server that is away on TCP). Null when stopped, out of memory, failed or timed out.
+// (a server that is away on TCP). Null when stopped, out of memory, failed or timed out; a
+// failure is reported when the last attempt succeeded (the first of a run of failures: a server
+// away for an hour gives one line, not one per retry).
 PGconn* ChangeListener::connect_polling() {
     using namespace std::chrono;
     PGconn* conn = connect_start(m_conninfo, m_timeout_s);
     const auto deadline = attempt_deadline();
     // libpq: start as if PQconnectPoll had returned PGRES_POLLING_WRITING.
     PostgresPollingStatusType state = PGRES_POLLING_WRITING;
+    std::string failure;
     while (conn && PQstatus(conn) != CONNECTION_BAD && state != PGRES_POLLING_OK) {
-        if (state == PGRES_POLLING_FAILED || m_stop.load() || steady_clock::now() >= deadline)
+        if (state == PGRES_POLLING_FAILED || m_stop.load())
             break;
-        pollfd fd{PQsocket(conn), short(state == PGRES_POLLING_READING ? POLLIN : POLLOUT), 0};
-        const int ready = ::poll(&fd, 1, 50);
-        if (ready < 0)
+        if (steady_clock::now() >= deadline) {
+            failure = "no connection within " + std::to_string(std::max(m_timeout_s, 1)) + " s (the connect timeout)";
             break;
+        }
+        const int ready = poll_socket(conn, state == PGRES_POLLING_READING ? POLLIN : POLLOUT);
+        if (ready < 0) {
+            failure = std::string("cannot wait on its connection: poll: ") + std::strerror(errno);
+            break;
+        }
         if (ready > 0)
             state = PQconnectPoll(conn);
     }
-    if (conn && state != PGRES_POLLING_OK) {
+    const bool up = conn && state == PGRES_POLLING_OK;
+    if (!up && !m_stop.load()) {
+        if (failure.empty())
+            failure = conn ? message(conn) : "out of memory";
+        if (!m_connect_failing)
+            report("cannot connect: " + failure);
+    }
+    m_connect_failing = !up && !m_stop.load();
+    if (conn && !up) {
         PQfinish(conn);
         conn = nullptr;
     }
@@ -146,14 +162,28 @@ bool ChangeListener::listen(PGconn* conn) {
     return true;
 }
 
-int ChangeListener::wait_socket(PGconn* conn) {
-    pollfd fd{PQsocket(conn), POLLIN, 0};
+int ChangeListener::poll_socket(PGconn* conn, short events) {
+    pollfd fd{PQsocket(conn), events, 0};
     int ready = -1;
-    if (const int injected = m_poll_errno.exchange(0); injected != 0)
+    if (const int injected = next_injected_poll_error(); injected != 0)
         errno = injected;
     else
         ready = ::poll(&fd, 1, 50);
     return ready < 0 && errno == EINTR ? 0 : ready; // A signal is no failure: wait again.
+}
+
+void ChangeListener::fail_next_poll(int error) {
+    std::lock_guard lock(m_poll_errors_mutex);
+    m_poll_errors.push_back(error);
+}
+
+int ChangeListener::next_injected_poll_error() {
+    std::lock_guard lock(m_poll_errors_mutex);
+    if (m_poll_errors.empty())
+        return 0;
+    const int error = m_poll_errors.front();
+    m_poll_errors.pop_front();
+    return error;
 }
 
 void ChangeListener::run() {
@@ -171,7 +201,7 @@ void ChangeListener::run() {
         }
         // Wait on the socket in short slices so destruction never waits long.
         while (!m_stop.load() && m_listening.load()) {
-            const int ready = wait_socket(conn);
+            const int ready = poll_socket(conn, POLLIN);
             const int error = errno;
             const bool consumed = ready <= 0 || PQconsumeInput(conn);
             // Notifications read before a failure are handed on all the same.

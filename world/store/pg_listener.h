@@ -11,7 +11,8 @@
 // generation tool) holds at most that many coordinates, and past it is told to re-check
 // everything instead. Coarse changes are collected only once someone asked for them (take_lod).
 // Failures (LISTEN refused or unanswered within the connect timeout, poll() failing, the link
-// lost) are logged as one warning line each; the thread then drops the connection and reconnects
+// lost) are logged as one warning line each, a connection that cannot be made once per run of
+// failed attempts; the thread then drops the connection and reconnects
 // with back-off, and the next LISTEN bumps listen_epoch() so the store catches up on what it missed.
 // Thread affinity: construct and destroy on one thread; take(), take_lod(), set_own_pid() and
 // fail_next_poll() thread-safe.
@@ -19,6 +20,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <span>
@@ -97,9 +99,10 @@ public:
     // notifications may have been missed since the last value seen.
     uint64_t listen_epoch() const { return m_epoch.load(); }
 
-    // Test hook (vx's own fault-injection tests; thread-safe): the listening loop's next poll()
-    // returns -1 with errno `error` instead of waiting, as poll(2) does when it fails.
-    void fail_next_poll(int error) { m_poll_errno.store(error); }
+    // Test hook (vx's own fault-injection tests; thread-safe): the listener's next poll() (while
+    // connecting or listening; calls queue up, one per poll) returns -1 with errno `error`
+    // instead of waiting, as poll(2) does when it fails.
+    void fail_next_poll(int error);
 
 private:
     void run();
@@ -110,9 +113,10 @@ private:
     // LISTEN on `conn`, waiting in short slices that check m_stop. False (reported) when it
     // failed, passed attempt_deadline() or the listener is stopping.
     bool listen(pg_conn* conn);
-    // poll() on the connection's socket for up to 50 ms (EINTR: 0, nothing ready), or the
-    // injected failure (fail_next_poll).
-    int wait_socket(pg_conn* conn);
+    // poll() on the connection's socket for `events` for up to 50 ms (EINTR: 0, nothing ready),
+    // or the injected failure (fail_next_poll).
+    int poll_socket(pg_conn* conn, short events);
+    int next_injected_poll_error(); // 0: none queued.
     void report(const std::string& what); // Logs one warning line; the listener reconnects.
     void parse(const char* payload);
     void parse_lod(const char* items);
@@ -124,7 +128,9 @@ private:
     std::atomic<int> m_own_pid{0};
     std::atomic<uint64_t> m_epoch{0};
     std::atomic<bool> m_lod_wanted{false}; // take_lod() was called: collect coarse changes.
-    std::atomic<int> m_poll_errno{0};      // fail_next_poll (0: none).
+    bool m_connect_failing = false;           // The last attempt could not connect (listener thread).
+    std::mutex m_poll_errors_mutex;
+    std::deque<int> m_poll_errors;            // fail_next_poll's queue; guarded by m_poll_errors_mutex.
     std::function<void(int)> m_before_listen; // Set before the thread starts; read by it only.
     std::mutex m_mutex;
     ChangeSet<ChunkCoord, ChunkCoordHash> m_changes;  // Guarded by m_mutex.
