@@ -1203,8 +1203,7 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     } else {
         m->emissive_quads.erase(c);
     }
-    const bool opaque = std::all_of(ids.begin(), ids.end(), [&](world::BlockId id) { return m->registry.is_opaque(id); });
-    m->accel->set_chunk(c, mesh, changed_slices, opaque);
+    m->accel->set_chunk(c, mesh, changed_slices, chunk_traits(mesh, ids, m->registry));
 }
 
 void Renderer::remove_chunk(world::LodCoord c) {

@@ -69,6 +69,18 @@ struct SceneAccelCreateInfo {
 // makes it hot with a rebuild; a hot chunk not edited for hot_frames frames is rebuilt cold.
 // Compaction runs kFramesInFlight frames after the build, once the compacted-size query of that
 // frame slot has completed.
+// What a chunk's blocks are, beside its mesh (Renderer::set_chunk reads them off the registry).
+struct ChunkTraits {
+    bool opaque = false; // Only opaque blocks: OPAQUE geometry.
+    // A transparent face of the chunk may share its plane with another transparent block's face
+    // (glass against water): the ray tracer probes for the other face only in such chunks.
+    bool may_touch = false;
+};
+
+// The traits of a chunk whose quads (`mesh`) hold blocks `ids`, under `registry`. Any thread.
+ChunkTraits chunk_traits(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
+                         const world::BlockRegistry& registry);
+
 class SceneAccel {
 public:
     SceneAccel(Context& ctx, const SceneAccelCreateInfo& info);
@@ -88,7 +100,7 @@ public:
     // alone) cannot be allocated is not drawn and is counted in AccelStats::failed_chunks until
     // it is set again or removed.
     void set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices = {},
-                   bool opaque = false);
+                   ChunkTraits traits = {});
     void remove_chunk(world::LodCoord c);
     void clear();
     // Removes every chunk not in `keep` (O(chunks): for whole-scene calls).
@@ -140,6 +152,7 @@ private:
         bool hot = false;
         bool opaque = false;           // Only opaque blocks: OPAQUE geometry (no any-hit calls,
                                        // and the builder may split primitives: faster traversal).
+        bool may_touch = false;        // ChunkTraits::may_touch.
         bool failed = false;           // Out of memory at its last build: not drawn.
         uint8_t level = 0;             // Its LodCoord's level (which m_level_bytes entry it adds to).
         uint32_t refits_since_build = 0;
@@ -174,7 +187,7 @@ private:
 
     bool ensure_indices(uint32_t slots);
     void apply_mesh(world::LodCoord c, ChunkGpu& g, bool inserted, const world::ChunkMesh& mesh,
-                    std::span<const int> changed_slices, bool opaque);
+                    std::span<const int> changed_slices, ChunkTraits traits);
     void demote_idle_hot_chunks();
     VkDeviceSize staging_bytes(const ChunkGpu& g) const;
     bool allocate_chunk(world::LodCoord c, ChunkGpu& g, const VkAccelerationStructureBuildSizesInfoKHR& sizes);

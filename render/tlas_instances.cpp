@@ -52,6 +52,7 @@ void TlasInstances::write(uint32_t i) {
 
 uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
     VX_ASSERT(world::valid_lod_level(chunk.coord.level));
+    VX_ASSERT((chunk.quads & 1u) == 0);
     const uint32_t i = size();
     m_draw.push_back(chunk);
     ++m_level_counts[size_t(chunk.coord.level)];
@@ -61,9 +62,10 @@ uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
 }
 
 void TlasInstances::update(uint32_t i, const DrawChunk& chunk, VkDeviceAddress blas) {
-    VX_ASSERT(i < size() && m_draw[i].coord == chunk.coord);
+    VX_ASSERT(i < size() && m_draw[i].coord == chunk.coord && (chunk.quads & 1u) == 0);
     if (m_instances[i].accelerationStructureReference == blas && m_draw[i].quads == chunk.quads &&
-        m_draw[i].slots == chunk.slots && m_draw[i].opaque == chunk.opaque)
+        m_draw[i].slots == chunk.slots && m_draw[i].opaque == chunk.opaque &&
+        m_draw[i].may_touch == chunk.may_touch)
         return; // A refit: same BLAS, same buffers.
     m_draw[i] = chunk;
     m_instances[i].accelerationStructureReference = blas;
@@ -121,7 +123,8 @@ uint32_t TlasInstances::sync(uint32_t slot, VkAccelerationStructureInstanceKHR* 
     uint32_t written = 0;
     auto put = [&](uint32_t i) {
         instances[i] = m_instances[i];
-        table[i] = m_draw[i].quads;
+        // Device addresses of buffers are aligned (at least 4 bytes here), so bit 0 is free.
+        table[i] = m_draw[i].quads | uint64_t(m_draw[i].may_touch);
         ++written;
     };
     const uint8_t bit = uint8_t(1u << slot);

@@ -16,6 +16,7 @@ layout(location = 0) rayPayloadEXT HitPayload payload;
 const float kTMax = 1.0e7;
 
 vec3 face_normal(uint face) {
+    face &= ~kFaceMayTouch;
     vec3 n = vec3(0.0);
     n[face >> 1u] = (face & 1u) != 0u ? 1.0 : -1.0;
     return n;
@@ -34,11 +35,12 @@ vec3 primary_dir(uvec2 px) {
 // back across the plane, culling the crossed face by its facing (a face is front-facing seen
 // from its air side: render/tlas_instances.cpp), finds the other: the face of the same plane
 // with the opposite normal (`face` ^ 1). Anything else it meets (near an edge, the faces the ray
-// came through) is not that face. `back` is the probe's reach, just past the plane.
+// came through) is not that face. `back` is the probe's reach, just past the plane. Traced only
+// from chunks that may hold such a pair (kFaceMayTouch: render::ChunkTraits).
 vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, bool entering) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back, kPrimaryPayload);
-    if (payload.t < 0.0 || payload.face != (face ^ 1u))
+    if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u))
         return vec3(1.0);
     Material m = vx_material(payload.block);
     return vx_transparent(m) ? sqrt(m.albedo_reflectivity.xyz) : vec3(1.0);
@@ -62,14 +64,16 @@ vec3 trace_through(vec3 origin, vec3 dir) {
             return tint;
         }
         tint *= sqrt(m.albedo_reflectivity.xyz);
-        // The face is front-facing (the ray enters its block) when the ray runs against its normal.
-        uint axis = payload.face >> 1u;
-        bool entering = (dir[axis] > 0.0) != ((payload.face & 1u) != 0u);
         vec3 next = payload.through;
-        // From `next` back to the plane is next's offset along the axis over the ray's slope;
-        // twice that (at least a little) reaches just past the plane and nothing much beyond.
-        float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / max(abs(dir[axis]), 1e-6);
-        tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, payload.face, entering);
+        if ((payload.face & kFaceMayTouch) != 0u) {
+            // The face is front-facing (the ray enters its block) when the ray runs against its normal.
+            uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u;
+            bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
+            // From `next` back to the plane is next's offset along the axis over the ray's slope;
+            // twice that (at least a little) reaches just past the plane and nothing much beyond.
+            float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / max(abs(dir[axis]), 1e-6);
+            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, entering);
+        }
         origin = next;
     }
 }

@@ -1,7 +1,7 @@
 // TlasInstances without a GPU: random adds, updates and removes, each frame slot's buffers
 // written only with what changed since that slot's last sync, must always hold what a rebuild
 // from scratch of the same chunks would write: every chunk once, instance i with custom index i
-// and the chunk table's entry i its chunk's quads, translations relative to the origin, a
+// and the chunk table's entry i its chunk's quads (bit 0: DrawChunk::may_touch), translations relative to the origin, a
 // level-k chunk scaled by 2^k; per-level instance counts as the reference's.
 #include <array>
 #include <cstring>
@@ -21,6 +21,7 @@ using world::ChunkCoord;
 struct Chunk {
     VkDeviceAddress blas = 0, quads = 0;
     uint32_t slots = 0;
+    bool may_touch = false;
 };
 using Key = std::tuple<int, int, int, int>; // Level, x, y, z.
 using Reference = std::map<Key, Chunk>;
@@ -61,7 +62,8 @@ void expect_matches(const TlasInstances& a, const SlotBuffers& b, const Referenc
         EXPECT_EQ(d.slots, it->second.slots);
         const VkAccelerationStructureInstanceKHR want = TlasInstances::make_instance(d.coord, origin, i, it->second.blas);
         EXPECT_EQ(std::memcmp(&b.instances[i], &want, sizeof want), 0) << "instance " << i;
-        EXPECT_EQ(b.table[i], it->second.quads) << "table entry " << i;
+        EXPECT_EQ(d.may_touch, it->second.may_touch);
+        EXPECT_EQ(b.table[i], it->second.quads | uint64_t(it->second.may_touch)) << "table entry " << i;
     }
 }
 
@@ -76,12 +78,24 @@ public:
 
     void set(ChunkCoord c) { set(world::LodCoord{0, c}); }
     void remove(ChunkCoord c) { remove(world::LodCoord{0, c}); }
-    void set(world::LodCoord c) {
+    void set(world::LodCoord c, bool may_touch = false) {
         const Key key = key_of(c);
         Chunk& ch = ref[key];
-        ch = {next_address, next_address + 8, uint32_t(next_address % 97)};
+        ch = {next_address, next_address + 8, uint32_t(next_address % 97), may_touch};
         next_address += 0x100;
-        const DrawChunk d{c, ch.quads, ch.slots};
+        put(c, ch);
+    }
+    // The same BLAS and buffers, the traits toggled (SceneAccel: a registry change, or a refit).
+    void toggle_traits(world::LodCoord c) {
+        const auto it = ref.find(key_of(c));
+        if (it == ref.end())
+            return;
+        it->second.may_touch = !it->second.may_touch;
+        put(c, it->second);
+    }
+    void put(world::LodCoord c, const Chunk& ch) {
+        const Key key = key_of(c);
+        const DrawChunk d{c, ch.quads, ch.slots, false, ch.may_touch};
         if (auto it = index.find(key); it != index.end())
             array.update(it->second, d, ch.blas);
         else
@@ -109,8 +123,10 @@ TEST(TlasInstances, RandomChangesMatchARebuildInEverySlot) {
         // Levels 0..2 over the same chunk coordinates: different entries.
         const world::LodCoord c{level(rng), ChunkCoord(coord(rng), coord(rng) / 3, coord(rng))};
         const int o = op(rng);
-        if (o < 5)
-            h.set(c); // Add, or a rebuild's new addresses.
+        if (o < 4)
+            h.set(c, (rng() & 1) != 0); // Add, or a rebuild's new addresses.
+        else if (o < 5)
+            h.toggle_traits(c);
         else if (o < 9)
             h.remove(c);
         else if (step % 7 == 0) {
