@@ -31,8 +31,8 @@ RasterPipeline::~RasterPipeline() {
 
 void RasterPipeline::create_pipeline(VkFormat color_format) {
     m_layout = make_push_constant_layout(*m_ctx, sizeof(gpu::RasterPush), "raster pipeline layout");
-    // No face culling here, as the ray tracer's rays (only its coincident-face probes cull): raster.vert drops
-    // the back faces of opaque blocks itself, and each pass's faces the other's.
+    // No face culling here, as the ray tracer's rays (only its coincident-face probes cull):
+    // raster.vert drops the back faces of opaque blocks itself, and each pass's faces the other's.
     const VkBool32 transparent_pass[2] = {VK_FALSE, VK_TRUE};
     const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)}; // kTransparentPass.
     for (uint32_t pass = 0; pass < 2; ++pass) {

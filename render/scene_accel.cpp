@@ -211,7 +211,8 @@ void SceneAccel::sync_instance(world::LodCoord c, ChunkGpu& g) {
         drop_instance(g);
         return;
     }
-    const DrawChunk d{c, g.quads.address(), g.layout.total, g.opaque, g.may_touch}; // c's level scales its instance.
+    // c's level scales its instance.
+    const DrawChunk d{c, g.quads.address(), g.layout.total, g.opaque, g.may_touch};
     if (g.instance == TlasInstances::kNone)
         g.instance = m_instances.add(d, g.blas.address());
     else

@@ -62,13 +62,6 @@ struct SceneAccelCreateInfo {
     uint32_t max_refits = 8;
 };
 
-// Chunks are "cold" (built exact-size, PREFER_FAST_TRACE, without ALLOW_UPDATE, then compacted;
-// their vertices are dropped after the build, so they hold only the BLAS and the quad records)
-// or "hot" (spare slots per slice, ALLOW_UPDATE, vertices kept: an edit whose slices fit uploads
-// just those slices and refits). A new chunk is cold; an edit (set_chunk with changed slices)
-// makes it hot with a rebuild; a hot chunk not edited for hot_frames frames is rebuilt cold.
-// Compaction runs kFramesInFlight frames after the build, once the compacted-size query of that
-// frame slot has completed.
 // What a chunk's blocks are, beside its mesh (Renderer::set_chunk reads them off the registry).
 struct ChunkTraits {
     bool opaque = false; // Only opaque blocks: OPAQUE geometry.
@@ -81,6 +74,13 @@ struct ChunkTraits {
 ChunkTraits chunk_traits(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
                          const world::BlockRegistry& registry);
 
+// Chunks are "cold" (built exact-size, PREFER_FAST_TRACE, without ALLOW_UPDATE, then compacted;
+// their vertices are dropped after the build, so they hold only the BLAS and the quad records)
+// or "hot" (spare slots per slice, ALLOW_UPDATE, vertices kept: an edit whose slices fit uploads
+// just those slices and refits). A new chunk is cold; an edit (set_chunk with changed slices)
+// makes it hot with a rebuild; a hot chunk not edited for hot_frames frames is rebuilt cold.
+// Compaction runs kFramesInFlight frames after the build, once the compacted-size query of that
+// frame slot has completed.
 class SceneAccel {
 public:
     SceneAccel(Context& ctx, const SceneAccelCreateInfo& info);

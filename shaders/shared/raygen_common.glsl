@@ -39,7 +39,8 @@ vec3 primary_dir(uvec2 px) {
 // from chunks that may hold such a pair (kFaceMayTouch: render::ChunkTraits).
 vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, bool entering) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
-    traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back, kPrimaryPayload);
+    traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,
+                kPrimaryPayload);
     if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u))
         return vec3(1.0);
     Material m = vx_material(payload.block);
@@ -71,7 +72,8 @@ vec3 trace_through(vec3 origin, vec3 dir) {
             bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
             // From `next` back to the plane is next's offset along the axis over the ray's slope;
             // twice that (at least a little) reaches just past the plane and nothing much beyond.
-            float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / max(abs(dir[axis]), 1e-6);
+            float slope = max(abs(dir[axis]), 1e-6);
+            float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / slope;
             tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, entering);
         }
         origin = next;

@@ -1,8 +1,9 @@
 // TlasInstances without a GPU: random adds, updates and removes, each frame slot's buffers
 // written only with what changed since that slot's last sync, must always hold what a rebuild
 // from scratch of the same chunks would write: every chunk once, instance i with custom index i
-// and the chunk table's entry i its chunk's quads (bit 0: DrawChunk::may_touch), translations relative to the origin, a
-// level-k chunk scaled by 2^k; per-level instance counts as the reference's.
+// and the chunk table's entry i its chunk's quads (bit 0: DrawChunk::may_touch), translations
+// relative to the origin, a level-k chunk scaled by 2^k; per-level instance counts as the
+// reference's.
 #include <array>
 #include <cstring>
 #include <map>

@@ -54,7 +54,8 @@ Camera looking_down_axis(int axis, double distance) {
 // pair: sqrt of one block's albedo short.
 TEST_F(RendererTest, TouchingTransparentBlocksTintAsBlocksApart) {
     const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
-    const std::vector<std::vector<world::BlockId>> rows = {{glass, water}, {water, glass}, {glass, water, glass}};
+    const std::vector<std::vector<world::BlockId>> rows = {
+        {glass, water}, {water, glass}, {glass, water, glass}};
     const glm::vec3 stone = albedo_of(test::block_id("stone"));
     RenderSettings s;
     s.width = 32;
@@ -64,13 +65,15 @@ TEST_F(RendererTest, TouchingTransparentBlocksTintAsBlocksApart) {
         for (int axis = 0; axis < 3; ++axis)
             for (size_t r = 0; r < rows.size(); ++r)
                 for (bool apart : {false, true}) {
-                    test::load_meshes(*m_renderer, test::mesh_world(row_before_wall(axis, rows[r], start, apart)));
+                    const world::World w = row_before_wall(axis, rows[r], start, apart);
+                    test::load_meshes(*m_renderer, test::mesh_world(w));
                     const RenderImage img = m_renderer->render(s, looking_down_axis(axis, start + 10.5));
                     glm::vec3 expected = stone;
                     for (world::BlockId b : rows[r])
                         expected *= albedo_of(b);
-                    const std::string where = "start " + std::to_string(start) + ", axis " + std::to_string(axis) +
-                                              ", row " + std::to_string(r) + (apart ? ", apart" : ", touching");
+                    const std::string where = "start " + std::to_string(start) + ", axis " +
+                                              std::to_string(axis) + ", row " + std::to_string(r) +
+                                              (apart ? ", apart" : ", touching");
                     // Each face's sqrt rounds in the shader's float math only: the 8-bit output's 1.
                     EXPECT_TRUE(test::rgb_near(img.at(16, 16), expected)) << where;
                 }
