@@ -81,7 +81,7 @@ void ChangeListener::parse_lod(const char* p) {
 }
 
 std::chrono::steady_clock::time_point ChangeListener::attempt_deadline() const {
-    return std::chrono::steady_clock::now() + std::chrono::seconds(std::max(m_timeout_s, 1));
+    return std::chrono::steady_clock::now() + std::chrono::seconds(attempt_seconds());
 }
 
 void ChangeListener::report(const std::string& what) {
@@ -103,7 +103,7 @@ PGconn* ChangeListener::connect_polling() {
         if (state == PGRES_POLLING_FAILED || m_stop.load())
             break;
         if (steady_clock::now() >= deadline) {
-            failure = "no connection within " + std::to_string(std::max(m_timeout_s, 1)) + " s (the connect timeout)";
+            failure = "no connection within " + std::to_string(attempt_seconds()) + " s (the connect timeout)";
             break;
         }
         const int ready = poll_socket(conn, state == PGRES_POLLING_READING ? POLLIN : POLLOUT);
@@ -115,13 +115,13 @@ PGconn* ChangeListener::connect_polling() {
             state = PQconnectPoll(conn);
     }
     const bool up = conn && state == PGRES_POLLING_OK;
-    if (!up && !m_stop.load()) {
+    const bool failed = !up && !m_stop.load();
+    if (failed && !m_connect_failing) {
         if (failure.empty())
             failure = conn ? message(conn) : "out of memory";
-        if (!m_connect_failing)
-            report("cannot connect: " + failure);
+        report("cannot connect: " + failure);
     }
-    m_connect_failing = !up && !m_stop.load();
+    m_connect_failing = failed;
     if (conn && !up) {
         PQfinish(conn);
         conn = nullptr;
@@ -145,7 +145,7 @@ bool ChangeListener::listen(PGconn* conn) {
             return false;
         const auto now = steady_clock::now();
         if (now >= deadline) {
-            report("LISTEN got no answer within " + std::to_string(std::max(m_timeout_s, 1)) +
+            report("LISTEN got no answer within " + std::to_string(attempt_seconds()) +
                    " s (the connect timeout)");
             return false;
         }

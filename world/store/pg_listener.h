@@ -17,6 +17,7 @@
 // Thread affinity: construct and destroy on one thread; take(), take_lod(), set_own_pid() and
 // fail_next_poll() thread-safe.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -109,6 +110,7 @@ private:
     // The deadline of one connect or LISTEN started now: connect_timeout, at least 1 s (libpq's
     // least is 2 s; 0, "for ever", would keep destruction waiting on a frozen server).
     std::chrono::steady_clock::time_point attempt_deadline() const;
+    int attempt_seconds() const { return std::max(m_timeout_s, 1); } // attempt_deadline()'s length.
     pg_conn* connect_polling();
     // LISTEN on `conn`, waiting in short slices that check m_stop. False (reported) when it
     // failed, passed attempt_deadline() or the listener is stopping.
