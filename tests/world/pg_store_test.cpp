@@ -1030,6 +1030,38 @@ TEST(PgStore, AListenerWhoseListenGetsNoAnswerReportsItAndReconnects) {
     }
 }
 
+// The listener's first backend is terminated (SIGTERM, as pg_terminate_backend) between its
+// connect and its LISTEN, and gone before the LISTEN is sent: the server's answer is an error,
+// not silence. The listener logs it (sent and refused, or refused at the send: which one is the
+// kernel's timing), never reports itself listening on that connection, reconnects and hears.
+TEST(PgStore, AListenerWhoseListenIsRefusedReportsItAndReconnects) {
+    VX_NEED_PG();
+    const std::string uri = cluster->new_database();
+    LogCapture log;
+    std::atomic<int> terminated{0};
+    {
+        pg::ChangeListener listener(uri, 5, 1024, [&](int pid) {
+            int none = 0;
+            if (!terminated.compare_exchange_strong(none, pid))
+                return;
+            ::kill(pid, SIGTERM);
+            // The postmaster reaps it; bounded, as a test must not hang on a machine's bad day.
+            for (int i = 0; i < 500 && ::kill(pid, 0) == 0; ++i)
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        });
+        ASSERT_TRUE(wait_until([&] { return listener.listening(); }, 20.0)) << "the listener never listened";
+        ASSERT_NE(terminated.load(), 0);
+        EXPECT_NE(::kill(terminated.load(), 0), 0) << "the terminated backend outlived the wait";
+        EXPECT_EQ(log.count("LISTEN failed: ") + log.count("cannot send LISTEN: "), 1u);
+        EXPECT_EQ(log.count("cannot connect"), 0u);
+        EXPECT_TRUE(hears(listener, uri, {8, 9, 10}));
+        // Listening once, on the second connection: the refused one never counted, so it was
+        // never found lost afterwards.
+        EXPECT_EQ(listener.listen_epoch(), 1u) << "the refused LISTEN counted as listening";
+        EXPECT_EQ(log.count("connection lost"), 0u);
+    }
+}
+
 // Destroyed while its LISTEN waits on a frozen server, the listener stops at once; it used to
 // wait out the LISTEN's deadline (the connect timeout, here 10 s; a PgStore's destructor with it).
 // It waits in 50 ms slices: 3 s is loose for a loaded machine and far under the deadline.
