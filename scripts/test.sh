@@ -25,5 +25,5 @@ if [[ -d engine ]]; then
   TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
     ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L engine
   TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
-    ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L world -R '^(Log|Median|RecordBatchEncoder|PgStore|Backends/StoreSuite)\.'
+    ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L world -R '^(Log|Median|RecordBatchEncoder|PgStore|PgListener|Backends/StoreSuite)\.'
 fi
