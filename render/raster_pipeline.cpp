@@ -190,7 +190,7 @@ bool raster_box_visible(const glm::mat4& m, glm::vec3 lo, glm::vec3 hi) {
 }
 
 glm::mat4 raster_clip_from_eye(glm::vec3 forward, glm::vec3 up, float fov_y_degrees, float aspect, float near_plane) {
-    // The ray tracer's basis (renderer.cpp write_params): right = fwd x up, up' = right x fwd.
+    // The ray tracer's basis (renderer_frame.cpp write_params): right = fwd x up, up' = right x fwd.
     const glm::mat4 view = glm::lookAtRH(glm::vec3(0.f), glm::normalize(forward), up);
     // Reversed, infinite (raster_pipeline.h): clip z = near, w = distance along the view axis.
     const float f = 1.f / std::tan(glm::radians(fov_y_degrees) * 0.5f);

@@ -82,7 +82,7 @@ void main() {
         vec4 light = imageLoad(mirror_light_image, p);
         imageStore(mirror_light_image, p, vec4(light.rgb + mirror, light.a));
     }
-    // Only Full-mode frames cache (render/renderer.cpp): raygen.rgen main()'s Full-mode step.
+    // Only Full-mode frames cache (render/renderer_impl.h cache_active): raygen.rgen main()'s Full-mode step.
     meter(p, radiance.rgb);
     imageStore(out_image, p, vec4(vx_display(radiance.rgb, frame.exposure.x), 1.0));
 }
