@@ -792,7 +792,8 @@ TEST(PgStore, PendingChangesAreDeduplicatedAndCoarseOnesKeptOnlyWhenAskedFor) {
 }
 
 // More pending changes than the store keeps: they are forgotten and poll_changes() says so, which
-// makes the engine re-check every chunk it holds (chunk_streamer_jobs.cpp, poll_store_changes) instead of missing some.
+// makes the engine re-check every chunk it holds (chunk_streamer_jobs.cpp, poll_store_changes)
+// instead of missing some.
 TEST(PgStore, TooManyPendingChangesAskForAResync) {
     VX_NEED_PG();
     const std::string uri = cluster->new_database();
