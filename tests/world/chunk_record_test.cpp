@@ -189,55 +189,73 @@ TEST(ChunkRecordFaults, WrongCoordinatesAreDetected) {
     }
 }
 
-// Records with a valid checksum but hostile fields: each must be refused with a message.
+// Records with a valid checksum but hostile fields: each must be refused with a message naming
+// what is wrong (the check that caught it, not a later one tripping on its consequences).
 TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
     std::mt19937 rng(8);
     RecordCodec codec;
     std::vector<uint8_t> good;
     codec.encode({0, 0, 0}, random_chunk(rng, 0.5, 3), good); // Palette of 4: air + 3.
-    auto refused = [&](auto edit, const char* what) {
+    const auto refusal = [&](const std::vector<uint8_t>& rec) {
+        vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
+        return r.ok() ? std::string("(decoded)") : r.error();
+    };
+    auto refused = [&](auto edit, const std::string& says) {
         std::vector<uint8_t> rec = good;
         edit(rec);
         reseal(rec);
-        vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
-        EXPECT_FALSE(r.ok()) << what;
+        const std::string error = refusal(rec);
+        EXPECT_NE(error.find(says), std::string::npos) << "expected \"" << says << "\", got: " << error;
     };
-    refused([](auto& r) { poke<uint16_t>(r, 4, 2); }, "future version");
-    refused([](auto& r) { r[6] = 9; }, "unknown kind");
-    refused([](auto& r) { r[7] = 9; }, "unknown codec");
-    refused([](auto& r) { poke<uint32_t>(r, 20, 0); }, "empty palette");
-    refused([](auto& r) { poke<uint32_t>(r, 20, 1); }, "palette of one");
-    refused([](auto& r) { poke<uint32_t>(r, 20, 40000); }, "palette too big");
-    refused([](auto& r) { poke<uint32_t>(r, 20, 3); }, "palette smaller than the indices");
-    refused([](auto& r) { poke<uint32_t>(r, 24, 0xFFFFFFFFu); }, "huge raw size");
-    refused([](auto& r) { r[7] = 0; }, "raw codec on compressed bytes");
-    refused([](auto& r) { r[6] = 0; }, "uniform kind with a palette payload");
-    refused([&](auto& r) { std::fill(r.begin() + kRecordHeaderSize, r.end(), uint8_t(rng())); }, "garbage payload");
-    // Raw payloads with bad content, compressed properly.
-    auto refused_raw = [&](std::vector<uint8_t> raw, uint32_t n, const char* what) {
-        std::vector<uint8_t> rec(kRecordHeaderSize + ZSTD_compressBound(raw.size()));
-        const size_t z = ZSTD_compress(rec.data() + kRecordHeaderSize, rec.size() - kRecordHeaderSize, raw.data(),
-                                       raw.size(), 1);
-        ASSERT_FALSE(ZSTD_isError(z));
-        rec.resize(kRecordHeaderSize + z);
-        std::copy(good.begin(), good.begin() + kRecordHeaderSize, rec.begin());
-        poke<uint32_t>(rec, 20, n);
-        poke<uint32_t>(rec, 24, uint32_t(raw.size()));
-        poke<uint32_t>(rec, 28, uint32_t(z));
-        reseal(rec);
-        vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
-        ASSERT_FALSE(r.ok()) << what;
-        if (std::string(what) == "index out of range") {
-            EXPECT_NE(r.error().find("palette index out of range"), std::string::npos) << r.error();
-        }
+    refused([](auto& r) { poke<uint16_t>(r, 4, 2); }, "unsupported format version 2");
+    refused([](auto& r) { r[6] = 9; }, "unknown record kind 9");
+    refused([](auto& r) { r[7] = 9; }, "unknown codec 9");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 0); }, "bad palette size 0");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 1); }, "bad palette size 1");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 40000); }, "bad palette size 40000");
+    refused([](auto& r) { poke<uint32_t>(r, 20, 3); }, "does not match the palette"); // Fewer entries than stored.
+    refused([](auto& r) { poke<uint32_t>(r, 24, 0xFFFFFFFFu); }, "raw size 4294967295 does not match the palette");
+    refused([](auto& r) { r[7] = 0; }, "raw payload size mismatch"); // Raw codec on compressed bytes.
+    refused([](auto& r) { r[6] = 0; }, "malformed uniform record");  // Uniform kind, palette payload.
+    refused([&](auto& r) { std::fill(r.begin() + kRecordHeaderSize, r.end(), uint8_t(rng())); }, "zstd: ");
+    // Unsealed: the header's own checks come before the checksum's.
+    std::vector<uint8_t> rec = good;
+    rec[0] ^= 1;
+    EXPECT_NE(refusal(rec).find("bad magic (not a vx chunk record)"), std::string::npos) << refusal(rec);
+    rec = good;
+    rec.push_back(0);
+    EXPECT_NE(refusal(rec).find("length mismatch: header says"), std::string::npos) << refusal(rec);
+    rec.assign(good.begin(), good.begin() + 12);
+    EXPECT_NE(refusal(rec).find("truncated to 12 bytes"), std::string::npos) << refusal(rec);
+    // Raw payloads with bad content, compressed properly, or payloads of the wrong size.
+    const auto sealed_raw = [&](std::span<const uint8_t> payload, uint32_t n, uint32_t raw_size) {
+        std::vector<uint8_t> out(kRecordHeaderSize + payload.size());
+        std::copy(good.begin(), good.begin() + kRecordHeaderSize, out.begin());
+        std::copy(payload.begin(), payload.end(), out.begin() + kRecordHeaderSize);
+        poke<uint32_t>(out, 20, n);
+        poke<uint32_t>(out, 24, raw_size);
+        poke<uint32_t>(out, 28, uint32_t(payload.size()));
+        reseal(out);
+        return out;
+    };
+    const auto zstd = [](const std::vector<uint8_t>& raw) {
+        std::vector<uint8_t> z(ZSTD_compressBound(raw.size()));
+        const size_t size = ZSTD_compress(z.data(), z.size(), raw.data(), raw.size(), 1);
+        EXPECT_FALSE(ZSTD_isError(size));
+        z.resize(ZSTD_isError(size) ? 0 : size);
+        return z;
+    };
+    auto refused_raw = [&](const std::vector<uint8_t>& raw, uint32_t n, const std::string& says) {
+        const std::string error = refusal(sealed_raw(zstd(raw), n, uint32_t(raw.size())));
+        EXPECT_NE(error.find(says), std::string::npos) << "expected \"" << says << "\", got: " << error;
     };
     std::vector<uint8_t> raw(2 * 2 + kChunkVolume, 0);
     raw[0] = 1;                                               // ids {1, 0}
     raw[4] = 1;                                               // index 0 -> entry 1, rest entry 0
     raw[100] = 2;                                             // entry 2 of 2
-    refused_raw(raw, 2, "index out of range");
+    refused_raw(raw, 2, "palette index out of range");
     raw[100] = 255;                                           // far out, counted by compares
-    refused_raw(raw, 2, "index out of range");
+    refused_raw(raw, 2, "palette index out of range");
     raw[100] = 0;
     {   // A palette of 12 entries (counted by histogram, not by compares), index 12 and 200 out.
         std::vector<uint8_t> wide(2 * 12 + kChunkVolume, 0);
@@ -247,16 +265,30 @@ TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
         }
         for (uint8_t bad : {uint8_t(12), uint8_t(200)}) {
             wide[2 * 12 + 500] = bad;
-            refused_raw(wide, 12, "index out of range");
+            refused_raw(wide, 12, "palette index out of range");
         }
     }
     raw[0] = 0;                                               // ids {0, 0}
-    refused_raw(raw, 2, "repeated id");
+    refused_raw(raw, 2, "palette repeats block id 0");
     raw[0] = 1;
     raw[4] = 0;                                               // entry 1 never used
-    refused_raw(raw, 2, "unused entry");
+    refused_raw(raw, 2, "unused palette entry 1");
+    raw[4] = 1;
+    // A payload that decompresses short of the size the palette implies.
+    const std::vector<uint8_t> half(raw.begin(), raw.begin() + std::ptrdiff_t(raw.size() / 2));
+    EXPECT_NE(refusal(sealed_raw(zstd(half), 2, uint32_t(raw.size())))
+                  .find("payload decompressed to 16386 bytes, expected 32772"),
+              std::string::npos)
+        << refusal(sealed_raw(zstd(half), 2, uint32_t(raw.size())));
+    // A payload larger than zstd's bound for that size: refused before decompressing.
+    const std::vector<uint8_t> bloated(ZSTD_compressBound(raw.size()) + 1, 7);
+    EXPECT_NE(refusal(sealed_raw(bloated, 2, uint32_t(raw.size()))).find("compressed payload larger than the bound"),
+              std::string::npos);
     raw.push_back(0);
-    refused_raw(raw, 2, "raw size off by one");
+    refused_raw(raw, 2, "raw size 32773 does not match the palette");
+    // The sealing above is sound: the good record's fields rebuilt the same way decode.
+    std::vector<uint8_t> good_raw(raw.begin(), raw.end() - 1);
+    EXPECT_TRUE(codec.decode(sealed_raw(zstd(good_raw), 2, uint32_t(good_raw.size())), {0, 0, 0}).ok());
 }
 
 TEST(ChunkRecordFaults, RandomGarbageNeverCrashes) {
