@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "tests/vdb/vdb_openvdb_writer.h"
+#include "tests/vdb/vdb_test_files.h"
 #include "tests/vdb/vdb_test_util.h"
 #include "world/vdb/vdb_overlay_store.h"
 #include "world/vdb/vdb_stream.h"
@@ -526,6 +527,62 @@ TEST(VdbStream, DamagedFilesGiveOneLine) {
     auto r = VdbStreamReader::open(junk);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().find("not an OpenVDB file"), std::string::npos) << r.error();
+}
+
+// Files that are VDB but not vx worlds the streaming reader can read: each is refused with a line
+// naming why (a game opening the wrong file learns what is wrong with it), never read as
+// something else.
+TEST(VdbStream, FilesThatAreNotReadableWorldsAreRefusedNamingWhy) {
+    const auto refusal = [](const std::string& path) {
+        auto r = VdbStreamReader::open(path);
+        return r ? std::string("(opened)") : r.error();
+    };
+    using test::TestFile;
+    EXPECT_NE(refusal(test::test_file(TestFile::FogSphere)).find("no grid named 'blocks'"), std::string::npos);
+    EXPECT_NE(refusal(test::test_file(TestFile::FloatBlocks)).find("grid 'blocks' is a Tree_float_5_4_3, not "
+                                                                     "Tree_int32_5_4_3"),
+              std::string::npos)
+        << refusal(test::test_file(TestFile::FloatBlocks));
+    EXPECT_NE(refusal(test::test_file(TestFile::InstancedBlocks)).find("grid 'blocks' is an instance of another grid"),
+              std::string::npos)
+        << refusal(test::test_file(TestFile::InstancedBlocks));
+
+    // A world of ours with one field changed at a time (the layout as MergedExportFallsBackMidStream).
+    TempDir dir;
+    world::World w = varied_world(9);
+    const std::string good = dir.file("good.vdb"), bad = dir.file("bad.vdb");
+    ASSERT_TRUE(export_vdb(w, good));
+    const std::string bytes = read_bytes(good);
+    ASSERT_TRUE(VdbStreamReader::open(good)) << "the unchanged file must open";
+    const auto patched = [&](size_t at, const void* value, size_t size) {
+        std::string b = bytes;
+        std::memcpy(b.data() + at, value, size);
+        write_bytes(bad, b);
+        return refusal(bad);
+    };
+    const uint32_t future = 999;
+    EXPECT_NE(patched(8, &future, 4).find("file format version 999 (the streaming reader reads 222..224)"),
+              std::string::npos)
+        << patched(8, &future, 4);
+    const uint8_t no_offsets = 0;
+    EXPECT_NE(patched(20, &no_offsets, 1).find("the file has no grid offsets"), std::string::npos)
+        << patched(20, &no_offsets, 1);
+    int64_t grid_pos = 0;
+    std::memcpy(&grid_pos, bytes.data() + 57 + 31 + 4 + 34, 8);
+    ASSERT_GT(grid_pos, 0);
+    const uint32_t unknown_compression = 0x8;
+    EXPECT_NE(patched(size_t(grid_pos), &unknown_compression, 4).find("unknown compression flags 8"),
+              std::string::npos)
+        << patched(size_t(grid_pos), &unknown_compression, 4);
+    // vx_format_version: its key, the type "int32" (length-prefixed), the size 4, the value.
+    const std::string key = "vx_format_version";
+    const size_t at = bytes.find(key);
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(bytes.substr(at + key.size() + 4, 5), "int32");
+    const int32_t newer = 2;
+    EXPECT_NE(patched(at + key.size() + 4 + 5 + 4, &newer, 4).find("vx-world format version 2, newer than 1"),
+              std::string::npos)
+        << patched(at + key.size() + 4 + 5 + 4, &newer, 4);
 }
 
 } // namespace

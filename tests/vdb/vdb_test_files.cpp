@@ -120,6 +120,25 @@ const std::string& test_file(TestFile which) {
         std::ofstream(path, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
         return written[which] = path;
     }
+    case TestFile::FloatBlocks: {
+        path = (folder.path / "float_blocks.vdb").string();
+        openvdb::FloatGrid::Ptr blocks = openvdb::FloatGrid::create(0.f);
+        blocks->setName("blocks");
+        blocks->denseFill(openvdb::CoordBBox({0, 0, 0}, {1, 1, 1}), 3.f, true);
+        grids.push_back(blocks);
+        break;
+    }
+    case TestFile::InstancedBlocks: {
+        path = (folder.path / "instanced_blocks.vdb").string();
+        openvdb::Int32Grid::Ptr terrain = openvdb::Int32Grid::create(0);
+        terrain->setName("terrain");
+        terrain->denseFill(openvdb::CoordBBox({0, 0, 0}, {1, 1, 1}), 3, true);
+        openvdb::Int32Grid::Ptr blocks = openvdb::Int32Grid::create(terrain->treePtr());
+        blocks->setName("blocks");
+        grids.push_back(terrain);
+        grids.push_back(blocks);
+        break;
+    }
     }
     if (!write(path, grids))
         path.clear();

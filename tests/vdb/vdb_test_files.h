@@ -18,6 +18,9 @@ enum class TestFile {
     ColourField,    // "Cd", a vec3s grid (not a scalar: import refuses it), 4³ active voxels.
     EmptyFog,       // "density", a fog volume with no active voxel (import refuses: empty).
     Truncated,      // FogSphere cut to half its bytes (the reader fails: "cannot read").
+    FloatBlocks,    // A float grid named "blocks" (a vx world's name, not its value type), 2³ voxels.
+    InstancedBlocks, // Int32 grids "terrain" and "blocks" sharing one tree: OpenVDB writes "blocks"
+                     // as an instance of "terrain" (no tree of its own).
 };
 
 // Absolute path of the file, written on first use; empty (with a test failure) if writing failed.

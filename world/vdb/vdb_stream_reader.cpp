@@ -219,6 +219,12 @@ Status VdbStreamReader::State::open_header() {
         if (!topo.str(name, kMaxName) || !topo.str(type, kMaxName) || !topo.str(parent, kMaxName) ||
             !topo.get(pos, sizeof pos))
             return damaged();
+        // What the descriptor says of "blocks" comes first: an instance's offsets are not a
+        // tree's (OpenVDB writes no tree for it), and "damaged" would misname a sound file.
+        if (name == "blocks" && type != kGridType)
+            return fail("grid 'blocks' is a " + type.substr(0, 64) + ", not " + kGridType);
+        if (name == "blocks" && !parent.empty())
+            return fail("grid 'blocks' is an instance of another grid");
         if (!(pos[0] >= topo.pos && pos[0] <= pos[1] && pos[1] <= pos[2] && pos[2] <= topo.end))
             return damaged();
         if (name != "blocks") {
@@ -226,10 +232,6 @@ Status VdbStreamReader::State::open_header() {
                 return damaged();
             continue;
         }
-        if (type != kGridType)
-            return fail("grid 'blocks' is a " + type.substr(0, 64) + ", not " + kGridType);
-        if (!parent.empty())
-            return fail("grid 'blocks' is an instance of another grid");
         block_pos = pos[1];
         end_pos = pos[2];
         if (!topo.seek(pos[0]))
