@@ -203,6 +203,29 @@ Status rescale_openvdb(const std::string& in, const std::string& out, double vox
     return {};
 }
 
+Status prepend_instanced_grids_openvdb(const std::string& in, const std::string& out) {
+    try {
+        openvdb::initialize();
+        openvdb::io::File file(in);
+        file.open(false);
+        openvdb::GridBase::Ptr blocks = file.readGrid(kGridName);
+        openvdb::MetaMap::Ptr file_meta = file.getMetadata();
+        file.close();
+        openvdb::Int32Grid::Ptr terrain = openvdb::Int32Grid::create(0);
+        terrain->setName("terrain");
+        terrain->denseFill(openvdb::CoordBBox({0, 0, 0}, {9, 9, 9}), 4, true);
+        openvdb::Int32Grid::Ptr copy = openvdb::Int32Grid::create(terrain->treePtr()); // Shares the tree.
+        copy->setName("terrain_copy");
+        openvdb::io::File o(out);
+        o.setCompression(openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK); // Not Blosc.
+        o.write(openvdb::GridCPtrVec{terrain, copy, blocks}, *file_meta);
+        o.close();
+    } catch (const std::exception& e) {
+        return Error{std::string("OpenVDB: ") + e.what()};
+    }
+    return {};
+}
+
 std::map<std::string, std::string> grid_meta_openvdb(const std::string& path) {
     std::map<std::string, std::string> out;
     try {

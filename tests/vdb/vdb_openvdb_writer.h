@@ -24,6 +24,11 @@ Status write_root_tile_openvdb(const std::string& path);
 // per voxel (the blocks stay where their index coordinates say).
 Status rescale_openvdb(const std::string& in, const std::string& out, double voxel_size);
 
+// The "blocks" grid of `in` written to `out` after two others: "terrain" (an int32 tree) and
+// "terrain_copy", which shares its tree, so OpenVDB writes it as an instance (no tree, block
+// offset 0).
+Status prepend_instanced_grids_openvdb(const std::string& in, const std::string& out);
+
 // The "blocks" grid's metadata read by OpenVDB, as key -> Metadata::str(); empty on failure.
 std::map<std::string, std::string> grid_meta_openvdb(const std::string& path);
 

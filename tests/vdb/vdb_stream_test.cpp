@@ -529,6 +529,21 @@ TEST(VdbStream, DamagedFilesGiveOneLine) {
     EXPECT_NE(r.error().find("not an OpenVDB file"), std::string::npos) << r.error();
 }
 
+// Other grids before "blocks" are skipped, instances among them (OpenVDB writes a grid sharing an
+// earlier grid's tree with no tree and a block offset of 0); the reader called such a sound file
+// damaged.
+TEST(VdbStream, InstancedGridsBeforeTheBlocksAreSkipped) {
+    TempDir dir;
+    world::World w = varied_world(10);
+    const std::string ours = dir.file("ours.vdb"), mixed = dir.file("mixed.vdb");
+    ASSERT_TRUE(export_vdb(w, ours));
+    Status written = test::prepend_instanced_grids_openvdb(ours, mixed);
+    ASSERT_TRUE(written) << written.error();
+    Result<world::World> back = stream_read(mixed);
+    ASSERT_TRUE(back) << back.error();
+    EXPECT_TRUE(same_blocks(w, *back));
+}
+
 // Files that are VDB but not vx worlds the streaming reader can read: each is refused with a line
 // naming why (a game opening the wrong file learns what is wrong with it), never read as
 // something else.

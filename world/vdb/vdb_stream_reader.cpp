@@ -225,7 +225,9 @@ Status VdbStreamReader::State::open_header() {
             return fail("grid 'blocks' is a " + type.substr(0, 64) + ", not " + kGridType);
         if (name == "blocks" && !parent.empty())
             return fail("grid 'blocks' is an instance of another grid");
-        if (!(pos[0] >= topo.pos && pos[0] <= pos[1] && pos[1] <= pos[2] && pos[2] <= topo.end))
+        // An instance (of a grid written before it) has no tree: OpenVDB writes its block offset 0.
+        const bool tree_ok = parent.empty() ? pos[0] <= pos[1] && pos[1] <= pos[2] : pos[1] == 0;
+        if (!(pos[0] >= topo.pos && pos[0] <= pos[2] && pos[2] <= topo.end && tree_ok))
             return damaged();
         if (name != "blocks") {
             if (!topo.seek(pos[2]))
