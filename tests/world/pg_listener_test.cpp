@@ -59,16 +59,28 @@ std::unique_ptr<pg::ChangeListener> heard_listener(PgCluster& cluster, std::stri
     return listener;
 }
 
+// Each test: the test program's cluster (skipped, saying why, without one) and the log's lines
+// from the start of the test on.
+class PgListener : public ::testing::Test {
+protected:
+    void SetUp() override {
+        cluster = vx::world::test::cluster_or_skip();
+        if (!cluster)
+            GTEST_SKIP() << "no PostgreSQL cluster (see the line above)";
+    }
+    PgCluster* cluster = nullptr;
+    LogCapture log;
+    std::string heard_uri; // heard_listener's database.
+};
+
 } // namespace
 
 // The listener's first backend is frozen (SIGSTOP) between its connect and its LISTEN: the LISTEN
 // gets no answer within the connect timeout (2 s). The listener logs it, drops that connection,
 // reconnects (listen_epoch 1: the store would then catch up) and hears other processes. It used
 // to give up on that LISTEN silently.
-TEST(PgListener, AListenerWhoseListenGetsNoAnswerReportsItAndReconnects) {
-    VX_NEED_PG();
+TEST_F(PgListener, AListenerWhoseListenGetsNoAnswerReportsItAndReconnects) {
     const std::string uri = cluster->new_database();
-    LogCapture log;
     std::atomic<int> frozen{0};
     const auto t0 = Clock::now();
     {
@@ -93,10 +105,8 @@ TEST(PgListener, AListenerWhoseListenGetsNoAnswerReportsItAndReconnects) {
 // connect and its LISTEN, and gone before the LISTEN is sent: the server's answer is an error,
 // not silence. The listener logs it (sent and refused, or refused at the send: which one is the
 // kernel's timing), never reports itself listening on that connection, reconnects and hears.
-TEST(PgListener, AListenerWhoseListenIsRefusedReportsItAndReconnects) {
-    VX_NEED_PG();
+TEST_F(PgListener, AListenerWhoseListenIsRefusedReportsItAndReconnects) {
     const std::string uri = cluster->new_database();
-    LogCapture log;
     std::atomic<int> terminated{0};
     {
         pg::ChangeListener listener(uri, 5, 1024, [&](int pid) {
@@ -124,8 +134,7 @@ TEST(PgListener, AListenerWhoseListenIsRefusedReportsItAndReconnects) {
 // Destroyed while its LISTEN waits on a frozen server, the listener stops at once; it used to
 // wait out the LISTEN's deadline (the connect timeout, here 10 s; a PgStore's destructor with it).
 // It waits in 50 ms slices: 3 s is loose for a loaded machine and far under the deadline.
-TEST(PgListener, AListenerStopsPromptlyDuringAnUnansweredListen) {
-    VX_NEED_PG();
+TEST_F(PgListener, AListenerStopsPromptlyDuringAnUnansweredListen) {
     const std::string uri = cluster->new_database();
     std::atomic<int> frozen{0};
     auto listener = std::make_unique<pg::ChangeListener>(uri, 10, 1024, [&](int pid) {
@@ -147,11 +156,8 @@ TEST(PgListener, AListenerStopsPromptlyDuringAnUnansweredListen) {
 // may have missed) and hears other processes. It used to reconnect without a word. The
 // reconnect's first poll is interrupted (EINTR): that attempt goes on, no failure logged (it
 // used to be abandoned, waiting out a back-off).
-TEST(PgListener, AFailedPollIsReportedAndTheListenerReconnects) {
-    VX_NEED_PG();
-    LogCapture log;
-    std::string uri;
-    const auto heard = heard_listener(*cluster, uri);
+TEST_F(PgListener, AFailedPollIsReportedAndTheListenerReconnects) {
+    const auto heard = heard_listener(*cluster, heard_uri);
     ASSERT_TRUE(heard);
     pg::ChangeListener& listener = *heard;
     ASSERT_EQ(listener.listen_epoch(), 1u);
@@ -160,7 +166,7 @@ TEST(PgListener, AFailedPollIsReportedAndTheListenerReconnects) {
     EXPECT_TRUE(wait_until([&] { return listener.listen_epoch() == 2 && listener.listening(); }, 10.0));
     EXPECT_EQ(log.count("cannot wait on its connection: poll: " + std::string(std::strerror(EIO))), 1u);
     EXPECT_EQ(log.count("cannot connect"), 0u);
-    EXPECT_TRUE(hears(listener, uri, {3, 2, 1}));
+    EXPECT_TRUE(hears(listener, heard_uri, {3, 2, 1}));
 }
 
 // A listener that cannot connect (its database does not exist yet) says so once, naming the
@@ -168,9 +174,7 @@ TEST(PgListener, AFailedPollIsReportedAndTheListenerReconnects) {
 // there it listens. A failed attempt after it was up again is reported again: poll() failing
 // (injected) first under the listening loop, then while reconnecting. Failed connects used to
 // be silent.
-TEST(PgListener, AListenerThatCannotConnectSaysSoOncePerRunOfFailures) {
-    VX_NEED_PG();
-    LogCapture log;
+TEST_F(PgListener, AListenerThatCannotConnectSaysSoOncePerRunOfFailures) {
     const std::string name = cluster->next_database_name();
     pg::ChangeListener listener(cluster->uri(name), 2, 1024);
     std::this_thread::sleep_for(std::chrono::milliseconds(1200));
@@ -189,17 +193,14 @@ TEST(PgListener, AListenerThatCannotConnectSaysSoOncePerRunOfFailures) {
 
 // A poll() interrupted by a signal (EINTR) is no failure: the listener keeps its connection (no
 // reconnect, no missed notification, nothing logged). It used to drop it and reconnect.
-TEST(PgListener, AnInterruptedPollKeepsTheListenersConnection) {
-    VX_NEED_PG();
-    LogCapture log;
-    std::string uri;
-    const auto heard = heard_listener(*cluster, uri);
+TEST_F(PgListener, AnInterruptedPollKeepsTheListenersConnection) {
+    const auto heard = heard_listener(*cluster, heard_uri);
     ASSERT_TRUE(heard);
     pg::ChangeListener& listener = *heard;
     listener.fail_next_poll(EINTR);
     ASSERT_TRUE(wait_until([&] { return !listener.listening() || listener.listen_epoch() != 1; }, 0.5) == false)
         << "the listener dropped its connection";
-    EXPECT_TRUE(hears(listener, uri, {3, 2, 1}));
+    EXPECT_TRUE(hears(listener, heard_uri, {3, 2, 1}));
     EXPECT_EQ(listener.listen_epoch(), 1u);
     EXPECT_EQ(log.count("reconnecting"), 0u);
 }
