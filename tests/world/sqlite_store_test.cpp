@@ -81,7 +81,10 @@ TEST(SqliteStoreErrors, BadPathsAndFilesGiveClearErrors) {
 
     info.path = dir.file("empty.db"); // A new store opened read-only is refused, not created.
     info.read_only = true;
-    open_error(info);
+    const std::string refused = open_error(info);
+    EXPECT_NE(refused.find("cannot open"), std::string::npos) << refused;
+    EXPECT_NE(refused.find("empty.db"), std::string::npos) << refused;
+    EXPECT_FALSE(std::filesystem::exists(info.path)) << "a read-only open created the file";
 }
 
 // Opens the store in a forked child and returns "opened" or the error. Root ignores file
