@@ -56,6 +56,15 @@ int GpuAllocator::new_block(uint32_t pool, uint32_t memory_type, VkDeviceSize si
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};
     ai.allocationSize = size;
     ai.memoryTypeIndex = memory_type;
+    // More than the heap holds is invalid usage (VUID-vkAllocateMemory-pAllocateInfo-01713), not
+    // a failure the driver reports: refused here. A discrete GPU's maxBufferSize (1 TiB on an
+    // H100) is far past its memory.
+    const VkDeviceSize heap = m_props.memoryHeaps[m_props.memoryTypes[memory_type].heapIndex].size;
+    if (size > heap) {
+        VX_LOG_ERROR("GPU allocator: %llu bytes is more than the memory heap holds (%llu bytes)",
+                     (unsigned long long)size, (unsigned long long)heap);
+        return -1;
+    }
     Block b;
     if (vkAllocateMemory(m_device, &ai, nullptr, &b.memory) != VK_SUCCESS) {
         VX_LOG_ERROR("GPU allocator: vkAllocateMemory of %llu bytes failed", (unsigned long long)size);

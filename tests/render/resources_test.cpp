@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstring>
 #include <numeric>
 
@@ -8,6 +9,34 @@ namespace vx::render {
 namespace {
 
 using ResourcesTest = test::RenderTest;
+
+VkDeviceSize largest_heap(const Context& ctx) {
+    VkPhysicalDeviceMemoryProperties props;
+    vkGetPhysicalDeviceMemoryProperties(ctx.physical_device(), &props);
+    VkDeviceSize largest = 0;
+    for (uint32_t i = 0; i < props.memoryHeapCount; ++i)
+        largest = std::max(largest, props.memoryHeaps[i].size);
+    return largest;
+}
+
+// A request for more than any heap holds fails in the allocator, before vkAllocateMemory (asking
+// for more than a heap's size is invalid usage, VUID-vkAllocateMemory-pAllocateInfo-01713: the
+// validation layer flagged it on an H100, whose maxBufferSize, 1 TiB, lets such a buffer
+// through). The allocator still serves the next request.
+TEST_F(ResourcesTest, AnAllocationLargerThanTheHeapFailsWithoutAskingTheDriver) {
+    Buffer probe = Buffer::create(*m_ctx, {64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, 0, "probe"});
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(m_ctx->device(), probe.handle(), &req);
+    GpuAllocator alloc(m_ctx->physical_device(), m_ctx->device(), 1 << 20);
+    VkMemoryRequirements huge = req;
+    huge.size = largest_heap(*m_ctx) + 1;
+    Allocation a = alloc.allocate(huge, MemoryUse::Device, false);
+    EXPECT_FALSE(a.valid());
+    Allocation small = alloc.allocate(req, MemoryUse::Device, false);
+    EXPECT_TRUE(small.valid());
+    alloc.free(small);
+    EXPECT_EQ(m_ctx->validation_errors(), 0u);
+}
 
 TEST_F(ResourcesTest, AllocatorHonoursAlignmentAndNeverOverlaps) {
     Buffer probe = Buffer::create(*m_ctx, {64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, 0, "probe"});
@@ -69,10 +98,14 @@ TEST_F(ResourcesTest, UploadAndReadBackRoundTrip) {
 // is still made.
 TEST_F(ResourcesTest, BuffersTheDeviceCannotMakeAreEmptyNotAborts) {
     ASSERT_GT(m_ctx->max_buffer_size(), 0u);
-    const VkDeviceSize sizes[] = {m_ctx->max_buffer_size() + 1, VkDeviceSize(5) << 30, VkDeviceSize(1) << 40};
+    // The largest heap + 1: refused before vkAllocateMemory, which must not be asked for more
+    // than a heap holds (an H100: maxBufferSize 1 TiB, 80 GiB of memory; the validation layer
+    // flagged the 1 TiB request there).
+    const VkDeviceSize sizes[] = {m_ctx->max_buffer_size() + 1, VkDeviceSize(5) << 30, VkDeviceSize(1) << 40,
+                                  largest_heap(*m_ctx) + 1};
     for (VkDeviceSize size : sizes) {
         Buffer b = Buffer::create(*m_ctx, {size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, 0, "too large"});
-        if (size > m_ctx->max_buffer_size()) {
+        if (size > m_ctx->max_buffer_size() || size > largest_heap(*m_ctx)) {
             EXPECT_FALSE(b.valid()) << size;
         }
     }
