@@ -2,6 +2,8 @@
 // it gives, that a matte scene keeps its image, and that glazed blocks converge to the same image
 // with fewer rays.
 #include <cstdio>
+#include <cstdlib>
+#include <initializer_list>
 #include <limits>
 #include <set>
 
@@ -50,6 +52,15 @@ std::set<int> levels(const RenderImage& img) {
     return out;
 }
 
+// `v` is one of `levels` to within one 8-bit step: a half (127.5) rounds to 127 on an NVIDIA
+// driver and to 128 on lavapipe.
+bool near_one_of(int v, std::initializer_list<int> levels) {
+    for (int l : levels)
+        if (std::abs(v - l) <= 1)
+            return true;
+    return false;
+}
+
 // A first hit's count is ceil(shadow_samples x (1 - reflectivity)): 4 samples on a glazed floor
 // (reflectivity 0.25) become 3, so the visible fractions are thirds; on stone they stay quarters.
 TEST_F(RendererTest, SamplesByWeightCountAFirstHitsDiffuseShare) {
@@ -68,17 +79,17 @@ TEST_F(RendererTest, SamplesByWeightCountAFirstHitsDiffuseShare) {
     const std::set<int> glazed = fractions("glazed");
     EXPECT_TRUE(glazed.count(85) || glazed.count(170)); // A penumbra: 1/3 or 2/3 of 3 samples.
     for (int v : glazed) // The sky (no hit) is the sky colour's red channel, not a fraction.
-        EXPECT_TRUE(v == 0 || v == 85 || v == 170 || v == 255 || v == 140) << v;
+        EXPECT_TRUE(near_one_of(v, {0, 85, 170, 255, 140})) << v;
     const std::set<int> stone = fractions("stone");
-    EXPECT_TRUE(stone.count(64) || stone.count(128) || stone.count(191));
+    EXPECT_TRUE(stone.count(64) || stone.count(127) || stone.count(128) || stone.count(191));
     for (int v : stone)
-        EXPECT_TRUE(v == 0 || v == 64 || v == 128 || v == 191 || v == 255 || v == 140) << v;
+        EXPECT_TRUE(near_one_of(v, {0, 64, 128, 191, 255, 140})) << v;
     // weight_exponent 0.8: ceil(4 x 0.75^0.8) = ceil(3.18) = 4 samples on the glazed floor: quarters.
     s.weight_exponent = 0.8f;
     const std::set<int> glazed_08 = fractions("glazed");
-    EXPECT_TRUE(glazed_08.count(64) || glazed_08.count(128) || glazed_08.count(191));
+    EXPECT_TRUE(glazed_08.count(64) || glazed_08.count(127) || glazed_08.count(128) || glazed_08.count(191));
     for (int v : glazed_08)
-        EXPECT_TRUE(v == 0 || v == 64 || v == 128 || v == 191 || v == 255 || v == 140) << v;
+        EXPECT_TRUE(near_one_of(v, {0, 64, 128, 191, 255, 140})) << v;
 }
 
 // An exponent outside (0, 1] reaches the renderer only past the facade's and the CLI's checks
