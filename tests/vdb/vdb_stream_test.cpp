@@ -444,6 +444,15 @@ TEST(VdbStream, MergedExportFallsBackToOpenVdbForFilesTheReaderRefuses) {
     EXPECT_TRUE(same_blocks(e.expect, *back));
 }
 
+// Offset k of the "blocks" grid in a file of our writer (0: the grid, 1: its leaf values, 2: its
+// end). Its layout: header 57 bytes, file metadata 31, grid count 4, descriptor 34, then the three
+// offsets (int64 each).
+int64_t grid_offset(const std::string& bytes, int k) {
+    int64_t at = 0;
+    std::memcpy(&at, bytes.data() + 57 + 31 + 4 + 34 + 8 * k, 8);
+    return at;
+}
+
 // A file OpenVDB reads but the streaming reader finds damaged only inside its leaf values (a
 // leaf's copy of its mask differs from the topology's: OpenVDB, seeking, never reads that copy):
 // the export starts streaming, then falls back and still writes the edited world.
@@ -453,10 +462,7 @@ TEST(VdbStream, MergedExportFallsBackMidStream) {
     const std::string vdb = dir.file("odd.vdb");
     ASSERT_TRUE(export_vdb(w, vdb));
     std::string bytes = read_bytes(vdb);
-    // Our writer's layout: header 57 bytes, file metadata 31, grid count 4, descriptor 34, then
-    // the grid, tree-values and end offsets (int64 each): the leaf values start at the second.
-    int64_t block_pos = 0;
-    std::memcpy(&block_pos, bytes.data() + 57 + 31 + 4 + 34 + 8, 8);
+    const int64_t block_pos = grid_offset(bytes, 1); // Where the leaf values start.
     ASSERT_GT(block_pos, 0);
     ASSERT_LT(size_t(block_pos) + 64, bytes.size());
     bytes[size_t(block_pos) + 63] ^= char(0x80); // The first leaf's last voxel, in the copy only.
@@ -548,56 +554,46 @@ TEST(VdbStream, InstancedGridsBeforeTheBlocksAreSkipped) {
 // naming why (a game opening the wrong file learns what is wrong with it), never read as
 // something else.
 TEST(VdbStream, FilesThatAreNotReadableWorldsAreRefusedNamingWhy) {
-    const auto refusal = [](const std::string& path) {
+    // The file at `path` is refused with a message holding `says`.
+    const auto expect_refused = [](const std::string& path, const std::string& says) {
         auto r = VdbStreamReader::open(path);
-        return r ? std::string("(opened)") : r.error();
+        const std::string error = r ? std::string("(opened)") : r.error();
+        EXPECT_NE(error.find(says), std::string::npos) << "expected \"" << says << "\", got: " << error;
     };
     using test::TestFile;
-    EXPECT_NE(refusal(test::test_file(TestFile::FogSphere)).find("no grid named 'blocks'"), std::string::npos);
-    EXPECT_NE(refusal(test::test_file(TestFile::FloatBlocks)).find("grid 'blocks' is a Tree_float_5_4_3, not "
-                                                                     "Tree_int32_5_4_3"),
-              std::string::npos)
-        << refusal(test::test_file(TestFile::FloatBlocks));
-    EXPECT_NE(refusal(test::test_file(TestFile::InstancedBlocks)).find("grid 'blocks' is an instance of another grid"),
-              std::string::npos)
-        << refusal(test::test_file(TestFile::InstancedBlocks));
+    expect_refused(test::test_file(TestFile::FogSphere), "no grid named 'blocks'");
+    expect_refused(test::test_file(TestFile::FloatBlocks), "grid 'blocks' is a Tree_float_5_4_3, not Tree_int32_5_4_3");
+    expect_refused(test::test_file(TestFile::InstancedBlocks), "grid 'blocks' is an instance of another grid");
 
-    // A world of ours with one field changed at a time (the layout as MergedExportFallsBackMidStream).
+    // A world of ours with one field changed at a time (grid_offset's layout).
     TempDir dir;
     world::World w = varied_world(9);
     const std::string good = dir.file("good.vdb"), bad = dir.file("bad.vdb");
     ASSERT_TRUE(export_vdb(w, good));
     const std::string bytes = read_bytes(good);
     ASSERT_TRUE(VdbStreamReader::open(good)) << "the unchanged file must open";
+    // `bad`: the good file with `size` bytes at `at` replaced by `value`.
     const auto patched = [&](size_t at, const void* value, size_t size) {
         std::string b = bytes;
         std::memcpy(b.data() + at, value, size);
         write_bytes(bad, b);
-        return refusal(bad);
+        return bad;
     };
     const uint32_t future = 999;
-    EXPECT_NE(patched(8, &future, 4).find("file format version 999 (the streaming reader reads 222..224)"),
-              std::string::npos)
-        << patched(8, &future, 4);
+    expect_refused(patched(8, &future, 4), "file format version 999 (the streaming reader reads 222..224)");
     const uint8_t no_offsets = 0;
-    EXPECT_NE(patched(20, &no_offsets, 1).find("the file has no grid offsets"), std::string::npos)
-        << patched(20, &no_offsets, 1);
-    int64_t grid_pos = 0;
-    std::memcpy(&grid_pos, bytes.data() + 57 + 31 + 4 + 34, 8);
+    expect_refused(patched(20, &no_offsets, 1), "the file has no grid offsets");
+    const int64_t grid_pos = grid_offset(bytes, 0);
     ASSERT_GT(grid_pos, 0);
     const uint32_t unknown_compression = 0x8;
-    EXPECT_NE(patched(size_t(grid_pos), &unknown_compression, 4).find("unknown compression flags 8"),
-              std::string::npos)
-        << patched(size_t(grid_pos), &unknown_compression, 4);
+    expect_refused(patched(size_t(grid_pos), &unknown_compression, 4), "unknown compression flags 8");
     // vx_format_version: its key, the type "int32" (length-prefixed), the size 4, the value.
     const std::string key = "vx_format_version";
     const size_t at = bytes.find(key);
     ASSERT_NE(at, std::string::npos);
     ASSERT_EQ(bytes.substr(at + key.size() + 4, 5), "int32");
     const int32_t newer = 2;
-    EXPECT_NE(patched(at + key.size() + 4 + 5 + 4, &newer, 4).find("vx-world format version 2, newer than 1"),
-              std::string::npos)
-        << patched(at + key.size() + 4 + 5 + 4, &newer, 4);
+    expect_refused(patched(at + key.size() + 4 + 5 + 4, &newer, 4), "vx-world format version 2, newer than 1");
 }
 
 } // namespace

@@ -196,16 +196,17 @@ TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
     RecordCodec codec;
     std::vector<uint8_t> good;
     codec.encode({0, 0, 0}, random_chunk(rng, 0.5, 3), good); // Palette of 4: air + 3.
-    const auto refusal = [&](const std::vector<uint8_t>& rec) {
+    // `rec` is refused with a message holding `says`.
+    const auto expect_refused = [&](const std::vector<uint8_t>& rec, const std::string& says) {
         vx::Result<Chunk> r = codec.decode(rec, {0, 0, 0});
-        return r.ok() ? std::string("(decoded)") : r.error();
+        const std::string error = r.ok() ? std::string("(decoded)") : r.error();
+        EXPECT_NE(error.find(says), std::string::npos) << "expected \"" << says << "\", got: " << error;
     };
     auto refused = [&](auto edit, const std::string& says) {
         std::vector<uint8_t> rec = good;
         edit(rec);
         reseal(rec);
-        const std::string error = refusal(rec);
-        EXPECT_NE(error.find(says), std::string::npos) << "expected \"" << says << "\", got: " << error;
+        expect_refused(rec, says);
     };
     refused([](auto& r) { poke<uint16_t>(r, 4, 2); }, "unsupported format version 2");
     refused([](auto& r) { r[6] = 9; }, "unknown record kind 9");
@@ -221,12 +222,12 @@ TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
     // Unsealed: the header's own checks come before the checksum's.
     std::vector<uint8_t> rec = good;
     rec[0] ^= 1;
-    EXPECT_NE(refusal(rec).find("bad magic (not a vx chunk record)"), std::string::npos) << refusal(rec);
+    expect_refused(rec, "bad magic (not a vx chunk record)");
     rec = good;
     rec.push_back(0);
-    EXPECT_NE(refusal(rec).find("length mismatch: header says"), std::string::npos) << refusal(rec);
+    expect_refused(rec, "length mismatch: header says");
     rec.assign(good.begin(), good.begin() + 12);
-    EXPECT_NE(refusal(rec).find("truncated to 12 bytes"), std::string::npos) << refusal(rec);
+    expect_refused(rec, "truncated to 12 bytes");
     // Raw payloads with bad content, compressed properly, or payloads of the wrong size.
     const auto sealed_raw = [&](std::span<const uint8_t> payload, uint32_t n, uint32_t raw_size) {
         std::vector<uint8_t> out(kRecordHeaderSize + payload.size());
@@ -246,8 +247,7 @@ TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
         return z;
     };
     auto refused_raw = [&](const std::vector<uint8_t>& raw, uint32_t n, const std::string& says) {
-        const std::string error = refusal(sealed_raw(zstd(raw), n, uint32_t(raw.size())));
-        EXPECT_NE(error.find(says), std::string::npos) << "expected \"" << says << "\", got: " << error;
+        expect_refused(sealed_raw(zstd(raw), n, uint32_t(raw.size())), says);
     };
     std::vector<uint8_t> raw(2 * 2 + kChunkVolume, 0);
     raw[0] = 1;                                               // ids {1, 0}
@@ -276,14 +276,11 @@ TEST(ChunkRecordFaults, HostileFieldsBehindAValidChecksumAreRefused) {
     raw[4] = 1;
     // A payload that decompresses short of the size the palette implies.
     const std::vector<uint8_t> half(raw.begin(), raw.begin() + std::ptrdiff_t(raw.size() / 2));
-    EXPECT_NE(refusal(sealed_raw(zstd(half), 2, uint32_t(raw.size())))
-                  .find("payload decompressed to 16386 bytes, expected 32772"),
-              std::string::npos)
-        << refusal(sealed_raw(zstd(half), 2, uint32_t(raw.size())));
+    expect_refused(sealed_raw(zstd(half), 2, uint32_t(raw.size())),
+                   "payload decompressed to 16386 bytes, expected 32772");
     // A payload larger than zstd's bound for that size: refused before decompressing.
     const std::vector<uint8_t> bloated(ZSTD_compressBound(raw.size()) + 1, 7);
-    EXPECT_NE(refusal(sealed_raw(bloated, 2, uint32_t(raw.size()))).find("compressed payload larger than the bound"),
-              std::string::npos);
+    expect_refused(sealed_raw(bloated, 2, uint32_t(raw.size())), "compressed payload larger than the bound");
     raw.push_back(0);
     refused_raw(raw, 2, "raw size 32773 does not match the palette");
     // The sealing above is sound: the good record's fields rebuilt the same way decode.
