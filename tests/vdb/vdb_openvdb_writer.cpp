@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -143,6 +144,31 @@ Result<openvdb::Int32Grid::Ptr> build_grid(const world::World& w, const world::B
     return grid;
 }
 
+// Reads the "blocks" grid and the file metadata of `in` with OpenVDB and writes the grids
+// `grids(blocks)` makes to `out` with that metadata (`compression`: OpenVDB's flags; none: its
+// default).
+template <class MakeGrids>
+Status rewrite_blocks_openvdb(const std::string& in, const std::string& out, std::optional<uint32_t> compression,
+                              MakeGrids grids) {
+    try {
+        openvdb::initialize();
+        openvdb::io::File file(in);
+        file.open(false);
+        openvdb::GridBase::Ptr blocks = file.readGrid(kGridName);
+        openvdb::MetaMap::Ptr file_meta = file.getMetadata();
+        file.close();
+        const openvdb::GridCPtrVec written = grids(blocks);
+        openvdb::io::File o(out);
+        if (compression)
+            o.setCompression(*compression);
+        o.write(written, *file_meta);
+        o.close();
+    } catch (const std::exception& e) {
+        return Error{std::string("OpenVDB: ") + e.what()};
+    }
+    return {};
+}
+
 } // namespace
 
 Status write_world_openvdb(const world::World& w, const std::string& path, const VdbExportOptions& options,
@@ -186,44 +212,23 @@ Status write_root_tile_openvdb(const std::string& path) {
 }
 
 Status rescale_openvdb(const std::string& in, const std::string& out, double voxel_size) {
-    try {
-        openvdb::initialize();
-        openvdb::io::File file(in);
-        file.open(false);
-        openvdb::GridBase::Ptr grid = file.readGrid(kGridName);
-        openvdb::MetaMap::Ptr file_meta = file.getMetadata();
-        file.close();
-        grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
-        openvdb::io::File o(out);
-        o.write(openvdb::GridCPtrVec{grid}, *file_meta);
-        o.close();
-    } catch (const std::exception& e) {
-        return Error{std::string("OpenVDB: ") + e.what()};
-    }
-    return {};
+    return rewrite_blocks_openvdb(in, out, std::nullopt, [&](const openvdb::GridBase::Ptr& blocks) {
+        blocks->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
+        return openvdb::GridCPtrVec{blocks};
+    });
 }
 
 Status prepend_instanced_grids_openvdb(const std::string& in, const std::string& out) {
-    try {
-        openvdb::initialize();
-        openvdb::io::File file(in);
-        file.open(false);
-        openvdb::GridBase::Ptr blocks = file.readGrid(kGridName);
-        openvdb::MetaMap::Ptr file_meta = file.getMetadata();
-        file.close();
+    // ZIP: with OpenVDB's default (Blosc) the streaming reader would refuse the file for that.
+    const uint32_t zip = openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK;
+    return rewrite_blocks_openvdb(in, out, zip, [](const openvdb::GridBase::Ptr& blocks) {
         openvdb::Int32Grid::Ptr terrain = openvdb::Int32Grid::create(0);
         terrain->setName("terrain");
         terrain->denseFill(openvdb::CoordBBox({0, 0, 0}, {9, 9, 9}), 4, true);
         openvdb::Int32Grid::Ptr copy = openvdb::Int32Grid::create(terrain->treePtr()); // Shares the tree.
         copy->setName("terrain_copy");
-        openvdb::io::File o(out);
-        o.setCompression(openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK); // Not Blosc.
-        o.write(openvdb::GridCPtrVec{terrain, copy, blocks}, *file_meta);
-        o.close();
-    } catch (const std::exception& e) {
-        return Error{std::string("OpenVDB: ") + e.what()};
-    }
-    return {};
+        return openvdb::GridCPtrVec{terrain, copy, blocks};
+    });
 }
 
 std::map<std::string, std::string> grid_meta_openvdb(const std::string& path) {
