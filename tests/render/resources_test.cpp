@@ -101,11 +101,12 @@ TEST_F(ResourcesTest, BuffersTheDeviceCannotMakeAreEmptyNotAborts) {
     // The largest heap + 1: refused before vkAllocateMemory, which must not be asked for more
     // than a heap holds (an H100: maxBufferSize 1 TiB, 80 GiB of memory; the validation layer
     // flagged the 1 TiB request there).
+    const VkDeviceSize heap = largest_heap(*m_ctx);
     const VkDeviceSize sizes[] = {m_ctx->max_buffer_size() + 1, VkDeviceSize(5) << 30, VkDeviceSize(1) << 40,
-                                  largest_heap(*m_ctx) + 1};
+                                  heap + 1};
     for (VkDeviceSize size : sizes) {
         Buffer b = Buffer::create(*m_ctx, {size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, 0, "too large"});
-        if (size > m_ctx->max_buffer_size() || size > largest_heap(*m_ctx)) {
+        if (size > m_ctx->max_buffer_size() || size > heap) {
             EXPECT_FALSE(b.valid()) << size;
         }
     }
