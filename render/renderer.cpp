@@ -8,6 +8,7 @@
 
 #include "render/emitter_quads.h"
 #include "render/renderer_impl.h"
+#include "render/touching_faces.h"
 
 namespace vx::render {
 
@@ -282,7 +283,11 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     } else {
         m->emissive_quads.erase(c);
     }
-    m->accel->set_chunk(c, mesh, changed_slices, chunk_traits(mesh, ids, m->registry));
+    // Faces that may touch another transparent block's carry a mark (a copy of the mesh, only
+    // in chunks that have such faces).
+    world::ChunkMesh marked;
+    const bool marks = mark_touching_faces(mesh, ids, m->registry, marked);
+    m->accel->set_chunk(c, marks ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
 }
 
 void Renderer::remove_chunk(world::LodCoord c) {

@@ -64,22 +64,10 @@ SceneAccel::~SceneAccel() {
             vkDestroyQueryPool(m_ctx->device(), q.pool, nullptr);
 }
 
-// `ids`: the blocks of the chunk's quads. A transparent face can share its plane with another
-// transparent block's face only where the chunk holds two transparent ids, or where a transparent
-// face lies on the chunk's border (the other block may be the neighbour's): a bound, not exact
-// (water against air on a border counts), but it spares the ray tracer's probe (trace_through)
-// in the chunks of a lake or a sea, whose one transparent block keeps off their borders.
-ChunkTraits chunk_traits(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
-                         const world::BlockRegistry& registry) {
+// `ids`: the blocks of the chunk's quads.
+ChunkTraits chunk_traits(std::span<const world::BlockId> ids, const world::BlockRegistry& registry) {
     ChunkTraits t;
-    const auto transparent = [&](world::BlockId id) { return !registry.is_opaque(id); };
-    const size_t see_through = size_t(std::count_if(ids.begin(), ids.end(), transparent));
-    t.opaque = see_through == 0;
-    t.may_touch = see_through >= 2;
-    for (int axis = 0; axis < 3 && see_through == 1 && !t.may_touch; ++axis)
-        for (int plane : {0, world::kChunkSize})
-            for (const world::Quad& q : mesh.slice(axis, plane))
-                t.may_touch = t.may_touch || transparent(q.block);
+    t.opaque = std::all_of(ids.begin(), ids.end(), [&](world::BlockId id) { return registry.is_opaque(id); });
     return t;
 }
 
@@ -106,10 +94,6 @@ void SceneAccel::apply_mesh(world::LodCoord c, ChunkGpu& g, bool inserted, const
     // last transparent block is rebuilt.
     const bool flags_changed = !fresh && g.opaque != traits.opaque;
     g.opaque = traits.opaque;
-    const bool touch_changed = g.may_touch != traits.may_touch;
-    g.may_touch = traits.may_touch;
-    if (touch_changed && g.instance != TlasInstances::kNone)
-        sync_instance(c, g); // Its chunk table entry says it, also where the mesh is the same.
     if (!fresh && hash == g.hash && !flags_changed) {
         // The same mesh again (Renderer::render(scene) re-sends every chunk), or again after a
         // batch of edits, each call naming its own slices: a pending refit uploads them all.
@@ -212,7 +196,7 @@ void SceneAccel::sync_instance(world::LodCoord c, ChunkGpu& g) {
         return;
     }
     // c's level scales its instance.
-    const DrawChunk d{c, g.quads.address(), g.layout.total, g.opaque, g.may_touch};
+    const DrawChunk d{c, g.quads.address(), g.layout.total, g.opaque};
     if (g.instance == TlasInstances::kNone)
         g.instance = m_instances.add(d, g.blas.address());
     else

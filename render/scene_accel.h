@@ -65,14 +65,10 @@ struct SceneAccelCreateInfo {
 // What a chunk's blocks are, beside its mesh (Renderer::set_chunk reads them off the registry).
 struct ChunkTraits {
     bool opaque = false; // Only opaque blocks: OPAQUE geometry.
-    // A transparent face of the chunk may share its plane with another transparent block's face
-    // (glass against water): the ray tracer probes for the other face only in such chunks.
-    bool may_touch = false;
 };
 
-// The traits of a chunk whose quads (`mesh`) hold blocks `ids`, under `registry`. Any thread.
-ChunkTraits chunk_traits(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
-                         const world::BlockRegistry& registry);
+// The traits of a chunk whose quads hold blocks `ids`, under `registry`. Any thread.
+ChunkTraits chunk_traits(std::span<const world::BlockId> ids, const world::BlockRegistry& registry);
 
 // Chunks are "cold" (built exact-size, PREFER_FAST_TRACE, without ALLOW_UPDATE, then compacted;
 // their vertices are dropped after the build, so they hold only the BLAS and the quad records)
@@ -152,7 +148,6 @@ private:
         bool hot = false;
         bool opaque = false;           // Only opaque blocks: OPAQUE geometry (no any-hit calls,
                                        // and the builder may split primitives: faster traversal).
-        bool may_touch = false;        // ChunkTraits::may_touch.
         bool failed = false;           // Out of memory at its last build: not drawn.
         uint8_t level = 0;             // Its LodCoord's level (which m_level_bytes entry it adds to).
         uint32_t refits_since_build = 0;

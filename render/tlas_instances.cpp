@@ -64,8 +64,7 @@ uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
 void TlasInstances::update(uint32_t i, const DrawChunk& chunk, VkDeviceAddress blas) {
     VX_ASSERT(i < size() && m_draw[i].coord == chunk.coord && (chunk.quads & 1u) == 0);
     if (m_instances[i].accelerationStructureReference == blas && m_draw[i].quads == chunk.quads &&
-        m_draw[i].slots == chunk.slots && m_draw[i].opaque == chunk.opaque &&
-        m_draw[i].may_touch == chunk.may_touch)
+        m_draw[i].slots == chunk.slots && m_draw[i].opaque == chunk.opaque)
         return; // A refit: same BLAS, same buffers.
     m_draw[i] = chunk;
     m_instances[i].accelerationStructureReference = blas;
@@ -123,8 +122,7 @@ uint32_t TlasInstances::sync(uint32_t slot, VkAccelerationStructureInstanceKHR* 
     uint32_t written = 0;
     auto put = [&](uint32_t i) {
         instances[i] = m_instances[i];
-        // Device addresses of buffers are aligned (at least 4 bytes here), so bit 0 is free.
-        table[i] = m_draw[i].quads | uint64_t(m_draw[i].may_touch);
+        table[i] = m_draw[i].quads;
         ++written;
     };
     const uint8_t bit = uint8_t(1u << slot);

@@ -38,9 +38,6 @@ struct DrawChunk {
     VkDeviceAddress quads = 0; // Quad records, one per slot (Quad{} in spare slots).
     uint32_t slots = 0;
     bool opaque = false; // Only opaque blocks (SceneAccel::set_chunk): raster's see-through pass skips it.
-    // A transparent face may share its plane with another transparent block's face (set_chunk):
-    // bit 0 of the chunk table entry, which has the ray tracer probe for that face.
-    bool may_touch = false;
 };
 
 class TlasInstances {

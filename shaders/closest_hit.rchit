@@ -15,8 +15,7 @@
 layout(location = 0) rayPayloadInEXT HitPayload payload;
 
 void main() {
-    uint64_t entry = chunk_entry(gl_InstanceCustomIndexEXT);
-    QuadSlots quads = chunk_quads(entry);
+    QuadSlots quads = chunk_quads(gl_InstanceCustomIndexEXT);
     uvec2 q = quads.slot[gl_PrimitiveID >> 1];
     uint packed = q.x;
     uint u0 = packed & 31u, v0 = (packed >> 5u) & 31u;
@@ -39,5 +38,5 @@ void main() {
     payload.through = vx_push_off_ulps(gl_ObjectToWorldEXT * vec4(far_side, 1.0), axis, ahead);
     payload.t = gl_HitTEXT;
     payload.block = q.y & 0xffffu;
-    payload.face = axis * 2u + (positive ? 1u : 0u) + ((entry & 1ul) != 0ul ? kFaceMayTouch : 0u);
+    payload.face = axis * 2u + (positive ? 1u : 0u) + (((q.y >> 16u) & kQuadMayTouch) != 0u ? kFaceMayTouch : 0u);
 }

@@ -36,7 +36,7 @@ vec3 primary_dir(uvec2 px) {
 // from its air side: render/tlas_instances.cpp), finds the other: the face of the same plane
 // with the opposite normal (`face` ^ 1). Anything else it meets (near an edge, the faces the ray
 // came through) is not that face. `back` is the probe's reach, just past the plane. Traced only
-// from chunks that may hold such a pair (kFaceMayTouch: render::ChunkTraits).
+// from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
 vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, bool entering) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,

@@ -185,7 +185,9 @@ struct Material {
 };
 
 // A quad slot of a chunk BLAS is world::Quad verbatim (uint packed, uint16 block, uint16 spare),
-// read as a uvec2: x = packed (u0:5 v0:5 w-1:5 h-1:5 plane:6 axis:2 positive:1), y & 0xffff = block.
+// read as a uvec2: x = packed (u0:5 v0:5 w-1:5 h-1:5 plane:6 axis:2 positive:1), y & 0xffff = block,
+// y >> 16 = the spare, whose bit kQuadMayTouch the renderer sets (render/touching_faces.h).
+VX_CONST uint kQuadMayTouch = 1; // A transparent face that may share its plane with another's.
 
 VX_GPU_END
 #endif

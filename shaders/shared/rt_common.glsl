@@ -15,12 +15,10 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Em
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterQuads { EmitterQuad q[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EmitterBounds { EmitterBound b[]; };
 
-// An instance's chunk table entry (render/tlas_instances.cpp): its quads' address, with bit 0
-// set where a transparent face may share its plane with another's (ChunkTraits::may_touch).
-uint64_t chunk_entry(uint instance) { return ChunkTable(frame.chunk_table).quads[instance]; }
-QuadSlots chunk_quads(uint64_t entry) { return QuadSlots(entry & ~1ul); }
+// An instance's quads: its chunk table entry (render/tlas_instances.cpp) is their address.
+QuadSlots chunk_quads(uint instance) { return QuadSlots(ChunkTable(frame.chunk_table).quads[instance]); }
 
-// HitPayload::face's bit 3: the hit chunk's ChunkTraits::may_touch (bits 0-2: the face).
+// HitPayload::face's bit 3: the hit quad's mark kQuadMayTouch (bits 0-2: the face).
 const uint kFaceMayTouch = 8u;
 
 // Primary/reflection ray result, written by the closest-hit shader.

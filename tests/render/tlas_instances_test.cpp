@@ -1,7 +1,7 @@
 // TlasInstances without a GPU: random adds, updates and removes, each frame slot's buffers
 // written only with what changed since that slot's last sync, must always hold what a rebuild
 // from scratch of the same chunks would write: every chunk once, instance i with custom index i
-// and the chunk table's entry i its chunk's quads (bit 0: DrawChunk::may_touch), translations
+// and the chunk table's entry i its chunk's quads, its draw entry its traits, translations
 // relative to the origin, a level-k chunk scaled by 2^k; per-level instance counts as the
 // reference's.
 #include <array>
@@ -22,7 +22,7 @@ using world::ChunkCoord;
 struct Chunk {
     VkDeviceAddress blas = 0, quads = 0;
     uint32_t slots = 0;
-    bool may_touch = false;
+    bool opaque = false;
 };
 using Key = std::tuple<int, int, int, int>; // Level, x, y, z.
 using Reference = std::map<Key, Chunk>;
@@ -63,8 +63,8 @@ void expect_matches(const TlasInstances& a, const SlotBuffers& b, const Referenc
         EXPECT_EQ(d.slots, it->second.slots);
         const VkAccelerationStructureInstanceKHR want = TlasInstances::make_instance(d.coord, origin, i, it->second.blas);
         EXPECT_EQ(std::memcmp(&b.instances[i], &want, sizeof want), 0) << "instance " << i;
-        EXPECT_EQ(d.may_touch, it->second.may_touch);
-        EXPECT_EQ(b.table[i], it->second.quads | uint64_t(it->second.may_touch)) << "table entry " << i;
+        EXPECT_EQ(d.opaque, it->second.opaque);
+        EXPECT_EQ(b.table[i], it->second.quads) << "table entry " << i;
     }
 }
 
@@ -79,10 +79,10 @@ public:
 
     void set(ChunkCoord c) { set(world::LodCoord{0, c}); }
     void remove(ChunkCoord c) { remove(world::LodCoord{0, c}); }
-    void set(world::LodCoord c, bool may_touch = false) {
+    void set(world::LodCoord c, bool opaque = false) {
         const Key key = key_of(c);
         Chunk& ch = ref[key];
-        ch = {next_address, next_address + 8, uint32_t(next_address % 97), may_touch};
+        ch = {next_address, next_address + 8, uint32_t(next_address % 97), opaque};
         next_address += 0x100;
         put(c, ch);
     }
@@ -91,12 +91,12 @@ public:
         const auto it = ref.find(key_of(c));
         if (it == ref.end())
             return;
-        it->second.may_touch = !it->second.may_touch;
+        it->second.opaque = !it->second.opaque;
         put(c, it->second);
     }
     void put(world::LodCoord c, const Chunk& ch) {
         const Key key = key_of(c);
-        const DrawChunk d{c, ch.quads, ch.slots, false, ch.may_touch};
+        const DrawChunk d{c, ch.quads, ch.slots, ch.opaque};
         if (auto it = index.find(key); it != index.end())
             array.update(it->second, d, ch.blas);
         else

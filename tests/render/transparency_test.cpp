@@ -3,12 +3,15 @@
 // transparent blocks touch. There each block has its own face on the same plane and the traversal
 // reports only one of the two; the walk's probe (coincident_tint) must find the other.
 #include <algorithm>
+#include <ostream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "scene_util.h"
 
-#include "render/scene_accel.h"
+#include "render/touching_faces.h"
+#include "shaders/shared/render_types.h"
 #include "world/mesh/edit_mesher.h"
 #include "world/block_registry.h"
 
@@ -80,7 +83,8 @@ TEST_F(RendererTest, TouchingTransparentBlocksTintAsBlocksApart) {
 }
 
 // Glass placed against a pond's water by an edit (the chunk's second transparent id): the next
-// frame tints by both, so the edit's update carries the chunk's new traits to its table entry.
+// frame tints by both, so the edit's update marks the water's face it touches (a quad that did
+// not change but for its mark, in one of the edit's slices).
 TEST_F(RendererTest, GlassPlacedAgainstWaterByAnEditTintsByBoth) {
     const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
     const glm::vec3 stone = albedo_of(test::block_id("stone"));
@@ -99,42 +103,82 @@ TEST_F(RendererTest, GlassPlacedAgainstWaterByAnEditTintsByBoth) {
         return m_renderer->render(s, cam);
     };
     // A first edit off the view makes the chunk hot (rebuilt with spare slots), so the second is
-    // a refit: the path on which the BLAS and the quad buffer stay and only the traits change.
+    // a refit: the path on which only the edit's slices are uploaded.
     EXPECT_TRUE(test::rgb_near(edit({6, 6, 6}, test::block_id("stone")).at(16, 16), stone * albedo_of(water)));
     const RenderImage img = edit({0, 0, 2}, glass);
     EXPECT_EQ(m_renderer->last_stats().blas_refits, 1u);
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), stone * albedo_of(water) * albedo_of(glass)));
 }
 
-// Which chunks the ray tracer probes for coincident transparent faces in (ChunkTraits): those
-// with two transparent ids, or one on a face of the chunk's border; not a lake's chunk.
-TEST(ChunkTraitsTest, OnlyChunksWhereTransparentBlocksMayTouchAreProbed) {
-    const world::BlockRegistry& reg = world::BlockRegistry::default_registry();
+// A marked face of chunk (0, 0, 0): its plane, facing and block.
+struct Mark {
+    int axis, plane;
+    bool positive;
+    world::BlockId block;
+    friend bool operator==(const Mark&, const Mark&) = default;
+    friend std::ostream& operator<<(std::ostream& o, const Mark& m) {
+        return o << "{axis " << m.axis << ", plane " << m.plane << (m.positive ? ", +" : ", -") << ", block "
+                 << m.block << "}";
+    }
+};
+
+// The faces of chunk (0, 0, 0) of a world holding `blocks` that mark_touching_faces marks (empty
+// when it marks none); the marked mesh must hold the same quads as the mesher's.
+std::vector<Mark> marked_faces(const std::vector<std::pair<world::BlockPos, world::BlockId>>& blocks) {
+    world::World w;
+    for (const auto& [p, id] : blocks)
+        w.set_block(p, id);
+    const auto meshes = test::mesh_world(w);
+    EXPECT_EQ(meshes.count(world::ChunkCoord(0, 0, 0)), 1u);
+    const world::ChunkMesh& mesh = meshes.at(world::ChunkCoord(0, 0, 0)).mesh;
+    std::vector<world::BlockId> ids;
+    mesh.for_each_quad([&](const world::Quad& q) {
+        EXPECT_EQ(q.reserved, 0u) << "the mesher writes no mark";
+        if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
+            ids.push_back(q.block);
+    });
+    world::ChunkMesh out;
+    if (!mark_touching_faces(mesh, ids, world::BlockRegistry::default_registry(), out))
+        return {};
+    EXPECT_TRUE(out == mesh); // Quad equality leaves out the spare field.
+    std::vector<Mark> marks;
+    out.for_each_quad([&](const world::Quad& q) {
+        if (q.reserved & gpu::kQuadMayTouch)
+            marks.push_back({q.axis(), q.plane(), q.positive(), q.block});
+    });
+    EXPECT_FALSE(marks.empty()) << "true returned, nothing marked";
+    const auto key = [](const Mark& m) { return std::tuple(m.axis, m.plane, m.positive, m.block); };
+    std::sort(marks.begin(), marks.end(), [&](const Mark& x, const Mark& y) { return key(x) < key(y); });
+    return marks;
+}
+
+// Which faces the ray tracer probes for a coincident transparent face (render/touching_faces.h):
+// inside a chunk exactly the faces between two different transparent blocks; on its border every
+// transparent face. Not a lake's faces, nor transparent blocks that do not touch.
+TEST(TouchingFacesTest, OnlyFacesThatMayMeetAnotherTransparentBlockAreMarked) {
     const world::BlockId stone = test::block_id("stone"), glass = test::block_id("glass"),
                          water = test::block_id("water");
-    const auto traits = [&](const std::vector<std::pair<world::BlockPos, world::BlockId>>& blocks) {
-        world::World w;
-        for (const auto& [p, id] : blocks)
-            w.set_block(p, id);
-        const auto meshes = test::mesh_world(w);
-        EXPECT_EQ(meshes.count(world::ChunkCoord(0, 0, 0)), 1u);
-        const world::ChunkMesh& mesh = meshes.at(world::ChunkCoord(0, 0, 0)).mesh;
-        std::vector<world::BlockId> ids;
-        mesh.for_each_quad([&](const world::Quad& q) {
-            if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
-                ids.push_back(q.block);
-        });
-        return chunk_traits(mesh, ids, reg);
-    };
-    const ChunkTraits rock = traits({{{5, 5, 5}, stone}});
-    EXPECT_TRUE(rock.opaque);
-    EXPECT_FALSE(rock.may_touch);
-    const ChunkTraits pond = traits({{{5, 5, 5}, water}, {{6, 5, 5}, water}, {{5, 4, 5}, stone}});
-    EXPECT_FALSE(pond.opaque);
-    EXPECT_FALSE(pond.may_touch);
-    EXPECT_TRUE(traits({{{5, 5, 5}, water}, {{9, 5, 5}, glass}}).may_touch); // Two ids, apart: a bound.
-    EXPECT_TRUE(traits({{{0, 5, 5}, water}}).may_touch);                     // On the -x border.
-    EXPECT_TRUE(traits({{{5, 31, 5}, water}}).may_touch);                    // On the +y border.
+    using Marks = std::vector<Mark>;
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, stone}}), Marks{});
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, water}, {{6, 5, 5}, water}, {{5, 4, 5}, stone}}), Marks{}); // A pond.
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, water}, {{9, 5, 5}, glass}}), Marks{});                     // Apart.
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, glass}, {{6, 6, 5}, water}}), Marks{}); // Edge to edge: no shared face.
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, glass}, {{6, 5, 5}, stone}}), Marks{});  // Glass on stone.
+    // Touching along x: the two faces between them, nothing else.
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, water}, {{6, 5, 5}, glass}}),
+              (Marks{{0, 6, false, glass}, {0, 6, true, water}}));
+    // A water column (one greedy quad per side) with glass beside its middle block: the column's
+    // +x quad is marked whole.
+    EXPECT_EQ(marked_faces({{{5, 4, 5}, water}, {{5, 5, 5}, water}, {{5, 6, 5}, water}, {{6, 5, 5}, glass}}),
+              (Marks{{0, 6, false, glass}, {0, 6, true, water}}));
+    // Touching along z, glass above water along y: each axis's planes.
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, glass}, {{5, 5, 6}, water}}),
+              (Marks{{2, 6, false, water}, {2, 6, true, glass}}));
+    EXPECT_EQ(marked_faces({{{5, 5, 5}, water}, {{5, 6, 5}, glass}}),
+              (Marks{{1, 6, false, glass}, {1, 6, true, water}}));
+    // On the chunk's border the other block would be the neighbour's: the border face only.
+    EXPECT_EQ(marked_faces({{{0, 5, 5}, water}}), (Marks{{0, 0, false, water}}));
+    EXPECT_EQ(marked_faces({{{5, 31, 5}, water}}), (Marks{{1, 32, true, water}}));
 }
 
 } // namespace
