@@ -34,14 +34,16 @@ vec3 primary_dir(uvec2 px) {
 // traversal reports only one of the two at the same distance). A short probe from `through`
 // back across the plane, culling the crossed face by its facing (a face is front-facing seen
 // from its air side: render/tlas_instances.cpp), finds the other: the face of the same plane
-// with the opposite normal (`face` ^ 1). Anything else it meets (near an edge, the faces the ray
-// came through) is not that face. `back` is the probe's reach, just past the plane. Traced only
-// from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
-vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, bool entering) {
+// with the opposite normal (`face` ^ 1) and another block than the crossed face's `block` (the
+// mesher writes no face between two blocks of one kind). Anything else it meets (near an edge, the
+// faces the ray came through, a block of the same kind diagonally across the plane, met within
+// rounding of a cell's edge) is not that face. `back` is the probe's reach, just past the plane.
+// Traced only from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
+vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, bool entering) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,
                 kPrimaryPayload);
-    if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u))
+    if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u) || payload.block == block)
         return vec3(1.0);
     Material m = vx_material(payload.block);
     return vx_transparent(m) ? sqrt(m.albedo_reflectivity.xyz) : vec3(1.0);
@@ -74,7 +76,7 @@ vec3 trace_through(vec3 origin, vec3 dir) {
             // twice that (at least a little) reaches just past the plane and nothing much beyond.
             float slope = max(abs(dir[axis]), 1e-6);
             float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / slope;
-            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, entering);
+            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering);
         }
         origin = next;
     }
