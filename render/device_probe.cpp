@@ -1,5 +1,6 @@
 #include "render/device_probe.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
@@ -63,6 +64,17 @@ DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
     r.type = to_device_type(props.properties.deviceType);
     r.api_version = props.properties.apiVersion;
     r.driver_info = std::string(driver.driverName) + " / " + driver.driverInfo;
+    if (r.api_version >= VK_API_VERSION_1_3) { // Chaining a 1.3 struct below 1.3 is invalid.
+        VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+        VkPhysicalDeviceProperties2 with13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p13};
+        vkGetPhysicalDeviceProperties2(pd, &with13);
+        r.max_buffer_size = p13.maxBufferSize;
+    }
+    VkPhysicalDeviceMemoryProperties mem{};
+    vkGetPhysicalDeviceMemoryProperties(pd, &mem);
+    for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
+        if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            r.device_memory = std::max<uint64_t>(r.device_memory, mem.memoryHeaps[h].size);
 
     // Features are only queried for extensions that exist (chaining unknown structs is invalid).
     VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};

@@ -27,6 +27,9 @@ struct DeviceReport {
     // VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd: the light cache's sums
     // (shaders/shared/light_cache.glsl), compiled into the ray generation shader.
     bool float_atomic_add = false;
+    // Vulkan 1.3 maxBufferSize (bytes; 0 below 1.3): a larger buffer cannot be made at all.
+    uint64_t max_buffer_size = 0;
+    uint64_t device_memory = 0; // The largest device-local memory heap, bytes.
     // Only filled in by a Context created with a window: VK_KHR_swapchain exists and a queue
     // family with graphics + compute can present to the window's surface.
     bool present = false;

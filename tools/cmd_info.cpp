@@ -39,9 +39,11 @@ void print_devices() {
     std::printf("vulkan devices: %zu\n", devices->size());
     for (const render::DeviceReport& d : *devices) {
         const std::string missing = missing_parts(d);
-        std::printf("  [%u] %s (%s), Vulkan %s, driver %s, ray tracing: %s\n", d.index, d.name.c_str(),
-                    render::device_type_name(d.type), d.api_version_string().c_str(), d.driver_info.c_str(),
-                    missing.empty() ? "yes" : ("no (missing " + missing + ")").c_str());
+        constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+        std::printf("  [%u] %s (%s), Vulkan %s, driver %s, ray tracing: %s, memory %.1f GiB, largest buffer %.1f GiB\n",
+                    d.index, d.name.c_str(), render::device_type_name(d.type), d.api_version_string().c_str(),
+                    d.driver_info.c_str(), missing.empty() ? "yes" : ("no (missing " + missing + ")").c_str(),
+                    double(d.device_memory) / kGiB, double(d.max_buffer_size) / kGiB);
     }
 }
 

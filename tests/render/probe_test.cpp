@@ -24,6 +24,8 @@ TEST(DeviceProbe, FindsARayTracingCpuDevice) {
             EXPECT_TRUE(d.acceleration_structure && d.ray_tracing_pipeline && d.deferred_host_operations &&
                         d.buffer_device_address && d.float_atomic_add);
             EXPECT_GE(d.api_version_string(), std::string("1.3"));
+            EXPECT_GE(d.max_buffer_size, uint64_t(1) << 30); // Vulkan 1.3's minimum maxBufferSize: 2^30.
+            EXPECT_GT(d.device_memory, 0u);
         }
     }
     EXPECT_TRUE(found) << "lavapipe with ray tracing expected (VK_DRIVER_FILES)";
