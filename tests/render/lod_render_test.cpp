@@ -3,6 +3,8 @@
 // blocks: 8 level-0 chunks). Every path must treat the scaled instance as the blocks it covers:
 // primary hits, normals, shadow and reflection ray origins, the raster vertex transform, the
 // emitters' reach. Also: entries are keyed by level, and the per-level statistics.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <numeric>
 
@@ -158,11 +160,17 @@ TEST_F(RendererTest, LodLevel1FlatMatchesTheExpandedBlocks) {
 // shadow sample is 1/4 of a light's share) and by a few 1/1000ths of a percent elsewhere. Allowed:
 // at most 1% of pixels off by more than 2 levels (measured: 0 at the origin, 3 pixels off by 1
 // or 2 far away). The G-buffer the denoiser reads (first-hit normal and distance, albedo) is that
-// of the same surfaces: equal but where the image may differ (the same pixels as Flat: none).
+// of the same surfaces: equal but where the image may differ (the same pixels as Flat: none),
+// save that the distance is the hit's t, which each scene's traversal computes in its own object
+// space: equal within float rounding, which may round to a neighbouring half float (seen once on
+// the NVIDIA driver; lavapipe's are equal).
 // The raster pipeline's Full mode (Phong from the eye-relative vertex positions) likewise. The
 // lamps are found by sky rays here: their faces sampled (emitter_sampling), the two scenes' face
 // lists differ in order and so do the samples (LodLevel1EmittersReachTheWholeCoarseChunk compares
 // those images' means).
+// One step of a half float (RGBA16F: 10 mantissa bits) at magnitude v > 0.
+float half_step(float v) { return v > 0.f ? std::ldexp(1.f, std::ilogb(v) - 10) : 0.f; }
+
 TEST_F(RendererTest, LodLevel1FullShadingMatchesTheExpandedBlocks) {
     for (const LodCoord c : {kNear, kFar}) {
         RenderSettings full = settings(ShadingMode::Full, PipelineKind::RayTraced, c);
@@ -172,10 +180,15 @@ TEST_F(RendererTest, LodLevel1FullShadingMatchesTheExpandedBlocks) {
         const Diff d = pixel_diff(p.coarse, p.expanded, 2);
         std::printf("LOD full at chunk %d: %d pixels differ, %d by more than 2\n", c.chunk.x, d.any, d.over);
         EXPECT_LE(d.over, int(p.coarse.width * p.coarse.height / 100));
-        int g_diff = 0;
-        for (size_t i = 0; i < p.coarse_g.normal_depth.size(); ++i)
-            g_diff += p.coarse_g.normal_depth[i] != p.expanded_g.normal_depth[i] || p.coarse_g.albedo[i] != p.expanded_g.albedo[i];
-        std::printf("LOD full at chunk %d: %d G-buffer pixels differ\n", c.chunk.x, g_diff);
+        int g_diff = 0, depth_steps = 0;
+        for (size_t i = 0; i < p.coarse_g.normal_depth.size(); ++i) {
+            const glm::vec4 a = p.coarse_g.normal_depth[i], b = p.expanded_g.normal_depth[i];
+            g_diff += glm::vec3(a) != glm::vec3(b) || p.coarse_g.albedo[i] != p.expanded_g.albedo[i] ||
+                      std::abs(a.w - b.w) > half_step(std::max(a.w, b.w));
+            depth_steps += a.w != b.w;
+        }
+        std::printf("LOD full at chunk %d: %d G-buffer pixels differ, %d distances by one half-float step\n",
+                    c.chunk.x, g_diff, depth_steps);
         EXPECT_EQ(g_diff, 0);
 
         const Pair raster = render_both(*m_renderer, settings(ShadingMode::Full, PipelineKind::Raster, c), c, "lod_full_raster");
