@@ -11,49 +11,64 @@ namespace vx::render {
 namespace {
 
 constexpr int kN = world::kChunkSize;
-using PlaneIds = std::array<world::BlockId, kN * kN>; // A transparent block per cell (kAir: none).
 
-// Which block ids are transparent, indexed by id (ids past the end: opaque).
+// The transparent kinds of a chunk: `kind[id]` is 1 + the kind's index, 0 for opaque ids (and ids
+// past the end).
 struct SeeThrough {
-    std::vector<bool> ids;
-    bool operator[](world::BlockId id) const { return id < ids.size() && ids[id]; }
+    std::vector<uint16_t> kind;
+    uint32_t kinds = 0;
+    uint32_t operator[](world::BlockId id) const { return id < kind.size() ? kind[id] : 0; }
 };
 
-// Writes `q`'s cells into `ids`.
-void fill(PlaneIds& ids, const world::Quad& q) {
-    for (int v = q.v0(); v < q.v0() + q.height(); ++v)
-        std::fill_n(ids.begin() + v * kN + q.u0(), q.width(), q.block);
-}
+// One plane's transparent faces of one facing as bit rows (bit u of row v: cell (u, v)): per kind,
+// then all kinds together.
+struct PlaneBits {
+    std::vector<uint32_t> rows; // (kinds + 1) * kN.
+    uint32_t* of(uint32_t kind_index) { return rows.data() + size_t(kind_index) * kN; }
+};
 
-// True when a cell of `q` holds, in `other`, a transparent block other than q's own.
-bool meets_another(const PlaneIds& other, const world::Quad& q) {
-    for (int v = q.v0(); v < q.v0() + q.height(); ++v)
-        for (int u = q.u0(); u < q.u0() + q.width(); ++u) {
-            const world::BlockId id = other[size_t(v * kN + u)];
-            if (id != world::kAir && id != q.block)
-                return true;
-        }
-    return false;
+uint32_t row_bits(const world::Quad& q) {
+    const uint32_t ones = q.width() == kN ? ~0u : (1u << q.width()) - 1u;
+    return ones << q.u0();
 }
 
 // Appends to `marked` the indices within `quads` (one interior plane's) of the transparent quads
-// that overlap a different transparent block's face of the other facing. Both faces between two
+// that overlap a face of a different transparent kind of the other facing. Both faces between two
 // cells lie on their shared plane, facing apart: such a pair is two touching blocks.
-void mark_interior(std::span<const world::Quad> quads, const SeeThrough& see_through, PlaneIds (&by_facing)[2],
+void mark_interior(std::span<const world::Quad> quads, const SeeThrough& see_through, PlaneBits (&by_facing)[2],
                    std::vector<uint32_t>& marked) {
     bool facing[2] = {false, false};
     for (const world::Quad& q : quads)
-        facing[q.positive()] = facing[q.positive()] || see_through[q.block];
+        facing[q.positive()] = facing[q.positive()] || see_through[q.block] != 0;
     if (!facing[0] || !facing[1])
         return;
-    for (PlaneIds& ids : by_facing)
-        ids.fill(world::kAir);
+    const uint32_t all = see_through.kinds;
+    for (PlaneBits& b : by_facing)
+        std::fill(b.rows.begin(), b.rows.end(), 0u);
     for (const world::Quad& q : quads)
-        if (see_through[q.block])
-            fill(by_facing[q.positive()], q);
-    for (uint32_t i = 0; i < quads.size(); ++i)
-        if (see_through[quads[i].block] && meets_another(by_facing[!quads[i].positive()], quads[i]))
+        if (const uint32_t k = see_through[q.block]) {
+            PlaneBits& b = by_facing[q.positive()];
+            uint32_t *own = b.of(k - 1), *any = b.of(all);
+            const uint32_t bits = row_bits(q);
+            for (int v = q.v0(); v < q.v0() + q.height(); ++v) {
+                own[v] |= bits;
+                any[v] |= bits;
+            }
+        }
+    for (uint32_t i = 0; i < quads.size(); ++i) {
+        const world::Quad& q = quads[i];
+        const uint32_t k = see_through[q.block];
+        if (k == 0)
+            continue;
+        PlaneBits& other = by_facing[!q.positive()];
+        const uint32_t *same = other.of(k - 1), *any = other.of(all);
+        const uint32_t bits = row_bits(q);
+        uint32_t meets = 0;
+        for (int v = q.v0(); v < q.v0() + q.height(); ++v)
+            meets |= any[v] & ~same[v] & bits;
+        if (meets)
             marked.push_back(i);
+    }
 }
 
 } // namespace
@@ -64,10 +79,13 @@ bool mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::Bl
     const size_t kinds = size_t(std::count_if(ids.begin(), ids.end(), transparent));
     if (kinds == 0)
         return false;
-    SeeThrough see_through{std::vector<bool>(size_t(*std::max_element(ids.begin(), ids.end())) + 1, false)};
+    SeeThrough see_through{std::vector<uint16_t>(size_t(*std::max_element(ids.begin(), ids.end())) + 1, 0)};
     for (world::BlockId id : ids)
-        see_through.ids[id] = transparent(id);
-    PlaneIds by_facing[2];
+        if (transparent(id) && see_through.kind[id] == 0)
+            see_through.kind[id] = uint16_t(++see_through.kinds);
+    PlaneBits by_facing[2];
+    for (PlaneBits& b : by_facing)
+        b.rows.resize((size_t(see_through.kinds) + 1) * kN);
     std::vector<std::pair<int, std::vector<uint32_t>>> slices; // Marked quads, by slice.
     std::vector<uint32_t> marked;
     for (int axis = 0; axis < 3; ++axis)
@@ -77,7 +95,7 @@ bool mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::Bl
             marked.clear();
             if (plane == 0 || plane == kN) {
                 for (uint32_t i = 0; i < quads.size(); ++i)
-                    if (see_through[quads[i].block])
+                    if (see_through[quads[i].block] != 0)
                         marked.push_back(i);
             } else if (kinds >= 2) {
                 mark_interior(quads, see_through, by_facing, marked);

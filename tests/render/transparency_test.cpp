@@ -171,6 +171,14 @@ TEST(TouchingFacesTest, OnlyFacesThatMayMeetAnotherTransparentBlockAreMarked) {
     // +x quad is marked whole.
     EXPECT_EQ(marked_faces({{{5, 4, 5}, water}, {{5, 5, 5}, water}, {{5, 6, 5}, water}, {{6, 5, 5}, glass}}),
               (Marks{{0, 6, false, glass}, {0, 6, true, water}}));
+    // A water row across the whole chunk (its z faces: quads 32 wide) with glass beside one block:
+    // the row's +z quad is marked whole, and its ends lie on the border planes.
+    std::vector<std::pair<world::BlockPos, world::BlockId>> row;
+    for (int x = 0; x < 32; ++x)
+        row.push_back({{x, 5, 5}, water});
+    row.push_back({{10, 5, 6}, glass});
+    EXPECT_EQ(marked_faces(row), (Marks{{0, 0, false, water}, {0, 32, true, water}, {2, 6, false, glass},
+                                        {2, 6, true, water}}));
     // Touching along z, glass above water along y: each axis's planes.
     EXPECT_EQ(marked_faces({{{5, 5, 5}, glass}, {{5, 5, 6}, water}}),
               (Marks{{2, 6, false, water}, {2, 6, true, glass}}));

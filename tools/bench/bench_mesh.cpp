@@ -4,6 +4,7 @@
 // thesis) and embedded (opaque neighbours). 32³ chunks: the engine's chunk size.
 // Each benchmark cycles through 16 chunks, distinct wherever the scene allows (solid: 9 ids;
 // empty: air is air), so caches and branch predictors see realistic variety.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -15,6 +16,7 @@
 
 #include "engine/job_batch.h"
 #include "engine/region_mesher.h"
+#include "render/touching_faces.h"
 #include "world/mesh/mesher.h"
 #include "world/mesh/reference_meshers.h"
 #include "world/gen/seed_scene.h"
@@ -45,11 +47,12 @@ Chunk terrain_chunk(uint64_t seed) {
     return Chunk::from_dense(ids);
 }
 
-Chunk noise_chunk(uint64_t seed, int percent, int types) {
+// `percent` of the cells hold one of `types` ids from `first`, at random.
+Chunk noise_chunk(uint64_t seed, int percent, int types, BlockId first = 1) {
     std::vector<BlockId> ids(kChunkVolume);
     std::mt19937_64 rng(seed);
     for (BlockId& b : ids)
-        b = int(rng() % 100) < percent ? BlockId(1 + rng() % types) : kAir;
+        b = int(rng() % 100) < percent ? BlockId(first + rng() % types) : kAir;
     return Chunk::from_dense(ids);
 }
 
@@ -76,6 +79,9 @@ const std::vector<Scene>& scenes() {
         {"random10", [](uint64_t i) { return random_fill_chunk(i * 7919 + 1, 10, 1); }},
         {"terrain", [](uint64_t i) { return terrain_chunk(i + 11); }},
         {"noise50x3", [](uint64_t i) { return noise_chunk(i + 101, 50, 3); }},
+        // 10% water and glass at random (ids 5 and 6: see-through): render::mark_touching_faces'
+        // worst case, many touching pairs inside and transparent faces on every border.
+        {"see_through10", [](uint64_t i) { return noise_chunk(i + 211, 10, 2, 5); }},
         {"checker3d", [](uint64_t i) { return checker_chunk(i); }},
         // A uniform chunk differs from another only by its id: the 9 opaque ids in turn.
         {"solid", [](uint64_t i) { return Chunk(kOpaqueIds[i % kOpaqueCount]); }},
@@ -105,6 +111,34 @@ void bench_mesher(benchmark::State& state, const Scene& scene, bool embedded, Me
         benchmark::DoNotOptimize(mesh.quad_count());
     }
     state.counters["quads"] = double(quads) / kPool; // Mean over the pool, exact.
+}
+
+// The renderer's marks for the coincident-face probe (render/touching_faces.h) on the greedy
+// meshes of `scene` (isolated), per chunk: what Renderer::set_chunk adds to each chunk it is sent.
+void bench_touching_faces(benchmark::State& state, const Scene& scene) {
+    const BlockRegistry& reg = BlockRegistry::default_registry();
+    GreedyMesher mesher;
+    std::vector<ChunkMesh> meshes(kPool);
+    std::vector<std::vector<BlockId>> ids(kPool);
+    uint64_t quads = 0, marked = 0;
+    ChunkMesh out;
+    for (int i = 0; i < kPool; ++i) {
+        mesher.mesh({scene.make(uint64_t(i)), Apron::air(), reg}, meshes[i]);
+        meshes[i].for_each_quad([&](const Quad& q) {
+            if (std::find(ids[i].begin(), ids[i].end(), q.block) == ids[i].end())
+                ids[i].push_back(q.block);
+        });
+        quads += meshes[i].quad_count();
+        if (render::mark_touching_faces(meshes[i], ids[i], reg, out))
+            out.for_each_quad([&](const Quad& q) { marked += q.reserved != 0; });
+    }
+    uint64_t n = 0;
+    for (auto _ : state) {
+        const size_t i = n++ % kPool;
+        benchmark::DoNotOptimize(render::mark_touching_faces(meshes[i], ids[i], reg, out));
+    }
+    state.counters["quads"] = double(quads) / kPool;
+    state.counters["marked"] = double(marked) / kPool; // Quads probed: border faces and pairs.
 }
 
 // One edit and its undo per iteration, so the chunk stays the scene it started as (toggling
@@ -189,6 +223,11 @@ const bool registered = [] {
                     ((with_old ? "mesh/remesh_edit/" : "mesh/remesh_all_six/") + std::string(s.name)).c_str(),
                     [&s, with_old](benchmark::State& st) { bench_remesh_edit(st, s, with_old); })
                     ->Unit(benchmark::kMicrosecond);
+    for (const Scene& s : scenes())
+        if (std::string(s.name) == "see_through10" || std::string(s.name) == "terrain")
+            benchmark::RegisterBenchmark(("mesh/touching_faces/" + std::string(s.name)).c_str(),
+                                         [&s](benchmark::State& st) { bench_touching_faces(st, s); })
+                ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark("mesh/seed_scene_all_cores", bench_seed_scene)->UseManualTime()->Unit(benchmark::kMillisecond);
     return true;
 }();
