@@ -224,6 +224,7 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     std::erase_if(m->emissive_quads, [&](const auto& kv) { return !keep.contains(kv.first); });
     if (std::erase_if(m->emitter_set, [&](world::LodCoord c) { return !keep.contains(c); }) > 0)
         m->emitter_list_dirty = true;
+    std::erase_if(m->probe_chunks, [&](world::LodCoord c) { return !keep.contains(c); });
     return render(settings, camera);
 }
 
@@ -287,6 +288,10 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     // in chunks that have such faces).
     world::ChunkMesh marked;
     const bool marks = mark_touching_faces(mesh, ids, m->registry, marked);
+    if (marks)
+        m->probe_chunks.insert(c);
+    else
+        m->probe_chunks.erase(c);
     m->accel->set_chunk(c, marks ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
 }
 
@@ -296,6 +301,7 @@ void Renderer::remove_chunk(world::LodCoord c) {
     m->emissive_quads.erase(c);
     if (m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;
+    m->probe_chunks.erase(c);
 }
 void Renderer::clear_chunks() {
     m->accel->clear();
@@ -303,6 +309,7 @@ void Renderer::clear_chunks() {
     m->emissive_quads.clear();
     m->emitter_set.clear();
     m->emitter_list_dirty = true;
+    m->probe_chunks.clear();
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }

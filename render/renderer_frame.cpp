@@ -199,8 +199,11 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         return out_of_memory("the emitter bounds");
     // The pipeline that samples emitter faces, once some drawn chunk emits (write_params may pick it).
     update_emitters();
-    if (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_faces_variant())
+    frame_probes = !probe_chunks.empty();
+    if (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, frame_probes))
         return out_of_memory("the emitter faces' pipeline");
+    if (!pipeline->ensure_variant(false, frame_probes)) // The one without either exists already.
+        return out_of_memory("the coincident-face probe's pipeline");
     const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
         readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});

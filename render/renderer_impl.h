@@ -100,6 +100,10 @@ struct Renderer::Impl {
     };
     EmitterCounts write_emitter_list(world::BlockPos camera_block, bool sample_faces);
     bool frame_samples_faces = false; // write_params() listed emitter faces: record_trace() picks that pipeline.
+    // Chunks whose mesh has faces marked for the coincident-face probe (render/touching_faces.h):
+    // while there are none, frames trace with the pipeline variant that has no probe.
+    std::unordered_set<world::LodCoord, world::LodCoordHash> probe_chunks;
+    bool frame_probes = false; // This frame traces with the probing variant (prepare_frame).
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;
     Buffer gbuffer_readback; // The G-buffer's four images, one after another (render() with a GBufferImage).
@@ -228,6 +232,7 @@ struct Renderer::Impl {
         out.memory = accel->memory();
         out.raster_chunks = raster_chunks;
         out.raster_transparent_chunks = raster_transparent_chunks;
+        out.touching_probes = frame_probes;
     }
     bool update_materials();
     Image& target() { return targets[ctx->frame_slot()]; }

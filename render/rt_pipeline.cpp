@@ -17,15 +17,16 @@ enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, 
 
 RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
     create_layouts();
-    m_variants[0] = create_variant(false); // Out of memory: valid() is false.
+    m_variants[0] = create_variant(false, false); // Out of memory: valid() is false.
 }
 
-bool RtPipeline::ensure_faces_variant() {
-    if (m_variants[1].pipeline)
+bool RtPipeline::ensure_variant(bool sample_faces, bool probe) {
+    Variant& slot = m_variants[variant_index(sample_faces, probe)];
+    if (slot.pipeline)
         return true;
-    Variant v = create_variant(true);
+    Variant v = create_variant(sample_faces, probe);
     if (v.sbt.valid()) {
-        m_variants[1] = std::move(v);
+        slot = std::move(v);
         return true;
     }
     vkDestroyPipeline(m_ctx->device(), v.pipeline, nullptr); // Never recorded.
@@ -91,7 +92,7 @@ static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR
     return g;
 }
 
-RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
+RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, bool probe) {
     if (!m_layout)
         return Variant{}; // Its creation failed (logged).
     const VkShaderModule modules[] = {
@@ -113,11 +114,13 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
         stages[i].module = modules[i];
         stages[i].pName = "main";
     }
-    // raygen.rgen's constant_id 0, kSampleFaces (a 32-bit bool).
-    const VkBool32 faces = sample_faces ? VK_TRUE : VK_FALSE;
-    const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
-    VkSpecializationInfo spec{1, &entry, sizeof(faces), &faces};
+    // raygen.rgen's constant_id 0, kSampleFaces, and both raygens' constant_id 1, kProbeTouching
+    // (32-bit bools; an id a shader lacks is ignored: Vulkan spec, VkSpecializationMapEntry).
+    const VkBool32 constants[2] = {sample_faces ? VK_TRUE : VK_FALSE, probe ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(VkBool32)}, {1, sizeof(VkBool32), sizeof(VkBool32)}};
+    const VkSpecializationInfo spec{2, entries, sizeof constants, constants};
     stages[0].pSpecializationInfo = &spec;
+    stages[kStages - 1].pSpecializationInfo = &spec; // raygen_flat.rgen.
     const VkRayTracingShaderGroupCreateInfoKHR groups[kGroupCount] = {
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 0, VK_SHADER_UNUSED_KHR),
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 1, VK_SHADER_UNUSED_KHR),
@@ -133,20 +136,21 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces) {
     ci.maxPipelineRayRecursionDepth = 1; // Every ray is traced from raygen; reflections loop there.
     ci.layout = m_layout;
     Variant v;
-    const char* name = sample_faces ? "rt pipeline, emitter faces" : "rt pipeline";
+    const std::string suffix = std::string(sample_faces ? ", emitter faces" : "") + (probe ? ", probes" : "");
+    const std::string name = "rt pipeline" + suffix;
     // The test hook (Context::fail_allocations) stands in for the device's own refusal.
     const bool no_module = std::find(std::begin(modules), std::end(modules), VK_NULL_HANDLE) != std::end(modules);
-    const bool refused = no_module || m_ctx->allocation_injected(name) ||
+    const bool refused = no_module || m_ctx->allocation_injected(name.c_str()) ||
                          VK_OUT_OF_MEMORY(vkCreateRayTracingPipelinesKHR(m_ctx->device(), VK_NULL_HANDLE, VK_NULL_HANDLE,
                                                                          1, &ci, nullptr, &v.pipeline));
     for (VkShaderModule m : modules)
         vkDestroyShaderModule(m_ctx->device(), m, nullptr);
     if (refused) { // The emitter-faces variant is made mid-session: its caller draws without it.
-        VX_LOG_ERROR("out of memory for %s", sample_faces ? "the emitter-faces ray tracing pipeline" : "the ray tracing pipeline");
+        VX_LOG_ERROR("out of memory for %s", name.c_str());
         return Variant{};
     }
-    m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, name);
-    (void)create_sbt(v, sample_faces ? "shader binding table, emitter faces" : "shader binding table");
+    m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, name.c_str());
+    (void)create_sbt(v, ("shader binding table" + suffix).c_str());
     return v;
 }
 
@@ -202,11 +206,11 @@ bool RtPipeline::create_sbt(Variant& v, const char* name) {
     return true;
 }
 
-void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces, bool probe,
                        const gpu::TracePush& push) const {
     const bool faces = sample_faces && !flat; // Flat shades nothing.
-    const Variant& v = m_variants[faces ? 1 : 0];
-    VX_ASSERT_MSG(v.pipeline != VK_NULL_HANDLE, "trace: the emitter faces' variant was not made (ensure_faces_variant)");
+    const Variant& v = m_variants[variant_index(faces, probe)];
+    VX_ASSERT_MSG(v.pipeline != VK_NULL_HANDLE, "trace: the pipeline variant was not made (ensure_variant)");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, v.pipeline);
     vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof push, &push);
     vkCmdTraceRaysKHR(cmd, flat ? &v.raygen_flat : &v.raygen, &v.miss, &v.hit, &v.callable, width, height, 1);

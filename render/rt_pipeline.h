@@ -49,15 +49,16 @@ public:
     VkPipelineLayout layout() const { return m_layout; }
     VkDescriptorSetLayout set_layout() const { return m_set_layout; }
 
-    // Makes the variant that samples emitter faces unless it exists; false: out of memory for its
-    // shader binding table (nothing made; a later call tries again).
-    bool ensure_faces_variant();
+    // Makes the variant that samples emitter faces or not, and probes for coincident transparent
+    // faces or not (shaders/shared/raygen_common.glsl, kProbeTouching), unless it exists; false:
+    // out of memory for it or its shader binding table (nothing made; a later call tries again).
+    // The one with neither is made by the constructor.
+    bool ensure_variant(bool sample_faces, bool probe);
 
-    // Binds the variant that samples emitter faces or not (that one made by ensure_faces_variant),
-    // pushes `push` (which pass, gpu::TracePush) and records vkCmdTraceRaysKHR over width x height
-    // with its SBT regions; `flat` picks the Flat raygen (FrameParams mode Flat), else the
-    // full-shading one. The caller binds the descriptor set.
-    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
+    // Binds that variant (made by ensure_variant), pushes `push` (which pass, gpu::TracePush) and
+    // records vkCmdTraceRaysKHR over width x height with its SBT regions; `flat` picks the Flat
+    // raygen (FrameParams mode Flat), else the full-shading one. The caller binds the descriptor set.
+    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces, bool probe,
                const gpu::TracePush& push) const;
 
 private:
@@ -67,13 +68,14 @@ private:
         VkStridedDeviceAddressRegionKHR raygen{}, raygen_flat{}, miss{}, hit{}, callable{};
     };
     void create_layouts();
-    Variant create_variant(bool sample_faces); // Its SBT invalid when out of memory.
+    Variant create_variant(bool sample_faces, bool probe); // Its SBT invalid when out of memory.
+    static size_t variant_index(bool sample_faces, bool probe) { return size_t(sample_faces) + 2 * size_t(probe); }
     bool create_sbt(Variant& v, const char* name);
 
     Context* m_ctx;
     VkDescriptorSetLayout m_set_layout = VK_NULL_HANDLE;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    std::array<Variant, 2> m_variants; // [sample_faces]
+    std::array<Variant, 4> m_variants; // [variant_index(sample_faces, probe)]
 };
 
 } // namespace vx::render

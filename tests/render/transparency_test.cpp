@@ -3,6 +3,7 @@
 // transparent blocks touch. There each block has its own face on the same plane and the traversal
 // reports only one of the two; the walk's probe (coincident_tint) must find the other.
 #include <algorithm>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <tuple>
@@ -108,6 +109,71 @@ TEST_F(RendererTest, GlassPlacedAgainstWaterByAnEditTintsByBoth) {
     const RenderImage img = edit({0, 0, 2}, glass);
     EXPECT_EQ(m_renderer->last_stats().blas_refits, 1u);
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), stone * albedo_of(water) * albedo_of(glass)));
+}
+
+// Frames trace with the pipeline variant that probes only while some chunk has marked faces
+// (its code alone cost every ray 7% on the NVIDIA driver): not for a pond, yes once glass touches
+// its water (and it tints by both), not again once the glass is gone. Both variants draw the
+// pond alike.
+TEST_F(RendererTest, OnlyScenesWithMarkedFacesTraceTheProbingPipeline) {
+    const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
+    const world::BlockId stone_id = test::block_id("stone");
+    const glm::vec3 stone = albedo_of(stone_id);
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Flat;
+    // Off the chunk's border planes (a transparent face there is always marked).
+    const Camera cam = Camera::look_at({5.5, 5.5, 13.5}, {5.5, 5.5, 0.0}, {0, 1, 0}, 20.f);
+    const auto scene = [&](const std::vector<std::pair<world::BlockPos, world::BlockId>>& blocks) {
+        world::World w;
+        test::fill_box(w, {-3, -3, 1}, {14, 14, 2}, stone_id);
+        for (const auto& [p, id] : blocks)
+            w.set_block(p, id);
+        test::load_meshes(*m_renderer, test::mesh_world(w));
+        return m_renderer->render(s, cam);
+    };
+    const RenderImage pond = scene({{{5, 5, 3}, water}});
+    EXPECT_FALSE(m_renderer->last_stats().touching_probes);
+    EXPECT_TRUE(test::rgb_near(pond.at(16, 16), stone * albedo_of(water)));
+    const RenderImage both = scene({{{5, 5, 3}, water}, {{5, 5, 4}, glass}});
+    EXPECT_TRUE(m_renderer->last_stats().touching_probes);
+    EXPECT_TRUE(test::rgb_near(both.at(16, 16), stone * albedo_of(water) * albedo_of(glass)));
+    // The same pond through the probing variant (glass touching water out of view).
+    const RenderImage pond_probed = scene({{{5, 5, 3}, water}, {{10, 10, 10}, glass}, {{11, 10, 10}, water}});
+    EXPECT_TRUE(m_renderer->last_stats().touching_probes);
+    EXPECT_EQ(pond_probed.rgba, pond.rgba);
+    scene({{{5, 5, 3}, water}});
+    EXPECT_FALSE(m_renderer->last_stats().touching_probes);
+}
+
+// Out of memory for the probing pipeline or its shader binding table (made at the first frame
+// with marked faces): a one-line error; the next frame renders as a renderer that never failed.
+TEST_F(RendererTest, NoMemoryForTheProbingPipelineIsAnErrorThenTheNextFrameRenders) {
+    const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
+    const world::MeshMap meshes = test::mesh_world(row_before_wall(2, {glass, water}, 3, false));
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Flat;
+    const Camera cam = looking_down_axis(2, 13.5);
+    const RenderImage expected = test::fresh_render(meshes, s, cam);
+    for (const char* resource : {"rt pipeline, probes", "shader binding table, probes"}) {
+        std::unique_ptr<Renderer> r = test::make_renderer();
+        ASSERT_NE(r, nullptr);
+        test::load_meshes(*r, meshes);
+        r->fail_allocations(resource);
+        Result<RenderImage> failed = r->try_render(s, cam);
+        ASSERT_FALSE(failed) << resource;
+        EXPECT_NE(failed.error().find("out of GPU memory for the coincident-face probe's pipeline"), std::string::npos)
+            << failed.error();
+        EXPECT_EQ(failed.error().find('\n'), std::string::npos);
+        r->fail_allocations("");
+        Result<RenderImage> img = r->try_render(s, cam);
+        ASSERT_TRUE(img) << img.error();
+        EXPECT_EQ(test::differing_bytes(*img, expected), 0) << resource;
+        EXPECT_EQ(r->validation_errors(), 0u) << resource;
+    }
 }
 
 // A marked face of chunk (0, 0, 0): its plane, facing and block.
