@@ -4,20 +4,8 @@
 # Binaries: vx_prev (main before the change: f084bb1's renderer), vx (the list). The scattered
 # stone / water volumes of ../raster-transparency-2026-12-05, raster Flat and Full, 1080p, three
 # alternated rounds; then the render suites with validation on.
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-export VK_LAYER_PATH=/tmp/dl/layer
-chmod +x .devbuild/*
-mkdir -p /work/main/build/release/tools && cp .devbuild/vx /work/main/build/release/tools/vx # The CLI tests' VX_BINARY.
-B=$PWD/.devbuild
-t0=$(date +%s)
-nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
+source docs/render_report/scripts/device_env.sh
 cd docs/render_report/raster-transparency-2026-12-05
-D=$(mktemp -d); python3 make_scatter.py "$D"
-V="--dims 256,48,256 --type u8 --eye 128,70,-60 --target 128,20,128 --device gpu --size 1920x1080 --repeat 20"
 for round in 1 2 3; do
   for shading in flat full; do
     for b in stone water; do

@@ -8,22 +8,10 @@
 #           different transparent blocks touch, must look the same).
 # Then the render suites on the NVIDIA driver with validation on.
 # Usage (device): bash device_run.sh OTHER   (OTHER: vx_cull or vx_noprobe)
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-export VK_LAYER_PATH=/tmp/dl/layer
-chmod +x .devbuild/*
-mkdir -p /work/main/build/release/tools && cp .devbuild/vx /work/main/build/release/tools/vx # The CLI tests' VX_BINARY.
-B=$PWD/.devbuild
+source docs/render_report/scripts/device_env.sh
 OTHER=${1:-vx_noprobe}
-t0=$(date +%s)
-nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 $B/vx info 2>&1 | tail -2
 cd docs/render_report/raster-transparency-2026-12-05
-D=$(mktemp -d); python3 make_scatter.py "$D"
-V="--dims 256,48,256 --type u8 --eye 128,70,-60 --target 128,20,128 --device gpu --size 1920x1080 --repeat 20"
 for round in 1 2 3; do
   for b in water stone; do
     for bin in vx_base vx $OTHER; do

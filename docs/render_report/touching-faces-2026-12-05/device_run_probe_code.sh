@@ -2,17 +2,10 @@
 # Device calls (2026-12-05, stop 49): what the probe's code costs a ray that never probes.
 # vx = main at 1eaf8cb; vx_nocode = vx with the probe's branch compiled out (no probe, no code);
 # vx_one = vx with the walk and its probes sharing one traceRayEXT call (tried, not kept:
-# render_report.md). The first call ran vx and vx_nocode only.
-set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-mkdir -p /tmp/dl && tar xzf .devlibs/libs.tgz -C /tmp/dl
-export LD_LIBRARY_PATH=/tmp/dl/lib VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-chmod +x .devbuild/*
-B=$PWD/.devbuild
-nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
+# render_report.md). Call 3 ran vx and vx_nocode only; call 5 (the probe compiled out while no
+# face is marked) vx_prev = d5380a1 and vx.
+source docs/render_report/scripts/device_env.sh
 cd docs/render_report/raster-transparency-2026-12-05
-D=$(mktemp -d); python3 make_scatter.py "$D"
-V="--dims 256,48,256 --type u8 --eye 128,70,-60 --target 128,20,128 --device gpu --size 1920x1080 --repeat 20"
 for round in 1 2 3; do
   for b in stone water; do
     for bin in vx vx_one vx_nocode; do
