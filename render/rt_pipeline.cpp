@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <iterator>
+#include <string>
 #include <vector>
 
 #include "render/commands.h"
@@ -145,7 +146,7 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, bool probe) {
                                                                          1, &ci, nullptr, &v.pipeline));
     for (VkShaderModule m : modules)
         vkDestroyShaderModule(m_ctx->device(), m, nullptr);
-    if (refused) { // The emitter-faces variant is made mid-session: its caller draws without it.
+    if (refused) { // Variants past the first are made mid-session: that frame fails, a later one retries.
         VX_LOG_ERROR("out of memory for %s", name.c_str());
         return Variant{};
     }
