@@ -3,8 +3,10 @@
 // renderer_frame.cpp (resources, parameters) and renderer_record.cpp (commands).
 #include "render/renderer.h"
 
+#include <algorithm>
 #include <bit>
 #include <utility>
+#include <vector>
 
 #include "render/emitter_quads.h"
 #include "render/renderer_impl.h"
@@ -224,7 +226,12 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     std::erase_if(m->emissive_quads, [&](const auto& kv) { return !keep.contains(kv.first); });
     if (std::erase_if(m->emitter_set, [&](world::LodCoord c) { return !keep.contains(c); }) > 0)
         m->emitter_list_dirty = true;
-    std::erase_if(m->probe_chunks, [&](world::LodCoord c) { return !keep.contains(c); });
+    std::vector<world::LodCoord> gone;
+    for (const auto& [c, kinds] : m->probe_kinds)
+        if (!keep.contains(c))
+            gone.push_back(c);
+    for (world::LodCoord c : gone)
+        m->set_probe_kinds(c, {});
     return render(settings, camera);
 }
 
@@ -288,11 +295,28 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     // in chunks that have such faces).
     world::ChunkMesh marked;
     const bool marks = mark_touching_faces(mesh, ids, m->registry, marked);
+    std::vector<world::BlockId> kinds;
     if (marks)
-        m->probe_chunks.insert(c);
-    else
-        m->probe_chunks.erase(c);
+        marked.for_each_quad([&](const world::Quad& q) {
+            if ((q.reserved & gpu::kQuadMayTouch) && std::find(kinds.begin(), kinds.end(), q.block) == kinds.end())
+                kinds.push_back(q.block);
+        });
+    m->set_probe_kinds(c, std::move(kinds));
     m->accel->set_chunk(c, marks ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
+}
+
+void Renderer::Impl::set_probe_kinds(world::LodCoord c, std::vector<world::BlockId> kinds) {
+    if (auto it = probe_kinds.find(c); it != probe_kinds.end()) {
+        for (world::BlockId id : it->second)
+            if (--probe_kind_chunks[id] == 0)
+                probe_kind_chunks.erase(id);
+        probe_kinds.erase(it);
+    }
+    if (kinds.empty())
+        return;
+    for (world::BlockId id : kinds)
+        ++probe_kind_chunks[id];
+    probe_kinds.emplace(c, std::move(kinds));
 }
 
 void Renderer::remove_chunk(world::LodCoord c) {
@@ -301,7 +325,7 @@ void Renderer::remove_chunk(world::LodCoord c) {
     m->emissive_quads.erase(c);
     if (m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;
-    m->probe_chunks.erase(c);
+    m->set_probe_kinds(c, {});
 }
 void Renderer::clear_chunks() {
     m->accel->clear();
@@ -309,7 +333,8 @@ void Renderer::clear_chunks() {
     m->emissive_quads.clear();
     m->emitter_set.clear();
     m->emitter_list_dirty = true;
-    m->probe_chunks.clear();
+    m->probe_kinds.clear();
+    m->probe_kind_chunks.clear();
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }

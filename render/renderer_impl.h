@@ -100,9 +100,15 @@ struct Renderer::Impl {
     };
     EmitterCounts write_emitter_list(world::BlockPos camera_block, bool sample_faces);
     bool frame_samples_faces = false; // write_params() listed emitter faces: record_trace() picks that pipeline.
-    // Chunks whose mesh has faces marked for the coincident-face probe (render/touching_faces.h):
-    // while there are none, frames trace with the pipeline variant that has no probe.
-    std::unordered_set<world::LodCoord, world::LodCoordHash> probe_chunks;
+    // The kinds (block ids) of each chunk's faces marked for the coincident-face probe
+    // (render/touching_faces.h), and per kind the number of such chunks. Two different kinds that
+    // touch always mark faces of both (inside a chunk the pair, across a border each chunk's
+    // border face), so while the marked faces hold fewer than two kinds no pair exists anywhere
+    // and frames trace the pipeline variant with no probe (a world whose one see-through block is
+    // water never probes).
+    std::unordered_map<world::LodCoord, std::vector<world::BlockId>, world::LodCoordHash> probe_kinds;
+    std::unordered_map<world::BlockId, uint32_t> probe_kind_chunks;
+    void set_probe_kinds(world::LodCoord c, std::vector<world::BlockId> kinds); // Empty: none.
     bool frame_probes = false; // This frame traces with the probing variant (prepare_frame).
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;

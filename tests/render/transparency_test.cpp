@@ -111,10 +111,12 @@ TEST_F(RendererTest, GlassPlacedAgainstWaterByAnEditTintsByBoth) {
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), stone * albedo_of(water) * albedo_of(glass)));
 }
 
-// Frames trace with the pipeline variant that probes only while some chunk has marked faces
-// (its code alone cost every ray 7% on the NVIDIA driver): not for a pond, yes once glass touches
-// its water (and it tints by both), not again once the glass is gone. Both variants draw the
-// pond alike.
+// Frames trace with the pipeline variant that probes only while marked faces hold two kinds (its
+// code alone cost every ray 7% on the NVIDIA driver; a touching pair marks faces of both kinds):
+// not for a pond, nor for water alone on chunk borders (marked, but nothing else is see-through);
+// yes once glass touches the water (and it tints by both), and where glass and water both lie on
+// chunk borders, touching or not (the bound); not again once the glass is gone. Both variants
+// draw the pond alike.
 TEST_F(RendererTest, OnlyScenesWithMarkedFacesTraceTheProbingPipeline) {
     const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
     const world::BlockId stone_id = test::block_id("stone");
@@ -136,6 +138,12 @@ TEST_F(RendererTest, OnlyScenesWithMarkedFacesTraceTheProbingPipeline) {
     const RenderImage pond = scene({{{5, 5, 3}, water}});
     EXPECT_FALSE(m_renderer->last_stats().touching_probes);
     EXPECT_TRUE(test::rgb_near(pond.at(16, 16), stone * albedo_of(water)));
+    scene({{{5, 5, 3}, water}, {{0, 9, 9}, water}, {{31, 9, 9}, water}}); // Water on two border planes.
+    EXPECT_FALSE(m_renderer->last_stats().touching_probes);
+    scene({{{5, 5, 3}, water}, {{0, 9, 9}, glass}}); // Glass on a border, the water inside: no pair.
+    EXPECT_FALSE(m_renderer->last_stats().touching_probes);
+    scene({{{5, 5, 3}, water}, {{0, 9, 9}, glass}, {{31, 9, 9}, water}}); // Both on borders, apart.
+    EXPECT_TRUE(m_renderer->last_stats().touching_probes);
     const RenderImage both = scene({{{5, 5, 3}, water}, {{5, 5, 4}, glass}});
     EXPECT_TRUE(m_renderer->last_stats().touching_probes);
     EXPECT_TRUE(test::rgb_near(both.at(16, 16), stone * albedo_of(water) * albedo_of(glass)));
