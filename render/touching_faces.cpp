@@ -1,7 +1,8 @@
 #include "render/touching_faces.h"
 
 #include <algorithm>
-#include <array>
+#include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
