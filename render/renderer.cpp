@@ -294,13 +294,8 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     // Faces that may touch another transparent block's carry a mark (a copy of the mesh, only
     // in chunks that have such faces).
     world::ChunkMesh marked;
-    const bool marks = mark_touching_faces(mesh, ids, m->registry, marked);
-    std::vector<world::BlockId> kinds;
-    if (marks)
-        marked.for_each_quad([&](const world::Quad& q) {
-            if ((q.reserved & gpu::kQuadMayTouch) && std::find(kinds.begin(), kinds.end(), q.block) == kinds.end())
-                kinds.push_back(q.block);
-        });
+    std::vector<world::BlockId> kinds = mark_touching_faces(mesh, ids, m->registry, marked);
+    const bool marks = !kinds.empty();
     m->set_probe_kinds(c, std::move(kinds));
     m->accel->set_chunk(c, marks ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
 }

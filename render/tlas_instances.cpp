@@ -52,7 +52,6 @@ void TlasInstances::write(uint32_t i) {
 
 uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
     VX_ASSERT(world::valid_lod_level(chunk.coord.level));
-    VX_ASSERT((chunk.quads & 1u) == 0);
     const uint32_t i = size();
     m_draw.push_back(chunk);
     ++m_level_counts[size_t(chunk.coord.level)];
@@ -62,7 +61,7 @@ uint32_t TlasInstances::add(const DrawChunk& chunk, VkDeviceAddress blas) {
 }
 
 void TlasInstances::update(uint32_t i, const DrawChunk& chunk, VkDeviceAddress blas) {
-    VX_ASSERT(i < size() && m_draw[i].coord == chunk.coord && (chunk.quads & 1u) == 0);
+    VX_ASSERT(i < size() && m_draw[i].coord == chunk.coord);
     if (m_instances[i].accelerationStructureReference == blas && m_draw[i].quads == chunk.quads &&
         m_draw[i].slots == chunk.slots && m_draw[i].opaque == chunk.opaque)
         return; // A refit: same BLAS, same buffers.

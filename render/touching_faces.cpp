@@ -74,12 +74,12 @@ void mark_interior(std::span<const world::Quad> quads, const SeeThrough& see_thr
 
 } // namespace
 
-bool mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
-                         const world::BlockRegistry& registry, world::ChunkMesh& out) {
+std::vector<world::BlockId> mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
+                                                const world::BlockRegistry& registry, world::ChunkMesh& out) {
     const auto transparent = [&](world::BlockId id) { return id != world::kAir && !registry.is_opaque(id); };
     const size_t kinds = size_t(std::count_if(ids.begin(), ids.end(), transparent));
     if (kinds == 0)
-        return false;
+        return {};
     SeeThrough see_through{std::vector<uint16_t>(size_t(*std::max_element(ids.begin(), ids.end())) + 1, 0)};
     for (world::BlockId id : ids)
         if (transparent(id) && see_through.kind[id] == 0)
@@ -104,18 +104,22 @@ bool mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::Bl
             if (!marked.empty())
                 slices.emplace_back(s, marked);
         }
+    std::vector<world::BlockId> marked_blocks;
     if (slices.empty())
-        return false;
+        return marked_blocks;
     out = mesh;
     std::vector<world::Quad> quads;
     for (const auto& [s, indices] : slices) {
         const std::span<const world::Quad> slice = out.slice(s);
         quads.assign(slice.begin(), slice.end());
-        for (uint32_t i : indices)
+        for (uint32_t i : indices) {
             quads[i].reserved = uint16_t(quads[i].reserved | gpu::kQuadMayTouch);
+            if (std::find(marked_blocks.begin(), marked_blocks.end(), quads[i].block) == marked_blocks.end())
+                marked_blocks.push_back(quads[i].block); // Few kinds per chunk.
+        }
         out.replace_slice(s, quads); // The same count: in place.
     }
-    return true;
+    return marked_blocks;
 }
 
 } // namespace vx::render

@@ -10,17 +10,19 @@
 // the neighbour's mesh, which this chunk does not see). Any thread (pure function).
 
 #include <span>
+#include <vector>
 
 #include "world/block_registry.h"
 #include "world/mesh/chunk_mesh.h"
 
 namespace vx::render {
 
-// Writes `mesh` with the marks set into `out` and returns true; returns false (and leaves `out`
-// alone) when no quad needs one, as in a chunk without transparent blocks or a lake's chunk away
-// from its borders. `ids`: the blocks of the mesh's quads (any order, each once); a quad whose
-// block is not among them counts as opaque. `mesh` carries no marks (as a mesher writes it).
-bool mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
-                         const world::BlockRegistry& registry, world::ChunkMesh& out);
+// Writes `mesh` with the marks set into `out` and returns the blocks of the marked faces (each
+// once); returns none (and leaves `out` alone) when no quad needs a mark, as in a chunk without
+// transparent blocks or a lake's chunk away from its borders. `ids`: the blocks of the mesh's
+// quads (any order, each once); a quad whose block is not among them counts as opaque. `mesh`
+// carries no marks (as a mesher writes it).
+std::vector<world::BlockId> mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
+                                                const world::BlockRegistry& registry, world::ChunkMesh& out);
 
 } // namespace vx::render

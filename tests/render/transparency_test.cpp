@@ -212,7 +212,8 @@ std::vector<Mark> marked_faces(const std::vector<std::pair<world::BlockPos, worl
             ids.push_back(q.block);
     });
     world::ChunkMesh out;
-    if (!mark_touching_faces(mesh, ids, world::BlockRegistry::default_registry(), out))
+    std::vector<world::BlockId> kinds = mark_touching_faces(mesh, ids, world::BlockRegistry::default_registry(), out);
+    if (kinds.empty())
         return {};
     EXPECT_TRUE(out == mesh); // Quad equality leaves out the spare field.
     std::vector<Mark> marks;
@@ -220,7 +221,14 @@ std::vector<Mark> marked_faces(const std::vector<std::pair<world::BlockPos, worl
         if (q.reserved & gpu::kQuadMayTouch)
             marks.push_back({q.axis(), q.plane(), q.positive(), q.block});
     });
-    EXPECT_FALSE(marks.empty()) << "true returned, nothing marked";
+    EXPECT_FALSE(marks.empty()) << "kinds returned, nothing marked";
+    std::vector<world::BlockId> marked_kinds;
+    for (const Mark& mk : marks)
+        marked_kinds.push_back(mk.block);
+    std::sort(marked_kinds.begin(), marked_kinds.end());
+    marked_kinds.erase(std::unique(marked_kinds.begin(), marked_kinds.end()), marked_kinds.end());
+    std::sort(kinds.begin(), kinds.end());
+    EXPECT_EQ(kinds, marked_kinds) << "the kinds returned are the marked faces' blocks";
     const auto key = [](const Mark& m) { return std::tuple(m.axis, m.plane, m.positive, m.block); };
     std::sort(marks.begin(), marks.end(), [&](const Mark& x, const Mark& y) { return key(x) < key(y); });
     return marks;
