@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -235,7 +236,15 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     return render(settings, camera);
 }
 
-void Renderer::set_registry(const world::BlockRegistry& registry) {
+std::vector<world::LodCoord> Renderer::set_registry(const world::BlockRegistry& registry) {
+    std::vector<world::LodCoord> stale_chunks;
+    for (const auto& [c, ids] : m->chunk_blocks)
+        if (std::any_of(ids.begin(), ids.end(),
+                        [&](world::BlockId id) { return m->registry.is_opaque(id) != registry.is_opaque(id); }))
+            stale_chunks.push_back(c);
+    std::sort(stale_chunks.begin(), stale_chunks.end(), [](world::LodCoord a, world::LodCoord b) {
+        return std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) < std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
+    });
     m->registry = registry;
     m->materials_dirty = true;
     m->emitters_dirty = true;
@@ -254,6 +263,7 @@ void Renderer::set_registry(const world::BlockRegistry& registry) {
     if (stale)
         m->emissive_quads.clear();
     m->emissive = std::move(emissive);
+    return stale_chunks;
 }
 
 void Renderer::set_chunk(world::ChunkCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {

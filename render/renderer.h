@@ -379,7 +379,11 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     // Materials come from `registry` (copied); unknown ids get the registry's fallback colours.
-    void set_registry(const world::BlockRegistry& registry);
+    // Colours, reflectivity and emission apply at the next frame. A block's opacity is part of its
+    // chunks' BLAS flags and face marks, made when the chunk was set: returns the chunks set
+    // before whose blocks changed opacity (sorted), which keep the old opacity until set again.
+    // Main thread only.
+    std::vector<world::LodCoord> set_registry(const world::BlockRegistry& registry);
     // Incremental scene edits, applied at the next render() (past a frame's build budget, 2 GiB
     // of uploads, at a later one; the old mesh is drawn meanwhile). `changed_slices` (slice_index()
     // values, as MeshSink::on_mesh gives them) marks an edit: only those slices' slots are

@@ -111,6 +111,57 @@ TEST_F(RendererTest, GlassPlacedAgainstWaterByAnEditTintsByBoth) {
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), stone * albedo_of(water) * albedo_of(glass)));
 }
 
+// A block type turned see-through after its chunks were set: set_registry names exactly the
+// chunks holding it (their BLAS was built OPAQUE and their mesh hid the wall's face behind it), and
+// those alone, meshed again and set, draw as a renderer made with the new registry does: the
+// wall behind tinted by the block (without setting them again: untinted). A change of colour
+// names none (it applies at once).
+TEST_F(RendererTest, ABlockTurnedSeeThroughNamesTheChunksToSetAgain) {
+    world::BlockRegistry before = world::BlockRegistry::default_registry();
+    world::BlockInfo crystal;
+    crystal.name = "crystal";
+    crystal.albedo = glm::vec3(0.9f, 0.5f, 0.3f);
+    const Result<world::BlockId> id = before.add(crystal);
+    ASSERT_TRUE(id);
+    world::World w = row_before_wall(2, {*id}, 1, false); // The wall's four chunks; the crystal on it, in (0, 0, 0).
+    w.registry() = before;
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    EXPECT_TRUE(m_renderer->set_registry(before).empty());
+    world::BlockRegistry recoloured = before;
+    crystal.albedo = glm::vec3(0.3f, 0.5f, 0.9f);
+    ASSERT_TRUE(recoloured.set(*id, crystal));
+    EXPECT_TRUE(m_renderer->set_registry(recoloured).empty());
+    world::BlockRegistry after = before;
+    crystal.albedo = glm::vec3(0.9f, 0.5f, 0.3f);
+    crystal.opaque = false;
+    ASSERT_TRUE(after.set(*id, crystal));
+    const std::vector<world::LodCoord> stale = m_renderer->set_registry(after);
+    ASSERT_EQ(stale.size(), 1u);
+    EXPECT_EQ(stale[0], (world::LodCoord{0, world::ChunkCoord(0, 0, 0)}));
+    w.registry() = after;
+    const world::MeshMap meshes = test::mesh_world(w);
+    for (world::LodCoord c : stale)
+        m_renderer->set_chunk(c, meshes.at(c.chunk).mesh);
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Flat;
+    const Camera cam = looking_down_axis(2, 12.5);
+    std::unique_ptr<Renderer> fresh = test::make_renderer();
+    ASSERT_NE(fresh, nullptr);
+    fresh->set_registry(after);
+    test::load_meshes(*fresh, meshes);
+    // The raster baseline's see-through pass skips chunks built as opaque: it shows a stale one.
+    for (PipelineKind pipeline : {PipelineKind::RayTraced, PipelineKind::Raster}) {
+        s.pipeline = pipeline;
+        const RenderImage img = m_renderer->render(s, cam);
+        // One face's tint: the crystal's face on the wall is hidden by the stone (trace_through).
+        EXPECT_TRUE(test::rgb_near(img.at(16, 16), albedo_of(test::block_id("stone")) * glm::sqrt(crystal.albedo), 2));
+        EXPECT_EQ(test::differing_bytes(fresh->render(s, cam), img), 0);
+    }
+    EXPECT_EQ(fresh->validation_errors(), 0u);
+}
+
 // Frames trace with the pipeline variant that probes only while marked faces hold two kinds (its
 // code alone cost every ray 7% on the NVIDIA driver; a touching pair marks faces of both kinds):
 // not for a pond, nor for water alone on chunk borders (marked, but nothing else is see-through);
