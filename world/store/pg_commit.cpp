@@ -108,85 +108,10 @@ struct PipelineReader {
     }
 };
 
-} // namespace
-
-// One round trip: every versioned upsert, the metadata and the notifications, pipelined up to one
-// sync point, so they run as one implicit transaction that the server commits at the sync (and
-// rolls back whole if any statement fails). An upsert that finds a newer version fails on purpose
-// (vx_put, pg_wire.cpp); only then a second query finds every chunk that conflicted, which are
-// returned for the caller to re-apply its edits before the next attempt. True: committed.
-Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
-    // Upserts take row locks in the order sent: two writers with overlapping batches in hash
-    // order could each hold a row the other waits for (a deadlock, one of them aborted). Sorted
-    // by coordinate, every writer locks in the same order.
-    std::vector<ChunkCoord> order;
-    order.reserve(m_queue.chunks.size());
-    for (const auto& [c, p] : m_queue.chunks)
-        order.push_back(c);
-    std::sort(order.begin(), order.end(), coord_less);
-    if (PQenterPipelineMode(m_conn) != 1)
-        return error("cannot start a pipeline");
-    bool sent = true;
-    static const uint8_t kEmpty = 0;
-    for (size_t i = 0; sent && i < order.size(); ++i) {
-        const Pending& p = m_queue.chunks[order[i]];
-        pg::Params params;
-        params.add_coord(order[i]);
-        params.add_i64(int64_t(p.base));
-        if (p.record)
-            params.add_ref(p.record->data(), p.record->size());
-        else
-            params.add_ref(&kEmpty, 0); // A tombstone (see pg_wire.cpp).
-        sent = send(m_conn, "vx_put", params);
-    }
-    // Coarse chunks and dirty marks: plain upserts and deletes (last writer wins), in a fixed
-    // order for the same reason as above.
-    std::vector<LodCoord> lod_order, dirty_order;
-    for (const auto& [c, pending] : m_queue.lods)
-        lod_order.push_back(c);
-    for (const auto& [c, dirty] : m_queue.dirty)
-        dirty_order.push_back(c);
-    std::sort(lod_order.begin(), lod_order.end(), lod_less);
-    std::sort(dirty_order.begin(), dirty_order.end(), lod_less);
-    for (size_t i = 0; sent && i < lod_order.size(); ++i) {
-        const std::optional<std::vector<uint8_t>>& record = m_queue.lods[lod_order[i]].record;
-        pg::Params params;
-        params.add_i16(int16_t(lod_order[i].level));
-        params.add_coord(lod_order[i].chunk);
-        if (record)
-            params.add_ref(record->data(), record->size());
-        sent = send(m_conn, record ? "vx_lod_put" : "vx_lod_del", params);
-    }
-    for (size_t i = 0; sent && i < dirty_order.size(); ++i) {
-        pg::Params params;
-        params.add_i16(int16_t(dirty_order[i].level));
-        params.add_coord(dirty_order[i].chunk);
-        sent = send(m_conn, m_queue.dirty[dirty_order[i]] ? "vx_lod_dirty_put" : "vx_lod_dirty_del", params);
-    }
-    for (auto it = m_queue.meta.begin(); sent && it != m_queue.meta.end(); ++it) {
-        pg::Params params;
-        params.add_text(it->first);
-        params.add_ref(it->second.data(), it->second.size());
-        sent = send(m_conn, "vx_meta_put", params);
-    }
-    std::vector<std::string> payloads = notify_payloads(order);
-    for (std::string& p : lod_notify_payloads(lod_order))
-        payloads.push_back(std::move(p));
-    for (size_t i = 0; sent && i < payloads.size(); ++i) {
-        pg::Params params;
-        params.add_text(payloads[i]);
-        sent = send(m_conn, "vx_notify", params);
-    }
-    if (!sent || PQpipelineSync(m_conn) != 1) {
-        Error e = error("cannot send a commit");
-        if (m_conn)
-            PQexitPipelineMode(m_conn);
-        return e;
-    }
-    PipelineReader reader{m_conn, deadline()};
-    std::vector<uint64_t> versions(order.size(), 0);
+// Reads the results of the chunk upserts into `versions` (one each); true when one conflicted.
+bool read_versions(PipelineReader& reader, std::vector<uint64_t>& versions) {
     bool conflicted = false;
-    for (size_t i = 0; i < order.size(); ++i) {
+    for (size_t i = 0; i < versions.size(); ++i) {
         pg::ResultPtr r = reader.next();
         if (r && PQresultStatus(r.get()) == PGRES_TUPLES_OK && PQntuples(r.get()) == 1) {
             versions[i] = uint64_t(pg::get_i64(r.get(), 0, 0));
@@ -195,37 +120,159 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
             conflicted |= state && std::string_view(state) == pg::kConflictState;
         }
     }
-    for (size_t i = 0; i < lod_order.size() + dirty_order.size() + m_queue.meta.size() + payloads.size(); ++i)
+    return conflicted;
+}
+
+} // namespace
+
+// The queue in the order a commit sends it, and the notifications it sends.
+struct PgStore::CommitOrder {
+    std::vector<ChunkCoord> chunks;
+    std::vector<LodCoord> lods, dirty;
+    std::vector<std::string> payloads;
+};
+
+// One round trip: every versioned upsert, the metadata and the notifications, pipelined up to one
+// sync point, so they run as one implicit transaction that the server commits at the sync (and
+// rolls back whole if any statement fails). An upsert that finds a newer version fails on purpose
+// (vx_put, pg_wire.cpp); only then a second query finds every chunk that conflicted, which are
+// returned for the caller to re-apply its edits before the next attempt. True: committed.
+Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
+    const CommitOrder order = commit_order();
+    if (PQenterPipelineMode(m_conn) != 1)
+        return error("cannot start a pipeline");
+    const bool sent = send_chunk_writes(order) && send_lod_writes(order) && send_meta_and_notify(order);
+    if (!sent || PQpipelineSync(m_conn) != 1) {
+        Error e = error("cannot send a commit");
+        if (m_conn)
+            PQexitPipelineMode(m_conn);
+        return e;
+    }
+    PipelineReader reader{m_conn, deadline()};
+    std::vector<uint64_t> versions(order.chunks.size(), 0);
+    const bool conflicted = read_versions(reader, versions);
+    for (size_t i = 0; i < order.lods.size() + order.dirty.size() + m_queue.meta.size() + order.payloads.size(); ++i)
         reader.next();
     const bool synced = reader.sync(); // The commit (or the rollback) is done when it arrives.
     m_timed_out = reader.timed_out; // Then the server may still commit it: a retry meets a conflict.
     if (!synced || PQexitPipelineMode(m_conn) != 1) {
         const std::string why = reader.first_error.empty() ? "pipeline out of step" : reader.first_error;
-        return error("cannot write " + std::to_string(order.size()) + " chunks", why);
+        return error("cannot write " + std::to_string(order.chunks.size()) + " chunks", why);
     }
     if (!conflicted && !reader.first_error.empty()) {
         // Metadata the server refuses for good is dropped (and reported by commit_attempts), so
         // one bad key cannot keep every queued chunk edit from ever committing.
-        const size_t meta_begin = order.size() + lod_order.size() + dirty_order.size();
-        if (reader.first_error_at >= meta_begin && reader.first_error_at < meta_begin + m_queue.meta.size() &&
-            refused_for_good(reader.first_error_state.c_str())) {
-            auto it = std::next(m_queue.meta.begin(), std::ptrdiff_t(reader.first_error_at - meta_begin));
-            m_refused_meta.push_back("metadata '" + it->first + "' refused by the server and dropped (" +
-                                     reader.first_error + ")");
-            VX_LOG_ERROR("PostgreSQL world '%s': %s", m_name.c_str(), m_refused_meta.back().c_str());
-            m_queue.meta.erase(it);
+        const size_t meta_begin = order.chunks.size() + order.lods.size() + order.dirty.size();
+        if (reader.first_error_at >= meta_begin &&
+            drop_refused_meta(reader.first_error_at - meta_begin, reader.first_error_state, reader.first_error))
             return false; // No conflicts: the caller tries again without it.
-        }
-        return error("cannot write " + std::to_string(order.size()) + " chunks", reader.first_error);
+        return error("cannot write " + std::to_string(order.chunks.size()) + " chunks", reader.first_error);
     }
     if (conflicted) {
-        const auto base = [this](ChunkCoord c) { return m_queue.chunks[c].base; };
-        if (Status s = changed_since(order, base, conflicts); !s)
+        if (Status s = find_conflicts(order.chunks, conflicts); !s)
             return Error{s.error()};
-        if (conflicts.empty())
-            return error("a write conflicted", "yet every stored version is the one it replaces");
         return false;
     }
+    note_committed(order.chunks, versions);
+    return true;
+}
+
+PgStore::CommitOrder PgStore::commit_order() const {
+    CommitOrder order;
+    // Upserts take row locks in the order sent: two writers with overlapping batches in hash
+    // order could each hold a row the other waits for (a deadlock, one of them aborted). Sorted
+    // by coordinate, every writer locks in the same order.
+    order.chunks.reserve(m_queue.chunks.size());
+    for (const auto& [c, p] : m_queue.chunks)
+        order.chunks.push_back(c);
+    std::sort(order.chunks.begin(), order.chunks.end(), coord_less);
+    // Coarse chunks and dirty marks: plain upserts and deletes (last writer wins), in a fixed
+    // order for the same reason as above.
+    for (const auto& [c, pending] : m_queue.lods)
+        order.lods.push_back(c);
+    for (const auto& [c, dirty] : m_queue.dirty)
+        order.dirty.push_back(c);
+    std::sort(order.lods.begin(), order.lods.end(), lod_less);
+    std::sort(order.dirty.begin(), order.dirty.end(), lod_less);
+    order.payloads = notify_payloads(order.chunks);
+    for (std::string& p : lod_notify_payloads(order.lods))
+        order.payloads.push_back(std::move(p));
+    return order;
+}
+
+bool PgStore::send_chunk_writes(const CommitOrder& order) {
+    bool sent = true;
+    static const uint8_t kEmpty = 0;
+    for (size_t i = 0; sent && i < order.chunks.size(); ++i) {
+        const Pending& p = m_queue.chunks[order.chunks[i]];
+        pg::Params params;
+        params.add_coord(order.chunks[i]);
+        params.add_i64(int64_t(p.base));
+        if (p.record)
+            params.add_ref(p.record->data(), p.record->size());
+        else
+            params.add_ref(&kEmpty, 0); // A tombstone (see pg_wire.cpp).
+        sent = send(m_conn, "vx_put", params);
+    }
+    return sent;
+}
+
+bool PgStore::send_lod_writes(const CommitOrder& order) {
+    bool sent = true;
+    for (size_t i = 0; sent && i < order.lods.size(); ++i) {
+        const std::optional<std::vector<uint8_t>>& record = m_queue.lods[order.lods[i]].record;
+        pg::Params params;
+        params.add_i16(int16_t(order.lods[i].level));
+        params.add_coord(order.lods[i].chunk);
+        if (record)
+            params.add_ref(record->data(), record->size());
+        sent = send(m_conn, record ? "vx_lod_put" : "vx_lod_del", params);
+    }
+    for (size_t i = 0; sent && i < order.dirty.size(); ++i) {
+        pg::Params params;
+        params.add_i16(int16_t(order.dirty[i].level));
+        params.add_coord(order.dirty[i].chunk);
+        sent = send(m_conn, m_queue.dirty[order.dirty[i]] ? "vx_lod_dirty_put" : "vx_lod_dirty_del", params);
+    }
+    return sent;
+}
+
+bool PgStore::send_meta_and_notify(const CommitOrder& order) {
+    bool sent = true;
+    for (auto it = m_queue.meta.begin(); sent && it != m_queue.meta.end(); ++it) {
+        pg::Params params;
+        params.add_text(it->first);
+        params.add_ref(it->second.data(), it->second.size());
+        sent = send(m_conn, "vx_meta_put", params);
+    }
+    for (size_t i = 0; sent && i < order.payloads.size(); ++i) {
+        pg::Params params;
+        params.add_text(order.payloads[i]);
+        sent = send(m_conn, "vx_notify", params);
+    }
+    return sent;
+}
+
+bool PgStore::drop_refused_meta(size_t index, const std::string& state, const std::string& why) {
+    if (index >= m_queue.meta.size() || !refused_for_good(state.c_str()))
+        return false;
+    auto it = std::next(m_queue.meta.begin(), std::ptrdiff_t(index));
+    m_refused_meta.push_back("metadata '" + it->first + "' refused by the server and dropped (" + why + ")");
+    VX_LOG_ERROR("PostgreSQL world '%s': %s", m_name.c_str(), m_refused_meta.back().c_str());
+    m_queue.meta.erase(it);
+    return true;
+}
+
+Status PgStore::find_conflicts(const std::vector<ChunkCoord>& order, std::vector<ChunkCoord>& conflicts) {
+    const auto base = [this](ChunkCoord c) { return m_queue.chunks[c].base; };
+    if (Status s = changed_since(order, base, conflicts); !s)
+        return s;
+    if (conflicts.empty())
+        return error("a write conflicted", "yet every stored version is the one it replaces");
+    return {};
+}
+
+void PgStore::note_committed(const std::vector<ChunkCoord>& order, const std::vector<uint64_t>& versions) {
     for (size_t i = 0; i < order.size(); ++i) {
         note_version(order[i], versions[i]);
         const Pending& p = m_queue.chunks[order[i]];
@@ -234,7 +281,6 @@ Result<bool> PgStore::try_commit(std::vector<ChunkCoord>& conflicts) {
         else
             m_lineage.erase(order[i]); // The caller's copy lacks what was merged: it must reload.
     }
-    return true;
 }
 
 // Another process wrote chunk `c` since this store last saw it: take its version, and where this

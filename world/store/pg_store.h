@@ -188,6 +188,22 @@ private:
     Status queued();
     Status commit_attempts(); // commit() on one connection: rounds of try_commit + conflicts.
     Result<bool> try_commit(std::vector<ChunkCoord>& conflicts);
+    // try_commit's steps. CommitOrder: the queue sorted as sent, and the notification payloads.
+    struct CommitOrder;
+    CommitOrder commit_order() const;
+    // Pipeline the commit's statements (chunk upserts; coarse chunks and dirty marks; metadata and
+    // notifications); false when one could not be sent.
+    bool send_chunk_writes(const CommitOrder& order);
+    bool send_lod_writes(const CommitOrder& order);
+    bool send_meta_and_notify(const CommitOrder& order);
+    // Drops queued metadata entry `index` (in the queue's order) when the server refused it for good
+    // (SQLSTATE `state`, message `why`), for refused_meta() to report; false: not such a refusal.
+    bool drop_refused_meta(size_t index, const std::string& state, const std::string& why);
+    // After a conflict: appends the chunks of `order` whose stored version is not their base; an
+    // error when none is.
+    Status find_conflicts(const std::vector<ChunkCoord>& order, std::vector<ChunkCoord>& conflicts);
+    // After a commit: remembers the versions written (`versions[i]`: `order[i]`'s) and the lineages.
+    void note_committed(const std::vector<ChunkCoord>& order, const std::vector<uint64_t>& versions);
     Status catch_up(); // After the listener (re)started: report chunks changed meanwhile.
     // Appends the chunks of `coords` whose stored version is not `expected`'s (0: absent).
     Status changed_since(const std::vector<ChunkCoord>& coords, const std::function<uint64_t(ChunkCoord)>& expected,
