@@ -78,6 +78,133 @@ double flicker(const std::vector<ImageF>& images) {
     return median(change);
 }
 
+// The report's opening, up to the table's header: what the paths are and what the columns say.
+std::string paths_intro(const engine::LoadedScene& scene, const PathBenchInfo& info, uint32_t n) {
+    return "## Camera paths\n\nEach frame against a converged reference at its pose (" +
+           std::to_string(std::max(1u, info.reference_spp / 8) * 8) + " samples per pixel, " +
+           std::to_string(info.reflections) + " reflection bounces). " + std::to_string(n) +
+           " frames per path: orbit " + std::to_string(int(kOrbitDegrees)) +
+           " degrees per frame around the centre; fly-over towards the centre, 2% of the view distance "
+           "per frame; each after " + std::to_string(kMovingWarmup) +
+           " still frames at its first pose, not counted (a player who stood, then moves); edit: the "
+           "still default view from a cold start (its frame 7 is the still camera's 8th frame), a "
+           "stone cube of side " +
+           std::to_string(cube_side(scene)) + " added on the surface at the centre in frame " +
+           std::to_string(n / 2) +
+           ". Flicker: median RMS change between successive frames (the references': the change the "
+           "motion itself makes). Recovery: frames after the edit until the error in the pixels it "
+           "changed (references before and after differ by > 0.1) is within 1.25x of its steady "
+           "value (median over n/2 more frames of the edited view after the path): it counts the "
+           "history's restart too. Ghost: frames after the edit whose error there exceeds the raw "
+           "row's (worse than no history).\n\n"
+           "| path | configuration | RMSE median | RMSE p95 | flicker | reference flicker | recovery "
+           "frames | ghost frames |\n|---|---|---|---|---|---|---|---|\n";
+}
+
+// What every path and row of run_path_bench() renders with: `top`, the surface the edit path's
+// cube stands on (none: no edit path); `n`, frames per path.
+struct PathRun {
+    render::Renderer& r;
+    engine::LoadedScene& scene;
+    const PathBenchInfo& info;
+    std::optional<world::BlockPos> top;
+    world::BlockId stone;
+    uint32_t n;
+};
+
+// One reference per pose (two for the still edit path: before and after, and `mask`, the pixels
+// the edit changed).
+std::vector<ImageF> path_references(const PathRun& run, const CameraPath& path, std::vector<bool>& mask) {
+    const PathBenchInfo& info = run.info;
+    std::vector<ImageF> refs;
+    if (path.edit_frame > 0) {
+        const ImageF before = path_reference(run.r, info.base, info.reflections, info.reference_spp, path.poses[0], 0);
+        const std::vector<world::BlockId> held = set_cube(run.r, run.scene, *run.top, {run.stone});
+        const ImageF after = path_reference(run.r, info.base, info.reflections, info.reference_spp, path.poses[0], 1);
+        set_cube(run.r, run.scene, *run.top, held);
+        mask = render::changed_pixels(before, after);
+        for (uint32_t i = 0; i < run.n; ++i)
+            refs.push_back(i < path.edit_frame ? before : after);
+    } else {
+        for (uint32_t i = 0; i < run.n; ++i)
+            refs.push_back(
+                path_reference(run.r, info.base, info.reflections, info.reference_spp, path.poses[i], i % 2));
+    }
+    return refs;
+}
+
+// One row's figures on one path.
+struct PathResult {
+    std::string row, recovery;
+    double median = 0, p95 = 0, flicker = 0;
+    std::vector<double> edited;
+};
+
+// Renders `row` along `path` against `refs` (every frame's RMSE to `csv`); on the edit path also
+// its recovery, from the steady error of n / 2 more still frames, the edit then undone.
+PathResult run_path_row(const PathRun& run, const CameraPath& path, const PathRow& row,
+                        const std::vector<ImageF>& refs, const std::vector<bool>& mask, ReportFile& csv) {
+    const uint32_t n = run.n;
+    std::vector<world::BlockId> held; // What the cube's blocks were before the edit.
+    std::vector<ImageF> frames;
+    std::vector<double> error, edited; // Whole image; the edit's pixels.
+    if (path.edit_frame == 0) // A moving path; the still edit path starts cold (its 8th frame).
+        for (uint32_t i = 0; i < kMovingWarmup; ++i)
+            bench_frame(run.r, row.s, path.poses[0]);
+    for (uint32_t i = 0; i < n; ++i) {
+        if (path.edit_frame > 0 && i == path.edit_frame)
+            held = set_cube(run.r, run.scene, *run.top, {run.stone});
+        frames.push_back(render::to_float(bench_frame(run.r, row.s, path.poses[i])));
+        error.push_back(render::rmse(frames.back(), refs[i]));
+        if (!mask.empty())
+            edited.push_back(render::masked_rmse(frames.back(), refs[i], mask));
+        csv << path.name << ",\"" << row.name << "\"," << i << ',' << error.back() << ','
+            << (mask.empty() ? -1.0 : edited.back()) << '\n';
+    }
+    std::string recovery = "";
+    if (path.edit_frame > 0) {
+        // The steady error of the edited view: n / 2 more frames, still, after the path.
+        std::vector<double> steady;
+        for (uint32_t i = 0; i < n / 2; ++i)
+            steady.push_back(render::masked_rmse(render::to_float(bench_frame(run.r, row.s, path.poses[0])),
+                                                 refs[n - 1], mask));
+        set_cube(run.r, run.scene, *run.top, held);
+        const double normal = kRecovered * median(steady);
+        uint32_t k = path.edit_frame;
+        while (k < n && edited[k] > normal)
+            ++k;
+        recovery = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
+        if (std::find(mask.begin(), mask.end(), true) == mask.end())
+            recovery = "edit not visible";
+    }
+    return {row.name, recovery, median(error), percentile(error, 0.95), flicker(frames), edited};
+}
+
+// The path's rows of the table (printed as well), with each row's ghost.
+std::string path_table(const CameraPath& path, const std::vector<PathResult>& results,
+                       const std::vector<ImageF>& refs, uint32_t n) {
+    std::string md;
+    char line[512];
+    for (const PathResult& res : results) {
+        // The ghost: frames from the edit on whose error in the edited pixels exceeds the raw
+        // row's (the last row), i.e. worse than no history at all.
+        std::string ghost = "";
+        if (path.edit_frame > 0) {
+            const std::vector<double>& raw = results.back().edited;
+            uint32_t k = path.edit_frame;
+            while (k < n && res.edited[k] > raw[k])
+                ++k;
+            ghost = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
+        }
+        std::snprintf(line, sizeof line, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %s | %s |\n",
+                      path.name.c_str(), res.row.c_str(), res.median, res.p95, res.flicker, flicker(refs),
+                      res.recovery.c_str(), ghost.c_str());
+        md += line;
+        std::printf("  %s", line);
+    }
+    return md;
+}
+
 } // namespace
 
 std::vector<PathRow> default_path_rows(const PathBenchInfo& info) {
@@ -147,104 +274,19 @@ std::string run_path_bench(render::Renderer& r, engine::LoadedScene& scene, cons
     else
         paths.pop_back(); // Nothing solid under the centre: no surface to build on.
 
-    std::string md = "## Camera paths\n\nEach frame against a converged reference at its pose (" +
-                     std::to_string(std::max(1u, info.reference_spp / 8) * 8) + " samples per pixel, " +
-                     std::to_string(info.reflections) + " reflection bounces). " + std::to_string(n) +
-                     " frames per path: orbit " + std::to_string(int(kOrbitDegrees)) +
-                     " degrees per frame around the centre; fly-over towards the centre, 2% of the view distance "
-                     "per frame; each after " + std::to_string(kMovingWarmup) +
-                     " still frames at its first pose, not counted (a player who stood, then moves); edit: the "
-                     "still default view from a cold start (its frame 7 is the still camera's 8th frame), a "
-                     "stone cube of side " +
-                     std::to_string(cube_side(scene)) + " added on the surface at the centre in frame " +
-                     std::to_string(n / 2) +
-                     ". Flicker: median RMS change between successive frames (the references': the change the "
-                     "motion itself makes). Recovery: frames after the edit until the error in the pixels it "
-                     "changed (references before and after differ by > 0.1) is within 1.25x of its steady "
-                     "value (median over n/2 more frames of the edited view after the path): it counts the "
-                     "history's restart too. Ghost: frames after the edit whose error there exceeds the raw "
-                     "row's (worse than no history).\n\n"
-                     "| path | configuration | RMSE median | RMSE p95 | flicker | reference flicker | recovery "
-                     "frames | ghost frames |\n|---|---|---|---|---|---|---|---|\n";
+    std::string md = paths_intro(scene, info, n);
     ReportFile csv(info.out + "/paths.csv");
     csv << "path,configuration,frame,rmse,edited_rmse\n"; // edited_rmse: the edit's pixels (edit path).
-    char line[512];
     const std::vector<PathRow> rows = info.rows.empty() ? default_path_rows(info) : info.rows;
+    const PathRun run{r, scene, info, top, stone, n};
     for (const CameraPath& path : paths) {
         // References first: one per pose (two for the still edit path: before and after).
-        std::vector<ImageF> refs;
         std::vector<bool> mask;
-        if (path.edit_frame > 0) {
-            const ImageF before = path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[0], 0);
-            const std::vector<world::BlockId> held = set_cube(r, scene, *top, {stone});
-            const ImageF after = path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[0], 1);
-            set_cube(r, scene, *top, held);
-            mask = render::changed_pixels(before, after);
-            for (uint32_t i = 0; i < n; ++i)
-                refs.push_back(i < path.edit_frame ? before : after);
-        } else {
-            for (uint32_t i = 0; i < n; ++i)
-                refs.push_back(
-                    path_reference(r, info.base, info.reflections, info.reference_spp, path.poses[i], i % 2));
-        }
-        struct Result {
-            std::string row, recovery;
-            double median = 0, p95 = 0, flicker = 0;
-            std::vector<double> edited;
-        };
-        std::vector<Result> results;
-        for (const PathRow& row : rows) {
-            std::vector<world::BlockId> held; // What the cube's blocks were before the edit.
-            std::vector<ImageF> frames;
-            std::vector<double> error, edited; // Whole image; the edit's pixels.
-            if (path.edit_frame == 0) // A moving path; the still edit path starts cold (its 8th frame).
-                for (uint32_t i = 0; i < kMovingWarmup; ++i)
-                    bench_frame(r, row.s, path.poses[0]);
-            for (uint32_t i = 0; i < n; ++i) {
-                if (path.edit_frame > 0 && i == path.edit_frame)
-                    held = set_cube(r, scene, *top, {stone});
-                frames.push_back(render::to_float(bench_frame(r, row.s, path.poses[i])));
-                error.push_back(render::rmse(frames.back(), refs[i]));
-                if (!mask.empty())
-                    edited.push_back(render::masked_rmse(frames.back(), refs[i], mask));
-                csv << path.name << ",\"" << row.name << "\"," << i << ',' << error.back() << ','
-                    << (mask.empty() ? -1.0 : edited.back()) << '\n';
-            }
-            std::string recovery = "";
-            if (path.edit_frame > 0) {
-                // The steady error of the edited view: n / 2 more frames, still, after the path.
-                std::vector<double> steady;
-                for (uint32_t i = 0; i < n / 2; ++i)
-                    steady.push_back(render::masked_rmse(render::to_float(bench_frame(r, row.s, path.poses[0])), refs[n - 1], mask));
-                set_cube(r, scene, *top, held);
-                const double normal = kRecovered * median(steady);
-                uint32_t k = path.edit_frame;
-                while (k < n && edited[k] > normal)
-                    ++k;
-                recovery = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
-                if (std::find(mask.begin(), mask.end(), true) == mask.end())
-                    recovery = "edit not visible";
-            }
-            results.push_back(
-                {row.name, recovery, median(error), percentile(error, 0.95), flicker(frames), edited});
-        }
-        for (const Result& res : results) {
-            // The ghost: frames from the edit on whose error in the edited pixels exceeds the raw
-            // row's (the last row), i.e. worse than no history at all.
-            std::string ghost = "";
-            if (path.edit_frame > 0) {
-                const std::vector<double>& raw = results.back().edited;
-                uint32_t k = path.edit_frame;
-                while (k < n && res.edited[k] > raw[k])
-                    ++k;
-                ghost = k < n ? std::to_string(k - path.edit_frame) : "> " + std::to_string(n - path.edit_frame);
-            }
-            std::snprintf(line, sizeof line, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %s | %s |\n",
-                          path.name.c_str(), res.row.c_str(), res.median, res.p95, res.flicker, flicker(refs),
-                          res.recovery.c_str(), ghost.c_str());
-            md += line;
-            std::printf("  %s", line);
-        }
+        const std::vector<ImageF> refs = path_references(run, path, mask);
+        std::vector<PathResult> results;
+        for (const PathRow& row : rows)
+            results.push_back(run_path_row(run, path, row, refs, mask, csv));
+        md += path_table(path, results, refs, n);
     }
     return md;
 }

@@ -147,27 +147,22 @@ std::string level_cell(const SceneRun& s, bool memory) {
     return out;
 }
 
-int run_bench_lod(const BenchLodArgs& a) {
-    render::RenderSettings base;
-    const std::optional<glm::uvec2> size = parse_image_size(a.size);
-    if (!size)
-        return bad_input("--size must be WxH (1..16384), got '" + a.size + "'");
-    base.width = size->x;
-    base.height = size->y;
+// --radii: level-0 radii, 0..64 chunks, comma separated; nullopt on anything else.
+std::optional<std::vector<int>> parse_radii(const std::string& text) {
     std::vector<int> radii;
-    for (const std::string& t : split_commas(a.radii)) {
+    for (const std::string& t : split_commas(text)) {
         char* end = nullptr;
         const long v = std::strtol(t.c_str(), &end, 10);
         if (t.empty() || *end != '\0' || v < 0 || v > 64)
-            return bad_input("--radii must be level-0 radii in chunks, 0..64, comma separated; got '" + a.radii + "'");
+            return std::nullopt;
         radii.push_back(int(v));
     }
-    if (!a.eye.empty() && a.target.empty())
-        return bad_input("--eye needs --target X,Y,Z");
-    const auto choice = render::parse_device_choice(a.device);
-    if (!choice)
-        return bad_input(choice.error());
-    base.light.emission = glm::vec3(0.f); // Sun and sky light, as outdoors in the sandbox.
+    return radii;
+}
+
+// The full-detail scene: terrain of --seed to --view-distance, LOD off (the LOD scenes change
+// only --lod and --radius).
+SceneArgs full_detail_args(const BenchLodArgs& a) {
     SceneArgs sa;
     sa.seed = a.seed;
     sa.vradius = a.vradius;
@@ -175,6 +170,159 @@ int run_bench_lod(const BenchLodArgs& a) {
     sa.view_distance = a.view_distance;
     sa.lod = "off";
     sa.lod_ring = a.ring;
+    return sa;
+}
+
+// Full detail, what every scene is compared with: its pictures, and for scale its full shading
+// with another sample seed against itself.
+struct LodReference {
+    render::ImageF flat, full;
+    render::RenderSettings other_seed;
+    render::ImageError noise;
+};
+
+// Renders full detail (on `r`) with another sample seed; `full` is the full-detail run.
+LodReference measure_reference(render::Renderer& r, const render::RenderSettings& base, const render::Camera& cam,
+                               const SceneRun& full) {
+    LodReference ref;
+    ref.other_seed = base;
+    ref.other_seed.mode = render::ShadingMode::Full;
+    ref.other_seed.seed = base.seed + 1;
+    ref.flat = render::to_float(full.flat);
+    ref.full = render::to_float(full.full);
+    ref.noise = render::compare(render::to_float(bench_frame(r, ref.other_seed, cam)), ref.full);
+    return ref;
+}
+
+// The LOD scene of each radius, loaded with `jobs` and run on `r` after the last (into `runs`).
+// The first load's problem (one line), or nullopt.
+std::optional<std::string> run_lod_scenes(render::Renderer& r, engine::JobSystem& jobs, SceneArgs sa,
+                                          const std::vector<int>& radii, const render::RenderSettings& base,
+                                          const render::Camera& cam, uint32_t repeat, std::vector<SceneRun>& runs) {
+    for (int radius : radii) {
+        sa.lod = "on";
+        sa.radius = radius;
+        auto info = scene_load_info(sa);
+        if (!info)
+            return info.error();
+        auto scene = engine::load_scene(jobs, *info);
+        if (!scene)
+            return scene.error();
+        runs.push_back({});
+        runs.back().name = "LOD r=" + std::to_string(radius);
+        runs.back().radius = radius;
+        run_scene(r, std::move(*scene), base, cam, repeat, runs.back());
+    }
+    return std::nullopt;
+}
+
+// The report's opening, up to the main table's header. `ground`: pixels full detail hits.
+std::string lod_report_intro(const BenchLodArgs& a, const render::RenderSettings& base, const std::string& device,
+                             uint64_t ground, const LodReference& ref) {
+    return "# LOD speed against error (`vx bench lod`)\n\nTerrain seed " + std::to_string(a.seed) +
+           " to " + std::to_string(a.view_distance) + " blocks, " + std::to_string(base.width) + "x" +
+           std::to_string(base.height) + ", device " + device + "; level-0 vertical radius " +
+           std::to_string(a.vradius) + " chunks, coarse ring " + std::to_string(a.ring) +
+           ". Lights: sun and sky (no area light); full shading " + std::to_string(base.shadow_samples) +
+           " shadow samples, " + std::to_string(base.max_bounces) +
+           " reflections, haze on. Errors are against full detail at the same pose; frame times are "
+           "GPU medians of " + std::to_string(a.repeat) +
+           " frames (timestamps), wall the full-shading call's. Uncovered: pixels full detail hits "
+           "and the scene leaves as sky (flat shading; of " + std::to_string(ground) +
+           " ground pixels). For scale, full shading's sampling noise: full detail with sample seed " +
+           std::to_string(ref.other_seed.seed) + " against seed " + std::to_string(base.seed) + ": RMSE " +
+           fmt("%.4f", ref.noise.rmse) + ", SSIM " + fmt("%.4f", ref.noise.ssim) +
+           " (every scene uses seed " + std::to_string(base.seed) +
+           ", so where LOD's geometry matches, the noise cancels and its RMSE can be lower).\n\n" +
+           "| scene | level-0 reach (blocks) | top level | chunks | BLAS | triangles | GPU MB | flat ms | "
+           "full ms | full wall ms | RMSE flat | RMSE full | SSIM full | uncovered px | load ms |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+}
+
+// One scene's row: printed and added to `md`, `levels_md` and `csv`; its pictures written.
+// `full`: the full-detail run (its hits).
+void report_scene(const SceneRun& s, const SceneRun& full, const LodReference& ref, uint64_t ground,
+                  const BenchLodArgs& a, std::string& md, std::string& levels_md, ReportFile& csv) {
+    char line[768];
+    const bool is_ref = s.radius < 0;
+    const render::ImageError ef = render::compare(render::to_float(s.flat), ref.flat);
+    const render::ImageError eu = render::compare(render::to_float(s.full), ref.full);
+    uint64_t uncovered = 0;
+    for (size_t i = 0; i < s.hit.size(); ++i)
+        uncovered += full.hit[i] && !s.hit[i];
+    const std::string reach = is_ref ? std::to_string(a.view_distance) : std::to_string(s.radius * 32);
+    std::snprintf(line, sizeof line,
+                  "| %s | %s | %d | %" PRIu64 " | %u | %" PRIu64 " | %.1f | %.3f | %.3f | %.1f | %.4f | %.4f | "
+                  "%.4f | %" PRIu64 " | %.0f |\n",
+                  s.name.c_str(), reach.c_str(), s.top_level, s.chunks, s.blas, s.triangles,
+                  double(s.gpu_bytes) / 1e6, s.flat_ms, s.full_ms, s.full_wall_ms, ef.rmse, eu.rmse, eu.ssim,
+                  uncovered, s.load_ms);
+    md += line;
+    std::printf("  %s", line);
+    levels_md += "| " + s.name + " | " + level_cell(s, false) + " | " + level_cell(s, true) + " |\n";
+    csv << s.name << ',' << s.radius << ',' << s.top_level << ',' << s.chunks << ',' << s.blas << ','
+        << s.triangles << ',' << s.gpu_bytes << ',' << s.flat_ms << ',' << s.full_ms << ',' << s.full_wall_ms << ','
+        << s.cpu_ms << ',' << ef.rmse << ',' << eu.rmse << ',' << eu.psnr << ',' << eu.ssim << ',' << uncovered << ','
+        << ground << ',' << s.load_ms << '\n';
+    const std::string stem = a.out + (is_ref ? "/full" : "/lod_r" + std::to_string(s.radius));
+    note_png(stem + "_flat.png", s.flat);
+    note_png(stem + "_full.png", s.full);
+}
+
+// The report of `runs` (runs[0]: full detail): lod_report.md, lod_bench.csv and the pictures.
+int write_lod_report(const BenchLodArgs& a, const render::RenderSettings& base, const std::string& device,
+                     const LodReference& ref, const std::vector<SceneRun>& runs) {
+    uint64_t ground = 0;
+    for (uint8_t h : runs[0].hit)
+        ground += h;
+    std::string md = lod_report_intro(a, base, device, ground, ref);
+    std::string levels_md = "\n## Per level\n\nChunks with triangles (BLASes) and their GPU memory (MB) by level.\n\n"
+                            "| scene | BLAS by level | MB by level |\n|---|---|---|\n";
+    ReportFile csv(a.out + "/lod_bench.csv");
+    csv << "scene,radius,top_level,chunks,blas,triangles,gpu_bytes,flat_ms,full_ms,full_wall_ms,cpu_ms,rmse_flat,"
+           "rmse_full,psnr_full,ssim_full,uncovered,ground,load_ms\n";
+    for (const SceneRun& s : runs)
+        report_scene(s, runs[0], ref, ground, a, md, levels_md, csv);
+    md += levels_md;
+    md += "\nPictures: full_flat.png and full_full.png (full detail), lod_r<R>_flat.png and lod_r<R>_full.png.\n";
+    ReportFile(a.out + "/lod_report.md") << md;
+    std::printf("  for scale: full shading, full detail with another sample seed: RMSE %.4f\n", ref.noise.rmse);
+    csv.finish();
+    std::printf("  wrote %s/lod_report.md, lod_bench.csv and PNG pairs\n", a.out.c_str());
+    return report_outputs();
+}
+
+// Full detail (`full`, loaded from `sa`), then the LOD scene of each radius, one after the other
+// on `r`; then the report.
+int measure_lod(render::Renderer& r, engine::JobSystem& jobs, engine::LoadedScene&& full, const SceneArgs& sa,
+                const std::vector<int>& radii, const render::RenderSettings& base, const render::Camera& cam,
+                const BenchLodArgs& a) {
+    std::vector<SceneRun> runs(1);
+    runs[0].name = "full detail";
+    run_scene(r, std::move(full), base, cam, a.repeat, runs[0]);
+    const LodReference ref = measure_reference(r, base, cam, runs[0]);
+    if (const std::optional<std::string> err = run_lod_scenes(r, jobs, sa, radii, base, cam, a.repeat, runs))
+        return bad_input(*err);
+    return write_lod_report(a, base, r.device().name, ref, runs);
+}
+
+int run_bench_lod(const BenchLodArgs& a) {
+    render::RenderSettings base;
+    const std::optional<glm::uvec2> size = parse_image_size(a.size);
+    if (!size)
+        return bad_input("--size must be WxH (1..16384), got '" + a.size + "'");
+    base.width = size->x;
+    base.height = size->y;
+    const std::optional<std::vector<int>> radii = parse_radii(a.radii);
+    if (!radii)
+        return bad_input("--radii must be level-0 radii in chunks, 0..64, comma separated; got '" + a.radii + "'");
+    if (!a.eye.empty() && a.target.empty())
+        return bad_input("--eye needs --target X,Y,Z");
+    const auto choice = render::parse_device_choice(a.device);
+    if (!choice)
+        return bad_input(choice.error());
+    base.light.emission = glm::vec3(0.f); // Sun and sky light, as outdoors in the sandbox.
+    SceneArgs sa = full_detail_args(a);
     if (!a.eye.empty() && !(sa.eye = parse_world_pos(a.eye)))
         return bad_input("--eye must be X,Y,Z (decimals, inside the world), got '" + a.eye + "'");
     auto full_info = scene_load_info(sa);
@@ -202,89 +350,7 @@ int run_bench_lod(const BenchLodArgs& a) {
     r.set_registry(full_scene->world->registry());
     std::printf("vx bench lod: %s; %ux%u on %s\n", full_scene->description.c_str(), base.width, base.height,
                 r.device().name.c_str());
-
-    std::vector<SceneRun> runs(1);
-    runs[0].name = "full detail";
-    run_scene(r, std::move(*full_scene), base, *cam, a.repeat, runs[0]);
-    render::RenderSettings other_seed = base;
-    other_seed.mode = render::ShadingMode::Full;
-    other_seed.seed = base.seed + 1;
-    const render::ImageF ref_flat = render::to_float(runs[0].flat), ref_full = render::to_float(runs[0].full);
-    const render::ImageError noise = render::compare(render::to_float(bench_frame(r, other_seed, *cam)), ref_full);
-    for (int radius : radii) {
-        sa.lod = "on";
-        sa.radius = radius;
-        auto info = scene_load_info(sa);
-        if (!info)
-            return bad_input(info.error());
-        auto scene = engine::load_scene(jobs, *info);
-        if (!scene)
-            return bad_input(scene.error());
-        runs.push_back({});
-        runs.back().name = "LOD r=" + std::to_string(radius);
-        runs.back().radius = radius;
-        run_scene(r, std::move(*scene), base, *cam, a.repeat, runs.back());
-    }
-
-    uint64_t ground = 0;
-    for (uint8_t h : runs[0].hit)
-        ground += h;
-    std::string md = "# LOD speed against error (`vx bench lod`)\n\nTerrain seed " + std::to_string(a.seed) +
-                     " to " + std::to_string(a.view_distance) + " blocks, " + std::to_string(base.width) + "x" +
-                     std::to_string(base.height) + ", device " + r.device().name + "; level-0 vertical radius " +
-                     std::to_string(a.vradius) + " chunks, coarse ring " + std::to_string(a.ring) +
-                     ". Lights: sun and sky (no area light); full shading " + std::to_string(base.shadow_samples) +
-                     " shadow samples, " + std::to_string(base.max_bounces) +
-                     " reflections, haze on. Errors are against full detail at the same pose; frame times are "
-                     "GPU medians of " + std::to_string(a.repeat) +
-                     " frames (timestamps), wall the full-shading call's. Uncovered: pixels full detail hits "
-                     "and the scene leaves as sky (flat shading; of " + std::to_string(ground) +
-                     " ground pixels). For scale, full shading's sampling noise: full detail with sample seed " +
-                     std::to_string(other_seed.seed) + " against seed " + std::to_string(base.seed) + ": RMSE " +
-                     fmt("%.4f", noise.rmse) + ", SSIM " + fmt("%.4f", noise.ssim) +
-                     " (every scene uses seed " + std::to_string(base.seed) +
-                     ", so where LOD's geometry matches, the noise cancels and its RMSE can be lower).\n\n" +
-                     "| scene | level-0 reach (blocks) | top level | chunks | BLAS | triangles | GPU MB | flat ms | "
-                     "full ms | full wall ms | RMSE flat | RMSE full | SSIM full | uncovered px | load ms |\n"
-                     "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    std::string levels_md = "\n## Per level\n\nChunks with triangles (BLASes) and their GPU memory (MB) by level.\n\n"
-                            "| scene | BLAS by level | MB by level |\n|---|---|---|\n";
-    ReportFile csv(a.out + "/lod_bench.csv");
-    csv << "scene,radius,top_level,chunks,blas,triangles,gpu_bytes,flat_ms,full_ms,full_wall_ms,cpu_ms,rmse_flat,"
-           "rmse_full,psnr_full,ssim_full,uncovered,ground,load_ms\n";
-    char line[768];
-    for (const SceneRun& s : runs) {
-        const bool ref = s.radius < 0;
-        const render::ImageError ef = render::compare(render::to_float(s.flat), ref_flat);
-        const render::ImageError eu = render::compare(render::to_float(s.full), ref_full);
-        uint64_t uncovered = 0;
-        for (size_t i = 0; i < s.hit.size(); ++i)
-            uncovered += runs[0].hit[i] && !s.hit[i];
-        const std::string reach = ref ? std::to_string(a.view_distance) : std::to_string(s.radius * 32);
-        std::snprintf(line, sizeof line,
-                      "| %s | %s | %d | %" PRIu64 " | %u | %" PRIu64 " | %.1f | %.3f | %.3f | %.1f | %.4f | %.4f | "
-                      "%.4f | %" PRIu64 " | %.0f |\n",
-                      s.name.c_str(), reach.c_str(), s.top_level, s.chunks, s.blas, s.triangles,
-                      double(s.gpu_bytes) / 1e6, s.flat_ms, s.full_ms, s.full_wall_ms, ef.rmse, eu.rmse, eu.ssim,
-                      uncovered, s.load_ms);
-        md += line;
-        std::printf("  %s", line);
-        levels_md += "| " + s.name + " | " + level_cell(s, false) + " | " + level_cell(s, true) + " |\n";
-        csv << s.name << ',' << s.radius << ',' << s.top_level << ',' << s.chunks << ',' << s.blas << ','
-            << s.triangles << ',' << s.gpu_bytes << ',' << s.flat_ms << ',' << s.full_ms << ',' << s.full_wall_ms << ','
-            << s.cpu_ms << ',' << ef.rmse << ',' << eu.rmse << ',' << eu.psnr << ',' << eu.ssim << ',' << uncovered << ','
-            << ground << ',' << s.load_ms << '\n';
-        const std::string stem = a.out + (ref ? "/full" : "/lod_r" + std::to_string(s.radius));
-        note_png(stem + "_flat.png", s.flat);
-        note_png(stem + "_full.png", s.full);
-    }
-    md += levels_md;
-    md += "\nPictures: full_flat.png and full_full.png (full detail), lod_r<R>_flat.png and lod_r<R>_full.png.\n";
-    ReportFile(a.out + "/lod_report.md") << md;
-    std::printf("  for scale: full shading, full detail with another sample seed: RMSE %.4f\n", noise.rmse);
-    csv.finish();
-    std::printf("  wrote %s/lod_report.md, lod_bench.csv and PNG pairs\n", a.out.c_str());
-    return report_outputs();
+    return measure_lod(r, jobs, std::move(*full_scene), sa, *radii, base, *cam, a);
 }
 
 } // namespace

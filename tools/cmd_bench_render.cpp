@@ -28,6 +28,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -212,117 +214,124 @@ std::string feature_table(render::Renderer& r, const render::RenderSettings& bas
     return md;
 }
 
-int run_bench_render(const BenchRenderArgs& a) {
-    render::RenderSettings base;
-    const std::optional<glm::uvec2> size = parse_image_size(a.size);
-    if (!size)
-        return bad_input("--size must be WxH (1..16384), got '" + a.size + "'");
-    base.width = size->x;
-    base.height = size->y;
-    const auto choice = render::parse_device_choice(a.device);
-    if (!choice)
-        return bad_input(choice.error());
-    SceneArgs sa = a.scene;
+// The scene the bench renders: --seed, --world, --scene or --raw as given, else terrain of seed 1
+// (radius 2 unless given).
+SceneArgs bench_scene_args(const SceneArgs& given) {
+    SceneArgs sa = given;
     if (!sa.seed && sa.world_path.empty() && sa.scene.empty() && sa.raw.empty()) {
         sa.seed = 1;
         if (sa.radius < 0)
             sa.radius = 2;
     }
-    const auto info = scene_load_info(sa);
-    if (!info)
-        return bad_input(info.error());
-    engine::JobSystem jobs(engine::batch_job_system_info(sa.threads));
-    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
-        return failed(why);
-    auto scene = engine::load_scene(jobs, *info);
-    if (!scene)
-        return bad_input(scene.error());
-    if (scene->box_min == scene->box_max) // The default view of nothing looked from the centre at itself.
-        return bad_input("the scene holds no chunk to measure (" + scene->description + ")");
-    auto renderer = render::Renderer::create({.device = *choice});
-    if (!renderer)
-        return bad_input("cannot render: " + renderer.error());
-    render::Renderer& r = **renderer;
-    if (Status fits = r.check_frame_size(base.width, base.height); !fits) // As vx render.
-        return bad_input("cannot render: " + fits.error());
-    r.set_registry(scene->world->registry());
-    for (const auto& [c, mc] : scene->meshes)
+    return sa;
+}
+
+// Hands every chunk of `scene` with quads to `r`.
+void send_bench_scene(render::Renderer& r, const engine::LoadedScene& scene) {
+    r.set_registry(scene.world->registry());
+    for (const auto& [c, mc] : scene.meshes)
         if (mc.mesh.quad_count() > 0)
             r.set_chunk(c, mc.mesh);
-    const render::Camera cam = default_view(*scene, base);
+}
+
+// What every row shares beyond the size and the light: --first-hit-pass/--split-hits and
+// --lighting.
+void apply_row_args(const BenchRenderArgs& a, render::RenderSettings& base) {
     base.split_hits = split_hits_arg(a.first_hit_pass, a.split_hits);
     if (a.lighting == "thesis") { // As `vx render --lighting thesis`: the area light alone.
         base.sun.irradiance = glm::vec3(0.f);
         base.sky_light = 0.f;
         base.haze.enabled = false; // The thesis had none (and unlit haze would only darken).
     }
-    std::error_code ec;
-    std::filesystem::create_directories(a.out, ec);
-    if (ec)
-        return bad_input("cannot create --out directory '" + a.out + "': " + ec.message());
-    std::printf("vx bench render: %s; %ux%u on %s\n", scene->description.c_str(), base.width, base.height,
-                r.device().name.c_str());
-    std::string md = "# Renderer report (`vx bench render`)\n\nScene: " + scene->description + ", " +
-                     std::to_string(base.width) + "x" + std::to_string(base.height) + ", device " + r.device().name +
-                     ". GPU times are medians of " + std::to_string(a.repeat) + " frames (timestamps), after " +
-                     std::to_string(a.warmup_ms) +
-                     " ms of each configuration's frames; the machine may be shared: read them side by "
-                     "side. Hits in passes of their own (split hits): " + std::to_string(base.split_hits) +
-                     ".\n\n";
-    char line[512];
-    const GeometryBenchInfo geometry{*choice, base, cam, a.repeat, a.reflections, a.out};
-    const PathBenchInfo paths{base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}};
-    const DefaultsBenchInfo defaults{base, cam, a.path_frames, a.path_reference_spp, a.out};
-    const EqualErrorBenchInfo equal{base,          cam,        a.repeat, a.reflections,
-                                    a.reference_spp, a.error_seeds, a.lighting, a.out,
-                                    a.error_metric == "display", a.warmup_ms / 1000.0};
+}
+
+// The report's opening: scene, size, device, how the times were taken.
+std::string render_report_intro(const engine::LoadedScene& scene, const render::RenderSettings& base,
+                                const render::Renderer& r, const BenchRenderArgs& a) {
+    return "# Renderer report (`vx bench render`)\n\nScene: " + scene.description + ", " +
+           std::to_string(base.width) + "x" + std::to_string(base.height) + ", device " + r.device().name +
+           ". GPU times are medians of " + std::to_string(a.repeat) + " frames (timestamps), after " +
+           std::to_string(a.warmup_ms) +
+           " ms of each configuration's frames; the machine may be shared: read them side by "
+           "side. Hits in passes of their own (split hits): " + std::to_string(base.split_hits) +
+           ".\n\n";
+}
+
+// The inputs of the sections other than 1-3.
+struct SectionInfos {
+    GeometryBenchInfo geometry;
+    PathBenchInfo paths;
+    DefaultsBenchInfo defaults;
+    EqualErrorBenchInfo equal;
+};
+
+SectionInfos section_infos(render::DeviceChoice choice, const render::RenderSettings& base, const render::Camera& cam,
+                           const BenchRenderArgs& a) {
+    return {{choice, base, cam, a.repeat, a.reflections, a.out},
+            {base, cam, a.path_frames, a.path_reference_spp, a.reflections, a.out, {}},
+            {base, cam, a.path_frames, a.path_reference_spp, a.out},
+            {base, cam, a.repeat, a.reflections, a.reference_spp, a.error_seeds, a.lighting, a.out,
+             a.error_metric == "display", a.warmup_ms / 1000.0}};
+}
+
+// --sections equal-error, defaults, paths or geometry: that section alone, the report written;
+// its exit code. nullopt for all and report.
+std::optional<int> run_one_section(std::unique_ptr<render::Renderer>& renderer, engine::LoadedScene& scene,
+                                   const SectionInfos& info, const BenchRenderArgs& a, std::string& md) {
+    render::Renderer& r = *renderer;
     if (a.sections == "equal-error") {
-        md += run_equal_error_bench(r, equal);
+        md += run_equal_error_bench(r, info.equal);
         ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and equal_error.csv\n", a.out.c_str());
         return report_outputs();
     }
     if (a.sections == "defaults") { // Only section 6.
-        md += run_defaults_bench(r, *scene, defaults);
+        md += run_defaults_bench(r, scene, info.defaults);
         ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and defaults.csv\n", a.out.c_str());
         return report_outputs();
     }
     if (a.sections == "paths") { // Only section 5.
-        md += run_path_bench(r, *scene, paths);
+        md += run_path_bench(r, scene, info.paths);
         ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and paths.csv\n", a.out.c_str());
         return report_outputs();
     }
     if (a.sections == "geometry") { // Only section 4.
-        renderer->reset(); // Its renderers are made one at a time (volk loads one device's entry points).
-        md += run_geometry_bench(*scene, geometry);
+        renderer.reset(); // Its renderers are made one at a time (volk loads one device's entry points).
+        md += run_geometry_bench(scene, info.geometry);
         ReportFile(a.out + "/render_report.md") << md;
         std::printf("  wrote %s/render_report.md and geometry.csv\n", a.out.c_str());
         return report_outputs();
     }
+    return std::nullopt;
+}
 
-    // 1. Pipelines and features.
-    md += feature_table(r, base, cam, a);
-    render::RenderImage img;
-
-    // 2. Speed against error.
+// Section 2's reference: rendered into `img` (and reference.png), its paragraph added to `md`.
+render::ImageF speed_reference(render::Renderer& r, const render::RenderSettings& base, const render::Camera& cam,
+                               const BenchRenderArgs& a, render::RenderImage& img, std::string& md) {
+    char line[512];
     render::RenderSettings ref_s = base;
     ref_s.max_bounces = a.reflections;
     img = render_reference(r, ref_s, cam, a.reference_spp);
-    const render::ImageF reference = render::to_float(img);
+    render::ImageF reference = render::to_float(img);
     note_png(a.out + "/reference.png", img);
     std::snprintf(line, sizeof line,
                   "\n## Speed against error\n\nReference: %u samples per pixel (%u frames of 8, accumulated, no "
                   "filter), %u reflection bounces.\n\n",
                   reference_frames(a.reference_spp) * 8, reference_frames(a.reference_spp), a.reflections);
     md += line;
-    md += "| spp | bounce spp | denoiser | light cache | frame ms | RMSE | PSNR dB | SSIM |\n"
-          "|---|---|---|---|---|---|---|---|\n";
-    std::vector<SweepRow> candidates;
-    SweepRow thesis{"25 spp, bounce spp 25, denoiser off"};
-    ReportFile csv(a.out + "/render_bench.csv");
-    csv << "spp,bounce_spp,denoise,frame_ms,rmse,psnr,ssim,light_cache\n";
+    return reference;
+}
+
+// Section 2's sweep against `reference`: its table; each row also to `csv`, a PNG, and the goal
+// line's rows (`thesis`, the thesis-style one, or `candidates`). `img` ends as the last row's.
+std::string sweep_table(render::Renderer& r, const render::RenderSettings& base, const render::Camera& cam,
+                        const BenchRenderArgs& a, const render::ImageF& reference, render::RenderImage& img,
+                        ReportFile& csv, SweepRow& thesis, std::vector<SweepRow>& candidates) {
+    char line[512];
+    std::string md = "| spp | bounce spp | denoiser | light cache | frame ms | RMSE | PSNR dB | SSIM |\n"
+                     "|---|---|---|---|---|---|---|---|\n";
     for (bool cache : {false, true})
         for (uint32_t spp : {1u, 2u, 4u, 8u, 16u, 25u, 64u}) {
             const std::vector<uint32_t> bounce_spps = spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp};
@@ -348,9 +357,17 @@ int run_bench_render(const BenchRenderArgs& a) {
                     note_png(png, img);
                 }
         }
-    // 3. A still camera: frames accumulated by the temporal pass (SVGF moments once 4 are in).
-    md += "\n## Still camera, 8 frames accumulated\n\nFrame ms is per frame, the error that of the 8th frame.\n\n"
-          "| spp | bounce spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n|---|---|---|---|---|---|---|\n";
+    return md;
+}
+
+// Section 3's table; each row also to the goal line's `candidates`. `img` ends as the last row's.
+std::string still_camera_table(render::Renderer& r, const render::RenderSettings& base, const render::Camera& cam,
+                               const BenchRenderArgs& a, const render::ImageF& reference, render::RenderImage& img,
+                               std::vector<SweepRow>& candidates) {
+    char line[512];
+    std::string md = "\n## Still camera, 8 frames accumulated\n\nFrame ms is per frame, the error that of the 8th "
+                     "frame.\n\n| spp | bounce spp | denoiser | frame ms | RMSE | PSNR dB | SSIM |\n"
+                     "|---|---|---|---|---|---|---|\n";
     for (uint32_t spp : {1u, 2u, 4u})
         for (uint32_t bounce : spp == 1 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, spp})
             for (bool denoise : {false, true}) {
@@ -370,22 +387,88 @@ int run_bench_render(const BenchRenderArgs& a) {
                                         ", denoiser " + (denoise ? "on" : "off") + ", still camera after 8 frames";
                 candidates.push_back({row, median(frame), e.rmse});
             }
+    return md;
+}
+
+// --sections all or report: sections 1-3 (with all, then the others), the report, render_bench.csv
+// and the PNGs. `md` holds the report's opening.
+int run_report(std::unique_ptr<render::Renderer>& renderer, engine::LoadedScene& scene,
+               const render::RenderSettings& base, const render::Camera& cam, const BenchRenderArgs& a,
+               const SectionInfos& info, std::string& md) {
+    render::Renderer& r = *renderer;
+    // 1. Pipelines and features.
+    md += feature_table(r, base, cam, a);
+    render::RenderImage img;
+
+    // 2. Speed against error.
+    const render::ImageF reference = speed_reference(r, base, cam, a, img, md);
+    std::vector<SweepRow> candidates;
+    SweepRow thesis{"25 spp, bounce spp 25, denoiser off"};
+    ReportFile csv(a.out + "/render_bench.csv");
+    csv << "spp,bounce_spp,denoise,frame_ms,rmse,psnr,ssim,light_cache\n";
+    md += sweep_table(r, base, cam, a, reference, img, csv, thesis, candidates);
+    // 3. A still camera: frames accumulated by the temporal pass (SVGF moments once 4 are in).
+    md += still_camera_table(r, base, cam, a, reference, img, candidates);
     const std::string goal = goal_line(thesis, candidates);
     md += "\n" + goal;
     std::printf("  %s", goal.c_str());
     md += "\nPlot: `scripts/plot_render_bench.py " + a.out + "/render_bench.csv` writes error against "
           "frame time (PNG) next to the CSV.\n";
     if (a.sections == "all") {
-        md += "\n" + run_equal_error_bench(r, equal);
-        md += "\n" + run_path_bench(r, *scene, paths);
-        md += "\n" + run_defaults_bench(r, *scene, defaults);
-        renderer->reset();
-        md += run_geometry_bench(*scene, geometry);
+        md += "\n" + run_equal_error_bench(r, info.equal);
+        md += "\n" + run_path_bench(r, scene, info.paths);
+        md += "\n" + run_defaults_bench(r, scene, info.defaults);
+        renderer.reset();
+        md += run_geometry_bench(scene, info.geometry);
     }
     ReportFile(a.out + "/render_report.md") << md;
     csv.finish();
     std::printf("  wrote %s/render_report.md, render_bench.csv and PNGs\n", a.out.c_str());
     return report_outputs();
+}
+
+int run_bench_render(const BenchRenderArgs& a) {
+    render::RenderSettings base;
+    const std::optional<glm::uvec2> size = parse_image_size(a.size);
+    if (!size)
+        return bad_input("--size must be WxH (1..16384), got '" + a.size + "'");
+    base.width = size->x;
+    base.height = size->y;
+    const auto choice = render::parse_device_choice(a.device);
+    if (!choice)
+        return bad_input(choice.error());
+    const SceneArgs sa = bench_scene_args(a.scene);
+    const auto info = scene_load_info(sa);
+    if (!info)
+        return bad_input(info.error());
+    engine::JobSystem jobs(engine::batch_job_system_info(sa.threads));
+    if (const std::string why = job_system_problem(jobs.start_error()); !why.empty())
+        return failed(why);
+    auto scene = engine::load_scene(jobs, *info);
+    if (!scene)
+        return bad_input(scene.error());
+    if (scene->box_min == scene->box_max) // The default view of nothing looked from the centre at itself.
+        return bad_input("the scene holds no chunk to measure (" + scene->description + ")");
+    auto renderer = render::Renderer::create({.device = *choice});
+    if (!renderer)
+        return bad_input("cannot render: " + renderer.error());
+    render::Renderer& r = **renderer;
+    if (Status fits = r.check_frame_size(base.width, base.height); !fits) // As vx render.
+        return bad_input("cannot render: " + fits.error());
+    send_bench_scene(r, *scene);
+    const render::Camera cam = default_view(*scene, base);
+    apply_row_args(a, base);
+    std::error_code ec;
+    std::filesystem::create_directories(a.out, ec);
+    if (ec)
+        return bad_input("cannot create --out directory '" + a.out + "': " + ec.message());
+    std::printf("vx bench render: %s; %ux%u on %s\n", scene->description.c_str(), base.width, base.height,
+                r.device().name.c_str());
+    std::string md = render_report_intro(*scene, base, r, a);
+    const SectionInfos sections = section_infos(*choice, base, cam, a);
+    if (const std::optional<int> rc = run_one_section(*renderer, *scene, sections, a, md))
+        return *rc;
+    return run_report(*renderer, *scene, base, cam, a, sections, md);
 }
 
 } // namespace

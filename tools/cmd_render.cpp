@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -19,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_common.h"
+#include "cmd_render_settings.h"
 #include "commands.h"
 #include "engine/job_batch.h"
 #include "engine/scene_loader.h"
@@ -33,34 +33,6 @@ namespace {
 
 using namespace vx::world;
 using Clock = std::chrono::steady_clock;
-
-struct RenderArgs {
-    SceneArgs scene;
-    std::string eye, target, up = "0,1,0", light, size = "640x360", shading = "full", shadows = "on";
-    std::string device = "auto", out = "render.png", blas_update = "on";
-    float fov = 60.f;
-    uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
-    uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
-    int64_t bounce_spp = -1; // -1: as --spp.
-    std::string samples_by = "count"; // --samples-by: count (--spp, --bounce-spp) or weight.
-    float weight_exponent = 1.f;      // --weight-exponent (render::RenderSettings::weight_exponent).
-    std::string first_hit_pass = "off"; // --first-hit-pass: on is --split-hits 1.
-    uint32_t split_hits = 0;            // --split-hits (render::RenderSettings::split_hits).
-    std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
-    float sun_radius = 0.27f, sky_light = 1.f;
-    bool validation = false;
-    std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
-    std::string denoise = "off"; // --denoise (render/denoiser.h).
-    uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
-    std::string history_clamp = "on"; // --history-clamp (render::RenderSettings::history_clamp).
-    std::string emitter_sampling = "on"; // --emitter-sampling (render::RenderSettings::emitter_sampling).
-    std::string light_cache = "off";    // --light-cache (render::RenderSettings::light_cache).
-    float light_cache_pixels = 3.f;      // --light-cache-pixels.
-    std::string exposure;        // --exposure: EV100 or auto; empty: the default EV100.
-    std::string haze = "on";     // --haze: aerial perspective of Full shading.
-    std::string visibility;      // --visibility: the haze's visibility in blocks; empty: the default.
-    std::string lighting = "default"; // --lighting: default or thesis (apply_lighting_preset).
-};
 
 // --lighting thesis: the thesis's ray tracer (its chapter 6.3 and Table 6.3): one rectangular
 // area light, no sun and no sky light, 25 shadow samples at every hit (bounces too, unless
@@ -92,129 +64,6 @@ std::string ms(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, v < 0 ? "n/a" : v < 10 ? "%.3f ms" : "%.1f ms", v);
     return buf;
-}
-
-struct Settings {
-    render::RenderSettings settings;
-    render::Camera camera;
-    // The first frame that failed (Renderer::try_render's line: out of GPU memory, a lost
-    // device); later frames are skipped and the command reports it.
-    mutable std::string failure;
-};
-
-// --pipeline: the ray tracer or the raster baseline (same chunks and camera).
-// --denoise, --accumulate: the denoiser on the ray tracer's Full-mode radiance.
-void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
-    s.pipeline = a.pipeline == "raster" ? render::PipelineKind::Raster : render::PipelineKind::RayTraced;
-    s.denoise = a.denoise == "on";
-    s.accumulate = std::max<uint32_t>(a.accumulate, 1);
-    s.history_clamp = a.history_clamp == "on";
-    s.emitter_sampling = a.emitter_sampling == "on";
-    s.light_cache = a.light_cache == "on";
-    s.light_cache_pixels = a.light_cache_pixels;
-}
-
-// Camera and light from the arguments or the scene's defaults: a view over the whole scene.
-std::optional<std::string> make_settings(const RenderArgs& a, const engine::LoadedScene& scene, Settings& out) {
-    render::RenderSettings& s = out.settings;
-    const std::optional<glm::uvec2> size = parse_image_size(a.size);
-    if (!size)
-        return "--size must be WxH (1..16384), got '" + a.size + "'";
-    s.width = size->x;
-    s.height = size->y;
-    s.mode = a.shading == "flat" ? render::ShadingMode::Flat : render::ShadingMode::Full;
-    s.shadow_samples = a.shadows == "off" ? 0 : a.spp;
-    if (a.bounce_spp >= 0)
-        s.bounce_shadow_samples = a.shadows == "off" ? 0 : uint32_t(std::min<int64_t>(a.bounce_spp, 1 << 16));
-    s.samples_by_weight = a.samples_by == "weight";
-    s.weight_exponent = a.weight_exponent;
-    s.split_hits = split_hits_arg(a.first_hit_pass, a.split_hits);
-    s.max_bounces = a.reflections;
-    s.seed = a.sample_seed;
-    if (a.sun == "off") {
-        s.sun.irradiance = glm::vec3(0.f);
-    } else {
-        const auto sun = parse_dvec3(a.sun);
-        const glm::dvec3 towards = sun ? world::unit_direction(*sun) : glm::dvec3(0.0);
-        if (towards == glm::dvec3(0.0))
-            return "--sun must be a non-zero direction X,Y,Z towards the sun, or off; got '" + a.sun + "'";
-        s.sun.direction = glm::vec3(towards); // Unit in double first: 1e308 is infinite as a float.
-    }
-    if (!(a.sun_radius >= 0.f && a.sun_radius <= 45.f))
-        return "--sun-radius must be within 0..45 degrees";
-    s.sun.angular_radius_degrees = a.sun_radius;
-    if (!(a.sky_light >= 0.f && a.sky_light <= 1000.f))
-        return "--sky-light must be within 0..1000";
-    s.sky_light = a.sky_light;
-    s.sky_access = a.sky_access == "on";
-    if (a.area_light == "off")
-        s.light.emission = glm::vec3(0.f);
-    if (a.exposure == "auto") {
-        s.exposure.automatic = true;
-    } else if (!a.exposure.empty()) {
-        char* end = nullptr;
-        const float ev = std::strtof(a.exposure.c_str(), &end);
-        if (end == a.exposure.c_str() || *end != '\0' || !(ev >= -10.f && ev <= 30.f))
-            return "--exposure must be an EV100 within -10..30 or auto, got '" + a.exposure + "'";
-        s.exposure.ev100 = ev;
-    }
-    s.haze.enabled = a.haze == "on";
-    if (!a.visibility.empty()) {
-        char* end = nullptr;
-        const float v = std::strtof(a.visibility.c_str(), &end);
-        if (end == a.visibility.c_str() || *end != '\0' || !(v >= 1.f)) // strtof reads "inf".
-            return "--visibility must be a distance in blocks >= 1 (inf: clear air), got '" + a.visibility + "'";
-        s.haze.visibility = v;
-    }
-    if (!(a.fov >= 1.f && a.fov <= 179.f))
-        return "--fov must be within 1..179 degrees";
-    const glm::dvec3 lo(scene.box_min), hi(scene.box_max), centre = 0.5 * (lo + hi), ext = hi - lo;
-    const double half_fov = glm::radians(double(a.fov)) * 0.5;
-    std::optional<WorldPos> eye = scene.default_eye, target = scene.default_target;
-    if (ext == glm::dvec3(0.0) && !eye && a.eye.empty() && a.target.empty()) // It said "--target must differ".
-        return "the scene holds no chunk to frame (" + scene.description + "): give --eye and --target";
-    if (!target)
-        target = world_pos_at(centre);
-    if (!eye) {
-        const double dist = 0.35 * glm::length(ext) / std::tan(half_fov); // Corners may be cut a little.
-        eye = world_pos_at(centre + dist * glm::normalize(glm::dvec3(-1.0, 0.9, -1.0)));
-    }
-    if (!a.eye.empty() && !(eye = parse_world_pos(a.eye)))
-        return "--eye must be X,Y,Z (decimals, inside the world), got '" + a.eye + "'";
-    if (!world::in_world(eye->block)) // The eye framing a volume at the world's edge.
-        return "the default eye would stand outside the world (|coordinate| < 2^36): give --eye";
-    if (!a.target.empty() && !(target = parse_world_pos(a.target)))
-        return "--target must be X,Y,Z (decimals, inside the world), got '" + a.target + "'";
-    const auto up = parse_dvec3(a.up);
-    if (!up || *up == glm::dvec3(0.0))
-        return "--up must be a non-zero X,Y,Z, got '" + a.up + "'";
-    // Unit vectors before the camera's floats: a target 1e-30 blocks from the eye made a NaN basis.
-    const glm::dvec3 fwd = world::unit_direction(world_delta(*target, *eye));
-    const glm::dvec3 unit_up = world::unit_direction(*up);
-    if (fwd == glm::dvec3(0.0) || !(glm::length(glm::cross(fwd, unit_up)) >= 1e-6))
-        return "--target must differ from --eye and not lie along --up";
-    out.camera.block = eye->block;
-    out.camera.offset = glm::vec3(eye->frac);
-    out.camera.forward = glm::vec3(fwd);
-    out.camera.up = glm::vec3(unit_up);
-    out.camera.fov_y_degrees = a.fov;
-    // Light: a square above the scene, its side half its height above the top. Emission 10:
-    // irradiance ≈ 10 / 4 = 2.5 below it, the facade's default Light's, so the default exposure
-    // shows the default picture (ground of albedo 0.18 at mid-grey).
-    const double above = std::max(32.0, 0.25 * std::max(ext.x, ext.z));
-    std::optional<WorldPos> light = world_pos_at({centre.x, hi.y + above, centre.z});
-    if (!a.light.empty() && !(light = parse_world_pos(a.light)))
-        return "--light must be X,Y,Z (decimals, inside the world), got '" + a.light + "'";
-    if (!world::in_world(light->block)) // Above a volume at the world's top.
-        return "the default light would lie outside the world (|coordinate| < 2^36): give --light";
-    const float side = float(above * 0.5);
-    s.light.edge_u = {side, 0, 0};
-    s.light.edge_v = {0, 0, side};
-    if (a.area_light != "off")
-        s.light.emission = glm::vec3(10.f);
-    s.light.block = light->block;
-    s.light.offset = glm::vec3(light->frac) - 0.5f * (s.light.edge_u + s.light.edge_v);
-    return std::nullopt;
 }
 
 std::string mb(uint64_t bytes) {
@@ -491,126 +340,164 @@ int run_render(RenderArgs a) {
     return kExitOk;
 }
 
+// The scene: what `vx render` loads or generates, and around which point. Returns --seed's option
+// (its value is taken only when given).
+CLI::Option* add_scene_options(CLI::App* cmd, RenderArgs& a, uint64_t& seed) {
+    cmd->add_option("--world", a.scene.world_path, "A stored world (SQLite); every chunk, or --radius around the camera if large");
+    CLI::Option* seed_opt = cmd->add_option("--seed", seed, "Generate terrain of this seed around the camera")
+                                ->check(seed_range());
+    cmd->add_option("--scene", a.scene.scene, "Built-in scene: 'seed' (thesis: 1024 chunks, 10% random, isolated)");
+    cmd->add_option("--scene-block", a.scene.scene_block, "Block of the seed scene (e.g. stone, mirror)");
+    cmd->add_option("--raw", a.scene.raw, "Raw volume of block ids (as vx mesh)");
+    cmd->add_option("--dims", a.scene.dims, "Raw volume size X,Y,Z");
+    cmd->add_option("--type", a.scene.type, "Raw block id type")->check(CLI::IsMember({"u8", "u16"}));
+    cmd->add_option("--origin", a.scene.origin, "World position X,Y,Z of the raw volume's first block");
+    cmd->add_option("--radius", a.scene.radius, "Chunks around the camera, horizontal (--seed: default 8)")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
+    cmd->add_option("--vradius", a.scene.vradius, "Chunks around the camera, vertical (default 4)")
+        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
+    cmd->add_option("--view-distance", a.scene.view_distance,
+                    "Terrain (--seed) to this many blocks: --radius/--vradius stay the full-detail box, levels "
+                    "of detail beyond it (--lod on), or full detail all the way (--lod off)");
+    cmd->add_option("--lod", a.scene.lod, "With --view-distance: levels of detail (on, default) or full detail (off)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--lod-ring", a.scene.lod_ring,
+                    "Coarse levels' box half-width in their own chunks (default 12; each level reaches about "
+                    "ring x 32 x 2^level blocks)");
+    cmd->add_option("--threads", a.scene.threads, "Generation and meshing threads (0 = all cores; at most 256)")
+        ->check(CLI::Range(0u, unsigned(engine::kMaxWorkerThreads)));
+    return seed_opt;
+}
+
+// The camera and the image size.
+void add_camera_options(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--eye", a.eye, "Camera position X,Y,Z in blocks (decimal; integer part read as 64-bit)");
+    cmd->add_option("--target", a.target, "Point looked at, X,Y,Z in blocks");
+    cmd->add_option("--up", a.up, "Up vector X,Y,Z");
+    cmd->add_option("--fov", a.fov, "Vertical field of view, degrees");
+    cmd->add_option("--size", a.size, "Image size WxH");
+}
+
+// Shadow samples and their random numbers, and the passes hits are traced in.
+void add_sampling_options(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--spp", a.spp,
+                    "Shadow samples per pixel at the first hit, per light, and as many sky rays (one primary ray "
+                    "per pixel)")
+        ->check(CLI::Range(uint32_t(0), uint32_t(65536))); // As --bounce-spp: 2^32 ran for hours.
+    cmd->add_option("--sample-seed", a.sample_seed,
+                    "Seed of the samples' random numbers (same seed, same image; accumulated frames add "
+                    "their frame number)");
+    cmd->add_option("--bounce-spp", a.bounce_spp, "The same on reflection bounces (default: as --spp)")
+        ->check(CLI::Range(int64_t(0), int64_t(65536)));
+    cmd->add_option("--samples-by", a.samples_by,
+                    "count: --spp at the first hit, --bounce-spp on bounces; weight: every hit ceil(--spp x its "
+                    "weight in the pixel), at least 1 (render::RenderSettings::samples_by_weight)")
+        ->check(CLI::IsMember({"count", "weight"}));
+    cmd->add_option("--weight-exponent", a.weight_exponent,
+                    "With --samples-by weight: every hit ceil(--spp x weight^E) (0.8: the weak bounces get more "
+                    "rays; render::RenderSettings::weight_exponent)")
+        ->check(finite_range(0.05, 1.0, "an exponent from 0.05 to 1"));
+    cmd->add_option("--first-hit-pass", a.first_hit_pass,
+                    "on: trace the primary hits' light in a pass of its own, then the reflections (the same "
+                    "image; --split-hits 1)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--split-hits", a.split_hits,
+                    "Trace the first N hits of every path each in a pass of its own, then the rest (the same "
+                    "image; render::RenderSettings::split_hits); 0: one pass")
+        ->check(CLI::Range(0u, 64u));
+}
+
+// The lights, shading, shadows and reflections.
+void add_lighting_options(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--sun", a.sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
+    cmd->add_option("--sun-radius", a.sun_radius, "Angular radius of the sun's disc, degrees (soft shadows)");
+    cmd->add_option("--sky-light", a.sky_light, "Sky term: scale of the sky's light on surfaces (0: none)");
+    cmd->add_option("--sky-access", a.sky_access, "off: the view is sealed from the sky (no sun or sky rays)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--area-light", a.area_light, "The rectangular area light above the scene")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--shading", a.shading, "Shading")->check(CLI::IsMember({"flat", "full"}));
+    cmd->add_option("--shadows", a.shadows, "Shadows of all lights and sky occlusion")->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--reflections", a.reflections, "Mirror reflection depth (0..16)")
+        ->check(CLI::Range(0u, render::kMaxMirrorBounces));
+    cmd->add_option("--light", a.light, "Centre of the area light X,Y,Z (default: above the scene)");
+}
+
+// The device, the output, the benchmark's repeats and edits, and the pipeline.
+void add_run_options(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--device", a.device, "auto, cpu, gpu or a device index (see vx info)");
+    cmd->add_option("--out", a.out, "PNG file to write");
+    cmd->add_option("--repeat", a.repeat, "Render N frames of the view; print medians of frames 2..N");
+    cmd->add_option("--edit-burst", a.edit_burst,
+                    "Then edit one block in each of K chunks: GPU time and bytes uploaded of slice refits, whole-chunk "
+                    "refits and rebuilds (--repeat rounds)");
+    cmd->add_option("--blas-update", a.blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--pipeline", a.pipeline,
+                    "rt: ray tracer; raster: the baseline (Phong, one point light at the area light's centre, depth "
+                    "buffer, no shadows or reflections)")
+        ->check(CLI::IsMember({"rt", "raster"}));
+}
+
+// The denoiser and the still camera's accumulation; emitter sampling and the light cache (less noise).
+void add_denoiser_options(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--denoise", a.denoise,
+                    "Guided a-trous denoiser on the ray tracer's full-shading radiance (SVGF-style)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--accumulate", a.accumulate,
+                    "Render N frames of the still camera and average them (temporal pass; with --denoise on, "
+                    "filtered too); the PNG is the last")
+        ->check(CLI::Range(1u, 65536u));
+    cmd->add_option("--history-clamp", a.history_clamp,
+                    "on (default): the temporal pass drops or clamps history this frame says is stale (no ghosts "
+                    "in a game); off: the plain mean of the frames (a converged reference)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--emitter-sampling", a.emitter_sampling,
+                    "on (default): emissive blocks light by shadow rays aimed at their faces; off: only sky rays "
+                    "that happen to hit them (same mean, noisier)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--light-cache", a.light_cache,
+                    "on: hits share their light (all but the sun's) within the frame over patches of each face a "
+                    "few pixels wide (far less noise, a small blur); off (default): each keeps its own samples")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--light-cache-pixels", a.light_cache_pixels,
+                    "The light cache's patch width in pixels at its distance, up to the next power of two "
+                    "blocks (default 3; from 1/64 to 4096, the renderer's bounds)")
+        ->check(finite_range(render::kMinLightCachePixels, render::kMaxLightCachePixels,
+                             "a patch width from 1/64 to 4096 pixels"));
+}
+
+// Exposure and haze, the lighting preset, and validation.
+void add_exposure_options(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--exposure", a.exposure,
+                    "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
+                    "mid-grey; +1 halves the light) or auto (metered from the frame)");
+    cmd->add_option("--haze", a.haze,
+                    "Aerial perspective of full shading: haze towards the sky colour with distance")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--visibility", a.visibility,
+                    "The haze's visibility in blocks, where contrast falls to 2% (default 20000; inf: clear)");
+    cmd->add_option("--lighting", a.lighting,
+                    "default; thesis: one area light, no sun or sky light, 25 shadow samples at every hit, 5 "
+                    "reflections (the thesis's Table 6.3; options given explicitly win)")
+        ->check(CLI::IsMember({"default", "thesis"}));
+    cmd->add_flag("--validation", a.validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
+}
+
 } // namespace
 
 void add_render_command(CLI::App& app, std::function<int()>& action) {
     auto a = std::make_shared<RenderArgs>();
     auto seed = std::make_shared<uint64_t>(0);
     CLI::App* cmd = app.add_subcommand("render", "Ray trace a scene to PNG and print timings");
-    cmd->add_option("--world", a->scene.world_path, "A stored world (SQLite); every chunk, or --radius around the camera if large");
-    CLI::Option* seed_opt = cmd->add_option("--seed", *seed, "Generate terrain of this seed around the camera")
-                                ->check(seed_range());
-    cmd->add_option("--scene", a->scene.scene, "Built-in scene: 'seed' (thesis: 1024 chunks, 10% random, isolated)");
-    cmd->add_option("--scene-block", a->scene.scene_block, "Block of the seed scene (e.g. stone, mirror)");
-    cmd->add_option("--raw", a->scene.raw, "Raw volume of block ids (as vx mesh)");
-    cmd->add_option("--dims", a->scene.dims, "Raw volume size X,Y,Z");
-    cmd->add_option("--type", a->scene.type, "Raw block id type")->check(CLI::IsMember({"u8", "u16"}));
-    cmd->add_option("--origin", a->scene.origin, "World position X,Y,Z of the raw volume's first block");
-    cmd->add_option("--radius", a->scene.radius, "Chunks around the camera, horizontal (--seed: default 8)")
-        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
-    cmd->add_option("--vradius", a->scene.vradius, "Chunks around the camera, vertical (default 4)")
-        ->check(decimal_range(0, 64, "must be 0..64 chunks"));
-    cmd->add_option("--view-distance", a->scene.view_distance,
-                    "Terrain (--seed) to this many blocks: --radius/--vradius stay the full-detail box, levels "
-                    "of detail beyond it (--lod on), or full detail all the way (--lod off)");
-    cmd->add_option("--lod", a->scene.lod, "With --view-distance: levels of detail (on, default) or full detail (off)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--lod-ring", a->scene.lod_ring,
-                    "Coarse levels' box half-width in their own chunks (default 12; each level reaches about "
-                    "ring x 32 x 2^level blocks)");
-    cmd->add_option("--threads", a->scene.threads, "Generation and meshing threads (0 = all cores; at most 256)")
-        ->check(CLI::Range(0u, unsigned(engine::kMaxWorkerThreads)));
-    cmd->add_option("--eye", a->eye, "Camera position X,Y,Z in blocks (decimal; integer part read as 64-bit)");
-    cmd->add_option("--target", a->target, "Point looked at, X,Y,Z in blocks");
-    cmd->add_option("--up", a->up, "Up vector X,Y,Z");
-    cmd->add_option("--fov", a->fov, "Vertical field of view, degrees");
-    cmd->add_option("--size", a->size, "Image size WxH");
-    cmd->add_option("--spp", a->spp,
-                    "Shadow samples per pixel at the first hit, per light, and as many sky rays (one primary ray "
-                    "per pixel)")
-        ->check(CLI::Range(uint32_t(0), uint32_t(65536))); // As --bounce-spp: 2^32 ran for hours.
-    cmd->add_option("--sample-seed", a->sample_seed,
-                    "Seed of the samples' random numbers (same seed, same image; accumulated frames add "
-                    "their frame number)");
-    cmd->add_option("--bounce-spp", a->bounce_spp, "The same on reflection bounces (default: as --spp)")
-        ->check(CLI::Range(int64_t(0), int64_t(65536)));
-    cmd->add_option("--samples-by", a->samples_by,
-                    "count: --spp at the first hit, --bounce-spp on bounces; weight: every hit ceil(--spp x its "
-                    "weight in the pixel), at least 1 (render::RenderSettings::samples_by_weight)")
-        ->check(CLI::IsMember({"count", "weight"}));
-    cmd->add_option("--weight-exponent", a->weight_exponent,
-                    "With --samples-by weight: every hit ceil(--spp x weight^E) (0.8: the weak bounces get more "
-                    "rays; render::RenderSettings::weight_exponent)")
-        ->check(finite_range(0.05, 1.0, "an exponent from 0.05 to 1"));
-    cmd->add_option("--first-hit-pass", a->first_hit_pass,
-                    "on: trace the primary hits' light in a pass of its own, then the reflections (the same "
-                    "image; --split-hits 1)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--split-hits", a->split_hits,
-                    "Trace the first N hits of every path each in a pass of its own, then the rest (the same "
-                    "image; render::RenderSettings::split_hits); 0: one pass")
-        ->check(CLI::Range(0u, 64u));
-    cmd->add_option("--sun", a->sun, "Direction towards the sun X,Y,Z, or off (Full shading)");
-    cmd->add_option("--sun-radius", a->sun_radius, "Angular radius of the sun's disc, degrees (soft shadows)");
-    cmd->add_option("--sky-light", a->sky_light, "Sky term: scale of the sky's light on surfaces (0: none)");
-    cmd->add_option("--sky-access", a->sky_access, "off: the view is sealed from the sky (no sun or sky rays)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--area-light", a->area_light, "The rectangular area light above the scene")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--shading", a->shading, "Shading")->check(CLI::IsMember({"flat", "full"}));
-    cmd->add_option("--shadows", a->shadows, "Shadows of all lights and sky occlusion")->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--reflections", a->reflections, "Mirror reflection depth (0..16)")
-        ->check(CLI::Range(0u, render::kMaxMirrorBounces));
-    cmd->add_option("--light", a->light, "Centre of the area light X,Y,Z (default: above the scene)");
-    cmd->add_option("--device", a->device, "auto, cpu, gpu or a device index (see vx info)");
-    cmd->add_option("--out", a->out, "PNG file to write");
-    cmd->add_option("--repeat", a->repeat, "Render N frames of the view; print medians of frames 2..N");
-    cmd->add_option("--edit-burst", a->edit_burst,
-                    "Then edit one block in each of K chunks: GPU time and bytes uploaded of slice refits, whole-chunk "
-                    "refits and rebuilds (--repeat rounds)");
-    cmd->add_option("--blas-update", a->blas_update, "Build BLASes updatable (edits refit) or not (edits rebuild)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--pipeline", a->pipeline,
-                    "rt: ray tracer; raster: the baseline (Phong, one point light at the area light's centre, depth "
-                    "buffer, no shadows or reflections)")
-        ->check(CLI::IsMember({"rt", "raster"}));
-    cmd->add_option("--denoise", a->denoise,
-                    "Guided a-trous denoiser on the ray tracer's full-shading radiance (SVGF-style)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--accumulate", a->accumulate,
-                    "Render N frames of the still camera and average them (temporal pass; with --denoise on, "
-                    "filtered too); the PNG is the last")
-        ->check(CLI::Range(1u, 65536u));
-    cmd->add_option("--history-clamp", a->history_clamp,
-                    "on (default): the temporal pass drops or clamps history this frame says is stale (no ghosts "
-                    "in a game); off: the plain mean of the frames (a converged reference)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--emitter-sampling", a->emitter_sampling,
-                    "on (default): emissive blocks light by shadow rays aimed at their faces; off: only sky rays "
-                    "that happen to hit them (same mean, noisier)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--light-cache", a->light_cache,
-                    "on: hits share their light (all but the sun's) within the frame over patches of each face a "
-                    "few pixels wide (far less noise, a small blur); off (default): each keeps its own samples")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--light-cache-pixels", a->light_cache_pixels,
-                    "The light cache's patch width in pixels at its distance, up to the next power of two "
-                    "blocks (default 3; from 1/64 to 4096, the renderer's bounds)")
-        ->check(finite_range(render::kMinLightCachePixels, render::kMaxLightCachePixels,
-                             "a patch width from 1/64 to 4096 pixels"));
-    cmd->add_option("--exposure", a->exposure,
-                    "Full shading's camera exposure: EV100 (default 14.7: albedo 0.18 in daylight at "
-                    "mid-grey; +1 halves the light) or auto (metered from the frame)");
-    cmd->add_option("--haze", a->haze,
-                    "Aerial perspective of full shading: haze towards the sky colour with distance")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--visibility", a->visibility,
-                    "The haze's visibility in blocks, where contrast falls to 2% (default 20000; inf: clear)");
-    cmd->add_option("--lighting", a->lighting,
-                    "default; thesis: one area light, no sun or sky light, 25 shadow samples at every hit, 5 "
-                    "reflections (the thesis's Table 6.3; options given explicitly win)")
-        ->check(CLI::IsMember({"default", "thesis"}));
-    cmd->add_flag("--validation", a->validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
+    // In this order: --help lists the options as declared.
+    CLI::Option* seed_opt = add_scene_options(cmd, *a, *seed);
+    add_camera_options(cmd, *a);
+    add_sampling_options(cmd, *a);
+    add_lighting_options(cmd, *a);
+    add_run_options(cmd, *a);
+    add_denoiser_options(cmd, *a);
+    add_exposure_options(cmd, *a);
     auto given = [cmd](const char* name) { return cmd->get_option(name)->count() > 0; };
     cmd->callback([a, seed, seed_opt, given, &action] {
         if (seed_opt->count() > 0)
