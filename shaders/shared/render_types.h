@@ -59,7 +59,7 @@ VX_CONST uint kMaxTransparentLayers = 8;
 // camera (FrameParams::emitter_chunks); farther emissive chunks light nothing.
 VX_CONST float kEmitterRange = 16.0f;
 VX_CONST uint kMaxEmitterChunks = 64;
-// Emissive faces sampled directly (next-event estimation, raygen.rgen emitter_light()): the
+// Emissive faces sampled directly (next-event estimation, shared/raygen_emitters.glsl emitter_light()): the
 // faces of the nearest emissive chunks, whole chunks only, up to this many per frame
 // (render/emitter_quads.h). Sky rays no longer count the emission of those chunks' blocks.
 VX_CONST uint kMaxEmitterQuads = 1024;
@@ -159,7 +159,7 @@ struct EmitterQuad {
 };
 
 // The box around one emitter chunk's emissive faces (origin-relative blocks) and their power, for
-// the cheap test of whether they could matter at a point (raygen.rgen emitter_reach()).
+// the cheap test of whether they could matter at a point (shared/raygen_emitters.glsl emitter_reach()).
 struct EmitterBound {
     vec4 lo; // xyz: the box's low corner; w: sum over the faces of luminance x area (blocks^2).
     vec4 hi; // xyz: its high corner; w: 0.

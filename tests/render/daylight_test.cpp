@@ -214,7 +214,7 @@ TEST_F(RendererTest, BounceShadowSamplesApplyToBouncesOnly) {
     EXPECT_EQ(test::differing_bytes(a4, m_renderer->render(s, floor_view)), 0);
 }
 
-// Sky rays past the first hit (occlusion rays: raygen.rgen's sky_and_emitters()) see the open
+// Sky rays past the first hit (occlusion rays: shared/raygen_emitters.glsl's sky_and_emitters()) see the open
 // sky, a stone roof's shade and the sky through a glass roof, as first-hit sky rays do. A
 // perfect mirror wall (reflectivity 1: no light of its own) at x in [-1, 0), y in [1, 3),
 // z in [-2, 2) over a stone slab x, z in [-16, 16), y in [0, 1); sky light only. The centre ray
