@@ -227,12 +227,9 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     std::erase_if(m->emissive_quads, [&](const auto& kv) { return !keep.contains(kv.first); });
     if (std::erase_if(m->emitter_set, [&](world::LodCoord c) { return !keep.contains(c); }) > 0)
         m->emitter_list_dirty = true;
-    std::vector<world::LodCoord> gone;
-    for (const auto& [c, kinds] : m->probe_kinds)
+    for (world::LodCoord c : m->touching.chunks())
         if (!keep.contains(c))
-            gone.push_back(c);
-    for (world::LodCoord c : gone)
-        m->set_probe_kinds(c, {});
+            m->touching.remove(c);
     return render(settings, camera);
 }
 
@@ -304,24 +301,9 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     // Faces that may touch another transparent block's carry a mark (a copy of the mesh, only
     // in chunks that have such faces).
     world::ChunkMesh marked;
-    std::vector<world::BlockId> kinds = mark_touching_faces(mesh, ids, m->registry, marked);
-    const bool marks = !kinds.empty();
-    m->set_probe_kinds(c, std::move(kinds));
-    m->accel->set_chunk(c, marks ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
-}
-
-void Renderer::Impl::set_probe_kinds(world::LodCoord c, std::vector<world::BlockId> kinds) {
-    if (auto it = probe_kinds.find(c); it != probe_kinds.end()) {
-        for (world::BlockId id : it->second)
-            if (--probe_kind_chunks[id] == 0)
-                probe_kind_chunks.erase(id);
-        probe_kinds.erase(it);
-    }
-    if (kinds.empty())
-        return;
-    for (world::BlockId id : kinds)
-        ++probe_kind_chunks[id];
-    probe_kinds.emplace(c, std::move(kinds));
+    TouchingFaces touching = mark_touching_faces(mesh, ids, m->registry, marked);
+    m->touching.set(c, touching.inside, std::move(touching.border));
+    m->accel->set_chunk(c, touching.marked ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
 }
 
 void Renderer::remove_chunk(world::LodCoord c) {
@@ -330,7 +312,7 @@ void Renderer::remove_chunk(world::LodCoord c) {
     m->emissive_quads.erase(c);
     if (m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;
-    m->set_probe_kinds(c, {});
+    m->touching.remove(c);
 }
 void Renderer::clear_chunks() {
     m->accel->clear();
@@ -338,8 +320,7 @@ void Renderer::clear_chunks() {
     m->emissive_quads.clear();
     m->emitter_set.clear();
     m->emitter_list_dirty = true;
-    m->probe_kinds.clear();
-    m->probe_kind_chunks.clear();
+    m->touching.clear();
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }

@@ -264,9 +264,9 @@ struct RenderStats {
     uint64_t triangles = 0;  // Of the drawn chunks, including spare (degenerate) slots.
     uint32_t raster_chunks = 0; // Raster pipeline: chunks drawn (inside the view frustum); 0 when ray traced.
     uint32_t raster_transparent_chunks = 0; // Of those, drawn again for their transparent blocks.
-    // The ray tracer's pipeline probed for coincident transparent faces (the chunks set have faces
-    // marked for it, render/touching_faces.h, of two kinds or more); else it traces the variant
-    // with no probe.
+    // The ray tracer's pipeline probed for coincident transparent faces: two different transparent
+    // blocks touch somewhere in the chunks set (render/touching_pairs.h); else it traces the
+    // variant with no probe.
     bool touching_probes = false;
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     uint32_t instance_writes = 0; // TLAS instances written this frame (changed ones: not every chunk).

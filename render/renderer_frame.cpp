@@ -199,7 +199,7 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         return out_of_memory("the emitter bounds");
     // The pipeline that samples emitter faces, once some drawn chunk emits (write_params may pick it).
     update_emitters();
-    frame_probes = probe_kind_chunks.size() >= 2;
+    frame_probes = touching.any();
     if (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, frame_probes))
         return out_of_memory("the emitter faces' pipeline");
     if (!pipeline->ensure_variant(false, frame_probes)) // The one without either exists already.

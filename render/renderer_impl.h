@@ -26,6 +26,7 @@
 #include "render/resources.h"
 #include "render/rt_pipeline.h"
 #include "render/scene_accel.h"
+#include "render/touching_pairs.h"
 #include "render/ui_pass.h"
 
 namespace vx::render {
@@ -100,15 +101,10 @@ struct Renderer::Impl {
     };
     EmitterCounts write_emitter_list(world::BlockPos camera_block, bool sample_faces);
     bool frame_samples_faces = false; // write_params() listed emitter faces: record_trace() picks that pipeline.
-    // The kinds (block ids) of each chunk's faces marked for the coincident-face probe
-    // (render/touching_faces.h), and per kind the number of such chunks. Two different kinds that
-    // touch always mark faces of both (inside a chunk the pair, across a border each chunk's
-    // border face), so while the marked faces hold fewer than two kinds no pair exists anywhere
-    // and frames trace the pipeline variant with no probe (a world whose one see-through block is
-    // water never probes).
-    std::unordered_map<world::LodCoord, std::vector<world::BlockId>, world::LodCoordHash> probe_kinds;
-    std::unordered_map<world::BlockId, uint32_t> probe_kind_chunks;
-    void set_probe_kinds(world::LodCoord c, std::vector<world::BlockId> kinds); // Empty: none.
+    // Where two different transparent blocks touch (render/touching_pairs.h): while nowhere, frames
+    // trace the pipeline variant with no coincident-face probe (a world whose one see-through block
+    // is water never probes, nor one whose glass touches no water).
+    TouchingPairs touching;
     bool frame_probes = false; // This frame traces with the probing variant (prepare_frame).
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;
     Buffer readback;

@@ -72,14 +72,29 @@ void mark_interior(std::span<const world::Quad> quads, const SeeThrough& see_thr
     }
 }
 
+// Chunk-local cells of a border slice's transparent quads, by block (BorderFaces).
+std::vector<world::BlockId> border_cells(std::span<const world::Quad> quads, const SeeThrough& see_through) {
+    std::vector<world::BlockId> cells;
+    for (const world::Quad& q : quads) {
+        if (see_through[q.block] == 0)
+            continue;
+        if (cells.empty())
+            cells.assign(size_t(kN) * kN, world::kAir);
+        for (int v = q.v0(); v < q.v0() + q.height(); ++v)
+            std::fill_n(cells.begin() + (v * kN + q.u0()), q.width(), q.block);
+    }
+    return cells;
+}
+
 } // namespace
 
-std::vector<world::BlockId> mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
-                                                const world::BlockRegistry& registry, world::ChunkMesh& out) {
+TouchingFaces mark_touching_faces(const world::ChunkMesh& mesh, std::span<const world::BlockId> ids,
+                                  const world::BlockRegistry& registry, world::ChunkMesh& out) {
+    TouchingFaces result;
     const auto transparent = [&](world::BlockId id) { return id != world::kAir && !registry.is_opaque(id); };
     const size_t kinds = size_t(std::count_if(ids.begin(), ids.end(), transparent));
     if (kinds == 0)
-        return {};
+        return result;
     SeeThrough see_through{std::vector<uint16_t>(size_t(*std::max_element(ids.begin(), ids.end())) + 1, 0)};
     for (world::BlockId id : ids)
         if (transparent(id) && see_through.kind[id] == 0)
@@ -98,28 +113,27 @@ std::vector<world::BlockId> mark_touching_faces(const world::ChunkMesh& mesh, st
                 for (uint32_t i = 0; i < quads.size(); ++i)
                     if (see_through[quads[i].block] != 0)
                         marked.push_back(i);
+                result.border[size_t(axis * 2 + (plane == kN))] = border_cells(quads, see_through);
             } else if (kinds >= 2) {
                 mark_interior(quads, see_through, by_facing, marked);
+                result.inside = result.inside || !marked.empty();
             }
             if (!marked.empty())
                 slices.emplace_back(s, marked);
         }
-    std::vector<world::BlockId> marked_blocks;
     if (slices.empty())
-        return marked_blocks;
+        return result;
+    result.marked = true;
     out = mesh;
     std::vector<world::Quad> quads;
     for (const auto& [s, indices] : slices) {
         const std::span<const world::Quad> slice = out.slice(s);
         quads.assign(slice.begin(), slice.end());
-        for (uint32_t i : indices) {
+        for (uint32_t i : indices)
             quads[i].reserved = uint16_t(quads[i].reserved | gpu::kQuadMayTouch);
-            if (std::find(marked_blocks.begin(), marked_blocks.end(), quads[i].block) == marked_blocks.end())
-                marked_blocks.push_back(quads[i].block); // Few kinds per chunk.
-        }
         out.replace_slice(s, quads); // The same count: in place.
     }
-    return marked_blocks;
+    return result;
 }
 
 } // namespace vx::render
