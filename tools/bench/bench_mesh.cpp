@@ -129,7 +129,7 @@ void bench_touching_faces(benchmark::State& state, const Scene& scene) {
                 ids[i].push_back(q.block);
         });
         quads += meshes[i].quad_count();
-        if (!render::mark_touching_faces(meshes[i], ids[i], reg, out).empty())
+        if (render::mark_touching_faces(meshes[i], ids[i], reg, out).marked)
             out.for_each_quad([&](const Quad& q) { marked += q.reserved != 0; });
     }
     uint64_t n = 0;
