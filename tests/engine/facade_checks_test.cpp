@@ -1,41 +1,29 @@
 // The facade <vx/vx.h> refuses bad input at the call that receives it (a viewer at set_viewer,
-// render settings at set_render_settings, a block's material at create), a stored world knows the
-// generator that made it, and the small queries a game's UI needs: the ray through a screen pixel
-// and the block registry read back.
+// render settings at set_render_settings, a block's material at create), and the small queries a
+// game's UI needs: the ray through a screen pixel and the block registry read back. Stored worlds'
+// generators: facade_stored_world_test.cpp; write_png: facade_png_test.cpp.
 // No GPU (RenderTarget::none).
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cmath>
-#include <csignal>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <limits>
 #include <thread>
 
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include <vx/vx.h>
 
+#include "facade_checks_util.h"
 #include "facade_test_util.h"
 #include "world/store/store_open.h"
 
 namespace {
 
-std::string checks_world(const char* name) { return vx::test::temp_world_path("vx_facade_checks_test", name); }
-
-vx::EngineCreateInfo tiny_info(vx::WorldSource source) {
-    vx::EngineCreateInfo info;
-    info.world = std::move(source);
-    info.streaming.view_radius = 1;
-    info.streaming.view_radius_vertical = 1;
-    info.streaming.worker_threads = 1;
-    return info;
-}
+using vx::test::checks_world;
+using vx::test::error_of;
+using vx::test::tiny_info;
 
 // An engine of `info` (a world of seed 1) with the viewer 4 blocks above the terrain at the
 // origin, settled; null (with a test failure) when a step fails.
@@ -49,12 +37,6 @@ std::unique_ptr<vx::Engine> settled_above_origin(const vx::EngineCreateInfo& inf
     const bool ready = (*engine)->set_viewer(v).ok() && vx::test::settle(**engine);
     EXPECT_TRUE(ready);
     return ready ? std::move(*engine) : nullptr;
-}
-
-// The error of `r`, or "" when it succeeded.
-template <typename T>
-std::string error_of(const T& r) {
-    return r ? std::string() : r.error();
 }
 
 // A game may create its engine on a loading thread and use it from the game loop's, then destroy
@@ -473,112 +455,6 @@ TEST(FacadeChecks, CreateRefusesStreamingSettingsOutOfRange) {
     EXPECT_EQ(e.stats().dirty_chunks, 0u);
 }
 
-// A generator with a name and version the test picks; every chunk below y = 0 rock.
-class NamedGenerator final : public vx::Generator {
-public:
-    NamedGenerator(std::string name, uint32_t version) : m_name(std::move(name)), m_version(version) {}
-    void generate(vx::ChunkCoord, std::span<vx::BlockId>) const override {}
-    std::optional<vx::BlockId> uniform(vx::ChunkCoord c) const override {
-        return c.y < 0 ? vx::BlockId(1) : vx::kAir;
-    }
-    std::string_view name() const override { return m_name; }
-    uint32_t version() const override { return m_version; }
-
-private:
-    std::string m_name;
-    uint32_t m_version;
-};
-
-// A game's generator that keeps the defaults.
-class PlainGenerator final : public vx::Generator {
-public:
-    void generate(vx::ChunkCoord, std::span<vx::BlockId>) const override {}
-};
-
-std::string open_error(const vx::WorldSource& source) { return error_of(vx::Engine::create(tiny_info(source))); }
-
-// Two engines on one SQLite world each saved their own copy of a chunk both edited; the last
-// save won, and the other's edit, reported durable, was gone. The second is refused at create.
-TEST(FacadeChecks, ASecondEngineOnOneSqliteWorldIsRefused) {
-    const std::string path = checks_world("two_writers");
-    {
-        auto first = vx::Engine::create(tiny_info(vx::WorldSource::sqlite(path, 42)));
-        ASSERT_TRUE(first) << first.error();
-        const std::string e = open_error(vx::WorldSource::sqlite(path, 42));
-        EXPECT_NE(e.find("is open for writing elsewhere"), std::string::npos) << e;
-        EXPECT_NE(e.find("PostgreSQL"), std::string::npos) << e;
-        (*first)->shutdown();
-    }
-    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, 42)), "");
-}
-
-TEST(FacadeChecks, StoredWorldRefusesAnotherGenerator) {
-    const std::string path = checks_world("generator");
-    auto waves = std::make_shared<NamedGenerator>("waves", 1);
-    ASSERT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), ""); // Made by waves v1.
-    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), "");
-    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, std::make_shared<NamedGenerator>("waves", 1))), "");
-
-    // The built-in terrain, of any seed.
-    for (uint64_t seed : {uint64_t(1), uint64_t(7)}) {
-        const std::string e = open_error(vx::WorldSource::sqlite(path, seed));
-        EXPECT_NE(e.find("was made by the generator 'waves' version 1, not the built-in terrain"), std::string::npos)
-            << e;
-    }
-    // Another version, another name, a generator that keeps the defaults.
-    std::string e = open_error(vx::WorldSource::sqlite(path, std::make_shared<NamedGenerator>("waves", 2)));
-    EXPECT_NE(e.find("made by the generator 'waves' version 1, not the generator 'waves' version 2"), std::string::npos)
-        << e;
-    e = open_error(vx::WorldSource::sqlite(path, std::make_shared<NamedGenerator>("hills", 1)));
-    EXPECT_NE(e.find("not the generator 'hills' version 1"), std::string::npos) << e;
-    e = open_error(vx::WorldSource::sqlite(path, std::make_shared<PlainGenerator>()));
-    EXPECT_NE(e.find("not the generator 'game' version 1"), std::string::npos) << e;
-    // A refused open records nothing: the world still opens with its own generator.
-    EXPECT_EQ(open_error(vx::WorldSource::sqlite(path, waves)), "");
-
-    // The reverse: a terrain world refuses a game's generator.
-    const std::string terrain = checks_world("terrain");
-    ASSERT_EQ(open_error(vx::WorldSource::sqlite(terrain, 7)), "");
-    e = open_error(vx::WorldSource::sqlite(terrain, waves));
-    EXPECT_NE(e.find("was made by the built-in terrain, not the generator 'waves' version 1"), std::string::npos) << e;
-    e = open_error(vx::WorldSource::sqlite(terrain, 8));
-    EXPECT_NE(e.find("seed 7, not 8"), std::string::npos) << e;
-    EXPECT_EQ(open_error(vx::WorldSource::sqlite(terrain, 7)), "");
-}
-
-// Worlds saved before the generator was recorded: one without any meta opens with whatever
-// comes and records it; one with a seed was made by the built-in terrain (only it stores one).
-TEST(FacadeChecks, OlderWorldsRecordTheirGenerator) {
-    auto waves = std::make_shared<NamedGenerator>("waves", 3);
-    const std::string bare = checks_world("bare");
-    {
-        auto store = vx::world::open_store({bare});
-        ASSERT_TRUE(store) << store.error();
-        ASSERT_TRUE((*store)->flush());
-    }
-    ASSERT_EQ(open_error(vx::WorldSource::sqlite(bare, waves)), "");
-    std::string e = open_error(vx::WorldSource::sqlite(bare, 1));
-    EXPECT_NE(e.find("made by the generator 'waves' version 3"), std::string::npos) << e;
-
-    const std::string seeded = checks_world("seeded");
-    {
-        auto store = vx::world::open_store({seeded});
-        ASSERT_TRUE(store) << store.error();
-        ASSERT_TRUE((*store)->set_meta("seed", "5")); // As `vx world gen --seed 5` wrote it.
-        ASSERT_TRUE((*store)->flush());
-    }
-    e = open_error(vx::WorldSource::sqlite(seeded, waves));
-    EXPECT_NE(e.find("made by the built-in terrain"), std::string::npos) << e;
-    EXPECT_EQ(open_error(vx::WorldSource::sqlite(seeded, 5)), "");
-    {
-        auto store = vx::world::open_store({seeded});
-        ASSERT_TRUE(store) << store.error();
-        auto recorded = (*store)->get_meta("generator");
-        ASSERT_TRUE(recorded && *recorded);
-        EXPECT_EQ(**recorded, "terrain");
-    }
-}
-
 // Derivations below: forward -z, up +y, so right = forward x up = +x. fov 90: tan(45°) = 1; a
 // 200 x 100 frame has aspect 2. Pixel p maps to ndc = p / size * 2 - 1, y down, and the direction
 // is forward + ndc.x * 1 * 2 * right - ndc.y * 1 * up, normalised.
@@ -656,85 +532,3 @@ TEST(FacadeChecks, BlockRegistryReadsBack) {
 }
 
 } // namespace
-
-// write_png reports a failed write: stb's file writer ignored fwrite's errors, so a full disk
-// (/dev/full) gave success and a cut file. A good write starts with the PNG signature.
-TEST(FacadeChecks, WritePngReportsFailedWrites) {
-    vx::Image image;
-    image.width = 4;
-    image.height = 3;
-    image.rgba.assign(4 * 3 * 4, 200);
-    const auto dir = std::filesystem::path(checks_world("png")).parent_path();
-    std::filesystem::create_directories(dir);
-    const std::string good = (dir / "ok.png").string();
-    ASSERT_TRUE(vx::write_png(good, image));
-    std::FILE* f = std::fopen(good.c_str(), "rb");
-    ASSERT_NE(f, nullptr);
-    unsigned char head[8] = {};
-    EXPECT_EQ(std::fread(head, 1, 8, f), 8u);
-    std::fclose(f);
-    EXPECT_EQ(head[1], 'P');
-    EXPECT_EQ(head[2], 'N');
-    EXPECT_EQ(head[3], 'G');
-    vx::Status s = vx::write_png((dir / "no" / "such" / "x.png").string(), image);
-    ASSERT_FALSE(s);
-    EXPECT_NE(s.error().find("cannot write PNG"), std::string::npos) << s.error();
-    image.rgba.pop_back();
-    EXPECT_FALSE(vx::write_png(good, image)); // Pixel count and size disagree.
-    image.rgba.push_back(200);
-    if (!std::filesystem::exists("/dev/full"))
-        GTEST_SKIP() << "no /dev/full here to make a write fail";
-    s = vx::write_png("/dev/full", image);
-    ASSERT_FALSE(s);
-    EXPECT_NE(s.error().find(std::strerror(ENOSPC)), std::string::npos) << s.error();
-}
-
-// A PNG is written whole or not at all: a write that fails half-way (here the process's file size
-// limit, RLIMIT_FSIZE, which fails write(2) with EFBIG as a full disk fails it with ENOSPC) keeps
-// the previous image byte for byte and leaves no temporary beside it. Before, the cut file was
-// removed, so the previous image was lost too.
-TEST(FacadeChecks, AFailedPngWriteKeepsThePreviousImage) {
-    const auto dir = std::filesystem::path(checks_world("png_keep")).parent_path() / "png_keep";
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / "shot.png").string();
-    vx::Image image;
-    image.width = 2;
-    image.height = 2;
-    image.rgba.assign(2 * 2 * 4, 90);
-    ASSERT_TRUE(vx::write_png(path, image));
-    const auto before_size = std::filesystem::file_size(path);
-    ASSERT_LT(before_size, 200u); // A 2×2 flat image: well under the limit set below.
-
-    // 128×128 of noise does not compress below the limit.
-    vx::Image big;
-    big.width = 128;
-    big.height = 128;
-    big.rgba.resize(size_t(128) * 128 * 4);
-    uint32_t state = 12345;
-    for (auto& byte : big.rgba) {
-        state = state * 1664525u + 1013904223u;
-        byte = uint8_t(state >> 24);
-    }
-    rlimit old_limit{};
-    ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
-    rlimit small = old_limit;
-    small.rlim_cur = 4096;
-    const auto old_handler = std::signal(SIGXFSZ, SIG_IGN); // Else the kernel's signal ends the test.
-    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
-    const vx::Status s = vx::write_png(path, big);
-    setrlimit(RLIMIT_FSIZE, &old_limit);
-    std::signal(SIGXFSZ, old_handler);
-    ASSERT_FALSE(s);
-    EXPECT_NE(s.error().find("cannot write PNG"), std::string::npos) << s.error();
-    EXPECT_NE(s.error().find(std::strerror(EFBIG)), std::string::npos) << s.error();
-    ASSERT_TRUE(std::filesystem::exists(path));
-    EXPECT_EQ(std::filesystem::file_size(path), before_size);
-    size_t files = 0;
-    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir))
-        ++files;
-    EXPECT_EQ(files, 1u); // No temporary left.
-    // With the limit gone the same image is written and replaces the old one.
-    ASSERT_TRUE(vx::write_png(path, big));
-    EXPECT_GT(std::filesystem::file_size(path), 4096u);
-}
