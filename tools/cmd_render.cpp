@@ -83,6 +83,8 @@ void print_frame(const char* what, const render::RenderStats& st, double wall_ms
                 ms(st.gpu_copy_ms).c_str(), ms(wall_ms).c_str());
     if (st.failed_chunks > 0)
         std::printf("  %u chunks not drawn: out of GPU memory\n", st.failed_chunks);
+    if (st.touching_probes) // The pipeline variant with the coincident-face probe (render/touching_pairs.h).
+        std::printf("  two different see-through blocks touch: traced with the coincident-face probe\n");
 }
 
 // Device memory of the scene by kind; B/quad counts what each chunk holds (BLAS, vertices, quad

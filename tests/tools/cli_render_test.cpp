@@ -95,6 +95,25 @@ TEST(CliRender, RawVolumeToPng) {
     EXPECT_GT(other, png.w * png.h / 10);
 }
 
+// `vx render` says when it traced with the coincident-face probe (two different see-through blocks
+// touch: render/touching_pairs.h): glass (6) on water (5), and not for glass beside the water
+// with air between.
+TEST(CliRender, SaysWhenSeeThroughBlocksTouch) {
+    for (bool touching : {true, false}) {
+        const std::string vol = write_volume(), out = dir() + "/touch.png";
+        {
+            std::fstream f(vol, std::ios::binary | std::ios::in | std::ios::out);
+            const auto put = [&](int x, int y, int z, char id) {
+                f.seekp(std::streamoff(z * 24 * 12 + y * 24 + x));
+                f.put(id);
+            };
+            put(4, 1, 4, 5);
+            put(4, touching ? 2 : 3, 4, 6);
+        }
+        const CliRun r = render("--raw " + vol + " --dims 24,12,20 --size 32x24 --spp 1 --out " + out);
+        EXPECT_EQ(r.out.find("see-through blocks touch") != std::string::npos, touching) << r.out;
+    }
+}
 
 // `vx info`'s ray-tracing devices: (memory, largest buffer), GiB each.
 std::vector<std::pair<double, double>> ray_tracing_device_sizes(const std::string& info) {
