@@ -17,6 +17,7 @@
 #include "engine/job_batch.h"
 #include "engine/region_mesher.h"
 #include "render/touching_faces.h"
+#include "render/touching_pairs.h"
 #include "world/mesh/mesher.h"
 #include "world/mesh/reference_meshers.h"
 #include "world/gen/seed_scene.h"
@@ -141,6 +142,40 @@ void bench_touching_faces(benchmark::State& state, const Scene& scene) {
     state.counters["marked"] = double(marked) / kPool; // Quads probed: border faces and pairs.
 }
 
+// Renderer::set_chunk's bookkeeping of touching see-through blocks across chunk borders
+// (render/touching_pairs.h) for chunks of `scene` in a 4x4x4 block, each set again in turn: its
+// links dropped, then its border faces compared with its six neighbours'. Each iteration copies
+// the chunk's border faces (the renderer moves them): up to 12 KB.
+void bench_touching_pairs(benchmark::State& state, const Scene& scene) {
+    const BlockRegistry& reg = BlockRegistry::default_registry();
+    constexpr int kSide = 4, kChunks = kSide * kSide * kSide;
+    GreedyMesher mesher;
+    std::vector<render::TouchingFaces> faces(kChunks);
+    ChunkMesh mesh, out;
+    for (int i = 0; i < kChunks; ++i) {
+        mesher.mesh({scene.make(uint64_t(i)), Apron::air(), reg}, mesh);
+        std::vector<BlockId> ids;
+        mesh.for_each_quad([&](const Quad& q) {
+            if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
+                ids.push_back(q.block);
+        });
+        faces[size_t(i)] = render::mark_touching_faces(mesh, ids, reg, out);
+    }
+    const auto coord = [](int i) {
+        return LodCoord{0, ChunkCoord(i % kSide, (i / kSide) % kSide, i / (kSide * kSide))};
+    };
+    render::TouchingPairs pairs;
+    for (int i = 0; i < kChunks; ++i)
+        pairs.set(coord(i), faces[size_t(i)].inside, faces[size_t(i)].border);
+    uint64_t n = 0;
+    for (auto _ : state) {
+        const int i = int(n++ % kChunks);
+        pairs.set(coord(i), faces[size_t(i)].inside, faces[size_t(i)].border);
+        benchmark::DoNotOptimize(pairs.any());
+    }
+    state.counters["border_pairs"] = double(pairs.border_pairs());
+}
+
 // One edit and its undo per iteration, so the chunk stays the scene it started as (toggling
 // blocks forever would turn any chunk into noise). `with_old`: remesh_block is told the block's
 // previous id and merges only the plane sides that changed (the edit path); without it, all six
@@ -227,6 +262,11 @@ const bool registered = [] {
         if (std::string(s.name) == "see_through10" || std::string(s.name) == "terrain")
             benchmark::RegisterBenchmark(("mesh/touching_faces/" + std::string(s.name)).c_str(),
                                          [&s](benchmark::State& st) { bench_touching_faces(st, s); })
+                ->Unit(benchmark::kMicrosecond);
+    for (const Scene& s : scenes())
+        if (std::string(s.name) == "see_through10" || std::string(s.name) == "terrain")
+            benchmark::RegisterBenchmark(("mesh/touching_pairs/" + std::string(s.name)).c_str(),
+                                         [&s](benchmark::State& st) { bench_touching_pairs(st, s); })
                 ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark("mesh/seed_scene_all_cores", bench_seed_scene)->UseManualTime()->Unit(benchmark::kMillisecond);
     return true;
