@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -6,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <grp.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -270,6 +272,68 @@ TEST(SqliteStoreErrors, AFileDeletedOrReplacedWhileOpenFailsItsFlushes) {
         EXPECT_NE(s.error().find("deleted or replaced while open"), std::string::npos) << s.error();
         EXPECT_GT(store->pending_edits(), 0u) << "the queue is kept";
         EXPECT_EQ(store->health().pending_edits, store->pending_edits()) << "what a game's stats show";
+    }
+}
+
+// A chunk of random blocks: its record does not compress, so a few of them fill a disk.
+Chunk noise_chunk(uint32_t seed) {
+    std::mt19937 rng{seed};
+    Chunk c;
+    for (int i = 0; i < kChunkVolume; ++i)
+        c.set(i, BlockId(1 + rng() % 250));
+    return c;
+}
+
+// The disk fills up during a commit (RLIMIT_FSIZE here: writes past it fail with EFBIG, as they
+// fail with ENOSPC on a full disk): the flush fails and says why, the edits
+// stay queued and in the store's health, earlier commits stay readable; once space returns the
+// next flush saves every edit, and the file reopens with all of them.
+TEST(SqliteStoreErrors, ADiskFullCommitKeepsItsEditsAndTheNextFlushSavesThem) {
+    TempDir dir;
+    const std::string path = dir.file("w.db");
+    auto store = open_store(path);
+    ASSERT_NE(store, nullptr);
+    ASSERT_TRUE(store->save({0, 0, 0}, noise_chunk(0)).ok());
+    ASSERT_TRUE(store->flush().ok());
+    rlimit old{};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    const auto old_signal = std::signal(SIGXFSZ, SIG_IGN);
+    uintmax_t largest = 0;
+    for (const char* suffix : {"", "-wal"})
+        if (std::filesystem::exists(path + suffix))
+            largest = std::max(largest, std::filesystem::file_size(path + suffix));
+    rlimit full = old;
+    full.rlim_cur = rlim_t(largest + 16 * 1024);
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &full), 0);
+    constexpr int kChunks = 12; // About 32 KB each: far past the 16 KB left.
+    for (int i = 1; i <= kChunks; ++i)
+        ASSERT_TRUE(store->save({i, 0, 0}, noise_chunk(uint32_t(i))).ok());
+    const vx::Status failed = store->flush();
+    const uint64_t pending = store->pending_edits();
+    const StoreHealth health = store->health();
+    const vx::Result<ChunkLoad> earlier = store->load({0, 0, 0});
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0); // Space again (before any ASSERT can return).
+    std::signal(SIGXFSZ, old_signal);
+    ASSERT_FALSE(failed.ok()) << "a commit past the file size limit succeeded";
+    // What failed (SQLite alone says "disk I/O error"; ENOSPC it calls "database or disk is
+    // full"), and that nothing was lost.
+    EXPECT_NE(failed.error().find("writing the file failed"), std::string::npos) << failed.error();
+    EXPECT_NE(failed.error().find("12 edits kept in memory"), std::string::npos) << failed.error();
+    EXPECT_EQ(pending, uint64_t(kChunks)) << "the queue is kept";
+    EXPECT_EQ(health.pending_edits, pending);
+    ASSERT_TRUE(earlier.ok()) << earlier.error();
+    EXPECT_EQ(earlier->state, LoadState::Present);
+    const vx::Status saved = store->flush();
+    ASSERT_TRUE(saved.ok()) << saved.error();
+    EXPECT_EQ(store->pending_edits(), 0u);
+    store.reset();
+    auto reopened = open_store(path);
+    ASSERT_NE(reopened, nullptr);
+    for (int i = 0; i <= kChunks; ++i) {
+        const vx::Result<ChunkLoad> r = reopened->load({i, 0, 0});
+        ASSERT_TRUE(r.ok()) << r.error();
+        ASSERT_EQ(r->state, LoadState::Present) << i;
+        EXPECT_TRUE(*r->chunk == noise_chunk(uint32_t(i))) << i;
     }
 }
 

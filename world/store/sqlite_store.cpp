@@ -4,7 +4,9 @@
 
 #include <sqlite3.h>
 
+#include <cstring>
 #include <filesystem>
+#include <string>
 
 #include "world/base/file_lock.h"
 #include "world/base/log.h"
@@ -75,14 +77,41 @@ SqliteStore::~SqliteStore() {
     sqlite3_close_v2(m_db);
 }
 
+std::string SqliteStore::sqlite_message(const char* msg) const {
+    if (!m_db)
+        return "out of memory";
+    std::string out = msg ? msg : sqlite3_errmsg(m_db);
+    // SQLite says "disk I/O error" for every failed file operation; its extended code names the
+    // operation (https://www.sqlite.org/rescode.html). The OS's errno is often gone by then.
+    const char* what = nullptr;
+    switch (sqlite3_extended_errcode(m_db)) {
+    case SQLITE_IOERR_WRITE: what = "writing the file failed: a full disk, a quota or a failing device"; break;
+    case SQLITE_IOERR_FSYNC: what = "flushing the file to the disk failed"; break;
+    case SQLITE_IOERR_READ: what = "reading the file failed"; break;
+    case SQLITE_IOERR_SHORT_READ: what = "the file ended early"; break;
+    case SQLITE_IOERR_TRUNCATE: what = "truncating the file failed"; break;
+    default: break;
+    }
+    if (what)
+        return out + " (" + what + ")";
+    const int code = sqlite3_errcode(m_db) & 0xff, os = sqlite3_system_errno(m_db);
+    if (os != 0 && (code == SQLITE_IOERR || code == SQLITE_CANTOPEN)) // Else a stale errno.
+        out += std::string(" (") + std::strerror(os) + ")";
+    return out;
+}
+
 Error SqliteStore::db_error(const std::string& what) const {
-    return Error{"store '" + m_info.path + "': " + what + ": " + (m_db ? sqlite3_errmsg(m_db) : "out of memory")};
+    return Error{"store '" + m_info.path + "': " + what + ": " + sqlite_message()};
+}
+
+Error SqliteStore::commit_error(const Status& s) const {
+    return Error{s.error() + "; " + std::to_string(pending_edits()) + " edits kept in memory"};
 }
 
 Status SqliteStore::exec(const char* sql) {
     char* msg = nullptr;
     if (sqlite3_exec(m_db, sql, nullptr, nullptr, &msg) != SQLITE_OK) {
-        Error e{"store '" + m_info.path + "': " + (msg ? msg : sqlite3_errmsg(m_db))};
+        Error e{"store '" + m_info.path + "': " + sqlite_message(msg)};
         sqlite3_free(msg);
         return e;
     }
@@ -306,6 +335,12 @@ Status SqliteStore::flush() {
 Status SqliteStore::commit() {
     if (pending_edits() == 0)
         return {};
+    if (Status s = commit_queue(); !s)
+        return commit_error(s); // The queue is kept: a later commit retries.
+    return {};
+}
+
+Status SqliteStore::commit_queue() {
     struct Shown { // Every way out, committed or not.
         SqliteStore& store;
         ~Shown() { store.show_pending(); }
@@ -320,8 +355,7 @@ Status SqliteStore::commit() {
     int moved = 0;
     if (sqlite3_file_control(m_db, "main", SQLITE_FCNTL_HAS_MOVED, &moved) == SQLITE_OK && moved)
         return Error{"store '" + m_info.path +
-                     "': the file was deleted or replaced while open; nothing more is saved to it (edits are kept "
-                     "in memory)"};
+                     "': the file was deleted or replaced while open; nothing more is saved to it"};
     if (Status s = exec("BEGIN IMMEDIATE"); !s)
         return s;
     if (Status s = commit_lod(); !s) {

@@ -117,6 +117,12 @@ private:
     Result<std::vector<LodCoord>> list_lod(bool dirty); // Dirty marks, or stored coarse chunks.
     Status exec(const char* sql);
     Error db_error(const std::string& what) const;
+    // SQLite's message (`msg`, else the connection's), with the file operation that failed where
+    // the file system failed it ("disk I/O error (writing the file failed: ...)").
+    std::string sqlite_message(const char* msg = nullptr) const;
+    Status commit_queue(); // commit()'s transaction: every queued write, or none.
+    // A commit's failure, saying the queue is kept.
+    Error commit_error(const Status& s) const;
 
     SqliteStoreCreateInfo m_info;
     sqlite3* m_db = nullptr;
