@@ -168,18 +168,21 @@ bool Renderer::Impl::ensure_target(uint32_t width, uint32_t height) {
     return false;
 }
 
+// A frame's resource that could not be allocated: nothing is drawn.
+static Error frame_out_of_memory(const RenderSettings& s, const char* what) {
+    return Error{std::string("out of GPU memory for ") + what + " of a " + std::to_string(s.width) + "x" +
+                 std::to_string(s.height) + " frame: nothing drawn; a later frame (or a smaller size) tries again"};
+}
+
+// A pipeline made at its first frame that the device refused (it was a VK_CHECK abort): it is
+// dropped, and the next frame that needs it makes it again.
+Error Renderer::Impl::not_created(const char* what) const {
+    return Error{std::string("out of GPU memory for ") + what + " (" + ctx->last_create_failure() +
+                 "): nothing drawn; a later frame tries again"};
+}
+
 Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback, bool with_gbuffer) {
-    const std::string size = std::to_string(s.width) + "x" + std::to_string(s.height);
-    auto out_of_memory = [&](const char* what) {
-        return Error{std::string("out of GPU memory for ") + what + " of a " + size +
-                     " frame: nothing drawn; a later frame (or a smaller size) tries again"};
-    };
-    // A pipeline made at its first frame that the device refused (it was a VK_CHECK abort): it is
-    // dropped, and the next frame that needs it makes it again.
-    auto not_created = [&](const char* what) {
-        return Error{std::string("out of GPU memory for ") + what + " (" + ctx->last_create_failure() +
-                     "): nothing drawn; a later frame tries again"};
-    };
+    auto out_of_memory = [&](const char* what) { return frame_out_of_memory(s, what); };
     if (!ensure_target(s.width, s.height))
         return out_of_memory("the render target and G-buffer");
     if (!update_materials())
@@ -217,6 +220,13 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         if (!gbuffer_readback.valid())
             return out_of_memory("the G-buffer read-back");
     }
+    return prepare_passes(s);
+}
+
+// The passes' own resources, made at the first frame that needs them.
+Status Renderer::Impl::prepare_passes(const RenderSettings& s) {
+    auto out_of_memory = [&](const char* what) { return frame_out_of_memory(s, what); };
+    const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (s.pipeline == PipelineKind::Raster) {
         if (!raster)
             raster = std::make_unique<RasterPipeline>(*ctx, VK_FORMAT_R8G8B8A8_UNORM); // The target's view.

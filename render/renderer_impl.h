@@ -243,6 +243,8 @@ struct Renderer::Impl {
     // structures (target, G-buffer, materials, emitter list, read-backs, denoiser, UI). An
     // error names the one that could not be allocated; a later frame tries again.
     Status prepare_frame(const RenderSettings& s, bool readback, bool gbuffer);
+    Status prepare_passes(const RenderSettings& s); // prepare_frame's second half.
+    Error not_created(const char* what) const;
     void write_params(const RenderSettings& s, const Camera& cam);
     void write_descriptors();
     Status record_scene(VkCommandBuffer cmd, const Camera& cam);
