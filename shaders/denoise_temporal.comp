@@ -367,6 +367,9 @@ float moving_history_cap(float own, float frames, float bias) {
     return max((variance + bias * bias + h) / max(bias * bias + h, 1e-20), 1.0);
 }
 
+// One pass per pixel (over 100 lines): the history's reprojection, its 2x2 taps' weights and the
+// moments flow into the three outputs (illumination, reflected light, mirror light), which share
+// them; apart, each step would take or return most of that state.
 void main() {
     const ivec2 size = ivec2(pc.params.xy);
     const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
