@@ -1,7 +1,7 @@
 #pragma once
 // The sandbox's game state on top of <vx/vx.h>: the player and camera, the held keys, the
 // hotbar, block edits at the crosshair, render toggles, background saves and the per-frame
-// figures. No window code: the GLFW glue (sandbox_main.cpp) and the replay feed it the same
+// figures. No window code: the GLFW glue (sandbox_main.cpp, input.cpp) and the replay feed it the same
 // inputs. Main thread only (it drives the engine).
 #include <cstdint>
 #include <optional>

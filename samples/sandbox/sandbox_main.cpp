@@ -1,9 +1,8 @@
 // vx_sandbox: a block game on <vx/vx.h> — fly or walk through the ray-traced world streaming
 // around you, remove and place blocks, scripted play (--replay) for tests and benchmarks.
-// This file is the GLFW glue: window, input callbacks, the frame loop, the replay driver,
-// screenshots and the per-frame CSV. The game logic lives in game.*, player_physics.*,
-// hotbar.*, replay.* and options.*.
-#include <array>
+// This file is the GLFW glue: window, the frame loop, the replay driver, screenshots and the
+// per-frame CSV; the state is in app.h, the input callbacks in input.*, the UI feed in app_ui.*.
+// The game logic lives in game.*, player_physics.*, hotbar.*, replay.* and options.*.
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -20,7 +19,10 @@
 
 #include <vx/vx.h>
 
+#include "app.h"
+#include "app_ui.h"
 #include "game.h"
+#include "input.h"
 #include "options.h"
 #include "replay.h"
 #include "ui.h"
@@ -30,138 +32,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kReplayStep = 1.0 / 60.0; // Seconds of game time per replay frame.
-constexpr double kMouseDegreesPerPixel = 0.1;
-
-const char* const kHelpLines[] = {
-    "mouse look, WASD move, space/shift rise/sink (fly) or jump (walk), F walk/fly",
-    "left click remove, right click place, middle click pick, 1-9 and wheel: hotbar",
-    "F1 help, F2 screenshot, F3 stats, G shadows, R reflections, N denoiser, P raster, V vsync",
-    "Esc menu",
-};
-
-struct App {
-    Options opt;
-    GLFWwindow* window = nullptr;
-    std::unique_ptr<vx::Engine> engine;
-    std::unique_ptr<Game> game;
-    std::vector<ReplayCommand> replay;
-    size_t next_command = 0;
-    uint64_t frame = 0;
-    std::FILE* csv = nullptr;
-    bool captured = false, menu = false, show_stats = false, show_help = false, quit = false;
-    std::vector<std::string> stats;       // F3 lines, refreshed 4 times a second.
-    std::vector<std::string> block_names; // Id i + 1 = block_names[i].
-    std::unique_ptr<Ui> ui;
-    // Mouse buttons for the UI (left, right, middle): held, and pressed since the last frame (a
-    // press and release within one poll still reaches ImGui as a click).
-    std::array<bool, 3> mouse_down{}, mouse_pressed{};
-    bool screenshot_now = false;
-    bool screenshot_failed = false; // A scripted screenshot (--screenshot, a replay's) not written.
-    bool screenshot_scripted = false; // The pending one is scripted (F2's: no exit code).
-    bool last_frame_shot = false;     // --screenshot was taken in the last frame of --frames.
-    DeviceLossPolicy loss_policy;     // Renderers recreated since the last frame drawn.
-    std::string screenshot_path;
-    std::string message;
-    double last_x = 0, last_y = 0;
-    bool have_last = false;
-    double fps_ms = 16.7;
-};
-
-App* app_of(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
-
-void set_captured(App& app, bool captured) {
-    if (!app.window) // Headless: no cursor to capture.
-        return;
-    app.captured = captured;
-    app.menu = !captured;
-    app.have_last = false;
-    glfwSetInputMode(app.window, GLFW_CURSOR, captured ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
-}
-
-void say(App& app, const std::string& text) {
-    if (text.empty())
-        return;
-    app.message = text;
-    std::printf("vx_sandbox: %s\n", text.c_str());
-}
-
-void on_key(GLFWwindow* w, int key, int, int action, int) {
-    App& app = *app_of(w);
-    if (action == GLFW_REPEAT)
-        return;
-    const bool down = action == GLFW_PRESS;
-    static const std::pair<int, const char*> kMove[] = {{GLFW_KEY_W, "w"},         {GLFW_KEY_A, "a"},
-                                                        {GLFW_KEY_S, "s"},         {GLFW_KEY_D, "d"},
-                                                        {GLFW_KEY_SPACE, "space"}, {GLFW_KEY_LEFT_SHIFT, "shift"}};
-    for (auto [k, name] : kMove)
-        if (key == k)
-            app.game->key(name, down && app.captured);
-    if (!down)
-        return;
-    if (key == GLFW_KEY_ESCAPE) {
-        set_captured(app, app.menu); // The menu open: Esc resumes (Quit is in the menu, or Q).
-    } else if (key == GLFW_KEY_Q && app.menu) {
-        app.quit = true;
-    } else if (key == GLFW_KEY_F) {
-        say(app, app.game->toggle("walk"));
-    } else if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
-        app.game->hotbar().select(key - GLFW_KEY_1);
-    } else if (key == GLFW_KEY_F1) {
-        app.show_help = !app.show_help;
-    } else if (key == GLFW_KEY_F2) {
-        app.screenshot_now = true;
-        app.screenshot_path = "vx_sandbox_" + std::to_string(app.frame) + ".png";
-        app.screenshot_scripted = false;
-    } else if (key == GLFW_KEY_F3) {
-        app.show_stats = !app.show_stats;
-    } else if (key == GLFW_KEY_G) {
-        say(app, app.game->toggle("shadows"));
-    } else if (key == GLFW_KEY_V) {
-        // The swapchain is recreated at the next frame; the engine, its world and edits stay.
-        app.opt.vsync = !app.opt.vsync;
-        vx::Status s = app.engine->set_vsync(app.opt.vsync);
-        say(app, !s ? s.error() : app.opt.vsync ? "vsync on" : "vsync off");
-    } else if (key == GLFW_KEY_R) {
-        say(app, app.game->toggle("reflections"));
-    } else if (key == GLFW_KEY_N) {
-        say(app, app.game->toggle("denoise"));
-    } else if (key == GLFW_KEY_P) {
-        say(app, app.game->toggle("raster"));
-    }
-}
-
-void on_mouse_button(GLFWwindow* w, int button, int action, int) {
-    App& app = *app_of(w);
-    if (button >= 0 && button < 3) {
-        app.mouse_down[size_t(button)] = action == GLFW_PRESS;
-        app.mouse_pressed[size_t(button)] |= action == GLFW_PRESS;
-    }
-    if (action != GLFW_PRESS)
-        return;
-    if (!app.captured) {
-        if (!app.ui->wants_mouse()) // A click beside the menu resumes; on it, the menu has it.
-            set_captured(app, true);
-        return;
-    }
-    const Button b = button == GLFW_MOUSE_BUTTON_LEFT ? Button::Left
-                     : button == GLFW_MOUSE_BUTTON_RIGHT ? Button::Right : Button::Middle;
-    say(app, app.game->click(b));
-}
-
-void on_cursor(GLFWwindow* w, double x, double y) {
-    App& app = *app_of(w);
-    if (app.captured && app.have_last)
-        app.game->look(-(x - app.last_x) * kMouseDegreesPerPixel, -(y - app.last_y) * kMouseDegreesPerPixel);
-    app.last_x = x;
-    app.last_y = y;
-    app.have_last = true;
-}
-
-void on_scroll(GLFWwindow* w, double, double dy) {
-    App& app = *app_of(w);
-    if (dy != 0)
-        app.game->hotbar().scroll(dy > 0 ? -1 : 1);
-}
 
 // Runs until every chunk in view is meshed, without advancing game time. False after 10 minutes.
 bool wait_loaded(App& app, Clock::time_point game_now) {
@@ -215,81 +85,6 @@ bool run_replay_commands(App& app, Clock::time_point game_now) {
         }
     }
     return true;
-}
-
-// The F3 lines, refreshed a few times a second.
-std::vector<std::string> stats_lines(const App& app) {
-    const vx::Stats s = app.engine->stats();
-    char l[5][256];
-    std::snprintf(l[0], sizeof l[0], "%.0f fps, %.1f ms a frame: update %.1f, render %.1f (wait %.1f, present %.1f)",
-                  1000.0 / app.fps_ms, app.fps_ms, s.update_wall_ms, s.render_wall_ms, s.wait_ms, s.present_ms);
-    std::snprintf(l[1], sizeof l[1], "GPU ms: BLAS %.2f, TLAS %.2f, trace %.2f (-1: no timestamps)", s.gpu_blas_ms,
-                  s.gpu_tlas_ms, s.gpu_trace_ms);
-    std::snprintf(l[2], sizeof l[2], "chunks %zu loaded, %zu queued, %zu/%zu meshed (%zu mesh jobs)", s.chunks_loaded,
-                  s.chunks_queued, s.chunks_meshed, s.chunks_in_view, s.meshes_queued);
-    std::snprintf(l[3], sizeof l[3], "BLAS this frame: %u builds, %u refits; %u chunks drawn; edit to screen %d frames",
-                  s.blas_builds, s.blas_refits, s.instances, app.game->last_edit_to_screen());
-    std::snprintf(l[4], sizeof l[4], "memory: blocks %.0f MB, GPU %.0f / %.0f MB", s.block_memory_bytes / 1048576.0,
-                  s.gpu_memory_used_bytes / 1048576.0, s.gpu_memory_bytes / 1048576.0);
-    std::string levels = "levels (drawn/kept): ";
-    for (int k = 0; k <= s.lod_top_level; ++k) {
-        char t[64];
-        std::snprintf(t, sizeof t, "%s%d: %u/%u", k ? ", " : "", k, s.level_chunks_drawn[size_t(k)],
-                      s.level_chunks_kept[size_t(k)]);
-        levels += t;
-    }
-    char h[96];
-    std::snprintf(h, sizeof h, "; holes %u, swaps %llu", s.holes, (unsigned long long)s.lod_swaps);
-    return {l[0], l[1], l[2], l[3], l[4], levels + h};
-}
-
-UiView ui_view(const App& app) {
-    const Game& g = *app.game;
-    const vx::BlockId id = g.hotbar().selected_block();
-    const std::string name = id >= 1 && id <= app.block_names.size() ? app.block_names[id - 1u] : std::to_string(id);
-    UiView v;
-    const char* vdb = app.opt.vdb.empty() ? "" : app.opt.read_only ? " | VDB read-only" : " | VDB + edits overlay";
-    v.status = std::string(g.player().walking() ? "walk" : "fly") + " | " + name + vdb + " | " + g.save_text() +
-               (app.message.empty() ? "" : " | " + app.message);
-    if (app.show_stats)
-        v.stats = app.stats;
-    if (app.show_help)
-        v.help.assign(std::begin(kHelpLines), std::end(kHelpLines));
-    v.menu = app.menu;
-    v.shadows = g.shadows();
-    v.reflections = g.reflections();
-    v.denoise = g.denoise();
-    v.raster = g.raster();
-    return v;
-}
-
-// This frame's UI: ImGui's input from the window, the menu's actions applied, the draw list to
-// the engine.
-void update_ui(App& app, uint32_t fb_w, uint32_t fb_h, double dt) {
-    UiInput in;
-    in.width = fb_w;
-    in.height = fb_h;
-    in.dt = dt;
-    in.mouse_free = app.window && !app.captured;
-    if (in.mouse_free) {
-        int win_w = 0, win_h = 0;
-        glfwGetWindowSize(app.window, &win_w, &win_h); // Cursor: screen units; UI: pixels.
-        double x = 0, y = 0;
-        glfwGetCursorPos(app.window, &x, &y);
-        in.mouse = {float(x * (win_w > 0 ? double(fb_w) / win_w : 1.0)), float(y * (win_h > 0 ? double(fb_h) / win_h : 1.0))};
-    }
-    for (size_t b = 0; b < 3; ++b)
-        in.mouse_down[b] = app.mouse_down[b] || app.mouse_pressed[b];
-    app.mouse_pressed = {};
-    const UiActions act = app.ui->frame(in, app.game->hotbar(), ui_view(app));
-    for (const std::string& t : act.toggles)
-        say(app, app.game->toggle(t));
-    if (act.resume)
-        set_captured(app, true);
-    if (act.quit)
-        app.quit = true;
-    if (vx::Status s = app.engine->set_ui(app.ui->draw_list()); !s)
-        say(app, s.error());
 }
 
 vx::Result<std::unique_ptr<vx::Engine>> create_engine(const Options& o, GLFWwindow* window) {
