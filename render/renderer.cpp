@@ -235,10 +235,16 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
 
 std::vector<world::LodCoord> Renderer::set_registry(const world::BlockRegistry& registry) {
     std::vector<world::LodCoord> stale_chunks;
-    for (const auto& [c, ids] : m->chunk_blocks)
-        if (std::any_of(ids.begin(), ids.end(),
-                        [&](world::BlockId id) { return m->registry.is_opaque(id) != registry.is_opaque(id); }))
-            stale_chunks.push_back(c);
+    const auto changed = [&](world::BlockId id) { return m->registry.is_opaque(id) != registry.is_opaque(id); };
+    // Ids past both tables are opaque in both; no chunk scan unless some id changed (render(scene)
+    // calls this every frame).
+    bool any_changed = false;
+    for (size_t id = 0; id < std::max(registry.size(), m->registry.size()) && !any_changed; ++id)
+        any_changed = changed(world::BlockId(id));
+    if (any_changed)
+        for (const auto& [c, ids] : m->chunk_blocks)
+            if (std::any_of(ids.begin(), ids.end(), changed))
+                stale_chunks.push_back(c);
     std::sort(stale_chunks.begin(), stale_chunks.end(), [](world::LodCoord a, world::LodCoord b) {
         return std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) < std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
     });
