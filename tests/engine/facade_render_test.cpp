@@ -131,28 +131,24 @@ double roughness(const vx::Image& img) {
     return sum / double(img.height * (img.width - 1));
 }
 
-// The facade's RenderSettings reach the renderer: the raster pipeline covers the pixels the ray
-// tracer covers (Flat) but shades differently (Full: no shadows); the denoiser smooths a
-// one-sample image, and so does the light cache; the sun's irradiance lights the scene;
-// emitter_sampling picks how a lamp's light is found.
-TEST(FacadeRender, SettingsReachTheRenderer) {
-    auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 48, 32));
-    if (!engine)
-        GTEST_SKIP() << "no ray-tracing device: " << engine.error();
-    vx::Engine& e = **engine;
-    ASSERT_TRUE(view_terrain(e));
-    auto render = [&](const vx::RenderSettings& rs) {
-        e.set_render_settings(rs);
-        vx::Image img;
-        EXPECT_TRUE(e.render_to_image(img));
-        return img;
-    };
+// Renders one frame of `rs` (the first step of each check below).
+vx::Image render_with(vx::Engine& e, const vx::RenderSettings& rs) {
+    e.set_render_settings(rs);
+    vx::Image img;
+    EXPECT_TRUE(e.render_to_image(img));
+    return img;
+}
+
+// The raster pipeline covers the pixels the ray tracer covers (Flat) but shades differently
+// (Full: no shadows); the denoiser smooths a one-sample image, and so does the light cache; the
+// sun's irradiance lights the scene. Returns the Full settings these used.
+vx::RenderSettings expect_pipelines_filters_and_sun(vx::Engine& e) {
     using P = vx::RenderSettings::Pipeline;
     vx::RenderSettings flat;
     flat.shading = vx::RenderSettings::Shading::Flat;
-    const vx::Image rt_flat = render(flat);
+    const vx::Image rt_flat = render_with(e, flat);
     flat.pipeline = P::Raster;
-    const vx::Image raster_flat = render(flat);
+    const vx::Image raster_flat = render_with(e, flat);
     // Flat writes the sky colour unencoded on a miss: (0.55, 0.7, 0.95) * 255 = (140, 179, 242).
     auto is_sky = [](glm::u8vec4 p) { return std::abs(int(p.r) - 140) <= 1 && std::abs(int(p.b) - 242) <= 1; };
     size_t sky = 0, agree = 0;
@@ -168,98 +164,117 @@ TEST(FacadeRender, SettingsReachTheRenderer) {
     vx::RenderSettings full;
     full.shadow_samples = 1; // Noisy, so the denoiser has work.
     full.max_bounces = 0;
-    const vx::Image rt_full = render(full);
+    const vx::Image rt_full = render_with(e, full);
     full.pipeline = P::Raster;
-    const vx::Image raster_full = render(full);
+    const vx::Image raster_full = render_with(e, full);
     EXPECT_GT(mean_abs_diff(rt_full, raster_full), 10.0); // Phong and no shadows vs the tracer.
     full.pipeline = P::RayTraced;
     full.denoise = true;
-    const vx::Image denoised = render(full);
+    const vx::Image denoised = render_with(e, full);
     EXPECT_GT(mean_abs_diff(rt_full, denoised), 1.0);
     EXPECT_LT(roughness(denoised), roughness(rt_full));
     full.denoise = false;
     full.light_cache = true; // Shared light: smoother too, before any filter.
-    const vx::Image cached = render(full);
+    const vx::Image cached = render_with(e, full);
     EXPECT_GT(mean_abs_diff(rt_full, cached), 1.0);
     EXPECT_LT(roughness(cached), roughness(rt_full));
     full.light_cache = false;
-    full.sun.irradiance = glm::vec3(0.f);
-    const vx::Image no_sun = render(full);
+    vx::RenderSettings no_sun = full;
+    no_sun.sun.irradiance = glm::vec3(0.f);
+    const vx::Image dark_image = render_with(e, no_sun);
     double lit = 0, dark = 0;
     for (size_t i = 0; i < rt_full.rgba.size(); i += 4) {
         lit += rt_full.rgba[i] + rt_full.rgba[i + 1] + rt_full.rgba[i + 2];
-        dark += no_sun.rgba[i] + no_sun.rgba[i + 1] + no_sun.rgba[i + 2];
+        dark += dark_image.rgba[i] + dark_image.rgba[i + 1] + dark_image.rgba[i + 2];
     }
     EXPECT_LT(dark, lit * 0.95);
+    return no_sun;
+}
 
-    // At night with a lamp in view: its faces sampled light the ground around it smoothly; found
-    // only by sky rays that hit it by chance, the same light is a scatter of bright pixels.
-    auto hit = e.raycast(terrain_view().block, terrain_view().offset, terrain_view().forward, 200.0);
-    ASSERT_TRUE(hit);
-    ASSERT_EQ(hit->kind, vx::RayHit::Kind::Hit);
-    ASSERT_TRUE(e.set_block(hit->previous, *e.find_block("lamp")));
+// At night (`night`: no sun) with a lamp at `at`: its faces sampled light the ground around it
+// smoothly; found only by sky rays that hit it by chance, the same light is a scatter of bright
+// pixels (emitter_sampling).
+void expect_lamp_faces_sampled(vx::Engine& e, vx::RenderSettings night, vx::BlockPos at) {
+    ASSERT_TRUE(e.set_block(at, *e.find_block("lamp")));
     ASSERT_TRUE(settle(e));
-    vx::RenderSettings night = full;
     night.sky_light = 0.f;
     night.light.emission = glm::vec3(0.f);
-    const vx::Image faces = render(night);
+    const vx::Image faces = render_with(e, night);
     night.emitter_sampling = false;
-    const vx::Image rays = render(night);
+    const vx::Image rays = render_with(e, night);
     std::printf("lamp at night, roughness: faces sampled %.2f, sky rays %.2f\n", roughness(faces), roughness(rays));
     EXPECT_GT(mean_abs_diff(faces, rays), 0.5);
     EXPECT_LT(roughness(faces), roughness(rays));
+    ASSERT_TRUE(e.set_block(at, vx::kAir));
+    ASSERT_TRUE(settle(e));
+}
 
-    // Samples by weight reach the renderer. Without haze a matte hit keeps its count: only the
-    // water in view (reflectivity 0.3: 3 of 4 samples) changes, one pixel here. A slab of glazed
-    // blocks where the lamp was (3 of 4) changes more.
-    vx::RenderSettings day = full;
+// Pixels whose colour changes when `s` takes samples by weight.
+size_t changed_by_weight(vx::Engine& e, vx::RenderSettings s) {
+    s.samples_by_weight = false;
+    const vx::Image plain = render_with(e, s);
+    s.samples_by_weight = true;
+    const vx::Image weighted = render_with(e, s);
+    size_t n = 0;
+    for (size_t i = 0; i < plain.rgba.size(); i += 4)
+        n += plain.rgba[i] != weighted.rgba[i] || plain.rgba[i + 1] != weighted.rgba[i + 1] ||
+             plain.rgba[i + 2] != weighted.rgba[i + 2];
+    return n;
+}
+
+// Samples by weight reach the renderer. Without haze a matte hit keeps its count: only the water
+// in view (reflectivity 0.3: 3 of 4 samples) changes, one pixel here. A slab of glazed blocks
+// around `at` (3 of 4) changes more; so does the weight exponent 0.8 (a glazed first hit keeps
+// all 4 samples: ceil(4 x 0.75^0.8) = 4, against 3 at 1). Hits in passes of their own give the
+// same picture of the slab (its paths go on through the passes; render/split_hits_test.cpp checks
+// the G-buffer too), and the paths' buffer (88 bytes a pixel) is held.
+void expect_samples_by_weight_and_split_hits(vx::Engine& e, vx::RenderSettings day, vx::BlockPos at) {
     day.haze.enabled = false; // Its transmittance is part of a hit's weight too.
     day.max_bounces = 2;
     day.shadow_samples = 4;
-    auto changed = [&](vx::RenderSettings s) {
-        s.samples_by_weight = false;
-        const vx::Image plain = render(s);
-        s.samples_by_weight = true;
-        const vx::Image weighted = render(s);
-        size_t n = 0;
-        for (size_t i = 0; i < plain.rgba.size(); i += 4)
-            n += plain.rgba[i] != weighted.rgba[i] || plain.rgba[i + 1] != weighted.rgba[i + 1] ||
-                 plain.rgba[i + 2] != weighted.rgba[i + 2];
-        return n;
-    };
-    ASSERT_TRUE(e.set_block(hit->previous, vx::kAir));
-    ASSERT_TRUE(settle(e));
-    const size_t matte = changed(day);
+    const size_t matte = changed_by_weight(e, day);
     for (int64_t dz = -2; dz <= 2; ++dz)
         for (int64_t dx = -2; dx <= 2; ++dx)
-            ASSERT_TRUE(e.set_block(hit->previous + vx::BlockPos(dx, 0, dz), *e.find_block("glazed")));
+            ASSERT_TRUE(e.set_block(at + vx::BlockPos(dx, 0, dz), *e.find_block("glazed")));
     ASSERT_TRUE(settle(e));
-    const size_t glazed = changed(day);
+    const size_t glazed = changed_by_weight(e, day);
     std::printf("samples by weight: %zu pixels change, %zu with glazed blocks in view\n", matte, glazed);
     EXPECT_LE(matte, 48u * 32u / 100u);
     EXPECT_GT(glazed, matte + 4);
-    // Its exponent reaches the renderer too: at 0.8 a glazed first hit keeps all 4 samples
-    // (ceil(4 x 0.75^0.8) = 4, against 3 at 1), so the slab's pixels change again.
     day.samples_by_weight = true;
-    const vx::Image by_weight = render(day);
+    const vx::Image by_weight = render_with(e, day);
     day.weight_exponent = 0.8f;
-    const vx::Image by_weight_08 = render(day);
+    const vx::Image by_weight_08 = render_with(e, day);
     day.weight_exponent = 1.f;
     size_t exponent_changed = 0;
     for (size_t i = 0; i < by_weight.rgba.size(); ++i)
         exponent_changed += by_weight.rgba[i] != by_weight_08.rgba[i];
     std::printf("weight exponent 0.8: %zu channels change\n", exponent_changed);
     EXPECT_GT(exponent_changed, 12u);
-
-    // Hits in passes of their own reach the renderer: the same picture of the glazed slab (its
-    // paths go on through the passes; render/split_hits_test.cpp checks the G-buffer too), and
-    // the paths' buffer (88 bytes a pixel) is held.
     vx::RenderSettings split = day;
-    const vx::Image one_pass = render(split);
+    const vx::Image one_pass = render_with(e, split);
     const uint64_t before = e.stats().gpu_memory_used_bytes;
     split.split_hits = 2;
-    EXPECT_EQ(render(split).rgba, one_pass.rgba);
+    EXPECT_EQ(render_with(e, split).rgba, one_pass.rgba);
     EXPECT_GE(e.stats().gpu_memory_used_bytes, before + 48u * 32u * 88u);
+}
+
+// The facade's RenderSettings reach the renderer: pipelines, filters and the sun; emitter
+// sampling; samples by weight, their exponent and split hits (the steps above, on one engine).
+TEST(FacadeRender, SettingsReachTheRenderer) {
+    auto engine = vx::Engine::create(render_info(vx::WorldSource::terrain(3), 48, 32));
+    if (!engine)
+        GTEST_SKIP() << "no ray-tracing device: " << engine.error();
+    vx::Engine& e = **engine;
+    ASSERT_TRUE(view_terrain(e));
+    vx::RenderSettings no_sun = expect_pipelines_filters_and_sun(e);
+    auto hit = e.raycast(terrain_view().block, terrain_view().offset, terrain_view().forward, 200.0);
+    ASSERT_TRUE(hit);
+    ASSERT_EQ(hit->kind, vx::RayHit::Kind::Hit);
+    expect_lamp_faces_sampled(e, no_sun, hit->previous);
+    if (::testing::Test::HasFatalFailure())
+        return;
+    expect_samples_by_weight_and_split_hits(e, no_sun, hit->previous);
     EXPECT_EQ(e.stats().validation_errors, 0u);
 }
 
