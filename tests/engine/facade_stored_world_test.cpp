@@ -1,13 +1,21 @@
 // The facade's stored worlds: one writer per SQLite world, and the generator a world was made by.
+#include <algorithm>
+#include <csignal>
 #include <cstdint>
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <span>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <vx/vx.h>
 
@@ -124,6 +132,81 @@ TEST(FacadeChecks, OlderWorldsRecordTheirGenerator) {
         ASSERT_TRUE(recorded && *recorded);
         EXPECT_EQ(**recorded, "terrain");
     }
+}
+
+// `count` edits of random blocks (ids 1..`kinds`) at random places in the 3 x 1 x 3 chunks around
+// the origin (y 0..31), in order.
+std::vector<vx::BlockEdit> random_edits(std::mt19937& rng, size_t count, size_t kinds) {
+    std::vector<vx::BlockEdit> edits(count);
+    for (vx::BlockEdit& e : edits)
+        e = {{int64_t(rng() % 96) - 32, int64_t(rng() % 32), int64_t(rng() % 96) - 32}, vx::BlockId(1 + rng() % kinds)};
+    return edits;
+}
+
+// A full disk on a game's worst day (RLIMIT_FSIZE here: the store's writes past it fail with
+// EFBIG, as they would with ENOSPC): the save's ticket turns Failed with the store's reason, the
+// edits wait in the store (Stats::store_pending_edits) and the engine goes on; once space returns
+// the next save is durable, and the world reopened holds every edit, the first save's and the
+// failed one's.
+TEST(FacadeChecks, AFullDiskFailsASaveAndTheNextSaveKeepsEveryEdit) {
+    const std::string path = checks_world("full_disk");
+    vx::Viewer v;
+    v.block = {0, vx::terrain_height(42, 0, 0) + 4, 0};
+    std::map<std::tuple<int64_t, int64_t, int64_t>, vx::BlockId> expected; // Each block's last edit.
+    {
+        auto engine = vx::Engine::create(tiny_info(vx::WorldSource::sqlite(path, 42)));
+        ASSERT_TRUE(engine) << engine.error();
+        vx::Engine& e = **engine;
+        ASSERT_TRUE(e.set_viewer(v));
+        ASSERT_TRUE(vx::test::settle(e));
+        std::mt19937 rng(7);
+        const std::vector<vx::BlockEdit> first = random_edits(rng, 2000, e.block_count());
+        const std::vector<vx::BlockEdit> second = random_edits(rng, 30000, e.block_count()); // Noise: ~20 KB a chunk.
+        ASSERT_TRUE(e.set_blocks(first));
+        const vx::Result<vx::SaveTicket> saved = e.save();
+        ASSERT_TRUE(saved) << saved.error();
+        ASSERT_TRUE(e.wait(*saved));
+        rlimit old{};
+        ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+        uintmax_t largest = 0;
+        for (const char* suffix : {"", "-wal"})
+            if (std::filesystem::exists(path + suffix))
+                largest = std::max(largest, std::filesystem::file_size(path + suffix));
+        const auto old_signal = std::signal(SIGXFSZ, SIG_IGN);
+        rlimit full = old;
+        full.rlim_cur = rlim_t(largest + 16 * 1024);
+        ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &full), 0);
+        const vx::Status edited = e.set_blocks(second);
+        const vx::Result<vx::SaveTicket> refused = e.save();
+        const vx::Status failed = refused ? e.wait(*refused) : vx::Status(vx::Error{refused.error()});
+        e.update();
+        const vx::Stats during = e.stats();
+        ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0); // Space again (before any ASSERT can return).
+        std::signal(SIGXFSZ, old_signal);
+        ASSERT_TRUE(edited) << edited.error();
+        ASSERT_TRUE(refused) << refused.error();
+        ASSERT_FALSE(failed) << "a save past the file size limit was durable";
+        EXPECT_NE(failed.error().find("writing the file failed"), std::string::npos) << failed.error();
+        EXPECT_EQ(e.save_state(*refused), vx::SaveState::Failed);
+        EXPECT_GT(during.store_pending_edits, 0u) << "the edits wait in the store";
+        const vx::Result<vx::SaveTicket> again = e.save();
+        ASSERT_TRUE(again) << again.error();
+        EXPECT_TRUE(e.wait(*again));
+        EXPECT_TRUE(e.shutdown());
+        for (const std::vector<vx::BlockEdit>* edits : {&first, &second})
+            for (const vx::BlockEdit& ed : *edits)
+                expected[{ed.pos.x, ed.pos.y, ed.pos.z}] = ed.id;
+    }
+    auto reopened = vx::Engine::create(tiny_info(vx::WorldSource::sqlite(path, 42)));
+    ASSERT_TRUE(reopened) << reopened.error();
+    ASSERT_TRUE((*reopened)->set_viewer(v));
+    ASSERT_TRUE(vx::test::settle(**reopened));
+    size_t lost = 0;
+    for (const auto& [p, id] : expected) {
+        const vx::BlockPos at{std::get<0>(p), std::get<1>(p), std::get<2>(p)};
+        lost += (*reopened)->get_block(at) != std::optional<vx::BlockId>(id);
+    }
+    EXPECT_EQ(lost, 0u) << "of " << expected.size() << " edited blocks";
 }
 
 } // namespace

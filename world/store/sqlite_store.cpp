@@ -68,7 +68,7 @@ SqliteStore::SqliteStore(SqliteStoreCreateInfo info) : m_info(std::move(info)), 
 
 SqliteStore::~SqliteStore() {
     if (m_db && pending_edits() > 0) {
-        if (Status s = commit(); !s)
+        if (Status s = commit_queue(); !s) // Its error without "kept in memory": they go with the store.
             VX_LOG_ERROR("closing store '%s' lost %zu queued edits: %s", m_info.path.c_str(), pending_edits(),
                          s.error().c_str());
     }
