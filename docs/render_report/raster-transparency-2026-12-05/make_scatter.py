@@ -8,13 +8,19 @@ import random
 import sys
 
 X, Y, Z = 256, 48, 256
-out = sys.argv[1] if len(sys.argv) > 1 else "."
-for name, scatter_id in (("stone", 1), ("water", 5)):
+
+
+def ground_height(x, z):
+    return int(6 + 4 * math.sin(x * 0.07) + 4 * math.cos(z * 0.05))
+
+
+def scattered(scatter_id):
+    """The volume with `scatter_id` scattered (the same random draws for every id)."""
     random.seed(7)
     vol = bytearray(X * Y * Z)
     for z in range(Z):
         for x in range(X):
-            h = int(6 + 4 * math.sin(x * 0.07) + 4 * math.cos(z * 0.05))
+            h = ground_height(x, z)
             for y in range(h):
                 vol[x + X * (y + Y * z)] = 1 if y < h - 1 else 3
     for z in range(Z):
@@ -22,5 +28,11 @@ for name, scatter_id in (("stone", 1), ("water", 5)):
             for x in range(X):
                 if random.random() < 0.10:
                     vol[x + X * (y + Y * z)] = scatter_id
-    with open(f"{out}/scatter_{name}.raw", "wb") as f:
-        f.write(vol)
+    return vol
+
+
+if __name__ == "__main__":
+    out = sys.argv[1] if len(sys.argv) > 1 else "."
+    for name, scatter_id in (("stone", 1), ("water", 5)):
+        with open(f"{out}/scatter_{name}.raw", "wb") as f:
+            f.write(scattered(scatter_id))

@@ -5,30 +5,18 @@ with grass, 10% of the cells of y 20..43 water, the same random draws), plus gla
 the ground in the cells beside every chunk border plane x = 32k, every fourth z. Glass and water
 then both have faces on chunk border planes, and none touch (the ground is below y 15, the water
 above y 19): the bound before stop 50 traced every ray with the probe, the pairs trace none."""
-import math
-import random
+import os
 import sys
 
-X, Y, Z = 256, 48, 256
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "raster-transparency-2026-12-05"))
+from make_scatter import X, Y, Z, ground_height, scattered  # noqa: E402
+
 out = sys.argv[1] if len(sys.argv) > 1 else "."
-random.seed(7)
-vol = bytearray(X * Y * Z)
-heights = {}
-for z in range(Z):
-    for x in range(X):
-        h = int(6 + 4 * math.sin(x * 0.07) + 4 * math.cos(z * 0.05))
-        heights[(x, z)] = h
-        for y in range(h):
-            vol[x + X * (y + Y * z)] = 1 if y < h - 1 else 3
-for z in range(Z):
-    for y in range(20, 44):
-        for x in range(X):
-            if random.random() < 0.10:
-                vol[x + X * (y + Y * z)] = 5
+vol = scattered(5)
 for z in range(0, Z, 4):
     for x in range(31, X, 32):
         for gx in (x, x + 1):
             if gx < X:
-                vol[gx + X * (heights[(gx, z)] + Y * z)] = 6
+                vol[gx + X * (ground_height(gx, z) + Y * z)] = 6
 with open(f"{out}/water_glass.raw", "wb") as f:
     f.write(vol)
