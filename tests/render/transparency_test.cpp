@@ -215,6 +215,42 @@ TEST_F(RendererTest, OnlyScenesWithMarkedFacesTraceTheProbingPipeline) {
     EXPECT_FALSE(m_renderer->last_stats().touching_probes);
 }
 
+// Glass in a level-0 chunk against water in the level-1 chunk beside it (a level boundary of the
+// engine's levels of detail): the glass at block (63, 9, 9) on level-0 chunk (1, 0, 0)'s +x plane,
+// x = 64, which is level-1 chunk (1, 0, 0)'s -x plane; the water there a 2-block cell, a stone
+// wall of cells a cell behind it. Face to face they touch: the probing variant, and the ray through both
+// tints by both (the probe across the coarse chunk's scaled faces). The water a cell higher: no
+// pair, no probe, and the ray tints by the glass alone.
+TEST_F(RendererTest, GlassAgainstWaterOfACoarserLevelTintsByBoth) {
+    const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
+    const world::BlockId stone = test::block_id("stone");
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Flat;
+    const Camera cam = Camera::look_at({50.5, 9.5, 9.5}, {80.0, 9.5, 9.5}, {0, 1, 0}, 10.f);
+    for (bool touching : {true, false}) {
+        world::World fine;
+        fine.set_block({63, 9, 9}, glass);
+        world::World coarse; // Its chunk (0, 0, 0) in cells: drawn as level-1 chunk (1, 0, 0).
+        coarse.set_block({0, touching ? 4 : 5, 4}, water);
+        for (int y = 0; y < 10; ++y)
+            for (int z = 0; z < 10; ++z)
+                coarse.set_block({2, y, z}, stone); // A cell of air between: the water's far face is drawn.
+        const world::MeshMap fine_meshes = test::mesh_world(fine);
+        const world::MeshMap coarse_meshes = test::mesh_world(coarse);
+        m_renderer->clear_chunks();
+        m_renderer->set_chunk(world::LodCoord{0, world::ChunkCoord(1, 0, 0)},
+                              fine_meshes.at(world::ChunkCoord(1, 0, 0)).mesh);
+        m_renderer->set_chunk(world::LodCoord{1, world::ChunkCoord(1, 0, 0)},
+                              coarse_meshes.at(world::ChunkCoord(0, 0, 0)).mesh);
+        const RenderImage img = m_renderer->render(s, cam);
+        EXPECT_EQ(m_renderer->last_stats().touching_probes, touching);
+        const glm::vec3 expected = albedo_of(stone) * albedo_of(glass) * (touching ? albedo_of(water) : glm::vec3(1));
+        EXPECT_TRUE(test::rgb_near(img.at(16, 16), expected)) << (touching ? "touching" : "apart");
+    }
+}
+
 // Out of memory for the probing pipeline or its shader binding table (made at the first frame
 // with marked faces): a one-line error; the next frame renders as a renderer that never failed.
 TEST_F(RendererTest, NoMemoryForTheProbingPipelineIsAnErrorThenTheNextFrameRenders) {
