@@ -5,13 +5,13 @@
 
 #include <algorithm>
 #include <bit>
-#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "render/emitter_quads.h"
 #include "render/renderer_impl.h"
 #include "render/touching_faces.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::render {
 
@@ -245,9 +245,7 @@ std::vector<world::LodCoord> Renderer::set_registry(const world::BlockRegistry& 
         for (const auto& [c, ids] : m->chunk_blocks)
             if (std::any_of(ids.begin(), ids.end(), changed))
                 stale_chunks.push_back(c);
-    std::sort(stale_chunks.begin(), stale_chunks.end(), [](world::LodCoord a, world::LodCoord b) {
-        return std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) < std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
-    });
+    std::sort(stale_chunks.begin(), stale_chunks.end(), world::lod_coord_less);
     m->registry = registry;
     m->materials_dirty = true;
     m->emitters_dirty = true;

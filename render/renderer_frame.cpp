@@ -3,7 +3,6 @@
 #include <bit>
 #include <cstring>
 #include <span>
-#include <tuple>
 #include <utility>
 
 #include "render/commands.h"
@@ -11,6 +10,7 @@
 #include "render/gbuffer.h"
 #include "render/renderer_impl.h"
 #include "shaders/shared/tonemap.h"
+#include "world/lod/lod_coords.h"
 
 namespace vx::render {
 
@@ -115,9 +115,7 @@ Renderer::Impl::EmitterCounts Renderer::Impl::write_emitter_list(world::BlockPos
     std::partial_sort(emitter_chunks.begin(), emitter_chunks.begin() + ptrdiff_t(n), emitter_chunks.end(),
                       [&](world::LodCoord a, world::LodCoord b) {
                           const double la = distance2(a), lb = distance2(b);
-                          return la != lb ? la < lb
-                                          : std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) <
-                                                std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
+                          return la != lb ? la < lb : world::lod_coord_less(a, b);
                       });
     auto* dst = static_cast<glm::vec4*>(list.mapped());
     for (size_t i = 0; i < n; ++i) // 64-bit difference, then float, as the TLAS's translations.

@@ -14,6 +14,7 @@
 // All helpers are pure functions. Thread-safe.
 
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 #include "world/coords.h"
@@ -33,6 +34,11 @@ struct LodCoord {
 
     friend bool operator==(const LodCoord& a, const LodCoord& b) = default;
 };
+
+// A total order (level, then x, y, z): for sorted lists that must not depend on a hash's order.
+inline bool lod_coord_less(const LodCoord& a, const LodCoord& b) {
+    return std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) < std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
+}
 
 struct LodCoordHash {
     size_t operator()(const LodCoord& c) const noexcept {

@@ -36,10 +36,6 @@ std::vector<std::string> notify_payloads(const std::vector<ChunkCoord>& coords) 
     return out;
 }
 
-bool lod_less(const LodCoord& a, const LodCoord& b) {
-    return std::tie(a.level, a.chunk.x, a.chunk.y, a.chunk.z) < std::tie(b.level, b.chunk.x, b.chunk.y, b.chunk.z);
-}
-
 // Coarse coordinates as NOTIFY payloads ("lod;level,x,y,z;..."), each under the size limit.
 std::vector<std::string> lod_notify_payloads(const std::vector<LodCoord>& coords) {
     std::vector<std::string> out;
@@ -192,8 +188,8 @@ PgStore::CommitOrder PgStore::commit_order() const {
         order.lods.push_back(c);
     for (const auto& [c, dirty] : m_queue.dirty)
         order.dirty.push_back(c);
-    std::sort(order.lods.begin(), order.lods.end(), lod_less);
-    std::sort(order.dirty.begin(), order.dirty.end(), lod_less);
+    std::sort(order.lods.begin(), order.lods.end(), lod_coord_less);
+    std::sort(order.dirty.begin(), order.dirty.end(), lod_coord_less);
     order.payloads = notify_payloads(order.chunks);
     for (std::string& p : lod_notify_payloads(order.lods))
         order.payloads.push_back(std::move(p));
