@@ -280,18 +280,9 @@ size_t Renderer::noted_edits() const { return m->edit_marks.boxes().size(); }
 void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::span<const int> changed_slices) {
     VX_ASSERT_MSG(world::valid_lod_level(c.level), "set_chunk: LOD level outside 0..world::kMaxLodLevel");
     std::vector<world::BlockId>& ids = m->chunk_blocks[c];
-    ids.clear();
-    bool any = false;
-    world::BlockId last = world::kAir;
-    mesh.for_each_quad([&](const world::Quad& q) {
-        if (any && q.block == last)
-            return; // Runs of one block: most quads (the loop ran for every quad of every chunk streamed in).
-        any = true;
-        last = q.block;
-        m->max_block_id = std::max<uint32_t>(m->max_block_id, q.block);
-        if (std::find(ids.begin(), ids.end(), q.block) == ids.end()) // Few ids per chunk.
-            ids.push_back(q.block);
-    });
+    ids = mesh.block_ids();
+    for (world::BlockId id : ids)
+        m->max_block_id = std::max<uint32_t>(m->max_block_id, id);
     const bool emits = m->emits(ids);
     if (emits ? m->emitter_set.insert(c).second : m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;

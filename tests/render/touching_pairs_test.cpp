@@ -118,13 +118,9 @@ TEST(TouchingPairsTest, BorderFacesHoldEachTransparentFaceOnABorderPlane) {
     w.set_block({9, 9, 9}, kGlass);                   // Inside: none.
     const world::MeshMap meshes = test::mesh_world(w);
     const world::ChunkMesh& mesh = meshes.at(world::ChunkCoord(0, 0, 0)).mesh;
-    std::vector<world::BlockId> ids;
-    mesh.for_each_quad([&](const world::Quad& q) {
-        if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
-            ids.push_back(q.block);
-    });
     world::ChunkMesh out;
-    const TouchingFaces t = mark_touching_faces(mesh, ids, world::BlockRegistry::default_registry(), out);
+    const TouchingFaces t =
+        mark_touching_faces(mesh, mesh.block_ids(), world::BlockRegistry::default_registry(), out);
     EXPECT_TRUE(t.marked);
     EXPECT_FALSE(t.inside);
     for (int side = 0; side < 6; ++side) {

@@ -301,14 +301,10 @@ std::vector<Mark> marked_faces(const std::vector<std::pair<world::BlockPos, worl
     const auto meshes = test::mesh_world(w);
     EXPECT_EQ(meshes.count(world::ChunkCoord(0, 0, 0)), 1u);
     const world::ChunkMesh& mesh = meshes.at(world::ChunkCoord(0, 0, 0)).mesh;
-    std::vector<world::BlockId> ids;
-    mesh.for_each_quad([&](const world::Quad& q) {
-        EXPECT_EQ(q.reserved, 0u) << "the mesher writes no mark";
-        if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
-            ids.push_back(q.block);
-    });
+    mesh.for_each_quad([&](const world::Quad& q) { EXPECT_EQ(q.reserved, 0u) << "the mesher writes no mark"; });
     world::ChunkMesh out;
-    const TouchingFaces touching = mark_touching_faces(mesh, ids, world::BlockRegistry::default_registry(), out);
+    const TouchingFaces touching =
+        mark_touching_faces(mesh, mesh.block_ids(), world::BlockRegistry::default_registry(), out);
     if (!touching.marked)
         return {};
     EXPECT_TRUE(out == mesh); // Quad equality leaves out the spare field.

@@ -331,6 +331,28 @@ TEST(ChunkMesh, ReplaceSliceRangeKeepsTheRestInOrder) {
     }
 }
 
+// block_ids: each block of the quads once, in the order first met, over the slices' quads only
+// (a slice shrunk in place leaves stale quads in its spare room, which are not counted).
+TEST(ChunkMesh, BlockIdsListEachBlockOfTheQuadsOnce) {
+    auto q = [](int plane, int u, BlockId id) { return Quad::make(0, plane, false, u, 0, 1, 1, id); };
+    ChunkMesh mesh;
+    mesh.begin(0);
+    for (int s = 0; s < kSliceCount; ++s) {
+        mesh.begin_slice(s);
+        if (s == 3)
+            for (const Quad& x : {q(3, 0, 7), q(3, 1, 7), q(3, 2, 2), q(3, 3, 9)})
+                mesh.push(x);
+        if (s == 5)
+            for (const Quad& x : {q(5, 0, 2), q(5, 1, 7), q(5, 2, 4)})
+                mesh.push(x);
+    }
+    mesh.end();
+    EXPECT_TRUE(ChunkMesh().block_ids().empty());
+    EXPECT_EQ(mesh.block_ids(), (std::vector<BlockId>{7, 2, 9, 4}));
+    mesh.replace_slice(3, std::vector<Quad>{q(3, 0, 2)}); // 9 is gone, but for the spare room.
+    EXPECT_EQ(mesh.block_ids(), (std::vector<BlockId>{2, 7, 4}));
+}
+
 TEST(SimpleMeshers, NaiveEmitsEveryFaceCulledOnlyVisible) {
     const BlockRegistry reg = make_registry(1, 0);
     const Apron air = Apron::air();

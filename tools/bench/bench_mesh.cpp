@@ -125,10 +125,7 @@ void bench_touching_faces(benchmark::State& state, const Scene& scene) {
     ChunkMesh out;
     for (int i = 0; i < kPool; ++i) {
         mesher.mesh({scene.make(uint64_t(i)), Apron::air(), reg}, meshes[i]);
-        meshes[i].for_each_quad([&](const Quad& q) {
-            if (std::find(ids[i].begin(), ids[i].end(), q.block) == ids[i].end())
-                ids[i].push_back(q.block);
-        });
+        ids[i] = meshes[i].block_ids();
         quads += meshes[i].quad_count();
         if (render::mark_touching_faces(meshes[i], ids[i], reg, out).marked)
             out.for_each_quad([&](const Quad& q) { marked += q.reserved != 0; });
@@ -154,12 +151,7 @@ void bench_touching_pairs(benchmark::State& state, const Scene& scene) {
     ChunkMesh mesh, out;
     for (int i = 0; i < kChunks; ++i) {
         mesher.mesh({scene.make(uint64_t(i)), Apron::air(), reg}, mesh);
-        std::vector<BlockId> ids;
-        mesh.for_each_quad([&](const Quad& q) {
-            if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
-                ids.push_back(q.block);
-        });
-        faces[size_t(i)] = render::mark_touching_faces(mesh, ids, reg, out);
+        faces[size_t(i)] = render::mark_touching_faces(mesh, mesh.block_ids(), reg, out);
     }
     const auto coord = [](int i) {
         return LodCoord{0, ChunkCoord(i % kSide, (i / kSide) % kSide, i / (kSide * kSide))};

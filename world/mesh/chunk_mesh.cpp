@@ -7,6 +7,21 @@
 
 namespace vx::world {
 
+std::vector<BlockId> ChunkMesh::block_ids() const {
+    std::vector<BlockId> ids;
+    bool any = false;
+    BlockId last = kAir;
+    for_each_quad([&](const Quad& q) { // Slices only: their spare capacity holds stale quads.
+        if (any && q.block == last)
+            return; // A run of one block.
+        any = true;
+        last = q.block;
+        if (std::find(ids.begin(), ids.end(), q.block) == ids.end())
+            ids.push_back(q.block);
+    });
+    return ids;
+}
+
 void quad_corners(const Quad& q, glm::ivec3 out[4]) {
     const int a = q.axis(), ua = plane_u_axis(a), va = plane_v_axis(a);
     glm::ivec3 c[4];

@@ -73,6 +73,10 @@ public:
                 f(q);
     }
 
+    // The blocks of the quads, each once, in the order first met. Runs of one block (most quads)
+    // cost a compare each; a chunk holds few blocks, so the list is searched linearly.
+    std::vector<BlockId> block_ids() const;
+
     // Replaces one slice's quads. Fits in place when the slice's capacity allows; otherwise the
     // storage is laid out again with headroom in every slice.
     void replace_slice(int s, std::span<const Quad> quads);
