@@ -115,13 +115,12 @@ void TouchingPairs::set(world::LodCoord c, bool inside, BorderFaces border) {
     m_inside += inside ? 1 : 0;
     ++m_per_level[size_t(c.level)];
     for (int side = 0; side < 6; ++side) {
-        if (m_chunks[c].border[size_t(side)].empty())
+        if (e.border[size_t(side)].empty())
             continue;
+        // `e` and the partners stay put: links add no entry.
         for (world::LodCoord d : across(c, side)) {
-            const Entry& self = m_chunks[c];
-            const Entry& other = m_chunks[d];
-            if (d != c && border_faces_meet(c, self.border[size_t(side)], d, other.border[size_t(opposite(side))],
-                                            side / 2))
+            const std::vector<world::BlockId>& theirs = m_chunks.at(d).border[size_t(opposite(side))];
+            if (border_faces_meet(c, e.border[size_t(side)], d, theirs, side / 2))
                 link(c, d);
         }
     }

@@ -14,8 +14,8 @@ layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D mirror_normal_de
 
 layout(location = 0) rayPayloadEXT HitPayload payload;
 // The pipeline variant (render/rt_pipeline.h): false compiles trace_through's probe out, for frames
-// with no marked face (render/touching_faces.h): its second trace call site cost every ray ~7% on
-// the NVIDIA driver, probing or not (render_report.md).
+// where no two different transparent blocks touch (render/touching_pairs.h): its second trace call
+// site cost every ray ~7% on the NVIDIA driver, probing or not (render_report.md).
 layout(constant_id = 1) const bool kProbeTouching = true;
 const float kTMax = 1.0e7;
 
