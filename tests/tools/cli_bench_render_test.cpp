@@ -16,16 +16,13 @@
 
 namespace {
 
+using cli_test::read_file;
+
 using cli_test::CliRun;
 using cli_test::vx;
 
 std::string dir() { return cli_test::temp_dir("vx_cli_render_test").string(); }
 
-// The whole text of a file a command wrote ("" when absent).
-std::string read_text(const std::string& path) {
-    std::ifstream in(path);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 // `vx bench render --lighting thesis --sections report` (tiny): the Table 6.3 rows carry their
 // ratios to this run's RT flat and all-off rows (the all-off row is 1.00 of itself) and the
@@ -37,7 +34,7 @@ TEST(CliRender, BenchRenderTableRatios) {
                         "--first-hit-pass on --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
-    const std::string text = read_text(out + "/render_report.md");
+    const std::string text = read_file(out + "/render_report.md");
     EXPECT_NE(text.find("after 20 ms of each configuration's frames"), std::string::npos) << text;
     EXPECT_NE(text.find("Hits in passes of their own (split hits): 1."), std::string::npos) << text;
     EXPECT_NE(text.find("Lighting: thesis"), std::string::npos) << text;
@@ -73,7 +70,7 @@ TEST(CliRender, BenchRenderEqualError) {
     EXPECT_GT(rendered, 0u);
     EXPECT_LE(rendered, at_most);
     EXPECT_GT(warmup, 0u);
-    const std::string text = read_text(out + "/render_report.md");
+    const std::string text = read_file(out + "/render_report.md");
     EXPECT_NE(text.find("## Table 6.3 at equal error"), std::string::npos) << text;
     for (const char* row : {"| shadows | ", "| shadows + reflections | ", "| all on (+ thesis's denoiser) | "}) {
         const size_t at = text.find(row);
@@ -124,7 +121,7 @@ TEST(CliRender, BenchRenderEqualError) {
                          "--error-metric 8bit --warmup-ms 0 --out " +
                          out8);
     ASSERT_EQ(r8.code, 0) << r8.out;
-    EXPECT_NE(read_text(out8 + "/render_report.md").find("of the 8-bit output"), std::string::npos);
+    EXPECT_NE(read_file(out8 + "/render_report.md").find("of the 8-bit output"), std::string::npos);
     read_csv(out8, false);
     const CliRun bad_metric = vx("bench render --sections equal-error --error-metric psnr");
     EXPECT_EQ(bad_metric.code, 2) << bad_metric.out;
@@ -143,7 +140,7 @@ TEST(CliRender, BenchRenderCameraPaths) {
                         "--sections paths --path-frames 6 --path-reference-spp 8 --out " +
                         out);
     ASSERT_EQ(r.code, 0) << r.out;
-    const std::string text = read_text(out + "/render_report.md");
+    const std::string text = read_file(out + "/render_report.md");
     EXPECT_NE(text.find("## Camera paths"), std::string::npos) << text;
     for (const char* path : {"| orbit | ", "| fly-over | ", "| edit | "}) {
         size_t rows = 0;
@@ -183,7 +180,7 @@ TEST(CliRender, BenchRenderDefaultsSection) {
     const CliRun r = vx("bench render --seed 1 --radius 0 --vradius 1 --size 16x12 --sections defaults "
                         "--path-frames 4 --path-reference-spp 8 --out " + out);
     ASSERT_EQ(r.code, 0) << r.out;
-    const std::string text = read_text(out + "/render_report.md");
+    const std::string text = read_file(out + "/render_report.md");
     EXPECT_NE(text.find("## Sandbox defaults from the curves"), std::string::npos) << text;
     EXPECT_NE(text.find("Frames rendered: 768 (references 12, candidates 336 with warm-up, timing 420)"),
               std::string::npos)
@@ -248,7 +245,7 @@ TEST(CliRender, BenchRenderGeometrySection) {
     EXPECT_EQ(std::stoi(rows["burst,rebuild"][3]), 0);
     EXPECT_GT(std::stoi(rows["burst,rebuild"][4]), 0);
     EXPECT_EQ(ks, (std::vector<std::string>{"0", "1", "10", "100"}));
-    const std::string text = read_text(out + "/render_report.md");
+    const std::string text = read_file(out + "/render_report.md");
     EXPECT_NE(text.find("## Geometry"), std::string::npos);
     EXPECT_EQ(vx("bench render --sections everything").code, 2);
 }

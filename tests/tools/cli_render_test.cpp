@@ -23,6 +23,8 @@
 
 namespace {
 
+using cli_test::read_file;
+
 using cli_test::CliRun;
 using cli_test::vx;
 
@@ -30,11 +32,6 @@ const std::string kEnv = "VX_VALIDATION=1";
 
 std::string dir() { return cli_test::temp_dir("vx_cli_render_test").string(); }
 
-// The whole text of a file a command wrote ("" when absent).
-std::string read_text(const std::string& path) {
-    std::ifstream in(path);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 // A 24×12×20 u8 volume: a stone floor (id 1) and a grass pillar (id 3) on it.
 // Named after the running test: ctest runs tests as parallel processes.
@@ -489,7 +486,7 @@ TEST(CliRender, BenchLodReport) {
     const CliRun r = vx("bench lod --seed 1 --view-distance 160 --radii 1,2 --vradius 1 --lod-ring 2 --size 24x16 "
                         "--repeat 1 --out " + out);
     ASSERT_EQ(r.code, 0) << r.out;
-    const std::string text = read_text(out + "/lod_report.md");
+    const std::string text = read_file(out + "/lod_report.md");
     for (const char* row : {"| full detail | 160 | 0 |", "| LOD r=1 | 32 |", "| LOD r=2 | 64 |"})
         EXPECT_NE(text.find(row), std::string::npos) << row << "\n" << text;
     std::ifstream csv(out + "/lod_bench.csv");
@@ -521,7 +518,7 @@ TEST(CliRender, BenchLodReport) {
                            "--repeat 1 --out " + blocked);
     EXPECT_EQ(lost.code, 1) << lost.out;
     EXPECT_NE(lost.out.find("not written: " + blocked + "/full_flat.png"), std::string::npos) << lost.out;
-    EXPECT_NE(read_text(blocked + "/lod_report.md").find("| LOD r=1 | 32 |"), std::string::npos); // The rest is.
+    EXPECT_NE(read_file(blocked + "/lod_report.md").find("| LOD r=1 | 32 |"), std::string::npos); // The rest is.
 }
 
 TEST(CliRender, InfoListsTheRayTracingDevice) {

@@ -3,6 +3,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -33,6 +35,12 @@ inline std::filesystem::path temp_dir(const std::string& name = "vx_cli_test") {
     auto d = std::filesystem::temp_directory_path() / name;
     std::filesystem::create_directories(d);
     return d;
+}
+
+// A whole file's bytes, a command's output file ("" when it cannot be read).
+inline std::string read_file(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 } // namespace cli_test

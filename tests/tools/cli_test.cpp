@@ -19,6 +19,8 @@
 
 namespace {
 
+using cli_test::read_file;
+
 using cli_test::CliRun;
 using cli_test::temp_dir;
 
@@ -40,13 +42,6 @@ std::string write_volume() {
     return path;
 }
 
-// A whole file's bytes ("" when it cannot be read).
-std::string read_file(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 } // namespace
 

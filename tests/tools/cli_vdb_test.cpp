@@ -24,18 +24,13 @@
 
 namespace {
 
+using cli_test::read_file;
+
 using cli_test::CliRun;
 using cli_test::temp_dir;
 
 CliRun run_vx(const std::string& args, const std::string& env = "") { return cli_test::vx(args, env); }
 
-// A whole file's bytes ("" when it cannot be read).
-[[maybe_unused]] std::string read_file(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 // Every non-air chunk of a store, for comparisons (the VDB round trip).
 [[maybe_unused]] std::map<std::tuple<int, int, int>, vx::world::Chunk> store_chunks(const std::string& path) {
