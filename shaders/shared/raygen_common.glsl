@@ -43,23 +43,40 @@ vec3 primary_dir(uvec2 px) {
 // faces the ray came through, a block of the same kind diagonally across the plane, met within
 // rounding of a cell's edge) is not that face. `back` is the probe's reach, just past the plane.
 // Traced only from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
-vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, bool entering) {
+// `partner`: that face's block (0: none).
+vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, bool entering, out uint partner) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,
                 kPrimaryPayload);
+    partner = 0u;
     if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u) || payload.block == block)
         return vec3(1.0);
     Material m = vx_material(payload.block);
-    return vx_transparent(m) ? sqrt(m.albedo_reflectivity.xyz) : vec3(1.0);
+    if (!vx_transparent(m))
+        return vec3(1.0);
+    partner = payload.block;
+    return sqrt(m.albedo_reflectivity.xyz);
 }
+
+// The see-through block the last trace_through() ended inside (0: none). The mesher writes no
+// face between a see-through block and an opaque one (a pond's water on its floor, glass on a
+// wall), so a ray that enters such a block and meets the opaque face behind it crosses one face
+// of the block, not two. The hit adds the other face's tint (inside_tint) for the ray's way in
+// and again for the light it sends back (shade()): one albedo per path segment in the block.
+uint g_inside = 0u;
+
+// The tint of the hidden face of see-through block `block` (0: none, 1).
+vec3 inside_tint(uint block) { return block == 0u ? vec3(1.0) : sqrt(vx_material(block).albedo_reflectivity.xyz); }
 
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces
 // (each tints by sqrt(albedo): one albedo per block crossed, also where two transparent blocks
 // touch: coincident_tint). payload holds that hit (t < 0: a miss), with t the whole distance
-// from `origin`. Returns the tint.
-vec3 trace_through(vec3 origin, vec3 dir) {
+// from `origin`. Returns the tint; g_inside says which block the hit lies in, `inside` the block
+// the origin lies in (0: none; the camera is taken to be in none).
+vec3 trace_through(vec3 origin, vec3 dir, uint inside) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
+    g_inside = inside;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
         if (payload.t < 0.0)
@@ -68,19 +85,25 @@ vec3 trace_through(vec3 origin, vec3 dir) {
         Material m = vx_material(payload.block);
         if (!vx_transparent(m) || layer >= kMaxTransparentLayers) {
             payload.t = travelled;
+            if (vx_transparent(m)) // Stopped on a see-through face, shaded as a surface.
+                g_inside = 0u;
             return tint;
         }
         tint *= sqrt(m.albedo_reflectivity.xyz);
+        // The face is front-facing (the ray enters its block) when the ray runs against its normal.
+        uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u;
+        bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
+        g_inside = entering ? payload.block : 0u;
         vec3 next = payload.through;
         if (kProbeTouching && (payload.face & kFaceMayTouch) != 0u) {
-            // The face is front-facing (the ray enters its block) when the ray runs against its normal.
-            uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u;
-            bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
             // From `next` back to the plane is next's offset along the axis over the ray's slope;
             // twice that (at least a little) reaches just past the plane and nothing much beyond.
             float slope = max(abs(dir[axis]), 1e-6);
             float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / slope;
-            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering);
+            uint partner;
+            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering, partner);
+            if (!entering) // Out of this block into its partner, if any.
+                g_inside = partner;
         }
         origin = next;
     }

@@ -164,6 +164,7 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
             continue;
         // The ray stops short of the face it aims at (that face would block it).
         vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3);
+        pass *= shadow_end_inside(g_hit_inside); // A lamp behind glass: its light's way out.
         // Over the pdfs: 1 / solid angle or d^2 / (area cos at the light); then the choice's.
         float geometry = view.valid ? cos_s * view.solid_angle : cos_s * cos_l * q.corner.w / d2;
         vec3 x = pass * q.emission.xyz * (geometry * total / chosen_target);
@@ -206,13 +207,13 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
             add_sample(x);
             continue;
         }
-        vec3 tint = trace_through(pos, d);
+        vec3 tint = trace_through(pos, d, g_hit_inside);
         if (payload.t >= 0.0) {
             g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
             ++g_hits;
         }
         vec3 x = payload.t < 0.0 ? (sky ? tint * frame.sky_light.xyz : vec3(0.0))
-                                 : tint * found_emission(payload.block, payload.position, payload.face, first);
+                                 : tint * inside_tint(g_inside) * found_emission(payload.block, payload.position, payload.face, first);
         sum += x;
         add_sample(x);
     }

@@ -36,7 +36,7 @@ struct TracePush {
 // A path between two passes, at the bounce the next pass starts from (pixel x + width y).
 struct PathState {
     vec4 origin_length;      // xyz: the bounce ray's origin (origin-relative blocks); w: path length so far.
-    vec4 throughput;         // xyz: the path's throughput; w: 0.
+    vec4 throughput;         // xyz: the path's throughput; w: the see-through block the origin lies in (uint bits; 0: none).
     vec4 direction_variance; // xyz: the bounce ray's unit direction; w: the primary hit's variance.
     vec4 radiance_occluder;  // xyz: radiance so far; w: the primary hit's occluder distance.
     vec4 reflected;          // xyz: the reflected part so far (render/gbuffer.h); w: 0.

@@ -31,10 +31,14 @@ struct HitPayload {
 };
 
 // Shadow ray result: visible is set by the shadow miss shader (nothing opaque in the way);
-// transmittance is the product of the tints of the transparent faces crossed (any-hit shader).
+// transmittance is the product of the tints of the transparent faces crossed (any-hit shader);
+// last_t is the farthest of those faces' distances (< 0: none) and last_block its block if the
+// ray enters the block there, else 0 (air): where the ray ends, inside a block or not.
 struct ShadowPayload {
     vec3 transmittance;
     uint visible;
+    float last_t;
+    uint last_block;
 };
 
 Material vx_material(uint block) {

@@ -32,12 +32,15 @@ RenderSettings lit() {
 }
 
 // A glazed floor [-12, 12) x [0, 1) x [-12, 12), a mirror wall along x = 0 (z in [-12, 12), y up
-// to 6) and a glass block on the floor: paths reflect up to three times, some through glass.
+// to 6), a glass block on the floor and a pool of water against the wall: paths reflect up to
+// three times, some through glass, some from floor to wall inside the water (a later pass must
+// know its path starts in the water: PathState throughput.w).
 world::World hall() {
     world::World w;
     test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("glazed"));
     test::fill_box(w, {0, 1, -12}, {1, 7, 12}, test::block_id("mirror"));
     test::fill_box(w, {-5, 1, -1}, {-4, 2, 0}, test::block_id("glass"));
+    test::fill_box(w, {-4, 1, 1}, {0, 3, 6}, test::block_id("water"));
     return w;
 }
 
