@@ -27,11 +27,17 @@ void main() {
     const vec3 albedo = mat.albedo_reflectivity.xyz;
     const uint mode = uint(pc.light_position.w);
     if (kTransparentPass) {
-        // sqrt per face: one albedo per block crossed (its two faces), as trace_through tints
-        // linear radiance. Full mode's target holds sRGB-encoded values, so there the encoded
-        // albedo: the sRGB curve is nearly a power law (encode(a x) ~ encode(a) encode(x)), but
-        // the tone curve's toe is not undone (a blend cannot). Visibility draws no such pass.
-        o_color = vec4(sqrt(mode == kModeFull ? vx_srgb_encode(albedo) : albedo), 1.0);
+        // The whole albedo on the face where the view ray enters the block, nothing where it
+        // leaves (raster.vert culls those back faces): one albedo per block crossed, as
+        // trace_through tints linear radiance, also where the block's far face is not meshed (it
+        // lies against an opaque block: the walk's g_inside, shared/raygen_common.glsl) and where
+        // two see-through blocks touch (the second one's face is where the ray enters it). Half
+        // the fragments of tinting both faces by sqrt(albedo). The camera inside a block sees no
+        // tint of it (the ray tracer: its far face's sqrt). Full mode's target holds sRGB-encoded
+        // values, so there the encoded albedo: the sRGB curve is nearly a power law
+        // (encode(a x) ~ encode(a) encode(x)), but the tone curve's toe is not undone (a blend
+        // cannot). Visibility draws no such pass.
+        o_color = vec4(mode == kModeFull ? vx_srgb_encode(albedo) : albedo, 1.0);
         return;
     }
     if (mode == kModeFlat) {

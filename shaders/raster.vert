@@ -6,11 +6,11 @@
 // 4k + c is corner c of slot k, indexed by the shared slot pattern (4k, 4k+1, 4k+2),
 // (4k, 4k+2, 4k+3) as the BLASes are, decoded as closest_hit.rchit decodes a hit quad, so
 // raster and ray tracer see the same geometry without a vertex buffer. Spare slots (block air)
-// and back faces of opaque blocks are placed outside the clip volume and drawn as nothing: a
-// ray from outside the blocks meets an opaque block's front face first (the camera inside a
-// block is the exception), while faces of transparent blocks are seen from both sides. The
-// pipeline's pass (kTransparentPass) keeps the faces of opaque blocks or those of transparent
-// ones, the others culled so (render/raster_pipeline.h).
+// and back faces are placed outside the clip volume and drawn as nothing: a ray from outside the
+// blocks meets an opaque block's front face first (the camera inside a block is the exception),
+// and a see-through block's back face is where the ray leaves it, which the transparent pass's
+// tint does not need (raster.frag). The pipeline's pass (kTransparentPass) keeps the faces of
+// opaque blocks or those of transparent ones, the others culled so (render/raster_pipeline.h).
 
 #include "shared/raster_types.h"
 #include "shared/render_types.h"
@@ -46,7 +46,7 @@ void main() {
     const float plane_rel = pc.chunk_origin[cull_axis] + cell * float((packed >> 20u) & 63u);
     const bool front = ((packed >> 28u) & 1u) != 0u ? plane_rel < 0.0 : plane_rel > 0.0;
     const bool transparent = Materials(pc.materials).m[v_block].emission.w != 0.0;
-    if (transparent != kTransparentPass || (!front && !transparent)) { // Another pass's, or an opaque back face.
+    if (transparent != kTransparentPass || !front) { // Another pass's, or a back face.
         cull();
         return;
     }
