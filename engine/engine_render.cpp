@@ -100,6 +100,7 @@ render::UiDrawList to_render(const UiDrawList& ui) {
 render::RenderSettings Engine::Impl::frame_settings(uint32_t width, uint32_t height) {
     render::RenderSettings r = settings_of(render_settings, viewer, width, height);
     r.sky_access = sky.get(streamer->world(), viewer.block, sink->world_changes());
+    r.eye_block = streamer->world().get_block(viewer.block); // Under water: the view is tinted by it.
     return r;
 }
 

@@ -179,6 +179,13 @@ struct RenderSettings {
     // true is always correct, only slower underground. Per pixel, the sun is also skipped where
     // its disc lies behind the face.
     bool sky_access = true;
+    // The block the camera's eye lies in (the caller knows the world; the renderer holds meshes).
+    // Where it is see-through (the player swims), every view ray starts inside it and leaves
+    // through one face or none: the eye counts as its hidden face, sqrt(albedo), as the far face
+    // of a block against an opaque one does (shared/raygen_common.glsl g_inside), so the view is
+    // tinted by its albedo once. Ray traced only: the raster baseline shows no tint of it. Air
+    // or an opaque block: none.
+    world::BlockId eye_block = world::kAir;
     // Emissive blocks' light by shadow rays aimed at their faces (next-event estimation, one
     // face per sample chosen by resampled importance among kEmitterCandidates; render/
     // emitter_quads.h): the faces of the nearest emissive chunks, up to gpu::kMaxEmitterQuads.

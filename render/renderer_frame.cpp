@@ -350,6 +350,7 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
     }
     edit_marks.write(p, origin);
     edit_marks.clear(); // This frame's denoiser has them.
+    p.edits.y = s.eye_block; // The shader asks its material whether it is see-through.
     std::memcpy(params[ctx->frame_slot()].mapped(), &p, sizeof p);
 }
 

@@ -33,7 +33,7 @@ void main() {
         // lies against an opaque block: the walk's g_inside, shared/raygen_common.glsl) and where
         // two see-through blocks touch (the second one's face is where the ray enters it). Half
         // the fragments of tinting both faces by sqrt(albedo). The camera inside a block sees no
-        // tint of it (the ray tracer: its far face's sqrt). Full mode's target holds sRGB-encoded
+        // tint of it (the ray tracer: RenderSettings::eye_block). Full mode's target holds sRGB-encoded
         // values, so there the encoded albedo: the sRGB curve is nearly a power law
         // (encode(a x) ~ encode(a) encode(x)), but the tone curve's toe is not undone (a blend
         // cannot). Visibility draws no such pass.

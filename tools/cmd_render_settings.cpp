@@ -150,6 +150,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
         return err;
     if (auto err = aim_camera(a, scene, out.camera))
         return err;
+    s.eye_block = scene.world->get_block(out.camera.block); // An eye under water sees through it.
     return place_area_light(a, scene, s);
 }
 

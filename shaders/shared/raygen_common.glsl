@@ -68,6 +68,13 @@ uint g_inside = 0u;
 // The tint of the hidden face of see-through block `block` (0: none, 1).
 vec3 inside_tint(uint block) { return block == 0u ? vec3(1.0) : sqrt(vx_material(block).albedo_reflectivity.xyz); }
 
+// The see-through block the eye lies in (RenderSettings::eye_block), else 0. The primary ray
+// starts in it and the eye counts as its hidden face (inside_tint).
+uint eye_inside() {
+    uint b = frame.edits.y;
+    return b != 0u && vx_transparent(vx_material(b)) ? b : 0u;
+}
+
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces
 // (each tints by sqrt(albedo): one albedo per block crossed, also where two transparent blocks
 // touch: coincident_tint). payload holds that hit (t < 0: a miss), with t the whole distance

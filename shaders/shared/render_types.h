@@ -127,7 +127,8 @@ struct FrameParams {
                          // (RenderSettings::samples_by_weight: ceil(size_samples.z x weight^y),
                          // at least 1, in place of size_samples.z and mode_seed.w); y: the
                          // exponent (RenderSettings::weight_exponent, float bits); zw: 0.
-    uvec4 edits;         // x: boxes in edit_boxes (0..kMaxEditBoxes); yzw: 0.
+    uvec4 edits;         // x: boxes in edit_boxes (0..kMaxEditBoxes); y: the block the eye lies in
+                         // (RenderSettings::eye_block); zw: 0.
     vec4 edit_boxes[2 * kMaxEditBoxes]; // Box i: [2i].xyz its low corner, [2i + 1].xyz its high
                          // corner: blocks edited since the last frame, widened by their reach
                          // (render/edit_marks.h), origin-relative blocks.

@@ -295,5 +295,54 @@ TEST_F(RendererTest, ALampInAPoolLightsItsFloorThroughThePoolAlone) {
     EXPECT_EQ(m_renderer->validation_errors(), 0u);
 }
 
+// The eye under water (RenderSettings::eye_block): a pool of the smoked block three deep over a
+// stone floor, the camera inside it. Flat: the floor is stone x albedo (the eye counts as the
+// block's face on the view's way, the floor's hidden face as the other), the sky seen up through
+// the surface sky x albedo. Full mode under the open sky: the floor as seen from above the pool,
+// stone x albedo^2 x sky, exactly. An eye in air or in an opaque block draws as none given.
+// Checked: without the eye's block the floor is untinted in Flat and the sky sqrt(albedo).
+TEST_F(RendererTest, AnEyeUnderWaterSeesThroughTheWaterItIsIn) {
+    const TintRegistry t = tint_registry();
+    m_renderer->set_registry(t.reg);
+    world::World w;
+    w.registry() = t.reg;
+    test::fill_box(w, {-16, 0, -16}, {16, 1, 16}, test::block_id("stone"));
+    test::fill_box(w, {-6, 1, -6}, {7, 4, 7}, t.smoke);
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    const glm::vec3 stone = albedo_of(t.reg, test::block_id("stone")), smoke = TintRegistry::kSmoke;
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Flat;
+    s.eye_block = t.smoke;
+    const Camera down = Camera::look_at({0.3, 3.5, 0.2}, {0.3, 0.0, 0.2}, {0, 0, -1});
+    const Camera up = Camera::look_at({0.3, 3.5, 0.2}, {0.3, 9.0, 0.2}, {0, 0, -1});
+    EXPECT_TRUE(test::rgb_near(m_renderer->render(s, down).at(16, 16), stone * smoke));
+    EXPECT_TRUE(test::rgb_near(m_renderer->render(s, up).at(16, 16), s.sky * smoke));
+    s.mode = ShadingMode::Full;
+    s.shadow_samples = 8;
+    s.max_bounces = 0;
+    s.light.emission = glm::vec3(0.f);
+    s.sun.direction = {0.f, -1.f, 0.3f}; // Below the horizon.
+    s.haze.enabled = false;
+    const RenderImage img = m_renderer->render(s, down);
+    test::maybe_save(img, "eye_under_water");
+    const glm::vec3 expected =
+        gpu::vx_display(stone * smoke * smoke * s.sky, gpu::vx_exposure_scale(Exposure{}.ev100));
+    int off = 0;
+    for (uint32_t y = 0; y < img.height; ++y)
+        for (uint32_t x = 0; x < img.width; ++x)
+            off += test::rgb_near(img.at(x, y), expected) ? 0 : 1;
+    EXPECT_EQ(off, 0) << test::rgb_near(img.at(16, 16), expected).message();
+    s.mode = ShadingMode::Flat;
+    s.eye_block = world::kAir;
+    const RenderImage none = m_renderer->render(s, down);
+    for (world::BlockId b : {test::block_id("stone")}) {
+        s.eye_block = b;
+        EXPECT_EQ(test::differing_bytes(m_renderer->render(s, down), none), 0);
+    }
+    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+}
+
 } // namespace
 } // namespace vx::render

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -109,6 +110,36 @@ TEST(CliRender, SaysWhenSeeThroughBlocksTouch) {
         }
         const CliRun r = render("--raw " + vol + " --dims 24,12,20 --size 32x24 --spp 1 --out " + out);
         EXPECT_EQ(r.out.find("see-through blocks touch") != std::string::npos, touching) << r.out;
+    }
+}
+
+// `vx render` tells the renderer the block the eye lies in (RenderSettings::eye_block): the floor
+// under water looks the same from inside the water as from above it, tinted by the water's albedo
+// once (from above: its top face and the floor's hidden one; from inside: the eye and the floor's
+// hidden one). Without it, the eye in the water saw the floor untinted.
+TEST(CliRender, AnEyeUnderWaterSeesTheFloorAsFromAbove) {
+    const std::string vol = write_volume();
+    {
+        std::fstream f(vol, std::ios::binary | std::ios::in | std::ios::out);
+        for (int z = 0; z < 20; ++z)
+            for (int y = 1; y < 7; ++y)
+                for (int x = 0; x < 10; ++x) {
+                    f.seekp(std::streamoff(z * 24 * 12 + y * 24 + x));
+                    f.put(5); // Water, left of the pillar.
+                }
+    }
+    uint32_t centre[2] = {};
+    for (int under = 0; under < 2; ++under) {
+        const std::string out = dir() + "/eye" + std::to_string(under) + ".png";
+        render("--raw " + vol + " --dims 24,12,20 --size 32x24 --shading flat --eye 4.5," +
+               (under ? "4.5" : "10.5") + ",4.5 --target 5,0,5 --out " + out);
+        const Png png = read_png(out);
+        ASSERT_EQ(png.w, 32);
+        centre[under] = png.at(16, 12);
+    }
+    for (int c = 0; c < 3; ++c) {
+        const int above = int(centre[0] >> (8 * c) & 255), under = int(centre[1] >> (8 * c) & 255);
+        EXPECT_LE(std::abs(above - under), 2) << "channel " << c << ": from above " << above << ", under " << under;
     }
 }
 
