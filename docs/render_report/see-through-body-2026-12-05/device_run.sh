@@ -1,0 +1,39 @@
+#!/bin/bash
+# Device call (2026-12-05, stop 51): a see-through block against an opaque one tints by its whole
+# albedo (trace_through's g_inside; the shadow payload's farthest face). Binaries: vx_base (main at
+# 6f7b715) and vx (this stop). GPU trace medians of frames 2..N, three alternated rounds, on
+#  - the seed mirror scene at issue 18's one-frame settings (no see-through block: the images
+#    must be identical; what the larger shadow payload and the walk's facing test cost),
+#  - scatter_water (raster-transparency-2026-12-05/make_scatter.py: water scattered in stone, so
+#    much of it against stone: the images differ, as they should),
+#  - terrain seed 1 (lakes on their floors).
+# Then the render test programs with the validation layer (VX_TEST_DEVICE=gpu).
+# Usage (device, repository root, .gl .devlibs .devbuild carried): bash <this file>
+source docs/render_report/scripts/device_env.sh
+$B/vx info 2>&1 | tail -2
+M="--scene seed --scene-block mirror --size 1920x1080 --device gpu --reflections 5 --split-hits 5 --spp 4 --bounce-spp 4 --denoise on --repeat 12"
+T="--seed 1 --radius 6 --size 1920x1080 --device gpu --spp 4 --repeat 12"
+for round in 1 2 3; do
+  for bin in vx_base vx; do
+    printf "round %s seed_mirror   %-8s " $round $bin
+    timeout 90 $B/$bin render $M --out "$D/seed_$bin.png" > /tmp/r.txt 2>&1; grep "frames 2" /tmp/r.txt || tail -3 /tmp/r.txt
+    printf "round %s scatter_water %-8s " $round $bin
+    timeout 60 $B/$bin render --raw "$D/scatter_water.raw" $V --spp 4 --reflections 2 --out "$D/water_$bin.png" > /tmp/r.txt 2>&1; grep "frames 2" /tmp/r.txt || tail -3 /tmp/r.txt
+    printf "round %s terrain       %-8s " $round $bin
+    timeout 60 $B/$bin render $T --out "$D/terrain_$bin.png" > /tmp/r.txt 2>&1; grep "frames 2" /tmp/r.txt || tail -3 /tmp/r.txt
+  done
+  echo "elapsed $(( $(date +%s) - t0 )) s"
+done
+for s in seed water terrain; do
+  cmp -s "$D/${s}_vx.png" "$D/${s}_vx_base.png" && echo "$s: vx and vx_base identical" || echo "$s: vx and vx_base differ"
+done
+cp "$D"/water_vx.png "$D"/water_vx_base.png "$D"/terrain_vx.png "$D"/terrain_vx_base.png $OUT/ 2>/dev/null
+export LD_PRELOAD=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1) # Static TLS: render_report.md.
+for t in vx_render_tests vx_cli_render_tests vx_engine_render_tests; do
+  [ $(( $(date +%s) - t0 )) -gt 420 ] && { echo "skipped $t: out of time"; continue; }
+  echo "== $t"
+  VX_TEST_DEVICE=gpu timeout 170 $B/$t --gtest_brief=1 > $OUT/$t.log 2>&1; echo "rc=$?"
+  grep -E "FAILED|PASSED|tests ran|VUID|SKIPPED|Skipped" -A1 $OUT/$t.log | head -30
+  echo "elapsed $(( $(date +%s) - t0 )) s"
+done
+echo "total: $(( $(date +%s) - t0 )) s"
