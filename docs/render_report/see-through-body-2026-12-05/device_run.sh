@@ -1,7 +1,7 @@
 #!/bin/bash
 # Device call (2026-12-05, stop 51): a see-through block against an opaque one tints by its whole
-# albedo (trace_through's g_inside; the shadow payload's farthest face). Binaries: vx_base (main at
-# 6f7b715) and vx (this stop). GPU trace medians of frames 2..N, three alternated rounds, on
+# albedo (trace_through's g_inside; the shadow payload's farthest face). Binaries: vx_base (built at
+# 1ba43b5: 6f7b715's shaders) and vx (this stop). GPU trace medians of frames 2..N, three alternated rounds, on
 #  - the seed mirror scene at issue 18's one-frame settings (no see-through block: the images
 #    must be identical; what the larger shadow payload and the walk's facing test cost),
 #  - scatter_water (raster-transparency-2026-12-05/make_scatter.py: water scattered in stone, so
