@@ -19,7 +19,9 @@
 //                                     stratification: shaders/raygen.rgen); 0 with shadows off
 //                                     (no sampling), -1 at 1 sample (unknown); 1 in Flat mode.
 //   binding 4  albedo        RGBA8 UNORM  linear albedo of the first visible (opaque) block hit
-//                                     by the primary ray, rgb (no sRGB encoding); the sky colour
+//                                     by the primary ray, rgb (no sRGB encoding), times the tint
+//                                     of the see-through blocks it is seen through (Full mode: a
+//                                     tint's edge stays sharp in the denoiser); the sky colour
 //                                     (clamped to 0..1) on a miss; a = 1 on a hit, 0 on a miss,
 //                                     gpu::kEditedAlpha on a hit near this frame's edits (render/
 //                                     edit_marks.h: the denoiser starts its history again).

@@ -236,7 +236,8 @@ struct RenderImage {
 struct GBufferImage {
     uint32_t width = 0, height = 0;
     std::vector<glm::vec4> radiance;     // Linear HDR radiance, before tone mapping (RGBA16F).
-    std::vector<glm::vec4> albedo;       // Linear first-hit albedo; a = 1 on a hit, 0 on a miss (RGBA8).
+    std::vector<glm::vec4> albedo;       // Linear first-hit albedo as seen (times the tint of see-through
+                                         // blocks before it); a = 1 on a hit, 0 on a miss (RGBA8).
     std::vector<glm::vec4> normal_depth; // World normal xyz, w: distance along the primary ray; 0 on a miss.
     std::vector<glm::vec4> reflected;    // The unfiltered part, rgb; a: occluder distance, sun flag (RGBA16F).
     // The output before its rounding to 8 bits, rgb: Full mode, vx_display (shaders/shared/

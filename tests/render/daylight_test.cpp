@@ -27,16 +27,7 @@ int lit_pixels(const RenderImage& img) {
     return lit;
 }
 
-RenderSettings daylight(uint32_t samples = 8) {
-    RenderSettings s;
-    s.width = 32;
-    s.height = 32;
-    s.mode = ShadingMode::Full;
-    s.shadow_samples = samples;
-    s.max_bounces = 0;
-    s.light.emission = glm::vec3(0.f); // No area light: sun, sky and emitters only.
-    return s;
-}
+using test::daylight;
 
 // A stone slab in open air, x, z in [-16, 16), y in [0, 1); the camera 4 blocks above it looks
 // straight down (a 60 degree view sees |x|, |z| < 2.4: the top face, far from the edges).

@@ -98,6 +98,19 @@ inline RenderImage accumulated(Renderer& r, RenderSettings s, const Camera& cam,
     return img;
 }
 
+// Full mode, 32x32, `samples` per pixel (shadow rays of each light, sky rays), no reflections,
+// no area light: sun, sky and emitters only.
+inline RenderSettings daylight(uint32_t samples = 8) {
+    RenderSettings s;
+    s.width = 32;
+    s.height = 32;
+    s.mode = ShadingMode::Full;
+    s.shadow_samples = samples;
+    s.max_bounces = 0;
+    s.light.emission = glm::vec3(0.f);
+    return s;
+}
+
 // A renderer on the test device with the validation layer on; `ci`'s other fields as given.
 inline std::unique_ptr<Renderer> make_renderer(RendererCreateInfo ci = {}) {
     ci.validation = true;
