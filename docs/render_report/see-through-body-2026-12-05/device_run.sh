@@ -28,12 +28,5 @@ for s in seed water terrain; do
   cmp -s "$D/${s}_vx.png" "$D/${s}_vx_base.png" && echo "$s: vx and vx_base identical" || echo "$s: vx and vx_base differ"
 done
 cp "$D"/water_vx.png "$D"/water_vx_base.png "$D"/terrain_vx.png "$D"/terrain_vx_base.png $OUT/ 2>/dev/null
-export LD_PRELOAD=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1) # Static TLS: render_report.md.
-for t in vx_render_tests vx_cli_render_tests vx_engine_render_tests; do
-  [ $(( $(date +%s) - t0 )) -gt 420 ] && { echo "skipped $t: out of time"; continue; }
-  echo "== $t"
-  VX_TEST_DEVICE=gpu timeout 170 $B/$t --gtest_brief=1 > $OUT/$t.log 2>&1; echo "rc=$?"
-  grep -E "FAILED|PASSED|tests ran|VUID|SKIPPED|Skipped" -A1 $OUT/$t.log | head -30
-  echo "elapsed $(( $(date +%s) - t0 )) s"
-done
+bash docs/render_report/touching-pairs-2026-12-05/device_suites.sh # The render suites, validation on.
 echo "total: $(( $(date +%s) - t0 )) s"
