@@ -3,7 +3,9 @@
 // the block and meets the opaque face behind it crosses one of the block's faces, not two. The
 // walk knows it ended inside the block and the hit adds the block's other half tint, for the ray's
 // way in and for every light the hit sends back: one albedo per block crossed, as for blocks apart.
-// Before, a pond's floor and a wall behind glass were tinted by sqrt(albedo).
+// Before, a pond's floor and a wall behind glass were tinted by sqrt(albedo). Also here: the raster
+// pass's tint, the eye under water (RenderSettings::eye_block) and the denoiser's albedo guide as
+// seen through the blocks.
 #include <algorithm>
 #include <cstdio>
 #include <string>
