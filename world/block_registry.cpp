@@ -31,8 +31,10 @@ const BlockRegistry& BlockRegistry::default_registry() {
         add("dirt", {0.42f, 0.29f, 0.18f}, 0.f, glm::vec3(0.f), true);
         add("grass", {0.30f, 0.55f, 0.20f}, 0.f, glm::vec3(0.f), true);
         add("sand", {0.86f, 0.80f, 0.58f}, 0.f, glm::vec3(0.f), true);
-        add("water", {0.15f, 0.35f, 0.65f}, 0.3f, glm::vec3(0.f), false);
-        add("glass", {0.85f, 0.90f, 0.95f}, 0.1f, glm::vec3(0.f), false);
+        // See-through blocks' reflectivity is their reflectance at normal incidence (BlockInfo):
+        // water's and glass's from their indices of refraction, 1.33 and 1.5.
+        add("water", {0.15f, 0.35f, 0.65f}, 0.02f, glm::vec3(0.f), false);
+        add("glass", {0.85f, 0.90f, 0.95f}, 0.04f, glm::vec3(0.f), false);
         add("mirror", {0.90f, 0.90f, 0.90f}, 0.9f, glm::vec3(0.f), true);
         add("lamp", {1.0f, 0.9f, 0.7f}, 0.f, glm::vec3(4.f, 3.6f, 2.8f), true);
         add("snow", {0.95f, 0.95f, 0.97f}, 0.f, glm::vec3(0.f), true);

@@ -20,7 +20,9 @@ inline constexpr BlockId kAir = 0;
 struct BlockInfo {
     std::string name;
     glm::vec3 albedo{0.8f};   // Linear RGB, 0..1.
-    float reflectivity = 0.f; // Fraction of light mirrored, 0..1.
+    // Fraction of light mirrored, 0..1. Of a see-through block (opaque false): at normal incidence,
+    // more at grazing angles as the Fresnel equations say (water 0.02, glass 0.04; 0: it only tints).
+    float reflectivity = 0.f;
     glm::vec3 emission{0.f};  // Linear RGB radiance, >= 0.
     bool opaque = true;       // Opaque blocks hide the faces of blocks behind them.
 };

@@ -47,7 +47,8 @@ inline glm::ivec3 face_normal(Face f) {
 struct BlockType {
     std::string name;          // Unique, non-empty; how game code finds the id again.
     glm::vec3 albedo{0.8f};    // 0..1 per channel.
-    float reflectivity = 0.f;  // Fraction of light mirrored, 0..1.
+    float reflectivity = 0.f;  // Fraction of light mirrored, 0..1; see-through: at normal incidence,
+                               // more at grazing (Fresnel; water 0.02, glass 0.04; 0: tint only).
     glm::vec3 emission{0.f};   // Radiance, >= 0 per channel, finite (lamps).
     bool opaque = true;        // False: faces behind it stay meshed (water, glass).
 };

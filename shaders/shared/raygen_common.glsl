@@ -43,8 +43,9 @@ vec3 primary_dir(uvec2 px) {
 // faces the ray came through, a block of the same kind diagonally across the plane, met within
 // rounding of a cell's edge) is not that face. `back` is the probe's reach, just past the plane.
 // Traced only from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
-// `partner`: that face's block (0: none).
-vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, bool entering, out uint partner) {
+// `partner`: that face's block (0: none). `mirrors`: the tint has what the face mirrors away.
+vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, bool entering, bool mirrors,
+                     out uint partner) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,
                 kPrimaryPayload);
@@ -55,7 +56,7 @@ vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, 
     if (!vx_transparent(m))
         return vec3(1.0);
     partner = payload.block;
-    return sqrt(m.albedo_reflectivity.xyz);
+    return mirrors ? vx_face_pass(m, abs(dir[face >> 1u])) : sqrt(m.albedo_reflectivity.xyz);
 }
 
 // The see-through block the last trace_through() ended inside (0: none). The mesher writes no
@@ -75,15 +76,36 @@ uint eye_inside() {
     return b != 0u && vx_transparent(vx_material(b)) ? b : 0u;
 }
 
+// What a walk (trace_through) models: kWalkTint the tints alone (Flat mode: albedo, no light);
+// kWalkLight also the share each face mirrors away (vx_face_pass, rt_common.glsl); kWalkEye also
+// where the eye's path first meets a mirroring surface from air (g_surface), which shade() may
+// follow as it follows a mirror block.
+const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u;
+
+// The first face of a see-through block that mirrors (reflectivity > 0) which the last kWalkEye
+// walk entered from air: `t` its distance from the walk's origin (< 0: none), `position` on its
+// air side (the reflected ray's origin, as closest_hit.rchit makes it), `face` as HitPayload's,
+// `weight` the tint up to it times the share it mirrors (vx_fresnel).
+struct Surface {
+    vec3 position;
+    float t;
+    vec3 weight;
+    uint face;
+};
+Surface g_surface;
+
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces
 // (each tints by sqrt(albedo): one albedo per block crossed, also where two transparent blocks
-// touch: coincident_tint). payload holds that hit (t < 0: a miss), with t the whole distance
-// from `origin`. Returns the tint; g_inside says which block the hit lies in, `inside` the block
-// the origin lies in (0: none; the camera is taken to be in none).
-vec3 trace_through(vec3 origin, vec3 dir, uint inside) {
+// touch: coincident_tint; `kind` kWalkLight or kWalkEye: less what each mirrors away). payload
+// holds that hit (t < 0: a miss), with t the whole distance from `origin`; `dir` is a unit
+// vector. Returns the tint; g_inside says which block the hit lies in, `inside` the block the
+// origin lies in (0: none; the camera is taken to be in none).
+vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
     g_inside = inside;
+    if (kind == kWalkEye)
+        g_surface.t = -1.0;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
         if (payload.t < 0.0)
@@ -96,10 +118,17 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside) {
                 g_inside = 0u;
             return tint;
         }
-        tint *= sqrt(m.albedo_reflectivity.xyz);
         // The face is front-facing (the ray enters its block) when the ray runs against its normal.
         uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u;
         bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
+        vec3 pass = sqrt(m.albedo_reflectivity.xyz);
+        if (kind != kWalkTint) {
+            float mirrored = vx_fresnel(m.albedo_reflectivity.w, abs(dir[axis]));
+            if (kind == kWalkEye && entering && g_inside == 0u && g_surface.t < 0.0 && mirrored > 0.0)
+                g_surface = Surface(payload.position, travelled, tint * mirrored, face);
+            pass *= 1.0 - mirrored;
+        }
+        tint *= pass;
         g_inside = entering ? payload.block : 0u;
         vec3 next = payload.through;
         if (kProbeTouching && (payload.face & kFaceMayTouch) != 0u) {
@@ -108,7 +137,8 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside) {
             float slope = max(abs(dir[axis]), 1e-6);
             float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / slope;
             uint partner;
-            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering, partner);
+            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering, kind != kWalkTint,
+                                    partner);
             if (!entering) // Out of this block into its partner, if any.
                 g_inside = partner;
         }

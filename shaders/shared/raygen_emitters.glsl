@@ -207,7 +207,7 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
             add_sample(x);
             continue;
         }
-        vec3 tint = trace_through(pos, d, g_hit_inside);
+        vec3 tint = trace_through(pos, d, g_hit_inside, kWalkLight);
         if (payload.t >= 0.0) {
             g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
             ++g_hits;

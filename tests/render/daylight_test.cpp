@@ -164,11 +164,14 @@ TEST_F(RendererTest, GlassRoofLetsSunlightThrough) {
     EXPECT_EQ(lit_pixels(render_under("stone")), 0); // Control: an opaque roof shades the floor.
     const RenderImage img = render_under("glass");
     test::maybe_save(img, "glass_roof");
-    // Radiance of the floor: albedo x E x T / pi with T = glass albedo (two faces), E the sun's
-    // irradiance times cos of the disc samples (>= cos 0.27 degrees, so within 2e-5 of E).
+    // Radiance of the floor: albedo x E x T / pi with T = glass albedo (two faces) times what each
+    // face does not mirror (at normal incidence: 1 - reflectivity), E the sun's irradiance times
+    // cos of the disc samples (>= cos 0.27 degrees, so within 2e-5 of E, and of T's Fresnel).
     const RenderSettings s = daylight();
-    const glm::vec3 radiance = reg().info(test::block_id("stone")).albedo * s.sun.irradiance *
-                               reg().info(test::block_id("glass")).albedo / 3.14159265f;
+    const world::BlockInfo& glass = reg().info(test::block_id("glass"));
+    const float pass = float(1.0 - test::fresnel(glass.reflectivity, 1.0));
+    const glm::vec3 radiance =
+        reg().info(test::block_id("stone")).albedo * s.sun.irradiance * glass.albedo * pass * pass / 3.14159265f;
     EXPECT_TRUE(test::rgb_near(img.at(16, 16), full_output(radiance)));
 }
 

@@ -98,6 +98,23 @@ inline RenderImage accumulated(Renderer& r, RenderSettings s, const Camera& cam,
     return img;
 }
 
+// The share of light a see-through block of reflectivity r (its reflectance at normal incidence)
+// mirrors at angle acos(cos_i) to the face's normal: Fresnel's equations in their angle form
+// (Born & Wolf 1.5.3; the shaders use the cosine form, shaders/shared/rt_common.glsl), with Snell's
+// law for the refracted angle in the medium of index n, ((n - 1) / (n + 1))^2 = r.
+inline double fresnel(double r, double cos_i) {
+    if (r <= 0.0)
+        return 0.0;
+    const double s = std::sqrt(r), n = (1.0 + s) / (1.0 - s);
+    if (cos_i >= 1.0)
+        return r;
+    if (cos_i <= 0.0)
+        return 1.0;
+    const double ti = std::acos(cos_i), tt = std::asin(std::sin(ti) / n);
+    const double perp = std::sin(ti - tt) / std::sin(ti + tt), par = std::tan(ti - tt) / std::tan(ti + tt);
+    return 0.5 * (perp * perp + par * par);
+}
+
 // Full mode, 32x32, `samples` per pixel (shadow rays of each light, sky rays), no reflections,
 // no area light: sun, sky and emitters only.
 inline RenderSettings daylight(uint32_t samples = 8) {

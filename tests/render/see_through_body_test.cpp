@@ -23,7 +23,9 @@ using test::RendererTest;
 glm::vec3 albedo_of(const world::BlockRegistry& reg, world::BlockId id) { return reg.info(id).albedo; }
 
 // The default registry with a dark see-through block (its sqrt(albedo) far from its albedo, so
-// one face short is plain to see) and, when `bright_lamp`, the lamp ten times as bright.
+// one face short is plain to see) and, when `bright_lamp`, the lamp ten times as bright. Its water
+// and glass only tint (reflectivity 0): this file is about tints; what their surfaces mirror is
+// water_surface_test.cpp's.
 struct TintRegistry {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
     world::BlockId smoke = 0;
@@ -39,6 +41,11 @@ TintRegistry tint_registry(bool bright_lamp = false) {
     const Result<world::BlockId> id = t.reg.add(info);
     EXPECT_TRUE(id);
     t.smoke = id ? *id : world::kAir;
+    for (const char* name : {"water", "glass"}) {
+        world::BlockInfo b = t.reg.info(test::block_id(name));
+        b.reflectivity = 0.f;
+        EXPECT_TRUE(t.reg.set(test::block_id(name), b));
+    }
     if (bright_lamp) {
         world::BlockInfo lamp = t.reg.info(test::block_id("lamp"));
         lamp.emission *= 10.f;
