@@ -167,7 +167,7 @@ struct RenderSettings {
     // docs/render_report.md, stop 29). Same image; 0: one dispatch; ignored where it cannot
     // apply; at most max_bounces (and gpu::kMaxSplitHits) count.
     uint32_t split_hits = 0;
-    uint32_t max_bounces = 2;    // Mirror reflection depth; the renderer clamps to kMaxMirrorBounces.
+    uint32_t max_bounces = 2;    // Reflection depth (mirrors, water and glass surfaces); clamped to kMaxMirrorBounces.
     uint32_t seed = 1;           // Same seed, same image.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).
     // Sky term: sky rays that escape see sky * sky_light (ambient light with occlusion). 0: none.

@@ -420,7 +420,7 @@ void add_lighting_options(CLI::App* cmd, RenderArgs& a) {
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--shading", a.shading, "Shading")->check(CLI::IsMember({"flat", "full"}));
     cmd->add_option("--shadows", a.shadows, "Shadows of all lights and sky occlusion")->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--reflections", a.reflections, "Mirror reflection depth (0..16)")
+    cmd->add_option("--reflections", a.reflections, "Reflection depth (0..16): mirror blocks, and the surfaces of water and glass")
         ->check(CLI::Range(0u, render::kMaxMirrorBounces));
     cmd->add_option("--light", a.light, "Centre of the area light X,Y,Z (default: above the scene)");
 }

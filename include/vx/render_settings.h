@@ -62,7 +62,7 @@ struct RenderSettings {
     // pass; more than max_bounces counts as max_bounces. On terrain it was 0.5-1% slower
     // (stop 30).
     uint32_t split_hits = 0;
-    uint32_t max_bounces = 2;    // Mirror reflection depth.
+    uint32_t max_bounces = 2;    // Reflection depth: mirror blocks, water and glass surfaces.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance.
     float sky_light = 1.f;       // Ambient light from the sky (occluded by sky rays); 0: none.
     Sun sun;

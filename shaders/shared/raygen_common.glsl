@@ -2,6 +2,8 @@
 // the descriptor bindings (render/rt_pipeline.h), the primary payload, the primary ray through a
 // pixel's centre and the walk through transparent blocks. Include after rt_common.glsl.
 
+#include "shared/tonemap.h"
+
 layout(set = 0, binding = 0) uniform accelerationStructureEXT tlas;
 layout(set = 0, binding = 1, rgba8) uniform writeonly image2D out_image;
 layout(set = 0, binding = 3, rgba16f) uniform writeonly image2D radiance_image;
@@ -82,10 +84,12 @@ uint eye_inside() {
 // follow as it follows a mirror block.
 const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u;
 
-// The first face of a see-through block that mirrors (reflectivity > 0) which the last kWalkEye
-// walk entered from air: `t` its distance from the walk's origin (< 0: none), `position` on its
-// air side (the reflected ray's origin, as closest_hit.rchit makes it), `face` as HitPayload's,
-// `weight` the tint up to it times the share it mirrors (vx_fresnel).
+// Of the faces of see-through blocks that mirror (reflectivity > 0) which the last kWalkEye walk
+// entered from air, the one whose reflection weighs most in the pixel (a pane's 4% against the
+// lake behind it at a grazing angle: the lake's; the others' shares are dropped): `t` its distance
+// from the walk's origin (< 0: none), `position` on its air side (the reflected ray's origin, as
+// closest_hit.rchit makes it), `face` as HitPayload's, `weight` the tint up to it times the share
+// it mirrors (vx_fresnel).
 struct Surface {
     vec3 position;
     float t;
@@ -124,8 +128,10 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
         vec3 pass = sqrt(m.albedo_reflectivity.xyz);
         if (kind != kWalkTint) {
             float mirrored = vx_fresnel(m.albedo_reflectivity.w, abs(dir[axis]));
-            if (kind == kWalkEye && entering && g_inside == 0u && g_surface.t < 0.0 && mirrored > 0.0)
-                g_surface = Surface(payload.position, travelled, tint * mirrored, face);
+            vec3 weight = tint * mirrored;
+            if (kind == kWalkEye && entering && g_inside == 0u && mirrored > 0.0 &&
+                (g_surface.t < 0.0 || vx_luminance(weight) > vx_luminance(g_surface.weight)))
+                g_surface = Surface(payload.position, travelled, weight, face);
             pass *= 1.0 - mirrored;
         }
         tint *= pass;
