@@ -230,6 +230,7 @@ RenderImage Renderer::render(const RenderSettings& settings, const Camera& camer
     for (world::LodCoord c : m->touching.chunks())
         if (!keep.contains(c))
             m->touching.remove(c);
+    std::erase_if(m->see_through_set, [&](world::LodCoord c) { return !keep.contains(c); });
     return render(settings, camera);
 }
 
@@ -247,6 +248,12 @@ std::vector<world::LodCoord> Renderer::set_registry(const world::BlockRegistry& 
                 stale_chunks.push_back(c);
     std::sort(stale_chunks.begin(), stale_chunks.end(), world::lod_coord_less);
     m->registry = registry;
+    if (any_changed) { // The shaders ask the materials: what is see-through now is.
+        m->see_through_set.clear();
+        for (const auto& [c, ids] : m->chunk_blocks)
+            if (m->see_through(ids))
+                m->see_through_set.insert(c);
+    }
     m->materials_dirty = true;
     m->emitters_dirty = true;
     std::vector<bool> emissive(registry.size(), false);
@@ -296,6 +303,10 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     // Faces that may touch another transparent block's carry a mark (a copy of the mesh, only
     // in chunks that have such faces).
     world::ChunkMesh marked;
+    if (m->see_through(ids))
+        m->see_through_set.insert(c);
+    else
+        m->see_through_set.erase(c);
     TouchingFaces touching = mark_touching_faces(mesh, ids, m->registry, marked);
     m->touching.set(c, touching.inside, std::move(touching.border));
     m->accel->set_chunk(c, touching.marked ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
@@ -308,6 +319,7 @@ void Renderer::remove_chunk(world::LodCoord c) {
     if (m->emitter_set.erase(c) > 0)
         m->emitter_list_dirty = true;
     m->touching.remove(c);
+    m->see_through_set.erase(c);
 }
 void Renderer::clear_chunks() {
     m->accel->clear();
@@ -316,6 +328,7 @@ void Renderer::clear_chunks() {
     m->emitter_set.clear();
     m->emitter_list_dirty = true;
     m->touching.clear();
+    m->see_through_set.clear();
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }

@@ -276,6 +276,10 @@ struct RenderStats {
     // blocks touch somewhere in the chunks set (render/touching_pairs.h); else it traces the
     // variant with no probe.
     bool touching_probes = false;
+    // The ray tracer's pipeline had the see-through code (the walk through see-through blocks, their
+    // tints and surfaces): some chunk set holds a see-through block, or the eye is in one
+    // (RenderSettings::eye_block); else it traces the variant without (render/rt_pipeline.h).
+    bool see_through_code = true;
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     uint32_t instance_writes = 0; // TLAS instances written this frame (changed ones: not every chunk).
     uint64_t rebases = 0;      // Render-origin moves that rewrote every TLAS instance, since creation.

@@ -201,10 +201,14 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
     // The pipeline that samples emitter faces, once some drawn chunk emits (write_params may pick it).
     update_emitters();
     frame_probes = touching.any();
-    if (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, frame_probes))
+    const bool eye_in = s.eye_block != world::kAir && !registry.is_opaque(s.eye_block);
+    frame_see_through = frame_probes                              ? SeeThrough::kProbe
+                        : !see_through_set.empty() || eye_in ? SeeThrough::kPlain
+                                                                  : SeeThrough::kNone;
+    if (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, frame_see_through))
         return out_of_memory("the emitter faces' pipeline");
-    if (!pipeline->ensure_variant(false, frame_probes)) // The one without either exists already.
-        return out_of_memory("the coincident-face probe's pipeline");
+    if (!pipeline->ensure_variant(false, frame_see_through)) // (false, kPlain) exists already.
+        return out_of_memory("the pipeline of this frame's see-through blocks");
     const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
         readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});

@@ -99,7 +99,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
     for (uint32_t hit = 0; hit <= split; ++hit) {
         const bool first = hit == 0;
         pipeline->trace(cmd, first ? width : width * height, first ? height : 1u, flat, frame_samples_faces,
-                        frame_probes, {states, hit, hit < split ? hit : gpu::kTraceToEnd});
+                        frame_see_through, {states, hit, hit < split ? hit : gpu::kTraceToEnd});
         if (hit < split)
             memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,

@@ -18,14 +18,15 @@ enum : uint32_t { kGroupRaygen, kGroupPrimaryMiss, kGroupShadowMiss, kGroupHit, 
 
 RtPipeline::RtPipeline(Context& ctx) : m_ctx(&ctx) {
     create_layouts();
-    m_variants[0] = create_variant(false, false); // Out of memory: valid() is false.
+    // Out of memory: valid() is false.
+    m_variants[variant_index(false, SeeThrough::kPlain)] = create_variant(false, SeeThrough::kPlain);
 }
 
-bool RtPipeline::ensure_variant(bool sample_faces, bool probe) {
-    Variant& slot = m_variants[variant_index(sample_faces, probe)];
+bool RtPipeline::ensure_variant(bool sample_faces, SeeThrough see_through) {
+    Variant& slot = m_variants[variant_index(sample_faces, see_through)];
     if (slot.pipeline)
         return true;
-    Variant v = create_variant(sample_faces, probe);
+    Variant v = create_variant(sample_faces, see_through);
     if (v.sbt.valid()) {
         slot = std::move(v);
         return true;
@@ -93,7 +94,7 @@ static VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR
     return g;
 }
 
-RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, bool probe) {
+RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, SeeThrough see_through) {
     if (!m_layout)
         return Variant{}; // Its creation failed (logged).
     const VkShaderModule modules[] = {
@@ -115,11 +116,15 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, bool probe) {
         stages[i].module = modules[i];
         stages[i].pName = "main";
     }
-    // raygen.rgen's constant_id 0, kSampleFaces, and both raygens' constant_id 1, kProbeTouching
-    // (32-bit bools; an id a shader lacks is ignored: Vulkan spec, VkSpecializationMapEntry).
-    const VkBool32 constants[2] = {sample_faces ? VK_TRUE : VK_FALSE, probe ? VK_TRUE : VK_FALSE};
-    const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(VkBool32)}, {1, sizeof(VkBool32), sizeof(VkBool32)}};
-    const VkSpecializationInfo spec{2, entries, sizeof constants, constants};
+    // raygen.rgen's constant_id 0, kSampleFaces, and both raygens' constant_id 1, kProbeTouching,
+    // and 2, kSeeThrough (32-bit bools; an id a shader lacks is ignored: Vulkan spec,
+    // VkSpecializationMapEntry).
+    const bool probe = see_through == SeeThrough::kProbe;
+    const VkBool32 constants[3] = {sample_faces ? VK_TRUE : VK_FALSE, probe ? VK_TRUE : VK_FALSE,
+                                   see_through != SeeThrough::kNone ? VK_TRUE : VK_FALSE};
+    const VkSpecializationMapEntry entries[3] = {
+        {0, 0, sizeof(VkBool32)}, {1, sizeof(VkBool32), sizeof(VkBool32)}, {2, 2 * sizeof(VkBool32), sizeof(VkBool32)}};
+    const VkSpecializationInfo spec{3, entries, sizeof constants, constants};
     stages[0].pSpecializationInfo = &spec;
     stages[kStages - 1].pSpecializationInfo = &spec; // raygen_flat.rgen.
     const VkRayTracingShaderGroupCreateInfoKHR groups[kGroupCount] = {
@@ -137,7 +142,8 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, bool probe) {
     ci.maxPipelineRayRecursionDepth = 1; // Every ray is traced from raygen; reflections loop there.
     ci.layout = m_layout;
     Variant v;
-    const std::string suffix = std::string(sample_faces ? ", emitter faces" : "") + (probe ? ", probes" : "");
+    const std::string suffix = std::string(sample_faces ? ", emitter faces" : "") + (probe ? ", probes" : "") +
+                               (see_through == SeeThrough::kNone ? ", opaque only" : "");
     const std::string name = "rt pipeline" + suffix;
     // The test hook (Context::fail_allocations) stands in for the device's own refusal.
     const bool no_module = std::find(std::begin(modules), std::end(modules), VK_NULL_HANDLE) != std::end(modules);
@@ -207,10 +213,10 @@ bool RtPipeline::create_sbt(Variant& v, const char* name) {
     return true;
 }
 
-void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces, bool probe,
-                       const gpu::TracePush& push) const {
+void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
+                       SeeThrough see_through, const gpu::TracePush& push) const {
     const bool faces = sample_faces && !flat; // Flat shades nothing.
-    const Variant& v = m_variants[variant_index(faces, probe)];
+    const Variant& v = m_variants[variant_index(faces, see_through)];
     VX_ASSERT_MSG(v.pipeline != VK_NULL_HANDLE, "trace: the pipeline variant was not made (ensure_variant)");
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, v.pipeline);
     vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof push, &push);

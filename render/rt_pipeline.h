@@ -5,10 +5,11 @@
 // size and alignments read from the device. Descriptor set 0: binding 0 TLAS, 1 output storage
 // image (rgba8), 2 FrameParams uniform, 3-5 the G-buffer storage images (render/gbuffer.h); the
 // light cache's resolve pass (render/light_cache.h) binds the same set in a compute pipeline.
-// Two variants: full shading without and with the emissive faces' sampling (raygen.rgen's
-// specialization constant kSampleFaces). Code a frame does not run still costs registers: without
-// it a frame with no emitter faces (the thesis scene, terrain without lamps) traces as fast as
-// before it existed. The second is made when first needed (ensure_faces_variant). Main thread only.
+// Variants by specialization constants: full shading without and with the emissive faces'
+// sampling (raygen.rgen's kSampleFaces), and three levels of see-through blocks (SeeThrough). Code
+// a frame does not run still costs registers: without it a frame with no emitter faces (the thesis
+// scene, terrain without lamps) traces as fast as before it existed, and one with no see-through
+// block pays nothing for water. Made when first needed (ensure_variant). Main thread only.
 
 #include <array>
 
@@ -36,11 +37,20 @@ inline VkDeviceAddress sbt_start(VkDeviceAddress buffer_address, uint32_t base_a
     return align_up(buffer_address, base_alignment);
 }
 
+// What the walk through see-through blocks (shaders/shared/raygen_common.glsl) is compiled with:
+// kNone, nothing (no see-through block drawn, the eye in none: every hit is opaque; kSeeThrough
+// false); kPlain, the walk, tints and water and glass surfaces; kProbe, also the probe for a
+// coincident face where two different see-through blocks touch (kProbeTouching).
+enum class SeeThrough : uint8_t { kNone, kPlain, kProbe };
+
 class RtPipeline {
 public:
     // False when the device had no memory for the pipeline or its shader binding table (the
     // renderer's create() reports it).
-    bool valid() const { return m_variants[0].pipeline && m_variants[0].sbt.valid(); }
+    bool valid() const {
+        const Variant& v = m_variants[variant_index(false, SeeThrough::kPlain)];
+        return v.pipeline && v.sbt.valid();
+    }
     explicit RtPipeline(Context& ctx);
     ~RtPipeline();
     RtPipeline(const RtPipeline&) = delete;
@@ -49,17 +59,16 @@ public:
     VkPipelineLayout layout() const { return m_layout; }
     VkDescriptorSetLayout set_layout() const { return m_set_layout; }
 
-    // Makes the variant that samples emitter faces or not, and probes for coincident transparent
-    // faces or not (shaders/shared/raygen_common.glsl, kProbeTouching), unless it exists; false:
-    // out of memory for it or its shader binding table (nothing made; a later call tries again).
-    // The one with neither is made by the constructor.
-    bool ensure_variant(bool sample_faces, bool probe);
+    // Makes the variant that samples emitter faces or not, with see-through level `see_through`,
+    // unless it exists; false: out of memory for it or its shader binding table (nothing made; a
+    // later call tries again). The constructor makes (no faces, kPlain).
+    bool ensure_variant(bool sample_faces, SeeThrough see_through);
 
     // Binds that variant (made by ensure_variant), pushes `push` (which pass, gpu::TracePush) and
     // records vkCmdTraceRaysKHR over width x height with its SBT regions; `flat` picks the Flat
     // raygen (FrameParams mode Flat), else the full-shading one. The caller binds the descriptor set.
-    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces, bool probe,
-               const gpu::TracePush& push) const;
+    void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
+               SeeThrough see_through, const gpu::TracePush& push) const;
 
 private:
     struct Variant {
@@ -68,14 +77,16 @@ private:
         VkStridedDeviceAddressRegionKHR raygen{}, raygen_flat{}, miss{}, hit{}, callable{};
     };
     void create_layouts();
-    Variant create_variant(bool sample_faces, bool probe); // Its SBT invalid when out of memory.
-    static size_t variant_index(bool sample_faces, bool probe) { return size_t(sample_faces) + 2 * size_t(probe); }
+    Variant create_variant(bool sample_faces, SeeThrough see_through); // Its SBT invalid when out of memory.
+    static size_t variant_index(bool sample_faces, SeeThrough see_through) {
+        return size_t(sample_faces) + 2 * size_t(see_through);
+    }
     bool create_sbt(Variant& v, const char* name);
 
     Context* m_ctx;
     VkDescriptorSetLayout m_set_layout = VK_NULL_HANDLE;
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    std::array<Variant, 4> m_variants; // [variant_index(sample_faces, probe)]
+    std::array<Variant, 6> m_variants; // [variant_index(sample_faces, see_through)]
 };
 
 } // namespace vx::render

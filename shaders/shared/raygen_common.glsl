@@ -19,6 +19,9 @@ layout(location = 0) rayPayloadEXT HitPayload payload;
 // where no two different transparent blocks touch (render/touching_pairs.h): its second trace call
 // site cost every ray ~7% on the NVIDIA driver, probing or not (render_report.md).
 layout(constant_id = 1) const bool kProbeTouching = true;
+// False where no see-through block is drawn and the eye is in none (render/rt_pipeline.h,
+// SeeThrough::kNone): every hit is opaque, and the walk, the tints and the surfaces compile out.
+layout(constant_id = 2) const bool kSeeThrough = true;
 const float kTMax = 1.0e7;
 
 vec3 face_normal(uint face) {
@@ -69,13 +72,15 @@ vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, 
 uint g_inside = 0u;
 
 // The tint of the hidden face of see-through block `block` (0: none, 1).
-vec3 inside_tint(uint block) { return block == 0u ? vec3(1.0) : sqrt(vx_material(block).albedo_reflectivity.xyz); }
+vec3 inside_tint(uint block) {
+    return !kSeeThrough || block == 0u ? vec3(1.0) : sqrt(vx_material(block).albedo_reflectivity.xyz);
+}
 
 // The see-through block the eye lies in (RenderSettings::eye_block), else 0. The primary ray
 // starts in it and the eye counts as its hidden face (inside_tint).
 uint eye_inside() {
     uint b = frame.edits.y;
-    return b != 0u && vx_transparent(vx_material(b)) ? b : 0u;
+    return kSeeThrough && b != 0u && vx_transparent(vx_material(b)) ? b : 0u;
 }
 
 // What a walk (trace_through) models: kWalkTint the tints alone (Flat mode: albedo, no light);
@@ -112,7 +117,7 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
         g_surface.t = -1.0;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
-        if (payload.t < 0.0)
+        if (payload.t < 0.0 || !kSeeThrough)
             return tint;
         travelled += payload.t;
         Material m = vx_material(payload.block);

@@ -270,7 +270,8 @@ TEST_F(RendererTest, NoMemoryForTheProbingPipelineIsAnErrorThenTheNextFrameRende
         r->fail_allocations(resource);
         Result<RenderImage> failed = r->try_render(s, cam);
         ASSERT_FALSE(failed) << resource;
-        EXPECT_NE(failed.error().find("out of GPU memory for the coincident-face probe's pipeline"), std::string::npos)
+        EXPECT_NE(failed.error().find("out of GPU memory for the pipeline of this frame's see-through blocks"),
+                  std::string::npos)
             << failed.error();
         EXPECT_EQ(failed.error().find('\n'), std::string::npos);
         r->fail_allocations("");
