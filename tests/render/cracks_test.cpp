@@ -35,16 +35,6 @@ world::World wall_world() {
     return w;
 }
 
-// The shader's primary ray direction for pixel (x, y).
-glm::dvec3 primary_dir(const Camera& c, uint32_t x, uint32_t y, uint32_t w, uint32_t h) {
-    const glm::dvec3 f = glm::normalize(glm::dvec3(c.forward));
-    const glm::dvec3 r = glm::normalize(glm::cross(f, glm::dvec3(c.up)));
-    const glm::dvec3 u = glm::cross(r, f);
-    const double th = std::tan(glm::radians(double(c.fov_y_degrees)) * 0.5), aspect = double(w) / h;
-    const double nx = (x + 0.5) / w * 2 - 1, ny = (y + 0.5) / h * 2 - 1;
-    return glm::normalize(f + nx * th * aspect * r - ny * th * u);
-}
-
 void check_view(Renderer& r, const Camera& cam, const char* name) {
     RenderSettings s;
     s.width = s.height = 128;
@@ -56,7 +46,7 @@ void check_view(Renderer& r, const Camera& cam, const char* name) {
     int checked = 0, leaks = 0;
     for (uint32_t y = 0; y < img.height; ++y)
         for (uint32_t x = 0; x < img.width; ++x) {
-            const glm::dvec3 d = primary_dir(cam, x, y, img.width, img.height);
+            const glm::dvec3 d = test::primary_dir(cam, x, y, img.width, img.height);
             if (d.z <= 0)
                 continue;
             const glm::dvec3 p = eye + d * (-eye.z / d.z);

@@ -238,24 +238,9 @@ TEST_F(RendererTest, StaleEmitterFacesLoseNoLight) {
 // its shader binding table or the pipeline itself (that one was VK_CHECKed: an abort): a
 // one-line error; the next frame renders as a renderer that never failed does.
 TEST_F(RendererTest, NoMemoryForTheFacesPipelineIsAnErrorThenTheNextFrameRenders) {
-    const world::MeshMap meshes = test::mesh_world(lamp_room(false));
-    const RenderImage expected = test::fresh_render(meshes, lamp_light(4, true), kRoomView);
-    for (const char* resource : {"shader binding table, emitter faces", "rt pipeline, emitter faces"}) {
-        std::unique_ptr<Renderer> r = test::make_renderer();
-        ASSERT_NE(r, nullptr);
-        test::load_meshes(*r, meshes);
-        r->fail_allocations(resource);
-        Result<RenderImage> failed = r->try_render(lamp_light(4, true), kRoomView);
-        ASSERT_FALSE(failed) << resource;
-        EXPECT_NE(failed.error().find("out of GPU memory for the emitter faces' pipeline"), std::string::npos)
-            << failed.error();
-        EXPECT_EQ(failed.error().find('\n'), std::string::npos);
-        r->fail_allocations("");
-        Result<RenderImage> img = r->try_render(lamp_light(4, true), kRoomView);
-        ASSERT_TRUE(img) << img.error();
-        EXPECT_EQ(test::differing_bytes(*img, expected), 0) << resource;
-        EXPECT_EQ(r->validation_errors(), 0u) << resource;
-    }
+    test::expect_frame_failure_then_recovery(test::mesh_world(lamp_room(false)), lamp_light(4, true), kRoomView,
+                                             {"shader binding table, emitter faces", "rt pipeline, emitter faces"},
+                                             "out of GPU memory for the emitter faces' pipeline");
 }
 
 } // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <memory>
 #include <string>
 
@@ -168,6 +169,41 @@ inline int differing_bytes(const RenderImage& a, const RenderImage& b) {
     for (size_t i = 0; i < std::min(a.rgba.size(), b.rgba.size()); ++i)
         diff += a.rgba[i] != b.rgba[i];
     return diff;
+}
+
+// Out of memory for each of `resources` in turn (Context::fail_allocations) in a new renderer
+// holding `meshes`: the frame of `s` from `cam` fails with a one-line error holding `message`; the
+// next renders as a renderer that never failed does.
+inline void expect_frame_failure_then_recovery(const world::MeshMap& meshes, const RenderSettings& s,
+                                               const Camera& cam, std::initializer_list<const char*> resources,
+                                               const std::string& message) {
+    const RenderImage expected = fresh_render(meshes, s, cam);
+    for (const char* resource : resources) {
+        std::unique_ptr<Renderer> r = make_renderer();
+        ASSERT_NE(r, nullptr);
+        load_meshes(*r, meshes);
+        r->fail_allocations(resource);
+        Result<RenderImage> failed = r->try_render(s, cam);
+        ASSERT_FALSE(failed) << resource;
+        EXPECT_NE(failed.error().find(message), std::string::npos) << failed.error();
+        EXPECT_EQ(failed.error().find('\n'), std::string::npos);
+        r->fail_allocations("");
+        Result<RenderImage> img = r->try_render(s, cam);
+        ASSERT_TRUE(img) << img.error();
+        EXPECT_EQ(differing_bytes(*img, expected), 0) << resource;
+        EXPECT_EQ(r->validation_errors(), 0u) << resource;
+    }
+}
+
+// The unit direction of pixel (x, y)'s primary ray in a w x h image, as raygen_common.glsl's
+// primary_dir() makes it from the camera's basis (render/renderer_frame.cpp, write_params).
+inline glm::dvec3 primary_dir(const Camera& c, uint32_t x, uint32_t y, uint32_t w, uint32_t h) {
+    const glm::dvec3 f = glm::normalize(glm::dvec3(c.forward));
+    const glm::dvec3 r = glm::normalize(glm::cross(f, glm::dvec3(c.up)));
+    const glm::dvec3 u = glm::cross(r, f);
+    const double th = std::tan(glm::radians(double(c.fov_y_degrees)) * 0.5), aspect = double(w) / h;
+    const double nx = (x + 0.5) / w * 2 - 1, ny = (y + 0.5) / h * 2 - 1;
+    return glm::normalize(f + nx * th * aspect * r - ny * th * u);
 }
 
 class RendererTest : public ::testing::Test {

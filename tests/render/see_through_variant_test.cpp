@@ -97,24 +97,9 @@ TEST_F(RendererTest, NoMemoryForTheOpaqueOnlyPipelineIsAnErrorThenTheNextFrameRe
     const world::MeshMap meshes = test::mesh_world(hills_with(false));
     RenderSettings s = test::daylight(2);
     const Camera cam = Camera::look_at({-6.5, 12.0, 9.5}, {2.0, 4.0, -2.0});
-    const RenderImage expected = test::fresh_render(meshes, s, cam);
-    for (const char* resource : {"rt pipeline, opaque only", "shader binding table, opaque only"}) {
-        std::unique_ptr<Renderer> r = test::make_renderer();
-        ASSERT_NE(r, nullptr);
-        test::load_meshes(*r, meshes);
-        r->fail_allocations(resource);
-        Result<RenderImage> failed = r->try_render(s, cam);
-        ASSERT_FALSE(failed) << resource;
-        EXPECT_NE(failed.error().find("out of GPU memory for the pipeline of this frame's see-through blocks"),
-                  std::string::npos)
-            << failed.error();
-        EXPECT_EQ(failed.error().find('\n'), std::string::npos);
-        r->fail_allocations("");
-        Result<RenderImage> img = r->try_render(s, cam);
-        ASSERT_TRUE(img) << img.error();
-        EXPECT_EQ(test::differing_bytes(*img, expected), 0) << resource;
-        EXPECT_EQ(r->validation_errors(), 0u) << resource;
-    }
+    test::expect_frame_failure_then_recovery(meshes, s, cam,
+                                             {"rt pipeline, opaque only", "shader binding table, opaque only"},
+                                             "out of GPU memory for the pipeline of this frame's see-through blocks");
 }
 
 } // namespace

@@ -262,24 +262,8 @@ TEST_F(RendererTest, NoMemoryForTheProbingPipelineIsAnErrorThenTheNextFrameRende
     s.height = 32;
     s.mode = ShadingMode::Flat;
     const Camera cam = looking_down_axis(2, 13.5);
-    const RenderImage expected = test::fresh_render(meshes, s, cam);
-    for (const char* resource : {"rt pipeline, probes", "shader binding table, probes"}) {
-        std::unique_ptr<Renderer> r = test::make_renderer();
-        ASSERT_NE(r, nullptr);
-        test::load_meshes(*r, meshes);
-        r->fail_allocations(resource);
-        Result<RenderImage> failed = r->try_render(s, cam);
-        ASSERT_FALSE(failed) << resource;
-        EXPECT_NE(failed.error().find("out of GPU memory for the pipeline of this frame's see-through blocks"),
-                  std::string::npos)
-            << failed.error();
-        EXPECT_EQ(failed.error().find('\n'), std::string::npos);
-        r->fail_allocations("");
-        Result<RenderImage> img = r->try_render(s, cam);
-        ASSERT_TRUE(img) << img.error();
-        EXPECT_EQ(test::differing_bytes(*img, expected), 0) << resource;
-        EXPECT_EQ(r->validation_errors(), 0u) << resource;
-    }
+    test::expect_frame_failure_then_recovery(meshes, s, cam, {"rt pipeline, probes", "shader binding table, probes"},
+                                             "out of GPU memory for the pipeline of this frame's see-through blocks");
 }
 
 // A marked face of chunk (0, 0, 0): its plane, facing and block.

@@ -21,15 +21,17 @@ constexpr float kPi = 3.14159265f;
 // Full mode's output for linear radiance c at the default exposure.
 glm::vec3 full_output(glm::vec3 c) { return gpu::vx_display(c, gpu::vx_exposure_scale(Exposure{}.ev100)); }
 
-// The unit direction of pixel (x, y)'s primary ray, as raygen_common.glsl's primary_dir() makes it
-// from the camera's basis (render/renderer_frame.cpp, write_params).
-glm::dvec3 pixel_ray(const Camera& cam, uint32_t width, uint32_t height, uint32_t x, uint32_t y) {
-    const glm::dvec3 fwd = glm::normalize(glm::dvec3(cam.forward));
-    const glm::dvec3 right = glm::normalize(glm::cross(fwd, glm::dvec3(cam.up)));
-    const glm::dvec3 up = glm::cross(right, fwd);
-    const double th = std::tan(glm::radians(double(cam.fov_y_degrees)) * 0.5), aspect = double(width) / height;
-    const double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;
-    return glm::normalize(fwd + nx * th * aspect * right - ny * th * up);
+// Full mode at 48x40, `samples` per pixel, no haze, no sky term (the sky colour is only what rays
+// that miss see), the sky colour `sky`, the given reflection depth.
+RenderSettings pool_settings(uint32_t samples, glm::vec3 sky, uint32_t bounces) {
+    RenderSettings s = test::daylight(samples);
+    s.width = 48;
+    s.height = 40;
+    s.haze.enabled = false;
+    s.sky_light = 0.f;
+    s.sky = sky;
+    s.max_bounces = bounces;
+    return s;
 }
 
 // The eye's world position.
@@ -58,12 +60,7 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
     const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
-    RenderSettings s = test::daylight(4);
-    s.width = 48;
-    s.height = 40;
-    s.haze.enabled = false;
-    s.sky_light = 0.f;
-    s.sky = {0.5f, 0.6f, 0.8f};
+    RenderSettings s = pool_settings(4, {0.5f, 0.6f, 0.8f}, 1);
     s.sun.direction = glm::normalize(glm::vec3(0.3f, 1.f, 0.5f));
     const Camera cam = Camera::look_at({0.3, 2.6, 6.2}, {0.3, 1.2, -4.0}, {0, 1, 0}, 70.f);
     struct Case {
@@ -91,7 +88,7 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
         int checked = 0, off = 0, grazing = 0;
         for (uint32_t y = 0; y < s.height; ++y)
             for (uint32_t x = 0; x < s.width; ++x) {
-                const glm::dvec3 d = pixel_ray(cam, s.width, s.height, x, y);
+                const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
                 glm::dvec3 top, bottom;
                 const bool water_hit = down_to(eye_of(cam), d, 2.0, top) && down_to(eye_of(cam), d, 1.0, bottom);
                 if (water_hit && (std::abs(bottom.x) > 38.0 || std::abs(bottom.z) > 38.0))
@@ -135,14 +132,8 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
     test::fill_box(w, {-40, 1, -40}, {40, 2, 40}, water);
     test::fill_box(w, {-40, 2, 2}, {40, 8, 3}, glass);
     test::load_meshes(*m_renderer, test::mesh_world(w));
-    RenderSettings s = test::daylight(4);
-    s.width = 48;
-    s.height = 40;
-    s.haze.enabled = false;
-    s.sky_light = 0.f;
-    s.sky = {0.5f, 0.6f, 0.8f};
+    RenderSettings s = pool_settings(4, {0.5f, 0.6f, 0.8f}, 1);
     s.sun.direction = glm::normalize(glm::vec3(0.3f, 1.f, 0.f));
-    s.max_bounces = 1;
     const Camera cam = Camera::look_at({0.3, 2.6, 6.2}, {0.3, 1.8, -4.0}, {0, 1, 0}, 70.f);
     const RenderImage img = m_renderer->render(s, cam);
     test::maybe_save(img, "lake_behind_window");
@@ -158,7 +149,7 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
     int behind = 0, in_front = 0, sky = 0, off = 0;
     for (uint32_t y = 0; y < s.height; ++y)
         for (uint32_t x = 0; x < s.width; ++x) {
-            const glm::dvec3 eye = eye_of(cam), d = pixel_ray(cam, s.width, s.height, x, y);
+            const glm::dvec3 eye = eye_of(cam), d = test::primary_dir(cam, x, y, s.width, s.height);
             const double f_pane = test::fresnel(g.reflectivity, -d.z);
             const double pane_y = eye.y + d.y * (eye.z - 3.0) / -d.z; // Where the view meets z = 3.
             glm::vec3 expected;
@@ -250,14 +241,8 @@ TEST_F(RendererTest, ALampWallIsSeenInAPoolAtItsMirrorImage) {
     test::fill_box(w, {-40, 1, -18}, {40, 2, 40}, water);
     test::fill_box(w, {-40, 2, -19}, {40, 6, -18}, lamp);
     test::load_meshes(*m_renderer, test::mesh_world(w));
-    RenderSettings s = test::daylight(4);
-    s.width = 48;
-    s.height = 40;
-    s.haze.enabled = false;
-    s.sky_light = 0.f;
-    s.sky = glm::vec3(0.f);
+    RenderSettings s = pool_settings(4, glm::vec3(0.f), 1);
     s.sun.irradiance = glm::vec3(0.f);
-    s.max_bounces = 1;
     const Camera cam = Camera::look_at({0.3, 3.0, 6.2}, {0.3, 1.5, -18.0}, {0, 1, 0}, 60.f);
     const RenderImage img = m_renderer->render(s, cam);
     test::maybe_save(img, "lamp_wall_in_pool");
@@ -266,7 +251,7 @@ TEST_F(RendererTest, ALampWallIsSeenInAPoolAtItsMirrorImage) {
     int mirrored = 0, dark = 0, off = 0;
     for (uint32_t y = 0; y < s.height; ++y)
         for (uint32_t x = 0; x < s.width; ++x) {
-            const glm::dvec3 d = pixel_ray(cam, s.width, s.height, x, y);
+            const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
             glm::dvec3 top;
             if (!down_to(eye_of(cam), d, 2.0, top) || top.z <= -17.9)
                 continue; // Not on the water.
@@ -305,14 +290,8 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
     test::fill_box(w, {-40, 0, -40}, {40, 1, 40}, steel);
     test::fill_box(w, {-40, 1, -40}, {40, 2, 40}, water);
     test::load_meshes(*m_renderer, test::mesh_world(w));
-    RenderSettings s = test::daylight(1);
-    s.width = 48;
-    s.height = 40;
-    s.haze.enabled = false;
-    s.sky_light = 0.f;
-    s.sky = {0.5f, 0.6f, 0.8f};
+    RenderSettings s = pool_settings(1, {0.5f, 0.6f, 0.8f}, 2);
     s.sun.irradiance = glm::vec3(0.f);
-    s.max_bounces = 2;
     // Looking down at 50 degrees: every pixel sees the pool.
     const Camera cam = Camera::look_at({0.3, 6.0, 4.2}, {0.3, 1.5, 0.2}, {0, 1, 0}, 40.f);
     const glm::vec3 a = reg.info(water).albedo;
@@ -324,7 +303,7 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
     int surface_picks = 0;
     for (uint32_t y = 0; y < s.height; ++y)
         for (uint32_t x = 0; x < s.width; ++x) {
-            const glm::dvec3 d = pixel_ray(cam, s.width, s.height, x, y);
+            const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
             const double f = test::fresnel(reflectivity, -d.y);
             const glm::vec3 e = s.sky * (float(f) + a * a * float((1.0 - f) * (1.0 - f)));
             // One frame: the red channel tells the picks apart (the surface's weighed sky is
