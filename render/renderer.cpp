@@ -251,7 +251,7 @@ std::vector<world::LodCoord> Renderer::set_registry(const world::BlockRegistry& 
     if (any_changed) { // The shaders ask the materials: what is see-through now is.
         m->see_through_set.clear();
         for (const auto& [c, ids] : m->chunk_blocks)
-            if (m->see_through(ids))
+            if (!chunk_traits(ids, m->registry).opaque)
                 m->see_through_set.insert(c);
     }
     m->materials_dirty = true;
@@ -303,13 +303,14 @@ void Renderer::set_chunk(world::LodCoord c, const world::ChunkMesh& mesh, std::s
     // Faces that may touch another transparent block's carry a mark (a copy of the mesh, only
     // in chunks that have such faces).
     world::ChunkMesh marked;
-    if (m->see_through(ids))
-        m->see_through_set.insert(c);
-    else
+    const ChunkTraits traits = chunk_traits(ids, m->registry);
+    if (traits.opaque)
         m->see_through_set.erase(c);
+    else
+        m->see_through_set.insert(c);
     TouchingFaces touching = mark_touching_faces(mesh, ids, m->registry, marked);
     m->touching.set(c, touching.inside, std::move(touching.border));
-    m->accel->set_chunk(c, touching.marked ? marked : mesh, changed_slices, chunk_traits(ids, m->registry));
+    m->accel->set_chunk(c, touching.marked ? marked : mesh, changed_slices, traits);
 }
 
 void Renderer::remove_chunk(world::LodCoord c) {

@@ -106,12 +106,10 @@ struct Renderer::Impl {
     // is water never probes, nor one whose glass touches no water).
     TouchingPairs touching;
     bool frame_probes = false; // This frame traces with the probing variant (prepare_frame).
-    // Drawn chunks whose quads hold a see-through block under the current materials: while none is
-    // (and the eye is in none), frames trace the variant with no see-through code (kSeeThrough).
+    // Drawn chunks whose quads hold a see-through block under the current materials (chunk_traits
+    // not opaque): while none is (and the eye is in none), frames trace the variant with no
+    // see-through code (kSeeThrough).
     std::unordered_set<world::LodCoord, world::LodCoordHash> see_through_set;
-    bool see_through(const std::vector<world::BlockId>& ids) const {
-        return std::any_of(ids.begin(), ids.end(), [&](world::BlockId id) { return !registry.is_opaque(id); });
-    }
     // The variant prepare_frame picked (rt_pipeline.h).
     SeeThrough frame_see_through = SeeThrough::kPlain;
     VkFormat target_format = VK_FORMAT_R8G8B8A8_UNORM;

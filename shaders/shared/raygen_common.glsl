@@ -85,8 +85,8 @@ uint eye_inside() {
 
 // What a walk (trace_through) models: kWalkTint the tints alone (Flat mode: albedo, no light);
 // kWalkLight also the share each face mirrors away (vx_face_pass, rt_common.glsl); kWalkEye also
-// where the eye's path first meets a mirroring surface from air (g_surface), which shade() may
-// follow as it follows a mirror block.
+// the mirroring surface entered from air whose reflection weighs most (g_surface), which shade()
+// may follow as it follows a mirror block.
 const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u;
 
 // Of the faces of see-through blocks that mirror (reflectivity > 0) which the last kWalkEye walk
