@@ -9,13 +9,10 @@
 namespace vx::render {
 namespace {
 
+using test::full_output;
 using test::RendererTest;
 
 const world::BlockRegistry& reg() { return world::BlockRegistry::default_registry(); }
-
-// Full mode's output of linear radiance c at the default exposure (exposed, tone-mapped, then
-// sRGB encoded, as the shader does).
-glm::vec3 full_output(glm::vec3 c) { return gpu::vx_display(c, gpu::vx_exposure_scale(Exposure{}.ev100)); }
 
 int brightness(glm::u8vec4 px) { return int(px.r) + px.g + px.b; }
 

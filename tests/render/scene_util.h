@@ -14,6 +14,7 @@
 
 #include "render/renderer.h"
 #include "render_test_util.h"
+#include "shaders/shared/tonemap.h"
 #include "world/mesh/edit_mesher.h"
 #include "world/world.h"
 
@@ -97,6 +98,21 @@ inline RenderImage accumulated(Renderer& r, RenderSettings s, const Camera& cam,
     for (uint32_t i = 0; i < frames; ++i)
         img = r.render(s, cam);
     return img;
+}
+
+// Full mode's output for linear radiance c at the default exposure.
+inline glm::vec3 full_output(glm::vec3 c) { return gpu::vx_display(c, gpu::vx_exposure_scale(Exposure{}.ev100)); }
+
+// Linear radiance from Full mode's display byte (the tone curve and the sRGB encoding inverted by
+// bisection: both rise), at exposure `ev100` (the default's unless given).
+inline float linear_of(uint8_t byte, float ev100 = Exposure{}.ev100) {
+    const float scale = gpu::vx_exposure_scale(ev100);
+    float lo = 0.f, hi = 1e3f;
+    for (int i = 0; i < 60; ++i) {
+        const float mid = 0.5f * (lo + hi);
+        (gpu::vx_display(glm::vec3(mid), scale).x * 255.f < float(byte) ? lo : hi) = mid;
+    }
+    return 0.5f * (lo + hi);
 }
 
 // The share of light a see-through block of reflectivity r (its reflectance at normal incidence)

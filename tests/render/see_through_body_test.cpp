@@ -12,12 +12,13 @@
 #include <vector>
 
 #include "scene_util.h"
-#include "shaders/shared/tonemap.h"
 #include "world/block_registry.h"
 
 namespace vx::render {
 namespace {
 
+using test::full_output;
+using test::linear_of;
 using test::RendererTest;
 
 glm::vec3 albedo_of(const world::BlockRegistry& reg, world::BlockId id) { return reg.info(id).albedo; }
@@ -102,9 +103,6 @@ RenderSettings lit_by(bool sky, uint32_t samples) {
     return s;
 }
 
-// Full mode's output for linear radiance c at the default exposure.
-glm::vec3 full_output(glm::vec3 c) { return gpu::vx_display(c, gpu::vx_exposure_scale(Exposure{}.ev100)); }
-
 // The pixels of `img` more than one 8-bit step from `expected`.
 int pixels_off(const RenderImage& img, glm::vec3 expected) {
     int off = 0;
@@ -184,18 +182,6 @@ TEST_F(RendererTest, APoolsFloorIsTintedByTheWholeBlockOnTheLightsWayInAndOut) {
     EXPECT_EQ(pixels_off(img, expected), 0) << "pixels not floor x albedo^2 x sky; the centre: "
                       << test::rgb_near(img.at(16, 16), expected).message();
     EXPECT_EQ(m_renderer->validation_errors(), 0u);
-}
-
-// Linear radiance from Full mode's display byte (the tone curve and the sRGB encoding inverted by
-// bisection: both rise), at exposure `ev100` (the default's unless given).
-float linear_of(uint8_t byte, float ev100 = Exposure{}.ev100) {
-    const float scale = gpu::vx_exposure_scale(ev100);
-    float lo = 0.f, hi = 1e3f;
-    for (int i = 0; i < 60; ++i) {
-        const float mid = 0.5f * (lo + hi);
-        (gpu::vx_display(glm::vec3(mid), scale).x * 255.f < float(byte) ? lo : hi) = mid;
-    }
-    return 0.5f * (lo + hi);
 }
 
 // A closed stone room (inner air x, z in [-4, 5), y in [-4, 0)) with a lamp in its ceiling at

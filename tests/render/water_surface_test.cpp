@@ -8,18 +8,16 @@
 #include <cstdio>
 
 #include "scene_util.h"
-#include "shaders/shared/tonemap.h"
 #include "world/block_registry.h"
 
 namespace vx::render {
 namespace {
 
+using test::full_output;
+using test::linear_of;
 using test::RendererTest;
 
 constexpr float kPi = 3.14159265f;
-
-// Full mode's output for linear radiance c at the default exposure.
-glm::vec3 full_output(glm::vec3 c) { return gpu::vx_display(c, gpu::vx_exposure_scale(Exposure{}.ev100)); }
 
 // Full mode at 48x40, `samples` per pixel, no haze, no sky term (the sky colour is only what rays
 // that miss see), the sky colour `sky`, the given reflection depth.
@@ -208,18 +206,6 @@ world::BlockRegistry with_black(const char* name, float reflectivity, world::Blo
     EXPECT_TRUE(added);
     id = added ? *added : world::kAir;
     return reg;
-}
-
-// Linear radiance from Full mode's display byte (the tone curve and the sRGB encoding inverted by
-// bisection: both rise), at the default exposure.
-float linear_of(uint8_t byte) {
-    const float scale = gpu::vx_exposure_scale(Exposure{}.ev100);
-    float lo = 0.f, hi = 1e3f;
-    for (int i = 0; i < 60; ++i) {
-        const float mid = 0.5f * (lo + hi);
-        (gpu::vx_display(glm::vec3(mid), scale).x * 255.f < float(byte) ? lo : hi) = mid;
-    }
-    return 0.5f * (lo + hi);
 }
 
 // A wall of lamps (x in [-40, 40), y in [2, 6), its face at z = -18) beyond a pool on a black floor
