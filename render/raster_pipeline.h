@@ -11,8 +11,10 @@
 // See-through blocks (registry opacity false) tint what lies behind them as the ray tracer's
 // trace_through does (docs/architecture.md, Transparency): a first pass draws the opaque faces
 // with depth writes, a second the transparent faces, both sides, depth tested against the first
-// but not written, blended dst = dst x sqrt(albedo) per face. A product does not depend on the
-// order of its factors, so faces need no sorting (up to 8-bit rounding per face). The second
+// but not written, blended dst = dst x albedo^chord on the faces where the view enters a block
+// (raster.frag: the view's path through that block; the ray tracer absorbs along the whole path in
+// a body of blocks). A product does not depend on the order of its factors, so faces need no
+// sorting (up to 8-bit rounding per face). The second
 // pass skips chunks of opaque blocks only (DrawChunk::opaque) and Visibility mode. Unlike the
 // ray tracer it has no kMaxTransparentLayers limit.
 // Dynamic rendering (Vulkan 1.3). Main thread only.

@@ -181,10 +181,9 @@ struct RenderSettings {
     bool sky_access = true;
     // The block the camera's eye lies in (the caller knows the world; the renderer holds meshes).
     // Where it is see-through (the player swims), every view ray starts inside it and leaves
-    // through one face or none: the eye counts as its hidden face, sqrt(albedo), as the far face
-    // of a block against an opaque one does (shared/raygen_common.glsl g_inside), so the view is
-    // tinted by its albedo once. Ray traced only: the raster baseline shows no tint of it. Air
-    // or an opaque block: none.
+    // through one face or none: the block absorbs along the ray's path in it (Beer-Lambert,
+    // shared/rt_common.glsl vx_absorb; shared/raygen_common.glsl g_inside). Ray traced only: the
+    // raster baseline shows no tint of it. Air or an opaque block: none.
     world::BlockId eye_block = world::kAir;
     // Emissive blocks' light by shadow rays aimed at their faces (next-event estimation, one
     // face per sample chosen by resampled importance among kEmitterCandidates; render/

@@ -1,5 +1,5 @@
 #pragma once
-// Which transparent faces of a chunk the ray tracer probes for a coincident face (coincident_tint
+// Which transparent faces of a chunk the ray tracer probes for a coincident face (coincident_pass
 // in shaders/shared/raygen_common.glsl). Where two different transparent blocks touch (glass
 // against water) each has its own face on the same plane and the traversal reports only one of
 // them; a probe finds the other. It costs a ray per face crossed, so only faces that may have

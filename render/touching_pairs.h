@@ -1,7 +1,7 @@
 #pragma once
 // Whether two different transparent blocks touch anywhere among the drawn chunks: that decides
 // each frame's pipeline variant (render/rt_pipeline.h). The probe for a coincident face
-// (coincident_tint, shaders/shared/raygen_common.glsl) costs every ray ~7% on the NVIDIA driver
+// (coincident_pass, shaders/shared/raygen_common.glsl) costs every ray ~7% on the NVIDIA driver
 // where it is compiled in, even where it never runs (docs/render_report.md), so frames carry it
 // only while such a pair exists. Inside a chunk mark_touching_faces (render/touching_faces.h)
 // finds the pairs; across a border plane this compares the two chunks' border faces cell by cell,

@@ -20,24 +20,42 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ma
 layout(location = 0) in vec3 v_position;
 layout(location = 1) flat in uint v_block;
 layout(location = 2) flat in uint v_face;
+layout(location = 3) in vec3 v_local;
 layout(location = 0) out vec4 o_color;
+
+// The length in blocks of the view ray's path through the cell whose face this fragment is (the
+// ray enters the cell here): from the entry point in the cell's own [0, 1]^3 to the nearest side
+// ahead (slab method), times the cell's size.
+float chord() {
+    const vec3 dir = normalize(v_position);
+    const uint axis = v_face >> 1u;
+    vec3 p = clamp(fract(v_local), 0.0, 1.0);
+    p[axis] = (v_face & 1u) != 0u ? 1.0 : 0.0; // A +axis face is its cell's top side.
+    float t = 1e30;
+    for (uint k = 0u; k < 3u; ++k)
+        if (dir[k] != 0.0)
+            t = min(t, ((dir[k] > 0.0 ? 1.0 : 0.0) - p[k]) / dir[k]);
+    return max(t, 0.0) * pc.chunk_origin.w;
+}
 
 void main() {
     const Material mat = Materials(pc.materials).m[v_block];
     const vec3 albedo = mat.albedo_reflectivity.xyz;
     const uint mode = uint(pc.light_position.w);
     if (kTransparentPass) {
-        // The whole albedo on the face where the view ray enters the block, nothing where it
-        // leaves (raster.vert culls those back faces): one albedo per block crossed, as
-        // trace_through tints linear radiance, also where the block's far face is not meshed (it
-        // lies against an opaque block: the walk's g_inside, shared/raygen_common.glsl) and where
-        // two see-through blocks touch (the second one's face is where the ray enters it). Half
-        // the fragments of tinting both faces by sqrt(albedo). The camera inside a block sees no
-        // tint of it (the ray tracer: RenderSettings::eye_block). Full mode's target holds sRGB-encoded
-        // values, so there the encoded albedo: the sRGB curve is nearly a power law
+        // On the face where the view ray enters the block, what its body passes along the ray's
+        // path through the block (Beer-Lambert, as the ray tracer: albedo^chord, vx_absorb in
+        // shared/rt_common.glsl), nothing where it leaves (raster.vert culls those back faces): also
+        // where the block's far face is not meshed (it lies against an opaque block) and where two
+        // see-through blocks touch (the second one's face is where the ray enters it). The baseline's
+        // limit: a body of several blocks of one kind draws only its entry faces, so it absorbs along
+        // the first block's path alone (the ray tracer: the whole path). The camera inside a block
+        // sees no tint of it (the ray tracer: RenderSettings::eye_block). Full mode's target holds
+        // sRGB-encoded values, so there the encoded pass: the sRGB curve is nearly a power law
         // (encode(a x) ~ encode(a) encode(x)), but the tone curve's toe is not undone (a blend
         // cannot). Visibility draws no such pass.
-        o_color = vec4(mode == kModeFull ? vx_srgb_encode(albedo) : albedo, 1.0);
+        const vec3 pass = pow(albedo, vec3(chord()));
+        o_color = vec4(mode == kModeFull ? vx_srgb_encode(pass) : pass, 1.0);
         return;
     }
     if (mode == kModeFlat) {

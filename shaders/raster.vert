@@ -23,11 +23,13 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ma
 layout(location = 0) out vec3 v_position;    // Relative to the eye.
 layout(location = 1) flat out uint v_block;
 layout(location = 2) flat out uint v_face;   // axis * 2 + positive.
+layout(location = 3) out vec3 v_local;       // Chunk-local, in cells: where in its cell a point lies.
 
 void cull() {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
     v_position = vec3(0);
     v_face = 0u;
+    v_local = vec3(0);
 }
 
 void main() {
@@ -62,6 +64,7 @@ void main() {
     local[ua] = float(u0 + ((corner == 1u || corner == 2u) ? w : 0u));
     local[va] = float(v0 + ((corner >= 2u) ? h : 0u));
     v_position = pc.chunk_origin.xyz + cell * local;
+    v_local = local;
     v_face = axis * 2u + positive;
     gl_Position = pc.clip_from_eye * vec4(v_position, 1.0);
 }

@@ -32,8 +32,11 @@ const BlockRegistry& BlockRegistry::default_registry() {
         add("grass", {0.30f, 0.55f, 0.20f}, 0.f, glm::vec3(0.f), true);
         add("sand", {0.86f, 0.80f, 0.58f}, 0.f, glm::vec3(0.f), true);
         // See-through blocks' reflectivity is their reflectance at normal incidence (BlockInfo):
-        // water's and glass's from their indices of refraction, 1.33 and 1.5.
-        add("water", {0.15f, 0.35f, 0.65f}, 0.02f, glm::vec3(0.f), false);
+        // water's and glass's from their indices of refraction, 1.33 and 1.5. Their albedo is what
+        // one block (a metre) of them passes: water's is pure water's absorption (Pope & Fry 1997)
+        // at the sRGB primaries' dominant wavelengths, 612, 549 and 465 nm, so a pond's floor
+        // fades from sand to blue with depth.
+        add("water", {0.77f, 0.95f, 0.99f}, 0.02f, glm::vec3(0.f), false);
         add("glass", {0.85f, 0.90f, 0.95f}, 0.04f, glm::vec3(0.f), false);
         add("mirror", {0.90f, 0.90f, 0.90f}, 0.9f, glm::vec3(0.f), true);
         add("lamp", {1.0f, 0.9f, 0.7f}, 0.f, glm::vec3(4.f, 3.6f, 2.8f), true);

@@ -19,7 +19,9 @@ inline constexpr BlockId kAir = 0;
 
 struct BlockInfo {
     std::string name;
-    glm::vec3 albedo{0.8f};   // Linear RGB, 0..1.
+    // Linear RGB, 0..1. Of a see-through block (opaque false): what one block's length of it
+    // passes; d blocks of path pass albedo^d (Beer-Lambert; water 0.77, 0.95, 0.99).
+    glm::vec3 albedo{0.8f};
     // Fraction of light mirrored, 0..1. Of a see-through block (opaque false): at normal incidence,
     // more at grazing angles as the Fresnel equations say (water 0.02, glass 0.04; 0: it only tints).
     float reflectivity = 0.f;

@@ -46,7 +46,8 @@ inline glm::ivec3 face_normal(Face f) {
 // ranges (or not finite), naming the block.
 struct BlockType {
     std::string name;          // Unique, non-empty; how game code finds the id again.
-    glm::vec3 albedo{0.8f};    // 0..1 per channel.
+    glm::vec3 albedo{0.8f};    // 0..1 per channel; see-through: what one block of path through it
+                               // passes, albedo^d over d blocks (Beer-Lambert: deep water darkens).
     float reflectivity = 0.f;  // Fraction of light mirrored, 0..1; see-through: at normal incidence,
                                // more at grazing (Fresnel; water 0.02, glass 0.04; 0: tint only).
     glm::vec3 emission{0.f};   // Radiance, >= 0 per channel, finite (lamps).

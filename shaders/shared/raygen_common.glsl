@@ -38,7 +38,7 @@ vec3 primary_dir(uvec2 px) {
                      ndc.y * th * frame.camera_up.xyz);
 }
 
-// The tint of a transparent face coincident with the one just crossed, where two different
+// What a transparent face coincident with the one just crossed passes, where two different
 // transparent blocks touch (glass against water: each block has its own face there, and the
 // traversal reports only one of the two at the same distance). A short probe from `through`
 // back across the plane, culling the crossed face by its facing (a face is front-facing seen
@@ -48,42 +48,36 @@ vec3 primary_dir(uvec2 px) {
 // faces the ray came through, a block of the same kind diagonally across the plane, met within
 // rounding of a cell's edge) is not that face. `back` is the probe's reach, just past the plane.
 // Traced only from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
-// `partner`: that face's block (0: none). `mirrors`: the tint has what the face mirrors away.
-vec3 coincident_tint(vec3 through, vec3 dir, float back, uint face, uint block, bool entering, bool mirrors,
+// `partner`: that face's block (0: none). `mirrors`: less what the face mirrors away (else 1).
+float coincident_pass(vec3 through, vec3 dir, float back, uint face, uint block, bool entering, bool mirrors,
                      out uint partner) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,
                 kPrimaryPayload);
     partner = 0u;
     if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u) || payload.block == block)
-        return vec3(1.0);
+        return 1.0;
     Material m = vx_material(payload.block);
     if (!vx_transparent(m))
-        return vec3(1.0);
+        return 1.0;
     partner = payload.block;
-    return mirrors ? vx_face_pass(m, abs(dir[face >> 1u])) : sqrt(m.albedo_reflectivity.xyz);
+    return mirrors ? vx_face_pass(m, abs(dir[face >> 1u])) : 1.0;
 }
 
-// The see-through block the last trace_through() ended inside (0: none). The mesher writes no
-// face between a see-through block and an opaque one (a pond's water on its floor, glass on a
-// wall), so a ray that enters such a block and meets the opaque face behind it crosses one face
-// of the block, not two. The hit adds the other face's tint (inside_tint) for the ray's way in
-// and again for the light it sends back (shade()): one albedo per path segment in the block.
+// The see-through block the last trace_through() ended inside (0: none): a hit there lies in it
+// (the mesher writes no face between a see-through block and an opaque one: a pond's water on its
+// floor, glass on a wall), and the rays the hit sends out start in it.
 uint g_inside = 0u;
 
-// The tint of the hidden face of see-through block `block` (0: none, 1).
-vec3 inside_tint(uint block) {
-    return !kSeeThrough || block == 0u ? vec3(1.0) : sqrt(vx_material(block).albedo_reflectivity.xyz);
-}
-
 // The see-through block the eye lies in (RenderSettings::eye_block), else 0. The primary ray
-// starts in it and the eye counts as its hidden face (inside_tint).
+// starts in it.
 uint eye_inside() {
     uint b = frame.edits.y;
     return kSeeThrough && b != 0u && vx_transparent(vx_material(b)) ? b : 0u;
 }
 
-// What a walk (trace_through) models: kWalkTint the tints alone (Flat mode: albedo, no light);
+// What a walk (trace_through) models: kWalkTint what the blocks' bodies absorb alone (Flat mode:
+// albedo, no light);
 // kWalkLight also the share each face mirrors away (vx_face_pass, rt_common.glsl); kWalkEye also
 // the mirroring surface entered from air whose reflection weighs most (g_surface), which shade()
 // may follow as it follows a mirror block.
@@ -103,12 +97,13 @@ struct Surface {
 };
 Surface g_surface;
 
-// Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces
-// (each tints by sqrt(albedo): one albedo per block crossed, also where two transparent blocks
-// touch: coincident_tint; `kind` kWalkLight or kWalkEye: less what each mirrors away). payload
-// holds that hit (t < 0: a miss), with t the whole distance from `origin`; `dir` is a unit
-// vector. Returns the tint; g_inside says which block the hit lies in, `inside` the block the
-// origin lies in (0: none; the camera is taken to be in none).
+// Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
+// The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
+// transparent blocks touch, the probe says which the ray goes on in: coincident_pass); `kind`
+// kWalkLight or kWalkEye: each face passes less what it mirrors too. payload holds that hit (t <
+// 0: a miss), with t the whole distance from `origin`; `dir` is a unit vector. Returns what
+// passes; g_inside says which block the hit lies in, `inside` the block the origin lies in (0:
+// none). A miss inside a block (water to the loaded world's edge) is absorbed all the way.
 vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
@@ -117,7 +112,11 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
         g_surface.t = -1.0;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
-        if (payload.t < 0.0 || !kSeeThrough)
+        if (!kSeeThrough)
+            return tint;
+        if (g_inside != 0u) // The segment to this face (or to the end: a miss) runs in g_inside.
+            tint *= vx_absorb(vx_material(g_inside), payload.t < 0.0 ? kTMax : payload.t);
+        if (payload.t < 0.0)
             return tint;
         travelled += payload.t;
         Material m = vx_material(payload.block);
@@ -130,16 +129,14 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
         // The face is front-facing (the ray enters its block) when the ray runs against its normal.
         uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u;
         bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
-        vec3 pass = sqrt(m.albedo_reflectivity.xyz);
         if (kind != kWalkTint) {
             float mirrored = vx_fresnel(m.albedo_reflectivity.w, abs(dir[axis]));
             vec3 weight = tint * mirrored;
             if (kind == kWalkEye && entering && g_inside == 0u && mirrored > 0.0 &&
                 (g_surface.t < 0.0 || vx_luminance(weight) > vx_luminance(g_surface.weight)))
                 g_surface = Surface(payload.position, travelled, weight, face);
-            pass *= 1.0 - mirrored;
+            tint *= 1.0 - mirrored;
         }
-        tint *= pass;
         g_inside = entering ? payload.block : 0u;
         vec3 next = payload.through;
         if (kProbeTouching && (payload.face & kFaceMayTouch) != 0u) {
@@ -148,11 +145,13 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
             float slope = max(abs(dir[axis]), 1e-6);
             float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / slope;
             uint partner;
-            tint *= coincident_tint(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering, kind != kWalkTint,
+            tint *= coincident_pass(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering, kind != kWalkTint,
                                     partner);
             if (!entering) // Out of this block into its partner, if any.
                 g_inside = partner;
         }
+        // The next segment starts at `next`, just past the face: the absorption's path is short by
+        // that offset (a thousandth of a block; rt_common.glsl's kSurfaceOffset).
         origin = next;
     }
 }

@@ -163,8 +163,8 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
         if (!(cos_s > 0.0) || !(cos_l > 0.0)) // NaN too, as in area_light().
             continue;
         // The ray stops short of the face it aims at (that face would block it).
-        vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3);
-        pass *= shadow_end_inside(g_hit_inside); // A lamp behind glass: its light's way out.
+        // A lamp behind glass: the ray ends inside the glass, which absorbs on to its end.
+        vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3, g_hit_inside);
         // Over the pdfs: 1 / solid angle or d^2 / (area cos at the light); then the choice's.
         float geometry = view.valid ? cos_s * view.solid_angle : cos_s * cos_l * q.corner.w / d2;
         vec3 x = pass * q.emission.xyz * (geometry * total / chosen_target);
@@ -202,7 +202,7 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
         float r = sqrt(uv.x), phi = 2.0 * kPi * uv.y;
         vec3 d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - uv.x, 0.0)));
         if (!emitters && !occluders) {
-            vec3 x = trace_shadow(pos, d, kTMax) * frame.sky_light.xyz; // sky is on: else no rays.
+            vec3 x = trace_shadow(pos, d, kTMax, g_hit_inside) * frame.sky_light.xyz; // sky is on: else no rays.
             sum += x;
             add_sample(x);
             continue;
@@ -213,7 +213,7 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
             ++g_hits;
         }
         vec3 x = payload.t < 0.0 ? (sky ? tint * frame.sky_light.xyz : vec3(0.0))
-                                 : tint * inside_tint(g_inside) * found_emission(payload.block, payload.position, payload.face, first);
+                                 : tint * found_emission(payload.block, payload.position, payload.face, first);
         sum += x;
         add_sample(x);
     }

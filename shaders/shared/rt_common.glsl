@@ -31,12 +31,15 @@ struct HitPayload {
 };
 
 // Shadow ray result: visible is set by the shadow miss shader (nothing opaque in the way);
-// transmittance is the product of the tints of the transparent faces crossed (any-hit shader);
+// transmittance is the product of what the transparent faces crossed pass (any-hit shader: each
+// face's 1 - Fresnel); depth the optical depth their blocks' bodies add, sum over faces of
+// +sigma t where the ray leaves a block, -sigma t where it enters one (any order: vx_absorb);
 // last_t is the farthest of those faces' distances (< 0: none) and last_block its block if the
 // ray enters the block there, else 0 (air): where the ray ends, inside a block or not.
 struct ShadowPayload {
     vec3 transmittance;
     uint visible;
+    vec3 depth;
     float last_t;
     uint last_block;
 };
@@ -69,11 +72,24 @@ float vx_fresnel(float r, float cos_i) {
     return c <= 0.0 ? 1.0 : 0.5 * (rs * rs + rp * rp);
 }
 
-// What a see-through block's face passes of light crossing it at cosine cos_i: sqrt(albedo) (two
-// faces to a block: one albedo per block crossed) times the share its surface does not mirror.
-vec3 vx_face_pass(Material m, float cos_i) {
-    return sqrt(m.albedo_reflectivity.xyz) * (1.0 - vx_fresnel(m.albedo_reflectivity.w, cos_i));
+// What a see-through block's face passes of light crossing it at cosine cos_i to its normal:
+// the share its surface does not mirror. The block's body absorbs apart (vx_absorb).
+float vx_face_pass(Material m, float cos_i) { return 1.0 - vx_fresnel(m.albedo_reflectivity.w, cos_i); }
+
+// A see-through block's absorption coefficient, per block of path: its albedo is the share of
+// light one block's length of it passes (Beer-Lambert: albedo^d over d blocks; PBRT 4th ed.,
+// 11.1.1), so sigma = -ln(albedo). Clamped: an albedo of 0 stops all light within a block.
+vec3 vx_sigma(Material m) { return -log(max(m.albedo_reflectivity.xyz, vec3(1e-30))); }
+
+// The optical depth of d blocks of path through see-through block m: sigma d, 0 where sigma is 0
+// however far (no 0 x infinity); d may be a segment's length or a ray's whole reach (kTMax).
+vec3 vx_depth(Material m, float d) {
+    vec3 sigma = vx_sigma(m);
+    return mix(sigma * d, vec3(0.0), equal(sigma, vec3(0.0)));
 }
+
+// What d blocks of path through see-through block m pass.
+vec3 vx_absorb(Material m, float d) { return exp(-vx_depth(m, d)); }
 
 // Moves p[axis] kOffsetUlps ulps towards + (positive) or - along that axis: a robust secondary-ray
 // origin far from the camera, where the chunk-local kSurfaceOffset is lost in rounding

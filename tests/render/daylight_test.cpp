@@ -129,8 +129,8 @@ TEST_F(RendererTest, RedBlockIsSeenThroughGlass) {
     s.mode = ShadingMode::Flat;
     const RenderImage flat = m_renderer->render(s, cam);
     test::maybe_save(flat, "glass_flat");
-    // The centre ray crosses the glass block's two faces (sqrt(albedo) each: one glass albedo)
-    // and hits the red block: red x glass, linear (Flat mode).
+    // The centre ray crosses one block of glass straight through (one glass albedo: Beer-Lambert
+    // over one block) and hits the red block: red x glass, linear (Flat mode).
     const glm::vec3 glass = reg().info(test::block_id("glass")).albedo;
     EXPECT_TRUE(test::rgb_near(flat.at(16, 16), red_info.albedo * glass));
 

@@ -160,11 +160,13 @@ glm::vec3 albedo_of(const char* name) {
     return world::BlockRegistry::default_registry().info(test::block_id(name)).albedo;
 }
 
-// Flat mode through glass and water: the ray tracer's model, one albedo per block crossed (each
-// face sqrt(albedo)), whatever the order. Raster blends each face into an 8-bit target, so every
-// face rounds once: 2 faces (one block) within 1 of the exact product, besides the ray
-// tracer's own rounding (test::rgb_near's 1); 4 faces (two blocks) within 2. Where glass
-// touches water both tint by both coincident faces (the ray tracer's probe: coincident_tint).
+// Flat mode through glass and water: the ray tracer's model, each block albedo^(the view's path
+// through it), whatever the order; raster's entry faces the same (raster.frag chord()), pixel by
+// pixel across the blocks' slanted views. Raster blends each face into an 8-bit target, so every
+// face rounds once: one block within 1 of the exact product, besides the ray tracer's own
+// rounding (test::rgb_near's 1); two blocks within 2. Where glass touches water both tint by both
+// (the ray tracer's probe: coincident_pass). Checked: raster with the whole albedo per block
+// entered (no chord), 40 / 84 / 136 pixels differ.
 TEST_F(RendererTest, RasterFlatTintsThroughGlassAndWaterAsTheRayTracer) {
     test::load_meshes(*m_renderer, test::mesh_world(wall_behind_glass()));
     RenderSettings s;

@@ -222,6 +222,49 @@ inline glm::dvec3 primary_dir(const Camera& c, uint32_t x, uint32_t y, uint32_t 
     return glm::normalize(f + nx * th * aspect * r - ny * th * u);
 }
 
+// What d blocks of path through a see-through block of albedo a pass (Beer-Lambert: its albedo is
+// one block's transmittance; shaders/shared/rt_common.glsl, vx_absorb), channel by channel.
+inline glm::vec3 absorbed(glm::vec3 a, double d) {
+    return {float(std::pow(double(a.r), d)), float(std::pow(double(a.g), d)), float(std::pow(double(a.b), d))};
+}
+
+// The length of the segment from p to q inside the box [lo, hi) (slab method; 0: it misses).
+inline double path_in_box(glm::dvec3 p, glm::dvec3 q, glm::dvec3 lo, glm::dvec3 hi) {
+    const glm::dvec3 d = q - p;
+    double t0 = 0.0, t1 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] == 0.0) {
+            if (p[k] < lo[k] || p[k] > hi[k])
+                return 0.0;
+            continue;
+        }
+        const double a = (lo[k] - p[k]) / d[k], b = (hi[k] - p[k]) / d[k];
+        t0 = std::max(t0, std::min(a, b));
+        t1 = std::min(t1, std::max(a, b));
+    }
+    return t1 > t0 ? (t1 - t0) * glm::length(d) : 0.0;
+}
+
+// The share of an even sky's light on an upward face at `p` (its irradiance over pi L) that a box
+// of a see-through block of albedo a, [lo, hi), lets through when p lies in it: the cosine-weighted
+// mean over the hemisphere of a^(path to the box's side), by the midpoint rule in (cos^2, azimuth)
+// (n x n cells; each cell is an equal share of the cosine-weighted hemisphere).
+inline glm::vec3 sky_through_box(glm::dvec3 p, glm::dvec3 lo, glm::dvec3 hi, glm::vec3 a, int n = 400) {
+    glm::dvec3 sum(0.0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const double u = (i + 0.5) / n, phi = 2.0 * 3.14159265358979 * (j + 0.5) / n;
+            const double sin_t = std::sqrt(u), cos_t = std::sqrt(1.0 - u);
+            const glm::dvec3 d(sin_t * std::cos(phi), cos_t, sin_t * std::sin(phi));
+            double t = 1e30;
+            for (int k = 0; k < 3; ++k)
+                if (d[k] != 0.0)
+                    t = std::min(t, ((d[k] > 0.0 ? hi[k] : lo[k]) - p[k]) / d[k]);
+            sum += glm::dvec3(absorbed(a, t));
+        }
+    return glm::vec3(sum / double(n * n));
+}
+
 class RendererTest : public ::testing::Test {
 protected:
     void SetUp() override {

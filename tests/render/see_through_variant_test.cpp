@@ -67,8 +67,8 @@ TEST_F(RendererTest, WithoutSeeThroughBlocksFramesTraceTheVariantWithoutThem) {
 
 // The eye in water (RenderSettings::eye_block) where no chunk set holds a see-through block (a
 // chunk of water all through has no faces): the see-through code is on, and Flat mode shows the
-// floor tinted by the water's albedo (the eye counts as the block's hidden face). Checked: with
-// the eye's block left out of the choice, the variant without runs and the floor is untinted.
+// floor two blocks down tinted by two blocks of water, albedo^2. Checked: with the eye's block
+// left out of the choice, the variant without runs and the floor is untinted.
 TEST_F(RendererTest, AnEyeInWaterWithNoWaterFacesDrawnTracesTheSeeThroughCode) {
     world::World w;
     test::fill_box(w, {-16, 0, -16}, {16, 1, 16}, test::block_id("stone"));
@@ -83,7 +83,7 @@ TEST_F(RendererTest, AnEyeInWaterWithNoWaterFacesDrawnTracesTheSeeThroughCode) {
     EXPECT_TRUE(m_renderer->last_stats().see_through_code);
     const world::BlockRegistry& reg = world::BlockRegistry::default_registry();
     const glm::vec3 a = reg.info(test::block_id("water")).albedo;
-    EXPECT_TRUE(test::rgb_near(img.at(16, 16), reg.info(test::block_id("stone")).albedo * a));
+    EXPECT_TRUE(test::rgb_near(img.at(16, 16), reg.info(test::block_id("stone")).albedo * a * a));
     s.eye_block = test::block_id("stone"); // An opaque block: none.
     m_renderer->render(s, cam);
     EXPECT_FALSE(m_renderer->last_stats().see_through_code);

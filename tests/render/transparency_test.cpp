@@ -1,7 +1,8 @@
-// The ray tracer's see-through blocks (trace_through in shaders/shared/raygen_common.glsl): one
-// albedo per transparent block crossed, sqrt(albedo) per face, also where two different
-// transparent blocks touch. There each block has its own face on the same plane and the traversal
-// reports only one of the two; the walk's probe (coincident_tint) must find the other.
+// The ray tracer's see-through blocks (trace_through in shaders/shared/raygen_common.glsl): each
+// absorbs along the path in it (albedo^d over d blocks; straight through, one albedo per block),
+// also where two different transparent blocks touch. There each block has its own face on the same
+// plane and the traversal reports only one of the two; the walk's probe (coincident_pass) must find
+// the other, to know which block the ray goes on in.
 #include <algorithm>
 #include <memory>
 #include <ostream>
@@ -220,8 +221,9 @@ TEST_F(RendererTest, OnlyScenesWithMarkedFacesTraceTheProbingPipeline) {
 // engine's levels of detail): the glass at block (63, 9, 9) on level-0 chunk (1, 0, 0)'s +x plane,
 // x = 64, which is level-1 chunk (1, 0, 0)'s -x plane; the water there a 2-block cell, a stone
 // wall of cells a cell behind it. Face to face they touch: the probing variant, and the ray through both
-// tints by both (the probe across the coarse chunk's scaled faces). The water a cell higher: no
-// pair, no probe, and the ray tints by the glass alone.
+// tints by both (the probe across the coarse chunk's scaled faces), the water's cell by its two
+// blocks of path (albedo^2: a coarse cell absorbs as the blocks it stands for). The water a cell
+// higher: no pair, no probe, and the ray tints by the glass alone.
 TEST_F(RendererTest, GlassAgainstWaterOfACoarserLevelTintsByBoth) {
     const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
     const world::BlockId stone = test::block_id("stone");
@@ -247,7 +249,8 @@ TEST_F(RendererTest, GlassAgainstWaterOfACoarserLevelTintsByBoth) {
                               coarse_meshes.at(world::ChunkCoord(0, 0, 0)).mesh);
         const RenderImage img = m_renderer->render(s, cam);
         EXPECT_EQ(m_renderer->last_stats().touching_probes, touching);
-        const glm::vec3 expected = albedo_of(stone) * albedo_of(glass) * (touching ? albedo_of(water) : glm::vec3(1));
+        const glm::vec3 expected =
+            albedo_of(stone) * albedo_of(glass) * (touching ? test::absorbed(albedo_of(water), 2.0) : glm::vec3(1));
         EXPECT_TRUE(test::rgb_near(img.at(16, 16), expected)) << (touching ? "touching" : "apart");
     }
 }

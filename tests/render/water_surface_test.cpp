@@ -47,10 +47,10 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 // sun alone (no sky term: the sky colour is only what rays that miss see), no haze. The eye looks
 // across the pool from 0.6 above it, from steep to grazing angles and over the horizon. Each water
 // pixel is the floor through the surface plus the sky in it:
-//   stone * a^2 * (1 - F_eye) (1 - F_sun) * E cos / pi  +  F_eye * sky,
-// the floor's light crossing the surface once each way (sqrt(a) at the top face and sqrt(a) at the
-// face against the floor, not meshed: see_through_body_test.cpp), F_eye at the view ray's angle
-// and F_sun at the sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
+//   stone * a^(1 / cos_eye + 1 / cos_sun) * (1 - F_eye) (1 - F_sun) * E cos / pi  +  F_eye * sky,
+// the floor's light crossing the surface once each way and the one block of water on each way's
+// slant (Beer-Lambert: see_through_body_test.cpp), F_eye at the view ray's angle and F_sun at the
+// sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
 // block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Checked, of 1,104 water
 // pixels off: the walk's 1 - F left out, 1,020 (reflections on) and 1,104 (off); Schlick's
 // approximation in place of the equations, 906, 334 and 830; the reflected ray from the floor in
@@ -82,7 +82,7 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
         const glm::vec3 a = info.albedo;
         const double sun_cos = s.sun.direction.y; // The floor's normal is +y.
         const double sun_pass = 1.0 - test::fresnel(c.reflectivity, sun_cos);
-        const glm::vec3 floor_light = reg.info(stone).albedo * a * a * s.sun.irradiance * float(sun_cos * sun_pass) / kPi;
+        const glm::vec3 sun_light = reg.info(stone).albedo * s.sun.irradiance * float(sun_cos * sun_pass) / kPi;
         int checked = 0, off = 0, grazing = 0;
         for (uint32_t y = 0; y < s.height; ++y)
             for (uint32_t x = 0; x < s.width; ++x) {
@@ -94,6 +94,7 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
                 glm::vec3 expected = s.sky;
                 if (water_hit) {
                     const double f = test::fresnel(c.reflectivity, -d.y);
+                    const glm::vec3 floor_light = sun_light * test::absorbed(a, 1.0 / -d.y + 1.0 / sun_cos);
                     expected = floor_light * float(1.0 - f) + (c.bounces > 0 ? s.sky * float(f) : glm::vec3(0.f));
                     grazing += -d.y < 0.3 ? 1 : 0;
                 }
@@ -114,7 +115,8 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
 // the water meets two mirroring surfaces: the pane's (F_pane, 4%) and the water's behind it, at a
 // grazing angle half a mirror. The walk keeps the one that weighs more in the pixel (the water's:
 // the others' shares are dropped), so the lake mirrors the sky behind a window as without it, seen
-// through the pane: pass_pane (a_glass (1 - F_pane)^2) times the pool's pixel of the test above.
+// through the pane: pass_pane (a_glass^(1 / cos_z) (1 - F_pane)^2) times the pool's pixel of the
+// test above.
 // In front of the pane the water mirrors the pane (the sky through it) or the sky over it; above
 // the water the pane mirrors the sky behind the eye. Pixels within 0.15 blocks of an edge (the
 // pane's foot and top, in view or in the mirror, and the floor whose sunlight crosses the pane) are
@@ -138,11 +140,11 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
     const world::BlockInfo& g = reg.info(glass);
     const world::BlockInfo& wat = reg.info(water);
     const double sun_cos = s.sun.direction.y;
-    const glm::vec3 floor_light = reg.info(stone).albedo * wat.albedo * wat.albedo * s.sun.irradiance *
-                                  float(sun_cos * (1.0 - test::fresnel(wat.reflectivity, sun_cos))) / kPi;
-    auto pane_pass = [&](double cos_z) {
+    const glm::vec3 sun_light = reg.info(stone).albedo * s.sun.irradiance *
+                                float(sun_cos * (1.0 - test::fresnel(wat.reflectivity, sun_cos))) / kPi;
+    auto pane_pass = [&](double cos_z) { // One block of glass along z on the slant.
         const double f = test::fresnel(g.reflectivity, cos_z);
-        return g.albedo * float((1.0 - f) * (1.0 - f));
+        return test::absorbed(g.albedo, 1.0 / cos_z) * float((1.0 - f) * (1.0 - f));
     };
     int behind = 0, in_front = 0, sky = 0, off = 0;
     for (uint32_t y = 0; y < s.height; ++y)
@@ -170,6 +172,7 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
                     if (y_r < 8.0)
                         mirrored *= pane_pass(-d.z);
                 }
+                const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / -d.y + 1.0 / sun_cos);
                 expected = floor_light * float(1.0 - f) + mirrored;
                 if (top.z < 2.0) { // Seen through the pane; the water's reflection weighs more.
                     const glm::vec3 pass = pane_pass(-d.z);
@@ -260,10 +263,10 @@ TEST_F(RendererTest, ALampWallIsSeenInAPoolAtItsMirrorImage) {
 }
 
 // A mirror floor (albedo 0, reflectivity 1) under a pool: the path can go on along the surface's
-// reflection (weight F_eye) or the floor's (a^2 (1 - F_eye)^2 on the way down and back up through
-// the surface), and takes one of them by the luminance of its weight, divided by that chance. The
+// reflection (weight F_eye) or the floor's (a^(2 / cos_eye) (1 - F_eye)^2 on the slant down and
+// back up through the surface), and takes one of them by the luminance of its weight, divided by that chance. The
 // mean of 64 frames (each with its own choices) is then, channel by channel over the image,
-//   (F_eye + a^2 (1 - F_eye)^2) * sky,
+//   (F_eye + a^(2 / cos_eye) (1 - F_eye)^2) * sky,
 // within 2% (measured: 0.1%); a single frame's pixels are one or the other. Checked: without the
 // division by the chance, the mean is 0.43 / 0.71 / 0.81 of that (red / green / blue).
 TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
@@ -291,7 +294,7 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
         for (uint32_t x = 0; x < s.width; ++x) {
             const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
             const double f = test::fresnel(reflectivity, -d.y);
-            const glm::vec3 e = s.sky * (float(f) + a * a * float((1.0 - f) * (1.0 - f)));
+            const glm::vec3 e = s.sky * (float(f) + test::absorbed(a, 2.0 / -d.y) * float((1.0 - f) * (1.0 - f)));
             // One frame: the red channel tells the picks apart (the surface's weighed sky is
             // redder than the floor's deep-water tint).
             surface_picks += int(one.at(x, y).r) > test::unorm8(full_output(e).r) + 8 ? 1 : 0;
