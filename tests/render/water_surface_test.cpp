@@ -51,10 +51,12 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 // the floor's light crossing the surface once each way and the one block of water on each way's
 // slant (Beer-Lambert: see_through_body_test.cpp), F_eye at the view ray's angle and F_sun at the
 // sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
-// block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Checked, of 1,104 water
-// pixels off: the walk's 1 - F left out, 1,020 (reflections on) and 1,104 (off); Schlick's
-// approximation in place of the equations, 906, 334 and 830; the reflected ray from the floor in
-// place of the surface, all.
+// block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Each way's path in the water
+// absorbs: the shadow rays' through their any-hit's optical depth (shadow.rahit). Checked, of
+// 1,104 water pixels off (reflectivity 0.02 with and without reflections, 0.3): the walk's 1 - F
+// left out, all three times; Schlick's approximation in place of the equations, 464, 407 and 750;
+// the any-hit's optical depth left out, 968 (the first); the reflected ray from the floor in place
+// of the surface, all (stop 52).
 TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
     const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
