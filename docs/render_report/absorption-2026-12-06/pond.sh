@@ -1,0 +1,16 @@
+#!/bin/bash
+# Lavapipe (this VM), stop 53: the deep pond of make_deep_pond.py (there) before and after
+# Beer-Lambert absorption: 480x270, 16 spp, 2 reflections, 8 frames accumulated. Binaries $1
+# (old) and $2 (new); writes deep_old.png and deep_new.png into $3 (default: this folder).
+# Usage (repository root): bash docs/render_report/absorption-2026-12-06/pond.sh OLD_VX NEW_VX [DIR]
+set -eu
+HERE=docs/render_report/absorption-2026-12-06
+OUTDIR=${3:-$HERE}
+D=$(mktemp -d)
+python3 $HERE/make_deep_pond.py "$D/deep.raw"
+for bin in old new; do
+  vx=$1; [ $bin = new ] && vx=$2
+  "$vx" render --raw "$D/deep.raw" --dims 96,24,96 --type u8 --eye 48,30,8 --target 48,12,42 --size 480x270 \
+    --spp 16 --reflections 2 --accumulate 8 --out "$OUTDIR/deep_$bin.png" | tail -1
+done
+rm -r "$D"
