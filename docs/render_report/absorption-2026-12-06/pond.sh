@@ -5,12 +5,8 @@
 # Usage (repository root): bash docs/render_report/absorption-2026-12-06/pond.sh OLD_VX NEW_VX [DIR]
 set -eu
 HERE=docs/render_report/absorption-2026-12-06
-OUTDIR=${3:-$HERE}
 D=$(mktemp -d)
 python3 $HERE/make_deep_pond.py "$D/deep.raw"
-for bin in old new; do
-  vx=$1; [ $bin = new ] && vx=$2
-  "$vx" render --raw "$D/deep.raw" --dims 96,24,96 --type u8 --eye 48,30,8 --target 48,12,42 --size 480x270 \
-    --spp 16 --reflections 2 --accumulate 8 --out "$OUTDIR/deep_$bin.png" | tail -1
-done
+bash docs/render_report/scripts/render_old_new.sh "$1" "$2" "${3:-$HERE}/deep" --raw "$D/deep.raw" --dims 96,24,96 \
+  --type u8 --eye 48,30,8 --target 48,12,42 --size 480x270 --spp 16 --reflections 2 --accumulate 8
 rm -r "$D"

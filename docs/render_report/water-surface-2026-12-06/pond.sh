@@ -5,11 +5,8 @@
 # Usage (repository root): bash docs/render_report/water-surface-2026-12-06/pond.sh OLD_VX NEW_VX [DIR]
 set -eu
 HERE=docs/render_report/water-surface-2026-12-06
-OUTDIR=${3:-$HERE}
 D=$(mktemp -d)
 python3 $HERE/make_pond.py "$D/pond.raw"
-for bin in old new; do
-  vx=$1; [ $bin = new ] && vx=$2
-  "$vx" render --raw "$D/pond.raw" --dims 96,24,96 --type u8 --eye 48,10,6 --target 48,4.5,50 --size 480x270 \
-    --spp 16 --reflections 2 --accumulate 8 --out "$OUTDIR/pond_$bin.png" | tail -1
-done
+bash docs/render_report/scripts/render_old_new.sh "$1" "$2" "${3:-$HERE}/pond" --raw "$D/pond.raw" --dims 96,24,96 \
+  --type u8 --eye 48,10,6 --target 48,4.5,50 --size 480x270 --spp 16 --reflections 2 --accumulate 8
+rm -r "$D"
