@@ -24,18 +24,40 @@ layout(location = 3) in vec3 v_local;
 layout(location = 0) out vec4 o_color;
 
 // The length in blocks of the view ray's path through the cell whose face this fragment is (the
-// ray enters the cell here): from the entry point in the cell's own [0, 1]^3 to the nearest side
-// ahead (slab method), times the cell's size.
-float chord() {
-    const vec3 dir = normalize(v_position);
+// ray enters the cell here, from air, bent by Snell's law as the ray tracer's walk bends it: the
+// block's index from its normal-incidence reflectance r, as vx_index in shared/rt_common.glsl):
+// from the entry point in the cell's own [0, 1]^3 to the side where it leaves (slab method),
+// reflected inside past the critical angle as the walk reflects it (at most 4 times), times the
+// cell's size.
+float chord(float r) {
     const uint axis = v_face >> 1u;
+    vec3 n = vec3(0.0);
+    n[axis] = (v_face & 1u) != 0u ? 1.0 : -1.0; // Outward: the ray runs against it.
+    const float s = sqrt(clamp(r, 0.0, 0.999)), eta = (1.0 - s) / (1.0 + s); // 1 / n.
+    vec3 dir = normalize(refract(normalize(v_position), n, eta));
     vec3 p = clamp(fract(v_local), 0.0, 1.0);
     p[axis] = (v_face & 1u) != 0u ? 1.0 : 0.0; // A +axis face is its cell's top side.
-    float t = 1e30;
-    for (uint k = 0u; k < 3u; ++k)
-        if (dir[k] != 0.0)
-            t = min(t, ((dir[k] > 0.0 ? 1.0 : 0.0) - p[k]) / dir[k]);
-    return max(t, 0.0) * pc.chunk_origin.w;
+    float length = 0.0;
+    for (int bounce = 0; bounce < 5; ++bounce) {
+        float t = 1e30;
+        uint side = 0u;
+        for (uint k = 0u; k < 3u; ++k)
+            if (dir[k] != 0.0) {
+                const float tk = ((dir[k] > 0.0 ? 1.0 : 0.0) - p[k]) / dir[k];
+                if (tk < t) {
+                    t = tk;
+                    side = k;
+                }
+            }
+        t = max(t, 0.0);
+        length += t;
+        p += dir * t;
+        // Out into air where the side's cosine is above the critical one: 1 - (n sin)^2 > 0.
+        if (1.0 - (1.0 - dir[side] * dir[side]) / (eta * eta) > 0.0)
+            break;
+        dir[side] = -dir[side];
+    }
+    return length * pc.chunk_origin.w;
 }
 
 void main() {
@@ -44,7 +66,7 @@ void main() {
     const uint mode = uint(pc.light_position.w);
     if (kTransparentPass) {
         // On the face where the view ray enters the block, what its body passes along the ray's
-        // path through the block (Beer-Lambert, as the ray tracer: albedo^chord, vx_absorb in
+        // bent path through the block (Beer-Lambert, as the ray tracer: albedo^chord, vx_absorb in
         // shared/rt_common.glsl), nothing where it leaves (raster.vert culls those back faces): also
         // where the block's far face is not meshed (it lies against an opaque block) and where two
         // see-through blocks touch (the second one's face is where the ray enters it). The baseline's
@@ -54,7 +76,7 @@ void main() {
         // sRGB-encoded values, so there the encoded pass: the sRGB curve is nearly a power law
         // (encode(a x) ~ encode(a) encode(x)), but the tone curve's toe is not undone (a blend
         // cannot). Visibility draws no such pass.
-        const vec3 pass = pow(albedo, vec3(chord()));
+        const vec3 pass = pow(albedo, vec3(chord(mat.albedo_reflectivity.w)));
         o_color = vec4(mode == kModeFull ? vx_srgb_encode(pass) : pass, 1.0);
         return;
     }

@@ -38,30 +38,24 @@ vec3 primary_dir(uvec2 px) {
                      ndc.y * th * frame.camera_up.xyz);
 }
 
-// What a transparent face coincident with the one just crossed passes, where two different
+// The transparent block whose face is coincident with the one just crossed, where two different
 // transparent blocks touch (glass against water: each block has its own face there, and the
-// traversal reports only one of the two at the same distance). A short probe from `through`
-// back across the plane, culling the crossed face by its facing (a face is front-facing seen
-// from its air side: render/tlas_instances.cpp), finds the other: the face of the same plane
-// with the opposite normal (`face` ^ 1) and another block than the crossed face's `block` (the
-// mesher writes no face between two blocks of one kind). Anything else it meets (near an edge, the
-// faces the ray came through, a block of the same kind diagonally across the plane, met within
-// rounding of a cell's edge) is not that face. `back` is the probe's reach, just past the plane.
-// Traced only from faces that may have such a partner (kFaceMayTouch: render/touching_faces.h).
-// `partner`: that face's block (0: none). `mirrors`: less what the face mirrors away (else 1).
-float coincident_pass(vec3 through, vec3 dir, float back, uint face, uint block, bool entering, bool mirrors,
-                     out uint partner) {
+// traversal reports only one of the two at the same distance); 0: none. A short probe from
+// `through` back across the plane, culling the crossed face by its facing (a face is
+// front-facing seen from its air side: render/tlas_instances.cpp), finds the other: the face of
+// the same plane with the opposite normal (`face` ^ 1) and another block than the crossed face's
+// `block` (the mesher writes no face between two blocks of one kind). Anything else it meets
+// (near an edge, the faces the ray came through, a block of the same kind diagonally across the
+// plane, met within rounding of a cell's edge) is not that face. `back` is the probe's reach, just
+// past the plane. Traced only from faces that may have such a partner (kFaceMayTouch:
+// render/touching_faces.h). Overwrites payload.
+uint coincident_partner(vec3 through, vec3 dir, float back, uint face, uint block, bool entering) {
     uint cull = entering ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsCullFrontFacingTrianglesEXT;
     traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | cull, 0xFFu, 0u, 1u, kPrimaryMiss, through, 0.0, -dir, back,
                 kPrimaryPayload);
-    partner = 0u;
     if (payload.t < 0.0 || (payload.face & ~kFaceMayTouch) != (face ^ 1u) || payload.block == block)
-        return 1.0;
-    Material m = vx_material(payload.block);
-    if (!vx_transparent(m))
-        return 1.0;
-    partner = payload.block;
-    return mirrors ? vx_face_pass(m, abs(dir[face >> 1u])) : 1.0;
+        return 0u;
+    return vx_transparent(vx_material(payload.block)) ? payload.block : 0u;
 }
 
 // The see-through block the last trace_through() ended inside (0: none): a hit there lies in it
@@ -76,35 +70,45 @@ uint eye_inside() {
     return kSeeThrough && b != 0u && vx_transparent(vx_material(b)) ? b : 0u;
 }
 
-// What a walk (trace_through) models: kWalkTint what the blocks' bodies absorb alone (Flat mode:
-// albedo, no light);
-// kWalkLight also the share each face mirrors away (vx_face_pass, rt_common.glsl); kWalkEye also
-// the mirroring surface entered from air whose reflection weighs most (g_surface), which shade()
-// may follow as it follows a mirror block.
+// What a walk (trace_through) models: kWalkTint what the blocks' bodies absorb alone, the view
+// bent at each face (Flat mode: albedo, no light); kWalkLight also the share each face mirrors
+// away, every face on its own against air, the ray straight (sky rays, as shadow rays:
+// shadow.rahit); kWalkEye the view bent at each face (Snell's law, between the two media's
+// indices, vx_index), the share the interface mirrors and the radiance's n^2 law, and the
+// mirroring face whose reflection weighs most (g_surface), which shade() may follow as it
+// follows a mirror block.
 const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u;
 
-// Of the faces of see-through blocks that mirror (reflectivity > 0) which the last kWalkEye walk
-// entered from air, the one whose reflection weighs most in the pixel (a pane's 4% against the
-// lake behind it at a grazing angle: the lake's; the others' shares are dropped): `t` its distance
-// from the walk's origin (< 0: none), `position` on its air side (the reflected ray's origin, as
-// closest_hit.rchit makes it), `face` as HitPayload's, `weight` the tint up to it times the share
-// it mirrors (vx_fresnel).
+// Of the faces of see-through blocks that mirror which the last kWalkEye walk met, the one whose
+// reflection weighs most in the pixel (a pane's 4% against the lake behind it at a grazing angle:
+// the lake's; the others' shares are dropped). `t` its distance from the walk's origin along the
+// path (< 0: none), `position` on the side the ray came from (the reflected ray's origin),
+// `face` as HitPayload's, `weight` the walk's tint up to it times the share it mirrors,
+// `dir` the reflected direction and `inside` the see-through block the reflected ray starts in
+// (0: air).
 struct Surface {
     vec3 position;
     float t;
     vec3 weight;
     uint face;
+    vec3 dir;
+    uint inside;
 };
 Surface g_surface;
 
+// The index of refraction of see-through block b, air's (1) for 0.
+float index_of(uint b) { return b == 0u ? 1.0 : vx_index(vx_material(b).albedo_reflectivity.w); }
+
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
-// transparent blocks touch, the probe says which the ray goes on in: coincident_pass); `kind`
-// kWalkLight or kWalkEye: each face passes less what it mirrors too. payload holds that hit (t <
-// 0: a miss), with t the whole distance from `origin`; `dir` is a unit vector. Returns what
-// passes; g_inside says which block the hit lies in, `inside` the block the origin lies in (0:
-// none). A miss inside a block (water to the loaded world's edge) is absorbed all the way.
-vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
+// transparent blocks touch, the probe says which the ray goes on in: coincident_partner); `kind`
+// says what else the faces do (kWalkTint, kWalkLight, kWalkEye above). payload holds that hit (t <
+// 0: a miss), with t the whole path's length from `origin`; `dir` is a unit vector, on return the
+// path's last direction. Past the critical angle (total internal reflection) the walk goes on
+// along the reflection, all of the light's way.
+// Returns what passes; g_inside says which block the hit lies in, `inside` the block the origin
+// lies in (0: none). A miss inside a block (water to the loaded world's edge) is absorbed all the way.
+vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
     g_inside = inside;
@@ -127,31 +131,54 @@ vec3 trace_through(vec3 origin, vec3 dir, uint inside, uint kind) {
             return tint;
         }
         // The face is front-facing (the ray enters its block) when the ray runs against its normal.
-        uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u;
+        uint face = payload.face & ~kFaceMayTouch, axis = face >> 1u, block = payload.block;
         bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
-        if (kind != kWalkTint) {
-            float mirrored = vx_fresnel(m.albedo_reflectivity.w, abs(dir[axis]));
-            vec3 weight = tint * mirrored;
-            if (kind == kWalkEye && entering && g_inside == 0u && mirrored > 0.0 &&
-                (g_surface.t < 0.0 || vx_luminance(weight) > vx_luminance(g_surface.weight)))
-                g_surface = Surface(payload.position, travelled, weight, face);
-            tint *= 1.0 - mirrored;
-        }
-        g_inside = entering ? payload.block : 0u;
-        vec3 next = payload.through;
+        vec3 at = payload.position, next = payload.through, hit = origin + dir * payload.t;
+        uint from = g_inside, to = entering ? block : 0u; // The media on either side.
+        float partner_pass = 1.0;
         if (kProbeTouching && (payload.face & kFaceMayTouch) != 0u) {
             // From `next` back to the plane is next's offset along the axis over the ray's slope;
             // twice that (at least a little) reaches just past the plane and nothing much beyond.
-            float slope = max(abs(dir[axis]), 1e-6);
-            float to_plane = abs(next[axis] - (origin[axis] + dir[axis] * payload.t)) / slope;
-            uint partner;
-            tint *= coincident_pass(next, dir, 2.0 * to_plane + 1e-4, face, payload.block, entering, kind != kWalkTint,
-                                    partner);
-            if (!entering) // Out of this block into its partner, if any.
-                g_inside = partner;
+            float to_plane = abs(next[axis] - hit[axis]) / max(abs(dir[axis]), 1e-6);
+            uint partner = coincident_partner(next, dir, 2.0 * to_plane + 1e-4, face, block, entering);
+            if (partner != 0u) {
+                if (entering) // Out of the partner into this block, else out of this one into it.
+                    from = partner;
+                else
+                    to = partner;
+                partner_pass = vx_face_pass(vx_material(partner), abs(dir[axis]));
+            }
         }
-        // The next segment starts at `next`, just past the face: the absorption's path is short by
-        // that offset (a thousandth of a block; rt_common.glsl's kSurfaceOffset).
+        g_inside = to;
         origin = next;
+        float cos_i = abs(dir[axis]);
+        if (kind == kWalkLight) { // Straight on; each face against air, as a shadow ray's.
+            tint *= vx_face_pass(m, cos_i) * partner_pass;
+            continue;
+        }
+        float eta = index_of(to) / index_of(from); // n_t / n_i.
+        vec3 n = face_normal(face);
+        n = dot(dir, n) < 0.0 ? n : -n; // Against the ray.
+        // The near side (the reflected ray's origin): the face's air side where the ray enters its
+        // block (closest_hit.rchit's position), else just inside the block.
+        vec3 near_side = entering ? at : vx_push_off_ulps(hit + n * kSurfaceOffset, axis, n[axis] > 0.0);
+        vec3 bent = eta == 1.0 ? dir : refract(dir, n, 1.0 / eta);
+        if (bent == vec3(0.0)) { // Total internal reflection: all of it mirrors, and the walk follows.
+            dir = reflect(dir, n);
+            origin = near_side;
+            g_inside = from;
+            continue;
+        }
+        float mirrored = kind == kWalkEye ? vx_fresnel_eta(cos_i, eta) : 0.0;
+        if (mirrored > 0.0) {
+            vec3 weight = tint * mirrored;
+            if (g_surface.t < 0.0 || vx_luminance(weight) > vx_luminance(g_surface.weight))
+                g_surface = Surface(near_side, travelled, weight, face, reflect(dir, n), from);
+        }
+        // Radiance across an interface scales by (n_near / n_far)^2 (PBRT 4th ed., 9.5.2): the
+        // far side's light is squeezed into a wider or narrower cone of directions.
+        if (kind == kWalkEye)
+            tint *= (1.0 - mirrored) / (eta * eta);
+        dir = normalize(bent);
     }
 }

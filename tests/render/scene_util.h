@@ -132,6 +132,19 @@ inline double fresnel(double r, double cos_i) {
     return 0.5 * (perp * perp + par * par);
 }
 
+// The index of refraction of a see-through block of normal-incidence reflectance r (as fresnel()).
+inline double index_of(double r) {
+    const double s = std::sqrt(std::max(r, 0.0));
+    return (1.0 + s) / (1.0 - s);
+}
+
+// The cosine of the refracted ray's angle to the normal where a ray from air meets a block of
+// reflectivity r at cosine cos_i (Snell's law: sin_t = sin_i / n).
+inline double refracted_cos(double r, double cos_i) {
+    const double sin_t = std::sqrt(std::max(1.0 - cos_i * cos_i, 0.0)) / index_of(r);
+    return std::sqrt(1.0 - sin_t * sin_t);
+}
+
 // Full mode, 32x32, `samples` per pixel (shadow rays of each light, sky rays), no reflections,
 // no area light: sun, sky and emitters only.
 inline RenderSettings daylight(uint32_t samples = 8) {

@@ -47,10 +47,12 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 // sun alone (no sky term: the sky colour is only what rays that miss see), no haze. The eye looks
 // across the pool from 0.6 above it, from steep to grazing angles and over the horizon. Each water
 // pixel is the floor through the surface plus the sky in it:
-//   stone * a^(1 / cos_eye + 1 / cos_sun) * (1 - F_eye) (1 - F_sun) * E cos / pi  +  F_eye * sky,
+//   stone * a^(1 / cos_t + 1 / cos_sun) * (1 - F_eye) / n^2 * (1 - F_sun) * E cos / pi  +  F_eye * sky,
 // the floor's light crossing the surface once each way and the one block of water on each way's
-// slant (Beer-Lambert: see_through_body_test.cpp), F_eye at the view ray's angle and F_sun at the
-// sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
+// slant (Beer-Lambert: see_through_body_test.cpp), the view bent into the water (cos_t: Snell's
+// law, n the water's index) and its radiance spread by n^2 on its way out, the sun's rays straight
+// (light is not bent: a flat surface passes the same irradiance), F_eye at the view ray's angle
+// and F_sun at the sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
 // block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Each way's path in the water
 // absorbs: the shadow rays' through their any-hit's optical depth (shadow.rahit). Checked, of
 // 1,104 water pixels off (reflectivity 0.02 with and without reflections, 0.3): the walk's 1 - F
@@ -95,9 +97,10 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
                     continue; // Near the pool's sides.
                 glm::vec3 expected = s.sky;
                 if (water_hit) {
-                    const double f = test::fresnel(c.reflectivity, -d.y);
-                    const glm::vec3 floor_light = sun_light * test::absorbed(a, 1.0 / -d.y + 1.0 / sun_cos);
-                    expected = floor_light * float(1.0 - f) + (c.bounces > 0 ? s.sky * float(f) : glm::vec3(0.f));
+                    const double f = test::fresnel(c.reflectivity, -d.y), n = test::index_of(c.reflectivity);
+                    const double cos_t = test::refracted_cos(c.reflectivity, -d.y);
+                    const glm::vec3 floor_light = sun_light * test::absorbed(a, 1.0 / cos_t + 1.0 / sun_cos);
+                    expected = floor_light * float((1.0 - f) / (n * n)) + (c.bounces > 0 ? s.sky * float(f) : glm::vec3(0.f));
                     grazing += -d.y < 0.3 ? 1 : 0;
                 }
                 ++checked;
@@ -117,8 +120,9 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
 // the water meets two mirroring surfaces: the pane's (F_pane, 4%) and the water's behind it, at a
 // grazing angle half a mirror. The walk keeps the one that weighs more in the pixel (the water's:
 // the others' shares are dropped), so the lake mirrors the sky behind a window as without it, seen
-// through the pane: pass_pane (a_glass^(1 / cos_z) (1 - F_pane)^2) times the pool's pixel of the
-// test above.
+// through the pane: pass_pane (a_glass^(1 / cos_t) (1 - F_pane)^2, cos_t the bent view's in the
+// glass; the n^2 of the way in and out cancel) times the pool's pixel of the test above, the view
+// leaving the pane parallel to itself and shifted (Snell's law at both faces).
 // In front of the pane the water mirrors the pane (the sky through it) or the sky over it; above
 // the water the pane mirrors the sky behind the eye. Pixels within 0.15 blocks of an edge (the
 // pane's foot and top, in view or in the mirror, and the floor whose sunlight crosses the pane) are
@@ -144,19 +148,37 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
     const double sun_cos = s.sun.direction.y;
     const glm::vec3 sun_light = reg.info(stone).albedo * s.sun.irradiance *
                                 float(sun_cos * (1.0 - test::fresnel(wat.reflectivity, sun_cos))) / kPi;
-    auto pane_pass = [&](double cos_z) { // One block of glass along z on the slant.
+    auto pane_pass = [&](double cos_z) { // One block of glass along z on the bent slant.
         const double f = test::fresnel(g.reflectivity, cos_z);
-        return test::absorbed(g.albedo, 1.0 / cos_z) * float((1.0 - f) * (1.0 - f));
+        return test::absorbed(g.albedo, 1.0 / test::refracted_cos(g.reflectivity, cos_z)) * float((1.0 - f) * (1.0 - f));
+    };
+    // Where the view from `eye` along d goes on past the pane (z = 3 to 2), if it crosses it below
+    // y = 8: bent into the glass (its tangential part over n), out again parallel to d.
+    auto past_pane = [&](glm::dvec3 eye, glm::dvec3 d) {
+        if (d.z >= 0.0 || eye.z <= 3.0)
+            return eye;
+        const glm::dvec3 in = eye + d * ((eye.z - 3.0) / -d.z);
+        if (in.y >= 8.0)
+            return eye;
+        const double n = test::index_of(g.reflectivity), cos_t = test::refracted_cos(g.reflectivity, -d.z);
+        const glm::dvec3 dt(d.x / n, d.y / n, -cos_t);
+        return in + dt / cos_t; // On z = 2: the ray goes on from here along d.
     };
     int behind = 0, in_front = 0, sky = 0, off = 0;
     for (uint32_t y = 0; y < s.height; ++y)
         for (uint32_t x = 0; x < s.width; ++x) {
-            const glm::dvec3 eye = eye_of(cam), d = test::primary_dir(cam, x, y, s.width, s.height);
+            const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height), eye0 = eye_of(cam);
+            const glm::dvec3 eye = past_pane(eye0, d); // Where the view goes on along d.
             const double f_pane = test::fresnel(g.reflectivity, -d.z);
-            const double pane_y = eye.y + d.y * (eye.z - 3.0) / -d.z; // Where the view meets z = 3.
+            const double pane_y = eye0.y + d.y * (eye0.z - 3.0) / -d.z; // Where the view meets z = 3.
             glm::vec3 expected;
             glm::dvec3 top, bottom;
-            if (!down_to(eye, d, 2.0, top) || !down_to(eye, d, 1.0, bottom)) { // The sky, through the pane or over it.
+            const bool water_hit = down_to(eye, d, 2.0, top);
+            if (water_hit) { // The floor under the bent view: its tangential part over n, a block down.
+                const double n = test::index_of(wat.reflectivity), cos_t = test::refracted_cos(wat.reflectivity, -d.y);
+                bottom = top + glm::dvec3(d.x / n, -cos_t, d.z / n) / cos_t;
+            }
+            if (!water_hit) { // The sky, through the pane or over it.
                 if (std::abs(pane_y - 8.0) < 0.15)
                     continue;
                 expected = pane_y < 8.0 ? s.sky * (pane_pass(-d.z) + glm::vec3(float(f_pane))) : s.sky;
@@ -174,8 +196,9 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
                     if (y_r < 8.0)
                         mirrored *= pane_pass(-d.z);
                 }
-                const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / -d.y + 1.0 / sun_cos);
-                expected = floor_light * float(1.0 - f) + mirrored;
+                const double n = test::index_of(wat.reflectivity), cos_t = test::refracted_cos(wat.reflectivity, -d.y);
+                const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / cos_t + 1.0 / sun_cos);
+                expected = floor_light * float((1.0 - f) / (n * n)) + mirrored;
                 if (top.z < 2.0) { // Seen through the pane; the water's reflection weighs more.
                     const glm::vec3 pass = pane_pass(-d.z);
                     if (0.2126 * pass.r + 0.7152 * pass.g + 0.0722 * pass.b < f_pane / f)
@@ -265,10 +288,11 @@ TEST_F(RendererTest, ALampWallIsSeenInAPoolAtItsMirrorImage) {
 }
 
 // A mirror floor (albedo 0, reflectivity 1) under a pool: the path can go on along the surface's
-// reflection (weight F_eye) or the floor's (a^(2 / cos_eye) (1 - F_eye)^2 on the slant down and
-// back up through the surface), and takes one of them by the luminance of its weight, divided by that chance. The
+// reflection (weight F_eye) or the floor's (a^(2 / cos_t) (1 - F_eye)^2 on the bent slant down
+// and back up through the surface, which bends it back: the n^2 of the way in and the way out
+// cancel, and Fresnel's share from inside at the bent angle equals that from outside), and takes one of them by the luminance of its weight, divided by that chance. The
 // mean of 64 frames (each with its own choices) is then, channel by channel over the image,
-//   (F_eye + a^(2 / cos_eye) (1 - F_eye)^2) * sky,
+//   (F_eye + a^(2 / cos_t) (1 - F_eye)^2) * sky,
 // within 2% (measured: 0.1%); a single frame's pixels are one or the other. Checked: without the
 // division by the chance, the mean is 0.43 / 0.71 / 0.81 of that (red / green / blue).
 TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
@@ -296,10 +320,19 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
         for (uint32_t x = 0; x < s.width; ++x) {
             const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
             const double f = test::fresnel(reflectivity, -d.y);
-            const glm::vec3 e = s.sky * (float(f) + test::absorbed(a, 2.0 / -d.y) * float((1.0 - f) * (1.0 - f)));
-            // One frame: the red channel tells the picks apart (the surface's weighed sky is
-            // redder than the floor's deep-water tint).
-            surface_picks += int(one.at(x, y).r) > test::unorm8(full_output(e).r) + 8 ? 1 : 0;
+            const double cos_t = test::refracted_cos(reflectivity, -d.y);
+            const double n = test::index_of(reflectivity);
+            const glm::vec3 down = test::absorbed(a, 1.0 / cos_t) * float((1.0 - f) / (n * n)); // To the floor.
+            const glm::vec3 e = s.sky * (float(f) + test::absorbed(a, 2.0 / cos_t) * float((1.0 - f) * (1.0 - f)));
+            // One frame: each pixel is one branch's weight over its chance, the share of the
+            // surface's weight F and the floor's (down: its way in) by luminance (go_on); blue
+            // tells them apart (the floor's branch brings the sky up through the water, brighter).
+            const float ls = float(f), lo = gpu::vx_luminance(down);
+            const int b_surface = test::unorm8(full_output(s.sky * (ls + lo)).b);
+            const int b_floor = test::unorm8(
+                full_output(s.sky * test::absorbed(a, 2.0 / cos_t) * float((1.0 - f) * (1.0 - f)) * ((ls + lo) / lo)).b);
+            const int b = int(one.at(x, y).b);
+            surface_picks += std::abs(b - b_surface) < std::abs(b - b_floor) ? 1 : 0;
             for (int c = 0; c < 3; ++c) {
                 got[c] += linear_of(mean.at(x, y)[c]);
                 want[c] += e[c];
@@ -312,6 +345,68 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
     const int pixels = int(s.width * s.height);
     EXPECT_GT(surface_picks, pixels / 50) << "no pixel took the surface's reflection";
     EXPECT_LT(surface_picks, pixels / 2) << "the surface's reflection was taken too often";
+    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+}
+
+// The eye under water looks up (RenderSettings::eye_block): a pool 4 deep (water y in [1, 5)) on a
+// floor of black glowing blocks (albedo 0, emission `glow`), the eye 2 under the surface, the sky
+// black but for its colour, nothing else lit. Within Snell's window (the view's angle to the
+// vertical under the critical angle, asin(1 / n) = 48.8 degrees for water) the view leaves through
+// the surface, bent, and sees the sky n^2 (1 - F) brighter than itself (radiance's n^2 law), plus
+// the surface's share F mirroring the floor; past it the surface mirrors all (total internal
+// reflection) and the walk goes on down to the floor:
+//   inside:  n^2 (1 - F) a^(2 / cos) sky  +  F a^(6 / cos) glow,      outside:  a^(6 / cos) glow,
+// cos the view's to the vertical, F Fresnel's share from inside (the angle form at the bent angle
+// in air: the same by reciprocity). Pixels within 1.5 degrees of the critical angle are left out.
+// Checked: the walk ended at total internal reflection (no light: black) puts all 1,204 pixels past
+// it off; without the n^2 law the 1,088 inside are off; with the view unbent (the sky at every
+// angle), all 2,292.
+TEST_F(RendererTest, AnEyeUnderWaterSeesTheSkyInSnellsWindowAndTheFloorMirroredBeyond) {
+    world::BlockId glow = 0;
+    world::BlockRegistry reg = with_black("glow", 0.f, glow);
+    world::BlockInfo info = reg.info(glow);
+    info.emission = {1.f, 0.5f, 0.25f};
+    ASSERT_TRUE(reg.set(glow, info));
+    m_renderer->set_registry(reg);
+    const world::BlockId water = test::block_id("water");
+    world::World w;
+    w.registry() = reg;
+    test::fill_box(w, {-40, 0, -40}, {40, 1, 40}, glow);
+    test::fill_box(w, {-40, 1, -40}, {40, 5, 40}, water);
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s = pool_settings(1, {0.5f, 0.6f, 0.8f}, 1);
+    s.width = s.height = 48;
+    s.sun.irradiance = glm::vec3(0.f);
+    s.eye_block = water;
+    const Camera cam = Camera::look_at({0.3, 3.0, 0.2}, {0.3, 9.0, 0.2}, {0, 0, -1}, 120.f);
+    const RenderImage img = m_renderer->render(s, cam);
+    test::maybe_save(img, "snells_window");
+    const world::BlockInfo& wat = reg.info(water);
+    const double n = test::index_of(wat.reflectivity), critical = std::asin(1.0 / n);
+    int inside = 0, beyond = 0, off = 0;
+    for (uint32_t y = 0; y < s.height; ++y)
+        for (uint32_t x = 0; x < s.width; ++x) {
+            const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
+            const double angle = std::acos(d.y), sin_air = n * std::sin(angle);
+            if (std::abs(angle - critical) < glm::radians(1.5))
+                continue;
+            const glm::vec3 floor = test::absorbed(wat.albedo, 6.0 / d.y) * info.emission;
+            glm::vec3 expected = floor;
+            if (sin_air < 1.0) {
+                const double f = test::fresnel(wat.reflectivity, std::sqrt(1.0 - sin_air * sin_air));
+                expected = s.sky * test::absorbed(wat.albedo, 2.0 / d.y) * float(n * n * (1.0 - f)) + floor * float(f);
+                ++inside;
+            } else {
+                ++beyond;
+            }
+            const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected));
+            if (!near && off++ < 4)
+                ADD_FAILURE() << "pixel (" << x << ", " << y << "), " << glm::degrees(angle) << " degrees: " << near.message();
+        }
+    EXPECT_EQ(off, 0) << "of " << inside << " in the window and " << beyond << " beyond";
+    std::printf("%d pixels in Snell's window, %d beyond\n", inside, beyond);
+    EXPECT_GT(inside, 500);
+    EXPECT_GT(beyond, 500);
     EXPECT_EQ(m_renderer->validation_errors(), 0u);
 }
 
