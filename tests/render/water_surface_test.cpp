@@ -56,9 +56,10 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 // block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Each way's path in the water
 // absorbs: the shadow rays' through their any-hit's optical depth (shadow.rahit). Checked, of
 // 1,104 water pixels off (reflectivity 0.02 with and without reflections, 0.3): the walk's 1 - F
-// left out, all three times; Schlick's approximation in place of the equations, 464, 407 and 750;
-// the any-hit's optical depth left out, 968 (the first); the reflected ray from the floor in place
-// of the surface, all (stop 52).
+// left out, 1,095, 1,104 and 949; Schlick's approximation in place of the equations, 608, 386 and 868;
+// the any-hit's optical depth left out, 968 (the first); the view unbent, 1,104, 1,104 and 70;
+// without the n^2 law, all three times; the reflected ray from the floor in place of the surface,
+// all (stop 52).
 TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
     const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
@@ -126,7 +127,7 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
 // In front of the pane the water mirrors the pane (the sky through it) or the sky over it; above
 // the water the pane mirrors the sky behind the eye. Pixels within 0.15 blocks of an edge (the
 // pane's foot and top, in view or in the mirror, and the floor whose sunlight crosses the pane) are
-// left out. Checked: with the first surface kept in place of the heavier, all 96 pixels of water
+// left out. Checked: with the first surface kept in place of the heavier, all 192 pixels of water
 // behind the pane are off.
 TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
@@ -358,9 +359,10 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
 //   inside:  n^2 (1 - F) a^(2 / cos) sky  +  F a^(6 / cos) glow,      outside:  a^(6 / cos) glow,
 // cos the view's to the vertical, F Fresnel's share from inside (the angle form at the bent angle
 // in air: the same by reciprocity). Pixels within 1.5 degrees of the critical angle are left out.
-// Checked: the walk ended at total internal reflection (no light: black) puts all 1,204 pixels past
-// it off; without the n^2 law the 1,088 inside are off; with the view unbent (the sky at every
-// angle), all 2,292.
+// Checked: the walk ended at total internal reflection (no light: black) puts all 1,432 pixels past
+// it off; without the n^2 law, all 716 inside. (The bend itself does not show here: the sky is
+// even, and a straight view past the critical angle mirrors all the same, by Fresnel's 1 there;
+// the pool tests above check it.)
 TEST_F(RendererTest, AnEyeUnderWaterSeesTheSkyInSnellsWindowAndTheFloorMirroredBeyond) {
     world::BlockId glow = 0;
     world::BlockRegistry reg = with_black("glow", 0.f, glow);
