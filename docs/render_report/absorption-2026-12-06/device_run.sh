@@ -1,7 +1,7 @@
 #!/bin/bash
-# Device call (2026-12-06, stop 53): what Beer-Lambert absorption costs on the NVIDIA driver.
-# Binaries: vx_52 (5c250db, stop 52: one albedo per block crossed) and vx (a3828cb: absorption
-# along the path). GPU trace medians of frames 2..N, three alternated rounds, at 1920x1080 on: the
+# Device call (2026-12-06, stop 53): what Beer-Lambert absorption and the bent view cost on the
+# NVIDIA driver. Binaries: vx_52 (5c250db, stop 52: one albedo per block crossed, straight views)
+# and vx (f6d1a0e: absorption along the path, the eye's walk bent by Snell's law). GPU trace medians of frames 2..N, three alternated rounds, at 1920x1080 on: the
 # deep pond (make_deep_pond.py), the scattered stone and water volume of raster-transparency-
 # 2026-12-05 (D, V: device_env.sh) and the terrain of the main job (seed 1). Then the render test
 # programs with the validation layer (VX_TEST_DEVICE=gpu), this stop's code.
