@@ -23,7 +23,8 @@ struct BlockInfo {
     // passes; d blocks of path pass albedo^d (Beer-Lambert; water 0.77, 0.95, 0.99).
     glm::vec3 albedo{0.8f};
     // Fraction of light mirrored, 0..1. Of a see-through block (opaque false): at normal incidence,
-    // more at grazing angles as the Fresnel equations say (water 0.02, glass 0.04; 0: it only tints).
+    // more at grazing angles as the Fresnel equations say (water 0.02, glass 0.04; 0: it only
+    // tints), and the index of refraction the view bends by, ((n - 1) / (n + 1))^2 = reflectivity.
     float reflectivity = 0.f;
     glm::vec3 emission{0.f};  // Linear RGB radiance, >= 0.
     bool opaque = true;       // Opaque blocks hide the faces of blocks behind them.

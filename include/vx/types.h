@@ -49,7 +49,8 @@ struct BlockType {
     glm::vec3 albedo{0.8f};    // 0..1 per channel; see-through: what one block of path through it
                                // passes, albedo^d over d blocks (Beer-Lambert: deep water darkens).
     float reflectivity = 0.f;  // Fraction of light mirrored, 0..1; see-through: at normal incidence,
-                               // more at grazing (Fresnel; water 0.02, glass 0.04; 0: tint only).
+                               // more at grazing (Fresnel; water 0.02, glass 0.04; 0: tint only),
+                               // and it sets the index the view bends by (1.33, 1.5; 0: none).
     glm::vec3 emission{0.f};   // Radiance, >= 0 per channel, finite (lamps).
     bool opaque = true;        // False: faces behind it stay meshed (water, glass).
 };
