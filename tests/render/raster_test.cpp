@@ -186,7 +186,9 @@ TEST_F(RendererTest, RasterFlatTintsThroughGlassAndWaterAsTheRayTracer) {
         int tolerance;
         const char* name;
         bool whole_image;
-    } views[] = {{0.5, glass, 2, "glass", true}, {3.5, water, 2, "water", true}, {6.5, glass * water, 3, "glass+water", false}};
+    } views[] = {{0.5, glass, 2, "glass", true},
+                 {3.5, water, 2, "water", true},
+                 {6.5, glass * water, 3, "glass+water", false}};
     for (const auto& v : views) {
         const Camera cam = looking_at_block(v.x);
         s.pipeline = PipelineKind::Raster;

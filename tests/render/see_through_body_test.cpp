@@ -104,8 +104,8 @@ RenderSettings lit_by(bool sky, uint32_t samples) {
 }
 
 // Flat mode: the wall seen through a row of see-through blocks touching it is tinted by every
-// block's albedo once (one block straight through), as with an air gap: along each axis, from both sides (the walk tells
-// entering from leaving by the face's normal), a row of one block or two touching each other
+// block's albedo once (one block straight through), as with an air gap: along each axis, from
+// both sides (the walk tells entering from leaving by the face's normal), a row of one block or two touching each other
 // (glass into water: the probe's partner is the block the ray ends inside), the wall and the row
 // in neighbouring chunks or in one; ray traced and raster (its transparent pass tints where the
 // view enters a block, raster.frag). Checked: with the hidden face ignored (the stop-51 model),
@@ -176,7 +176,8 @@ glm::vec3 pool_floor_pixel(const Camera& cam, const RenderSettings& s, uint32_t 
     const glm::dvec3 floor = eye + d * ((1.0 - eye.y) / d.y);
     const glm::vec3 stone = world::BlockRegistry::default_registry().info(test::block_id("stone")).albedo;
     const glm::vec3 sky = test::sky_through_box(floor, lo, hi, TintRegistry::kSmoke, 100);
-    return full_output(stone * s.sky * sky * test::absorbed(TintRegistry::kSmoke, (std::min(eye_y, hi.y) - 1.0) / -d.y));
+    const double view_path = (std::min(eye_y, hi.y) - 1.0) / -d.y;
+    return full_output(stone * s.sky * sky * test::absorbed(TintRegistry::kSmoke, view_path));
 }
 
 // Full mode under an open sky (the sun below the horizon, no area light): a pool of the smoked
@@ -384,7 +385,8 @@ TEST_F(RendererTest, ALampInAPoolLightsItsFloorThroughThePoolAlone) {
                     continue;
                 for (int c = 0; c < 3; ++c) {
                     open[c] += linear_of(img[0].at(x, y)[c]);
-                    covered[c] += linear_of(img[c == 0 ? 1 : 2].at(x, y)[c], s.exposure.ev100 - kPoolBrighter[c == 0 ? 0 : 1]);
+                    const int k = c == 0 ? 0 : 1; // Red's render, or green's and blue's.
+                    covered[c] += linear_of(img[1 + k].at(x, y)[c], s.exposure.ev100 - kPoolBrighter[k]);
                 }
             }
         const glm::dvec3 ratio = covered / open;

@@ -101,7 +101,8 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
                     const double f = test::fresnel(c.reflectivity, -d.y), n = test::index_of(c.reflectivity);
                     const double cos_t = test::refracted_cos(c.reflectivity, -d.y);
                     const glm::vec3 floor_light = sun_light * test::absorbed(a, 1.0 / cos_t + 1.0 / sun_cos);
-                    expected = floor_light * float((1.0 - f) / (n * n)) + (c.bounces > 0 ? s.sky * float(f) : glm::vec3(0.f));
+                    const glm::vec3 mirrored = c.bounces > 0 ? s.sky * float(f) : glm::vec3(0.f);
+                    expected = floor_light * float((1.0 - f) / (n * n)) + mirrored;
                     grazing += -d.y < 0.3 ? 1 : 0;
                 }
                 ++checked;
@@ -151,7 +152,8 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
                                 float(sun_cos * (1.0 - test::fresnel(wat.reflectivity, sun_cos))) / kPi;
     auto pane_pass = [&](double cos_z) { // One block of glass along z on the bent slant.
         const double f = test::fresnel(g.reflectivity, cos_z);
-        return test::absorbed(g.albedo, 1.0 / test::refracted_cos(g.reflectivity, cos_z)) * float((1.0 - f) * (1.0 - f));
+        const double path = 1.0 / test::refracted_cos(g.reflectivity, cos_z);
+        return test::absorbed(g.albedo, path) * float((1.0 - f) * (1.0 - f));
     };
     // Where the view from `eye` along d goes on past the pane (z = 3 to 2), if it crosses it below
     // y = 8: bent into the glass (its tangential part over n), out again parallel to d.
@@ -176,7 +178,8 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
             glm::dvec3 top, bottom;
             const bool water_hit = down_to(eye, d, 2.0, top);
             if (water_hit) { // The floor under the bent view: its tangential part over n, a block down.
-                const double n = test::index_of(wat.reflectivity), cos_t = test::refracted_cos(wat.reflectivity, -d.y);
+                const double n = test::index_of(wat.reflectivity);
+                const double cos_t = test::refracted_cos(wat.reflectivity, -d.y);
                 bottom = top + glm::dvec3(d.x / n, -cos_t, d.z / n) / cos_t;
             }
             if (!water_hit) { // The sky, through the pane or over it.
@@ -197,7 +200,8 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
                     if (y_r < 8.0)
                         mirrored *= pane_pass(-d.z);
                 }
-                const double n = test::index_of(wat.reflectivity), cos_t = test::refracted_cos(wat.reflectivity, -d.y);
+                const double n = test::index_of(wat.reflectivity);
+                const double cos_t = test::refracted_cos(wat.reflectivity, -d.y);
                 const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / cos_t + 1.0 / sun_cos);
                 expected = floor_light * float((1.0 - f) / (n * n)) + mirrored;
                 if (top.z < 2.0) { // Seen through the pane; the water's reflection weighs more.
@@ -291,8 +295,8 @@ TEST_F(RendererTest, ALampWallIsSeenInAPoolAtItsMirrorImage) {
 // A mirror floor (albedo 0, reflectivity 1) under a pool: the path can go on along the surface's
 // reflection (weight F_eye) or the floor's (a^(2 / cos_t) (1 - F_eye)^2 on the bent slant down
 // and back up through the surface, which bends it back: the n^2 of the way in and the way out
-// cancel, and Fresnel's share from inside at the bent angle equals that from outside), and takes one of them by the luminance of its weight, divided by that chance. The
-// mean of 64 frames (each with its own choices) is then, channel by channel over the image,
+// cancel, and Fresnel's share from inside at the bent angle equals that from outside), and takes
+// one of them by the luminance of its weight, divided by that chance. The mean of 64 frames (each with its own choices) is then, channel by channel over the image,
 //   (F_eye + a^(2 / cos_t) (1 - F_eye)^2) * sky,
 // within 2% (measured: 0.1%); a single frame's pixels are one or the other. Checked: without the
 // division by the chance, the mean is 0.43 / 0.71 / 0.81 of that (red / green / blue).
@@ -324,14 +328,15 @@ TEST_F(RendererTest, AMirrorUnderWaterAndTheSurfaceShareThePathByWeight) {
             const double cos_t = test::refracted_cos(reflectivity, -d.y);
             const double n = test::index_of(reflectivity);
             const glm::vec3 down = test::absorbed(a, 1.0 / cos_t) * float((1.0 - f) / (n * n)); // To the floor.
-            const glm::vec3 e = s.sky * (float(f) + test::absorbed(a, 2.0 / cos_t) * float((1.0 - f) * (1.0 - f)));
+            const glm::vec3 mirrored = s.sky * float(f);
+            const glm::vec3 floor = s.sky * test::absorbed(a, 2.0 / cos_t) * float((1.0 - f) * (1.0 - f));
+            const glm::vec3 e = mirrored + floor;
             // One frame: each pixel is one branch's weight over its chance, the share of the
             // surface's weight F and the floor's (down: its way in) by luminance (go_on); blue
             // tells them apart (the floor's branch brings the sky up through the water, brighter).
             const float ls = float(f), lo = gpu::vx_luminance(down);
-            const int b_surface = test::unorm8(full_output(s.sky * (ls + lo)).b);
-            const int b_floor = test::unorm8(
-                full_output(s.sky * test::absorbed(a, 2.0 / cos_t) * float((1.0 - f) * (1.0 - f)) * ((ls + lo) / lo)).b);
+            const int b_surface = test::unorm8(full_output(mirrored * ((ls + lo) / ls)).b);
+            const int b_floor = test::unorm8(full_output(floor * ((ls + lo) / lo)).b);
             const int b = int(one.at(x, y).b);
             surface_picks += std::abs(b - b_surface) < std::abs(b - b_floor) ? 1 : 0;
             for (int c = 0; c < 3; ++c) {
@@ -396,14 +401,16 @@ TEST_F(RendererTest, AnEyeUnderWaterSeesTheSkyInSnellsWindowAndTheFloorMirroredB
             glm::vec3 expected = floor;
             if (sin_air < 1.0) {
                 const double f = test::fresnel(wat.reflectivity, std::sqrt(1.0 - sin_air * sin_air));
-                expected = s.sky * test::absorbed(wat.albedo, 2.0 / d.y) * float(n * n * (1.0 - f)) + floor * float(f);
+                const glm::vec3 up = s.sky * test::absorbed(wat.albedo, 2.0 / d.y) * float(n * n * (1.0 - f));
+                expected = up + floor * float(f);
                 ++inside;
             } else {
                 ++beyond;
             }
             const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected));
             if (!near && off++ < 4)
-                ADD_FAILURE() << "pixel (" << x << ", " << y << "), " << glm::degrees(angle) << " degrees: " << near.message();
+                ADD_FAILURE() << "pixel (" << x << ", " << y << "), " << glm::degrees(angle)
+                              << " degrees: " << near.message();
         }
     EXPECT_EQ(off, 0) << "of " << inside << " in the window and " << beyond << " beyond";
     std::printf("%d pixels in Snell's window, %d beyond\n", inside, beyond);

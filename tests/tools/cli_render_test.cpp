@@ -141,7 +141,8 @@ TEST(CliRender, AnEyeUnderWaterSeesTheFloorAsFromAbove) {
         centre[under] = png.at(16, 12);
     }
     // The centre pixels' rays, from each eye towards (5, 0, 5): their paths in the water.
-    const double above_path = 6.0 * std::sqrt(10.5 * 10.5 + 0.5) / 10.5, under_path = 3.5 * std::sqrt(4.5 * 4.5 + 0.5) / 4.5;
+    const double above_path = 6.0 * std::sqrt(10.5 * 10.5 + 0.5) / 10.5;
+    const double under_path = 3.5 * std::sqrt(4.5 * 4.5 + 0.5) / 4.5;
     const glm::vec3 water = vx::world::BlockRegistry::default_registry().info(5).albedo;
     for (int c = 0; c < 3; ++c) {
         const int above = int(centre[0] >> (8 * c) & 255), under = int(centre[1] >> (8 * c) & 255);
