@@ -12,6 +12,7 @@
 #include "shared/raster_types.h"
 #include "shared/render_types.h"
 #include "shared/tonemap.h"
+#include "shared/optics.glsl"
 
 layout(constant_id = 0) const bool kTransparentPass = false;
 layout(push_constant) uniform Push { RasterPush pc; };
@@ -25,7 +26,7 @@ layout(location = 0) out vec4 o_color;
 
 // The length in blocks of the view ray's path through the cell whose face this fragment is (the
 // ray enters the cell here, from air, bent by Snell's law as the ray tracer's walk bends it: the
-// block's index from its normal-incidence reflectance r, as vx_index in shared/rt_common.glsl):
+// block's index from its normal-incidence reflectance r, vx_index in shared/optics.glsl):
 // from the entry point in the cell's own [0, 1]^3 to the side where it leaves (slab method),
 // reflected inside past the critical angle as the walk reflects it (at most 4 times), times the
 // cell's size.
@@ -33,7 +34,7 @@ float chord(float r) {
     const uint axis = v_face >> 1u;
     vec3 n = vec3(0.0);
     n[axis] = (v_face & 1u) != 0u ? 1.0 : -1.0; // Outward: the ray runs against it.
-    const float s = sqrt(clamp(r, 0.0, 0.999)), eta = (1.0 - s) / (1.0 + s); // 1 / n.
+    const float eta = 1.0 / vx_index(r);
     vec3 dir = normalize(refract(normalize(v_position), n, eta));
     vec3 p = clamp(fract(v_local), 0.0, 1.0);
     p[axis] = (v_face & 1u) != 0u ? 1.0 : 0.0; // A +axis face is its cell's top side.
