@@ -115,6 +115,13 @@ inline float linear_of(uint8_t byte, float ev100 = Exposure{}.ev100) {
     return 0.5f * (lo + hi);
 }
 
+// The index of refraction of a see-through block of normal-incidence reflectance r: the n with
+// ((n - 1) / (n + 1))^2 = r.
+inline double index_of(double r) {
+    const double s = std::sqrt(std::max(r, 0.0));
+    return (1.0 + s) / (1.0 - s);
+}
+
 // The share of light a see-through block of reflectivity r (its reflectance at normal incidence)
 // mirrors at angle acos(cos_i) to the face's normal: Fresnel's equations in their angle form
 // (Born & Wolf 1.5.3; the shaders use the cosine form, shaders/shared/rt_common.glsl), with Snell's
@@ -122,7 +129,7 @@ inline float linear_of(uint8_t byte, float ev100 = Exposure{}.ev100) {
 inline double fresnel(double r, double cos_i) {
     if (r <= 0.0)
         return 0.0;
-    const double s = std::sqrt(r), n = (1.0 + s) / (1.0 - s);
+    const double n = index_of(r);
     if (cos_i >= 1.0)
         return r;
     if (cos_i <= 0.0)
@@ -130,12 +137,6 @@ inline double fresnel(double r, double cos_i) {
     const double ti = std::acos(cos_i), tt = std::asin(std::sin(ti) / n);
     const double perp = std::sin(ti - tt) / std::sin(ti + tt), par = std::tan(ti - tt) / std::tan(ti + tt);
     return 0.5 * (perp * perp + par * par);
-}
-
-// The index of refraction of a see-through block of normal-incidence reflectance r (as fresnel()).
-inline double index_of(double r) {
-    const double s = std::sqrt(std::max(r, 0.0));
-    return (1.0 + s) / (1.0 - s);
 }
 
 // The cosine of the refracted ray's angle to the normal where a ray from air meets a block of
