@@ -30,8 +30,8 @@ static_assert(offsetof(FrameParams, materials) == kParamsTail + 8);
 static_assert(sizeof(ExposureMeter) == 8);
 static_assert(sizeof(TracePush) == 16 && offsetof(TracePush, first_hit) == 8 && offsetof(TracePush, last_hit) == 12);
 static_assert(sizeof(PathState) == 80); // raygen.rgen's path_list_address() counts on it.
-static_assert(sizeof(Material) == 48);
-static_assert(offsetof(Material, emission) == 16 && offsetof(Material, optics) == 32);
+static_assert(sizeof(Material) == 32);
+static_assert(offsetof(Material, emission) == 16);
 static_assert(kChunkCells == float(world::kChunkSize), "kChunkCells: cells per chunk edge");
 
 } // namespace vx::render::gpu

@@ -8,7 +8,6 @@
 #include "render/commands.h"
 #include "render/emitter_quads.h"
 #include "render/gbuffer.h"
-#include "render/material_table.h"
 #include "render/renderer_impl.h"
 #include "shaders/shared/tonemap.h"
 #include "world/lod/lod_coords.h"
@@ -67,7 +66,13 @@ bool Renderer::Impl::update_materials() {
     const uint32_t count = std::max<uint32_t>(uint32_t(registry.size()), max_block_id + 1);
     if (!materials_dirty && count <= material_count)
         return true;
-    const std::vector<gpu::Material> table = material_table(registry, count);
+    std::vector<gpu::Material> table(count);
+    for (uint32_t id = 0; id < count; ++id) {
+        const world::BlockInfo b = registry.info(world::BlockId(id));
+        table[id].albedo_reflectivity = glm::vec4(b.albedo, b.reflectivity);
+        // w: transparent (the shaders' vx_transparent); air never reaches a shader.
+        table[id].emission = glm::vec4(b.emission, registry.is_opaque(world::BlockId(id)) ? 0.f : 1.f);
+    }
     Buffer table_buffer = upload_buffer(*ctx, table.data(), table.size() * sizeof(gpu::Material),
                                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "materials");
     if (!table_buffer.valid())

@@ -26,15 +26,15 @@ layout(location = 0) out vec4 o_color;
 
 // The length in blocks of the view ray's path through the cell whose face this fragment is (the
 // ray enters the cell here, from air, bent by Snell's law as the ray tracer's walk bends it: the
-// block's index of refraction `index`, Material::optics.w from render/material_table.h):
+// block's index from its normal-incidence reflectance r, vx_index in shared/optics.glsl):
 // from the entry point in the cell's own [0, 1]^3 to the side where it leaves (slab method),
 // reflected inside past the critical angle as the walk reflects it (at most 4 times), times the
 // cell's size.
-float chord(float index) {
+float chord(float r) {
     const uint axis = v_face >> 1u;
     vec3 n = vec3(0.0);
     n[axis] = (v_face & 1u) != 0u ? 1.0 : -1.0; // Outward: the ray runs against it.
-    const float eta = 1.0 / index;
+    const float eta = 1.0 / vx_index(r);
     vec3 dir = normalize(refract(normalize(v_position), n, eta));
     vec3 p = clamp(fract(v_local), 0.0, 1.0);
     p[axis] = (v_face & 1u) != 0u ? 1.0 : 0.0; // A +axis face is its cell's top side.
@@ -77,7 +77,7 @@ void main() {
         // sRGB-encoded values, so there the encoded pass: the sRGB curve is nearly a power law
         // (encode(a x) ~ encode(a) encode(x)), but the tone curve's toe is not undone (a blend
         // cannot). Visibility draws no such pass.
-        const vec3 pass = pow(albedo, vec3(chord(mat.optics.w)));
+        const vec3 pass = pow(albedo, vec3(chord(mat.albedo_reflectivity.w)));
         o_color = vec4(mode == kModeFull ? vx_srgb_encode(pass) : pass, 1.0);
         return;
     }

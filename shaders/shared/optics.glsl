@@ -1,8 +1,15 @@
 // Optics of a see-through block's surface, shared by the ray tracer (rt_common.glsl) and the raster
-// baseline (raster.frag): the Fresnel equations. A block's index of refraction comes with its
-// material (Material::optics.w, render/material_table.h's refractive_index). GLSL only.
+// baseline (raster.frag): its index of refraction and the Fresnel equations. GLSL only.
 #ifndef VX_OPTICS_GLSL
 #define VX_OPTICS_GLSL
+
+// The index of refraction of a see-through block of normal-incidence reflectance r against air,
+// ((n - 1) / (n + 1))^2 = r (water 0.02: n 1.33; glass 0.04: n 1.5); r = 0: 1, a block that only
+// tints and bends nothing.
+float vx_index(float r) {
+    float s = sqrt(clamp(r, 0.0, 0.999));
+    return (1.0 + s) / (1.0 - s);
+}
 
 // The share of light mirrored where a ray meets, at cosine cos_i to the normal, an interface into a
 // medium of relative index eta = n_t / n_i: the Fresnel equations for unpolarised light (Pharr et

@@ -74,7 +74,7 @@ uint eye_inside() {
 // bent at each face (Flat mode: albedo, no light); kWalkLight also the share each face mirrors
 // away, every face on its own against air, the ray straight (sky rays, as shadow rays:
 // shadow.rahit); kWalkEye the view bent at each face (Snell's law, between the two media's
-// indices, Material::optics.w), the share the interface mirrors and the radiance's n^2 law, and the
+// indices, vx_index), the share the interface mirrors and the radiance's n^2 law, and the
 // mirroring face whose reflection weighs most (g_surface), which shade() may follow as it
 // follows a mirror block.
 const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u;
@@ -97,7 +97,7 @@ struct Surface {
 Surface g_surface;
 
 // The index of refraction of see-through block b, air's (1) for 0.
-float index_of(uint b) { return b == 0u ? 1.0 : vx_material(b).optics.w; }
+float index_of(uint b) { return b == 0u ? 1.0 : vx_index(vx_material(b).albedo_reflectivity.w); }
 
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two

@@ -183,8 +183,6 @@ VX_CONST float kMeterScale = 64.0f;
 struct Material {
     vec4 albedo_reflectivity; // xyz: linear albedo; w: mirror reflectivity 0..1.
     vec4 emission;            // xyz: emitted radiance; w: 1 = transparent (registry opacity false).
-    vec4 optics; // Of a see-through block (render/material_table.h): xyz absorption coefficient per
-                 // block of path, -ln(albedo); w index of refraction. Worked out once, not per ray.
 };
 
 // A quad slot of a chunk BLAS is world::Quad verbatim (uint packed, uint16 block, uint16 spare),

@@ -51,28 +51,25 @@ Material vx_material(uint block) {
     Material m;
     m.albedo_reflectivity = vec4(1.0, 0.0, 1.0, 0.0);
     m.emission = vec4(0.0);
-    m.optics = vec4(0.0, 0.0, 0.0, 1.0);
     return m;
 }
 
 bool vx_transparent(Material m) { return m.emission.w > 0.5; }
 
 // The share of light a see-through block's face mirrors, met from air at cosine cos_i to its
-// normal: Fresnel at the block's index of refraction (Material::optics.w, worked out from its
-// reflectivity, the reflectance at normal incidence, when the table is uploaded); index 1 (a block
-// that only tints) mirrors nothing. Shadow and sky rays are not bent (render: light crosses a face
+// normal, with the block's reflectivity r as its reflectance at normal incidence (vx_index); r = 0
+// is a block that only tints. Shadow and sky rays are not bent (render: light crosses a face
 // straight), so for them a face lit from inside passes what it would from outside at that angle.
-float vx_fresnel(Material m, float cos_i) { return vx_fresnel_eta(cos_i, m.optics.w); }
+float vx_fresnel(float r, float cos_i) { return r <= 0.0 ? 0.0 : vx_fresnel_eta(cos_i, vx_index(r)); }
 
 // What a see-through block's face passes of light crossing it at cosine cos_i to its normal:
 // the share its surface does not mirror. The block's body absorbs apart (vx_absorb).
-float vx_face_pass(Material m, float cos_i) { return 1.0 - vx_fresnel(m, cos_i); }
+float vx_face_pass(Material m, float cos_i) { return 1.0 - vx_fresnel(m.albedo_reflectivity.w, cos_i); }
 
 // A see-through block's absorption coefficient, per block of path: its albedo is the share of
 // light one block's length of it passes (Beer-Lambert: albedo^d over d blocks; PBRT 4th ed.,
-// 11.1.1), so sigma = -ln(albedo), worked out when the table is uploaded (Material::optics.xyz,
-// render/material_table.h: capped where the albedo is 0, so a block of it stops all light).
-vec3 vx_sigma(Material m) { return m.optics.xyz; }
+// 11.1.1), so sigma = -ln(albedo). Clamped: an albedo of 0 stops all light within a block.
+vec3 vx_sigma(Material m) { return -log(max(m.albedo_reflectivity.xyz, vec3(1e-30))); }
 
 // The optical depth of d blocks of path through see-through block m: sigma d, 0 where sigma is 0
 // however far (no 0 x infinity); d may be a segment's length or a ray's whole reach (kTMax).
