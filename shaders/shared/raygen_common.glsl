@@ -76,8 +76,10 @@ uint eye_inside() {
 // shadow.rahit); kWalkEye the view bent at each face (Snell's law, between the two media's
 // indices, vx_index), the share the interface mirrors and the radiance's n^2 law, and the
 // mirroring face whose reflection weighs most (g_surface), which shade() may follow as it
-// follows a mirror block.
-const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u;
+// follows a mirror block; kWalkSun the sun's light traced back from a point inside a see-through
+// block (sun_light in raygen.rgen): bent at each face as the view is, less the share each
+// interface mirrors; the n^2 law is left to the caller (its irradiance's cosine ratio).
+const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u, kWalkSun = 3u;
 
 // Of the faces of see-through blocks that mirror which the last kWalkEye walk met, the one whose
 // reflection weighs most in the pixel (a pane's 4% against the lake behind it at a grazing angle:
@@ -102,7 +104,7 @@ float index_of(uint b) { return b == 0u ? 1.0 : vx_index(vx_material(b).albedo_r
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
 // transparent blocks touch, the probe says which the ray goes on in: coincident_partner); `kind`
-// says what else the faces do (kWalkTint, kWalkLight, kWalkEye above). payload holds that hit (t <
+// says what else the faces do (kWalkTint, kWalkLight, kWalkEye, kWalkSun above). payload holds that hit (t <
 // 0: a miss), with t the whole path's length from `origin`; `dir` is a unit vector, on return the
 // path's last direction. Past the critical angle (total internal reflection) the walk goes on
 // along the reflection, all of the light's way.
@@ -169,8 +171,8 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
             g_inside = from;
             continue;
         }
-        float mirrored = kind == kWalkEye ? vx_fresnel_eta(cos_i, eta) : 0.0;
-        if (mirrored > 0.0) {
+        float mirrored = kind == kWalkTint ? 0.0 : vx_fresnel_eta(cos_i, eta);
+        if (kind == kWalkEye && mirrored > 0.0) {
             vec3 weight = tint * mirrored;
             if (g_surface.t < 0.0 || vx_luminance(weight) > vx_luminance(g_surface.weight))
                 g_surface = Surface(near_side, travelled, weight, face, reflect(dir, n), from);
@@ -179,6 +181,8 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         // far side's light is squeezed into a wider or narrower cone of directions.
         if (kind == kWalkEye)
             tint *= (1.0 - mirrored) / (eta * eta);
+        else if (kind == kWalkSun)
+            tint *= 1.0 - mirrored;
         dir = normalize(bent);
     }
 }

@@ -48,12 +48,12 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 // sun alone (no sky term: the sky colour is only what rays that miss see), no haze. The eye looks
 // across the pool from 0.6 above it, from steep to grazing angles and over the horizon. Each water
 // pixel is the floor through the surface plus the sky in it:
-//   stone * a^(1 / cos_t + 1 / cos_sun) * (1 - F_eye) / n^2 * (1 - F_sun) * E cos / pi  +  F_eye * sky,
+//   stone * a^(1 / cos_t + 1 / cos_sun_t) * (1 - F_eye) / n^2 * (1 - F_sun) * E cos_sun / pi  +  F_eye * sky,
 // the floor's light crossing the surface once each way and the one block of water on each way's
 // slant (Beer-Lambert: see_through_body_test.cpp), the view bent into the water (cos_t: Snell's
-// law, n the water's index) and its radiance spread by n^2 on its way out, the sun's rays straight
-// (light is not bent: a flat surface passes the same irradiance), F_eye at the view ray's angle
-// and F_sun at the sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
+// law, n the water's index) and its radiance spread by n^2 on its way out, the sun's light bent
+// too (cos_sun_t; a flat surface passes the floor E cos_sun all the same: sun_under_water_test.cpp),
+// F_eye at the view ray's angle and F_sun at the sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
 // block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Each way's path in the water
 // absorbs: the shadow rays' through their any-hit's optical depth (shadow.rahit). Checked, of
 // 1,104 water pixels off (reflectivity 0.02 with and without reflections, 0.3): the walk's 1 - F
@@ -101,7 +101,8 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
                 if (water_hit) {
                     const double f = test::fresnel(c.reflectivity, -d.y), n = test::index_of(c.reflectivity);
                     const double cos_t = test::refracted_cos(c.reflectivity, -d.y);
-                    const glm::vec3 floor_light = sun_light * test::absorbed(a, 1.0 / cos_t + 1.0 / sun_cos);
+                    const double sun_t = test::refracted_cos(c.reflectivity, sun_cos);
+                    const glm::vec3 floor_light = sun_light * test::absorbed(a, 1.0 / cos_t + 1.0 / sun_t);
                     const glm::vec3 mirrored = c.bounces > 0 ? s.sky * float(f) : glm::vec3(0.f);
                     expected = floor_light * float((1.0 - f) / (n * n)) + mirrored;
                     grazing += -d.y < 0.3 ? 1 : 0;
@@ -119,7 +120,7 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
 }
 
 // A glass pane (x in [-40, 40), y in [2, 8), z in [2, 3)) stands on the pool of the test above, across
-// the view; the sun nearly overhead (its shadow rays keep their z). A view ray through the pane to
+// the view; the sun nearly overhead (its light, bent in the water, keeps its z). A view ray through the pane to
 // the water meets two mirroring surfaces: the pane's (F_pane, 4%) and the water's behind it, at a
 // grazing angle half a mirror. The walk keeps the one that weighs more in the pixel (the water's:
 // the others' shares are dropped), so the lake mirrors the sky behind a window as without it, seen
@@ -203,7 +204,8 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
                 }
                 const double n = test::index_of(wat.reflectivity);
                 const double cos_t = test::refracted_cos(wat.reflectivity, -d.y);
-                const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / cos_t + 1.0 / sun_cos);
+                const double sun_t = test::refracted_cos(wat.reflectivity, sun_cos);
+                const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / cos_t + 1.0 / sun_t);
                 expected = floor_light * float((1.0 - f) / (n * n)) + mirrored;
                 if (top.z < 2.0) { // Seen through the pane; the water's reflection weighs more.
                     const glm::vec3 pass = pane_pass(-d.z);

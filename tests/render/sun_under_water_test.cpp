@@ -1,0 +1,156 @@
+// The sun's light at a point under water is bent where it enters (sun_through in
+// shaders/raygen.rgen): it reaches the point along d, the sun's direction l refracted into the water
+// at the surface, and a receiver of normal m takes E (1 - F) |l_y| / |d_y| (m . d), the beam's
+// narrowing and the n^2 law together, times what the water absorbs along d. A horizontal floor
+// thus gets E (1 - F) l_y, as without the bend; a wall gets less (the light comes down steeper),
+// and shadows fall where the bent light casts them. Expectations from Snell's law and the pool's
+// geometry, pixel by pixel, from an eye in the water (no interface between it and what it sees).
+#include <cmath>
+#include <cstdio>
+
+#include "scene_util.h"
+#include "world/block_registry.h"
+
+namespace vx::render {
+namespace {
+
+using test::full_output;
+using test::RendererTest;
+
+constexpr double kPi = 3.14159265358979;
+constexpr double kSurface = 7.0; // The water's top, y.
+
+// A pool in a stone basin: floor y in [0, 1), rim |x| or |z| in [12, 13) up to the surface (the
+// sun's ways in through the water's sides are closed), water x, z in [-12, 12), y in [1, 7).
+world::World basin() {
+    world::World w;
+    const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
+    test::fill_box(w, {-13, 0, -13}, {13, 1, 13}, stone);
+    test::fill_box(w, {-13, 1, -13}, {13, 7, 13}, stone);
+    test::fill_box(w, {-12, 1, -12}, {12, 7, 12}, water);
+    return w;
+}
+
+// Full mode lit by the sun alone (no sky term, no area light, no haze, no reflections), the eye in
+// the water, 48x48.
+RenderSettings sun_only(glm::vec3 sun) {
+    RenderSettings s = test::daylight(4);
+    s.width = 48;
+    s.height = 48;
+    s.haze.enabled = false;
+    s.sky_light = 0.f;
+    s.sun.direction = sun;
+    s.eye_block = test::block_id("water");
+    return s;
+}
+
+// The sun's direction l bent into water of reflectivity r at a face of normal +y: d, with the
+// tangential part of l over the index and d.y > 0.
+glm::dvec3 bent_into(glm::dvec3 l, double r) {
+    const double n = test::index_of(r);
+    glm::dvec3 d(l.x / n, 0.0, l.z / n);
+    d.y = std::sqrt(1.0 - d.x * d.x - d.z * d.z);
+    return d;
+}
+
+// The pixel of stone (normal m) at p under water, lit through the surface along d and seen from
+// the eye `eye` in the water.
+glm::vec3 lit_stone(glm::dvec3 p, glm::dvec3 m, glm::dvec3 eye, glm::dvec3 l, glm::dvec3 d, const RenderSettings& s) {
+    const world::BlockRegistry& reg = world::BlockRegistry::default_registry();
+    const world::BlockInfo water = reg.info(test::block_id("water"));
+    const glm::vec3 stone = reg.info(test::block_id("stone")).albedo;
+    const double pass = 1.0 - test::fresnel(water.reflectivity, l.y);
+    const double cosine = std::max(glm::dot(m, d), 0.0) * l.y / d.y;
+    const glm::vec3 light = stone * s.sun.irradiance * float(pass * cosine / kPi);
+    return light * test::absorbed(water.albedo, (kSurface - p.y) / d.y + glm::length(p - eye));
+}
+
+glm::dvec3 eye_of(const Camera& cam) { return glm::dvec3(cam.block) + glm::dvec3(cam.offset); }
+
+// A stone block x in [-1, 1), y in [1, 5), z in [-4, 4) stands in the pool; its face at x = 1 is
+// seen from the eye in the water 5 blocks away. The sun in +x, first low (35 degrees up): its light
+// comes down bent to 52 degrees, and the face takes 0.45 of E where the straight sun would give
+// 0.82, through 1 / d_y of water per block below the surface. Then high (73 degrees up): the way in
+// through the basin's side (+x) would bend out of the top face along another direction than the
+// sun's (no total reflection past 61 degrees), which must not count. Checked, of the 990 pixels
+// each time: with the sun's rays straight (trace_shadow), all off both times; without the ratio
+// l_y / d_y, all off, then none (high, it is 0.98); counting ways out in any direction, none, then
+// all; without the surface's 1 - F, 97, then none.
+TEST_F(RendererTest, AWallUnderWaterTakesTheSunBentAtTheSurface) {
+    world::World w = basin();
+    test::fill_box(w, {-1, 1, -4}, {1, 5, 4}, test::block_id("stone"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    const Camera cam = Camera::look_at({6.0, 3.0, 0.3}, {1.0, 3.0, 0.3}, {0, 1, 0}, 80.f);
+    const world::BlockInfo water = world::BlockRegistry::default_registry().info(test::block_id("water"));
+    for (const glm::dvec3 sun : {glm::dvec3(1.0, 0.7, 0.0), glm::dvec3(0.3, 1.0, 0.0)}) {
+        const glm::dvec3 l = glm::normalize(sun), d = bent_into(l, water.reflectivity);
+        const RenderSettings s = sun_only(glm::vec3(l));
+        const RenderImage img = m_renderer->render(s, cam);
+        test::maybe_save(img, sun.y < 1.0 ? "sun_under_water_wall_low" : "sun_under_water_wall_high");
+        int checked = 0, off = 0;
+        for (uint32_t y = 0; y < s.height; ++y)
+            for (uint32_t x = 0; x < s.width; ++x) {
+                const glm::dvec3 v = test::primary_dir(cam, x, y, s.width, s.height);
+                if (v.x >= 0.0)
+                    continue;
+                const glm::dvec3 p = eye_of(cam) + v * ((1.0 - eye_of(cam).x) / v.x); // On the plane x = 1.
+                if (p.y < 1.1 || p.y > 4.9 || std::abs(p.z) > 3.9)
+                    continue; // Near the face's edges.
+                ++checked;
+                const glm::vec3 expected = lit_stone(p, {1, 0, 0}, eye_of(cam), l, d, s);
+                const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected), 2);
+                if (!near && off++ < 4)
+                    ADD_FAILURE() << "sun " << l.y << " up, pixel (" << x << ", " << y << ") at y " << p.y << ": "
+                                  << near.message();
+            }
+        EXPECT_GT(checked, 500);
+        EXPECT_EQ(off, 0) << "of " << checked << " pixels on the wall, the sun " << l.y << " up";
+    }
+    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+}
+
+// A stone roof y in [9, 10) over x < 0 shades the pool; the sun is in +x, 56 degrees up. A floor
+// point under it is lit when its bent way out, 6 blocks of water along d and then 2 of air along l
+// to the roof's height, ends at x >= 0: the shadow's edge lies at x = -4.09 on the floor, where the
+// straight sun would put it at -5.33. The eye is in the water 4 above the floor, looking down
+// over both; each floor pixel more than 0.15 from the bent edge is checked, lit (E (1 - F) l_y
+// through 6 / d_y of water) or black. Checked, of 912 lit and 1,296 shaded pixels: with the sun's
+// rays straight, 336 are off (between the two edges, and where the light's longer path absorbs
+// more); without the ratio l_y / d_y, all 912 lit ones.
+TEST_F(RendererTest, ShadowsUnderWaterFallWhereTheBentSunCastsThem) {
+    world::World w = basin();
+    test::fill_box(w, {-13, 9, -13}, {0, 10, 13}, test::block_id("stone"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    const glm::dvec3 l = glm::normalize(glm::dvec3(1.0, 1.5, 0.0));
+    RenderSettings s = sun_only(glm::vec3(l));
+    s.sun.angular_radius_degrees = 0.05f; // A sharp edge: the penumbra stays within the margin.
+    const Camera cam = Camera::look_at({-4.7, 5.0, 0.3}, {-4.7, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const RenderImage img = m_renderer->render(s, cam);
+    test::maybe_save(img, "sun_under_water_shadow");
+    const world::BlockInfo water = world::BlockRegistry::default_registry().info(test::block_id("water"));
+    const glm::dvec3 d = bent_into(l, water.reflectivity);
+    const double edge = -((kSurface - 1.0) * d.x / d.y + (9.0 - kSurface) * l.x / l.y);
+    EXPECT_NEAR(edge, -4.09, 0.01);
+    int lit = 0, dark = 0, off = 0;
+    for (uint32_t y = 0; y < s.height; ++y)
+        for (uint32_t x = 0; x < s.width; ++x) {
+            const glm::dvec3 v = test::primary_dir(cam, x, y, s.width, s.height);
+            const glm::dvec3 p = eye_of(cam) + v * ((1.0 - eye_of(cam).y) / v.y); // On the floor, y = 1.
+            if (std::abs(p.x - edge) < 0.15)
+                continue;
+            const bool in_light = p.x > edge;
+            (in_light ? lit : dark) += 1;
+            const glm::vec3 expected = in_light ? lit_stone(p, {0, 1, 0}, eye_of(cam), l, d, s) : glm::vec3(0.f);
+            const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected), 2);
+            if (!near && off++ < 4)
+                ADD_FAILURE() << "pixel (" << x << ", " << y << ") at x " << p.x << (in_light ? " (lit)" : " (shade)")
+                              << ": " << near.message();
+        }
+    EXPECT_GT(lit, 500);
+    EXPECT_GT(dark, 500);
+    EXPECT_EQ(off, 0) << "of " << lit << " lit and " << dark << " shaded floor pixels";
+    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+}
+
+} // namespace
+} // namespace vx::render
