@@ -74,8 +74,9 @@ glm::dvec3 eye_of(const Camera& cam) { return glm::dvec3(cam.block) + glm::dvec3
 // through the basin's side (+x) would bend out of the top face along another direction than the
 // sun's (no total reflection past 61 degrees), which must not count. Checked, of the 990 pixels
 // each time: with the sun's rays straight (trace_shadow), all off both times; without the ratio
-// l_y / d_y, all off, then none (high, it is 0.98); counting ways out in any direction, none, then
-// all; without the surface's 1 - F, 97, then none.
+// |l_k| / |d_k,k|, all, then 43 (high, it is near 1); counting ways out in any direction, all both
+// times; without the surfaces' 1 - F, 326, then 43. Both ways' chances are 1 here (the side's weight
+// is the larger), so the pixels carry no roulette noise.
 TEST_F(RendererTest, AWallUnderWaterTakesTheSunBentAtTheSurface) {
     world::World w = basin();
     test::fill_box(w, {-1, 1, -4}, {1, 5, 4}, test::block_id("stone"));
@@ -149,6 +150,58 @@ TEST_F(RendererTest, ShadowsUnderWaterFallWhereTheBentSunCastsThem) {
     EXPECT_GT(lit, 500);
     EXPECT_GT(dark, 500);
     EXPECT_EQ(off, 0) << "of " << lit << " lit and " << dark << " shaded floor pixels";
+    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+}
+
+// A block of water x, y, z in [-4, 4) x [1, 5) x [-4, 4) stands in the open on a stone floor; the
+// sun is low in +x (35 degrees up). The floor under it takes the sun through two ways in: the top
+// (d_y, where the bent light leaves by the top: x < 0.87 here) and the sunny side x = 4 (d_x: its
+// light comes down at 26 degrees, 0.39 of E against the top's 0.57, through 4.4 to 8.2 blocks of
+// water). sun_through traces the top's way each sample and the side's with chance 0.68 (Russian
+// roulette: w_x / w_y), so the frame is accumulated: 4 frames of 64 samples. Expected per pixel, seen from the
+// eye in the water 3 above the floor: both ways' light, each absorbed along its path and passed
+// 1 - F at its face at the sun's angle to it. Checked, of 2,304 pixels: with the way from above
+// alone (no side light), all off; with each way's light not divided by its chance, all off; every way
+// traced at its own w_k (no roulette) passes too.
+TEST_F(RendererTest, AFloorUnderWaterTakesTheSunThroughEachFaceFacingIt) {
+    world::World w;
+    test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("stone"));
+    test::fill_box(w, {-4, 1, -4}, {4, 5, 4}, test::block_id("water"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    const world::BlockRegistry& reg = world::BlockRegistry::default_registry();
+    const world::BlockInfo water = reg.info(test::block_id("water"));
+    const glm::vec3 stone = reg.info(test::block_id("stone")).albedo;
+    const glm::dvec3 l = glm::normalize(glm::dvec3(1.0, 0.7, 0.0));
+    const RenderSettings s = sun_only(glm::vec3(l));
+    const Camera cam = Camera::look_at({-2.0, 4.0, 0.3}, {-2.0, 1.0, 0.3}, {0, 0, -1}, 60.f);
+    const RenderImage img = test::accumulated(*m_renderer, s, cam, 4, 64);
+    test::maybe_save(img, "sun_under_water_sides");
+    const double n = test::index_of(water.reflectivity);
+    const glm::dvec3 top = bent_into(l, water.reflectivity);
+    glm::dvec3 side(0.0, l.y / n, l.z / n); // In through the face x = 4: the tangential part over n.
+    side.x = std::sqrt(1.0 - side.y * side.y - side.z * side.z);
+    int checked = 0, off = 0;
+    for (uint32_t y = 0; y < s.height; ++y)
+        for (uint32_t x = 0; x < s.width; ++x) {
+            const glm::dvec3 v = test::primary_dir(cam, x, y, s.width, s.height);
+            const glm::dvec3 p = eye_of(cam) + v * ((1.0 - eye_of(cam).y) / v.y); // On the floor, y = 1.
+            ASSERT_TRUE(p.x > -3.9 && p.x < 0.8 && std::abs(p.z) < 3.9) << "the view leaves the block";
+            const double top_path = 4.0 / top.y, side_path = (4.0 - p.x) / side.x;
+            const double top_x = p.x + top_path * top.x; // Where the top's way leaves: under x = 4.
+            ASSERT_LT(top_x, 4.0);
+            ASSERT_LT(1.0 + side_path * side.y, 5.0) << "the side's way leaves by its face";
+            const glm::vec3 through_top = test::absorbed(water.albedo, top_path) *
+                                          float((1.0 - test::fresnel(water.reflectivity, l.y)) * l.y);
+            const glm::vec3 through_side = test::absorbed(water.albedo, side_path) *
+                                           float((1.0 - test::fresnel(water.reflectivity, l.x)) * l.x / side.x * side.y);
+            const glm::vec3 light = stone * s.sun.irradiance * (through_top + through_side) / float(kPi);
+            const glm::vec3 expected = light * test::absorbed(water.albedo, glm::length(p - eye_of(cam)));
+            ++checked;
+            const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected), 2);
+            if (!near && off++ < 4)
+                ADD_FAILURE() << "pixel (" << x << ", " << y << ") at x " << p.x << ": " << near.message();
+        }
+    EXPECT_EQ(off, 0) << "of " << checked << " floor pixels";
     EXPECT_EQ(m_renderer->validation_errors(), 0u);
 }
 
