@@ -104,12 +104,12 @@ float index_of(uint b) { return b == 0u ? 1.0 : vx_index(vx_material(b).albedo_r
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
 // transparent blocks touch, the probe says which the ray goes on in: coincident_partner); `kind`
-// says what else the faces do (kWalkTint, kWalkLight, kWalkEye, kWalkSun above). payload holds that hit (t <
-// 0: a miss), with t the whole path's length from `origin`; `dir` is a unit vector, on return the
-// path's last direction. Past the critical angle (total internal reflection) the walk goes on
-// along the reflection, all of the light's way.
-// Returns what passes; g_inside says which block the hit lies in, `inside` the block the origin
-// lies in (0: none). A miss inside a block (water to the loaded world's edge) is absorbed all the way.
+// says what else the faces do (kWalkTint, kWalkLight, kWalkEye, kWalkSun above). payload holds that
+// hit (t < 0: a miss), with t the whole path's length from `origin`; `dir` is a unit vector, on
+// return the path's last direction. Past the critical angle (total internal reflection) the walk
+// goes on along the reflection, all of the light's way. Returns what passes; g_inside says which
+// block the hit lies in, `inside` the block the origin lies in (0: none). A miss inside a block
+// (water to the loaded world's edge) is absorbed all the way.
 vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;

@@ -55,7 +55,8 @@ glm::dvec3 bent_into(glm::dvec3 l, double r) {
 
 // The pixel of stone (normal m) at p under water, lit through the surface along d and seen from
 // the eye `eye` in the water.
-glm::vec3 lit_stone(glm::dvec3 p, glm::dvec3 m, glm::dvec3 eye, glm::dvec3 l, glm::dvec3 d, const RenderSettings& s) {
+glm::vec3 lit_stone(glm::dvec3 p, glm::dvec3 m, glm::dvec3 eye, glm::dvec3 l, glm::dvec3 d,
+                    const RenderSettings& s) {
     const world::BlockRegistry& reg = world::BlockRegistry::default_registry();
     const world::BlockInfo water = reg.info(test::block_id("water"));
     const glm::vec3 stone = reg.info(test::block_id("stone")).albedo;
@@ -98,10 +99,11 @@ TEST_F(RendererTest, AWallUnderWaterTakesTheSunBentAtTheSurface) {
                     continue; // Near the face's edges.
                 ++checked;
                 const glm::vec3 expected = lit_stone(p, {1, 0, 0}, eye_of(cam), l, d, s);
-                const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected), 2);
+                const glm::vec3 want = full_output(expected);
+                const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), want, 2);
                 if (!near && off++ < 4)
-                    ADD_FAILURE() << "sun " << l.y << " up, pixel (" << x << ", " << y << ") at y " << p.y << ": "
-                                  << near.message();
+                    ADD_FAILURE() << "sun " << l.y << " up, pixel (" << x << ", " << y << ") at y " << p.y
+                                  << ": " << near.message();
             }
         EXPECT_GT(checked, 500);
         EXPECT_EQ(off, 0) << "of " << checked << " pixels on the wall, the sun " << l.y << " up";
@@ -140,11 +142,12 @@ TEST_F(RendererTest, ShadowsUnderWaterFallWhereTheBentSunCastsThem) {
                 continue;
             const bool in_light = p.x > edge;
             (in_light ? lit : dark) += 1;
-            const glm::vec3 expected = in_light ? lit_stone(p, {0, 1, 0}, eye_of(cam), l, d, s) : glm::vec3(0.f);
+            const glm::vec3 expected =
+                in_light ? lit_stone(p, {0, 1, 0}, eye_of(cam), l, d, s) : glm::vec3(0.f);
             const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected), 2);
             if (!near && off++ < 4)
-                ADD_FAILURE() << "pixel (" << x << ", " << y << ") at x " << p.x << (in_light ? " (lit)" : " (shade)")
-                              << ": " << near.message();
+                ADD_FAILURE() << "pixel (" << x << ", " << y << ") at x " << p.x
+                              << (in_light ? " (lit)" : " (shade)") << ": " << near.message();
         }
     EXPECT_GT(lit, 500);
     EXPECT_GT(dark, 500);
@@ -157,9 +160,10 @@ TEST_F(RendererTest, ShadowsUnderWaterFallWhereTheBentSunCastsThem) {
 // (d_y, where the bent light leaves by the top: x < 0.87 here) and the sunny side x = 4 (d_x: its
 // light comes down at 26 degrees, 0.39 of E against the top's 0.57, through 4.4 to 8.2 blocks of
 // water). Expected per pixel, seen from the eye in the water 3 above the floor: both ways' light,
-// each absorbed along its path and passed 1 - F at its face at the sun's angle to it. Checked, of 2,304 pixels: with the way from above
-// alone (no side light), all off. (A Russian roulette over the ways, tried in 4440f59, passed with
-// 4 x 64 samples accumulated and failed with its light not divided by its chance.)
+// each absorbed along its path and passed 1 - F at its face at the sun's angle to it. Checked, of
+// 2,304 pixels: with the way from above alone (no side light), all off. (A Russian roulette over
+// the ways, tried in 4440f59, passed with 4 x 64 samples accumulated and failed with its light not
+// divided by its chance.)
 TEST_F(RendererTest, AFloorUnderWaterTakesTheSunThroughEachFaceFacingIt) {
     world::World w;
     test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("stone"));
@@ -189,8 +193,9 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheSunThroughEachFaceFacingIt) {
             ASSERT_LT(1.0 + side_path * side.y, 5.0) << "the side's way leaves by its face";
             const glm::vec3 through_top = test::absorbed(water.albedo, top_path) *
                                           float((1.0 - test::fresnel(water.reflectivity, l.y)) * l.y);
-            const glm::vec3 through_side = test::absorbed(water.albedo, side_path) *
-                                           float((1.0 - test::fresnel(water.reflectivity, l.x)) * l.x / side.x * side.y);
+            const double side_pass = 1.0 - test::fresnel(water.reflectivity, l.x);
+            const glm::vec3 through_side =
+                test::absorbed(water.albedo, side_path) * float(side_pass * l.x / side.x * side.y);
             const glm::vec3 light = stone * s.sun.irradiance * (through_top + through_side) / float(kPi);
             const glm::vec3 expected = light * test::absorbed(water.albedo, glm::length(p - eye_of(cam)));
             ++checked;

@@ -48,19 +48,20 @@ bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
 // sun alone (no sky term: the sky colour is only what rays that miss see), no haze. The eye looks
 // across the pool from 0.6 above it, from steep to grazing angles and over the horizon. Each water
 // pixel is the floor through the surface plus the sky in it:
-//   stone * a^(1 / cos_t + 1 / cos_sun_t) * (1 - F_eye) / n^2 * (1 - F_sun) * E cos_sun / pi  +  F_eye * sky,
+//   stone * a^(1 / cos_t + 1 / cos_sun_t) * (1 - F_eye) / n^2 * (1 - F_sun) * E cos_sun / pi
+//   + F_eye * sky,
 // the floor's light crossing the surface once each way and the one block of water on each way's
 // slant (Beer-Lambert: see_through_body_test.cpp), the view bent into the water (cos_t: Snell's
-// law, n the water's index) and its radiance spread by n^2 on its way out, the sun's light bent
-// too (cos_sun_t; a flat surface passes the floor E cos_sun all the same: sun_under_water_test.cpp),
-// F_eye at the view ray's angle and F_sun at the sun's. Without reflections (max_bounces 0) the sky term goes, as a mirror
-// block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Each way's path in the water
-// absorbs: the shadow rays' through their any-hit's optical depth (shadow.rahit). Checked, of
-// 1,104 water pixels off (reflectivity 0.02 with and without reflections, 0.3): the walk's 1 - F
-// left out, 1,095, 1,104 and 949; Schlick's approximation in place of the equations, 608, 386 and 868;
-// the any-hit's optical depth left out, 968 (the first); the view unbent, 1,104, 1,104 and 70;
-// without the n^2 law, all three times; the reflected ray from the floor in place of the surface,
-// all (stop 52).
+// law, n the water's index) and its radiance spread by n^2 on its way out, the sun's light bent too
+// (cos_sun_t; a flat surface passes the floor E cos_sun all the same: sun_under_water_test.cpp),
+// F_eye at the view ray's angle and F_sun at the sun's. Without reflections (max_bounces 0) the sky
+// term goes, as a mirror block's; water of reflectivity 0 only tints, and 0.3 mirrors more. Each
+// way's path in the water absorbs: the sun's by its walk (sun_through, stop 54; before, by the
+// shadow ray's any-hit optical depth, shadow.rahit). Checked at stops 52-53, of 1,104 water pixels
+// off (reflectivity 0.02 with and without reflections, 0.3): the walk's 1 - F left out, 1,095,
+// 1,104 and 949; Schlick's approximation in place of the equations, 608, 386 and 868; the any-hit's
+// optical depth left out, 968 (the first); the view unbent, 1,104, 1,104 and 70; without the n^2
+// law, all three times; the reflected ray from the floor in place of the surface, all (stop 52).
 TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
     const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
@@ -120,8 +121,8 @@ TEST_F(RendererTest, APoolsSurfacePassesAndMirrorsLightAsFresnelSays) {
 }
 
 // A glass pane (x in [-40, 40), y in [2, 8), z in [2, 3)) stands on the pool of the test above, across
-// the view; the sun nearly overhead (its light, bent in the water, keeps its z). A view ray through the pane to
-// the water meets two mirroring surfaces: the pane's (F_pane, 4%) and the water's behind it, at a
+// the view; the sun nearly overhead (its light, bent in the water, keeps its z). A view ray through
+// the pane to the water meets two mirroring surfaces: the pane's (F_pane, 4%) and the water's behind it, at a
 // grazing angle half a mirror. The walk keeps the one that weighs more in the pixel (the water's:
 // the others' shares are dropped), so the lake mirrors the sky behind a window as without it, seen
 // through the pane: pass_pane (a_glass^(1 / cos_t) (1 - F_pane)^2, cos_t the bent view's in the
