@@ -8,20 +8,10 @@
 # raster-transparency-2026-12-05 (D, V: device_env.sh) and the terrain of the main job (seed 1).
 # Then the render test programs with the validation layer (VX_TEST_DEVICE=gpu), this stop's code.
 # Usage (device, repository root, .gl .devlibs .devbuild carried): bash <this file>
+# (Since the call, the scenes and the loop come from scripts/device_scenes.sh: the same renders.)
 source docs/render_report/scripts/device_env.sh
-python3 docs/render_report/absorption-2026-12-06/make_deep_pond.py "$D/deep.raw"
-P="--raw $D/deep.raw --dims 96,24,96 --type u8 --eye 48,30,8 --target 48,12,42 --size 1920x1080 --device gpu --spp 4 --reflections 2 --repeat 12"
-S="--raw $D/scatter_water.raw $V --spp 4"
-T="--seed 1 --size 1920x1080 --device gpu --spp 4 --repeat 12"
-for round in 1 2 3; do
-  for bin in vx vx_mt; do
-    for scene in P S T; do
-      printf "round %s %s %-6s " $round $scene $bin
-      timeout 90 $B/$bin render ${!scene} --out "$D/${scene}_$bin.png" > /tmp/r.txt 2>&1; grep "frames 2" /tmp/r.txt | sed 's/, readback.*//' || tail -3 /tmp/r.txt
-    done
-  done
-  echo "elapsed $(( $(date +%s) - t0 )) s"
-done
+source docs/render_report/scripts/device_scenes.sh
+alternated_rounds 3 "vx vx_mt" "P S T"
 for scene in P S T; do cmp -s "$D/${scene}_vx.png" "$D/${scene}_vx_mt.png" && echo "$scene: images identical" || echo "$scene: images differ"; cp "$D/${scene}_vx.png" "$D/${scene}_vx_mt.png" $OUT/; done
 cp .devbuild/vx_mt /work/main/build/release/tools/vx && cp .devbuild/vx_mt .devbuild/vx # The CLI tests run this stop's vx.
 bash docs/render_report/touching-pairs-2026-12-05/device_suites.sh # The render suites, validation on.
