@@ -42,7 +42,7 @@ void check_view(Renderer& r, const Camera& cam, const char* name) {
     s.sky = {1.f, 1.f, 1.f};
     const RenderImage img = r.render(s, cam);
     test::maybe_save(img, name);
-    const glm::dvec3 eye = glm::dvec3(cam.block) + glm::dvec3(cam.offset);
+    const glm::dvec3 eye = test::eye_of(cam);
     int checked = 0, leaks = 0;
     for (uint32_t y = 0; y < img.height; ++y)
         for (uint32_t x = 0; x < img.width; ++x) {

@@ -225,6 +225,9 @@ inline void expect_frame_failure_then_recovery(const world::MeshMap& meshes, con
     }
 }
 
+// The camera's eye in world blocks (Camera: a block and an offset in it).
+inline glm::dvec3 eye_of(const Camera& c) { return glm::dvec3(c.block) + glm::dvec3(c.offset); }
+
 // The unit direction of pixel (x, y)'s primary ray in a w x h image, as raygen_common.glsl's
 // primary_dir() makes it from the camera's basis (render/renderer_frame.cpp, write_params).
 inline glm::dvec3 primary_dir(const Camera& c, uint32_t x, uint32_t y, uint32_t w, uint32_t h) {

@@ -104,12 +104,13 @@ RenderSettings lit_by(bool sky, uint32_t samples) {
 }
 
 // Flat mode: the wall seen through a row of see-through blocks touching it is tinted by every
-// block's albedo once (one block straight through), as with an air gap: along each axis, from
-// both sides (the walk tells entering from leaving by the face's normal), a row of one block or two touching each other
-// (glass into water: the probe's partner is the block the ray ends inside), the wall and the row
-// in neighbouring chunks or in one; ray traced and raster (its transparent pass tints where the
-// view enters a block, raster.frag). Checked: with the hidden face ignored (the stop-51 model),
-// every touching case was one sqrt(albedo) short; raster's sqrt per face of both sides was too.
+// block's albedo once (one block straight through), as with an air gap: along each axis, from both
+// sides (the walk tells entering from leaving by the face's normal), a row of one block or two
+// touching each other (glass into water: the probe's partner is the block the ray ends inside), the
+// wall and the row in neighbouring chunks or in one; ray traced and raster (its transparent pass
+// tints where the view enters a block, raster.frag). Checked: with the hidden face ignored (the
+// stop-51 model), every touching case was one sqrt(albedo) short; raster's sqrt per face of both
+// sides was too.
 TEST_F(RendererTest, AWallBehindASeeThroughBlockTintsByTheWholeBlock) {
     const TintRegistry t = tint_registry();
     m_renderer->set_registry(t.reg);
@@ -171,7 +172,7 @@ int pixels_off(const RenderImage& img, Expected expected, int tolerance, const c
 glm::vec3 pool_floor_pixel(const Camera& cam, const RenderSettings& s, uint32_t x, uint32_t y, glm::dvec3 lo,
                            glm::dvec3 hi, double eye_y) {
     const TintRegistry t;
-    const glm::dvec3 eye = glm::dvec3(cam.block) + glm::dvec3(cam.offset);
+    const glm::dvec3 eye = test::eye_of(cam);
     const glm::dvec3 d = test::primary_dir(cam, x, y, s.width, s.height);
     const glm::dvec3 floor = eye + d * ((1.0 - eye.y) / d.y);
     const glm::vec3 stone = world::BlockRegistry::default_registry().info(test::block_id("stone")).albedo;
@@ -230,7 +231,7 @@ world::World lamp_room(const TintRegistry& t, const std::vector<world::BlockId>&
 // (each ray's slant through the blocks: `tint`^(1 / cos), every block one deep), summed over the
 // pixels; with over without.
 glm::dvec3 shaft_ratio(const Camera& cam, uint32_t w, uint32_t h, glm::vec3 tint, int n = 48) {
-    const glm::dvec3 eye = glm::dvec3(cam.block) + glm::dvec3(cam.offset);
+    const glm::dvec3 eye = test::eye_of(cam);
     glm::dvec3 open(0.0), covered(0.0);
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
@@ -310,7 +311,7 @@ TEST_F(RendererTest, ALampBehindASeeThroughBlockShinesThroughTheWholeBlock) {
 // a^(its path in the pool)), the latter also down the view's path in the pool; summed, with over
 // without.
 glm::dvec3 pool_lamp_ratio(const Camera& cam, uint32_t w, uint32_t h, glm::vec3 a, int n = 24) {
-    const glm::dvec3 eye = glm::dvec3(cam.block) + glm::dvec3(cam.offset), lo(-4, 1, -4), hi(5, 3, 5);
+    const glm::dvec3 eye = test::eye_of(cam), lo(-4, 1, -4), hi(5, 3, 5);
     glm::dvec3 open(0.0), covered(0.0);
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {

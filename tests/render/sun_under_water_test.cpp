@@ -14,6 +14,7 @@
 namespace vx::render {
 namespace {
 
+using test::eye_of;
 using test::full_output;
 using test::RendererTest;
 
@@ -66,7 +67,6 @@ glm::vec3 lit_stone(glm::dvec3 p, glm::dvec3 m, glm::dvec3 eye, glm::dvec3 l, gl
     return light * test::absorbed(water.albedo, (kSurface - p.y) / d.y + glm::length(p - eye));
 }
 
-glm::dvec3 eye_of(const Camera& cam) { return glm::dvec3(cam.block) + glm::dvec3(cam.offset); }
 
 // A stone block x in [-1, 1), y in [1, 5), z in [-4, 4) stands in the pool; its face at x = 1 is
 // seen from the eye in the water 5 blocks away. The sun in +x, first low (35 degrees up): its light

@@ -14,6 +14,7 @@
 namespace vx::render {
 namespace {
 
+using test::eye_of;
 using test::full_output;
 using test::linear_of;
 using test::RendererTest;
@@ -33,8 +34,6 @@ RenderSettings pool_settings(uint32_t samples, glm::vec3 sky, uint32_t bounces) 
     return s;
 }
 
-// The eye's world position.
-glm::dvec3 eye_of(const Camera& cam) { return glm::dvec3(cam.block) + glm::dvec3(cam.offset); }
 
 // Where the ray from `eye` along `d` meets the plane y = `plane` going down (false: it does not).
 bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
