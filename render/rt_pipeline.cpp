@@ -116,9 +116,9 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, SeeThrough see
         stages[i].module = modules[i];
         stages[i].pName = "main";
     }
-    // raygen.rgen's constant_id 0, kSampleFaces, and both raygens' constant_id 1, kProbeTouching,
-    // and 2, kSeeThrough (32-bit bools; an id a shader lacks is ignored: Vulkan spec,
-    // VkSpecializationMapEntry).
+    // raygen.rgen's constant_id 0, kSampleFaces, both raygens' and shadow.rahit's constant_id 1,
+    // kProbeTouching, and the raygens' 2, kSeeThrough (32-bit bools; an id a shader lacks is
+    // ignored: Vulkan spec, VkSpecializationMapEntry).
     const bool probe = see_through == SeeThrough::kProbe;
     const VkBool32 constants[3] = {sample_faces ? VK_TRUE : VK_FALSE, probe ? VK_TRUE : VK_FALSE,
                                    see_through != SeeThrough::kNone ? VK_TRUE : VK_FALSE};
@@ -126,6 +126,7 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, SeeThrough see
         {0, 0, sizeof(VkBool32)}, {1, sizeof(VkBool32), sizeof(VkBool32)}, {2, 2 * sizeof(VkBool32), sizeof(VkBool32)}};
     const VkSpecializationInfo spec{3, entries, sizeof constants, constants};
     stages[0].pSpecializationInfo = &spec;
+    stages[4].pSpecializationInfo = &spec; // shadow.rahit.
     stages[kStages - 1].pSpecializationInfo = &spec; // raygen_flat.rgen.
     const VkRayTracingShaderGroupCreateInfoKHR groups[kGroupCount] = {
         group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, 0, VK_SHADER_UNUSED_KHR),

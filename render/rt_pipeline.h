@@ -40,7 +40,8 @@ inline VkDeviceAddress sbt_start(VkDeviceAddress buffer_address, uint32_t base_a
 // What the walk through see-through blocks (shaders/shared/raygen_common.glsl) is compiled with:
 // kNone, nothing (no see-through block drawn, the eye in none: every hit is opaque; kSeeThrough
 // false); kPlain, the walk, tints and water and glass surfaces; kProbe, also the probe for a
-// coincident face where two different see-through blocks touch (kProbeTouching).
+// coincident face where two different see-through blocks touch, and the shadow rays' pairing of
+// such faces (kProbeTouching).
 enum class SeeThrough : uint8_t { kNone, kPlain, kProbe };
 
 class RtPipeline {

@@ -71,14 +71,15 @@ uint eye_inside() {
 }
 
 // What a walk (trace_through) models: kWalkTint what the blocks' bodies absorb alone, the view
-// bent at each face (Flat mode: albedo, no light); kWalkLight also the share each face mirrors
-// away, every face on its own against air, the ray straight (sky rays, as shadow rays:
-// shadow.rahit); kWalkEye the view bent at each face (Snell's law, between the two media's
-// indices, vx_index), the share the interface mirrors and the radiance's n^2 law, and the
-// mirroring face whose reflection weighs most (g_surface), which shade() may follow as it
-// follows a mirror block; kWalkSun the sun's light traced back from a point inside a see-through
-// block (sun_light in raygen.rgen): bent at each face as the view is, less the share each
-// interface mirrors; the n^2 law is left to the caller (its irradiance's cosine ratio).
+// bent at each face (Flat mode: albedo, no light); kWalkLight also the share each interface
+// mirrors away (vx_interface_pass: against air or the touching block), the ray straight (sky
+// rays, as shadow rays: shadow.rahit); kWalkEye the view bent at each face (Snell's law,
+// between the two media's indices, vx_index), the share the interface mirrors and the
+// radiance's n^2 law, and the mirroring face whose reflection weighs most (g_surface), which
+// shade() may follow as it follows a mirror block; kWalkSun the sun's light traced back from a
+// point inside a see-through block (sun_light in raygen.rgen): bent at each face as the view is,
+// less the share each interface mirrors; the n^2 law is left to the caller (its irradiance's
+// cosine ratio).
 const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u, kWalkSun = 3u;
 
 // Of the faces of see-through blocks that mirror which the last kWalkEye walk met, the one whose
@@ -97,9 +98,6 @@ struct Surface {
     uint inside;
 };
 Surface g_surface;
-
-// The index of refraction of see-through block b, air's (1) for 0.
-float index_of(uint b) { return b == 0u ? 1.0 : vx_index(vx_material(b).albedo_reflectivity.w); }
 
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
@@ -137,7 +135,6 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
         vec3 at = payload.position, next = payload.through, hit = origin + dir * payload.t;
         uint from = g_inside, to = entering ? block : 0u; // The media on either side.
-        float partner_pass = 1.0;
         if (kProbeTouching && (payload.face & kFaceMayTouch) != 0u) {
             // From `next` back to the plane is next's offset along the axis over the ray's slope;
             // twice that (at least a little) reaches just past the plane and nothing much beyond.
@@ -148,14 +145,13 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
                     from = partner;
                 else
                     to = partner;
-                partner_pass = vx_face_pass(vx_material(partner), abs(dir[axis]));
             }
         }
         g_inside = to;
         origin = next;
         float cos_i = abs(dir[axis]);
-        if (kind == kWalkLight) { // Straight on; each face against air, as a shadow ray's.
-            tint *= vx_face_pass(m, cos_i) * partner_pass;
+        if (kind == kWalkLight) { // Straight on; one share per interface, as a shadow ray's.
+            tint *= vx_interface_pass(index_of(from), index_of(to), cos_i);
             continue;
         }
         float eta = index_of(to) / index_of(from); // n_t / n_i.

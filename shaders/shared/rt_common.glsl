@@ -36,13 +36,20 @@ struct HitPayload {
 // face's 1 - Fresnel); depth the optical depth their blocks' bodies add, sum over faces of
 // +sigma t where the ray leaves a block, -sigma t where it enters one (any order: vx_absorb);
 // last_t is the farthest of those faces' distances (< 0: none) and last_block its block if the
-// ray enters the block there, else 0 (air): where the ray ends, inside a block or not.
+// ray enters the block there, else 0 (air): where the ray ends, inside a block or not. pending_t
+// and pending_face hold up to kShadowPending faces marked kQuadMayTouch whose coincident partner
+// has not been met yet (shadow.rahit: a pair passes its interface's share once); trace_shadow()
+// gives those left unpaired their own share against air. pending_face: 0 (free) or
+// kPendingUsed | block | axis << 16 | entering << 18.
+const uint kShadowPending = 2u, kPendingUsed = 1u << 19u;
 struct ShadowPayload {
     vec3 transmittance;
     uint visible;
     vec3 depth;
     float last_t;
     uint last_block;
+    float pending_t[kShadowPending];
+    uint pending_face[kShadowPending];
 };
 
 Material vx_material(uint block) {
@@ -66,6 +73,17 @@ float vx_fresnel(float r, float cos_i) { return r <= 0.0 ? 0.0 : vx_fresnel_eta(
 // What a see-through block's face passes of light crossing it at cosine cos_i to its normal:
 // the share its surface does not mirror. The block's body absorbs apart (vx_absorb).
 float vx_face_pass(Material m, float cos_i) { return 1.0 - vx_fresnel(m.albedo_reflectivity.w, cos_i); }
+
+// What the interface between see-through media of indices n_a and n_b passes of light a straight
+// (unbent) ray carries across it at cosine cos_i to its normal: 1 - F at the relative index
+// n_high / n_low, the angle taken on the lower index's side, as vx_fresnel takes it on the air's.
+// Where glass touches water one interface mirrors (0.4% head-on), not each face against air (6%).
+float vx_interface_pass(float n_a, float n_b, float cos_i) {
+    return 1.0 - vx_fresnel_eta(cos_i, max(n_a, n_b) / min(n_a, n_b));
+}
+
+// The index of refraction of see-through block b's medium, air's (1) for 0 (vx_index).
+float index_of(uint b) { return b == 0u ? 1.0 : vx_index(vx_material(b).albedo_reflectivity.w); }
 
 // A see-through block's absorption coefficient, per block of path: its albedo is the share of
 // light one block's length of it passes (Beer-Lambert: albedo^d over d blocks; PBRT 4th ed.,
