@@ -135,11 +135,12 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         bool entering = (dir[axis] > 0.0) != ((face & 1u) != 0u);
         vec3 at = payload.position, next = payload.through, hit = origin + dir * payload.t;
         uint from = g_inside, to = entering ? block : 0u; // The media on either side.
+        uint partner = 0u;
         if (kProbeTouching && (payload.face & kFaceMayTouch) != 0u) {
             // From `next` back to the plane is next's offset along the axis over the ray's slope;
             // twice that (at least a little) reaches just past the plane and nothing much beyond.
             float to_plane = abs(next[axis] - hit[axis]) / max(abs(dir[axis]), 1e-6);
-            uint partner = coincident_partner(next, dir, 2.0 * to_plane + 1e-4, face, block, entering);
+            partner = coincident_partner(next, dir, 2.0 * to_plane + 1e-4, face, block, entering);
             if (partner != 0u) {
                 if (entering) // Out of the partner into this block, else out of this one into it.
                     from = partner;
@@ -151,7 +152,8 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         origin = next;
         float cos_i = abs(dir[axis]);
         if (kind == kWalkLight) { // Straight on; one share per interface, as a shadow ray's.
-            tint *= vx_interface_pass(index_of(from), index_of(to), cos_i);
+            bool paired = partner != 0u; // Else a face against air: its own share.
+            tint *= paired ? vx_interface_pass(index_of(from), index_of(to), cos_i) : vx_face_pass(m, cos_i);
             continue;
         }
         float eta = index_of(to) / index_of(from); // n_t / n_i.
