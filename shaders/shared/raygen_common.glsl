@@ -99,14 +99,6 @@ struct Surface {
 };
 Surface g_surface;
 
-// Whether the last kWalkSun walk stopped where it left the see-through blocks into air, and the
-// far side of that face (the way on starts there). The sun's light runs straight in air: faces of
-// blocks it may yet cross come in parallel pairs, which shift a ray and do not turn it, so what is
-// left of the way is a shadow ray's (sun_through in raygen.rgen), and a way that leaves along
-// another direction than the sun's is known dead without tracing on to the sky.
-bool g_walk_left = false;
-vec3 g_walk_exit = vec3(0.0);
-
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
 // transparent blocks touch, the probe says which the ray goes on in: coincident_partner); `kind`
@@ -115,16 +107,13 @@ vec3 g_walk_exit = vec3(0.0);
 // return the path's last direction. Past the critical angle (total internal reflection) the walk
 // goes on along the reflection, all of the light's way. Returns what passes; g_inside says which
 // block the hit lies in, `inside` the block the origin lies in (0: none). A miss inside a block
-// (water to the loaded world's edge) is absorbed all the way. kWalkSun stops where it leaves the
-// blocks into air (g_walk_left).
+// (water to the loaded world's edge) is absorbed all the way.
 vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
     g_inside = inside;
     if (kind == kWalkEye)
         g_surface.t = -1.0;
-    if (kind == kWalkSun)
-        g_walk_left = false;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
         if (!kSeeThrough)
@@ -193,10 +182,5 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         else if (kind == kWalkSun)
             tint *= 1.0 - mirrored;
         dir = normalize(bent);
-        if (kind == kWalkSun && to == 0u) { // Into air: straight on from here.
-            g_walk_left = true;
-            g_walk_exit = origin;
-            return tint;
-        }
     }
 }
