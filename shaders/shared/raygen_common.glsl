@@ -99,6 +99,12 @@ struct Surface {
 };
 Surface g_surface;
 
+// The sun's direction (unit, in air) the last kWalkSun walk traces back to (sun_through in
+// raygen.rgen). Once the walk leaves the blocks into air along another direction the way is dead:
+// in air a ray no longer turns (faces of blocks it may yet cross come in parallel pairs, which
+// shift it), so the walk stops there without tracing on to the sky.
+vec3 g_sun_dir = vec3(0.0);
+
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
 // transparent blocks touch, the probe says which the ray goes on in: coincident_partner); `kind`
@@ -107,7 +113,8 @@ Surface g_surface;
 // return the path's last direction. Past the critical angle (total internal reflection) the walk
 // goes on along the reflection, all of the light's way. Returns what passes; g_inside says which
 // block the hit lies in, `inside` the block the origin lies in (0: none). A miss inside a block
-// (water to the loaded world's edge) is absorbed all the way.
+// (water to the loaded world's edge) is absorbed all the way. kWalkSun stops, all absorbed, where
+// it leaves into air along another direction than g_sun_dir (payload.t then the path so far).
 vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
     vec3 tint = vec3(1.0);
     float travelled = 0.0;
@@ -182,5 +189,9 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         else if (kind == kWalkSun)
             tint *= 1.0 - mirrored;
         dir = normalize(bent);
+        if (kind == kWalkSun && to == 0u && dot(dir, g_sun_dir) <= 1.0 - 1e-5) {
+            payload.t = travelled; // Not a miss: the way does not count.
+            return vec3(0.0);
+        }
     }
 }
