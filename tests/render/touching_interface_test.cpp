@@ -80,9 +80,9 @@ RenderSettings sun_only(glm::vec3 sun) {
 // E l_y / pi times what the slab passes along the straight ray: (1 - F) at its bottom face
 // against air, at the interface and at its top face against air, and each block's
 // albedo^(1 / l_y). Checked, of 2,304 pixels each time: with both faces of the pair passing their
-// share against air (the code before), all, all six times; with the interface passing all light,
-// all, in the crystal's two cases (glass against water's 0.5% is under a step of 8 bits here);
-// with unpaired faces passing all light, all, glass alone.
+// share against air (the code before), all, in each of the six touching slabs; with the
+// interface passing all light, all, in the crystal's two (glass against water's 0.5% is under a
+// step of 8 bits here); with unpaired faces passing all light, all, glass alone.
 TEST_F(RendererTest, GlassAndWaterTouchingShadeTheFloorByOneInterface) {
     world::BlockRegistry reg = world::BlockRegistry::default_registry();
     const world::BlockId glass = test::block_id("glass"), water = test::block_id("water");
