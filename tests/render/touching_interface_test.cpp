@@ -98,8 +98,10 @@ TEST_F(RendererTest, GlassAndWaterTouchingShadeTheFloorByOneInterface) {
         world::BlockId lower, upper;
         int64_t plane;
     };
-    for (const Case c : {Case{glass, water, 5}, Case{water, glass, 5}, Case{glass, water, 32}, Case{water, glass, 32},
-                         Case{crystal, glass, 5}, Case{water, crystal, 32}, Case{glass, world::kAir, 32}}) {
+    const Case cases[] = {{glass, water, 5},  {water, glass, 5},    {glass, water, 32},
+                          {water, glass, 32}, {crystal, glass, 5}, {water, crystal, 32},
+                          {glass, world::kAir, 32}};
+    for (const Case c : cases) {
         m_renderer = test::make_renderer();
         ASSERT_NE(m_renderer, nullptr);
         m_renderer->set_registry(reg);
@@ -112,19 +114,22 @@ TEST_F(RendererTest, GlassAndWaterTouchingShadeTheFloorByOneInterface) {
         if (c.upper == world::kAir)
             hi.albedo = glm::vec3(1.f);
         const double n_lo = test::index_of(lo.reflectivity), n_hi = test::index_of(hi.reflectivity);
-        const double pass = (1.0 - test::fresnel(lo.reflectivity, l.y)) * (1.0 - interface_fresnel(n_lo, n_hi, l.y)) *
-                            (1.0 - test::fresnel(hi.reflectivity, l.y));
+        const double f_lo = test::fresnel(lo.reflectivity, l.y), f_hi = test::fresnel(hi.reflectivity, l.y);
+        const double pass = (1.0 - f_lo) * (1.0 - interface_fresnel(n_lo, n_hi, l.y)) * (1.0 - f_hi);
         const glm::vec3 through = test::absorbed(lo.albedo, 1.0 / l.y) * test::absorbed(hi.albedo, 1.0 / l.y);
         const glm::vec3 stone = reg.info(test::block_id("stone")).albedo;
         const glm::vec3 expected = stone * through * s.sun.irradiance * float(pass * l.y / kPi);
         int off = 0;
         for (uint32_t y = 0; y < s.height; ++y)
             for (uint32_t x = 0; x < s.width; ++x) {
-                const ::testing::AssertionResult near = test::rgb_near(img.at(x, y), full_output(expected), 1);
+                const glm::u8vec4 px = img.at(x, y);
+                const ::testing::AssertionResult near = test::rgb_near(px, full_output(expected), 1);
                 if (!near && off++ < 4)
-                    ADD_FAILURE() << "plane " << c.plane << ", pixel (" << x << ", " << y << "): " << near.message();
+                    ADD_FAILURE() << "plane " << c.plane << ", pixel (" << x << ", " << y << "): "
+                                  << near.message();
             }
-        EXPECT_EQ(off, 0) << "of " << s.width * s.height << " floor pixels, plane y = " << c.plane << ", " << name;
+        EXPECT_EQ(off, 0) << "of " << s.width * s.height << " floor pixels, plane y = " << c.plane << ", "
+                          << name;
         EXPECT_EQ(m_renderer->validation_errors(), 0u);
     }
 }
@@ -168,7 +173,8 @@ TEST_F(RendererTest, TouchingBlocksOfOneIndexPassLightAsOneBlock) {
                 const glm::u8vec4 p = one.at(x, y);
                 const ::testing::AssertionResult near = test::rgb_near(two.at(x, y), glm::vec3(p) / 255.f, 1);
                 if (!near && off++ < 4)
-                    ADD_FAILURE() << "sun " << sun << ", pixel (" << x << ", " << y << "): " << near.message();
+                    ADD_FAILURE() << "sun " << sun << ", pixel (" << x << ", " << y << "): "
+                                  << near.message();
             }
         EXPECT_EQ(off, 0) << "of " << s.width * s.height << " floor pixels, sun " << sun;
     }
