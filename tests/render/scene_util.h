@@ -122,22 +122,26 @@ inline double index_of(double r) {
     return (1.0 + s) / (1.0 - s);
 }
 
-// The share of light a see-through block of reflectivity r (its reflectance at normal incidence)
-// mirrors at angle acos(cos_i) to the face's normal: Fresnel's equations in their angle form
-// (Born & Wolf 1.5.3; the shaders use the cosine form, shaders/shared/rt_common.glsl), with Snell's
-// law for the refracted angle in the medium of index n, ((n - 1) / (n + 1))^2 = r.
-inline double fresnel(double r, double cos_i) {
-    if (r <= 0.0)
+// The share of light an interface into a medium of relative index n >= 1 mirrors, met at angle
+// acos(cos_i) to its normal: Fresnel's equations in their angle form (Born & Wolf 1.5.3; the
+// shaders use the cosine form, shaders/shared/optics.glsl), with Snell's law for the refracted
+// angle.
+inline double fresnel_eta(double n, double cos_i) {
+    if (n == 1.0)
         return 0.0;
-    const double n = index_of(r);
     if (cos_i >= 1.0)
-        return r;
+        return (n - 1.0) * (n - 1.0) / ((n + 1.0) * (n + 1.0));
     if (cos_i <= 0.0)
         return 1.0;
     const double ti = std::acos(cos_i), tt = std::asin(std::sin(ti) / n);
     const double perp = std::sin(ti - tt) / std::sin(ti + tt), par = std::tan(ti - tt) / std::tan(ti + tt);
     return 0.5 * (perp * perp + par * par);
 }
+
+// The share of light a see-through block of reflectivity r (its reflectance at normal incidence)
+// mirrors at angle acos(cos_i) to the face's normal, met from air: fresnel_eta at its index n,
+// ((n - 1) / (n + 1))^2 = r.
+inline double fresnel(double r, double cos_i) { return r <= 0.0 ? 0.0 : fresnel_eta(index_of(r), cos_i); }
 
 // The cosine of the refracted ray's angle to the normal where a ray from air meets a block of
 // reflectivity r at cosine cos_i (Snell's law: sin_t = sin_i / n).
@@ -156,6 +160,18 @@ inline RenderSettings daylight(uint32_t samples = 8) {
     s.shadow_samples = samples;
     s.max_bounces = 0;
     s.light.emission = glm::vec3(0.f);
+    return s;
+}
+
+// Full mode at 48x48, 4 samples, lit by the sun alone from `sun` (no sky term, no area light, no
+// haze, no reflections).
+inline RenderSettings sun_alone(glm::vec3 sun) {
+    RenderSettings s = daylight(4);
+    s.width = 48;
+    s.height = 48;
+    s.haze.enabled = false;
+    s.sky_light = 0.f;
+    s.sun.direction = sun;
     return s;
 }
 

@@ -32,15 +32,9 @@ world::World basin() {
     return w;
 }
 
-// Full mode lit by the sun alone (no sky term, no area light, no haze, no reflections), the eye in
-// the water, 48x48.
+// Full mode lit by the sun alone (test::sun_alone), the eye in the water.
 RenderSettings sun_only(glm::vec3 sun) {
-    RenderSettings s = test::daylight(4);
-    s.width = 48;
-    s.height = 48;
-    s.haze.enabled = false;
-    s.sky_light = 0.f;
-    s.sun.direction = sun;
+    RenderSettings s = test::sun_alone(sun);
     s.eye_block = test::block_id("water");
     return s;
 }

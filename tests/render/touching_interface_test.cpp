@@ -16,24 +16,15 @@
 namespace vx::render {
 namespace {
 
-using test::eye_of;
 using test::full_output;
 using test::RendererTest;
 
 constexpr double kPi = 3.14159265358979;
 
 // The share an interface between media of indices n_a and n_b mirrors, met at cosine cos_i on
-// the lower index's side: Fresnel's equations in their angle form (test::fresnel with the
-// relative index in place of a block's against air).
+// the lower index's side.
 double interface_fresnel(double n_a, double n_b, double cos_i) {
-    const double n = std::max(n_a, n_b) / std::min(n_a, n_b);
-    if (n == 1.0)
-        return 0.0;
-    const double ti = std::acos(std::min(cos_i, 1.0)), tt = std::asin(std::sin(ti) / n);
-    if (ti == 0.0)
-        return std::pow((n - 1.0) / (n + 1.0), 2.0);
-    const double perp = std::sin(ti - tt) / std::sin(ti + tt), par = std::tan(ti - tt) / std::tan(ti + tt);
-    return 0.5 * (perp * perp + par * par);
+    return test::fresnel_eta(std::max(n_a, n_b) / std::min(n_a, n_b), cos_i);
 }
 
 // A slab x, z in [-8, 8): block `lower` at y in [plane - 1, plane) and `upper` at [plane, plane + 1),
@@ -60,14 +51,9 @@ Camera under_slab(int64_t plane) {
     return Camera::look_at({0.3, y, 0.3}, {0.3, y - 1.0, 0.3}, {0, 0, -1}, 90.f);
 }
 
-// Full mode at 48x48, 4 samples, lit by the sun alone (a nearly sharp disc), no sky term, no haze.
+// Full mode lit by the sun alone (test::sun_alone), a nearly sharp disc.
 RenderSettings sun_only(glm::vec3 sun) {
-    RenderSettings s = test::daylight(4);
-    s.width = 48;
-    s.height = 48;
-    s.haze.enabled = false;
-    s.sky_light = 0.f;
-    s.sun.direction = sun;
+    RenderSettings s = test::sun_alone(sun);
     s.sun.angular_radius_degrees = 0.05f;
     return s;
 }
