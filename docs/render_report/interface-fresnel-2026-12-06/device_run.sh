@@ -7,11 +7,10 @@
 # volume with water and glass mixed (make_mixed.py: the probing variant, pairs everywhere).
 # GPU trace medians of frames 2..N, three alternated rounds; then the render test programs with
 # the validation layer (VX_TEST_DEVICE=gpu), built from this stop's code.
+# (Since the call, scene M comes from scripts/device_scenes.sh: the same renders.)
 # Usage (device, repository root, .gl .devlibs .devbuild carried): bash <this file>
 source docs/render_report/scripts/device_env.sh
 source docs/render_report/scripts/device_scenes.sh
-python3 docs/render_report/interface-fresnel-2026-12-06/make_mixed.py "$D"
-M="--raw $D/scatter_mixed.raw $V --spp 4"
 alternated_rounds 3 "vx_base vx" "P S T M" 2>&1 | tee $OUT/rounds.log
 (cd $D && md5sum *.png | sort) | tee $OUT/md5.log
 cp $D/M_vx.png $D/M_vx_base.png $OUT/ 2>/dev/null

@@ -5,11 +5,10 @@
 # only in the probing variant or where the probe found a partner. Binaries: vx_base (main at
 # 0bce48b), vx (this stop, two slots) and vx_s1 (one slot: fewer payload bytes, pairs lost where
 # another marked face comes between). Scenes as device_run.sh's; three alternated rounds.
+# (Since the call, scene M comes from scripts/device_scenes.sh: the same renders.)
 # Usage (device, repository root, .gl .devlibs .devbuild carried): bash <this file>
 source docs/render_report/scripts/device_env.sh
 source docs/render_report/scripts/device_scenes.sh
-python3 docs/render_report/interface-fresnel-2026-12-06/make_mixed.py "$D"
-M="--raw $D/scatter_mixed.raw $V --spp 4"
 alternated_rounds 3 "vx_base vx vx_s1" "P S T M" 2>&1 | tee $OUT/rounds.log
 (cd $D && md5sum *.png | sort) | tee $OUT/md5.log
 cp $D/M_vx.png $D/M_vx_s1.png $OUT/ 2>/dev/null

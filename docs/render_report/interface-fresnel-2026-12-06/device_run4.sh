@@ -5,11 +5,10 @@
 # than the sun's (no new call site). Binaries: vx_pair (11f372d) and vx_dead (this variant).
 # Scenes P, S, T and M as device_run.sh's; three alternated rounds; then the render tests of
 # see-through blocks and the sun with the validation layer (VX_TEST_DEVICE=gpu), built with it.
+# (Since the call, scene M comes from scripts/device_scenes.sh: the same renders.)
 # Usage (device, repository root, .gl .devlibs .devbuild carried): bash <this file>
 source docs/render_report/scripts/device_env.sh
 source docs/render_report/scripts/device_scenes.sh
-python3 docs/render_report/interface-fresnel-2026-12-06/make_mixed.py "$D"
-M="--raw $D/scatter_mixed.raw $V --spp 4"
 alternated_rounds 3 "vx_pair vx_dead" "P S T M" 2>&1 | tee $OUT/rounds.log
 (cd $D && md5sum *.png | sort) | tee $OUT/md5.log
 export LD_PRELOAD=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1) # Static TLS: render_report.md.

@@ -1,4 +1,4 @@
-# Sourced by device scripts after device_env.sh (stops 53-54): the scenes their calls time, at
+# Sourced by device scripts after device_env.sh (stops 53-55): the scenes their calls time, at
 # 1920x1080 and 4 spp, and alternated_rounds, which times binaries on scenes in alternated rounds.
 #   P: the deep pond (absorption-2026-12-06/make_deep_pond.py) from above, 2 reflections;
 #   S: the scattered stone and water volume of raster-transparency-2026-12-05 (D, V: device_env.sh);
@@ -7,6 +7,10 @@ python3 docs/render_report/absorption-2026-12-06/make_deep_pond.py "$D/deep.raw"
 P="--raw $D/deep.raw --dims 96,24,96 --type u8 --eye 48,30,8 --target 48,12,42 --size 1920x1080 --device gpu --spp 4 --reflections 2 --repeat 12"
 S="--raw $D/scatter_water.raw $V --spp 4"
 T="--seed 1 --size 1920x1080 --device gpu --spp 4 --repeat 12"
+#   M: the scattered volume with water and glass mixed (interface-fresnel-2026-12-06/make_mixed.py,
+#      stop 55): touching pairs everywhere.
+python3 docs/render_report/interface-fresnel-2026-12-06/make_mixed.py "$D"
+M="--raw $D/scatter_mixed.raw $V --spp 4"
 
 # Prints each render's GPU trace median of frames 2..N, one line per round, scene and binary.
 # Usage: alternated_rounds ROUNDS "BINARY..." "SCENE..." (binaries in $B, scenes named as above)
