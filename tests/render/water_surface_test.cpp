@@ -34,7 +34,6 @@ RenderSettings pool_settings(uint32_t samples, glm::vec3 sky, uint32_t bounces) 
     return s;
 }
 
-
 // Where the ray from `eye` along `d` meets the plane y = `plane` going down (false: it does not).
 bool down_to(glm::dvec3 eye, glm::dvec3 d, double plane, glm::dvec3& at) {
     if (d.y >= 0.0)
@@ -205,7 +204,8 @@ TEST_F(RendererTest, ALakeBehindAWindowMirrorsTheSkyAsWithoutIt) {
                 const double n = test::index_of(wat.reflectivity);
                 const double cos_t = test::refracted_cos(wat.reflectivity, -d.y);
                 const double sun_t = test::refracted_cos(wat.reflectivity, sun_cos);
-                const glm::vec3 floor_light = sun_light * test::absorbed(wat.albedo, 1.0 / cos_t + 1.0 / sun_t);
+                const glm::vec3 floor_light =
+                    sun_light * test::absorbed(wat.albedo, 1.0 / cos_t + 1.0 / sun_t);
                 expected = floor_light * float((1.0 - f) / (n * n)) + mirrored;
                 if (top.z < 2.0) { // Seen through the pane; the water's reflection weighs more.
                     const glm::vec3 pass = pane_pass(-d.z);

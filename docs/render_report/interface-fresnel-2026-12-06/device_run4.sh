@@ -6,12 +6,11 @@
 # Scenes P, S, T and M as device_run.sh's; three alternated rounds; then the render tests of
 # see-through blocks and the sun with the validation layer (VX_TEST_DEVICE=gpu), built with it.
 # (Since the call, scene M comes from scripts/device_scenes.sh: the same renders.)
+# (Since the call, the test run comes from scripts/device_scenes.sh: the same tests.)
 # Usage (device, repository root, .gl .devlibs .devbuild carried): bash <this file>
 source docs/render_report/scripts/device_env.sh
 source docs/render_report/scripts/device_scenes.sh
 alternated_rounds 3 "vx_pair vx_dead" "P S T M" 2>&1 | tee $OUT/rounds.log
 (cd $D && md5sum *.png | sort) | tee $OUT/md5.log
-export LD_PRELOAD=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1) # Static TLS: render_report.md.
-VX_TEST_DEVICE=gpu timeout 200 $B/vx_render_tests --gtest_brief=1 \
-  --gtest_filter='*Sun*:*Pool*:*Water*:*Lake*:*Interface*:*OneIndex*:*Transparen*:*Glass*' 2>&1 | tail -3
+filtered_render_tests '*Sun*:*Pool*:*Water*:*Lake*:*Interface*:*OneIndex*:*Transparen*:*Glass*' # LD_PRELOAD for static TLS: render_report.md.
 echo "total: $(( $(date +%s) - t0 )) s"

@@ -25,3 +25,11 @@ alternated_rounds() {
     done
   done
 }
+
+# Runs the render tests whose names match the gtest FILTER on the NVIDIA driver with the
+# validation layer (VX_TEST_DEVICE=gpu) and prints their summary.
+# Usage: filtered_render_tests FILTER (vx_render_tests in $B)
+filtered_render_tests() {
+  LD_PRELOAD=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1) \
+    VX_TEST_DEVICE=gpu timeout 200 "$B/vx_render_tests" --gtest_brief=1 --gtest_filter="$1" 2>&1 | tail -3
+}
