@@ -58,7 +58,7 @@ Result<std::unique_ptr<Context>> Context::create(const ContextCreateInfo& info) 
         return Error{s.error()};
     if (Status s = ctx->pick_device(info); !s)
         return Error{s.error()};
-    if (Status s = ctx->create_device(); !s)
+    if (Status s = ctx->create_device(info.pipeline_statistics); !s)
         return Error{s.error()};
     if (Status s = ctx->create_frames(); !s)
         return Error{s.error()};
@@ -133,17 +133,21 @@ Status Context::create_surface(const ContextCreateInfo& info) {
     return {};
 }
 
-// A queue family with graphics (vkCmdBlitImage needs it) and compute that presents to the
-// surface, on a device with VK_KHR_swapchain.
-bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) {
+static bool device_extension_available(VkPhysicalDevice pd, const char* name) {
     uint32_t n = 0;
     vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
     std::vector<VkExtensionProperties> exts(n);
     vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
-    bool swapchain = false;
     for (const VkExtensionProperties& e : exts)
-        swapchain = swapchain || std::strcmp(e.extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
-    if (!swapchain)
+        if (std::strcmp(e.extensionName, name) == 0)
+            return true;
+    return false;
+}
+
+// A queue family with graphics (vkCmdBlitImage needs it) and compute that presents to the
+// surface, on a device with VK_KHR_swapchain.
+bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) {
+    if (!device_extension_available(pd, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
         return false;
     // Frames are blitted into the swapchain's images: a surface whose images cannot be a copy's
     // destination cannot show them here (the spec guarantees only COLOR_ATTACHMENT usage).
@@ -151,6 +155,7 @@ bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) {
     if (vkGetPhysicalDeviceSurfaceCapabilitiesKHR(pd, m_surface, &caps) != VK_SUCCESS ||
         !(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
         return false;
+    uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
     std::vector<VkQueueFamilyProperties> qf(n);
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, qf.data());
@@ -217,7 +222,18 @@ Status Context::pick_device(const ContextCreateInfo& info) {
     return Error{"device " + m_report.name + " has no compute queue"};
 }
 
-Status Context::create_device() {
+// Whether `pd` can keep pipeline statistics (the extension and its one feature), else why not.
+static std::string statistics_missing(VkPhysicalDevice pd) {
+    if (!device_extension_available(pd, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME))
+        return "the device does not offer " VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME;
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR exec{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &exec};
+    vkGetPhysicalDeviceFeatures2(pd, &f2);
+    return exec.pipelineExecutableInfo ? "" : "the device does not support pipelineExecutableInfo";
+}
+
+Status Context::create_device(bool pipeline_statistics) {
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
     atomics.shaderBufferFloat32AtomicAdd = VK_TRUE; // The light cache (device_probe.h).
     VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &atomics};
@@ -238,6 +254,17 @@ Status Context::create_device() {
                                      VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME};
     if (m_surface)
         exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR exec{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+    if (pipeline_statistics) {
+        m_statistics_note = statistics_missing(m_pd);
+        if (m_statistics_note.empty()) {
+            exts.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+            exec.pipelineExecutableInfo = VK_TRUE;
+            exec.pNext = atomics.pNext;
+            atomics.pNext = &exec;
+        }
+    }
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qci.queueFamilyIndex = m_queue_family;
@@ -256,6 +283,7 @@ Status Context::create_device() {
                      vk_result_name(made)};
     }
     volkLoadDevice(m_device);
+    m_pipeline_statistics = exec.pipelineExecutableInfo == VK_TRUE;
     vkGetDeviceQueue(m_device, m_queue_family, 0, &m_queue);
     set_name(m_device, VK_OBJECT_TYPE_DEVICE, "vx device");
     set_name(m_queue, VK_OBJECT_TYPE_QUEUE, "vx queue");

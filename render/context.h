@@ -36,6 +36,11 @@ struct ContextCreateInfo {
     // VK_KHR_swapchain is enabled. The caller keeps GLFW initialised and the window alive
     // until the Context is destroyed.
     void* window = nullptr;
+    // Ask the driver to keep statistics of the pipelines it compiles (register counts, code size:
+    // VK_KHR_pipeline_executable_properties), where the device offers them; see
+    // Context::pipeline_statistics(). Off by default: drivers may compile differently or skip their
+    // caches with it on.
+    bool pipeline_statistics = false;
 };
 
 // Semaphores of a frame's submission (presentation): wait on `wait` at `wait_stage` (the
@@ -86,6 +91,10 @@ public:
     uint32_t validation_warnings() const { return m_validation_warnings.load(); }
     bool validation_enabled() const { return m_validation; }
     bool sync_validation_enabled() const { return m_sync_validation; }
+    // Pipelines are made with VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR and their statistics
+    // can be read (render/pipeline_report.h); else pipeline_statistics_note() says why not.
+    bool pipeline_statistics() const { return m_pipeline_statistics; }
+    const std::string& pipeline_statistics_note() const { return m_statistics_note; }
 
     // Names an object for validation messages and debuggers (no-op without debug utils).
     void set_name(VkObjectType type, uint64_t handle, const char* name) const;
@@ -186,7 +195,7 @@ private:
     Status pick_device(const ContextCreateInfo& info);
     bool can_present(VkPhysicalDevice pd, uint32_t* family);
     void log_create_failure(const char* what, VkResult result);
-    Status create_device();
+    Status create_device(bool pipeline_statistics);
     Status create_frames();
     VkResult make_pool(VkCommandPool& pool, const char* name);
     VkResult make_cmd(VkCommandPool pool, VkCommandBuffer& cmd, const char* name);
@@ -219,6 +228,8 @@ private:
     bool m_validation = false;
     bool m_sync_validation = false; // Its synchronization checks too (ContextCreateInfo).
     bool m_debug_utils = false;
+    bool m_pipeline_statistics = false;
+    std::string m_statistics_note = "not asked for (ContextCreateInfo::pipeline_statistics)";
     DeviceReport m_report;
     VkPhysicalDeviceRayTracingPipelinePropertiesKHR m_rt_props{};
     VkPhysicalDeviceAccelerationStructurePropertiesKHR m_as_props{};

@@ -25,6 +25,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererCreateInfo& inf
     ci.device = info.device;
     ci.window = info.glfw_window;
     ci.fail_allocations = info.fail_allocations;
+    ci.pipeline_statistics = info.pipeline_statistics;
     Result<std::unique_ptr<Context>> ctx = Context::create(ci);
     if (!ctx)
         return Error{ctx.error()};
@@ -332,6 +333,21 @@ void Renderer::clear_chunks() {
     m->see_through_set.clear();
 }
 bool Renderer::device_lost() const { return m->ctx->lost(); }
+
+Result<PipelineReport> Renderer::pipeline_report() {
+    if (m->ctx->lost())
+        return Error{"the device was lost"};
+    PipelineReport report{m->ctx->report().name, {}, m->ctx->pipeline_statistics_note()};
+    for (SeeThrough level : {SeeThrough::kNone, SeeThrough::kPlain, SeeThrough::kProbe})
+        for (bool faces : {false, true}) {
+            PipelineVariantReport v = m->pipeline->report(faces, level);
+            if (v.name.empty())
+                return Error{"out of memory for ray tracing pipeline variant " +
+                             std::to_string(report.variants.size() + 1) + " of 6 (the log names it)"};
+            report.variants.push_back(std::move(v));
+        }
+    return report;
+}
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }
 void Renderer::fail_allocations(std::string name_prefix, uint64_t above_bytes) {
     m->ctx->fail_allocations(std::move(name_prefix), above_bytes);

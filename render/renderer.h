@@ -23,6 +23,7 @@
 #include <glm/glm.hpp>
 
 #include "render/device_probe.h"
+#include "render/pipeline_report.h"
 #include "world/block_registry.h"
 #include "world/mesh/chunk_mesh.h"
 #include "world/coords.h"
@@ -380,6 +381,10 @@ struct RendererCreateInfo {
     // from its graphics+compute queue.
     void* glfw_window = nullptr;
     bool vsync = true; // With a window: FIFO; false: MAILBOX, else IMMEDIATE, else FIFO.
+    // Keep the driver's statistics of the ray-tracing pipelines for pipeline_report() (where the
+    // device offers VK_KHR_pipeline_executable_properties). Off for games: a driver may skip its
+    // caches for pipelines made so.
+    bool pipeline_statistics = false;
 };
 
 class Renderer {
@@ -467,6 +472,11 @@ public:
     // frames fail; the scene, being the caller's, is kept by the caller and sent to a new
     // Renderer. Destroying this one is safe.
     bool device_lost() const;
+    // What the driver made of each ray-tracing pipeline variant (render/pipeline_report.h),
+    // making those not yet made: stack sizes always, executable statistics with
+    // RendererCreateInfo::pipeline_statistics on a device that keeps them. Errors: out of memory
+    // for a variant (the ones made stay usable), the device lost. Main thread only.
+    Result<PipelineReport> pipeline_report();
     // Whether width x height frames can fit this device: an error naming the size and the
     // estimate when the frame resources (frame_bytes_per_pixel) exceed the largest device-local
     // heap or one image exceeds the device's largest allocation.

@@ -142,6 +142,8 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, SeeThrough see
     ci.pGroups = groups;
     ci.maxPipelineRayRecursionDepth = 1; // Every ray is traced from raygen; reflections loop there.
     ci.layout = m_layout;
+    if (m_ctx->pipeline_statistics())
+        ci.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
     Variant v;
     const std::string suffix = std::string(sample_faces ? ", emitter faces" : "") + (probe ? ", probes" : "") +
                                (see_through == SeeThrough::kNone ? ", opaque only" : "");
@@ -158,6 +160,7 @@ RtPipeline::Variant RtPipeline::create_variant(bool sample_faces, SeeThrough see
         return Variant{};
     }
     m_ctx->set_name(v.pipeline, VK_OBJECT_TYPE_PIPELINE, name.c_str());
+    v.name = name;
     (void)create_sbt(v, ("shader binding table" + suffix).c_str());
     return v;
 }
@@ -222,6 +225,27 @@ void RtPipeline::trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, boo
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, v.pipeline);
     vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof push, &push);
     vkCmdTraceRaysKHR(cmd, flat ? &v.raygen_flat : &v.raygen, &v.miss, &v.hit, &v.callable, width, height, 1);
+}
+
+PipelineVariantReport RtPipeline::report(bool sample_faces, SeeThrough see_through) {
+    if (!ensure_variant(sample_faces, see_through))
+        return {};
+    const Variant& v = m_variants[variant_index(sample_faces, see_through)];
+    PipelineVariantReport r{v.name, {}, read_executables(*m_ctx, v.pipeline)};
+    const char* names[kGroupCount] = {"raygen", "primary miss", "shadow miss", "hit", "raygen flat"};
+    for (uint32_t g = 0; g < kGroupCount; ++g) {
+        auto stack = [&](VkShaderGroupShaderKHR shader) {
+            return uint64_t(vkGetRayTracingShaderGroupStackSizeKHR(m_ctx->device(), v.pipeline, g, shader));
+        };
+        // Only the shaders a group has may be asked for
+        // (VUID-vkGetRayTracingShaderGroupStackSizeKHR-groupShader-03764).
+        if (g == kGroupHit)
+            r.stacks.push_back({names[g], 0, stack(VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR),
+                                stack(VK_SHADER_GROUP_SHADER_ANY_HIT_KHR)});
+        else
+            r.stacks.push_back({names[g], stack(VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0, 0});
+    }
+    return r;
 }
 
 } // namespace vx::render

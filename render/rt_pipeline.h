@@ -15,6 +15,7 @@
 
 #include "render/commands.h"
 #include "render/gpu_layouts.h"
+#include "render/pipeline_report.h"
 #include "render/resources.h"
 
 namespace vx::render {
@@ -71,9 +72,14 @@ public:
     void trace(VkCommandBuffer cmd, uint32_t width, uint32_t height, bool flat, bool sample_faces,
                SeeThrough see_through, const gpu::TracePush& push) const;
 
+    // What the driver made of that variant (render/pipeline_report.h), made first unless it exists;
+    // an empty name when it could not be made (out of memory). Main thread only.
+    PipelineVariantReport report(bool sample_faces, SeeThrough see_through);
+
 private:
     struct Variant {
         VkPipeline pipeline = VK_NULL_HANDLE;
+        std::string name; // Its debug name.
         Buffer sbt;
         VkStridedDeviceAddressRegionKHR raygen{}, raygen_flat{}, miss{}, hit{}, callable{};
     };
@@ -89,5 +95,9 @@ private:
     VkPipelineLayout m_layout = VK_NULL_HANDLE;
     std::array<Variant, 6> m_variants; // [variant_index(sample_faces, see_through)]
 };
+
+// The statistics of each executable the driver compiled `pipeline` into, made with
+// VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR (none unless ctx.pipeline_statistics()).
+std::vector<PipelineExecutable> read_executables(const Context& ctx, VkPipeline pipeline);
 
 } // namespace vx::render

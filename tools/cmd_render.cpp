@@ -275,7 +275,10 @@ int run_render(RenderArgs a) {
     apply_pipeline_args(a, s.settings);
     const char* env = std::getenv("VX_VALIDATION");
     const bool validation = a.validation || (env && std::strcmp(env, "0") != 0 && *env);
-    auto renderer = render::Renderer::create({.validation = validation, .device = *choice, .allow_refit = a.blas_update == "on"});
+    auto renderer = render::Renderer::create({.validation = validation,
+                                              .device = *choice,
+                                              .allow_refit = a.blas_update == "on",
+                                              .pipeline_statistics = a.pipeline_report});
     if (!renderer)
         return bad_input("cannot render: " + renderer.error());
     render::Renderer& r = **renderer;
@@ -330,6 +333,12 @@ int run_render(RenderArgs a) {
         edit_bursts(r, *scene, s, a.edit_burst, std::max<uint32_t>(a.repeat, 1));
     if (!s.failure.empty()) // The figures above stop at the failed frame.
         return failed("a later frame failed: " + s.failure);
+    if (a.pipeline_report) {
+        Result<render::PipelineReport> report = r.pipeline_report();
+        if (!report)
+            return failed("cannot report the pipelines: " + report.error());
+        std::printf("%s", render::format_pipeline_report(*report).c_str());
+    }
     if (Status w = render::write_png(a.out, image); !w)
         return bad_input(w.error());
     std::printf("  wrote %s; total %s\n", a.out.c_str(),
@@ -484,6 +493,9 @@ void add_exposure_options(CLI::App* cmd, RenderArgs& a) {
                     "reflections (the thesis's Table 6.3; options given explicitly win)")
         ->check(CLI::IsMember({"default", "thesis"}));
     cmd->add_flag("--validation", a.validation, "Enable the Vulkan validation layer (also VX_VALIDATION=1)");
+    cmd->add_flag("--pipeline-report", a.pipeline_report,
+                  "Print each ray tracing pipeline variant's stack sizes and the driver's statistics "
+                  "(register counts...)");
 }
 
 } // namespace

@@ -27,6 +27,7 @@ struct RenderArgs {
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;
     bool validation = false;
+    bool pipeline_report = false; // --pipeline-report: print render::Renderer::pipeline_report().
     std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
     std::string denoise = "off"; // --denoise (render/denoiser.h).
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.

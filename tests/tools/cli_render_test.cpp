@@ -115,6 +115,22 @@ TEST(CliRender, SaysWhenSeeThroughBlocksTouch) {
     }
 }
 
+// `vx render --pipeline-report` prints every pipeline variant's stacks after the frame, and either
+// the driver's statistics or why there are none (lavapipe offers none). Without the flag: nothing.
+TEST(CliRender, PipelineReportListsEveryVariant) {
+    const std::string vol = write_volume(), out = dir() + "/report.png";
+    const std::string args = "--raw " + vol + " --dims 24,12,20 --size 32x24 --spp 1 --out " + out;
+    const CliRun r = render(args + " --pipeline-report");
+    for (const char* name : {"rt pipeline, opaque only\n", "rt pipeline, emitter faces, opaque only\n",
+                             "rt pipeline\n", "rt pipeline, emitter faces\n", "rt pipeline, probes\n",
+                             "rt pipeline, emitter faces, probes\n"})
+        EXPECT_NE(r.out.find(name), std::string::npos) << name << r.out;
+    EXPECT_NE(r.out.find("    raygen flat"), std::string::npos) << r.out;
+    const bool none = r.out.find("no executable statistics: ") != std::string::npos;
+    EXPECT_NE(none, r.out.find("  executable ") != std::string::npos) << r.out;
+    EXPECT_EQ(render(args).out.find("stack bytes"), std::string::npos);
+}
+
 // `vx render` tells the renderer the block the eye lies in (RenderSettings::eye_block): the floor
 // under water six deep seen from inside the water, 3.5 blocks over it, is the floor seen from above
 // less the 2.5 blocks of water the view no longer crosses (on its slant: 6 / cos and 3.5 / cos,

@@ -1,0 +1,56 @@
+#pragma once
+// What the driver made of the ray-tracing pipeline's variants (render/rt_pipeline.h). Code a frame
+// never runs still costs every ray, through the registers and the stack its live values take
+// (docs/render_report.md: the terrain's 5% for the see-through walk on the H100); these are the
+// numbers that show it, per variant, on the device at hand:
+// - each shader group's stack size (vkGetRayTracingShaderGroupStackSizeKHR, core to
+//   VK_KHR_ray_tracing_pipeline): on NVIDIA the values a shader keeps live across its trace calls;
+// - where the device offers VK_KHR_pipeline_executable_properties and the renderer was created with
+//   RendererCreateInfo::pipeline_statistics, each executable's statistics as the driver names them
+//   (NVIDIA: register count, code size; Mesa: instruction counts of its own).
+// Plain data, thread-free; filled on the main thread by Renderer::pipeline_report().
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vx::render {
+
+struct PipelineStatistic {
+    std::string name;        // The driver's, e.g. "Register Count".
+    std::string description; // The driver's.
+    std::string value;       // As text: an integer, a float or true / false, in the driver's units.
+};
+
+struct PipelineExecutable {
+    std::string name, description; // The driver's (e.g. "raygen", "closest hit").
+    uint32_t stages = 0;           // VkShaderStageFlags it was compiled from.
+    uint32_t subgroup_size = 0;
+    std::vector<PipelineStatistic> statistics;
+};
+
+// Stack sizes of one shader group, bytes (VK_SHADER_GROUP_SHADER_*: general for raygen and miss
+// groups, closest and any hit for hit groups; 0 where the group has no such shader).
+struct PipelineGroupStack {
+    std::string group; // "raygen", "primary miss", "shadow miss", "hit", "raygen flat".
+    uint64_t general = 0, closest_hit = 0, any_hit = 0;
+};
+
+struct PipelineVariantReport {
+    std::string name; // The variant's debug name, e.g. "rt pipeline, probes".
+    std::vector<PipelineGroupStack> stacks;
+    std::vector<PipelineExecutable> executables; // Empty without statistics.
+};
+
+struct PipelineReport {
+    std::string device;
+    std::vector<PipelineVariantReport> variants;
+    // Why no variant lists executables ("" when statistics were kept), e.g. the device lacks the
+    // extension or the renderer was not asked to keep them.
+    std::string statistics_note;
+};
+
+// The report as text, one variant after another: its stacks, then each executable's statistics.
+std::string format_pipeline_report(const PipelineReport& report);
+
+} // namespace vx::render
