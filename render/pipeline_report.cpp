@@ -65,6 +65,14 @@ std::vector<PipelineExecutable> read_executables(const Context& ctx, VkPipeline 
     return result;
 }
 
+void note_missing_executables(PipelineReport& report) {
+    for (const PipelineVariantReport& v : report.variants)
+        if (!v.executables.empty())
+            return;
+    if (report.statistics_note.empty())
+        report.statistics_note = "the driver lists no executables for ray tracing pipelines";
+}
+
 std::string format_pipeline_report(const PipelineReport& report) {
     std::string out = "pipelines on " + report.device + "\n";
     char line[256];

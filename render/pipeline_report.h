@@ -45,10 +45,16 @@ struct PipelineVariantReport {
 struct PipelineReport {
     std::string device;
     std::vector<PipelineVariantReport> variants;
-    // Why no variant lists executables ("" when statistics were kept), e.g. the device lacks the
-    // extension or the renderer was not asked to keep them.
+    // Why no variant lists executables ("" when statistics were kept): the device lacks the
+    // extension, the renderer was not asked to keep them, or the driver lists none for ray-tracing
+    // pipelines.
     std::string statistics_note;
 };
+
+// Where statistics were kept (no note) but no variant lists an executable, says so in the note: a
+// driver may keep statistics and list none for ray-tracing pipelines (the extension first covered
+// graphics and compute pipelines only: Vulkan-Docs issue 1433).
+void note_missing_executables(PipelineReport& report);
 
 // The report as text, one variant after another: its stacks, then each executable's statistics.
 std::string format_pipeline_report(const PipelineReport& report);

@@ -346,6 +346,7 @@ Result<PipelineReport> Renderer::pipeline_report() {
                              std::to_string(report.variants.size() + 1) + " of 6 (the log names it)"};
             report.variants.push_back(std::move(v));
         }
+    note_missing_executables(report);
     return report;
 }
 void Renderer::simulate_device_loss() { m->ctx->simulate_device_loss(); }
