@@ -1,13 +1,13 @@
 #pragma once
 // What the driver made of the ray-tracing pipeline's variants (render/rt_pipeline.h). Code a frame
-// never runs still costs every ray, through the registers and the stack its live values take
-// (docs/render_report.md: the terrain's 5% for the see-through walk on the H100); these are the
-// numbers that show it, per variant, on the device at hand:
+// never runs can still cost every ray, through the registers and the stack it takes
+// (docs/render_report.md, stop 56: the see-through code costs the terrain's view 10% on the H100,
+// where no ray needs it); these are the numbers a driver gives about that, per variant:
 // - each shader group's stack size (vkGetRayTracingShaderGroupStackSizeKHR, core to
-//   VK_KHR_ray_tracing_pipeline): on NVIDIA the values a shader keeps live across its trace calls;
+//   VK_KHR_ray_tracing_pipeline): what the shader keeps across its trace calls needs that stack;
 // - where the device offers VK_KHR_pipeline_executable_properties and the renderer was created with
 //   RendererCreateInfo::pipeline_statistics, each executable's statistics as the driver names them
-//   (NVIDIA: register count, code size; Mesa: instruction counts of its own).
+//   (register counts, code size...).
 // Plain data, thread-free; filled on the main thread by Renderer::pipeline_report().
 
 #include <cstdint>

@@ -126,5 +126,19 @@ TEST(PipelineReportTest, AVariantWithoutMemoryIsAnErrorAndTheRendererGoesOn) {
     EXPECT_EQ(r->validation_errors(), 0u);
 }
 
+// A lost device: the report is an error, not an abort.
+TEST(PipelineReportTest, ALostDeviceIsAnError) {
+    std::unique_ptr<Renderer> r = test::make_renderer();
+    ASSERT_NE(r, nullptr);
+    test::load_meshes(*r, test::mesh_world(test::hills()));
+    r->simulate_device_loss();
+    const Camera cam = Camera::look_at({-6.5, 12.0, 9.5}, {2.0, 4.0, -2.0});
+    EXPECT_FALSE(r->try_render(test::daylight(1), cam));
+    ASSERT_TRUE(r->device_lost());
+    Result<PipelineReport> report = r->pipeline_report();
+    ASSERT_FALSE(report);
+    EXPECT_EQ(report.error(), "the device was lost");
+}
+
 } // namespace
 } // namespace vx::render
