@@ -2,7 +2,7 @@
 # Stop 56's second device call (as device_run.sh, .devbuild holding only vx, vx_render_tests and
 # vx_cli_render_tests of 150a3f9): the pipeline report of the terrain's view (call 1 passed it
 # --repeat twice and printed none), then the report's tests on the NVIDIA driver, with their
-# failures in full.
+# failures in full. Not run: the session's device time was spent (docs/render_report.md).
 source docs/render_report/scripts/device_env.sh > /dev/null
 "$B/vx" render --seed 1 --size 1920x1080 --device gpu --spp 4 --repeat 2 --pipeline-report \
   --out /tmp/t.png > "$OUT/report.txt" 2>&1
