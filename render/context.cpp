@@ -133,21 +133,10 @@ Status Context::create_surface(const ContextCreateInfo& info) {
     return {};
 }
 
-static bool device_extension_available(VkPhysicalDevice pd, const char* name) {
-    uint32_t n = 0;
-    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
-    std::vector<VkExtensionProperties> exts(n);
-    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
-    for (const VkExtensionProperties& e : exts)
-        if (std::strcmp(e.extensionName, name) == 0)
-            return true;
-    return false;
-}
-
 // A queue family with graphics (vkCmdBlitImage needs it) and compute that presents to the
 // surface, on a device with VK_KHR_swapchain.
 bool Context::can_present(VkPhysicalDevice pd, uint32_t* family) {
-    if (!device_extension_available(pd, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
+    if (!device_has_extension(pd, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
         return false;
     // Frames are blitted into the swapchain's images: a surface whose images cannot be a copy's
     // destination cannot show them here (the spec guarantees only COLOR_ATTACHMENT usage).
@@ -224,7 +213,7 @@ Status Context::pick_device(const ContextCreateInfo& info) {
 
 // Whether `pd` can keep pipeline statistics (the extension and its one feature), else why not.
 static std::string statistics_missing(VkPhysicalDevice pd) {
-    if (!device_extension_available(pd, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME))
+    if (!device_has_extension(pd, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME))
         return "the device does not offer " VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME;
     VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR exec{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};

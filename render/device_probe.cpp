@@ -48,15 +48,24 @@ static bool has_extension(const std::vector<VkExtensionProperties>& exts, const 
     return false;
 }
 
+static std::vector<VkExtensionProperties> device_extensions(VkPhysicalDevice pd) {
+    uint32_t n = 0;
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> exts(n);
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
+    return exts;
+}
+
+bool device_has_extension(VkPhysicalDevice pd, const char* name) {
+    return has_extension(device_extensions(pd), name);
+}
+
 DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
     vkGetPhysicalDeviceProperties2(pd, &props);
 
-    uint32_t n = 0;
-    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
-    std::vector<VkExtensionProperties> exts(n);
-    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
+    const std::vector<VkExtensionProperties> exts = device_extensions(pd);
 
     DeviceReport r;
     r.index = index;

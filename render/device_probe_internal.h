@@ -11,6 +11,8 @@ Status init_loader();
 // "vkCreateInstance failed: ..." for `r`; for VK_ERROR_INCOMPATIBLE_DRIVER, missing_driver_message()
 // of this process's environment.
 std::string instance_error(VkResult r);
+// Whether physical device `pd` offers device extension `name` (instance-level functions loaded).
+bool device_has_extension(VkPhysicalDevice pd, const char* name);
 // The report of one physical device (instance-level functions must be loaded).
 DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index);
 
