@@ -157,6 +157,7 @@ Result<PresentResult> Renderer::present(const RenderSettings& settings, const Ca
         return Error{Impl::lost_error().error()};
     RenderStats st;
     d.read_stamps(st);
+    d.read_check(st);
     d.read_meter(settings.exposure.adapt_speed);
     const auto t_record = Clock::now();
     RenderSettings s = settings;

@@ -168,6 +168,19 @@ struct RenderSettings {
     // docs/render_report.md, stop 29). Same image; 0: one dispatch; ignored where it cannot
     // apply; at most max_bounces (and gpu::kMaxSplitHits) count.
     uint32_t split_hits = 0;
+    // Where some drawn chunk holds a see-through block and the eye is in none: trace the image
+    // with the pipeline variant that has no see-through code first, listing every pixel any of
+    // whose rays meets a see-through face, then trace those pixels again with the variant that
+    // has it (gpu::kCheckList, shaders/shared/render_types.h). Same image as the one dispatch
+    // with the see-through code; that code runs only where a ray needs it (the terrain's view:
+    // 10% of its trace on the H100, docs/render_report.md, stop 56). 4 bytes a pixel for the
+    // list, made at the first such frame. Not with split_hits or the light cache, nor in Flat
+    // mode (those trace with the see-through code throughout). Where many pixels' rays meet such
+    // faces (a view over a lake) two dispatches cost more than one: while the share of pixels
+    // that did in the last frame read back (RenderStats::see_through_pixels) is above
+    // see_through_check_share, frames trace in one dispatch and count them. 1: always check.
+    bool see_through_check = true;
+    float see_through_check_share = 0.25f;
     uint32_t max_bounces = 2;    // Reflection depth (mirrors, water and glass surfaces); clamped to kMaxMirrorBounces.
     uint32_t seed = 1;           // Same seed, same image.
     glm::vec3 sky{0.55f, 0.7f, 0.95f}; // Linear RGB radiance of the sky (seen by missed rays).
@@ -280,6 +293,12 @@ struct RenderStats {
     // tints and surfaces): some chunk set holds a see-through block, or the eye is in one
     // (RenderSettings::eye_block); else it traces the variant without (render/rt_pipeline.h).
     bool see_through_code = true;
+    // The frame traced with RenderSettings::see_through_check, and how many of its pixels' rays
+    // met a see-through face: traced again with the see-through code where checked, else counted
+    // where the check applied (0 where it did not). Of this frame in render(); in present(), of
+    // the frame whose GPU times these are (kFramesInFlight back).
+    bool see_through_checked = false;
+    uint32_t see_through_pixels = 0;
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     uint32_t instance_writes = 0; // TLAS instances written this frame (changed ones: not every chunk).
     uint64_t rebases = 0;      // Render-origin moves that rewrote every TLAS instance, since creation.

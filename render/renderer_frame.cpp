@@ -33,6 +33,42 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     out.gpu_frame_ms = double(t[4] - t[0]) * ms_per_tick;
 }
 
+// The see-through check's count of the frame last submitted in this slot, once its fence has
+// signalled.
+void Renderer::Impl::read_check(RenderStats& out) {
+    const uint32_t slot = ctx->frame_slot();
+    out.see_through_checked = check_modes[slot] == gpu::kCheckList;
+    out.see_through_pixels = 0;
+    if (check_modes[slot] == gpu::kCheckOff)
+        return;
+    std::memcpy(&out.see_through_pixels, check_counts[slot].mapped(), sizeof(uint32_t));
+    met_share = float(double(out.see_through_pixels) / double(std::max<uint64_t>(check_pixels[slot], 1)));
+    check_modes[slot] = gpu::kCheckOff; // Read once.
+}
+
+uint32_t Renderer::Impl::prepare_check(const RenderSettings& s) {
+    const uint32_t mode = met_share <= s.see_through_check_share ? gpu::kCheckList : gpu::kCheckCount;
+    // write_params picks the emitter faces' variant or not after this: both may be needed.
+    if (mode == gpu::kCheckList &&
+        (!pipeline->ensure_variant(false, SeeThrough::kNone) ||
+         (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, SeeThrough::kNone))))
+        return gpu::kCheckOff;
+    const VkDeviceSize bytes = (VkDeviceSize(s.width) * s.height + 1) * sizeof(uint32_t);
+    if (!check_list.valid() || check_list.size() != bytes) {
+        check_list = Buffer::create(*ctx, {bytes,
+                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                           MemoryUse::Device, 0, "see-through check list"});
+        if (!check_list.valid())
+            return gpu::kCheckOff;
+    }
+    Buffer& count = check_counts[ctx->frame_slot()];
+    if (!count.valid())
+        count = Buffer::create(*ctx, {sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0,
+                                      "see-through check count"});
+    return count.valid() ? mode : gpu::kCheckOff;
+}
+
 // EV100 that shows a frame of log-average luminance 2^log2_average (radiance units) at
 // mid-grey: kNitsPerUnit * L / (1.2 * 2^EV100) = kMidGreyInput (tonemap.h).
 static float metered_ev100(float log2_average) {
@@ -183,6 +219,7 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
     auto out_of_memory = [&](const char* what) { return frame_out_of_memory(s, what); };
     if (!ensure_target(s.width, s.height))
         return out_of_memory("the render target and G-buffer");
+    check_modes[ctx->frame_slot()] = gpu::kCheckOff; // Until record_trace.
     if (!update_materials())
         return out_of_memory("the material table");
     // The frame slot's emitter lists (written by write_emitter_list each frame), made once.
@@ -209,6 +246,7 @@ Status Renderer::Impl::prepare_frame(const RenderSettings& s, bool with_readback
         return out_of_memory("the emitter faces' pipeline");
     if (!pipeline->ensure_variant(false, frame_see_through)) // (false, kPlain) exists already.
         return out_of_memory("the pipeline of this frame's see-through blocks");
+    frame_check = check_applies(s, eye_in) ? prepare_check(s) : gpu::kCheckOff;
     const VkDeviceSize pixels = VkDeviceSize(s.width) * s.height;
     if (with_readback && (!readback.valid() || readback.size() != pixels * 4)) {
         readback = Buffer::create(*ctx, {pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0, "render readback"});

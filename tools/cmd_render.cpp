@@ -85,6 +85,11 @@ void print_frame(const char* what, const render::RenderStats& st, double wall_ms
         std::printf("  %u chunks not drawn: out of GPU memory\n", st.failed_chunks);
     if (st.touching_probes) // The pipeline variant with the coincident-face probe (render/touching_pairs.h).
         std::printf("  two different see-through blocks touch: traced with the coincident-face probe\n");
+    if (st.see_through_checked) // RenderSettings::see_through_check.
+        std::printf("  see-through check: %u pixels traced again with the see-through code\n", st.see_through_pixels);
+    else if (st.see_through_pixels > 0)
+        std::printf("  see-through check: %u pixels met see-through faces, over the share: one dispatch\n",
+                    st.see_through_pixels);
 }
 
 // Device memory of the scene by kind; B/quad counts what each chunk holds (BLAS, vertices, quad
@@ -416,6 +421,15 @@ void add_sampling_options(CLI::App* cmd, RenderArgs& a) {
                     "Trace the first N hits of every path each in a pass of its own, then the rest (the same "
                     "image; render::RenderSettings::split_hits); 0: one pass")
         ->check(CLI::Range(0u, 64u));
+    cmd->add_option("--see-through-check", a.see_through_check,
+                    "on (default): trace without the see-through code first, then again with it only the pixels "
+                    "whose rays met water or glass (the same image); off: with it everywhere "
+                    "(render::RenderSettings::see_through_check)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--see-through-check-share", a.see_through_check_share,
+                    "Check while at most this share of the last frame's pixels met water or glass, else trace in "
+                    "one dispatch (render::RenderSettings::see_through_check_share; default 0.25; 1: always)")
+        ->check(finite_range(0.0, 1.0, "a share from 0 to 1"));
 }
 
 // The lights, shading, shadows and reflections.

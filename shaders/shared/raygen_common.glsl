@@ -24,6 +24,13 @@ layout(constant_id = 1) const bool kProbeTouching = true;
 layout(constant_id = 2) const bool kSeeThrough = true;
 const float kTMax = 1.0e7;
 
+// The see-through check (render_types.h). g_check: this is its first dispatch (kCheckList; set
+// by main from the push constants), where every hit is opaque. g_met: a ray of the pixel met a
+// see-through face (set by the walk and by trace_shadow; in the variant without the see-through
+// code only where g_check), so the pixel is traced again with that code, or counted (kCheckCount).
+bool g_check = false;
+bool g_met = false;
+
 vec3 face_normal(uint face) {
     face &= ~kFaceMayTouch;
     vec3 n = vec3(0.0);
@@ -123,14 +130,18 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         g_surface.t = -1.0;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
-        if (!kSeeThrough)
+        if (!kSeeThrough) {
+            if (g_check && payload.t >= 0.0 && vx_transparent(vx_material(payload.block)))
+                g_met = true;
             return tint;
+        }
         if (g_inside != 0u) // The segment to this face (or to the end: a miss) runs in g_inside.
             tint *= vx_absorb(vx_material(g_inside), payload.t < 0.0 ? kTMax : payload.t);
         if (payload.t < 0.0)
             return tint;
         travelled += payload.t;
         Material m = vx_material(payload.block);
+        g_met = g_met || vx_transparent(m);
         if (!vx_transparent(m) || layer >= kMaxTransparentLayers) {
             payload.t = travelled;
             if (vx_transparent(m)) // Stopped on a see-through face, shaded as a surface.
