@@ -29,7 +29,7 @@ static_assert(offsetof(FrameParams, cache_records) == kParamsTail + 56);
 static_assert(offsetof(FrameParams, materials) == kParamsTail + 8);
 static_assert(sizeof(ExposureMeter) == 8);
 static_assert(sizeof(TracePush) == 32 && offsetof(TracePush, first_hit) == 8 && offsetof(TracePush, last_hit) == 12);
-static_assert(offsetof(TracePush, check_list) == 16 && offsetof(TracePush, check) == 24);
+static_assert(offsetof(TracePush, check_marks) == 16 && offsetof(TracePush, check) == 24);
 static_assert(sizeof(PathState) == 80); // raygen.rgen's path_list_address() counts on it.
 static_assert(sizeof(Material) == 32);
 static_assert(offsetof(Material, emission) == 16);

@@ -169,12 +169,12 @@ struct RenderSettings {
     // apply; at most max_bounces (and gpu::kMaxSplitHits) count.
     uint32_t split_hits = 0;
     // Where some drawn chunk holds a see-through block and the eye is in none: trace the image
-    // with the pipeline variant that has no see-through code first, listing every pixel any of
+    // with the pipeline variant that has no see-through code first, marking every pixel any of
     // whose rays meets a see-through face, then trace those pixels again with the variant that
-    // has it (gpu::kCheckList, shaders/shared/render_types.h). Same image as the one dispatch
+    // has it (gpu::kCheckMark, shaders/shared/render_types.h). Same image as the one dispatch
     // with the see-through code; that code runs only where a ray needs it (the terrain's view:
     // 10% of its trace on the H100, docs/render_report.md, stop 56). 4 bytes a pixel for the
-    // list, made at the first such frame. Not with split_hits or the light cache, nor in Flat
+    // marks, made at the first such frame. Not with split_hits or the light cache, nor in Flat
     // mode (those trace with the see-through code throughout). Where many pixels' rays meet such
     // faces (a view over a lake) two dispatches cost more than one: while the share of pixels
     // that did in the last frame read back (RenderStats::see_through_pixels) is above

@@ -37,7 +37,7 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
 // signalled.
 void Renderer::Impl::read_check(RenderStats& out) {
     const uint32_t slot = ctx->frame_slot();
-    out.see_through_checked = check_modes[slot] == gpu::kCheckList;
+    out.see_through_checked = check_modes[slot] == gpu::kCheckMark;
     out.see_through_pixels = 0;
     if (check_modes[slot] == gpu::kCheckOff)
         return;
@@ -47,19 +47,19 @@ void Renderer::Impl::read_check(RenderStats& out) {
 }
 
 uint32_t Renderer::Impl::prepare_check(const RenderSettings& s) {
-    const uint32_t mode = met_share <= s.see_through_check_share ? gpu::kCheckList : gpu::kCheckCount;
+    const uint32_t mode = met_share <= s.see_through_check_share ? gpu::kCheckMark : gpu::kCheckCount;
     // write_params picks the emitter faces' variant or not after this: both may be needed.
-    if (mode == gpu::kCheckList &&
+    if (mode == gpu::kCheckMark &&
         (!pipeline->ensure_variant(false, SeeThrough::kNone) ||
          (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, SeeThrough::kNone))))
         return gpu::kCheckOff;
     const VkDeviceSize bytes = (VkDeviceSize(s.width) * s.height + 1) * sizeof(uint32_t);
-    if (!check_list.valid() || check_list.size() != bytes) {
-        check_list = Buffer::create(*ctx, {bytes,
+    if (!check_marks.valid() || check_marks.size() != bytes) {
+        check_marks = Buffer::create(*ctx, {bytes,
                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                                           MemoryUse::Device, 0, "see-through check list"});
-        if (!check_list.valid())
+                                           MemoryUse::Device, 0, "see-through check marks"});
+        if (!check_marks.valid())
             return gpu::kCheckOff;
     }
     Buffer& count = check_counts[ctx->frame_slot()];

@@ -170,35 +170,32 @@ struct Renderer::Impl {
     static VkDeviceSize path_counters_offset(VkDeviceSize pixels) {
         return pixels * (sizeof(gpu::PathState) + 2 * sizeof(uint32_t));
     }
-    // RenderSettings::see_through_check: the list of pixels the second dispatch traces again
-    // (gpu::kCheckList: a count, then the pixels; one for both frame slots, as path_states), each
-    // slot's copy of its count (read once the slot's fence has signalled: read_check), what the
-    // slot's last frame did (gpu::kCheckOff, kCheckList: checked, kCheckCount: counted) over how
-    // many pixels, and the share of pixels that met a see-through face in the last frame read
+    // RenderSettings::see_through_check: the count and the per-pixel marks of the pixels the
+    // second dispatch traces again (gpu::kCheckMark; one for both frame slots, as path_states),
+    // each slot's copy of its count (read once the slot's fence has signalled: read_check), what
+    // the slot's last frame did (gpu::kCheckOff, kCheckMark: checked, kCheckCount: counted) over
+    // how many pixels, and the share of pixels that met a see-through face in the last frame read
     // (0 before any). frame_check: what the frame being recorded does.
-    Buffer check_list;
+    Buffer check_marks;
     std::array<Buffer, kFramesInFlight> check_counts;
     std::array<uint32_t, kFramesInFlight> check_modes{};
     std::array<uint64_t, kFramesInFlight> check_pixels{};
     float met_share = 0.f;
     uint32_t frame_check = gpu::kCheckOff;
     // Whether a frame of `s` may trace with the check: see-through blocks drawn, the eye in none,
-    // the whole frame in one dispatch (no split hits, no light cache), Full or Visibility mode,
-    // and the list's dispatch (one row, as split_hits' later passes) within the device's limits.
+    // the whole frame in one dispatch (no split hits, no light cache), Full or Visibility mode.
     bool check_applies(const RenderSettings& s, bool eye_in) const {
-        const VkPhysicalDeviceLimits& l = ctx->limits();
-        const uint64_t row = uint64_t(l.maxComputeWorkGroupCount[0]) * l.maxComputeWorkGroupSize[0];
         return s.see_through_check && frame_see_through != SeeThrough::kNone && !eye_in &&
                s.pipeline == PipelineKind::RayTraced && s.mode != ShadingMode::Flat && !cache_active(s) &&
-               split_hits(s) == 0 && uint64_t(s.width) * s.height <= row;
+               split_hits(s) == 0;
     }
-    // The frame's check (kCheckList where the last share read is at most
-    // RenderSettings::see_through_check_share, else kCheckCount) and its list, count read-back
+    // The frame's check (kCheckMark where the last share read is at most
+    // RenderSettings::see_through_check_share, else kCheckCount) and its marks, count read-back
     // and pipeline variants; kCheckOff where memory for one ran out: the frame then traces in one
     // dispatch with the see-through code (the same image), and a later frame tries again.
     uint32_t prepare_check(const RenderSettings& s);
     void record_checked_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
-    void record_check_count(VkCommandBuffer cmd); // The list's count into the slot's read-back.
+    void record_check_count(VkCommandBuffer cmd); // The marks' count into the slot's read-back.
     // The slot's last frame's check, once its fence has signalled: its RenderStats and met_share.
     void read_check(RenderStats& out);
     EditMarks edit_marks; // Edits since the last traced frame (note_edit); write_params takes them.

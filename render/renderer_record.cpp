@@ -96,21 +96,21 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
         states = path_states.address();
     }
-    const bool checked = frame_check == gpu::kCheckList;
+    const bool checked = frame_check == gpu::kCheckMark;
     if (checked) {
         record_checked_trace(cmd, width, height);
     } else if (frame_check == gpu::kCheckCount) {
-        vkCmdFillBuffer(cmd, check_list.handle(), 0, sizeof(uint32_t), 0u);
+        vkCmdFillBuffer(cmd, check_marks.handle(), 0, sizeof(uint32_t), 0u);
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
-    const VkDeviceAddress list = frame_check == gpu::kCheckCount ? check_list.address() : 0;
+    const VkDeviceAddress marks = frame_check == gpu::kCheckCount ? check_marks.address() : 0;
     for (uint32_t hit = 0; !checked && hit <= split; ++hit) {
         const bool first = hit == 0;
         pipeline->trace(cmd, first ? width : width * height, first ? height : 1u, flat, frame_samples_faces,
                         frame_see_through,
-                        {states, hit, hit < split ? hit : gpu::kTraceToEnd, list, list ? gpu::kCheckCount : gpu::kCheckOff, 0});
+                        {states, hit, hit < split ? hit : gpu::kTraceToEnd, marks, marks ? gpu::kCheckCount : gpu::kCheckOff, 0});
         if (hit < split)
             memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                            VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
@@ -127,21 +127,21 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
 }
 
 // RenderSettings::see_through_check: the variant without the see-through code over the image,
-// listing the pixels whose rays met a see-through face, then the frame's own variant over the
-// list (one row: an invocation per pixel, those past the list's end return at once).
+// marking the pixels whose rays met a see-through face, then the frame's own variant over the
+// image again, where all but the marked pixels return at once.
 void Renderer::Impl::record_checked_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
-    vkCmdFillBuffer(cmd, check_list.handle(), 0, sizeof(uint32_t), 0u);
+    vkCmdFillBuffer(cmd, check_marks.handle(), 0, sizeof(uint32_t), 0u);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    const VkDeviceAddress list = check_list.address();
+    const VkDeviceAddress marks = check_marks.address();
     pipeline->trace(cmd, width, height, false, frame_samples_faces, SeeThrough::kNone,
-                    {0, 0, gpu::kTraceToEnd, list, gpu::kCheckList, 0});
+                    {0, 0, gpu::kTraceToEnd, marks, gpu::kCheckMark, 0});
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    pipeline->trace(cmd, width * height, 1u, false, frame_samples_faces, frame_see_through,
-                    {0, 0, gpu::kTraceToEnd, list, gpu::kCheckListed, 0});
+    pipeline->trace(cmd, width, height, false, frame_samples_faces, frame_see_through,
+                    {0, 0, gpu::kTraceToEnd, marks, gpu::kCheckMarked, 0});
 }
 
 void Renderer::Impl::record_check_count(VkCommandBuffer cmd) {
@@ -149,11 +149,11 @@ void Renderer::Impl::record_check_count(VkCommandBuffer cmd) {
                    VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     const uint32_t slot = ctx->frame_slot();
     const VkBufferCopy count{0, 0, sizeof(uint32_t)};
-    vkCmdCopyBuffer(cmd, check_list.handle(), check_counts[slot].handle(), 1, &count);
+    vkCmdCopyBuffer(cmd, check_marks.handle(), check_counts[slot].handle(), 1, &count);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
     check_modes[slot] = frame_check;
-    check_pixels[slot] = check_list.size() / sizeof(uint32_t) - 1;
+    check_pixels[slot] = check_marks.size() / sizeof(uint32_t) - 1;
 }
 
 // View matrix of `cam` in the frame of the block `origin` (double precision).

@@ -24,7 +24,7 @@ layout(constant_id = 1) const bool kProbeTouching = true;
 layout(constant_id = 2) const bool kSeeThrough = true;
 const float kTMax = 1.0e7;
 
-// The see-through check (render_types.h). g_check: this is its first dispatch (kCheckList; set
+// The see-through check (render_types.h). g_check: this is its first dispatch (kCheckMark; set
 // by main from the push constants), where every hit is opaque. g_met: a ray of the pixel met a
 // see-through face (set by the walk and by trace_shadow; in the variant without the see-through
 // code only where g_check), so the pixel is traced again with that code, or counted (kCheckCount).

@@ -28,18 +28,21 @@ VX_CONST uint kMaxSplitHits = 64;
 
 // A frame whose chunks hold see-through blocks, the eye in none, may be traced in two dispatches
 // (RenderSettings::see_through_check): first the variant without the see-through code (kSeeThrough
-// false) over the image (kCheckList), where a pixel any of whose rays meets a see-through face
-// stores nothing and is listed instead; then the variant with it over the list (kCheckListed). A
-// pixel none of whose rays meets one comes out the same either way, and the listed ones as from
-// one dispatch with the see-through code: the image is that of one such dispatch, with that code
-// run only where a ray needs it (it costs every ray of the terrain's view 10% on the H100, where
-// few rays meet water: docs/render_report.md, stop 56). The list (TracePush.check_list): a uint
-// count, then the listed pixels (x + width y), at most width * height. Where many pixels' rays
-// meet such faces the two dispatches cost more than one: such a frame traces in one with the
-// see-through code (kCheckCount), and counts them, so the next frame can choose again.
+// false) over the image (kCheckMark), where a pixel any of whose rays meets a see-through face
+// stores nothing and is marked instead; then the variant with it over the image again
+// (kCheckMarked), where every pixel but the marked ones returns at once. A pixel none of whose
+// rays meets one comes out the same either way, and the marked ones as from one dispatch with the
+// see-through code: the image is that of one such dispatch, with that code run only where a ray
+// needs it (it costs every ray of the terrain's view 10% on the H100, where few rays meet water:
+// docs/render_report.md, stop 56). The marks are per pixel, not an appended list, so which pixels
+// run together is the same each time: an appended list's order varies from run to run, and so did
+// the NVIDIA driver's images of it. The buffer (TracePush.check_marks): a uint count of the marked
+// pixels, then a uint per pixel (x + width y), 1 where marked. Where many pixels' rays meet such
+// faces the two dispatches cost more than one: such a frame traces in one with the see-through
+// code (kCheckCount), and counts them, so the next frame can choose again.
 VX_CONST uint kCheckOff = 0;
-VX_CONST uint kCheckList = 1;
-VX_CONST uint kCheckListed = 2;
+VX_CONST uint kCheckMark = 1;
+VX_CONST uint kCheckMarked = 2;
 VX_CONST uint kCheckCount = 3;
 
 // Push constants of the ray generation (raygen.rgen; the Flat one reads none).
@@ -47,8 +50,8 @@ struct TracePush {
     uint64_t path_states; // Address of PathState[width * height] (several passes), else 0.
     uint first_hit;       // The first hit this dispatch shades (0: the primary hit).
     uint last_hit;        // The last (kTraceToEnd: to the path's end); a path going on is saved.
-    uint64_t check_list;  // Address of the see-through check's list (kCheckList, kCheckListed), else 0.
-    uint check;           // kCheckOff, kCheckList, kCheckListed or kCheckCount.
+    uint64_t check_marks;  // Address of the see-through check's count and marks, else 0.
+    uint check;           // kCheckOff, kCheckMark, kCheckMarked or kCheckCount.
     uint pad;
 };
 

@@ -163,7 +163,7 @@ TEST_F(RendererTest, NoMemoryForTheSeeThroughCheckTracesInOneDispatch) {
     s.see_through_check = false;
     const RenderImage expected = test::fresh_render(meshes, s, pond_view());
     s.see_through_check = true;
-    for (const char* resource : {"see-through check list", "see-through check count", "rt pipeline, opaque only"}) {
+    for (const char* resource : {"see-through check marks", "see-through check count", "rt pipeline, opaque only"}) {
         std::unique_ptr<Renderer> r = test::make_renderer();
         ASSERT_NE(r, nullptr);
         test::load_meshes(*r, meshes);
