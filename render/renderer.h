@@ -176,10 +176,15 @@ struct RenderSettings {
     // 10% of its trace on the H100, docs/render_report.md, stop 56). 4 bytes a pixel for the
     // marks, made at the first such frame. Not with split_hits or the light cache, nor in Flat
     // mode (those trace with the see-through code throughout). Where many pixels' rays meet such
-    // faces (a view over a lake) two dispatches cost more than one: while the share of pixels
-    // that did in the last frame read back (RenderStats::see_through_pixels) is above
-    // see_through_check_share, frames trace in one dispatch and count them. 1: always check.
-    bool see_through_check = true;
+    // faces (a view over a lake) two dispatches cost more than one: while the share of view rays
+    // that did in the last frame read back (RenderStats::see_through_view_pixels) is above
+    // see_through_check_share, frames trace in one dispatch and count them; a checked frame that
+    // marked over that share holds them so for 8 frames, then 16, up to 128 (a glass roof whose
+    // shadow rays every pixel sends). 1: always check.
+    // kAuto: on a GPU, not on a CPU device (lavapipe), where code a ray does not run costs
+    // nothing and the second dispatch only adds (docs/render_report.md, stop 57).
+    enum class SeeThroughCheck : uint8_t { kOff, kOn, kAuto };
+    SeeThroughCheck see_through_check = SeeThroughCheck::kAuto;
     float see_through_check_share = 0.25f;
     uint32_t max_bounces = 2;    // Reflection depth (mirrors, water and glass surfaces); clamped to kMaxMirrorBounces.
     uint32_t seed = 1;           // Same seed, same image.
@@ -293,12 +298,13 @@ struct RenderStats {
     // tints and surfaces): some chunk set holds a see-through block, or the eye is in one
     // (RenderSettings::eye_block); else it traces the variant without (render/rt_pipeline.h).
     bool see_through_code = true;
-    // The frame traced with RenderSettings::see_through_check, and how many of its pixels' rays
-    // met a see-through face: traced again with the see-through code where checked, else counted
-    // where the check applied (0 where it did not). Of this frame in render(); in present(), of
-    // the frame whose GPU times these are (kFramesInFlight back).
+    // The frame traced with RenderSettings::see_through_check; of its pixels, those any of whose
+    // rays met a see-through face, traced again (0 where not checked), and those whose view ray's
+    // first walk met one (where the check applied, checked or not; 0 where it did not). Of this
+    // frame in render(); in present(), of the frame whose GPU times these are (kFramesInFlight
+    // back).
     bool see_through_checked = false;
-    uint32_t see_through_pixels = 0;
+    uint32_t see_through_pixels = 0, see_through_view_pixels = 0;
     uint64_t upload_bytes = 0; // Chunk vertices + quad records copied to the GPU this frame.
     uint32_t instance_writes = 0; // TLAS instances written this frame (changed ones: not every chunk).
     uint64_t rebases = 0;      // Render-origin moves that rewrote every TLAS instance, since creation.

@@ -33,38 +33,58 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     out.gpu_frame_ms = double(t[4] - t[0]) * ms_per_tick;
 }
 
-// The see-through check's count of the frame last submitted in this slot, once its fence has
+// The see-through check's counts of the frame last submitted in this slot, once its fence has
 // signalled.
 void Renderer::Impl::read_check(RenderStats& out) {
     const uint32_t slot = ctx->frame_slot();
     out.see_through_checked = check_modes[slot] == gpu::kCheckMark;
-    out.see_through_pixels = 0;
+    out.see_through_pixels = out.see_through_view_pixels = 0;
     if (check_modes[slot] == gpu::kCheckOff)
         return;
-    std::memcpy(&out.see_through_pixels, check_counts[slot].mapped(), sizeof(uint32_t));
-    met_share = float(double(out.see_through_pixels) / double(std::max<uint64_t>(check_pixels[slot], 1)));
+    uint32_t counts[2];
+    std::memcpy(counts, check_counts[slot].mapped(), sizeof counts);
+    const double pixels = double(std::max<uint64_t>(check_pixels[slot], 1));
+    out.see_through_view_pixels = counts[1];
+    view_share = float(counts[1] / pixels);
+    if (out.see_through_checked) {
+        out.see_through_pixels = counts[0];
+        marked_share = float(counts[0] / pixels);
+    }
     check_modes[slot] = gpu::kCheckOff; // Read once.
 }
 
 uint32_t Renderer::Impl::prepare_check(const RenderSettings& s) {
-    const uint32_t mode = met_share <= s.see_through_check_share ? gpu::kCheckMark : gpu::kCheckCount;
+    if (marked_share > s.see_through_check_share) { // Marked over the share: hold, longer each time.
+        check_hold = check_hold_next;
+        check_hold_next = std::min(2 * check_hold_next, kCheckHoldMax);
+    } else if (marked_share >= 0.f) {
+        check_hold_next = kCheckHoldFirst;
+    }
+    marked_share = -1.f;
+    uint32_t mode = gpu::kCheckCount;
+    if (s.see_through_check_share >= 1.f) // Always.
+        mode = gpu::kCheckMark;
+    else if (check_hold > 0)
+        --check_hold;
+    else if (view_share <= s.see_through_check_share)
+        mode = gpu::kCheckMark;
     // write_params picks the emitter faces' variant or not after this: both may be needed.
     if (mode == gpu::kCheckMark &&
         (!pipeline->ensure_variant(false, SeeThrough::kNone) ||
          (s.emitter_sampling && !emitter_set.empty() && !pipeline->ensure_variant(true, SeeThrough::kNone))))
         return gpu::kCheckOff;
-    const VkDeviceSize bytes = (VkDeviceSize(s.width) * s.height + 1) * sizeof(uint32_t);
+    const VkDeviceSize bytes = (VkDeviceSize(s.width) * s.height + 2) * sizeof(uint32_t);
     if (!check_marks.valid() || check_marks.size() != bytes) {
         check_marks = Buffer::create(*ctx, {bytes,
-                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                                           MemoryUse::Device, 0, "see-through check marks"});
+                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                            MemoryUse::Device, 0, "see-through check marks"});
         if (!check_marks.valid())
             return gpu::kCheckOff;
     }
     Buffer& count = check_counts[ctx->frame_slot()];
     if (!count.valid())
-        count = Buffer::create(*ctx, {sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0,
+        count = Buffer::create(*ctx, {2 * sizeof(uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, 0,
                                       "see-through check count"});
     return count.valid() ? mode : gpu::kCheckOff;
 }

@@ -170,33 +170,44 @@ struct Renderer::Impl {
     static VkDeviceSize path_counters_offset(VkDeviceSize pixels) {
         return pixels * (sizeof(gpu::PathState) + 2 * sizeof(uint32_t));
     }
-    // RenderSettings::see_through_check: the count and the per-pixel marks of the pixels the
+    // RenderSettings::see_through_check: the counts and the per-pixel marks of the pixels the
     // second dispatch traces again (gpu::kCheckMark; one for both frame slots, as path_states),
-    // each slot's copy of its count (read once the slot's fence has signalled: read_check), what
+    // each slot's copy of its counts (read once the slot's fence has signalled: read_check), what
     // the slot's last frame did (gpu::kCheckOff, kCheckMark: checked, kCheckCount: counted) over
-    // how many pixels, and the share of pixels that met a see-through face in the last frame read
-    // (0 before any). frame_check: what the frame being recorded does.
+    // how many pixels. What read_check last read: the share of pixels whose view ray met a
+    // see-through face (0 before any) and, of a checked frame, the share marked (-1: none since
+    // prepare_check last looked). check_hold: frames left to trace in one dispatch after a checked
+    // frame marked over the share (a glass roof: few view rays meet it, every shadow ray does),
+    // each such frame holding twice as long as the last, up to kCheckHoldMax. frame_check: what
+    // the frame being recorded does.
     Buffer check_marks;
     std::array<Buffer, kFramesInFlight> check_counts;
     std::array<uint32_t, kFramesInFlight> check_modes{};
     std::array<uint64_t, kFramesInFlight> check_pixels{};
-    float met_share = 0.f;
+    float view_share = 0.f, marked_share = -1.f;
+    static constexpr uint32_t kCheckHoldFirst = 8, kCheckHoldMax = 128;
+    uint32_t check_hold = 0, check_hold_next = kCheckHoldFirst;
     uint32_t frame_check = gpu::kCheckOff;
-    // Whether a frame of `s` may trace with the check: see-through blocks drawn, the eye in none,
-    // the whole frame in one dispatch (no split hits, no light cache), Full or Visibility mode.
+    // Whether a frame of `s` may trace with the check: asked for (kAuto: not on a CPU device),
+    // see-through blocks drawn, the eye in none, the whole frame in one dispatch (no split hits,
+    // no light cache), Full or Visibility mode.
     bool check_applies(const RenderSettings& s, bool eye_in) const {
-        return s.see_through_check && frame_see_through != SeeThrough::kNone && !eye_in &&
+        const bool on = s.see_through_check == RenderSettings::SeeThroughCheck::kOn ||
+                        (s.see_through_check == RenderSettings::SeeThroughCheck::kAuto &&
+                         ctx->report().type != DeviceType::Cpu);
+        return on && frame_see_through != SeeThrough::kNone && !eye_in &&
                s.pipeline == PipelineKind::RayTraced && s.mode != ShadingMode::Flat && !cache_active(s) &&
                split_hits(s) == 0;
     }
-    // The frame's check (kCheckMark where the last share read is at most
-    // RenderSettings::see_through_check_share, else kCheckCount) and its marks, count read-back
-    // and pipeline variants; kCheckOff where memory for one ran out: the frame then traces in one
-    // dispatch with the see-through code (the same image), and a later frame tries again.
+    // The frame's check (kCheckMark where the view share read is at most
+    // RenderSettings::see_through_check_share and no hold runs, else kCheckCount) and its marks,
+    // count read-back and pipeline variants; kCheckOff where memory for one ran out: the frame
+    // then traces in one dispatch with the see-through code (the same image), and a later frame
+    // tries again.
     uint32_t prepare_check(const RenderSettings& s);
     void record_checked_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height);
-    void record_check_count(VkCommandBuffer cmd); // The marks' count into the slot's read-back.
-    // The slot's last frame's check, once its fence has signalled: its RenderStats and met_share.
+    void record_check_count(VkCommandBuffer cmd); // The counts into the slot's read-back.
+    // The slot's last frame's check, once its fence has signalled: its RenderStats and shares.
     void read_check(RenderStats& out);
     EditMarks edit_marks; // Edits since the last traced frame (note_edit); write_params takes them.
     static bool cache_active(const RenderSettings& s) {

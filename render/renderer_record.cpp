@@ -100,7 +100,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
     if (checked) {
         record_checked_trace(cmd, width, height);
     } else if (frame_check == gpu::kCheckCount) {
-        vkCmdFillBuffer(cmd, check_marks.handle(), 0, sizeof(uint32_t), 0u);
+        vkCmdFillBuffer(cmd, check_marks.handle(), 0, 2 * sizeof(uint32_t), 0u);
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -130,7 +130,7 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
 // marking the pixels whose rays met a see-through face, then the frame's own variant over the
 // image again, where all but the marked pixels return at once.
 void Renderer::Impl::record_checked_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
-    vkCmdFillBuffer(cmd, check_marks.handle(), 0, sizeof(uint32_t), 0u);
+    vkCmdFillBuffer(cmd, check_marks.handle(), 0, 2 * sizeof(uint32_t), 0u);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
@@ -148,12 +148,12 @@ void Renderer::Impl::record_check_count(VkCommandBuffer cmd) {
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     const uint32_t slot = ctx->frame_slot();
-    const VkBufferCopy count{0, 0, sizeof(uint32_t)};
+    const VkBufferCopy count{0, 0, 2 * sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd, check_marks.handle(), check_counts[slot].handle(), 1, &count);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
     check_modes[slot] = frame_check;
-    check_pixels[slot] = check_marks.size() / sizeof(uint32_t) - 1;
+    check_pixels[slot] = check_marks.size() / sizeof(uint32_t) - 2;
 }
 
 // View matrix of `cam` in the frame of the block `origin` (double precision).

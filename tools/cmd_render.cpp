@@ -87,9 +87,9 @@ void print_frame(const char* what, const render::RenderStats& st, double wall_ms
         std::printf("  two different see-through blocks touch: traced with the coincident-face probe\n");
     if (st.see_through_checked) // RenderSettings::see_through_check.
         std::printf("  see-through check: %u pixels traced again with the see-through code\n", st.see_through_pixels);
-    else if (st.see_through_pixels > 0)
-        std::printf("  see-through check: %u pixels met see-through faces, over the share: one dispatch\n",
-                    st.see_through_pixels);
+    else if (st.see_through_view_pixels > 0)
+        std::printf("  see-through check: %u view rays met see-through faces, over the share: one dispatch\n",
+                    st.see_through_view_pixels);
 }
 
 // Device memory of the scene by kind; B/quad counts what each chunk holds (BLAS, vertices, quad
@@ -422,10 +422,10 @@ void add_sampling_options(CLI::App* cmd, RenderArgs& a) {
                     "image; render::RenderSettings::split_hits); 0: one pass")
         ->check(CLI::Range(0u, 64u));
     cmd->add_option("--see-through-check", a.see_through_check,
-                    "on (default): trace without the see-through code first, then again with it only the pixels "
-                    "whose rays met water or glass (the same image); off: with it everywhere "
-                    "(render::RenderSettings::see_through_check)")
-        ->check(CLI::IsMember({"on", "off"}));
+                    "on: trace without the see-through code first, then again with it only the pixels whose rays "
+                    "met water or glass (the same image); off: with it everywhere; auto (default): on but on a CPU "
+                    "device (render::RenderSettings::see_through_check)")
+        ->check(CLI::IsMember({"auto", "on", "off"}));
     cmd->add_option("--see-through-check-share", a.see_through_check_share,
                     "Check while at most this share of the last frame's pixels met water or glass, else trace in "
                     "one dispatch (render::RenderSettings::see_through_check_share; default 0.25; 1: always)")

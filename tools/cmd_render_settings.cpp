@@ -161,7 +161,8 @@ void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
     s.history_clamp = a.history_clamp == "on";
     s.emitter_sampling = a.emitter_sampling == "on";
     s.light_cache = a.light_cache == "on";
-    s.see_through_check = a.see_through_check == "on";
+    using Check = render::RenderSettings::SeeThroughCheck;
+    s.see_through_check = a.see_through_check == "on" ? Check::kOn : a.see_through_check == "off" ? Check::kOff : Check::kAuto;
     s.see_through_check_share = a.see_through_check_share;
     s.light_cache_pixels = a.light_cache_pixels;
 }

@@ -24,7 +24,7 @@ struct RenderArgs {
     float weight_exponent = 1.f;      // --weight-exponent (render::RenderSettings::weight_exponent).
     std::string first_hit_pass = "off"; // --first-hit-pass: on is --split-hits 1.
     uint32_t split_hits = 0;            // --split-hits (render::RenderSettings::split_hits).
-    std::string see_through_check = "on"; // --see-through-check (render::RenderSettings::see_through_check).
+    std::string see_through_check = "auto"; // --see-through-check (render::RenderSettings::see_through_check).
     float see_through_check_share = 0.25f; // --see-through-check-share.
     std::string sun = "0.35,1,0.2", sky_access = "on", area_light = "on";
     float sun_radius = 0.27f, sky_light = 1.f;

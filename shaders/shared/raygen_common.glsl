@@ -26,8 +26,9 @@ const float kTMax = 1.0e7;
 
 // The see-through check (render_types.h). g_check: this is its first dispatch (kCheckMark; set
 // by main from the push constants), where every hit is opaque. g_met: a ray of the pixel met a
-// see-through face (set by the walk and by trace_shadow; in the variant without the see-through
-// code only where g_check), so the pixel is traced again with that code, or counted (kCheckCount).
+// see-through face. In that dispatch any ray (the walk, trace_shadow): the pixel is traced again
+// with the see-through code. In the variant with that code the last walk alone (shade() counts the
+// view ray's: kCheckCount).
 bool g_check = false;
 bool g_met = false;
 

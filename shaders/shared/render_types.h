@@ -36,10 +36,13 @@ VX_CONST uint kMaxSplitHits = 64;
 // needs it (it costs every ray of the terrain's view 10% on the H100, where few rays meet water:
 // docs/render_report.md, stop 56). The marks are per pixel, not an appended list, so which pixels
 // run together is the same each time: an appended list's order varies from run to run, and so did
-// the NVIDIA driver's images of it. The buffer (TracePush.check_marks): a uint count of the marked
-// pixels, then a uint per pixel (x + width y), 1 where marked. Where many pixels' rays meet such
-// faces the two dispatches cost more than one: such a frame traces in one with the see-through
-// code (kCheckCount), and counts them, so the next frame can choose again.
+// the NVIDIA driver's images of it. The buffer (TracePush.check_marks): a uint count of the
+// marked pixels, a uint count of the pixels whose view ray's first walk met a see-through face,
+// then a uint per pixel (x + width y), 1 where marked. Where many pixels' rays meet such faces
+// the two dispatches cost more than one: such a frame traces in one with the see-through code
+// (kCheckCount) and counts the view rays that met one (only those: a flag kept for every ray
+// would cost that variant's rays), so the next frame can choose again
+// (RenderSettings::see_through_check_share).
 VX_CONST uint kCheckOff = 0;
 VX_CONST uint kCheckMark = 1;
 VX_CONST uint kCheckMarked = 2;
