@@ -33,3 +33,14 @@ filtered_render_tests() {
   LD_PRELOAD=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1) \
     VX_TEST_DEVICE=gpu timeout 200 "$B/vx_render_tests" --gtest_brief=1 --gtest_filter="$1" 2>&1 | tail -3
 }
+
+# Renders one view and prints its GPU trace median of frames 2..N and vx render's frame-1 line on
+# the see-through check (stop 57). Usage: one NAME BINARY ARGS... (BINARY in $B; the PNG to
+# $D/NAME.png).
+one() {
+  local name=$1 bin=$2; shift 2
+  printf "%-12s " "$name"
+  timeout 100 "$B/$bin" render "$@" --out "$D/$name.png" > /tmp/r.txt 2>&1
+  echo "$(grep "frames 2" /tmp/r.txt | sed 's/.*trace/trace/; s/, readback.*//' || tail -2 /tmp/r.txt)" \
+       "$(grep -o "see-through check: [0-9]* [a-z ]*" /tmp/r.txt | head -1)"
+}

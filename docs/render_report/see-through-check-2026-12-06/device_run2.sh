@@ -8,13 +8,6 @@
 source docs/render_report/scripts/device_env.sh > /dev/null
 source docs/render_report/scripts/device_scenes.sh
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
-one() { # NAME BINARY ARGS...: the trace median of frames 2..N and the frame-1 check line.
-  local name=$1 bin=$2; shift 2
-  printf "%-12s " "$name"
-  timeout 100 "$B/$bin" render "$@" --out "$D/$name.png" > /tmp/r.txt 2>&1
-  echo "$(grep "frames 2" /tmp/r.txt | sed 's/.*trace/trace/; s/, readback.*//' || tail -2 /tmp/r.txt)" \
-       "$(grep -o "see-through check: [0-9]* pixels [a-z ]*" /tmp/r.txt | head -1)"
-}
 for round in 1 2 3; do
   echo "# round $round"
   one T_old vx_old $T; one T_off vx $T --see-through-check off; one T_on vx $T --see-through-check on; one T_list vx_list $T
