@@ -115,6 +115,39 @@ TEST(CliRender, SaysWhenSeeThroughBlocksTouch) {
     }
 }
 
+// `vx render --see-through-check on` traces a view with water in it first without the see-through
+// code and says how many pixels it traced again; the picture is the one `off` draws, which says
+// nothing of a check. A bad value of either flag is one line and exit 2.
+TEST(CliRender, SeeThroughCheckSaysWhatItTracedAgain) {
+    const std::string vol = write_volume();
+    {
+        std::fstream f(vol, std::ios::binary | std::ios::in | std::ios::out);
+        for (int x = 2; x < 10; ++x) { // A strip of water on the floor, in front of the pillar.
+            f.seekp(std::streamoff(4 * 24 * 12 + 1 * 24 + x));
+            f.put(5);
+        }
+    }
+    const std::string args = "--raw " + vol + " --dims 24,12,20 --size 32x24 --spp 2 --reflections 1 ";
+    const CliRun on = render(args + "--see-through-check on --out " + dir() + "/check_on.png");
+    const CliRun off = render(args + "--see-through-check off --out " + dir() + "/check_off.png");
+    const size_t at = on.out.find("see-through check: ");
+    ASSERT_NE(at, std::string::npos) << on.out;
+    const unsigned long pixels = std::stoul(on.out.substr(at + 19));
+    EXPECT_GT(pixels, 0u) << on.out;
+    EXPECT_LT(pixels, 32u * 24u) << on.out;
+    EXPECT_NE(on.out.find("pixels traced again with the see-through code"), std::string::npos) << on.out;
+    EXPECT_EQ(off.out.find("see-through check"), std::string::npos) << off.out;
+    const Png a = read_png(dir() + "/check_on.png"), b = read_png(dir() + "/check_off.png");
+    ASSERT_EQ(a.rgba.size(), size_t(32 * 24 * 4));
+    EXPECT_EQ(a.rgba, b.rgba);
+    for (const char* bad : {"--see-through-check maybe", "--see-through-check-share 2",
+                            "--see-through-check-share -0.5", "--see-through-check-share nan"}) {
+        const CliRun r = vx("render " + args + bad, kEnv);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--see-through-check"), std::string::npos) << r.out;
+    }
+}
+
 // `vx render --pipeline-report` prints every pipeline variant's stacks after the frame, and either
 // the driver's statistics or why there are none (lavapipe offers none). Without the flag: nothing.
 TEST(CliRender, PipelineReportListsEveryVariant) {
