@@ -96,15 +96,15 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
         states = path_states.address();
     }
-    const bool checked = frame_check == gpu::kCheckMark;
-    if (checked) {
-        record_checked_trace(cmd, width, height);
-    } else if (frame_check == gpu::kCheckCount) {
+    if (frame_check != gpu::kCheckOff) { // The see-through check's two counts start at 0.
         vkCmdFillBuffer(cmd, check_marks.handle(), 0, 2 * sizeof(uint32_t), 0u);
         memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
+    const bool checked = frame_check == gpu::kCheckMark;
+    if (checked)
+        record_checked_trace(cmd, width, height);
     const VkDeviceAddress marks = frame_check == gpu::kCheckCount ? check_marks.address() : 0;
     for (uint32_t hit = 0; !checked && hit <= split; ++hit) {
         const bool first = hit == 0;
@@ -130,10 +130,6 @@ void Renderer::Impl::record_trace(VkCommandBuffer cmd, const RenderSettings& s) 
 // marking the pixels whose rays met a see-through face, then the frame's own variant over the
 // image again, where all but the marked pixels return at once.
 void Renderer::Impl::record_checked_trace(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
-    vkCmdFillBuffer(cmd, check_marks.handle(), 0, 2 * sizeof(uint32_t), 0u);
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     const VkDeviceAddress marks = check_marks.address();
     pipeline->trace(cmd, width, height, false, frame_samples_faces, SeeThrough::kNone,
                     {0, 0, gpu::kTraceToEnd, marks, gpu::kCheckMark, 0});

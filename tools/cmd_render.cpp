@@ -427,8 +427,9 @@ void add_sampling_options(CLI::App* cmd, RenderArgs& a) {
                     "device (render::RenderSettings::see_through_check)")
         ->check(CLI::IsMember({"auto", "on", "off"}));
     cmd->add_option("--see-through-check-share", a.see_through_check_share,
-                    "Check while at most this share of the last frame's pixels met water or glass, else trace in "
-                    "one dispatch (render::RenderSettings::see_through_check_share; default 0.25; 1: always)")
+                    "Check while at most this share of the last frame's view rays met water or glass, else "
+                    "trace in one dispatch (render::RenderSettings::see_through_check_share; default 0.25; "
+                    "1: always)")
         ->check(finite_range(0.0, 1.0, "a share from 0 to 1"));
 }
 

@@ -92,7 +92,8 @@ TEST_F(RendererTest, TheSeeThroughCheckDrawsWhatOneDispatchDraws) {
 // The denoised output (it also reads the first mirror bounce's images) and the auto exposure's
 // meter: the same with the check as without.
 TEST_F(RendererTest, TheSeeThroughCheckKeepsTheDenoisedImageAndTheMeter) {
-    test::load_meshes(*m_renderer, test::mesh_world(pond_and_pane()));
+    const world::MeshMap meshes = test::mesh_world(pond_and_pane());
+    test::load_meshes(*m_renderer, meshes);
     RenderSettings s = pond_settings();
     s.denoise = true;
     s.exposure.automatic = true;
@@ -103,7 +104,7 @@ TEST_F(RendererTest, TheSeeThroughCheckKeepsTheDenoisedImageAndTheMeter) {
 
     std::unique_ptr<Renderer> r = test::make_renderer();
     ASSERT_NE(r, nullptr);
-    test::load_meshes(*r, test::mesh_world(pond_and_pane()));
+    test::load_meshes(*r, meshes);
     s.see_through_check = RenderSettings::SeeThroughCheck::kOn;
     s.see_through_check_share = 1.f;
     const RenderImage checked = r->render(s, pond_view());
