@@ -81,14 +81,15 @@ uint eye_inside() {
 // What a walk (trace_through) models: kWalkTint what the blocks' bodies absorb alone, the view
 // bent at each face (Flat mode: albedo, no light); kWalkLight also the share each interface
 // mirrors away (vx_interface_pass: against air or the touching block), the ray straight (sky
-// rays, as shadow rays: shadow.rahit); kWalkEye the view bent at each face (Snell's law,
+// rays from points in air, as shadow rays: shadow.rahit); kWalkEye the view bent at each face (Snell's law,
 // between the two media's indices, vx_index), the share the interface mirrors and the
 // radiance's n^2 law, and the mirroring face whose reflection weighs most (g_surface), which
 // shade() may follow as it follows a mirror block; kWalkSun the sun's light traced back from a
 // point inside a see-through block (sun_light in raygen.rgen): bent at each face as the view is,
 // less the share each interface mirrors; the n^2 law is left to the caller (its irradiance's
-// cosine ratio).
-const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u, kWalkSun = 3u;
+// cosine ratio); kWalkSky a sky ray from a point inside a see-through block that bends light: as
+// kWalkEye but for the kept surface (the sky reaches the point through Snell's window alone).
+const uint kWalkTint = 0u, kWalkLight = 1u, kWalkEye = 2u, kWalkSun = 3u, kWalkSky = 4u;
 
 // Of the faces of see-through blocks that mirror which the last kWalkEye walk met, the one whose
 // reflection weighs most in the pixel (a pane's 4% against the lake behind it at a grazing angle:
@@ -196,7 +197,7 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         }
         // Radiance across an interface scales by (n_near / n_far)^2 (PBRT 4th ed., 9.5.2): the
         // far side's light is squeezed into a wider or narrower cone of directions.
-        if (kind == kWalkEye)
+        if (kind == kWalkEye || kind == kWalkSky)
             tint *= (1.0 - mirrored) / (eta * eta);
         else if (kind == kWalkSun)
             tint *= 1.0 - mirrored;

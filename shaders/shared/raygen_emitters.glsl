@@ -197,17 +197,22 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
     basis(n, t, b);
     vec3 sum = vec3(0.0);
     g_sky_rays = samples;
+    // From inside a block that bends light the rays bend where they leave it: the sky comes in
+    // through Snell's window alone (48.8 degrees about a water surface's normal), n^2 brighter, and
+    // a ray past the critical angle mirrors back inside (kWalkSky). A horizontal floor under flat
+    // water takes the irradiance straight rays give it; a wall under water takes less.
+    bool bends = kSeeThrough && g_hit_inside != 0u && index_of(g_hit_inside) != 1.0;
     for (uint s = 0u; s < samples; ++s) {
         vec2 uv = sample2(s, samples, seed);
         float r = sqrt(uv.x), phi = 2.0 * kPi * uv.y;
         vec3 d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - uv.x, 0.0)));
-        if (!emitters && !occluders) {
+        if (!emitters && !occluders && !bends) {
             vec3 x = trace_shadow(pos, d, kTMax, g_hit_inside) * frame.sky_light.xyz; // sky is on: else no rays.
             sum += x;
             add_sample(x);
             continue;
         }
-        vec3 tint = trace_through(pos, d, g_hit_inside, kWalkLight);
+        vec3 tint = trace_through(pos, d, g_hit_inside, bends ? kWalkSky : kWalkLight);
         if (payload.t >= 0.0) {
             g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
             ++g_hits;

@@ -65,9 +65,9 @@ bool vx_transparent(Material m) { return m.emission.w > 0.5; }
 
 // The share of light a see-through block's face mirrors, met from air at cosine cos_i to its
 // normal, with the block's reflectivity r as its reflectance at normal incidence (vx_index); r = 0
-// is a block that only tints. Shadow rays and sky rays are not bent (only the sun's light at a
-// point inside a block is: sun_through in raygen.rgen), so for them a face lit from inside passes
-// what it would from outside at that angle.
+// is a block that only tints. Shadow rays and sky rays from points in air are not bent (the
+// sun's light and the sky rays at a point inside a block are: sun_through in raygen.rgen,
+// kWalkSky), so for them a face lit from inside passes what it would from outside at that angle.
 float vx_fresnel(float r, float cos_i) { return r <= 0.0 ? 0.0 : vx_fresnel_eta(cos_i, vx_index(r)); }
 
 // What a see-through block's face passes of light crossing it at cosine cos_i to its normal:

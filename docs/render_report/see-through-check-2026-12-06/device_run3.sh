@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Stop 58's device call: device_run2.sh (stop 57's final code against stop 56's, S and M checked
 # twice with md5s) plus the check's render tests with their failures printed in full, and the
-# whole render suite on the NVIDIA driver. Binaries: build_binaries.sh (vx = 2aaf7e7).
+# whole render suite on the NVIDIA driver. Binaries: build_binaries.sh (vx = 2aaf7e7); vx_sky is
+# stop 58's sky rays bent where they leave water (1c7865b again, on the check), stripped by hand.
 source docs/render_report/scripts/device_env.sh > /dev/null
 source docs/render_report/scripts/device_scenes.sh
 for round in 1 2; do
   echo "# round $round"
   one T_old vx_old $T; one T_off vx $T --see-through-check off; one T_on vx $T
-  one P_old vx_old $P; one P_off vx $P --see-through-check off; one P_on vx $P
+  one T_sky vx_sky $T; one T_sky_off vx_sky $T --see-through-check off
+  one P_old vx_old $P; one P_off vx $P --see-through-check off; one P_on vx $P; one P_sky vx_sky $P
   echo "# at $(( $(date +%s) - t0 )) s"
 done
 S1="--raw $D/scatter_water.raw --dims 256,48,256 --type u8 --eye 128,70,-60 --target 128,20,128 --device gpu --size 1920x1080 --spp 4"
@@ -16,6 +18,7 @@ for sc in S1 M1; do
   one "${sc}_off" vx ${!sc} --see-through-check off
   one "${sc}_all_1" vx ${!sc} --see-through-check-share 1
   one "${sc}_all_2" vx ${!sc} --see-through-check-share 1
+  one "${sc}_sky" vx_sky ${!sc}
 done
 echo "# md5 of each render's PNG"
 (cd "$D" && md5sum *.png | sort)
