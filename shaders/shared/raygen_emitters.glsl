@@ -182,6 +182,35 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
 // sight: an occlusion ray (trace_shadow()), which stops at the first opaque face it finds instead
 // of searching on for the nearest. The image is the same, but where a ray crosses more than
 // kMaxTransparentLayers transparent blocks: they tint it as they tint the sun's rays, all of them.
+// Under water (index > 1) the sky comes in through Snell's window alone, the cone of half-angle
+// asin(1 / index) about +y under a level surface, where cosine-weighted rays about a wall's normal
+// seldom go. So a share kWindowShare of the sky rays there is drawn in that cone by the cosine to
+// +y (a level floor's light in it goes nearly as that cosine), the rest by the cosine to the
+// normal, combined by one-sample MIS with the balance heuristic (Veach 1997, 9.2.4): each ray
+// weighs p_cos / p_mix. The cosine part covers the whole hemisphere, so any other way out (a wall
+// of water against air) is still found: unbiased. With 4 rays the stratified pairs split 2 : 2.
+// Lavapipe, one frame at 4 rays (SkyRaysUnderWaterFindSnellsWindowInOneFrame): RMS relative error
+// 1.16 -> 0.80 on a wall, 0.23 -> 0.18 on the floor (a share of 0.75: 0.54, 0.21).
+const float kWindowShare = 0.5;
+
+// A sky ray's direction under water (index > 1) from the stratified pair uv, and its weight
+// p_cos / p_mix (0: below the horizon of n, not traced).
+vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float weight) {
+    float phi = 2.0 * kPi * uv.y, sin2_window = 1.0 / (index * index);
+    vec3 d;
+    if (uv.x < kWindowShare) {
+        float s2 = (uv.x / kWindowShare) * sin2_window, s = sqrt(s2);
+        d = vec3(s * cos(phi), sqrt(1.0 - s2), s * sin(phi));
+    } else {
+        float u = (uv.x - kWindowShare) / (1.0 - kWindowShare), r = sqrt(u);
+        d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - u, 0.0)));
+    }
+    float p_cos = max(dot(n, d), 0.0) / kPi;
+    float p_win = d.y * d.y >= 1.0 - sin2_window && d.y > 0.0 ? d.y / (kPi * sin2_window) : 0.0;
+    weight = p_cos == 0.0 ? 0.0 : p_cos / ((1.0 - kWindowShare) * p_cos + kWindowShare * p_win);
+    return d;
+}
+
 vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_sampled, bool occluders) {
     bool sky = frame.flags.x != 0u && dot(frame.sky_light.xyz, vec3(1.0)) > 0.0;
     uint first = faces_sampled ? frame.flags.w : 0u; // The emitter chunks sky rays look for.
@@ -200,19 +229,31 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
     // From inside a block that bends light the rays bend where they leave it: the sky comes in
     // through Snell's window alone (48.8 degrees about a water surface's normal), n^2 brighter, and
     // a ray past the critical angle mirrors back inside (kWalkSky). A horizontal floor under flat
-    // water takes the irradiance straight rays give it; a wall under water takes less.
-    bool bends = kSeeThrough && g_hit_inside != 0u && index_of(g_hit_inside) != 1.0;
+    // water takes the irradiance straight rays give it; a wall under water takes less. The rays
+    // there sample the window too (window_or_cosine).
+    float index = kSeeThrough && g_hit_inside != 0u ? index_of(g_hit_inside) : 1.0;
+    bool bends = index != 1.0;
     for (uint s = 0u; s < samples; ++s) {
         vec2 uv = sample2(s, samples, seed);
-        float r = sqrt(uv.x), phi = 2.0 * kPi * uv.y;
-        vec3 d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - uv.x, 0.0)));
+        vec3 d;
+        float weight = 1.0;
+        if (bends) {
+            d = window_or_cosine(uv, n, t, b, index, weight);
+            if (weight == 0.0) {
+                add_sample(vec3(0.0));
+                continue;
+            }
+        } else {
+            float r = sqrt(uv.x), phi = 2.0 * kPi * uv.y;
+            d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - uv.x, 0.0)));
+        }
         if (!emitters && !occluders && !bends) {
             vec3 x = trace_shadow(pos, d, kTMax, g_hit_inside) * frame.sky_light.xyz; // sky is on: else no rays.
             sum += x;
             add_sample(x);
             continue;
         }
-        vec3 tint = trace_through(pos, d, g_hit_inside, bends ? kWalkSky : kWalkLight);
+        vec3 tint = trace_through(pos, d, g_hit_inside, bends ? kWalkSky : kWalkLight) * weight;
         if (payload.t >= 0.0) {
             g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
             ++g_hits;
