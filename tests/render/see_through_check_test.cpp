@@ -2,11 +2,12 @@
 // shaders/shared/render_types.h): a frame whose chunks hold water or glass is traced first with
 // the variant without see-through code, and only the pixels whose rays met a see-through face are
 // traced again with it. Its images must be those of one dispatch with the see-through code, byte
-// for byte, whatever ray met the face (a view ray, a sky ray, a shadow ray, a mirror's ray), and
+// for byte (the G-buffer's floats: test::same_gbuffer), whatever ray met the face (a view ray, a sky ray, a shadow ray, a mirror's ray), and
 // its failures fall back to that one dispatch.
 #include <memory>
 #include <string>
 
+#include "gbuffer_compare.h"
 #include "scene_util.h"
 
 namespace vx::render {
@@ -40,16 +41,6 @@ RenderSettings pond_settings() {
     return s;
 }
 
-// Every G-buffer value equal, float for float.
-void expect_same_gbuffer(const GBufferImage& a, const GBufferImage& b) {
-    ASSERT_EQ(a.radiance.size(), b.radiance.size());
-    int differ = 0;
-    for (size_t i = 0; i < a.radiance.size(); ++i)
-        differ += a.radiance[i] != b.radiance[i] || a.albedo[i] != b.albedo[i] ||
-                  a.normal_depth[i] != b.normal_depth[i] || a.reflected[i] != b.reflected[i];
-    EXPECT_EQ(differ, 0) << "pixels whose G-buffer values differ";
-}
-
 // The checked frame draws what one dispatch with the see-through code draws, image and G-buffer,
 // with some but not all pixels traced again. Then over the share (0): the next frame traces in
 // one dispatch and counts the same view rays, and the image stays the same; the share 1 checks
@@ -77,7 +68,7 @@ TEST_F(RendererTest, TheSeeThroughCheckDrawsWhatOneDispatchDraws) {
     EXPECT_GT(st.see_through_view_pixels, 20u); // The pond seen, its mirrored and sky rays not counted.
     EXPECT_LT(st.see_through_view_pixels, st.see_through_pixels);
     EXPECT_EQ(test::differing_bytes(one, checked), 0);
-    expect_same_gbuffer(g_one, g_checked);
+    EXPECT_TRUE(test::same_gbuffer(g_one, g_checked, m_renderer->device().driver_info, "checked"));
 
     const RenderImage counted = m_renderer->render(s, pond_view()); // The last share is above 0.
     EXPECT_FALSE(m_renderer->last_stats().see_through_checked);
