@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Stop 58's device call: device_run2.sh (stop 57's final code against stop 56's, S and M checked
-# twice with md5s), the check's render tests with their failures printed in full, and the whole
-# render suite on the NVIDIA driver (the tests of 47e89bb). Binaries: build_binaries.sh (vx =
-# 2aaf7e7); vx_sky is 47e89bb (the sky rays bent where they leave water, 1c7865b again on the
-# check, with Snell's window sampled), stripped by hand from build/release.
+# Stop 58's device call. It replaces stop 57's device_run2.sh, which never ran: stop 57's final
+# code against stop 56's, S and M checked twice with md5s; then the check's render tests with
+# their failures printed in full, and the whole render suite on the NVIDIA driver (the tests of
+# 47e89bb). Binaries: build_binaries.sh (vx = 2aaf7e7); vx_sky is 47e89bb (the sky rays bent
+# where they leave water, 1c7865b again on the check, with Snell's window sampled), stripped by
+# hand from build/release.
 source docs/render_report/scripts/device_env.sh > /dev/null
 source docs/render_report/scripts/device_scenes.sh
 for round in 1 2; do
