@@ -81,8 +81,8 @@ uint eye_inside() {
 // What a walk (trace_through) models: kWalkTint what the blocks' bodies absorb alone, the view
 // bent at each face (Flat mode: albedo, no light); kWalkLight also the share each interface
 // mirrors away (vx_interface_pass: against air or the touching block), the ray straight (sky
-// rays from points in air, as shadow rays: shadow.rahit); kWalkEye the view bent at each face (Snell's law,
-// between the two media's indices, vx_index), the share the interface mirrors and the
+// rays from points in air, as shadow rays: shadow.rahit); kWalkEye the view bent at each face
+// (Snell's law, between the two media's indices, vx_index), the share the interface mirrors and the
 // radiance's n^2 law, and the mirroring face whose reflection weighs most (g_surface), which
 // shade() may follow as it follows a mirror block; kWalkSun the sun's light traced back from a
 // point inside a see-through block (sun_light in raygen.rgen): bent at each face as the view is,

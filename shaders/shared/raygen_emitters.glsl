@@ -174,14 +174,6 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
     return sum / float(samples);
 }
 
-// Mean radiance arriving at `pos` over cosine-weighted directions around n: the sky where a ray
-// escapes, an emissive block's emission where it hits one (tinted by transparent blocks on the
-// way). A diffuse surface reflects albedo times this (the cosine pdf cancels the 1/pi).
-// `occluders`: the rays' hit distances are wanted (the primary hit's: the denoiser's guide).
-// Where neither they nor an emitter chunk within reach are, a ray only asks whether the sky is in
-// sight: an occlusion ray (trace_shadow()), which stops at the first opaque face it finds instead
-// of searching on for the nearest. The image is the same, but where a ray crosses more than
-// kMaxTransparentLayers transparent blocks: they tint it as they tint the sun's rays, all of them.
 // Under water (index > 1) the sky comes in through Snell's window alone, the cone of half-angle
 // asin(1 / index) about +y under a level surface, where cosine-weighted rays about a wall's normal
 // seldom go. So a share kWindowShare of the sky rays there is drawn in that cone by the cosine to
@@ -211,6 +203,15 @@ vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float we
     return d;
 }
 
+// Mean radiance arriving at `pos` over cosine-weighted directions around n: the sky where a ray
+// escapes, an emissive block's emission where it hits one (tinted by transparent blocks on the
+// way). A diffuse surface reflects albedo times this (the cosine pdf cancels the 1/pi).
+// `occluders`: the rays' hit distances are wanted (the primary hit's: the denoiser's guide).
+// Where neither they nor an emitter chunk within reach are, a ray only asks whether the sky is in
+// sight: an occlusion ray (trace_shadow()), which stops at the first opaque face it finds instead
+// of searching on for the nearest. The image is the same, but where a ray crosses more than
+// kMaxTransparentLayers transparent blocks: they tint it as they tint the sun's rays, all of them.
+// Under water the directions come from window_or_cosine(), weighted to the same mean.
 vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_sampled, bool occluders) {
     bool sky = frame.flags.x != 0u && dot(frame.sky_light.xyz, vec3(1.0)) > 0.0;
     uint first = faces_sampled ? frame.flags.w : 0u; // The emitter chunks sky rays look for.

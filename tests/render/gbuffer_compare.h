@@ -28,7 +28,8 @@ struct GBufferPartDiff {
 };
 
 template <class V>
-GBufferPartDiff gbuffer_part_diff(const std::vector<V>& a, const std::vector<V>& b, double step, double floor) {
+GBufferPartDiff gbuffer_part_diff(const std::vector<V>& a, const std::vector<V>& b, double step,
+                                  double floor) {
     GBufferPartDiff d;
     EXPECT_EQ(a.size(), b.size());
     for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
@@ -37,7 +38,8 @@ GBufferPartDiff gbuffer_part_diff(const std::vector<V>& a, const std::vector<V>&
         ++d.pixels;
         for (int c = 0; c < V::length(); ++c) {
             const double x = a[i][c], y = b[i][c];
-            d.worst = std::max(d.worst, std::abs(x - y) / (step * std::max(std::abs(x), std::abs(y)) + floor));
+            const double rounding = step * std::max(std::abs(x), std::abs(y)) + floor;
+            d.worst = std::max(d.worst, std::abs(x - y) / rounding);
         }
     }
     return d;
@@ -46,7 +48,8 @@ GBufferPartDiff gbuffer_part_diff(const std::vector<V>& a, const std::vector<V>&
 // Whether G-buffers a and b of the same frame agree: equal value for value where `driver_info`
 // (DeviceInfo::driver_info) names Mesa, else within kRoundings roundings of each part's storage
 // (half floats: 2^-11 relative, 6e-8 near 0; the albedo's bytes: 1/255; the normal and depth's
-// floats: 2^-23 relative or absolute; the display's floats went through half floats). `what` names the case in the message.
+// floats: 2^-23 relative or absolute; the display's floats went through half floats). `what`
+// names the case in the message.
 inline ::testing::AssertionResult same_gbuffer(const GBufferImage& a, const GBufferImage& b,
                                                const std::string& driver_info, const std::string& what) {
     constexpr double kRoundings = 4.0, kHalf = 1.0 / 2048.0, kFloat = 1.0 / 8388608.0;
@@ -66,8 +69,8 @@ inline ::testing::AssertionResult same_gbuffer(const GBufferImage& a, const GBuf
         if (p.d.pixels == 0)
             continue;
         char line[160];
-        std::snprintf(line, sizeof line, "%s%s: %zu pixels differ, at most %.3g roundings", report.empty() ? "" : "; ",
-                      p.name, p.d.pixels, p.d.worst);
+        std::snprintf(line, sizeof line, "%s%s: %zu pixels differ, at most %.3g roundings",
+                      report.empty() ? "" : "; ", p.name, p.d.pixels, p.d.worst);
         report += line;
         ok = ok && !exact && p.d.worst <= kRoundings;
     }
@@ -75,8 +78,8 @@ inline ::testing::AssertionResult same_gbuffer(const GBufferImage& a, const GBuf
         std::printf("%s (%s): %s\n", what.c_str(), driver_info.c_str(), report.c_str());
     if (ok)
         return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << what << ": " << report
-                                         << (exact ? " (Mesa: must be equal)" : " (over the rounding allowed)");
+    const char* why = exact ? " (Mesa: must be equal)" : " (over the rounding allowed)";
+    return ::testing::AssertionFailure() << what << ": " << report << why;
 }
 
 } // namespace vx::render::test

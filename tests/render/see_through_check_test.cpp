@@ -2,8 +2,8 @@
 // shaders/shared/render_types.h): a frame whose chunks hold water or glass is traced first with
 // the variant without see-through code, and only the pixels whose rays met a see-through face are
 // traced again with it. Its images must be those of one dispatch with the see-through code, byte
-// for byte (the G-buffer's floats: test::same_gbuffer), whatever ray met the face (a view ray, a sky ray, a shadow ray, a mirror's ray), and
-// its failures fall back to that one dispatch.
+// for byte (the G-buffer's floats: test::same_gbuffer), whatever ray met the face (a view ray, a
+// sky ray, a shadow ray, a mirror's ray), and its failures fall back to that one dispatch.
 #include <memory>
 #include <string>
 

@@ -57,9 +57,9 @@ template <class T> size_t differing(const std::vector<T>& a, const std::vector<T
 
 // Byte for byte the same output, and the same G-buffer (test::same_gbuffer: equal on Mesa), in
 // plain, by-weight and denoised frames (the denoiser reads the first mirror bounce's images, which
-// the pass that shades that bounce writes), split after the first hit, the second, every hit (3 bounces) and more (capped).
-// Control: the reflections change the image (so the later passes had work, and did it as one
-// pass would).
+// the pass that shades that bounce writes), split after the first hit, the second, every hit (3
+// bounces) and more (capped). Control: the reflections change the image (so the later passes had
+// work, and did it as one pass would).
 TEST_F(RendererTest, SplitHitsGiveTheSameImage) {
     test::load_meshes(*m_renderer, test::mesh_world(hall()));
     for (int variant = 0; variant < 3; ++variant) {
@@ -73,8 +73,8 @@ TEST_F(RendererTest, SplitHitsGiveTheSameImage) {
             GBufferImage split_g;
             const RenderImage img = m_renderer->render(s, kView, &split_g);
             EXPECT_EQ(differing(one.rgba, img.rgba), 0u) << "variant " << variant << ", split " << split;
-            EXPECT_TRUE(test::same_gbuffer(one_g, split_g, m_renderer->device().driver_info,
-                                           "variant " + std::to_string(variant) + ", split " + std::to_string(split)));
+            const std::string what = "variant " + std::to_string(variant) + ", split " + std::to_string(split);
+            EXPECT_TRUE(test::same_gbuffer(one_g, split_g, m_renderer->device().driver_info, what));
         }
         s.split_hits = 0;
         s.max_bounces = 0;

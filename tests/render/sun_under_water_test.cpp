@@ -210,7 +210,8 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheSunThroughEachFaceFacingIt) {
 // that from outside at the bent angle), absorbed along the path to the surface; past the critical
 // angle, down, or to the basin's rim (x >= 12 at the surface), nothing (with no reflections the
 // light a ray finds in the pool is not counted). Midpoint rule in (cos^2, azimuth), n x n cells.
-double sky_under_water(glm::dvec3 p, glm::dvec3 m, const world::BlockInfo& water, glm::vec3& tint, int n = 120) {
+double sky_under_water(glm::dvec3 p, glm::dvec3 m, const world::BlockInfo& water, glm::vec3& tint,
+                       int n = 120) {
     const double index = test::index_of(water.reflectivity);
     glm::dvec3 t = std::abs(m.y) < 0.9 ? glm::normalize(glm::cross(m, glm::dvec3(0, 1, 0)))
                                        : glm::dvec3(1, 0, 0);
@@ -315,8 +316,8 @@ TEST_F(RendererTest, SkyRaysUnderWaterFindSnellsWindowInOneFrame) {
         glm::dvec3 m, lo, hi;
     };
     const View views[] = {
-        {"wall", Camera::look_at({6.0, 3.0, 0.3}, {1.0, 3.0, 0.3}, {0, 1, 0}, 80.f), {1, 0, 0}, {0, 1.1, -3.9},
-         {2, 4.9, 3.9}},
+        {"wall", Camera::look_at({6.0, 3.0, 0.3}, {1.0, 3.0, 0.3}, {0, 1, 0}, 80.f), {1, 0, 0},
+         {0, 1.1, -3.9}, {2, 4.9, 3.9}},
         {"floor", Camera::look_at({3.5, 4.0, 0.3}, {9.0, 1.0, 0.3}, {0, 1, 0}, 80.f), {0, 1, 0}, {6, 0, -9},
          {11, 2, 9}},
     };
