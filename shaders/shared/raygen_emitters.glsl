@@ -185,6 +185,12 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
 // 1.16 -> 0.80 on a wall, 0.23 -> 0.18 on the floor (a share of 0.75: 0.54, 0.21).
 const float kWindowShare = 0.5;
 
+// The direction of cosine-weighted sample (u, phi) about n (t, b: n's tangents): sin^2 of its
+// angle to n is u, phi its azimuth.
+vec3 cosine_dir(float u, float phi, vec3 n, vec3 t, vec3 b) {
+    return normalize((cos(phi) * t + sin(phi) * b) * sqrt(u) + n * sqrt(max(1.0 - u, 0.0)));
+}
+
 // A sky ray's direction under water (index > 1) from the stratified pair uv, and its weight
 // p_cos / p_mix (0: below the horizon of n, not traced).
 vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float weight) {
@@ -194,8 +200,7 @@ vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float we
         float s2 = (uv.x / kWindowShare) * sin2_window, s = sqrt(s2);
         d = vec3(s * cos(phi), sqrt(1.0 - s2), s * sin(phi));
     } else {
-        float u = (uv.x - kWindowShare) / (1.0 - kWindowShare), r = sqrt(u);
-        d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - u, 0.0)));
+        d = cosine_dir((uv.x - kWindowShare) / (1.0 - kWindowShare), phi, n, t, b);
     }
     float p_cos = max(dot(n, d), 0.0) / kPi;
     float p_win = d.y * d.y >= 1.0 - sin2_window && d.y > 0.0 ? d.y / (kPi * sin2_window) : 0.0;
@@ -232,7 +237,7 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
     // a ray past the critical angle mirrors back inside (kWalkSky). A horizontal floor under flat
     // water takes the irradiance straight rays give it; a wall under water takes less. The rays
     // there sample the window too (window_or_cosine).
-    float index = kSeeThrough && g_hit_inside != 0u ? index_of(g_hit_inside) : 1.0;
+    float index = hit_index();
     bool bends = index != 1.0;
     for (uint s = 0u; s < samples; ++s) {
         vec2 uv = sample2(s, samples, seed);
@@ -245,8 +250,7 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
                 continue;
             }
         } else {
-            float r = sqrt(uv.x), phi = 2.0 * kPi * uv.y;
-            d = normalize((cos(phi) * t + sin(phi) * b) * r + n * sqrt(max(1.0 - uv.x, 0.0)));
+            d = cosine_dir(uv.x, 2.0 * kPi * uv.y, n, t, b);
         }
         if (!emitters && !occluders && !bends) {
             vec3 x = trace_shadow(pos, d, kTMax, g_hit_inside) * frame.sky_light.xyz; // sky is on: else no rays.
