@@ -114,6 +114,11 @@ Surface g_surface;
 // shift it), so the walk stops there without tracing on to the sky.
 vec3 g_sun_dir = vec3(0.0);
 
+// Where the last kWalkSun walk first crossed into air: the face's axis (3: it never did) and a
+// point on the face (camera-relative). light_through() in raygen.rgen finds a way's exit plane so.
+uint g_exit_axis = 3u;
+vec3 g_exit_at = vec3(0.0);
+
 // Traces to the first opaque hit, passing through up to kMaxTransparentLayers transparent faces.
 // The see-through blocks' bodies absorb along the path's segments in them (vx_absorb: where two
 // transparent blocks touch, the probe says which the ray goes on in: coincident_partner); `kind`
@@ -130,6 +135,7 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
     g_inside = inside;
     if (kind == kWalkEye)
         g_surface.t = -1.0;
+    g_exit_axis = 3u;
     for (uint layer = 0u;; ++layer) {
         traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFFu, 0u, 1u, kPrimaryMiss, origin, 0.0, dir, kTMax, kPrimaryPayload);
         if (!kSeeThrough) {
@@ -202,6 +208,10 @@ vec3 trace_through(vec3 origin, inout vec3 dir, uint inside, uint kind) {
         else if (kind == kWalkSun)
             tint *= 1.0 - mirrored;
         dir = normalize(bent);
+        if (kind == kWalkSun && to == 0u && g_exit_axis == 3u) {
+            g_exit_axis = axis;
+            g_exit_at = at;
+        }
         if (kind == kWalkSun && to == 0u && dot(dir, g_sun_dir) <= 1.0 - 1e-5) {
             payload.t = travelled; // Not a miss: the way does not count.
             return vec3(0.0);

@@ -143,6 +143,8 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
     g_m1 = g_m2 = 0.0;
     EmitterQuads faces = EmitterQuads(frame.emitter_quads);
     vec3 sum = vec3(0.0);
+    float index = hit_index(); // > 1: from inside water or glass, the light bent (light_through()).
+    g_plane_known = 0u;
     for (uint s = 0u; s < samples; ++s) {
         uint chosen;
         float chosen_target;
@@ -162,12 +164,20 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
         float cos_s = dot(n, l), cos_l = -dot(cross(eu, ev), l) / q.corner.w;
         if (!(cos_s > 0.0) || !(cos_l > 0.0)) // NaN too, as in area_light().
             continue;
-        // The ray stops short of the face it aims at (that face would block it).
-        // A lamp behind glass: the ray ends inside the glass, which absorbs on to its end.
-        vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3, g_hit_inside);
-        // Over the pdfs: 1 / solid angle or d^2 / (area cos at the light); then the choice's.
-        float geometry = view.valid ? cos_s * view.solid_angle : cos_s * cos_l * q.corner.w / d2;
-        vec3 x = pass * q.emission.xyz * (geometry * total / chosen_target);
+        vec3 x;
+        if (index != 1.0) {
+            // Over the pdfs per unit area: solid angle d^2 / cos at the face, or its area.
+            vec3 nq = cross(eu, ev) / q.corner.w;
+            vec3 through = light_through(pos, n, pos + to_light, nq, true, g_hit_inside, index, 1e-3);
+            x = through * q.emission.xyz * ((view.valid ? view.solid_angle * d2 / cos_l : q.corner.w) * total / chosen_target);
+        } else {
+            // The ray stops short of the face it aims at (that face would block it).
+            // A lamp behind glass: the ray ends inside the glass, which absorbs on to its end.
+            vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3, g_hit_inside);
+            // Over the pdfs: 1 / solid angle or d^2 / (area cos at the light); then the choice's.
+            float geometry = view.valid ? cos_s * view.solid_angle : cos_s * cos_l * q.corner.w / d2;
+            x = pass * q.emission.xyz * (geometry * total / chosen_target);
+        }
         sum += x;
         add_sample(x);
     }
