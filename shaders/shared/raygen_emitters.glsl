@@ -169,7 +169,8 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
             // Over the pdfs per unit area: solid angle d^2 / cos at the face, or its area.
             vec3 nq = cross(eu, ev) / q.corner.w;
             vec3 through = light_through(pos, n, pos + to_light, nq, true, g_hit_inside, index, 1e-3);
-            x = through * q.emission.xyz * ((view.valid ? view.solid_angle * d2 / cos_l : q.corner.w) * total / chosen_target);
+            float inverse_pdf = view.valid ? view.solid_angle * d2 / cos_l : q.corner.w;
+            x = through * q.emission.xyz * (inverse_pdf * total / chosen_target);
         } else {
             // The ray stops short of the face it aims at (that face would block it).
             // A lamp behind glass: the ray ends inside the glass, which absorbs on to its end.
