@@ -165,13 +165,16 @@ vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
         if (!(cos_s > 0.0) || !(cos_l > 0.0)) // NaN too, as in area_light().
             continue;
         vec3 x;
+        bool straight = true;
         if (index != 1.0) {
             // Over the pdfs per unit area: solid angle d^2 / cos at the face, or its area.
             vec3 nq = cross(eu, ev) / q.corner.w;
-            vec3 through = light_through(pos, n, pos + to_light, nq, true, g_hit_inside, index, 1e-3);
+            vec3 through =
+                light_through(pos, n, pos + to_light, nq, true, g_hit_inside, index, 1e-3, straight);
             float inverse_pdf = view.valid ? view.solid_angle * d2 / cos_l : q.corner.w;
             x = through * q.emission.xyz * (inverse_pdf * total / chosen_target);
-        } else {
+        }
+        if (straight) {
             // The ray stops short of the face it aims at (that face would block it).
             // A lamp behind glass: the ray ends inside the glass, which absorbs on to its end.
             vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3, g_hit_inside);
