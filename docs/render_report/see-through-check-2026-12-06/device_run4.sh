@@ -11,7 +11,7 @@ source docs/render_report/scripts/device_env.sh > /dev/null
 source docs/render_report/scripts/device_scenes.sh
 pre=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1)
 LD_PRELOAD=$pre VX_TEST_DEVICE=gpu timeout 200 "$B/vx_render_tests" \
-  --gtest_filter='*SplitHits*:*SeeThroughCheck*:*ShadowRaysThroughGlassAlone*:*UnderWater*:*Snell*:*AboveWater*' \
+  --gtest_filter='*SplitHits*:*SeeThroughCheck*:*ShadowRaysThroughGlassAlone*:*UnderWater*:*Snell*:*AboveWater*:*MeetTheRoof*' \
   2>&1 |
   grep -E "differ|roundings|RMS|^\[  (FAILED|PASSED|     OK)|Failure|tests from .* ran" | head -60
 echo "# at $(( $(date +%s) - t0 )) s"
