@@ -21,15 +21,7 @@ using test::RendererTest;
 constexpr double kPi = 3.14159265358979;
 constexpr double kSurface = 7.0; // The water's top, y.
 
-// A pool in a stone basin: floor y in [0, 1), rim |x| or |z| in [12, 13) up to the surface (no
-// way in through the water's sides), water x, z in [-12, 12), y in [1, 7).
-world::World basin() {
-    world::World w;
-    const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
-    test::fill_box(w, {-13, 0, -13}, {13, 7, 13}, stone);
-    test::fill_box(w, {-12, 1, -12}, {12, 7, 12}, water);
-    return w;
-}
+using test::stone_basin; // The pool: its water's top is kSurface.
 
 // Full mode with no sun, no sky term, no haze and no area light (each test adds its light), the
 // eye in the water.
@@ -138,33 +130,51 @@ FloorCheck check_floor(const RenderImage& img, const Camera& cam, const RenderSe
     return r;
 }
 
-// A 4 x 4 area light 8 blocks over the surface lights the pool's floor 6 below it: as if it were
-// a / n + b = 12.5 above, not 14, so a quarter brighter under it than straight rays make it (the
-// same 1 - F and about the same absorption). Checked: with straight shadow rays from under water
-// (the code before light_through), all 2,304 pixels are off.
-TEST_F(RendererTest, TheAreaLightReachesAFloorUnderWaterBentAtTheSurface) {
-    test::load_meshes(*m_renderer, test::mesh_world(basin()));
+// dark_pool() lit by a 4 x 4 area light at y = 15 over the pool's centre, 8 over the surface.
+RenderSettings under_the_light() {
     RenderSettings s = dark_pool();
     s.light.block = {-2, 15, -2};
     s.light.edge_u = {4.f, 0.f, 0.f};
     s.light.edge_v = {0.f, 0.f, 4.f};
     s.light.emission = glm::vec3(20.f);
+    return s;
+}
+
+// Its irradiance at p on the floor through the surface; a crossing whose leg in air meets the box
+// [roof_lo, roof_hi) gives nothing (an empty box: no roof).
+glm::dvec3 light_over_pool(glm::dvec3 p, glm::dvec3 emission, glm::dvec3 roof_lo = glm::dvec3(0.0),
+                           glm::dvec3 roof_hi = glm::dvec3(0.0)) {
+    glm::dvec2 lo, hi;
+    crossing_box(p, {{-2, 15, -2}, {2, 15, -2}, {-2, 15, 2}, {2, 15, 2}}, lo, hi);
+    return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
+        const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
+        if (roof_lo != roof_hi && test::path_in_box(at, q, roof_lo, roof_hi) > 0.0)
+            return glm::dvec3(0.0);
+        return std::abs(q.x) < 2.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
+    });
+}
+
+// check_floor's findings as expectations: no pixel off, the mean within 1%, no validation error.
+void expect_floor(Renderer& r, const RenderImage& img, const Camera& cam, const RenderSettings& s,
+                  int tolerance, const std::function<glm::dvec3(glm::dvec3)>& irradiance) {
+    const FloorCheck f = check_floor(img, cam, s, tolerance, irradiance);
+    EXPECT_EQ(f.off, 0) << "of " << f.checked << " floor pixels";
+    EXPECT_NEAR(f.mean, f.expected_mean, 0.01 * f.expected_mean);
+    EXPECT_EQ(r.validation_errors(), 0u);
+}
+
+// A 4 x 4 area light 8 blocks over the surface lights the pool's floor 6 below it: as if it were
+// a / n + b = 12.5 above, not 14, so a quarter brighter under it than straight rays make it (the
+// same 1 - F and about the same absorption). Checked: with straight shadow rays from under water
+// (the code before light_through), all 2,304 pixels are off.
+TEST_F(RendererTest, TheAreaLightReachesAFloorUnderWaterBentAtTheSurface) {
+    test::load_meshes(*m_renderer, test::mesh_world(stone_basin()));
+    const RenderSettings s = under_the_light();
     const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 16, 4);
     test::maybe_save(img, "area_light_under_water");
     const glm::dvec3 emission(s.light.emission);
-    const auto irradiance = [&](glm::dvec3 p) {
-        glm::dvec2 lo, hi;
-        crossing_box(p, {{-2, 15, -2}, {2, 15, -2}, {-2, 15, 2}, {2, 15, 2}}, lo, hi);
-        return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
-            const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
-            return std::abs(q.x) < 2.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
-        });
-    };
-    const FloorCheck r = check_floor(img, cam, s, 2, irradiance);
-    EXPECT_EQ(r.off, 0) << "of " << r.checked << " floor pixels";
-    EXPECT_NEAR(r.mean, r.expected_mean, 0.01 * r.expected_mean);
-    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+    expect_floor(*m_renderer, img, cam, s, 2, [&](glm::dvec3 p) { return light_over_pool(p, emission); });
 }
 
 // The same light with a stone roof y in [9, 10) over x < 0, between the surface and the light: the
@@ -173,33 +183,17 @@ TEST_F(RendererTest, TheAreaLightReachesAFloorUnderWaterBentAtTheSurface) {
 // short of the light not counted as a shadow, 1,797 of the 2,304 pixels are off (the test with
 // the lamp cannot tell: its walks end on the lamp itself).
 TEST_F(RendererTest, TheAreaLightsShadowUnderWaterFallsWhereTheBentRaysMeetTheRoof) {
-    world::World w = basin();
+    world::World w = stone_basin();
     test::fill_box(w, {-13, 9, -13}, {0, 10, 13}, test::block_id("stone"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
-    RenderSettings s = dark_pool();
-    s.light.block = {-2, 15, -2};
-    s.light.edge_u = {4.f, 0.f, 0.f};
-    s.light.edge_v = {0.f, 0.f, 4.f};
-    s.light.emission = glm::vec3(20.f);
+    const RenderSettings s = under_the_light();
     const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 64, 4);
     test::maybe_save(img, "area_light_under_water_shadow");
     const glm::dvec3 emission(s.light.emission);
-    const auto irradiance = [&](glm::dvec3 p) {
-        glm::dvec2 lo, hi;
-        crossing_box(p, {{-2, 15, -2}, {2, 15, -2}, {-2, 15, 2}, {2, 15, 2}}, lo, hi);
-        return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
-            const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
-            if (test::path_in_box(at, q, {-13, 9, -13}, {0, 10, 13}) > 0.0)
-                return glm::dvec3(0.0);
-            return std::abs(q.x) < 2.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
-        });
-    };
     // 256 samples of a penumbra: a few steps of noise.
-    const FloorCheck r = check_floor(img, cam, s, 3, irradiance);
-    EXPECT_EQ(r.off, 0) << "of " << r.checked << " floor pixels";
-    EXPECT_NEAR(r.mean, r.expected_mean, 0.01 * r.expected_mean);
-    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+    expect_floor(*m_renderer, img, cam, s, 3,
+                 [&](glm::dvec3 p) { return light_over_pool(p, emission, {-13, 9, -13}, {0, 10, 13}); });
 }
 
 // A block of water x, y, z in [-4, 4) x [1, 5) x [-4, 4) stands in the open on a stone floor, and
@@ -231,10 +225,7 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheAreaLightThroughEachFaceFacingIt) {
         return through_plane(p, 1, 5.0, {-4.0, -4.0}, {4.0, 4.0}, 240, light) +
                through_plane(p, 0, 4.0, {1.0, -4.0}, {5.0, 4.0}, 240, light);
     };
-    const FloorCheck r = check_floor(img, cam, s, 2, irradiance);
-    EXPECT_EQ(r.off, 0) << "of " << r.checked << " floor pixels";
-    EXPECT_NEAR(r.mean, r.expected_mean, 0.01 * r.expected_mean);
-    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+    expect_floor(*m_renderer, img, cam, s, 2, irradiance);
 }
 
 // A 4 x 1 x 4 slab of lamp blocks 4 blocks over the surface lights the floor through its bottom
@@ -243,7 +234,7 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheAreaLightThroughEachFaceFacingIt) {
 // than the default put the floor near mid-grey. Checked: with straight rays from under water,
 // all pixels are off.
 TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
-    world::World w = basin();
+    world::World w = stone_basin();
     test::fill_box(w, {-2, 11, -2}, {2, 12, 2}, test::block_id("lamp"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
     RenderSettings s = dark_pool();
@@ -263,10 +254,7 @@ TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
         });
     };
     // 512 samples of 48 faces by resampled importance leave a few steps of noise per pixel.
-    const FloorCheck r = check_floor(img, cam, s, 6, irradiance);
-    EXPECT_EQ(r.off, 0) << "of " << r.checked << " floor pixels";
-    EXPECT_NEAR(r.mean, r.expected_mean, 0.01 * r.expected_mean);
-    EXPECT_EQ(m_renderer->validation_errors(), 0u);
+    expect_floor(*m_renderer, img, cam, s, 6, irradiance);
 }
 
 } // namespace

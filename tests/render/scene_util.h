@@ -34,6 +34,15 @@ inline void fill_box(world::World& w, world::BlockPos lo, world::BlockPos hi, wo
                 w.set_block({x, y, z}, id);
 }
 
+// A pool in a stone basin: floor y in [0, 1), rim |x| or |z| in [12, 13) up to the surface (no way
+// in for light through the water's sides), water x, z in [-12, 12), y in [1, 7).
+inline world::World stone_basin() {
+    world::World w;
+    fill_box(w, {-13, 0, -13}, {13, 7, 13}, block_id("stone"));
+    fill_box(w, {-12, 1, -12}, {12, 7, 12}, block_id("water"));
+    return w;
+}
+
 // Hilly ground over 2 x 1 x 2 chunks (x, z in [-32, 32), y in [0, 32)); the ground at column
 // (10, 10) is 9 blocks high.
 inline world::World hills() {

@@ -24,16 +24,8 @@ using test::RendererTest;
 constexpr double kPi = 3.14159265358979;
 constexpr double kSurface = 7.0; // The water's top, y.
 
-// A pool in a stone basin: floor y in [0, 1), rim |x| or |z| in [12, 13) up to the surface (the
-// sun's ways in through the water's sides are closed), water x, z in [-12, 12), y in [1, 7).
-world::World basin() {
-    world::World w;
-    const world::BlockId stone = test::block_id("stone"), water = test::block_id("water");
-    test::fill_box(w, {-13, 0, -13}, {13, 1, 13}, stone);
-    test::fill_box(w, {-13, 1, -13}, {13, 7, 13}, stone);
-    test::fill_box(w, {-12, 1, -12}, {12, 7, 12}, water);
-    return w;
-}
+// The pool (test::stone_basin): its water's top is kSurface.
+world::World basin() { return test::stone_basin(); }
 
 // Full mode lit by the sun alone (test::sun_alone), the eye in the water.
 RenderSettings sun_only(glm::vec3 sun) {
