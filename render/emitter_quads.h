@@ -1,10 +1,11 @@
 #pragma once
-// The emissive faces a frame samples directly (next-event estimation, shaders/raygen.rgen
-// emitter_light()): each emissive chunk's emissive quads, kept by the Renderer as chunks are
-// set, and the frame's list of the nearest chunks' faces (shaders/shared/render_types.h,
-// EmitterQuad). A lamp a few blocks away covers a hundredth of the sky rays' hemisphere, so
-// rays that must hit it by chance leave the lit floor mostly noise; a shadow ray aimed at a
-// point on its face is unbiased at every sample. Main thread (the Renderer's), no GPU calls.
+// The emissive faces a frame samples directly (next-event estimation,
+// shaders/shared/finite_light.glsl finite_light()): each emissive chunk's emissive quads, kept by
+// the Renderer as chunks are set, and the frame's list of the nearest chunks' faces
+// (shaders/shared/render_types.h, EmitterQuad). A lamp a few blocks away covers a hundredth of the
+// sky rays' hemisphere, so rays that must hit it by chance leave the lit floor mostly noise; a
+// shadow ray aimed at a point on its face is unbiased at every sample. Main thread (the
+// Renderer's), no GPU calls.
 
 #include <cstdint>
 #include <functional>

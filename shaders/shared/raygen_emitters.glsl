@@ -1,7 +1,8 @@
 // The raygen shader's emissive blocks (included by raygen.rgen after its light samplers, whose
-// globals and trace_shadow() these use): which emitter chunks are near a point, next-event
-// estimation of their faces (emitter_light(): resampled importance among kEmitterCandidates), and
-// the sky term's cosine-weighted rays that also find the emitters not sampled (sky_and_emitters()).
+// globals and trace_shadow() these use): which emitter chunks are near a point, the draw of one
+// face among kEmitterCandidates by resampled importance (draw_candidates(), for finite_light()'s
+// next-event estimation), and the sky term's cosine-weighted rays that also find the emitters not
+// sampled (sky_and_emitters()).
 
 // Whether `pos` lies in emitter chunk i's box (emitter_chunks[i]) widened by `reach` of its cells.
 bool near_chunk(uint i, vec3 pos, float reach) {
@@ -13,7 +14,7 @@ bool near_chunk(uint i, vec3 pos, float reach) {
 // Whether `pos` lies within kEmitterRange cells of one of the emissive chunks near the camera
 // (the CPU's list, nearest first) numbered first..end-1: only there can an emitter matter. A
 // level-k chunk's cells are 2^k blocks, and so is its reach: a cell's light falls off with
-// (distance / cell size)^2. The first flags.w chunks' faces are sampled (emitter_light()), the
+// (distance / cell size)^2. The first flags.w chunks' faces are sampled (finite_light()), the
 // rest are found by sky rays.
 bool near_emitter(vec3 pos, uint first, uint end) {
     for (uint i = first; i < end; ++i)
@@ -33,7 +34,7 @@ float g_inverse_hit_sum = 0.0;
 const float kMinOccluderDistance = 0.25; // Blocks: a ray leaving a face may touch the next at ~0.
 
 // The emission a sky ray adds on hitting `block` at `hit` (its face `face`): none from a block
-// in one of the first `sampled` emitter chunks, whose faces emitter_light() sampled at this point.
+// in one of the first `sampled` emitter chunks, whose faces finite_light() sampled at this point.
 vec3 found_emission(uint block, vec3 hit, uint face, uint sampled) {
     vec3 e = vx_material(block).emission.xyz;
     if (sampled == 0u || e == vec3(0.0))
@@ -136,56 +137,6 @@ float emitter_estimate(vec3 pos, vec3 n, uint seed) {
     float unused_target;
     return draw_candidates(pos, n, vx_hash(seed ^ vx_hash(g_pixel.x + vx_hash(g_pixel.y ^ 0x68bc21ebu))), unused_face,
                            unused_target);
-}
-
-// Irradiance at `pos` (normal n) from the faces, `samples` samples.
-vec3 emitter_light(vec3 pos, vec3 n, uint samples, uint seed) {
-    g_m1 = g_m2 = 0.0;
-    EmitterQuads faces = EmitterQuads(frame.emitter_quads);
-    vec3 sum = vec3(0.0);
-    float index = hit_index(); // > 1: from inside water or glass, the light bent (light_through()).
-    g_plane_known = 0u;
-    for (uint s = 0u; s < samples; ++s) {
-        uint chosen;
-        float chosen_target;
-        float total = draw_candidates(pos, n, vx_hash(seed ^ vx_hash(g_pixel.x + vx_hash(g_pixel.y + vx_hash(s)))),
-                                      chosen, chosen_target);
-        if (total <= 0.0)
-            continue;
-        EmitterQuad q = faces.q[chosen];
-        vec3 eu = q.edge_u.xyz, ev = q.edge_v.xyz;
-        // By solid angle where the face is near (area sampling's cos / d^2 would make the floor
-        // beside a lamp a field of fireflies), else by area, as area_light().
-        RectView view = near_rect_view(pos, q.corner.xyz, eu, ev);
-        vec2 uv = sample2(s, samples, seed);
-        vec3 to_light = view.valid ? vx_rect_sample(view, uv.x, uv.y) : q.corner.xyz + uv.x * eu + uv.y * ev - pos;
-        float d2 = dot(to_light, to_light), dist = sqrt(d2);
-        vec3 l = to_light / dist;
-        float cos_s = dot(n, l), cos_l = -dot(cross(eu, ev), l) / q.corner.w;
-        if (!(cos_s > 0.0) || !(cos_l > 0.0)) // NaN too, as in area_light().
-            continue;
-        vec3 x;
-        bool straight = true;
-        if (index != 1.0) {
-            // Over the pdfs per unit area: solid angle d^2 / cos at the face, or its area.
-            vec3 nq = cross(eu, ev) / q.corner.w;
-            vec3 through =
-                light_through(pos, n, pos + to_light, nq, true, g_hit_inside, index, 1e-3, straight);
-            float inverse_pdf = view.valid ? view.solid_angle * d2 / cos_l : q.corner.w;
-            x = through * q.emission.xyz * (inverse_pdf * total / chosen_target);
-        }
-        if (straight) {
-            // The ray stops short of the face it aims at (that face would block it).
-            // A lamp behind glass: the ray ends inside the glass, which absorbs on to its end.
-            vec3 pass = trace_shadow(pos, l, dist * (1.0 - 1e-4) - 1e-3, g_hit_inside);
-            // Over the pdfs: 1 / solid angle or d^2 / (area cos at the light); then the choice's.
-            float geometry = view.valid ? cos_s * view.solid_angle : cos_s * cos_l * q.corner.w / d2;
-            x = pass * q.emission.xyz * (geometry * total / chosen_target);
-        }
-        sum += x;
-        add_sample(x);
-    }
-    return sum / float(samples);
 }
 
 // Under water (index > 1) the sky comes in through Snell's window alone, the cone of half-angle

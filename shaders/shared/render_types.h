@@ -84,7 +84,7 @@ VX_CONST uint kMaxTransparentLayers = 8;
 // camera (FrameParams::emitter_chunks); farther emissive chunks light nothing.
 VX_CONST float kEmitterRange = 16.0f;
 VX_CONST uint kMaxEmitterChunks = 64;
-// Emissive faces sampled directly (next-event estimation, shared/raygen_emitters.glsl emitter_light()): the
+// Emissive faces sampled directly (next-event estimation, shared/finite_light.glsl): the
 // faces of the nearest emissive chunks, whole chunks only, up to this many per frame
 // (render/emitter_quads.h). Sky rays no longer count the emission of those chunks' blocks.
 VX_CONST uint kMaxEmitterQuads = 1024;

@@ -1,7 +1,7 @@
-// Emissive blocks sampled through their faces (render/emitter_quads.h, shared/raygen_emitters.glsl emitter_light()):
-// the faces' geometry and the frame's list (no GPU), then on lavapipe: the same mean light as sky
-// rays that hit the lamps by chance, far less noise, and a material change that leaves the faces
-// stale losing no light.
+// Emissive blocks sampled through their faces (render/emitter_quads.h,
+// shaders/shared/finite_light.glsl finite_light()): the faces' geometry and the frame's list (no
+// GPU), then on lavapipe: the same mean light as sky rays that hit the lamps by chance, far less
+// noise, and a material change that leaves the faces stale losing no light.
 #include <cstdio>
 
 #include <glm/geometric.hpp>

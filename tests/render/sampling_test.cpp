@@ -261,7 +261,7 @@ double square_light_irradiance(double a, double h, double radiance) {
     return radiance * 4.0 * q * std::atan(q);
 }
 
-// The shaders' area-light estimator (raygen.rgen, area_light: L A / N sum cos_s cos_l / d^2 at
+// The shaders' area-light estimator (shared/finite_light.glsl, finite_light: L A / N sum cos_s cos_l / d^2 at
 // points drawn uniformly on the light) with vx_pixel_sample's points: a 16 x 16 pixel block, all
 // seeing the same point 4 below the centre of a 16 x 16 light, where cos_s cos_l / d^2 varies
 // 80-fold over the light. The mean over the pixels is within 1% of the analytic irradiance for
