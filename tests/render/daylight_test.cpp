@@ -212,13 +212,7 @@ TEST_F(RendererTest, BounceShadowSamplesApplyToBouncesOnly) {
 // meets the mirror at (0, 2.8, 0.5) and reflects down onto the slab's top at x = 12, where a
 // roof at y in [4, 5), x in [8, 16) may shade it.
 TEST_F(RendererTest, SkyRaysPastTheFirstHitSeeTheSkyAndWhatCoversIt) {
-    world::BlockRegistry registry = reg();
-    world::BlockInfo perfect;
-    perfect.name = "perfect mirror";
-    perfect.albedo = {1.f, 1.f, 1.f};
-    perfect.reflectivity = 1.f;
-    const world::BlockId mirror = registry.add(perfect).value();
-    m_renderer->set_registry(registry);
+    const world::BlockId mirror = test::set_perfect_mirror(*m_renderer);
     auto centre_seen_in_mirror = [&](const char* roof) {
         world::World w;
         test::fill_box(w, {-16, 0, -16}, {16, 1, 16}, test::block_id("stone"));

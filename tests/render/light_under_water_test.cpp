@@ -142,15 +142,18 @@ FloorCheck check_floor(const RenderImage& img, const Camera& cam, const RenderSe
     return r;
 }
 
-// dark_pool() lit by a 4 x 4 area light at y = 15 over the pool's centre, 8 over the surface.
-RenderSettings under_the_light() {
+// dark_pool() lit by an area light of radiance 20 at `corner` with edges u and v (blocks).
+RenderSettings lit_pool(glm::i64vec3 corner, glm::vec3 u, glm::vec3 v) {
     RenderSettings s = dark_pool();
-    s.light.block = {-2, 15, -2};
-    s.light.edge_u = {4.f, 0.f, 0.f};
-    s.light.edge_v = {0.f, 0.f, 4.f};
+    s.light.block = corner;
+    s.light.edge_u = u;
+    s.light.edge_v = v;
     s.light.emission = glm::vec3(20.f);
     return s;
 }
+
+// dark_pool() lit by a 4 x 4 area light at y = 15 over the pool's centre, 8 over the surface.
+RenderSettings under_the_light() { return lit_pool({-2, 15, -2}, {4.f, 0.f, 0.f}, {0.f, 0.f, 4.f}); }
 
 // Its irradiance at p on the floor through the surface; a crossing whose leg in air meets the box
 // [roof_lo, roof_hi) gives nothing (an empty box: no roof).
@@ -219,11 +222,7 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheAreaLightThroughEachFaceFacingIt) {
     test::fill_box(w, {-12, 0, -12}, {12, 1, 12}, test::block_id("stone"));
     test::fill_box(w, {-4, 1, -4}, {4, 5, 4}, test::block_id("water"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
-    RenderSettings s = dark_pool();
-    s.light.block = {9, 3, -3};
-    s.light.edge_u = {0.f, 6.f, 0.f};
-    s.light.edge_v = {0.f, 0.f, 6.f};
-    s.light.emission = glm::vec3(20.f);
+    const RenderSettings s = lit_pool({9, 3, -3}, {0.f, 6.f, 0.f}, {0.f, 0.f, 6.f});
     const Camera cam = Camera::look_at({-2.0, 4.0, 0.3}, {-2.0, 1.0, 0.3}, {0, 0, -1}, 60.f);
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 64, 4);
     test::maybe_save(img, "area_light_under_water_sides");
@@ -280,23 +279,13 @@ TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
 // mirror giving nothing, seen over the water of both legs of the view. Checked: with the planes
 // kept from the mirror's point, all 2,304 pixels are off.
 TEST_F(RendererTest, EachHitUnderWaterFindsItsOwnWaysOut) {
-    world::BlockRegistry registry = world::BlockRegistry::default_registry();
-    world::BlockInfo perfect;
-    perfect.name = "perfect mirror";
-    perfect.albedo = {1.f, 1.f, 1.f};
-    perfect.reflectivity = 1.f;
-    const world::BlockId mirror = registry.add(perfect).value();
-    m_renderer->set_registry(registry);
+    const world::BlockId mirror = test::set_perfect_mirror(*m_renderer);
     world::World w = stone_basin();
     const glm::dvec3 mirror_lo(-1, 1, -2), mirror_hi(0, 3, 2), roof_lo(-1, 4, -3), roof_hi(1, 5, 3);
     test::fill_box(w, {-1, 1, -2}, {0, 3, 2}, mirror);
     test::fill_box(w, {-1, 4, -3}, {1, 5, 3}, test::block_id("stone"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
-    RenderSettings s = dark_pool();
-    s.light.block = {2, 15, -2};
-    s.light.edge_u = {4.f, 0.f, 0.f};
-    s.light.edge_v = {0.f, 0.f, 4.f};
-    s.light.emission = glm::vec3(20.f);
+    RenderSettings s = lit_pool({2, 15, -2}, {4.f, 0.f, 0.f}, {0.f, 0.f, 4.f});
     s.max_bounces = 1;
     const Camera cam = Camera::look_at({3.0, 3.4, 0.3}, {0.0, 2.4, 0.3}, {0, 1, 0}, 12.f);
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 16, 4);

@@ -43,6 +43,19 @@ inline world::World stone_basin() {
     return w;
 }
 
+// The default registry with a perfect mirror added (reflectivity 1: no light of its own), set on
+// `r`; its id.
+inline world::BlockId set_perfect_mirror(Renderer& r) {
+    world::BlockRegistry registry = world::BlockRegistry::default_registry();
+    world::BlockInfo perfect;
+    perfect.name = "perfect mirror";
+    perfect.albedo = {1.f, 1.f, 1.f};
+    perfect.reflectivity = 1.f;
+    const world::BlockId id = registry.add(perfect).value();
+    r.set_registry(registry);
+    return id;
+}
+
 // Hilly ground over 2 x 1 x 2 chunks (x, z in [-32, 32), y in [0, 32)); the ground at column
 // (10, 10) is 9 blocks high.
 inline world::World hills() {
