@@ -240,6 +240,20 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheAreaLightThroughEachFaceFacingIt) {
     expect_floor(*m_renderer, img, cam, s, 2, irradiance);
 }
 
+// The lamp slab's light (a 4 x 1 x 4 slab of lamp blocks 4 over the surface) as the floor at p
+// takes it through the surface.
+glm::dvec3 slab_over_pool(glm::dvec3 p) {
+    const glm::dvec3 emission(world::BlockRegistry::default_registry().info(test::block_id("lamp")).emission);
+    glm::dvec2 lo, hi;
+    crossing_box(p, {{-2, 11, -2}, {2, 11, -2}, {-2, 11, 2}, {2, 11, 2}, {-2, 12, -2}, {2, 12, -2}, {-2, 12, 2},
+                     {2, 12, 2}},
+                 lo, hi);
+    return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
+        const double t = test::path_in_box(at, at + w2 * 20.0, {-2, 11, -2}, {2, 12, 2});
+        return t > 0.0 ? emission : glm::dvec3(0.0);
+    });
+}
+
 // A 4 x 1 x 4 slab of lamp blocks 4 blocks over the surface lights the floor through its bottom
 // and sides: the emissive faces' shadow rays bend too (finite_light). Each crossing's ray,
 // refracted into air, takes the lamp's emission where it meets the slab. Two stops more exposure
@@ -254,18 +268,39 @@ TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
     const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 128, 4);
     test::maybe_save(img, "lamp_under_water");
-    const glm::dvec3 emission(world::BlockRegistry::default_registry().info(test::block_id("lamp")).emission);
+    // 512 samples of 48 faces by resampled importance leave a few steps of noise per pixel.
+    expect_floor(*m_renderer, img, cam, s, 6, slab_over_pool);
+}
+
+
+// The lamp slab and an area light beside it (4 x 4 at y = 15 over x in [4, 8)) light the floor at
+// once: each point explores its ways out for the area light's samples, and the faces' samples
+// walk the same planes (shade() clears them once per hit; finite_light()). Expected: the two
+// lights' sums, the slab shading the area light's legs in air. Checked: with the planes' open
+// ways forgotten between the two (the faces' rays then straight), 666 of the 2,304 pixels are off
+// and the mean is 6% low.
+TEST_F(RendererTest, TheAreaLightAndALampLightTheFloorUnderWaterThroughTheSameWays) {
+    world::World w = stone_basin();
+    const glm::dvec3 slab_lo(-2, 11, -2), slab_hi(2, 12, 2);
+    test::fill_box(w, {-2, 11, -2}, {2, 12, 2}, test::block_id("lamp"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s = lit_pool({4, 15, -2}, {4.f, 0.f, 0.f}, {0.f, 0.f, 4.f});
+    s.exposure.ev100 -= 1.f;
+    const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const RenderImage img = test::accumulated(*m_renderer, s, cam, 128, 4);
+    test::maybe_save(img, "area_light_and_lamp_under_water");
+    const glm::dvec3 emission(s.light.emission);
     const auto irradiance = [&](glm::dvec3 p) {
         glm::dvec2 lo, hi;
-        crossing_box(p, {{-2, 11, -2}, {2, 11, -2}, {-2, 11, 2}, {2, 11, 2}, {-2, 12, -2}, {2, 12, -2}, {-2, 12, 2},
-                         {2, 12, 2}},
-                     lo, hi);
-        return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
-            const double t = test::path_in_box(at, at + w2 * 20.0, {-2, 11, -2}, {2, 12, 2});
-            return t > 0.0 ? emission : glm::dvec3(0.0);
+        crossing_box(p, {{4, 15, -2}, {8, 15, -2}, {4, 15, 2}, {8, 15, 2}}, lo, hi);
+        const glm::dvec3 area = through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
+            const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
+            if (test::path_in_box(at, q, slab_lo, slab_hi) > 0.0)
+                return glm::dvec3(0.0);
+            return q.x >= 4.0 && q.x < 8.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
         });
+        return area + slab_over_pool(p);
     };
-    // 512 samples of 48 faces by resampled importance leave a few steps of noise per pixel.
     expect_floor(*m_renderer, img, cam, s, 6, irradiance);
 }
 
