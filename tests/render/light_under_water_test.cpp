@@ -245,8 +245,9 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheAreaLightThroughEachFaceFacingIt) {
 glm::dvec3 slab_over_pool(glm::dvec3 p) {
     const glm::dvec3 emission(world::BlockRegistry::default_registry().info(test::block_id("lamp")).emission);
     glm::dvec2 lo, hi;
-    crossing_box(p, {{-2, 11, -2}, {2, 11, -2}, {-2, 11, 2}, {2, 11, 2}, {-2, 12, -2}, {2, 12, -2}, {-2, 12, 2},
-                     {2, 12, 2}},
+    crossing_box(p,
+                 {{-2, 11, -2}, {2, 11, -2}, {-2, 11, 2}, {2, 11, 2}, {-2, 12, -2}, {2, 12, -2}, {-2, 12, 2},
+                  {2, 12, 2}},
                  lo, hi);
     return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
         const double t = test::path_in_box(at, at + w2 * 20.0, {-2, 11, -2}, {2, 12, 2});
