@@ -155,17 +155,22 @@ RenderSettings lit_pool(glm::i64vec3 corner, glm::vec3 u, glm::vec3 v) {
 // dark_pool() lit by a 4 x 4 area light at y = 15 over the pool's centre, 8 over the surface.
 RenderSettings under_the_light() { return lit_pool({-2, 15, -2}, {4.f, 0.f, 0.f}, {0.f, 0.f, 4.f}); }
 
-// Its irradiance at p on the floor through the surface; a crossing whose leg in air meets the box
-// [roof_lo, roof_hi) gives nothing (an empty box: no roof).
-glm::dvec3 light_over_pool(glm::dvec3 p, glm::dvec3 emission, glm::dvec3 roof_lo = glm::dvec3(0.0),
-                           glm::dvec3 roof_hi = glm::dvec3(0.0)) {
+// Whether a crossing's path meets something: its leg in water from the floor point p to the
+// crossing `at`, or its leg in air on to q on the light's plane.
+using Blocked = std::function<bool(glm::dvec3 p, glm::dvec3 at, glm::dvec3 q)>;
+
+// The irradiance at p on the floor through the surface of a 4 x 4 area light at y = 15 over
+// x in [x0, x0 + 4), z in [-2, 2) (under_the_light()'s for x0 = -2); a crossing whose path is
+// `blocked` gives nothing.
+glm::dvec3 light_over_pool(glm::dvec3 p, glm::dvec3 emission, double x0 = -2.0,
+                           const Blocked& blocked = nullptr) {
     glm::dvec2 lo, hi;
-    crossing_box(p, {{-2, 15, -2}, {2, 15, -2}, {-2, 15, 2}, {2, 15, 2}}, lo, hi);
+    crossing_box(p, {{x0, 15, -2}, {x0 + 4.0, 15, -2}, {x0, 15, 2}, {x0 + 4.0, 15, 2}}, lo, hi);
     return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
         const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
-        if (roof_lo != roof_hi && test::path_in_box(at, q, roof_lo, roof_hi) > 0.0)
+        if (blocked && blocked(p, at, q))
             return glm::dvec3(0.0);
-        return std::abs(q.x) < 2.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
+        return std::abs(q.x - (x0 + 2.0)) < 2.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
     });
 }
 
@@ -208,8 +213,11 @@ TEST_F(RendererTest, TheAreaLightsShadowUnderWaterFallsWhereTheBentRaysMeetTheRo
     test::maybe_save(img, "area_light_under_water_shadow");
     const glm::dvec3 emission(s.light.emission);
     // 256 samples of a penumbra: a few steps of noise.
+    const Blocked roof = [](glm::dvec3, glm::dvec3 at, glm::dvec3 q) {
+        return test::path_in_box(at, q, {-13, 9, -13}, {0, 10, 13}) > 0.0;
+    };
     expect_floor(*m_renderer, img, cam, s, 3,
-                 [&](glm::dvec3 p) { return light_over_pool(p, emission, {-13, 9, -13}, {0, 10, 13}); });
+                 [&](glm::dvec3 p) { return light_over_pool(p, emission, -2.0, roof); });
 }
 
 // A block of water x, y, z in [-4, 4) x [1, 5) x [-4, 4) stands in the open on a stone floor, and
@@ -240,8 +248,10 @@ TEST_F(RendererTest, AFloorUnderWaterTakesTheAreaLightThroughEachFaceFacingIt) {
     expect_floor(*m_renderer, img, cam, s, 2, irradiance);
 }
 
-// The lamp slab's light (a 4 x 1 x 4 slab of lamp blocks 4 over the surface) as the floor at p
-// takes it through the surface.
+// A 4 x 1 x 4 slab of lamp blocks 4 over the surface (blocks).
+const glm::dvec3 kSlabLo(-2, 11, -2), kSlabHi(2, 12, 2);
+
+// The lamp slab's light as the floor at p takes it through the surface.
 glm::dvec3 slab_over_pool(glm::dvec3 p) {
     const glm::dvec3 emission(world::BlockRegistry::default_registry().info(test::block_id("lamp")).emission);
     glm::dvec2 lo, hi;
@@ -250,7 +260,7 @@ glm::dvec3 slab_over_pool(glm::dvec3 p) {
                   {2, 12, 2}},
                  lo, hi);
     return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
-        const double t = test::path_in_box(at, at + w2 * 20.0, {-2, 11, -2}, {2, 12, 2});
+        const double t = test::path_in_box(at, at + w2 * 20.0, kSlabLo, kSlabHi);
         return t > 0.0 ? emission : glm::dvec3(0.0);
     });
 }
@@ -262,7 +272,7 @@ glm::dvec3 slab_over_pool(glm::dvec3 p) {
 // all pixels are off.
 TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
     world::World w = stone_basin();
-    test::fill_box(w, {-2, 11, -2}, {2, 12, 2}, test::block_id("lamp"));
+    test::fill_box(w, world::BlockPos(kSlabLo), world::BlockPos(kSlabHi), test::block_id("lamp"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
     RenderSettings s = dark_pool();
     s.exposure.ev100 -= 2.f;
@@ -273,7 +283,6 @@ TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
     expect_floor(*m_renderer, img, cam, s, 6, slab_over_pool);
 }
 
-
 // The lamp slab and an area light beside it (4 x 4 at y = 15 over x in [4, 8)) light the floor at
 // once: each point explores its ways out for the area light's samples, and the faces' samples
 // walk the same planes (shade() clears them once per hit; finite_light()). Expected: the two
@@ -282,8 +291,7 @@ TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
 // and the mean is 6% low.
 TEST_F(RendererTest, TheAreaLightAndALampLightTheFloorUnderWaterThroughTheSameWays) {
     world::World w = stone_basin();
-    const glm::dvec3 slab_lo(-2, 11, -2), slab_hi(2, 12, 2);
-    test::fill_box(w, {-2, 11, -2}, {2, 12, 2}, test::block_id("lamp"));
+    test::fill_box(w, world::BlockPos(kSlabLo), world::BlockPos(kSlabHi), test::block_id("lamp"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
     RenderSettings s = lit_pool({4, 15, -2}, {4.f, 0.f, 0.f}, {0.f, 0.f, 4.f});
     s.exposure.ev100 -= 1.f;
@@ -291,16 +299,11 @@ TEST_F(RendererTest, TheAreaLightAndALampLightTheFloorUnderWaterThroughTheSameWa
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 128, 4);
     test::maybe_save(img, "area_light_and_lamp_under_water");
     const glm::dvec3 emission(s.light.emission);
+    const Blocked slab = [](glm::dvec3, glm::dvec3 at, glm::dvec3 q) {
+        return test::path_in_box(at, q, kSlabLo, kSlabHi) > 0.0;
+    };
     const auto irradiance = [&](glm::dvec3 p) {
-        glm::dvec2 lo, hi;
-        crossing_box(p, {{4, 15, -2}, {8, 15, -2}, {4, 15, 2}, {8, 15, 2}}, lo, hi);
-        const glm::dvec3 area = through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
-            const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
-            if (test::path_in_box(at, q, slab_lo, slab_hi) > 0.0)
-                return glm::dvec3(0.0);
-            return q.x >= 4.0 && q.x < 8.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
-        });
-        return area + slab_over_pool(p);
+        return light_over_pool(p, emission, 4.0, slab) + slab_over_pool(p);
     };
     expect_floor(*m_renderer, img, cam, s, 6, irradiance);
 }
@@ -327,17 +330,11 @@ TEST_F(RendererTest, EachHitUnderWaterFindsItsOwnWaysOut) {
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 16, 4);
     test::maybe_save(img, "floor_under_water_in_a_mirror");
     const glm::dvec3 emission(s.light.emission);
-    const auto irradiance = [&](glm::dvec3 p) {
-        glm::dvec2 lo, hi;
-        crossing_box(p, {{2, 15, -2}, {6, 15, -2}, {2, 15, 2}, {6, 15, 2}}, lo, hi);
-        return through_surface(p, lo, hi, 200, [&](glm::dvec3 at, glm::dvec3 w2) {
-            if (test::path_in_box(p, at, roof_lo, roof_hi) > 0.0 ||
-                test::path_in_box(p, at, mirror_lo, mirror_hi) > 0.0)
-                return glm::dvec3(0.0);
-            const glm::dvec3 q = at + w2 * ((15.0 - at.y) / w2.y); // On the light's plane.
-            return q.x >= 2.0 && q.x < 6.0 && std::abs(q.z) < 2.0 ? emission : glm::dvec3(0.0);
-        });
+    const Blocked in_water = [&](glm::dvec3 p, glm::dvec3 at, glm::dvec3) {
+        return test::path_in_box(p, at, roof_lo, roof_hi) > 0.0 ||
+               test::path_in_box(p, at, mirror_lo, mirror_hi) > 0.0;
     };
+    const auto irradiance = [&](glm::dvec3 p) { return light_over_pool(p, emission, 2.0, in_water); };
     // Each view ray meets the mirror's face x = 0 and goes on mirrored in x to the floor.
     const auto in_mirror = [&](glm::dvec3 eye, glm::dvec3 v) {
         const double t = -eye.x / v.x;
