@@ -18,6 +18,7 @@ const uint kLightFaces = 1u; // The emissive faces of the nearest emitter chunks
 // including its emission, the faces' as they are.
 vec4 finite_light(uint kind, vec3 pos, vec3 n, uint samples, uint seed) {
     g_m1 = g_m2 = 0.0;
+    g_probe_off = false;
     bool area_kind = kind == kLightArea;
     if (area_kind && dot(frame.light_emission.xyz, vec3(1.0)) <= 0.0)
         return vec4(0.0);

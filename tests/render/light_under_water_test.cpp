@@ -308,6 +308,79 @@ TEST_F(RendererTest, TheAreaLightAndALampLightTheFloorUnderWaterThroughTheSameWa
     expect_floor(*m_renderer, img, cam, s, 6, irradiance);
 }
 
+// A stone roof y in [4, 5) over x < 0 lies in the pool, under the water's surface, and the 4 x 4
+// area light hangs 8 over the surface. The floor under the roof's edge is lit by rays that bend
+// at the surface past the edge, yet a walk straight up from it meets the roof and the walks along
+// x and z the pool's walls: every way out it explores is shut. The straight line to the light's
+// sample finds the surface instead (light_through()'s probe). Expected: the floor's light through
+// the surface, legs in water that meet the roof giving nothing. Checked: without the probe (the
+// shut ways' rays straight, unbent), 136 of the 2,304 pixels are off.
+TEST_F(RendererTest, AFloorUnderARoofInWaterTakesTheLightBentPastItsEdge) {
+    world::World w = stone_basin();
+    const glm::dvec3 roof_lo(-12, 4, -12), roof_hi(0, 5, 12);
+    test::fill_box(w, {-12, 4, -12}, {0, 5, 12}, test::block_id("stone"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    const RenderSettings s = under_the_light();
+    const Camera cam = Camera::look_at({0.3, 3.5, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const RenderImage img = test::accumulated(*m_renderer, s, cam, 64, 4);
+    test::maybe_save(img, "floor_under_a_roof_in_water");
+    const glm::dvec3 emission(s.light.emission);
+    const Blocked roof = [&](glm::dvec3 p, glm::dvec3 at, glm::dvec3) {
+        return test::path_in_box(p, at, roof_lo, roof_hi) > 0.0;
+    };
+    expect_floor(*m_renderer, img, cam, s, 3,
+                 [&](glm::dvec3 p) { return light_over_pool(p, emission, -2.0, roof); });
+}
+
+// A lamp block [0, 1) x [3, 4) x [0, 1) in the pool's water (blocks).
+const glm::dvec3 kLampLo(0, 3, 0);
+
+// The lamp's light on the floor at p: each face facing p by the midpoint rule, L cos cos / r^2 dA,
+// absorbed along the straight path in water (no interface between).
+glm::dvec3 lamp_in_pool(glm::dvec3 p) {
+    const world::BlockRegistry& reg = world::BlockRegistry::default_registry();
+    const glm::dvec3 emission(reg.info(test::block_id("lamp")).emission);
+    const glm::vec3 water = reg.info(test::block_id("water")).albedo;
+    constexpr int n = 40;
+    glm::dvec3 sum(0.0);
+    for (int f = 0; f < 6; ++f) {
+        const int axis = f / 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const double out = f % 2 ? 1.0 : -1.0, plane = kLampLo[axis] + (f % 2);
+        if ((p[axis] - plane) * out <= 0.0)
+            continue; // Faces away from p.
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                glm::dvec3 q;
+                q[axis] = plane;
+                q[u] = kLampLo[u] + (i + 0.5) / n;
+                q[v] = kLampLo[v] + (j + 0.5) / n;
+                const glm::dvec3 l = q - p;
+                const double r2 = glm::dot(l, l), r = std::sqrt(r2);
+                const double cos_p = l.y / r, cos_q = -out * l[axis] / r;
+                sum += emission * glm::dvec3(test::absorbed(water, r)) * (cos_p * cos_q / (r2 * n * n));
+            }
+    }
+    return sum;
+}
+
+// The lamp lights the floor through the water alone: its samples lie before the water's surface,
+// which the floor's way up crosses, so light_through()'s probe follows the straight line, reaches
+// the lamp's face in the water and leaves the sample to the straight shadow ray (kProbeStraight).
+// Expected: lamp_in_pool(). Checked: with such a probe read as a blocked line, 2,240 of the 2,304
+// pixels are off.
+TEST_F(RendererTest, ALampUnderWaterLightsTheFloorStraightThroughTheWater) {
+    world::World w = stone_basin();
+    w.set_block(world::BlockPos(kLampLo), test::block_id("lamp"));
+    test::load_meshes(*m_renderer, test::mesh_world(w));
+    RenderSettings s = dark_pool();
+    s.exposure.ev100 -= 4.f; // The floor near mid-grey.
+    // Beside the lamp: no view ray meets it.
+    const Camera cam = Camera::look_at({4.3, 5.0, 0.3}, {4.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const RenderImage img = test::accumulated(*m_renderer, s, cam, 64, 4);
+    test::maybe_save(img, "lamp_in_water");
+    expect_floor(*m_renderer, img, cam, s, 4, lamp_in_pool);
+}
+
 // A perfect mirror (reflectivity 1: no light of its own) x in [-1, 0), y in [1, 3), z in [-2, 2)
 // stands in the pool under a stone roof y in [4, 5), x in [-1, 1), z in [-3, 3), all under water,
 // and a 4 x 4 area light hangs at y = 15 over x in [2, 6). The eye sees the floor in the mirror.
