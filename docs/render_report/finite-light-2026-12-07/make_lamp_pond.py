@@ -6,21 +6,18 @@ y 18, z 40..47) and two posts of two lamps on the bank (x, z = 10, 30 and 85, 60
 bent at the surface (finite-light-2026-12-07, render_report.md).
 Usage: make_lamp_pond.py OUT.raw"""
 import os
-import subprocess
 import sys
 
-X, Y, Z = 96, 24, 96
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+from deep_pond import deep_pond, put, save  # noqa: E402
+
 LAMP = 8
 out = sys.argv[1]
-here = os.path.dirname(os.path.abspath(__file__))
-subprocess.run([sys.executable, os.path.join(here, "..", "absorption-2026-12-06", "make_deep_pond.py"), out],
-               check=True)
-vol = bytearray(open(out, "rb").read())
-assert len(vol) == X * Y * Z
+vol = deep_pond(out)
 for z in range(40, 48):
     for x in range(44, 52):
-        vol[x + X * (18 + Y * z)] = LAMP
+        put(vol, x, 18, z, LAMP)
 for x, z in ((10, 30), (85, 60)):
     for y in (14, 15):
-        vol[x + X * (y + Y * z)] = LAMP
-open(out, "wb").write(vol)
+        put(vol, x, y, z, LAMP)
+save(vol, out)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Stop 61's device call (it carries stop 60's, finite-light-2026-12-07/device_run.sh, which never
-# ran). 1) The render tests of the bent finite lights, the probe's two (a floor under a roof in
-# the pool, a lamp in the water) and the G-buffer comparisons within a few roundings
+# Stop 61's device call; it carries stop 60's, which never ran (sky2.patch's timing left out).
+# 1) The render tests of the bent finite lights, the probe's two (a floor under a roof in the
+# pool, a lamp in the water) and the G-buffer comparisons within a few roundings
 # (gbuffer_compare.h), on the NVIDIA driver (vx_render_tests of this stop). 2) Timings, two
 # alternated rounds: stop 58 (vx_sky, 47e89bb), stop 59 (vx_lt, c7d6ee4), stop 60 (vx_fl,
 # d48726e) and this stop (vx_pr) on the terrain T and the deep pond P; the lamp pond L
