@@ -11,8 +11,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 def deep_pond(out):
     """Writes the deep pond to `out` and returns its blocks."""
-    subprocess.run([sys.executable, os.path.join(HERE, "..", "absorption-2026-12-06", "make_deep_pond.py"), out],
-                   check=True)
+    script = os.path.join(HERE, "..", "absorption-2026-12-06", "make_deep_pond.py")
+    subprocess.run([sys.executable, script, out], check=True)
     vol = bytearray(open(out, "rb").read())
     assert len(vol) == X * Y * Z
     return vol
