@@ -318,7 +318,7 @@ TEST_F(RendererTest, TheAreaLightAndALampLightTheFloorUnderWaterThroughTheSameWa
 TEST_F(RendererTest, AFloorUnderARoofInWaterTakesTheLightBentPastItsEdge) {
     world::World w = stone_basin();
     const glm::dvec3 roof_lo(-12, 4, -12), roof_hi(0, 5, 12);
-    test::fill_box(w, {-12, 4, -12}, {0, 5, 12}, test::block_id("stone"));
+    test::fill_box(w, world::BlockPos(roof_lo), world::BlockPos(roof_hi), test::block_id("stone"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
     const RenderSettings s = under_the_light();
     const Camera cam = Camera::look_at({0.3, 3.5, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
