@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # Stop 62's pending device call (docs/render_report.md, "The lamp tests on the NVIDIA driver").
 # Asks whether stop 60's one loop over both finite lights (0375e47, `[[dont_unroll]] for (kind`
-# in shade()) is what the NVIDIA driver gets wrong and pays for. Two builds of this code (61331aa)
-# beside it, both byte-identical to it on lavapipe: *_split with split.patch (the loop written out:
-# two calls of finite_light(), as stop 59 had two functions; lavapipe's cold compile of the
-# terrain 50 s against 34 s) and *_unroll with the loop marked `[[unroll]]` (a hint; lavapipe
-# compiles it as the loop, 27-37 s). 1) The three lamp tests that fail on the H100 (1,056, 7 and
-# 351 of 2,304 floor pixels off) with each. 2) Trace times, two alternated rounds: stop 59 (vx_lt,
-# c7d6ee4, before the loop), this code (vx_pr) and the two builds on the terrain T (14.4 -> 22.0
-# ms at the loop) and the lamp pond L (25.8 -> 51.5 ms). device_env.sh's copy of .devbuild/vx
-# (the CLI tests' binary, not carried: the carry limit) fails harmlessly.
+# in shade()) is what the NVIDIA driver gets wrong and pays for. This code (672123f: vx_pr,
+# vx_render_tests) and two builds of it, both byte-identical to it on lavapipe:
+#   *_split: split.patch, the loop written out as two calls of finite_light() (stop 59 had two
+#            functions); lavapipe's cold compile of the terrain 50 s against 34 s;
+#   *_unroll: the loop marked `[[unroll]]` (a hint; lavapipe compiles it as the loop).
+# 1) With each: the three lamp tests that fail on the H100 (1,056, 7 and 351 of 2,304 floor
+#    pixels off), the roof test, and the accumulated frames' noise (AverageOut: 32 frames keep
+#    0.19 of one frame's on lavapipe, asserted < 0.25).
+# 2) Trace times, two alternated rounds: stop 59 (vx_lt, c7d6ee4, before the loop), this code
+#    and the two builds, on the terrain T (14.4 -> 22.0 ms at the loop) and the lamp pond L
+#    (25.8 -> 51.5 ms).
+# device_env.sh's copy of .devbuild/vx (the CLI tests' binary, left out for the carry limit)
+# fails harmlessly.
 source docs/render_report/scripts/device_env.sh > /dev/null
 source docs/render_report/scripts/device_scenes.sh
 python3 docs/render_report/finite-light-2026-12-07/make_lamp_pond.py "$D/lamp.raw"
@@ -19,8 +23,8 @@ pre=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1)
 for bin in vx_render_tests vx_render_tests_split vx_render_tests_unroll; do
   echo "# $bin"
   LD_PRELOAD=$pre VX_TEST_DEVICE=gpu timeout 150 "$B/$bin" \
-    --gtest_filter='*ALampAboveWater*:*AreaLightAndALamp*:*ALampUnderWater*:*UnderARoofInWater*' 2>&1 |
-    grep -E "Which is|^\[  (FAILED|     OK)" | grep -v "listed below" | head -12
+    --gtest_filter='*ALampAbove*:*AreaLightAndALamp*:*ALampUnder*:*UnderARoofIn*:*AverageOut*' \
+    2>&1 | grep -E "roughness|Which is|^\[  (FAILED|     OK)" | grep -v "listed below" | head -12
 done
 echo "# at $(( $(date +%s) - t0 )) s"
 for round in 1 2; do
