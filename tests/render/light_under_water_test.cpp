@@ -33,6 +33,9 @@ RenderSettings dark_pool() {
     return s;
 }
 
+// The pool's floor seen straight down from the water, 4 blocks over it (blocks).
+Camera pool_floor_view() { return Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f); }
+
 // What a light seen through the face plane x_k = c of the water gives an upward face at p on the
 // floor: the irradiance sum over where its rays cross that plane, [lo, hi) in the other two axes
 // (in order), by the midpoint rule in n x n cells. Each cell's ray w1 from p is refracted forward
@@ -192,7 +195,7 @@ void expect_floor(Renderer& r, const RenderImage& img, const Camera& cam, const 
 TEST_F(RendererTest, TheAreaLightReachesAFloorUnderWaterBentAtTheSurface) {
     test::load_meshes(*m_renderer, test::mesh_world(stone_basin()));
     const RenderSettings s = under_the_light();
-    const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const Camera cam = pool_floor_view();
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 16, 4);
     test::maybe_save(img, "area_light_under_water");
     const glm::dvec3 emission(s.light.emission);
@@ -209,7 +212,7 @@ TEST_F(RendererTest, TheAreaLightsShadowUnderWaterFallsWhereTheBentRaysMeetTheRo
     test::fill_box(w, {-13, 9, -13}, {0, 10, 13}, test::block_id("stone"));
     test::load_meshes(*m_renderer, test::mesh_world(w));
     const RenderSettings s = under_the_light();
-    const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const Camera cam = pool_floor_view();
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 64, 4);
     test::maybe_save(img, "area_light_under_water_shadow");
     const glm::dvec3 emission(s.light.emission);
@@ -266,18 +269,23 @@ glm::dvec3 slab_over_pool(glm::dvec3 p) {
     });
 }
 
+// The pool with the lamp slab over it, meshed and loaded into r.
+void load_lamp_slab(Renderer& r) {
+    world::World w = stone_basin();
+    test::fill_box(w, world::BlockPos(kSlabLo), world::BlockPos(kSlabHi), test::block_id("lamp"));
+    test::load_meshes(r, test::mesh_world(w));
+}
+
 // A 4 x 1 x 4 slab of lamp blocks 4 blocks over the surface lights the floor through its bottom
 // and sides: the emissive faces' shadow rays bend too (finite_light). Each crossing's ray,
 // refracted into air, takes the lamp's emission where it meets the slab. Two stops more exposure
 // than the default put the floor near mid-grey. Checked: with straight rays from under water,
 // all pixels are off.
 TEST_F(RendererTest, ALampAboveWaterLightsTheFloorBentAtTheSurface) {
-    world::World w = stone_basin();
-    test::fill_box(w, world::BlockPos(kSlabLo), world::BlockPos(kSlabHi), test::block_id("lamp"));
-    test::load_meshes(*m_renderer, test::mesh_world(w));
+    load_lamp_slab(*m_renderer);
     RenderSettings s = dark_pool();
     s.exposure.ev100 -= 2.f;
-    const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const Camera cam = pool_floor_view();
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 128, 4);
     test::maybe_save(img, "lamp_under_water");
     // 512 samples of 48 faces by resampled importance leave a few steps of noise per pixel.
@@ -299,12 +307,10 @@ double neighbour_roughness(const RenderImage& img) {
 // frames kept a pattern shared between them, 0.53 of it (docs/render_report.md, "The lamp tests on
 // the NVIDIA driver"). Checked: with every accumulated frame at the same seed, all of it stays.
 TEST_F(RendererTest, AccumulatedFramesOfALampsLightAverageOutAsIndependentSamples) {
-    world::World w = stone_basin();
-    test::fill_box(w, world::BlockPos(kSlabLo), world::BlockPos(kSlabHi), test::block_id("lamp"));
-    test::load_meshes(*m_renderer, test::mesh_world(w));
+    load_lamp_slab(*m_renderer);
     RenderSettings s = dark_pool();
     s.exposure.ev100 -= 2.f;
-    const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const Camera cam = pool_floor_view();
     const double one = neighbour_roughness(test::accumulated(*m_renderer, s, cam, 1, 4));
     const double many = neighbour_roughness(test::accumulated(*m_renderer, s, cam, 32, 4));
     std::printf("neighbour roughness: 1 frame %.2f, 32 frames %.2f (ratio %.3f)\n", one, many, many / one);
@@ -320,12 +326,10 @@ TEST_F(RendererTest, AccumulatedFramesOfALampsLightAverageOutAsIndependentSample
 // ways forgotten between the two (the faces' rays then straight), 666 of the 2,304 pixels are off
 // and the mean is 6% low.
 TEST_F(RendererTest, TheAreaLightAndALampLightTheFloorUnderWaterThroughTheSameWays) {
-    world::World w = stone_basin();
-    test::fill_box(w, world::BlockPos(kSlabLo), world::BlockPos(kSlabHi), test::block_id("lamp"));
-    test::load_meshes(*m_renderer, test::mesh_world(w));
+    load_lamp_slab(*m_renderer);
     RenderSettings s = lit_pool({4, 15, -2}, {4.f, 0.f, 0.f}, {0.f, 0.f, 4.f});
     s.exposure.ev100 -= 1.f;
-    const Camera cam = Camera::look_at({0.3, 5.0, 0.3}, {0.3, 1.0, 0.3}, {0, 0, -1}, 90.f);
+    const Camera cam = pool_floor_view();
     const RenderImage img = test::accumulated(*m_renderer, s, cam, 128, 4);
     test::maybe_save(img, "area_light_and_lamp_under_water");
     const glm::dvec3 emission(s.light.emission);
