@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Stop 62's pending device call (docs/render_report.md, "The lamp tests on the NVIDIA driver").
 # Asks whether stop 60's one loop over both finite lights (0375e47, `[[dont_unroll]] for (kind`
-# in shade()) is what the NVIDIA driver gets wrong and pays for. This code (672123f: vx_pr,
-# vx_render_tests) and two builds of it, both byte-identical to it on lavapipe:
+# in shade()) is what the NVIDIA driver gets wrong and pays for. This code (vx_pr of 672123f,
+# vx_render_tests of 11558a1) and two builds of 672123f, byte-identical to it on lavapipe:
 #   *_split: split.patch, the loop written out as two calls of finite_light() (stop 59 had two
 #            functions); lavapipe's cold compile of the terrain 50 s against 34 s;
 #   *_unroll: the loop marked `[[unroll]]` (a hint; lavapipe compiles it as the loop).
