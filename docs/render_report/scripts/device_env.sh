@@ -3,6 +3,8 @@
 # driver"): unpacks the Vulkan loader and the carried libraries and validation layer, points the
 # loader at the NVIDIA driver, and sets B (the binaries), D (the scattered stone / water volumes of
 # raster-transparency-2026-12-05), V (their view at 1080p, 20 frames) and t0.
+# .gl: the .debs of libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2 (the device
+# README's recipe); with libvulkan1 alone the loader cannot open NVIDIA's libGLX_nvidia.so.0.
 # .devlibs/libs.tgz: lib/ (what `ldd` of the binaries finds missing there, less glibc and
 # libstdc++) and layer/ (libVkLayer_khronos_validation.so and its manifest, whose library_path
 # must read "./libVkLayer_khronos_validation.so": a bare name is looked up in the system paths).
