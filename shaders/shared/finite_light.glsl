@@ -2,7 +2,8 @@
 // next-event estimation of the area light and of the emissive blocks' faces, one function for
 // both. shade() calls it in one loop, once per kind, so that its shadow ray and its walk through
 // water (light_through()) have one call site each: lavapipe compiles every call site of a trace
-// as a copy with its own traversal, and the cold pipeline compile grows with each.
+// as a copy with its own traversal, and the cold pipeline compile grows with each. The loop is
+// marked [[unroll]], which lavapipe ignores and the NVIDIA driver needs (shade() says why).
 
 const uint kLightArea = 0u;  // The rectangular area light (frame.light_*).
 const uint kLightFaces = 1u; // The emissive faces of the nearest emitter chunks (frame.emitter_quads).
