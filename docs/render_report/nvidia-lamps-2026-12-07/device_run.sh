@@ -14,6 +14,8 @@
 #    (25.8 -> 51.5 ms).
 # device_env.sh's copy of .devbuild/vx (the CLI tests' binary, left out for the carry limit)
 # fails harmlessly.
+# Stop 63 ran it (call2.log) with all these binaries rebuilt from e2b3b46, whose renderer is
+# 672123f's.
 source docs/render_report/scripts/device_env.sh > /dev/null
 source docs/render_report/scripts/device_scenes.sh
 python3 docs/render_report/finite-light-2026-12-07/make_lamp_pond.py "$D/lamp.raw"
