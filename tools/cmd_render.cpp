@@ -155,18 +155,25 @@ void accumulate_frames(render::Renderer& r, const Settings& s, render::RenderIma
 
 // Frames 2..N of the same view: medians of the GPU phases and the wall time.
 void repeat_frames(render::Renderer& r, const Settings& s, uint32_t n) {
-    std::vector<double> tlas, trace, copy, wall, cpu;
+    std::vector<double> tlas, trace, denoise, copy, wall, cpu;
     for (uint32_t i = 1; i < n; ++i) {
         wall.push_back(timed_render(r, s, nullptr));
         const render::RenderStats& st = r.last_stats();
         tlas.push_back(st.gpu_tlas_ms);
         trace.push_back(st.gpu_trace_ms);
+        denoise.push_back(st.gpu_denoise_ms);
         copy.push_back(st.gpu_copy_ms);
         cpu.push_back(st.cpu_ms);
     }
-    std::printf("  frames 2..%u (medians of %u): TLAS %s, trace %s, readback copy %s; frame %s wall, recording %s CPU\n",
-                n, n - 1, ms(median(tlas)).c_str(), ms(median(trace)).c_str(), ms(median(copy)).c_str(),
-                ms(median(wall)).c_str(), ms(median(cpu)).c_str());
+    // The denoiser's passes only where it runs (without it the span holds only a barrier's time).
+    const render::RenderSettings& rs = s.settings;
+    const bool denoised_frames = rs.denoise && rs.pipeline == render::PipelineKind::RayTraced &&
+                                 rs.mode == render::ShadingMode::Full;
+    const std::string denoised = denoised_frames ? ", denoiser " + ms(median(denoise)) : std::string();
+    std::printf("  frames 2..%u (medians of %u): TLAS %s, trace %s%s, readback copy %s; frame %s wall, recording %s "
+                "CPU\n",
+                n, n - 1, ms(median(tlas)).c_str(), ms(median(trace)).c_str(), denoised.c_str(),
+                ms(median(copy)).c_str(), ms(median(wall)).c_str(), ms(median(cpu)).c_str());
 }
 
 struct BurstFigures {

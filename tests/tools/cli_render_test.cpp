@@ -274,6 +274,14 @@ TEST(CliRender, RasterPipelineAndDenoiser) {
     const CliRun d = render("--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 1 --denoise on --accumulate 3 --out " +
                             dir() + "/denoised.png");
     EXPECT_NE(d.out.find("accumulated frames 2..3"), std::string::npos) << d.out;
+    // --repeat's medians name the denoiser's passes only where they ran.
+    const std::string repeat = "--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 1 --repeat 2 --out " + dir() +
+                               "/repeat.png";
+    const CliRun with = render(repeat + " --denoise on"), without = render(repeat);
+    EXPECT_NE(with.out.find("frames 2..2 (medians of 1): TLAS"), std::string::npos) << with.out;
+    EXPECT_NE(with.out.find(", denoiser "), std::string::npos) << with.out;
+    EXPECT_NE(without.out.find("frames 2..2 (medians of 1): TLAS"), std::string::npos) << without.out;
+    EXPECT_EQ(without.out.find(", denoiser "), std::string::npos) << without.out;
     // A reference's plain mean: --history-clamp off renders; anything but on / off is refused.
     const CliRun plain = render("--raw " + vol + " --dims 24,12,20 --size 48x32 --spp 1 --accumulate 3 "
                                 "--history-clamp off --out " + dir() + "/plain.png");
