@@ -66,7 +66,7 @@ Fixture make_engine(bool all_grey = false) {
     info.streaming.view_radius_vertical = 1;
     info.streaming.worker_threads = 2;
     info.render.target = vx::RenderTarget::headless(32, 32);
-    info.render.device = "cpu";
+    info.render.device = vx::test::test_device();
     info.render.validation = true;
     auto engine = vx::Engine::create(info);
     if (!engine)

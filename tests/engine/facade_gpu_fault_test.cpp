@@ -30,7 +30,7 @@ vx::EngineCreateInfo headless_info(vx::WorldSource source) {
     info.streaming.worker_threads = 2;
     info.streaming.save_delay_s = 3600; // Nothing saves on its own: only save() does.
     info.render.target = vx::RenderTarget::headless(32, 24);
-    info.render.device = "cpu";
+    info.render.device = vx::test::test_device();
     info.render.validation = true;
     return info;
 }

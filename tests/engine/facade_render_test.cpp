@@ -29,7 +29,7 @@ vx::EngineCreateInfo render_info(vx::WorldSource source, uint32_t w, uint32_t h)
     info.streaming.view_radius_vertical = 1;
     info.streaming.worker_threads = 2;
     info.render.target = vx::RenderTarget::headless(w, h);
-    info.render.device = "cpu";
+    info.render.device = vx::test::test_device();
     info.render.validation = true;
     return info;
 }

@@ -45,7 +45,7 @@ vx::EngineCreateInfo window_info(GLFWwindow* window, int view_radius) {
     info.streaming.view_radius_vertical = 1;
     info.streaming.worker_threads = 2;
     info.render.target = vx::RenderTarget::glfw_window(window);
-    info.render.device = "cpu";
+    info.render.device = vx::test::test_device();
     info.render.validation = true;
     info.render.vsync = false;
     return info;

@@ -6,6 +6,7 @@
 
 #include "engine/job_batch.h"
 #include "engine/scene_loader.h"
+#include "facade_test_util.h"
 #include "render/renderer.h"
 
 namespace vx::engine {
@@ -63,7 +64,7 @@ TEST(LodScene, CoversEveryGroundPixelOfFullDetail) {
     EXPECT_LT(lod->triangles, full->triangles);
     EXPECT_EQ(lod->volume_box, full->volume_box); // Same box: same default light and view.
 
-    auto choice = render::parse_device_choice("cpu");
+    auto choice = render::parse_device_choice(vx::test::test_device());
     ASSERT_TRUE(choice);
     auto created = render::Renderer::create({.validation = true, .device = *choice});
     if (!created)
