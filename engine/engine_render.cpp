@@ -43,6 +43,7 @@ render::RenderSettings settings_of(const RenderSettings& s, const Viewer& v, uin
     r.sun.angular_radius_degrees = s.sun.angular_radius_degrees;
     r.sun.irradiance = s.sun.irradiance;
     r.denoise = s.denoise;
+    r.denoise_passes = s.denoise_passes;
     r.emitter_sampling = s.emitter_sampling;
     r.light_cache = s.light_cache;
     r.light_cache_pixels = s.light_cache_pixels;
@@ -141,6 +142,9 @@ Status check_render_settings(const RenderSettings& s) {
                      "base_height finite"};
     if (!render::light_cache_pixels_valid(s.light_cache_pixels))
         return Error{"render settings: light_cache_pixels must be 1/64..4096"};
+    static_assert(RenderSettings{}.denoise_passes == render::kDefaultDenoisePasses);
+    if (s.denoise_passes < 1 || s.denoise_passes > render::kMaxDenoisePasses)
+        return Error{"render settings: denoise_passes must be 1..8"};
     return {};
 }
 

@@ -116,6 +116,10 @@ enum class PipelineKind : uint8_t {
                // no shadows, reflections or haze, Visibility all lit.
 };
 
+// The denoiser's a-trous passes (RenderSettings::denoise_passes): SVGF's 5 by default (Schied et
+// al. 2017); at most 8, a reach of 510 pixels.
+constexpr uint32_t kDefaultDenoisePasses = 5, kMaxDenoisePasses = 8;
+
 // The light cache's cell widths, pixels (RenderSettings::light_cache_pixels): the renderer clamps
 // to them; the facade and `vx render` refuse others (light_cache_pixels_valid, false for NaN).
 inline constexpr float kMinLightCachePixels = 1.f / 64.f, kMaxLightCachePixels = 4096.f;
@@ -229,6 +233,10 @@ struct RenderSettings {
     // differ and the average converges. A change of mode, sample counts, bounces, accumulate or
     // denoise restarts the history.
     bool denoise = false;
+    // The a-trous passes of the denoiser (steps 1, 2, 4, ... pixels: 2 (2^n - 1) pixels of reach),
+    // 1..kMaxDenoisePasses; the renderer clamps. With the light cache fewer suffice: on issue 18's
+    // lavapipe scene 3 passes had the error of 5 at 2 ms less (docs/render_report.md, stop 64).
+    uint32_t denoise_passes = kDefaultDenoisePasses;
     uint32_t accumulate = 1;
     // Clamp the temporal history so changed light leaves no ghost (DenoiseSettings::
     // history_clamp); off: plain accumulation, for comparisons.

@@ -1,5 +1,6 @@
 // A frame's commands (Renderer::Impl): the scene's builds, the trace or raster pass, the denoiser
 // and the read-backs, and render_frame(), which records, submits and reads back one frame.
+#include <algorithm>
 #include <cstring>
 #include <utility>
 
@@ -203,7 +204,7 @@ void Renderer::Impl::record_denoise(VkCommandBuffer cmd, const RenderSettings& s
     in.exposure = gpu::vx_exposure_scale(frame_ev100);
     in.first_hit_samples = s.samples_by_weight ? 0u : s.shadow_samples;
     DenoiseSettings ds;
-    ds.iterations = s.denoise ? ds.iterations : 0;
+    ds.iterations = s.denoise ? std::clamp(s.denoise_passes, 1u, kMaxDenoisePasses) : 0u;
     ds.max_history = std::max(s.accumulate, 1u);
     ds.history_clamp = s.history_clamp;
     denoiser->record(cmd, in, ds);

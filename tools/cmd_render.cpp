@@ -477,6 +477,10 @@ void add_denoiser_options(CLI::App* cmd, RenderArgs& a) {
     cmd->add_option("--denoise", a.denoise,
                     "Guided a-trous denoiser on the ray tracer's full-shading radiance (SVGF-style)")
         ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--denoise-passes", a.denoise_passes,
+                    "The denoiser's a-trous passes, steps 1, 2, 4, ... pixels (default 5; 1..8; with the light "
+                    "cache fewer suffice: render::RenderSettings::denoise_passes)")
+        ->check(CLI::Range(1u, render::kMaxDenoisePasses));
     cmd->add_option("--accumulate", a.accumulate,
                     "Render N frames of the still camera and average them (temporal pass; with --denoise on, "
                     "filtered too); the PNG is the last")

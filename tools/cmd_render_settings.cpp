@@ -157,6 +157,7 @@ std::optional<std::string> make_settings(const RenderArgs& a, const engine::Load
 void apply_pipeline_args(const RenderArgs& a, render::RenderSettings& s) {
     s.pipeline = a.pipeline == "raster" ? render::PipelineKind::Raster : render::PipelineKind::RayTraced;
     s.denoise = a.denoise == "on";
+    s.denoise_passes = a.denoise_passes;
     s.accumulate = std::max<uint32_t>(a.accumulate, 1);
     s.history_clamp = a.history_clamp == "on";
     s.emitter_sampling = a.emitter_sampling == "on";

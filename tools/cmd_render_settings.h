@@ -32,6 +32,7 @@ struct RenderArgs {
     bool pipeline_report = false; // --pipeline-report: print render::Renderer::pipeline_report().
     std::string pipeline = "rt"; // --pipeline (raster baseline, render/raster_pipeline.h).
     std::string denoise = "off"; // --denoise (render/denoiser.h).
+    uint32_t denoise_passes = render::kDefaultDenoisePasses; // --denoise-passes: its a-trous passes.
     uint32_t accumulate = 1;     // --accumulate: frames of the still camera averaged.
     std::string history_clamp = "on"; // --history-clamp (render::RenderSettings::history_clamp).
     std::string emitter_sampling = "on"; // --emitter-sampling (render::RenderSettings::emitter_sampling).

@@ -119,6 +119,10 @@ struct RenderSettings {
     // Ray tracer, Full shading: the edge-aware denoiser over the traced radiance (off by default:
     // it costs a temporal and 5 a-trous compute passes a frame and softens edges; a game at 1-4 samples wants it).
     bool denoise = false;
+    // Its a-trous passes, 1..8 (steps 1, 2, 4, ... pixels; set_render_settings refuses others),
+    // all of the same cost. With the light cache fewer suffice (issue 18's lavapipe scene: 3
+    // passes had the error of 5; docs/render_report.md).
+    uint32_t denoise_passes = 5;
     // Ray tracer, Full shading: at most this many frames averaged (reprojected when the camera
     // moves); 1: none. Above 1 each frame traces with a new seed so the average converges.
     uint32_t accumulate = 1;

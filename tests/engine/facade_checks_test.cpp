@@ -359,6 +359,8 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
         {"NaN base height", [](vx::RenderSettings& s) { s.haze.base_height = std::nan(""); }, "haze"},
         {"zero light cache pixels", [](vx::RenderSettings& s) { s.light_cache_pixels = 0.f; }, "light_cache_pixels"},
         {"NaN light cache pixels", [](vx::RenderSettings& s) { s.light_cache_pixels = std::nanf(""); }, "light_cache_pixels"},
+        {"no denoise passes", [](vx::RenderSettings& s) { s.denoise_passes = 0; }, "denoise_passes"},
+        {"nine denoise passes", [](vx::RenderSettings& s) { s.denoise_passes = 9; }, "denoise_passes"},
     };
     for (const Case& c : cases) {
         vx::RenderSettings s;
@@ -377,6 +379,10 @@ TEST(FacadeChecks, SetRenderSettingsRefusesWhatCannotBeRendered) {
     edge.haze.visibility = std::numeric_limits<float>::infinity(); // Clear air: no haze.
     edge.haze.height_falloff = 0.f;
     EXPECT_TRUE(e.set_render_settings(edge));
+    for (uint32_t passes : {1u, 8u}) {
+        edge.denoise_passes = passes;
+        EXPECT_TRUE(e.set_render_settings(edge)) << passes << " denoise passes";
+    }
 }
 
 TEST(FacadeChecks, CreateRefusesBlockMaterialsOutOfRange) {

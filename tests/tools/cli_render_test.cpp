@@ -445,6 +445,18 @@ TEST(CliRender, LightCachePixelsOutsideTheRendererBoundsIsAnError) {
     render(view + "--light-cache-pixels 0.5 --out " + dir() + "/cache_half.png");
 }
 
+// --denoise-passes 1..8: outside is one line naming the option and exit 2; the ends render.
+TEST(CliRender, DenoisePassesOutsideOneToEightIsAnError) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --denoise on ";
+    for (const char* bad : {"0", "9", "-1", "3x"}) {
+        const CliRun r = vx("render " + view + "--denoise-passes=" + bad, kEnv);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("--denoise-passes"), std::string::npos) << r.out;
+    }
+    for (const char* edge : {"1", "8"})
+        render(view + "--denoise-passes " + edge + " --out " + dir() + "/passes.png");
+}
+
 // --haze on|off and --visibility BLOCKS (>= 1 or inf): a bad distance is one line and exit 2;
 // off and infinite visibility are the same picture; a thick haze (visibility 8 blocks, the view
 // some 20 blocks away) changes it.
