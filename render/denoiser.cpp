@@ -244,7 +244,8 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
                    (m_history_valid ? gpu::kDenoiseHistoryValid : 0u) |
                        (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u) |
                        (settings.history_clamp ? gpu::kDenoiseHistoryClamp : 0u) |
-                       (mirror ? gpu::kDenoiseMirror : 0u)};
+                       (mirror ? gpu::kDenoiseMirror : 0u) |
+                       (settings.max_history > 1 ? gpu::kDenoiseKeepHistory : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
                    inputs.exposure, float(inputs.first_hit_samples)};
     const glm::quat r = inputs.history_rotation;
@@ -260,7 +261,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     vkCmdPushConstants(cmd, m_temporal_pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     vkCmdDispatch(cmd, gx, gy, 1);
     m_parity = 1 - m_parity;
-    m_history_valid = settings.max_history > 1;
+    m_history_valid = settings.max_history > 1; // Exactly when the pass wrote it (kDenoiseKeepHistory).
 
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_atrous);
     for (uint32_t i = 0; i < settings.iterations; ++i) {

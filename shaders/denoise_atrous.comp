@@ -132,16 +132,20 @@ void main() {
     if (any(greaterThanEqual(p, size)))
         return;
     const int step = int(pc.params.z);
+    // The last pass's filtered light goes only into the outputs: no pass reads u_out after it.
+    const bool last = (pc.params.w & kDenoiseLastPass) != 0;
     const vec4 result = filter_at(false, p, size, step);
-    imageStore(u_out, p, result);
+    if (!last)
+        imageStore(u_out, p, result);
     vec3 mirror = vec3(0);
     if ((pc.params.w & kDenoiseMirror) != 0) {
         const vec4 m = filter_at(true, p, size, step);
-        imageStore(u_mirror_out, p, m);
+        if (!last)
+            imageStore(u_mirror_out, p, m);
         if (has_surface(imageLoad(u_mirror_nd, p)))
             mirror = m.rgb * imageLoad(u_mirror_albedo, p).rgb;
     }
-    if ((pc.params.w & kDenoiseLastPass) != 0)
+    if (last)
         store_result(p, result.rgb, imageLoad(u_albedo, p).rgb, has_surface(imageLoad(u_normal_depth, p)),
                      imageLoad(u_reflected, p).rgb + mirror);
 }

@@ -6,7 +6,7 @@
 // disagrees (disocclusion, an edited block) is dropped. The reflected part (mirror bounces,
 // emission) gets the same running mean but no filter: the primary hit's guides say nothing about
 // it. Writes the accumulated illumination + a variance estimate for the a-trous passes, the
-// accumulated reflected part for the last pass, and the new history.
+// accumulated reflected part for the last pass, and the new history where a next frame reads it.
 //
 // History clamping (kDenoiseHistoryClamp): history that matches in normal and depth can still be
 // stale (a block placed nearby now shadows the pixel; a reflection moves across a mirror while
@@ -92,6 +92,10 @@ struct Taps {
 ivec2 tap_pixel(Taps taps, int i) { return taps.base + ivec2(i & 1, i >> 1); }
 
 bool mirror_inputs() { return (pc.params.w & kDenoiseMirror) != 0; }
+
+// Whether a next frame reads the history (max_history > 1): a single-frame denoiser leaves it
+// unwritten, 5 stores a pixel (issue 18's lavapipe scene at 4 spp: the pass 0.5 ms of 2.2).
+bool keep_history() { return (pc.params.w & kDenoiseKeepHistory) != 0; }
 
 // The first mirror bounce's diffuse lighting, remodulated (0 without one).
 vec3 mirror_part(ivec2 p) {
@@ -376,14 +380,17 @@ void main() {
     if (any(greaterThanEqual(p, size)))
         return;
     const vec4 nd = imageLoad(u_normal_depth, p);
-    imageStore(u_hist_nd_out, p, nd);
+    if (keep_history())
+        imageStore(u_hist_nd_out, p, nd);
     if (!has_surface(nd)) { // Sky: nothing to filter or accumulate.
-        imageStore(u_hist_out, p, vec4(color_at(p).rgb, 0));
-        imageStore(u_moments_out, p, vec4(0));
-        imageStore(u_hist_refl_out, p, vec4(0));
+        if (keep_history()) {
+            imageStore(u_hist_out, p, vec4(color_at(p).rgb, 0));
+            imageStore(u_moments_out, p, vec4(0));
+            imageStore(u_hist_refl_out, p, vec4(0));
+            imageStore(u_hist_mirror_out, p, vec4(0));
+        }
         imageStore(u_refl_out, p, vec4(0));
         imageStore(u_filter_out, p, vec4(color_at(p).rgb, 0));
-        imageStore(u_hist_mirror_out, p, vec4(0));
         imageStore(u_mirror_filter_out, p, vec4(0));
         if ((pc.params.w & kDenoiseLastPass) != 0)
             store_result(p, color_at(p).rgb, vec3(1), false, vec3(0));
@@ -509,9 +516,11 @@ void main() {
     if (own < 0.0)
         sample_variance = frames >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0)
                                         : spatial_variance(p, size, nd);
-    imageStore(u_hist_out, p, vec4(accumulated, frames));
-    imageStore(u_moments_out, p, vec4(moments.xyz, sun_blocked_here ? 1.0 : 0.0));
-    imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
+    if (keep_history()) {
+        imageStore(u_hist_out, p, vec4(accumulated, frames));
+        imageStore(u_moments_out, p, vec4(moments.xyz, sun_blocked_here ? 1.0 : 0.0));
+        imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
+    }
     imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
     imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, sun_blocked_here)));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);

@@ -66,7 +66,8 @@ vec3 accumulate_mirror(ivec2 p, ivec2 size, Taps taps, float max_frames) {
     // with mirror inputs never reads an unwritten one.
     const vec4 mnd = mirror_inputs() ? imageLoad(u_mirror_nd, p) : vec4(0);
     if (!has_surface(mnd)) {
-        imageStore(u_hist_mirror_out, p, vec4(0));
+        if (keep_history())
+            imageStore(u_hist_mirror_out, p, vec4(0));
         imageStore(u_mirror_filter_out, p, vec4(0));
         return vec3(0);
     }
@@ -89,7 +90,8 @@ vec3 accumulate_mirror(ivec2 p, ivec2 size, Taps taps, float max_frames) {
         history = clamp_mirror(history, p, size, mnd);
     frames = min(frames + 1, max_frames);
     const vec3 accumulated = mix(history, mirror_at(p).rgb, 1.0 / frames);
-    imageStore(u_hist_mirror_out, p, vec4(accumulated, frames));
+    if (keep_history())
+        imageStore(u_hist_mirror_out, p, vec4(accumulated, frames));
     imageStore(u_mirror_filter_out, p, vec4(accumulated, mirror_variance(p, size, mnd) / frames));
     return accumulated * imageLoad(u_mirror_albedo, p).rgb;
 }

@@ -14,6 +14,7 @@ VX_CONST uint kDenoiseHistoryValid = 1u; // Temporal: the history images hold a 
 VX_CONST uint kDenoiseLastPass = 2u;     // Remodulate by albedo into the outputs (the last pass).
 VX_CONST uint kDenoiseHistoryClamp = 4u; // Temporal: clamp or drop history that left the fast one.
 VX_CONST uint kDenoiseMirror = 8u;       // The mirror images are inputs (else not read).
+VX_CONST uint kDenoiseKeepHistory = 16u; // Temporal: write the history (a next frame reads it).
 
 // What the ray tracer hands the denoiser (render/gbuffer.h), in one place for both sides:
 // a pixel's variance is its estimator's sample variance times kStratifiedVarianceScale (shaders/

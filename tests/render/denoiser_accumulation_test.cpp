@@ -269,5 +269,31 @@ TEST_F(DenoiserTest, MovedMirrorLightLeavesNoGhost) {
     EXPECT_LT(rmse(switched, expected), 0.01);
 }
 
+// A single-frame denoiser (max_history 1) writes no history (kDenoiseKeepHistory), so the frame
+// after it must read none, whatever it asks: it equals a new denoiser's first frame. The control,
+// the same frames without the single one, reads the history and differs.
+TEST_F(DenoiserTest, AFrameAfterASingleFrameReadsNoHistory) {
+    const GBuffer g = make_scene();
+    DenoiseSettings s;
+    s.history_clamp = false;
+    auto after_history = [&](Denoiser& denoiser, bool single_frame_between) {
+        s.max_history = 16;
+        for (uint32_t frame = 0; frame < 3; ++frame)
+            denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 300 + frame), g.albedo, g.normal_depth, s);
+        if (single_frame_between) {
+            s.max_history = 1;
+            denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 303), g.albedo, g.normal_depth, s);
+            s.max_history = 16;
+        }
+        return denoise_on_host(*m_ctx, denoiser, noisy(g, 1, 304), g.albedo, g.normal_depth, s);
+    };
+    Denoiser with_single(*m_ctx, kW, kH), control(*m_ctx, kW, kH), fresh(*m_ctx, kW, kH);
+    s.max_history = 16;
+    const ImageF first = denoise_on_host(*m_ctx, fresh, noisy(g, 1, 304), g.albedo, g.normal_depth, s);
+    const ImageF after_single = after_history(with_single, true), after_control = after_history(control, false);
+    EXPECT_GT(rmse(after_control, first), 1e-3) << "the control read no history: the test would see nothing";
+    EXPECT_EQ(after_single.rgba, first.rgba);
+}
+
 } // namespace
 } // namespace vx::render
