@@ -163,14 +163,15 @@ struct RenderSettings {
     // n^-1.49); the allocation that minimises sum(w_k^2 v n_k^-1.5) for a ray count is n_k
     // proportional to w_k^0.8, so 0.8 gives the weak bounces more of the rays than 1 does.
     float weight_exponent = 1.0f;
-    // Full shading with reflections, without the light cache: trace the first split_hits hits of
-    // every path (the primary hit, then its mirror bounces) each in a dispatch of its own and the
-    // rest in one more. Each later dispatch continues only the paths the last listed as going on
+    // Full shading with reflections (the light cache on or off): trace the first split_hits hits
+    // of every path (the primary hit, then its mirror bounces) each in a dispatch of its own and
+    // the rest in one more. Each later dispatch continues only the paths the last listed as going on
     // (88 bytes a pixel for the paths and lists, made at the first such frame).
     // The first hit's many coherent shadow rays run apart from the bounces' scattered ones, and
     // no warp waits on ended paths (H200, 5 bounces: 1 spp -23%, 56 by weight -31%;
-    // docs/render_report.md, stop 29). Same image; 0: one dispatch; ignored where it cannot
-    // apply; at most max_bounces (and gpu::kMaxSplitHits) count.
+    // docs/render_report.md, stop 29). Same image (with the light cache to a step of rounding:
+    // its cells sum the hits in another order); 0: one dispatch; ignored where it cannot apply;
+    // at most max_bounces (and gpu::kMaxSplitHits) count.
     uint32_t split_hits = 0;
     // Where some drawn chunk holds a see-through block and the eye is in none: trace the image
     // with the pipeline variant that has no see-through code first, marking every pixel any of

@@ -164,7 +164,7 @@ struct Renderer::Impl {
         const VkPhysicalDeviceLimits& l = ctx->limits();
         const uint64_t row = uint64_t(l.maxComputeWorkGroupCount[0]) * l.maxComputeWorkGroupSize[0];
         const bool applies = s.pipeline == PipelineKind::RayTraced && s.mode == ShadingMode::Full &&
-                             !cache_active(s) && uint64_t(s.width) * s.height <= row;
+                             uint64_t(s.width) * s.height <= row;
         return applies ? std::min({s.split_hits, s.max_bounces, gpu::kMaxSplitHits}) : 0u;
     }
     static VkDeviceSize path_counters_offset(VkDeviceSize pixels) {
