@@ -237,7 +237,7 @@ struct RenderSettings {
     bool denoise = false;
     // The a-trous passes of the denoiser (steps 1, 2, 4, ... pixels: 2 (2^n - 1) pixels of reach),
     // 1..kMaxDenoisePasses; the renderer clamps. With the light cache fewer suffice: on issue 18's
-    // lavapipe scene 3 passes had the error of 5 at 2 ms less (docs/render_report.md, stop 64).
+    // lavapipe scene 3 passes had the error of 5 at 1.6 ms less (docs/render_report.md, stop 64).
     uint32_t denoise_passes = kDefaultDenoisePasses;
     uint32_t accumulate = 1;
     // Clamp the temporal history so changed light leaves no ghost (DenoiseSettings::

@@ -290,7 +290,8 @@ TEST_F(DenoiserTest, AFrameAfterASingleFrameReadsNoHistory) {
     Denoiser with_single(*m_ctx, kW, kH), control(*m_ctx, kW, kH), fresh(*m_ctx, kW, kH);
     s.max_history = 16;
     const ImageF first = denoise_on_host(*m_ctx, fresh, noisy(g, 1, 304), g.albedo, g.normal_depth, s);
-    const ImageF after_single = after_history(with_single, true), after_control = after_history(control, false);
+    const ImageF after_single = after_history(with_single, true);
+    const ImageF after_control = after_history(control, false);
     EXPECT_GT(rmse(after_control, first), 1e-3) << "the control read no history: the test would see nothing";
     EXPECT_EQ(after_single.rgba, first.rgba);
 }

@@ -97,8 +97,9 @@ int worst_step(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
 
 // With the light cache the passes' hits go to the same cells and records as one pass's: the same
 // image here to a step of rounding (a cell's float sums take the hits in another order; lavapipe
-// and the H100 moved none), plain and denoised. A later pass that lost the earlier passes' records (the primary hits' cached light)
-// would darken most of the image by far more. Control: the cache changes the image.
+// and the H100 moved none), plain and denoised. A later pass that lost the earlier passes'
+// records (the primary hits' cached light) would darken most of the image by far more. Control:
+// the cache changes the image.
 TEST_F(RendererTest, SplitHitsWithTheLightCacheGiveTheSameImage) {
     test::load_meshes(*m_renderer, test::mesh_world(hall()));
     for (bool denoise : {false, true}) {
