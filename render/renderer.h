@@ -171,7 +171,7 @@ struct RenderSettings {
     // no warp waits on ended paths (H200, 5 bounces: 1 spp -23%, 56 by weight -31%;
     // docs/render_report.md, stop 29). Same image; with the light cache nearly (its cells' float
     // sums take the hits in another order: on the H100's seed mirror scene 0.2% of the channels
-    // moved, by up to 8 steps, at the same RMSE; stop 64). 0: one dispatch; ignored where it
+    // moved, by up to 8 steps, at the same RMSE; stop 65). 0: one dispatch; ignored where it
     // cannot apply; at most max_bounces (and gpu::kMaxSplitHits) count.
     uint32_t split_hits = 0;
     // Where some drawn chunk holds a see-through block and the eye is in none: trace the image
@@ -237,7 +237,7 @@ struct RenderSettings {
     bool denoise = false;
     // The a-trous passes of the denoiser (steps 1, 2, 4, ... pixels: 2 (2^n - 1) pixels of reach),
     // 1..kMaxDenoisePasses; the renderer clamps. With the light cache fewer suffice: on issue 18's
-    // lavapipe scene 3 passes had the error of 5 at 1.6 ms less (docs/render_report.md, stop 64).
+    // lavapipe scene 3 passes had the error of 5 at 1.6 ms less (docs/render_report.md, stops 64-65).
     uint32_t denoise_passes = kDefaultDenoisePasses;
     uint32_t accumulate = 1;
     // Clamp the temporal history so changed light leaves no ghost (DenoiseSettings::

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Stop 64's device call: the denoiser's a-trous passes (RenderSettings::denoise_passes) on the
+# Stop 65's first device call (call 4): the denoiser's a-trous passes (RenderSettings::denoise_passes) on the
 # seed mirror scene at 1080p, and the engine's rendering tests now that they honour
 # VX_TEST_DEVICE. Run from the repository root on the lent GPU machine with .gl, .devlibs and
 # .devbuild carried; .devbuild holds vx, vx_facade_render_tests and vx_engine_render_tests built

@@ -1,4 +1,4 @@
-"""Stop 64's error table: issue 18's hidden-style scene (scripts/measure_one_frame.py: both views,
+"""Stop 65's error table: issue 18's hidden-style scene (scripts/measure_one_frame.py: both views,
 4 sample seeds against an 8 spp x 128-frame plain mean), 4 spp denoised at several settings.
 
 Usage (from the repository root): python3 docs/render_report/denoise-passes-2026-12-07/passes_error.py

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Stop 64's lavapipe frame times: alternated rounds of `vx render --repeat 15` on issue 18's
+# Stop 65's lavapipe frame times: alternated rounds of `vx render --repeat 15` on issue 18's
 # hidden-style scene; one line per run: label, trace ms, denoiser ms, frame ms (wall), medians of
 # frames 2..15. Usage: timing.sh ROUNDS SCENE.raw 'label=VX:args' ...
 # SCENE.raw: scripts/measure_one_frame.py's scene() (python3 -c "import sys;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Stop 64's second device call: the light cache with split hits (they now combine) on the seed
+# Stop 65's second device call (call 5): the light cache with split hits (they now combine) on the seed
 # mirror scene at 1080p, against the cache in one pass (--split-hits 0, what the cache forced
 # before), and the render tests of the split and the cache on the NVIDIA driver. Run from the
 # repository root on the lent GPU machine with .gl, .devlibs and .devbuild carried; .devbuild
