@@ -28,7 +28,8 @@ void Renderer::Impl::read_stamps(RenderStats& out) {
     out.gpu_blas_ms = ms(0);
     out.gpu_tlas_ms = ms(1);
     out.gpu_trace_ms = ms(2);
-    out.gpu_denoise_ms = double(t[5] - t[3]) * ms_per_tick;
+    // Without the denoiser the span holds a barrier's time: 0, as documented.
+    out.gpu_denoise_ms = slot_denoised[slot] ? double(t[5] - t[3]) * ms_per_tick : 0.0;
     out.gpu_copy_ms = double(t[4] - t[5]) * ms_per_tick;
     out.gpu_frame_ms = double(t[4] - t[0]) * ms_per_tick;
 }

@@ -223,6 +223,7 @@ struct Renderer::Impl {
     VkQueryPool queries = VK_NULL_HANDLE;
     double ms_per_tick = 0;
     std::array<bool, kFramesInFlight> stamped{}; // The slot's last frame wrote its timestamps.
+    std::array<bool, kFramesInFlight> slot_denoised{}; // The slot's last frame ran the denoiser (stamp 3..5).
     // Auto exposure (Exposure::automatic): each frame slot's meter (gpu::ExposureMeter, zeroed
     // when recorded, summed by raygen), whether the slot's last frame metered, the adapted EV100
     // (unset: no metered frame since the renderer was made or drew a manual frame) and when it

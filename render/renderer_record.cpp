@@ -63,6 +63,7 @@ void Renderer::Impl::record_shading(VkCommandBuffer cmd, const RenderSettings& s
     if (denoise_active(s))
         record_denoise(cmd, s, cam);
     denoised_last_frame = denoise_active(s);
+    slot_denoised[ctx->frame_slot()] = denoised_last_frame;
     stamp(cmd, 5);
     stamped[ctx->frame_slot()] = queries != VK_NULL_HANDLE;
 }

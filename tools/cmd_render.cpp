@@ -165,11 +165,9 @@ void repeat_frames(render::Renderer& r, const Settings& s, uint32_t n) {
         copy.push_back(st.gpu_copy_ms);
         cpu.push_back(st.cpu_ms);
     }
-    // The denoiser's passes only where it runs (without it the span holds only a barrier's time).
-    const render::RenderSettings& rs = s.settings;
-    const bool denoised_frames = rs.denoise && rs.pipeline == render::PipelineKind::RayTraced &&
-                                 rs.mode == render::ShadingMode::Full;
-    const std::string denoised = denoised_frames ? ", denoiser " + ms(median(denoise)) : std::string();
+    // The denoiser's passes only where they ran (RenderStats::gpu_denoise_ms 0: they did not).
+    const double denoise_ms = median(denoise);
+    const std::string denoised = denoise_ms > 0.0 ? ", denoiser " + ms(denoise_ms) : std::string();
     std::printf("  frames 2..%u (medians of %u): TLAS %s, trace %s%s, readback copy %s; frame %s wall, recording %s "
                 "CPU\n",
                 n, n - 1, ms(median(tlas)).c_str(), ms(median(trace)).c_str(), denoised.c_str(),
