@@ -234,6 +234,8 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
         m_initialised = true;
     }
+    // A next frame reads the history exactly where this one writes it.
+    const bool keep_history = settings.max_history > 1;
     gpu::DenoisePush push{};
     push.reproject = inputs.reproject;
     const bool many = float(inputs.first_hit_samples) >= gpu::kDenoiseManySamples;
@@ -245,7 +247,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
                        (settings.iterations == 0 ? gpu::kDenoiseLastPass : 0u) |
                        (settings.history_clamp ? gpu::kDenoiseHistoryClamp : 0u) |
                        (mirror ? gpu::kDenoiseMirror : 0u) |
-                       (settings.max_history > 1 ? gpu::kDenoiseKeepHistory : 0u)};
+                       (keep_history ? gpu::kDenoiseKeepHistory : 0u)};
     push.camera = {std::tan(glm::radians(inputs.fov_y_degrees) * 0.5f), float(m_width) / float(m_height),
                    inputs.exposure, float(inputs.first_hit_samples)};
     const glm::quat r = inputs.history_rotation;
@@ -261,7 +263,7 @@ void Denoiser::record(VkCommandBuffer cmd, const DenoiseInputs& inputs, const De
     vkCmdPushConstants(cmd, m_temporal_pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     vkCmdDispatch(cmd, gx, gy, 1);
     m_parity = 1 - m_parity;
-    m_history_valid = settings.max_history > 1; // Exactly when the pass wrote it (kDenoiseKeepHistory).
+    m_history_valid = keep_history;
 
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_atrous);
     for (uint32_t i = 0; i < settings.iterations; ++i) {
