@@ -5,22 +5,15 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <thread>
 
 #include <vx/vx.h>
 
-namespace vx::test {
+#include "tests/test_device.h"
 
-// The device the rendering tests ask for (EngineCreateInfo::render.device): lavapipe ("cpu")
-// unless $VX_TEST_DEVICE names another (auto, gpu, an index), as the renderer's own tests do, so
-// the same programs run on a GPU machine (docs/render_report/scripts/device_env.sh).
-inline const char* test_device() {
-    const char* env = std::getenv("VX_TEST_DEVICE");
-    return env ? env : "cpu";
-}
+namespace vx::test {
 
 // Updates `e` until its view is loaded and meshed (true), or `limit` passes on a very slow
 // machine (false): a test waits for the state, never for a time.

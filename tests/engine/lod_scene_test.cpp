@@ -6,8 +6,8 @@
 
 #include "engine/job_batch.h"
 #include "engine/scene_loader.h"
-#include "facade_test_util.h"
 #include "render/renderer.h"
+#include "tests/test_device.h"
 
 namespace vx::engine {
 namespace {

@@ -11,13 +11,13 @@
 #include <vx/log.h>
 
 #include "render/context.h"
+#include "tests/test_device.h"
 
 namespace vx::render::test {
 
-// lavapipe ("cpu") unless $VX_TEST_DEVICE names another choice (auto, gpu, an index).
+// tests/test_device.h's device, parsed.
 inline DeviceChoice test_device_choice() {
-    const char* env = std::getenv("VX_TEST_DEVICE");
-    Result<DeviceChoice> c = parse_device_choice(env ? env : "cpu");
+    Result<DeviceChoice> c = parse_device_choice(vx::test::test_device());
     EXPECT_TRUE(c.ok()) << "bad VX_TEST_DEVICE";
     return c.ok() ? *c : DeviceChoice{DeviceChoice::Kind::Cpu, 0};
 }
