@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -74,6 +75,20 @@ CliRun render(const std::string& args) {
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("validation errors: 0"), std::string::npos) << r.out;
     return r;
+}
+
+// `vx render ARGS--OPTION=VALUE` for each bad value: exit 2 and a message naming the option;
+// with one_line, on one line.
+void expect_refused(const std::string& args, const std::string& option,
+                    std::initializer_list<const char*> bad, bool one_line) {
+    for (const char* value : bad) {
+        const CliRun r = vx("render " + args + option + "=" + value, kEnv);
+        EXPECT_EQ(r.code, 2) << value << ": " << r.out;
+        EXPECT_NE(r.out.find(option), std::string::npos) << r.out;
+        if (one_line) {
+            EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
+        }
+    }
 }
 
 TEST(CliRender, RawVolumeToPng) {
@@ -409,12 +424,7 @@ TEST(CliRender, DeviceOutOfRangeIsAClearError) {
 // more exposure (a lower EV100) brighten the picture; auto meters it and says so.
 TEST(CliRender, ExposureIsAnEv100OrAuto) {
     const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
-    for (const char* bad : {"bright", "40", "14.7x", "-11"}) {
-        const CliRun r = vx("render " + view + "--exposure=" + bad, kEnv);
-        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
-        EXPECT_NE(r.out.find("--exposure"), std::string::npos) << r.out;
-        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
-    }
+    expect_refused(view, "--exposure", {"bright", "40", "14.7x", "-11"}, true);
     const std::string dark = dir() + "/ev16.png", bright = dir() + "/ev14.png";
     const CliRun manual = render(view + "--exposure 16 --out " + dark);
     EXPECT_NE(manual.out.find("EV100 16.00 (manual)"), std::string::npos) << manual.out;
@@ -437,22 +447,14 @@ TEST(CliRender, ExposureIsAnEv100OrAuto) {
 TEST(CliRender, LightCachePixelsOutsideTheRendererBoundsIsAnError) {
     const std::string view =
         "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --light-cache on ";
-    for (const char* bad : {"0", "-1", "5000", "nan", "inf", "3x"}) {
-        const CliRun r = vx("render " + view + "--light-cache-pixels=" + bad, kEnv);
-        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
-        EXPECT_NE(r.out.find("--light-cache-pixels"), std::string::npos) << r.out;
-    }
+    expect_refused(view, "--light-cache-pixels", {"0", "-1", "5000", "nan", "inf", "3x"}, false);
     render(view + "--light-cache-pixels 0.5 --out " + dir() + "/cache_half.png");
 }
 
 // --denoise-passes 1..8: outside is one line naming the option and exit 2; the ends render.
 TEST(CliRender, DenoisePassesOutsideOneToEightIsAnError) {
     const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --denoise on ";
-    for (const char* bad : {"0", "9", "-1", "3x"}) {
-        const CliRun r = vx("render " + view + "--denoise-passes=" + bad, kEnv);
-        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
-        EXPECT_NE(r.out.find("--denoise-passes"), std::string::npos) << r.out;
-    }
+    expect_refused(view, "--denoise-passes", {"0", "9", "-1", "3x"}, false);
     for (const char* edge : {"1", "8"})
         render(view + "--denoise-passes " + edge + " --out " + dir() + "/passes.png");
 }
@@ -462,12 +464,7 @@ TEST(CliRender, DenoisePassesOutsideOneToEightIsAnError) {
 // some 20 blocks away) changes it.
 TEST(CliRender, HazeAndVisibility) {
     const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 ";
-    for (const char* bad : {"far", "0", "-5", "nan", "12x"}) {
-        const CliRun r = vx("render " + view + "--visibility=" + bad, kEnv);
-        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
-        EXPECT_NE(r.out.find("--visibility"), std::string::npos) << r.out;
-        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
-    }
+    expect_refused(view, "--visibility", {"far", "0", "-5", "nan", "12x"}, true);
     EXPECT_NE(vx("render " + view + "--haze maybe", kEnv).code, 0);
     const std::string off = dir() + "/haze_off.png", clear = dir() + "/haze_inf.png", thick = dir() + "/haze_8.png";
     EXPECT_EQ(render(view + "--haze off --out " + off).out.find("haze:"), std::string::npos);
