@@ -136,10 +136,7 @@ TEST_F(RendererTest, NoMemoryForTheLightCacheIsAnErrorThenTheNextFrameRenders) {
     Result<RenderImage> img = m_renderer->try_render(lit(4, true), kView);
     ASSERT_TRUE(img) << img.error();
     ASSERT_EQ(img->rgba.size(), expected.rgba.size());
-    int worst = 0;
-    for (size_t i = 0; i < expected.rgba.size(); ++i)
-        worst = std::max(worst, std::abs(int(img->rgba[i]) - int(expected.rgba[i])));
-    EXPECT_LE(worst, 1);
+    EXPECT_LE(test::largest_step(*img, expected), 1);
 }
 
 } // namespace

@@ -239,6 +239,16 @@ inline int differing_bytes(const RenderImage& a, const RenderImage& b) {
     return diff;
 }
 
+// The largest difference of two images of the same size in 8-bit steps (any channel of any pixel):
+// where a cell's float sums may take their hits in another order (the light cache), a step.
+inline int largest_step(const RenderImage& a, const RenderImage& b) {
+    EXPECT_EQ(a.rgba.size(), b.rgba.size());
+    int worst = 0;
+    for (size_t i = 0; i < std::min(a.rgba.size(), b.rgba.size()); ++i)
+        worst = std::max(worst, std::abs(int(a.rgba[i]) - int(b.rgba[i])));
+    return worst;
+}
+
 // Out of memory for each of `resources` in turn (Context::fail_allocations) in a new renderer
 // holding `meshes`: the frame of `s` from `cam` fails with a one-line error holding `message`; the
 // next renders as a renderer that never failed does.

@@ -86,15 +86,6 @@ TEST_F(RendererTest, SplitHitsGiveTheSameImage) {
     }
 }
 
-// The largest difference of a and b in 8-bit steps (each channel of each pixel).
-int worst_step(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-    EXPECT_EQ(a.size(), b.size());
-    int worst = 0;
-    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
-        worst = std::max(worst, std::abs(int(a[i]) - int(b[i])));
-    return worst;
-}
-
 // With the light cache the passes' hits go to the same cells and records as one pass's: the same
 // image here to a step of rounding (a cell's float sums take the hits in another order; lavapipe
 // and the H100 moved none), plain and denoised. A later pass that lost the earlier passes'
@@ -115,7 +106,7 @@ TEST_F(RendererTest, SplitHitsWithTheLightCacheGiveTheSameImage) {
             const size_t changed = differing(one.rgba, img.rgba);
             std::printf("light cache, denoise %d, split %u: %zu of %zu channels differ\n", int(denoise), split,
                         changed, one.rgba.size());
-            EXPECT_LE(worst_step(one.rgba, img.rgba), 1) << "denoise " << denoise << ", split " << split;
+            EXPECT_LE(test::largest_step(one, img), 1) << "denoise " << denoise << ", split " << split;
             EXPECT_LE(changed, one.rgba.size() / 100) << "denoise " << denoise << ", split " << split;
         }
     }
