@@ -19,6 +19,7 @@
 
 #include "cli_common.h"
 #include "cmd_render_settings.h"
+#include "render_versus.h"
 #include "commands.h"
 #include "engine/job_batch.h"
 #include "engine/scene_loader.h"
@@ -334,6 +335,12 @@ int run_render(RenderArgs a) {
     accumulate_frames(r, s, &image);
     if (a.repeat > 1)
         repeat_frames(r, s, a.repeat);
+    if (a.versus_raw > 0 && s.failure.empty()) {
+        const VersusFigures f = versus_raw(r, s.settings, s.camera, a.versus_raw, std::max<uint32_t>(a.repeat, 2));
+        s.failure = f.failure;
+        if (f.failure.empty())
+            std::printf("%s", format_versus(f, a.versus_raw).c_str());
+    }
     for (uint32_t i = std::max<uint32_t>(a.repeat, 1); i < 3; ++i)
         timed_render(r, s, nullptr); // Cold chunks are compacted in frame 3.
     print_memory(r.last_stats());
@@ -459,6 +466,10 @@ void add_run_options(CLI::App* cmd, RenderArgs& a) {
     cmd->add_option("--device", a.device, "auto, cpu, gpu or a device index (see vx info)");
     cmd->add_option("--out", a.out, "PNG file to write");
     cmd->add_option("--repeat", a.repeat, "Render N frames of the view; print medians of frames 2..N");
+    cmd->add_option("--versus-raw", a.versus_raw,
+                    "Then time the view against N spp raw (no denoiser, no light cache), the two frames "
+                    "interleaved: --repeat pairs (at least 2), the median of each pair's ratio")
+        ->check(CLI::Range(1u, 65536u));
     cmd->add_option("--edit-burst", a.edit_burst,
                     "Then edit one block in each of K chunks: GPU time and bytes uploaded of slice refits, whole-chunk "
                     "refits and rebuilds (--repeat rounds)");

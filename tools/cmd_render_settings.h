@@ -18,6 +18,7 @@ struct RenderArgs {
     std::string device = "auto", out = "render.png", blas_update = "on";
     float fov = 60.f;
     uint32_t spp = 4, reflections = 2, repeat = 1, edit_burst = 0;
+    uint32_t versus_raw = 0; // --versus-raw: then time the view against this many spp raw (0: not).
     uint32_t sample_seed = 1; // --sample-seed: RenderSettings::seed (the samples' random numbers).
     int64_t bounce_spp = -1; // -1: as --spp.
     std::string samples_by = "count"; // --samples-by: count (--spp, --bounce-spp) or weight.
