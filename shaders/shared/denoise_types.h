@@ -7,7 +7,10 @@
 #include "glsl_types.h"
 VX_GPU_BEGIN
 
-VX_CONST uint kDenoiseGroupSize = 8; // Threads per workgroup side (8 x 8).
+// Threads per workgroup side (16 x 16). On lavapipe 8 x 8 made issue 18's denoised frame 0.6%
+// dearer against 25 spp raw (medians of 6 runs of `vx render --versus-raw 25`; 32 x 32 and
+// 8 x 32 were dearer too in noisier runs): docs/render_report.md, stop 67.
+VX_CONST uint kDenoiseGroupSize = 16;
 
 // flags (DenoisePush.params.w bits).
 VX_CONST uint kDenoiseHistoryValid = 1u; // Temporal: the history images hold a previous frame.
