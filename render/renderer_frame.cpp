@@ -397,7 +397,8 @@ void Renderer::Impl::write_params(const RenderSettings& s, const Camera& cam) {
         std::memset(meters[slot].mapped(), 0, sizeof(gpu::ExposureMeter)); // The slot's last frame is done.
         p.exposure_meter = meters[slot].address();
     }
-    p.exposure = glm::vec4(gpu::vx_exposure_scale(frame_ev100), metering[slot] ? 1.f : 0.f, 0.f, 0.f);
+    p.exposure = glm::vec4(gpu::vx_exposure_scale(frame_ev100), metering[slot] ? 1.f : 0.f,
+                           denoise_active(s) ? 1.f : 0.f, 0.f);
     p.haze = haze_params(s, origin);
     p.emitter_chunks = emitter_lists[ctx->frame_slot()].address();
     p.emitter_quads = emitter_quad_lists[ctx->frame_slot()].address();

@@ -84,5 +84,6 @@ void main() {
     }
     // Only Full-mode frames cache (render/renderer_impl.h cache_active): raygen.rgen main()'s Full-mode step.
     meter(p, radiance.rgb);
-    imageStore(out_image, p, vec4(vx_display(radiance.rgb, frame.exposure.x), 1.0));
+    if (frame.exposure.z == 0.0) // Else the denoiser writes the output (its last pass).
+        imageStore(out_image, p, vec4(vx_display(radiance.rgb, frame.exposure.x), 1.0));
 }
