@@ -130,29 +130,6 @@ float spatial_variance(ivec2 p, ivec2 size, vec4 nd) {
     return max(m2 / n - m1 * m1, 0.0);
 }
 
-// The pixels' own variances (render/gbuffer.h) averaged over the neighbourhood on the same
-// surface (SVGF prefilters its variance the same way): a pixel whose few samples happened to
-// agree says variance 0 although its neighbours show the noise. x: over 3x3, for the history
-// clamp (a 5x5 mean across a new shadow's edge hid the change: ghosts); y: over 5x5, for the
-// filter (at 4 spp a 3x3 mean still left such pixels under-filtered, docs/render_report.md).
-// One loop for both. Negative: unknown (1 sample).
-vec2 own_variance(ivec2 p, ivec2 size, vec4 nd) {
-    if (color_at(p).a < 0.0)
-        return vec2(-1.0);
-    vec2 sum = vec2(0), n = vec2(0);
-    for (int dy = -2; dy <= 2; ++dy)
-        for (int dx = -2; dx <= 2; ++dx) {
-            const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-            const float v = color_at(q).a;
-            if (v < 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
-                continue;
-            const float inner = max(abs(dx), abs(dy)) <= 1 ? 1.0 : 0.0;
-            sum += vec2(inner * v, v);
-            n += vec2(inner, 1.0);
-        }
-    return sum / n; // The centre always counts.
-}
-
 // Length of the unnormalised primary ray direction (view depth 1) through `pixel`: a distance
 // along the ray divided by it is the view depth.
 float ray_scale(vec2 pixel) {
@@ -160,41 +137,62 @@ float ray_scale(vec2 pixel) {
     return length(vec3(ndc.x * pc.camera.x * pc.camera.y, ndc.y * pc.camera.x, 1.0));
 }
 
-// The scale of the light at p in pixels, the a-trous passes' guide (written to u_refl_out's a;
-// shaders/denoise_atrous.comp): the occluder distance (render/gbuffer.h, reflected a: the mean
-// distance of the pixel's sky rays that hit a block) over the world size of a pixel at p's view
-// depth, d 2 tan(fov / 2) / height. Pooled over 5x5 pixels 2 apart on the same surface as a mean
-// of inverse distances: one pixel's 4 rays are noisy, and the nearest occluders decide how fast
-// the light varies. A sun shadow's edge is sharper than any of this: where the pixels within 2
-// of p disagree on whether the sun reaches them, kSunEdge (the luminance stop stays as it was).
-// 0: unknown (no rays); kNoOccluder (shared/denoise_types.h): no ray nearby hit anything
-// (nothing to scale by).
-const float kSunEdge = 0.5;  // Pixels.
-const int kSunEdgeReach = 1; // In steps of 2 pixels.
-float occluder_footprint(ivec2 p, ivec2 size, vec4 nd) {
-    float inverse = 0, hits = 0, known = 0, sunlit = 0, near = 0;
+// What the 5x5 window around p on the same surface says, in one loop that reads each pixel's
+// normal and depth once:
+//  - variance: the pixels' own variances (render/gbuffer.h) averaged (SVGF prefilters its
+//    variance the same way): a pixel whose few samples happened to agree says variance 0
+//    although its neighbours show the noise. x: over 3x3, for the history clamp (a 5x5 mean
+//    across a new shadow's edge hid the change: ghosts); y: over 5x5, for the filter (at 4 spp a
+//    3x3 mean still left such pixels under-filtered, docs/render_report.md). Negative: unknown
+//    (1 sample).
+//  - footprint: the scale of the light at p in pixels, the a-trous passes' guide (written to
+//    u_refl_out's a; shaders/denoise_atrous.comp): the occluder distance (render/gbuffer.h,
+//    reflected a: the mean distance of the pixel's sky rays that hit a block) over the world size
+//    of a pixel at p's view depth, d 2 tan(fov / 2) / height. Pooled over the window's 3x3 pixels
+//    2 apart as a mean of inverse distances: one pixel's 4 rays are noisy, and the nearest
+//    occluders decide how fast the light varies. (Its 5x5 pixels 2 apart, as to stop 66, gave
+//    the same error on issue 18's scene at 4 spp and cost 16 more taps: docs/render_report.md.)
+//    A sun shadow's edge is sharper than any of this: where those pixels disagree on whether the
+//    sun reaches them, kSunEdge (the luminance stop stays as it was). 0: unknown (no rays);
+//    kNoOccluder (shared/denoise_types.h): no ray nearby hit anything (nothing to scale by).
+const float kSunEdge = 0.5; // Pixels.
+struct Window {
+    vec2 variance;
+    float footprint;
+};
+Window window_stats(ivec2 p, ivec2 size, vec4 nd) {
+    const bool own_known = color_at(p).a >= 0.0;
+    vec2 sum = vec2(0), n = vec2(0);
+    float inverse = 0, hits = 0, known = 0, sunlit = 0;
     for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
-            const ivec2 q = clamp(p + 2 * ivec2(dx, dy), ivec2(0), size - 1);
-            const float d = reflected_at(q).a;
-            if (d == 0.0 || !same_surface(nd, imageLoad(u_normal_depth, q)))
+            const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+            if (!same_surface(nd, imageLoad(u_normal_depth, q)))
+                continue;
+            const float v = own_known ? color_at(q).a : -1.0;
+            if (v >= 0.0) {
+                const float inner = max(abs(dx), abs(dy)) <= 1 ? 1.0 : 0.0;
+                sum += vec2(inner * v, v);
+                n += vec2(inner, 1.0);
+            }
+            const float d = (dx & 1) == 0 && (dy & 1) == 0 ? reflected_at(q).a : 0.0;
+            if (d == 0.0)
                 continue;
             known += 1;
-            if (max(abs(dx), abs(dy)) <= kSunEdgeReach) {
-                near += 1;
-                sunlit += d > 0.0 ? 1.0 : 0.0;
-            }
+            sunlit += d > 0.0 ? 1.0 : 0.0;
             if (abs(d) < 0.5 * kNoOccluder) {
                 inverse += 1.0 / abs(d);
                 hits += 1;
             }
         }
+    Window w = Window(own_known ? sum / n : vec2(-1.0), 0.0); // The centre always counts.
     if (known == 0.0)
-        return 0.0;
+        return w;
     const float pixel = nd.w / ray_scale(vec2(p) + 0.5) * 2.0 * pc.camera.x / float(size.y);
-    return sunlit > 0.0 && sunlit < near ? kSunEdge
-           : hits == 0.0                 ? kNoOccluder
-                                         : min(hits / inverse / pixel, kNoOccluder);
+    w.footprint = sunlit > 0.0 && sunlit < known ? kSunEdge
+                  : hits == 0.0                 ? kNoOccluder
+                                                : min(hits / inverse / pixel, kNoOccluder);
+    return w;
 }
 
 // The previous frame's view-space point (right-handed, looking down -z) at its pixel `pixel`
@@ -468,7 +466,8 @@ void main() {
         history_reflected = vec3(0);
         mirror_taps = Taps(ivec2(0), vec4(0), ivec2(-1));
     }
-    const vec2 owns = own_variance(p, size, nd);
+    const Window window = window_stats(p, size, nd);
+    const vec2 owns = window.variance;
     const float own = owns.x;
     // While the camera moves, a pixel of several samples (its own variance known) weighs its
     // history by what resampling it costs (moving_history_cap); one sample keeps it: there the
@@ -521,7 +520,7 @@ void main() {
         imageStore(u_moments_out, p, vec4(moments.xyz, sun_blocked_here ? 1.0 : 0.0));
         imageStore(u_hist_refl_out, p, vec4(reflected, reflected_frames));
     }
-    imageStore(u_refl_out, p, vec4(reflected, occluder_footprint(p, size, nd)));
+    imageStore(u_refl_out, p, vec4(reflected, window.footprint));
     imageStore(u_filter_out, p, vec4(accumulated, with_sun_flag(sample_variance / frames, sun_blocked_here)));
     const vec3 mirror = accumulate_mirror(p, size, mirror_taps, moving_frames);
     if ((pc.params.w & kDenoiseLastPass) != 0) // No a-trous pass follows.
