@@ -459,6 +459,15 @@ TEST(CliRender, DenoisePassesOutsideOneToEightIsAnError) {
         render(view + "--denoise-passes " + edge + " --out " + dir() + "/passes.png");
 }
 
+// --versus-raw S (1..65536): out of range is refused; S = 2 with --repeat 2 prints two pairs' ratio.
+TEST(CliRender, VersusRawPrintsThePairsRatioAndRefusesZero) {
+    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --denoise on ";
+    expect_refused(view, "--versus-raw", {"0", "65537", "-1", "2x"}, false);
+    const CliRun r = render(view + "--repeat 2 --versus-raw 2 --out " + dir() + "/versus.png");
+    EXPECT_NE(r.out.find("versus 2 spp raw, frames interleaved (2 pairs): frame "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("less time (pair ratios: median; quartiles "), std::string::npos) << r.out;
+}
+
 // --haze on|off and --visibility BLOCKS (>= 1 or inf): a bad distance is one line and exit 2;
 // off and infinite visibility are the same picture; a thick haze (visibility 8 blocks, the view
 // some 20 blocks away) changes it.
