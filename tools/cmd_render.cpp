@@ -336,7 +336,8 @@ int run_render(RenderArgs a) {
     if (a.repeat > 1)
         repeat_frames(r, s, a.repeat);
     if (a.versus_raw > 0 && s.failure.empty()) {
-        const VersusFigures f = versus_raw(r, s.settings, s.camera, a.versus_raw, std::max<uint32_t>(a.repeat, 2));
+        const uint32_t pairs = std::max<uint32_t>(a.repeat, 2);
+        const VersusFigures f = versus_raw(r, s.settings, s.camera, a.versus_raw, pairs);
         s.failure = f.failure;
         if (f.failure.empty())
             std::printf("%s", format_versus(f, a.versus_raw).c_str());

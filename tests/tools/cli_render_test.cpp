@@ -461,10 +461,12 @@ TEST(CliRender, DenoisePassesOutsideOneToEightIsAnError) {
 
 // --versus-raw S (1..65536): out of range is refused; S = 2 with --repeat 2 prints two pairs' ratio.
 TEST(CliRender, VersusRawPrintsThePairsRatioAndRefusesZero) {
-    const std::string view = "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --denoise on ";
+    const std::string view =
+        "--raw " + write_volume() + " --dims 24,12,20 --size 32x24 --spp 1 --denoise on ";
     expect_refused(view, "--versus-raw", {"0", "65537", "-1", "2x"}, false);
     const CliRun r = render(view + "--repeat 2 --versus-raw 2 --out " + dir() + "/versus.png");
-    EXPECT_NE(r.out.find("versus 2 spp raw, frames interleaved (2 pairs): frame "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("versus 2 spp raw, frames interleaved (2 pairs): frame "), std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("less time (pair ratios: median; quartiles "), std::string::npos) << r.out;
 }
 
