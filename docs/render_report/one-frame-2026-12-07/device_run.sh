@@ -7,29 +7,17 @@
 # denoiser and light cache render tests on the NVIDIA driver. Run from the repository root on the
 # lent GPU machine with .gl, .devlibs and .devbuild carried.
 source docs/render_report/scripts/device_env.sh
-M="--scene seed --scene-block mirror --size 1920x1080 --device gpu --reflections 5"
-mkdir -p /tmp/img
-echo "== reference 16/16 x 64 (plain mean), sample seed 1000"
-timeout 200 $B/vx render $M --spp 16 --bounce-spp 16 --accumulate 64 --history-clamp off --sample-seed 1000 \
-  --out /tmp/img/ref.png 2>&1 | grep -E "accumulated|error" | head -3
-echo "# at $(( $(date +%s) - t0 )) s"
-for round in 1 2; do
+source docs/render_report/scripts/seed_mirror_reference.sh
+F="--spp 4 --bounce-spp 4 --denoise on --denoise-passes 2 --light-cache on --split-hits 5 --repeat 12"
+for seed in 1 2; do
   for bin in vx_base vx; do
-    echo "== $bin round $round: 4/4 denoised, 2 passes, light cache, split hits 5; versus 25/25 raw"
-    timeout 120 $B/$bin render $M --spp 4 --bounce-spp 4 --denoise on --denoise-passes 2 --light-cache on \
-      --split-hits 5 --sample-seed $round --repeat 12 --versus-raw 25 --out /tmp/img/${bin}_$round.png 2>&1 |
+    echo "== $bin, sample seed $seed: 4/4 denoised, 2 passes, light cache, split hits 5; versus 25/25 raw"
+    timeout 120 $B/$bin render $M $F --sample-seed $seed --versus-raw 25 --out /tmp/img/${bin}_$seed.png 2>&1 |
       grep -E "frames 2|versus|error|fail" | head -3
   done
 done
 echo "# at $(( $(date +%s) - t0 )) s"
-python3 - <<'PY'
-import numpy as np, glob, os
-from PIL import Image
-def load(p): return np.asarray(Image.open(p).convert("RGB"), dtype=np.float64) / 255.0
-ref = load("/tmp/img/ref.png")
-for p in sorted(glob.glob("/tmp/img/vx*_*.png")):
-    print("rmse %-14s %.6f" % (os.path.basename(p), np.sqrt(np.mean((load(p) - ref) ** 2))))
-PY
+python3 docs/render_report/scripts/rmse_pngs.py /tmp/img/ref.png /tmp/img/vx*_*.png
 pre=$(ls /usr/local/nvidia/lib64/libnvidia-tls.so.* | head -1)
 echo "# vx_render_tests (denoiser, light cache)"
 LD_PRELOAD=$pre VX_TEST_DEVICE=gpu timeout 250 "$B/vx_render_tests" --gtest_filter='*Denois*:*LightCache*:*SplitHits*' 2>&1 |
