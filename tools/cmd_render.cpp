@@ -121,16 +121,7 @@ void print_levels(const engine::LoadedScene& scene, const render::RenderStats& s
 // Renders and returns the wall time of the call (it waits for the GPU). A failed frame is kept in
 // s.failure (and makes later calls return 0 at once).
 double timed_render(render::Renderer& r, const Settings& s, render::RenderImage* image) {
-    if (!s.failure.empty())
-        return 0.0;
-    const auto t0 = Clock::now();
-    Result<render::RenderImage> img = r.try_render(s.settings, s.camera);
-    const double wall = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    if (!img)
-        s.failure = img.error();
-    else if (image)
-        *image = std::move(*img);
-    return wall;
+    return s.failure.empty() ? timed_frame(r, s.settings, s.camera, s.failure, image) : 0.0;
 }
 
 // --accumulate N: frames 2..N of the still camera, averaged by the denoiser's temporal pass;

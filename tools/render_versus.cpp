@@ -31,6 +31,19 @@ Quartiles quartiles(std::vector<double> v) {
     return {lower.empty() ? mid : median(lower), mid, upper.empty() ? mid : median(upper)};
 }
 
+double timed_frame(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam,
+                   std::string& failure, render::RenderImage* image) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    Result<render::RenderImage> img = r.try_render(s, cam);
+    const double wall = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (!img)
+        failure = img.error();
+    else if (image)
+        *image = std::move(*img);
+    return wall;
+}
+
 namespace {
 
 struct Frame {
@@ -40,13 +53,9 @@ struct Frame {
 // One frame; false (with `failure` set) when the renderer could not make it.
 bool frame(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam, Frame& out,
            std::string& failure) {
-    const auto t0 = std::chrono::steady_clock::now();
-    Result<render::RenderImage> img = r.try_render(s, cam);
-    out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (!img) {
-        failure = img.error();
+    out.wall_ms = timed_frame(r, s, cam, failure);
+    if (!failure.empty())
         return false;
-    }
     out.gpu_ms = r.last_stats().gpu_frame_ms;
     return true;
 }

@@ -25,6 +25,12 @@ struct VersusFigures {
     std::string failure;         // The first failed frame's line (Renderer::try_render); figures -1.
 };
 
+// One frame of `s` seen from `cam` (Renderer::try_render); returns the call's wall time in ms (it
+// waits for the GPU). A failed frame (out of GPU memory, a lost device) sets `failure` to the
+// renderer's line; else `image`, if given, receives the frame. `vx render`'s frames all come here.
+double timed_frame(render::Renderer& r, const render::RenderSettings& s, const render::Camera& cam,
+                   std::string& failure, render::RenderImage* image = nullptr);
+
 // `s` with `spp` shadow samples at the first hit and on bounces, no denoiser, no accumulation
 // and no light cache: the raw frame the denoised one is compared with.
 render::RenderSettings raw_settings(const render::RenderSettings& s, uint32_t spp);
