@@ -35,6 +35,7 @@ layout(binding = 10, rgba8) readonly uniform image2D u_mirror_albedo;
 #include "shared/denoise_common.glsl"
 
 const float kKernel[3] = float[](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
+const float kLog2e = 1.4426950408889634;
 
 // The channel's images: the primary hit's illumination and guides, or the mirror bounce's.
 vec4 load_in(bool mirror, ivec2 q) { return mirror ? imageLoad(u_mirror_in, q) : imageLoad(u_in, q); }
@@ -106,18 +107,22 @@ vec4 filter_at(bool mirror, ivec2 p, ivec2 size, int step) {
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
                 continue;
             const vec4 ndq = load_nd(mirror, q);
-            if (!has_surface(ndq))
+            const float cosine = dot(nd.xyz, ndq.xyz);
+            if (!has_surface(ndq) || cosine <= 0.0) // w_normal 0.
                 continue;
             const vec4 cq = load_in(mirror, q);
-            const float w_normal = pow(max(dot(nd.xyz, ndq.xyz), 0.0), pc.sigmas.x);
-            const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
-            const float w_depth = exp(-abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4));
-            // The centre keeps weight 1 also against a prefiltered luminance far from its own.
-            const float w_lum = (dx == 0 && dy == 0) ? 1.0 : exp(-abs(lum - luminance(cq.rgb)) / lum_scale);
             // Sun shadow edges are sharp: never across one (the sun reaches the pixel or not in
             // the reference too; the primary ray is the pixel's centre).
-            const float w_sun = sun_blocked(cq.a) == blocked ? 1.0 : 0.0;
-            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] * w_normal * w_depth * w_lum * w_sun;
+            if (sun_blocked(cq.a) != blocked)
+                continue;
+            // w_normal * w_depth * w_lum = cosine^sigma_n * e^-(depth stop + luminance stop), in
+            // one exp2: a tap's weight was four transcendentals, now two (pow is exp2 of log2).
+            const float expected = abs(dot(grad, vec2(ivec2(dx, dy) * step)));
+            const float depth_stop = abs(d - ndq.w) / (pc.sigmas.y * expected + 1e-3 * d + 1e-4);
+            // The centre keeps weight 1 also against a prefiltered luminance far from its own.
+            const float lum_stop = (dx == 0 && dy == 0) ? 0.0 : abs(lum - luminance(cq.rgb)) / lum_scale;
+            const float w = kKernel[abs(dx)] * kKernel[abs(dy)] *
+                            exp2(pc.sigmas.x * log2(cosine) - kLog2e * (depth_stop + lum_stop));
             sum += w * cq.rgb;
             var_sum += w * w * abs(cq.a);
             w_sum += w;
