@@ -38,10 +38,12 @@
 //                                     the harmonic mean distance in blocks (>= 0.25) of its sky
 //                                     rays that hit a block; 60000 when none did; 0 when no sky
 //                                     ray was traced and the sun is not blocked (shadows off, no
-//                                     sky access away from emitters, a miss). Negative (the same
-//                                     magnitude; -60000 without sky rays) when the sun's shadow
-//                                     rays were traced and all were blocked: a sun shadow. Flat
-//                                     mode: 0. The denoiser filters radiance -
+//                                     sky access away from emitters, a miss) and in frames the
+//                                     denoiser does not run on (their sky rays are occlusion
+//                                     rays, which measure no distance). Negative (the same
+//                                     magnitude; -60000 without sky rays, -0 without a distance)
+//                                     when the sun's shadow rays were traced and all were
+//                                     blocked: a sun shadow. Flat mode: 0. The denoiser filters radiance -
 //                                     reflected - mirror light x mirror albedo with the primary
 //                                     hit's guides, the mirror light with bindings 8-9 as guides,
 //                                     and adds this back unfiltered. Flat mode: 0.

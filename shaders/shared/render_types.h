@@ -140,8 +140,10 @@ struct FrameParams {
                          // w: how many of emitter_chunks (the first) have all their faces there.
     vec4 exposure;       // x: radiance to tone-curve input (vx_exposure_scale, tonemap.h);
                          // y: 1 = meter the frame into exposure_meter (auto exposure), 0: not;
-                         // z: 1 = the denoiser writes the output image, which the trace (or the
-                         // light cache's resolve) then leaves unwritten; 0: the trace writes it.
+                         // z: 1 = the denoiser runs: it writes the output image, which the trace
+                         // (or the light cache's resolve) then leaves unwritten, and the trace
+                         // finds its occluder guide (render/gbuffer.h); 0: the trace writes the
+                         // output, and its sky rays are occlusion rays that measure no distance.
     vec4 haze;           // Aerial perspective (shared/haze.glsl), Full mode: x: extinction per
                          // block at and below the base height (0: no haze); y: its falloff per
                          // block above; z: the height of origin-relative y = 0 above the base

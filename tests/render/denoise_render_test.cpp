@@ -218,11 +218,13 @@ TEST_F(RendererTest, DenoiserKeepsTheDetailSeenInAMirror) {
 
 // The denoiser's guide in the G-buffer (render/gbuffer.h, reflected a): a floor's occluder
 // distance is short in the inner corner at a wall's foot (its sky rays hit the wall within a block
-// or two), "none" on an open floor, and negative where the wall keeps the sun off.
+// or two), "none" on an open floor, and negative where the wall keeps the sun off. A raw frame's
+// sky rays are occlusion rays: no distance (0), the sun's flag still in the sign.
 TEST_F(RendererTest, GBufferHoldsTheOccluderDistanceAndTheSunShadow) {
     RenderSettings s;
     s.width = s.height = 8;
     s.mode = ShadingMode::Full;
+    s.denoise = true; // The guide is the denoiser's.
     s.max_bounces = 0;
     s.shadow_samples = 16;
     s.sun.direction = {1.f, 1.f, 0.f}; // The wall (x in [0, 1)) shades the floor at x < 0.
@@ -254,6 +256,16 @@ TEST_F(RendererTest, GBufferHoldsTheOccluderDistanceAndTheSunShadow) {
         EXPECT_GT(a, 0.2f);
         EXPECT_LT(a, 1.f);
     }
+    s.denoise = false;
+    for (float a : alphas({-0.1, 1.0, 0.5})) { // Shaded: -0.
+        EXPECT_EQ(a, 0.f);
+        EXPECT_TRUE(std::signbit(a));
+    }
+    for (float a : alphas({1.1, 1.0, 0.5})) { // Sunlit: +0.
+        EXPECT_EQ(a, 0.f);
+        EXPECT_FALSE(std::signbit(a));
+    }
+    s.denoise = true;
     s.shadow_samples = 0; // No rays traced: unknown.
     for (float a : alphas({1.1, 1.0, 0.5}))
         EXPECT_EQ(a, 0.f);
