@@ -179,7 +179,8 @@ vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float we
 // `occluders`: the rays' hit distances are wanted (the primary hit's: the denoiser's guide).
 // Where neither they nor an emitter chunk within reach are, a ray only asks whether the sky is in
 // sight: an occlusion ray (trace_shadow()), which stops at the first opaque face it finds instead
-// of searching on for the nearest. The image is the same, but where a ray crosses more than
+// of searching on for the nearest; where only the distances are (and no see-through block is
+// drawn), it stops there too and tells that face's distance. The image is the same, but where a ray crosses more than
 // kMaxTransparentLayers transparent blocks: they tint it as they tint the sun's rays, all of them.
 // Under water the directions come from window_or_cosine(), weighted to the same mean.
 vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_sampled, bool occluders) {
@@ -219,6 +220,24 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
         }
         if (!emitters && !occluders && !bends) {
             vec3 x = trace_shadow(pos, d, kTMax, g_hit_inside) * frame.sky_light.xyz; // sky is on: else no rays.
+            sum += x;
+            add_sample(x);
+            continue;
+        }
+        // The occluder guide wants a distance, not the nearest hit's: a ray through opaque blocks
+        // alone stops at the first face its traversal finds, as an occlusion ray does, and that
+        // face's distance counts (at least the nearest's; the same error, 7% less frame time on
+        // issue 18's lavapipe view: docs/render_report.md, stop 68).
+        if (!emitters && !bends && !kSeeThrough) {
+            traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, 0u, 1u, kPrimaryMiss,
+                        pos, 0.0, d, kTMax, kPrimaryPayload);
+            vec3 x = vec3(0.0);
+            if (payload.t >= 0.0) {
+                g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
+                ++g_hits;
+            } else {
+                x = frame.sky_light.xyz;
+            }
             sum += x;
             add_sample(x);
             continue;
