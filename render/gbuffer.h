@@ -36,9 +36,9 @@
 //                                     (bindings 7-9). a (Full mode): the primary hit's occluder
 //                                     distance, the denoiser's guide to the scale of its light:
 //                                     the harmonic mean distance in blocks (>= 0.25) of its sky
-//                                     rays that hit a block (where no see-through block is drawn,
-//                                     of the first face each ray's traversal found, not always
-//                                     the nearest); 60000 when none did; 0 when no sky
+//                                     rays that hit a block (of the first face each ray's
+//                                     traversal found, not always the nearest; the walk's hit
+//                                     where that face is see-through); 60000 when none did; 0 when no sky
 //                                     ray was traced and the sun is not blocked (shadows off, no
 //                                     sky access away from emitters, a miss) and in frames the
 //                                     denoiser does not run on (their sky rays are occlusion

@@ -179,8 +179,8 @@ vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float we
 // `occluders`: the rays' hit distances are wanted (the primary hit's: the denoiser's guide).
 // Where neither they nor an emitter chunk within reach are, a ray only asks whether the sky is in
 // sight: an occlusion ray (trace_shadow()), which stops at the first opaque face it finds instead
-// of searching on for the nearest; where only the distances are (and no see-through block is
-// drawn), it stops there too and tells that face's distance. The image is the same, but where a ray crosses more than
+// of searching on for the nearest; where only the distances are, it stops there too and tells
+// that face's distance (the walk follows where that face is see-through). The image is the same, but where a ray crosses more than
 // kMaxTransparentLayers transparent blocks: they tint it as they tint the sun's rays, all of them.
 // Under water the directions come from window_or_cosine(), weighted to the same mean.
 vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_sampled, bool occluders) {
@@ -224,23 +224,29 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
             add_sample(x);
             continue;
         }
-        // The occluder guide wants a distance, not the nearest hit's: a ray through opaque blocks
-        // alone stops at the first face its traversal finds, as an occlusion ray does, and that
-        // face's distance counts (at least the nearest's; the same error, 7% less frame time on
-        // issue 18's lavapipe view: docs/render_report.md, stop 68).
-        if (!emitters && !bends && !kSeeThrough) {
+        // The occluder guide wants a distance, not the nearest hit's: the ray stops at the first
+        // face its traversal finds, as an occlusion ray does, and that face's distance counts (at
+        // least the nearest's; the same error, 7% less frame time on issue 18's lavapipe view:
+        // docs/render_report.md, stop 68). An opaque face there shuts the sky out whatever lies
+        // nearer; a see-through one needs the walk. So a ray that meets no see-through face gets
+        // the same light and distance in both pipeline variants (the see-through check's
+        // premise), and a marking pass marks one that finds such a face.
+        if (!emitters && !bends && g_hit_inside == 0u) {
             traceRayEXT(tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT, 0xFFu, 0u, 1u, kPrimaryMiss,
                         pos, 0.0, d, kTMax, kPrimaryPayload);
-            vec3 x = vec3(0.0);
-            if (payload.t >= 0.0) {
-                g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
-                ++g_hits;
-            } else {
-                x = frame.sky_light.xyz;
+            bool walk = payload.t >= 0.0 && vx_transparent(vx_material(payload.block));
+            if (walk && !kSeeThrough && g_check) // The check's marking pass: traced again.
+                g_met = true;
+            if (!walk || !kSeeThrough) {
+                vec3 x = payload.t < 0.0 ? frame.sky_light.xyz : vec3(0.0);
+                if (payload.t >= 0.0) {
+                    g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
+                    ++g_hits;
+                }
+                sum += x;
+                add_sample(x);
+                continue;
             }
-            sum += x;
-            add_sample(x);
-            continue;
         }
         vec3 tint = trace_through(pos, d, g_hit_inside, bends ? kWalkSky : kWalkLight) * weight;
         if (payload.t >= 0.0) {
