@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Stop 67's device call: issue 18's GPU half on the seed mirror scene at 1080p, before (52bfe1a:
-# .devbuild/vx_base) and after (5ad3f18: .devbuild/vx) this stop's denoiser changes (16 x 16
-# groups, no output store under the denoiser, the footprint over 3 x 3 pixels 2 apart): the
-# one-frame RMSE of 4 / 4 denoised with the light cache, 2 passes, split hits 5, and its frame
-# time against 25 / 25 raw interleaved in one process (`vx render --versus-raw 25`); then the
-# denoiser and light cache render tests on the NVIDIA driver. Run from the repository root on the
-# lent GPU machine with .gl, .devlibs and .devbuild carried.
+# Issue 18's GPU half on the seed mirror scene at 1080p, before (.devbuild/vx_base) and after
+# (.devbuild/vx) a stop's renderer changes: the one-frame RMSE of 4 / 4 denoised with the light
+# cache, 2 passes, split hits 5, and its frame time against 25 / 25 raw interleaved in one process
+# (`vx render --versus-raw 25`); then the denoiser and light cache render tests on the NVIDIA
+# driver. Run from the repository root on the lent GPU machine with .gl, .devlibs and .devbuild
+# carried. Stop 67: vx_base 52bfe1a, vx 5ad3f18 (16 x 16 groups, no output store under the
+# denoiser, the footprint over 3 x 3 pixels 2 apart). Stop 68: vx_base d87f019, vx a18014f (raw
+# frames' primary sky rays as occlusion rays, the guide from the first face found, the a-trous
+# weights in one exp2).
 source docs/render_report/scripts/device_env.sh
 source docs/render_report/scripts/seed_mirror_reference.sh
 F="--spp 4 --bounce-spp 4 --denoise on --denoise-passes 2 --light-cache on --split-hits 5 --repeat 12"
