@@ -83,7 +83,5 @@ void main() {
         imageStore(mirror_light_image, p, vec4(light.rgb + mirror, light.a));
     }
     // Only Full-mode frames cache (render/renderer_impl.h cache_active): raygen.rgen main()'s Full-mode step.
-    meter(p, radiance.rgb);
-    if (frame.exposure.z == 0.0) // Else the denoiser writes the output (its last pass).
-        imageStore(out_image, p, vec4(vx_display(radiance.rgb, frame.exposure.x), 1.0));
+    finish_full_pixel(p, radiance.rgb);
 }

@@ -1,6 +1,6 @@
-// Auto exposure's metering (render_types.h, ExposureMeter), shared by raygen.rgen and, with the
-// light cache, light_cache.comp (whichever finishes the pixel meters it). Needs
-// GL_EXT_buffer_reference and the FrameParams block.
+// Auto exposure's metering (render_types.h, ExposureMeter) and the Full-mode output step, shared
+// by raygen.rgen and, with the light cache, light_cache.comp (whichever finishes the pixel).
+// Needs GL_EXT_buffer_reference, the FrameParams block, out_image and tonemap.h.
 
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MeterBuffer { ExposureMeter meter; };
 
@@ -20,3 +20,11 @@ void meter(ivec2 px, vec3 c) {
     atomicAdd(m.meter.count, 1u);
 }
 
+// The Full-mode pixel's last step (render/gbuffer.h): meter it, then store the exposed,
+// tone-mapped output, unless the denoiser runs (FrameParams exposure.z): its last pass writes the
+// output, which this frame's would only be overwritten.
+void finish_full_pixel(ivec2 px, vec3 c) {
+    meter(px, c);
+    if (frame.exposure.z == 0.0)
+        imageStore(out_image, px, vec4(vx_display(c, frame.exposure.x), 1.0));
+}

@@ -33,6 +33,12 @@ uint g_sky_rays = 0u, g_hits = 0u;
 float g_inverse_hit_sum = 0.0;
 const float kMinOccluderDistance = 0.25; // Blocks: a ray leaving a face may touch the next at ~0.
 
+// A sky ray that hit a block t blocks away, counted in the guide.
+void count_occluder(float t) {
+    g_inverse_hit_sum += 1.0 / max(t, kMinOccluderDistance);
+    ++g_hits;
+}
+
 // The emission a sky ray adds on hitting `block` at `hit` (its face `face`): none from a block
 // in one of the first `sampled` emitter chunks, whose faces finite_light() sampled at this point.
 vec3 found_emission(uint block, vec3 hit, uint face, uint sampled) {
@@ -239,20 +245,16 @@ vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_samp
                 g_met = true;
             if (!walk || !kSeeThrough) {
                 vec3 x = payload.t < 0.0 ? frame.sky_light.xyz : vec3(0.0);
-                if (payload.t >= 0.0) {
-                    g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
-                    ++g_hits;
-                }
+                if (payload.t >= 0.0)
+                    count_occluder(payload.t);
                 sum += x;
                 add_sample(x);
                 continue;
             }
         }
         vec3 tint = trace_through(pos, d, g_hit_inside, bends ? kWalkSky : kWalkLight) * weight;
-        if (payload.t >= 0.0) {
-            g_inverse_hit_sum += 1.0 / max(payload.t, kMinOccluderDistance);
-            ++g_hits;
-        }
+        if (payload.t >= 0.0)
+            count_occluder(payload.t);
         vec3 x = payload.t < 0.0 ? (sky ? tint * frame.sky_light.xyz : vec3(0.0))
                                  : tint * found_emission(payload.block, payload.position, payload.face, first);
         sum += x;
