@@ -23,7 +23,7 @@ const char* device_type_name(DeviceType type) {
 
 bool DeviceReport::can_ray_trace() const {
     return acceleration_structure && ray_tracing_pipeline && deferred_host_operations && buffer_device_address &&
-           float_atomic_add && api_version >= VK_API_VERSION_1_3;
+           float_atomic_add && compute_subgroup_sums && api_version >= VK_API_VERSION_1_3;
 }
 
 std::string DeviceReport::api_version_string() const {
@@ -61,7 +61,8 @@ bool device_has_extension(VkPhysicalDevice pd, const char* name) {
 }
 
 DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
-    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &subgroup};
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
     vkGetPhysicalDeviceProperties2(pd, &props);
 
@@ -73,6 +74,10 @@ DeviceReport describe_device(VkPhysicalDevice pd, uint32_t index) {
     r.type = to_device_type(props.properties.deviceType);
     r.api_version = props.properties.apiVersion;
     r.driver_info = std::string(driver.driverName) + " / " + driver.driverInfo;
+    const VkSubgroupFeatureFlags sums = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT |
+                                        VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    r.compute_subgroup_sums = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                              (subgroup.supportedOperations & sums) == sums;
     if (r.api_version >= VK_API_VERSION_1_3) { // Chaining a 1.3 struct below 1.3 is invalid.
         VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
         VkPhysicalDeviceProperties2 with13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p13};

@@ -27,6 +27,10 @@ struct DeviceReport {
     // VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd: the light cache's sums
     // (shaders/shared/light_cache.glsl), compiled into the ray generation shader.
     bool float_atomic_add = false;
+    // Compute shaders have subgroup ballot and arithmetic operations (Vulkan 1.1 subgroup
+    // properties): the light cache's gather pass (shaders/light_cache_gather.comp) sums a
+    // subgroup's hits of one cell before its atomics.
+    bool compute_subgroup_sums = false;
     // Vulkan 1.3 maxBufferSize (bytes; 0 below 1.3): a larger buffer cannot be made at all.
     uint64_t max_buffer_size = 0;
     uint64_t device_memory = 0; // The largest device-local memory heap, bytes.

@@ -24,11 +24,14 @@ LightCache::LightCache(Context& ctx, VkDescriptorSetLayout set_layout) : m_ctx(&
                         [&] { return vkCreatePipelineLayout(ctx.device(), &ci, nullptr, &m_layout); }) != VK_SUCCESS)
         return; // Out of memory: valid() is false.
     ctx.set_name(m_layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "light cache layout");
-    m_pipeline = make_compute_pipeline(ctx, m_layout, spirv::light_cache_resolve(), "light_cache.comp");
+    m_gather = make_compute_pipeline(ctx, m_layout, spirv::light_cache_gather(), "light_cache_gather.comp");
+    if (m_gather != VK_NULL_HANDLE)
+        m_pipeline = make_compute_pipeline(ctx, m_layout, spirv::light_cache_resolve(), "light_cache.comp");
 }
 
 LightCache::~LightCache() {
-    m_ctx->retire_list().pipelines.push_back(m_pipeline); // Retires with the frame.
+    m_ctx->retire_list().pipelines.push_back(m_gather); // Retire with the frame.
+    m_ctx->retire_list().pipelines.push_back(m_pipeline);
     vkDestroyPipelineLayout(m_ctx->device(), m_layout, nullptr);
 }
 
@@ -62,7 +65,7 @@ bool LightCache::ensure(uint32_t width, uint32_t height, uint32_t bounces) {
 void LightCache::record_clear(VkCommandBuffer cmd) const {
     vkCmdFillBuffer(cmd, m_table.handle(), 0, VK_WHOLE_SIZE, 0u); // Empty keys, zero sums.
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                   VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
@@ -70,8 +73,13 @@ void LightCache::record_resolve(VkCommandBuffer cmd, VkDescriptorSet set, uint32
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_layout, 0, 1, &set, 0, nullptr);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_gather);
+    vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
     vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,

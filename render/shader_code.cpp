@@ -11,6 +11,7 @@ namespace {
 #include "shaders/shadow_rahit.h"
 #include "shaders/denoise_temporal_comp.h"
 #include "shaders/light_cache_comp.h"
+#include "shaders/light_cache_gather_comp.h"
 #include "shaders/denoise_atrous_comp.h"
 #include "shaders/raster_vert.h"
 #include "shaders/raster_frag.h"
@@ -27,6 +28,7 @@ std::span<const uint32_t> shadow_any_hit() { return k_shadow_rahit; }
 std::span<const uint32_t> denoise_temporal() { return k_denoise_temporal_comp; }
 std::span<const uint32_t> denoise_atrous() { return k_denoise_atrous_comp; }
 std::span<const uint32_t> light_cache_resolve() { return k_light_cache_comp; }
+std::span<const uint32_t> light_cache_gather() { return k_light_cache_gather_comp; }
 std::span<const uint32_t> raster_vert() { return k_raster_vert; }
 std::span<const uint32_t> raster_frag() { return k_raster_frag; }
 std::span<const uint32_t> ui_vert() { return k_ui_vert; }

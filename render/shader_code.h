@@ -16,6 +16,7 @@ std::span<const uint32_t> shadow_any_hit();
 std::span<const uint32_t> denoise_temporal(); // Compute stages of render/denoiser.
 std::span<const uint32_t> denoise_atrous();
 std::span<const uint32_t> light_cache_resolve(); // render/light_cache.
+std::span<const uint32_t> light_cache_gather();  // render/light_cache.
 std::span<const uint32_t> raster_vert(); // The raster baseline (render/raster_pipeline).
 std::span<const uint32_t> raster_frag();
 std::span<const uint32_t> ui_vert(); // A game's 2D UI (render/ui_pass).

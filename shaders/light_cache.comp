@@ -2,17 +2,17 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-// The light cache's resolve pass (shared/light_cache.glsl, render/light_cache.h): after the
-// trace, each pixel adds the mean light of the cells its hits fell in, times their records'
-// weights, where raygen.rgen left those hits' shared light out: to the radiance, and also to the
-// G-buffer part the denoiser takes it from (render/gbuffer.h): the primary hit's diffuse
-// lighting (radiance minus the rest), the first mirror bounce's mirror light, deeper bounces'
-// reflected part. The variances the denoiser weighs (radiance a, mirror light a) stay the hit's
-// own: what error the blend leaves is shared by a patch of pixels, which the filter should still
-// average over, not keep as detail (lavapipe hills, 4 spp denoised: 0.0253 with the blend's
-// variance, 0.0237 with the own, 0.0242 without the cache; docs/render_report.md). Then it meters and
-// tone-maps the pixel as the ray generation would have. Same descriptor set as the trace
-// (render/rt_pipeline.h).
+// The light cache's resolve pass (shared/light_cache.glsl, render/light_cache.h): after the trace
+// and the gather pass (light_cache_gather.comp), each pixel adds the mean light of the cells its
+// hits fell in, times their records' weights, where raygen.rgen left those hits' shared light
+// out: to the radiance, and also to the G-buffer part the denoiser takes it from
+// (render/gbuffer.h): the primary hit's diffuse lighting (radiance minus the rest), the first
+// mirror bounce's mirror light, deeper bounces' reflected part. The variances the denoiser weighs
+// (radiance a, mirror light a) stay the hit's own: what error the blend leaves is shared by a
+// patch of pixels, which the filter should still average over, not keep as detail (lavapipe
+// hills, 4 spp denoised: 0.0253 with the blend's variance, 0.0237 with the own, 0.0242 without
+// the cache; docs/render_report.md). Then it meters and tone-maps the pixel as the ray generation
+// would have. Same descriptor set as the trace (render/rt_pipeline.h).
 
 #include "shared/render_types.h"
 
@@ -66,7 +66,8 @@ void main() {
             continue;
         vec3 own = uintBitsToFloat(records.record[at + 1u].xyz);
         uint samples = b == 0u ? frame.size_samples.z : frame.mode_seed.w;
-        vec3 light = shrink(own, samples, r.x);
+        // kCacheOwn: the table was full.
+        vec3 light = r.x == kCacheOwn ? own : shrink(own, samples, r.x);
         radiance.rgb += record_weight_albedo(r) * light;
         if (b == 1u)
             mirror = record_weight(r) * light;

@@ -26,6 +26,7 @@ std::string missing_parts(const render::DeviceReport& d) {
     add(d.deferred_host_operations, "VK_KHR_deferred_host_operations");
     add(d.buffer_device_address, "bufferDeviceAddress");
     add(d.float_atomic_add, "shaderBufferFloat32AtomicAdd");
+    add(d.compute_subgroup_sums, "compute subgroup ballot + arithmetic");
     return out;
 }
 

@@ -175,7 +175,8 @@ struct FrameParams {
 // The light cache (shared/light_cache.glsl, render/light_cache.h): the hits of one frame's paths
 // share their light estimates through a hash table of surface cells.
 VX_CONST uint kMaxCachedBounces = 8;     // Mirror bounces cached at most (deeper ones: not cached).
-VX_CONST uint kCacheNoSlot = 0xffffffffu; // A record without a cell (no hit, or the table full).
+VX_CONST uint kCacheNoSlot = 0xffffffffu; // A record of no hit (or one not cached).
+VX_CONST uint kCacheOwn = 0xfffffffeu;    // A hit whose cell found the table full: its own light.
 VX_CONST uint kCacheProbes = 8;          // Linear probes before a hit gives up its cell.
 
 // An emissive block face (a greedy quad: one rectangle of one block type), origin-relative

@@ -99,6 +99,13 @@ TEST_F(RendererTest, SharedLightHasLessNoiseAndNearlyTheSameMean) {
     EXPECT_LT(shared, 0.75 * own);
     EXPECT_LT(bias, 0.5 * shared);
     EXPECT_NEAR(test::mean_byte(cached_mean) / test::mean_byte(ref), 1.0, 0.01);
+    // Samples by weight: each hit's samples (in its record) weigh its share of the cell's mean.
+    RenderSettings own_weighted = lit(4, false), cached_weighted = lit(4, true);
+    own_weighted.samples_by_weight = cached_weighted.samples_by_weight = true;
+    const double own_w = one_frame_error(*m_renderer, own_weighted, reference);
+    const double shared_w = one_frame_error(*m_renderer, cached_weighted, reference);
+    std::printf("samples by weight: own samples %.5f, light cache %.5f\n", own_w, shared_w);
+    EXPECT_LT(shared_w, 0.75 * own_w);
 }
 
 // A table of 4 cells: all but a few hits find their probes taken and add their own light as with

@@ -22,7 +22,7 @@ TEST(DeviceProbe, FindsARayTracingCpuDevice) {
         if (d.type == DeviceType::Cpu && d.can_ray_trace()) {
             found = true;
             EXPECT_TRUE(d.acceleration_structure && d.ray_tracing_pipeline && d.deferred_host_operations &&
-                        d.buffer_device_address && d.float_atomic_add);
+                        d.buffer_device_address && d.float_atomic_add && d.compute_subgroup_sums);
             EXPECT_GE(d.api_version_string(), std::string("1.3"));
             EXPECT_GE(d.max_buffer_size, uint64_t(1) << 30); // Vulkan 1.3's minimum maxBufferSize: 2^30.
             EXPECT_GT(d.device_memory, 0u);
@@ -38,7 +38,7 @@ DeviceReport fake(uint32_t index, DeviceType type, bool rt) {
     d.type = type;
     d.api_version = (1u << 22) | (3u << 12); // 1.3.0
     d.acceleration_structure = d.ray_tracing_pipeline = d.deferred_host_operations = rt;
-    d.buffer_device_address = d.float_atomic_add = true;
+    d.buffer_device_address = d.float_atomic_add = d.compute_subgroup_sums = true;
     return d;
 }
 
@@ -65,6 +65,13 @@ TEST(DeviceProbe, NoRayTracingDeviceIsAClearError) {
 TEST(DeviceProbe, RayTracingNeedsFloatAtomics) {
     DeviceReport d = fake(0, DeviceType::Discrete, true);
     d.float_atomic_add = false; // The light cache's sums are compiled into the ray generation.
+    EXPECT_FALSE(d.can_ray_trace());
+}
+
+TEST(DeviceProbe, RayTracingNeedsComputeSubgroupSums) {
+    DeviceReport d = fake(0, DeviceType::Discrete, true);
+    EXPECT_TRUE(d.can_ray_trace());
+    d.compute_subgroup_sums = false; // The light cache's gather pass sums a subgroup's hits.
     EXPECT_FALSE(d.can_ray_trace());
 }
 
