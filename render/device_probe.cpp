@@ -22,8 +22,9 @@ const char* device_type_name(DeviceType type) {
 }
 
 bool DeviceReport::can_ray_trace() const {
-    return acceleration_structure && ray_tracing_pipeline && deferred_host_operations && buffer_device_address &&
-           float_atomic_add && compute_subgroup_sums && api_version >= VK_API_VERSION_1_3;
+    return acceleration_structure && ray_tracing_pipeline && deferred_host_operations &&
+           buffer_device_address && float_atomic_add && compute_subgroup_sums &&
+           api_version >= VK_API_VERSION_1_3;
 }
 
 std::string DeviceReport::api_version_string() const {
@@ -220,7 +221,9 @@ Result<uint32_t> choose_device(const std::vector<DeviceReport>& devices, DeviceC
                          std::to_string(devices.size()) + " devices)"};
         if (!devices[choice.index].can_ray_trace())
             return Error{"device " + std::to_string(choice.index) + " (" + devices[choice.index].name +
-                         ") cannot ray trace (needs Vulkan 1.3 and KHR acceleration structures + RT pipelines)"};
+                         ") cannot ray trace (needs Vulkan 1.3, KHR acceleration structures + RT "
+                         "pipelines, float atomics and compute subgroup sums; `vx info` lists what "
+                         "it lacks)"};
         if (need_present && !devices[choice.index].present)
             return Error{"device " + std::to_string(choice.index) + " (" + devices[choice.index].name +
                          ") cannot present to the window (needs VK_KHR_swapchain and a graphics queue that presents)"};

@@ -6,8 +6,9 @@
 // mirrors, pool theirs. The ray generation records each hit's cell key, the path's weights and
 // its own estimate per pixel and hit instead of adding it to the pixel; the gather pass
 // (shaders/light_cache_gather.comp) adds the records to their cells, a subgroup's hits of one
-// cell with one set of atomics; the resolve pass (shaders/light_cache.comp) adds each hit's own estimate moved towards
-// its cell's mean as far as the cell's spread says that lowers the error, before the denoiser.
+// cell with one set of atomics; the resolve pass (shaders/light_cache.comp) adds each hit's own
+// estimate moved towards its cell's mean as far as the cell's spread says that lowers the
+// error, before the denoiser.
 // Biased by the light's change across a cell, consistent as cells shrink with the pixels:
 // docs/render_report.md measures both against the noise it removes.
 //

@@ -65,7 +65,7 @@ void main() {
         if (r.x == kCacheNoSlot)
             continue;
         vec3 own = uintBitsToFloat(records.record[at + 1u].xyz);
-        uint samples = b == 0u ? frame.size_samples.z : frame.mode_seed.w;
+        uint samples = frame_samples(b);
         // kCacheOwn: the table was full.
         vec3 light = r.x == kCacheOwn ? own : shrink(own, samples, r.x);
         radiance.rgb += record_weight_albedo(r) * light;

@@ -24,15 +24,13 @@ layout(set = 0, binding = 2, std140) uniform FrameBlock { FrameParams frame; };
 #include "shared/tonemap.h"
 #include "shared/light_cache.glsl"
 
-// Adds the record at `at` (a key, not a marker) with its subgroup's others of the same key, and
-// replaces its key with the cell. Called by every invocation whose record has a key.
-void add_record(uint at, uint bounce) {
+// Adds the record at `at`, whose key is `key` (not a marker), with its subgroup's others of the
+// same key, and replaces its key with the cell. Called by every invocation whose record has a key.
+void add_record(uint at, uint key, uint bounce) {
     CacheRecords records = CacheRecords(frame.cache_records);
-    uint key = records.record[at].x;
     uvec4 own = records.record[at + 1u];
     // A hit's samples: FrameParams sampling.x makes them vary by hit (the record holds them).
-    uint samples = frame.sampling.x != 0u ? own_samples(own)
-                 : bounce == 0u           ? frame.size_samples.z : frame.mode_seed.w;
+    uint samples = frame.sampling.x != 0u ? own_samples(own) : frame_samples(bounce);
     vec4 value, stat;
     cache_share(uintBitsToFloat(own.xyz), samples, own_variance(own), value, stat);
     // One key per round: the first active invocation's; those holding it leave the loop.
@@ -58,7 +56,8 @@ void main() {
     CacheRecords records = CacheRecords(frame.cache_records);
     for (uint b = 0u; b <= frame.cache.y; ++b) {
         uint at = cache_record_index(px, b);
-        if (records.record[at].x < kCacheOwn)
-            add_record(at, b);
+        uint key = records.record[at].x;
+        if (key < kCacheOwn)
+            add_record(at, key, b);
     }
 }

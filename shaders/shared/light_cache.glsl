@@ -41,6 +41,11 @@ CacheValues cache_values() { return CacheValues(frame.cache_table + uint64_t(fra
 // samples^2 x v, hits whose v is known) with v the variance of a hit's luminance (as a mean).
 CacheStats cache_stats() { return CacheStats(frame.cache_table + uint64_t(frame.cache.x) * 20ul); }
 
+// The light samples of a hit at `bounce` (0: the primary hit) as the frame sets them:
+// size_samples.z at the primary hit, mode_seed.w at mirror bounces (before samples by weight,
+// FrameParams sampling.x, which raygen.rgen applies per hit).
+uint frame_samples(uint bounce) { return bounce == 0u ? frame.size_samples.z : frame.mode_seed.w; }
+
 // Record `bounce` (0: the primary hit .. frame.cache.y) of pixel px: two uvec4 from this index.
 uint cache_record_index(uvec2 px, uint bounce) {
     return ((px.y * frame.size_samples.x + px.x) * (frame.cache.y + 1u) + bounce) * 2u;

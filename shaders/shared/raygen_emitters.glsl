@@ -186,8 +186,9 @@ vec3 window_or_cosine(vec2 uv, vec3 n, vec3 t, vec3 b, float index, out float we
 // Where neither they nor an emitter chunk within reach are, a ray only asks whether the sky is in
 // sight: an occlusion ray (trace_shadow()), which stops at the first opaque face it finds instead
 // of searching on for the nearest; where only the distances are, it stops there too and tells
-// that face's distance (the walk follows where that face is see-through). The image is the same, but where a ray crosses more than
-// kMaxTransparentLayers transparent blocks: they tint it as they tint the sun's rays, all of them.
+// that face's distance (the walk follows where that face is see-through). The image is the same,
+// but where a ray crosses more than kMaxTransparentLayers transparent blocks: they tint it as
+// they tint the sun's rays, all of them.
 // Under water the directions come from window_or_cosine(), weighted to the same mean.
 vec3 sky_and_emitters(vec3 pos, vec3 n, uint samples, uint seed, bool faces_sampled, bool occluders) {
     bool sky = frame.flags.x != 0u && dot(frame.sky_light.xyz, vec3(1.0)) > 0.0;

@@ -49,7 +49,9 @@ TEST(DeviceProbe, ChoicePrefersRayTracingDiscreteGpu) {
     EXPECT_EQ(*choose_device(devs, *parse_device_choice("cpu")), 0u);
     EXPECT_EQ(*choose_device(devs, *parse_device_choice("gpu")), 2u);
     EXPECT_EQ(*choose_device(devs, *parse_device_choice("0")), 0u);
-    EXPECT_FALSE(choose_device(devs, *parse_device_choice("1")).ok()); // Cannot ray trace.
+    const Result<uint32_t> cannot = choose_device(devs, *parse_device_choice("1"));
+    ASSERT_FALSE(cannot.ok()); // Cannot ray trace: the error says where to see why.
+    EXPECT_NE(cannot.error().find("`vx info` lists what it lacks"), std::string::npos) << cannot.error();
     EXPECT_FALSE(choose_device(devs, *parse_device_choice("7")).ok()); // Out of range.
     EXPECT_FALSE(parse_device_choice("fast").ok());
     EXPECT_FALSE(parse_device_choice("1x").ok());
